@@ -1,0 +1,169 @@
+//! The serde types of a scene file. These names and this nesting are the
+//! contract with users (see design.md): extend, never rename.
+
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+pub type Vec3 = [f32; 3];
+pub type Color = [f32; 3];
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    pub camera: Camera,
+    #[serde(default)]
+    pub render: RenderSettings,
+    #[serde(default)]
+    pub lights: Vec<Light>,
+    #[serde(default)]
+    pub materials: BTreeMap<String, Material>,
+    #[serde(default)]
+    pub objects: Vec<Object>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Camera {
+    pub eye: Vec3,
+    pub look_at: Vec3,
+    #[serde(default = "default_up")]
+    pub up: Vec3,
+    /// Horizontal field of view in degrees.
+    #[serde(default = "default_fov")]
+    pub fov: f32,
+    #[serde(default = "default_width")]
+    pub width: u32,
+    #[serde(default = "default_height")]
+    pub height: u32,
+}
+
+fn default_up() -> Vec3 {
+    [0.0, 1.0, 0.0]
+}
+fn default_fov() -> f32 {
+    50.0
+}
+fn default_width() -> u32 {
+    500
+}
+fn default_height() -> u32 {
+    400
+}
+
+/// What to do with a pixel whose linear colour has a channel above 1.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Saturation {
+    /// The lab's rule: the whole pixel becomes white.
+    #[default]
+    White,
+    /// Each channel is clamped to 1 on its own.
+    Clamp,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RenderSettings {
+    /// The lab's MAX_RAY_TREE: how many mirror bounces a ray may take.
+    pub max_depth: u32,
+    /// The lab's MIN_RAY_ENERGY: no bounce once the energy falls to this.
+    pub min_energy: f32,
+    pub background: Color,
+    pub saturation: Saturation,
+    /// Display gamma; 1.0 writes linear values.
+    pub gamma: f32,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            max_depth: 1,
+            min_energy: 0.01,
+            background: [0.0, 0.0, 0.0],
+            saturation: Saturation::White,
+            gamma: 2.2,
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Light {
+    pub position: Vec3,
+    #[serde(default = "white")]
+    pub color: Color,
+}
+
+fn white() -> Color {
+    [1.0, 1.0, 1.0]
+}
+
+/// A Blinn-Phong material; every key left out is 0 (black, no reflection).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Material {
+    pub ambient: Color,
+    pub diffuse: Color,
+    pub specular: Color,
+    pub shininess: f32,
+    /// 0 = no mirror reflection, 1 = perfect mirror.
+    pub reflectance: f32,
+    /// A texture name, e.g. "lab-stripes".
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub texture: Option<String>,
+}
+
+/// A material given by name (a key of `[materials]`) or inline.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum MaterialRef {
+    Named(String),
+    Inline(Material),
+}
+
+/// One object: exactly one shape key (`sphere`, `triangle`) and its material.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Object {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sphere: Option<Sphere>,
+    /// Three vertices, clockwise as seen from the front (the lab's order).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub triangle: Option<[Vec3; 3]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<MaterialRef>,
+    /// A texture on this object; overrides the material's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub texture: Option<String>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sphere {
+    pub center: Vec3,
+    pub radius: f32,
+}
+
+/// The object's shape, once validation has made sure there is exactly one.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ShapeRef<'a> {
+    Sphere(&'a Sphere),
+    Triangle(&'a [Vec3; 3]),
+}
+
+impl Object {
+    /// All shape keys that are set, in declaration order.
+    pub fn shapes(&self) -> Vec<ShapeRef<'_>> {
+        let mut shapes = Vec::new();
+        if let Some(s) = &self.sphere {
+            shapes.push(ShapeRef::Sphere(s));
+        }
+        if let Some(t) = &self.triangle {
+            shapes.push(ShapeRef::Triangle(t));
+        }
+        shapes
+    }
+}
+
+/// The names of the built-in textures.
+pub const TEXTURE_NAMES: &[&str] = &["lab-stripes"];

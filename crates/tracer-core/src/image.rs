@@ -1,0 +1,123 @@
+//! The linear image and its encoding for a display: the over-saturation
+//! rule, gamma, 8-bit truncation (lab sections 5.3, 6 and 7).
+
+use glam::Vec3;
+pub use scene_format::Saturation;
+
+/// Linear RGB, row 0 at the top; pixel (i, j) at `pixels[j * width + i]`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinearImage {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<Vec3>,
+}
+
+/// How linear colours become 8-bit values.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Encoding {
+    /// 1.0 writes the linear values; the lab's default is 2.2.
+    pub gamma: f32,
+    pub saturation: Saturation,
+}
+
+impl Default for Encoding {
+    fn default() -> Self {
+        Encoding {
+            gamma: 2.2,
+            saturation: Saturation::White,
+        }
+    }
+}
+
+impl LinearImage {
+    pub fn new(width: u32, height: u32) -> Self {
+        LinearImage {
+            width,
+            height,
+            pixels: vec![Vec3::ZERO; width as usize * height as usize],
+        }
+    }
+
+    pub fn get(&self, i: u32, j: u32) -> Vec3 {
+        self.pixels[(j * self.width + i) as usize]
+    }
+
+    /// The 8-bit RGB image a display gets.
+    pub fn encode(&self, encoding: &Encoding) -> image::RgbImage {
+        let bytes = self
+            .pixels
+            .iter()
+            .flat_map(|&c| encode_pixel(c, encoding))
+            .collect();
+        image::RgbImage::from_raw(self.width, self.height, bytes)
+            .expect("the buffer holds exactly width * height pixels")
+    }
+}
+
+/// The saturation rule, then gamma `c^(1/gamma)` on floats, then `(int)(c * 255)`.
+pub fn encode_pixel(colour: Vec3, encoding: &Encoding) -> [u8; 3] {
+    let saturated = match encoding.saturation {
+        Saturation::White if colour.max_element() > 1.0 => Vec3::ONE,
+        _ => colour,
+    };
+    let c = saturated.clamp(Vec3::ZERO, Vec3::ONE);
+    let inv = 1.0 / encoding.gamma;
+    c.to_array().map(|x| quantize(x.powf(inv)))
+}
+
+/// The lab's truncation to 8 bits; `as` maps NaN to 0.
+pub fn quantize(c: f32) -> u8 {
+    (c.clamp(0.0, 1.0) * 255.0) as u8
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const LINEAR: Encoding = Encoding {
+        gamma: 1.0,
+        saturation: Saturation::White,
+    };
+
+    #[test]
+    fn quantisation_truncates() {
+        assert_eq!(quantize(1.0), 255);
+        assert_eq!(quantize(0.5), 127); // 127.5 truncated
+        assert_eq!(quantize(0.999), 254);
+        assert_eq!(quantize(-0.2), 0);
+        assert_eq!(quantize(f32::NAN), 0);
+    }
+
+    #[test]
+    fn white_rule_turns_any_over_saturated_pixel_white() {
+        assert_eq!(
+            encode_pixel(Vec3::new(1.2, 0.1, 0.0), &LINEAR),
+            [255, 255, 255]
+        );
+        assert_eq!(
+            encode_pixel(Vec3::new(1.0, 0.1, 0.0), &LINEAR),
+            [255, 25, 0]
+        );
+    }
+
+    #[test]
+    fn clamp_rule_clamps_each_channel() {
+        let clamp = Encoding {
+            saturation: Saturation::Clamp,
+            ..LINEAR
+        };
+        assert_eq!(encode_pixel(Vec3::new(1.2, 0.1, 0.0), &clamp), [255, 25, 0]);
+    }
+
+    #[test]
+    fn gamma_is_applied_before_truncation() {
+        let g = Encoding {
+            gamma: 2.2,
+            ..LINEAR
+        };
+        // 0.5^(1/2.2) = 0.7297 -> 186.08 -> 186
+        assert_eq!(encode_pixel(Vec3::splat(0.5), &g), [186; 3]);
+        assert_eq!(encode_pixel(Vec3::splat(0.0), &g), [0; 3]);
+        assert_eq!(encode_pixel(Vec3::splat(1.0), &g), [255; 3]);
+    }
+}

@@ -1,0 +1,217 @@
+//! The prepared scene: shapes with resolved materials, lights, settings.
+
+use crate::camera::Camera;
+use crate::image::Encoding;
+use crate::light::PointLight;
+use crate::material::Material;
+use crate::ray::Ray;
+use crate::shapes::{Shape, Sphere, Triangle};
+use crate::texture::Texture;
+use glam::Vec3;
+use scene_format as fmt;
+use std::collections::HashMap;
+use std::sync::Arc;
+
+/// One shape and the index of its material in `Scene::materials`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Object {
+    pub shape: Shape,
+    pub material: usize,
+}
+
+/// The recursion settings of the lab's `rayTrace` (lab 5.3).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TraceSettings {
+    pub max_depth: u32,
+    pub min_energy: f32,
+    pub background: Vec3,
+}
+
+#[derive(Debug, Clone)]
+pub struct Scene {
+    pub camera: Camera,
+    pub objects: Vec<Object>,
+    pub materials: Vec<Material>,
+    pub lights: Vec<PointLight>,
+    pub trace: TraceSettings,
+    pub encoding: Encoding,
+}
+
+/// A hit: the distance along the ray and the object's index.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hit {
+    pub t: f32,
+    pub object: usize,
+}
+
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum PrepareError {
+    #[error("`{path}`: unknown material `{name}`")]
+    UnknownMaterial { path: String, name: String },
+    #[error("`{path}`: unknown texture `{name}`")]
+    UnknownTexture { path: String, name: String },
+    #[error("`{path}`: expected exactly one shape")]
+    NotOneShape { path: String },
+}
+
+impl Scene {
+    /// Builds the renderable scene from a validated scene file.
+    pub fn prepare(file: &fmt::SceneFile) -> Result<Scene, PrepareError> {
+        let mut materials = MaterialTable::new(file);
+        let objects = file
+            .objects
+            .iter()
+            .enumerate()
+            .map(|(i, o)| prepare_object(&format!("objects[{i}]"), o, &mut materials))
+            .collect::<Result<_, _>>()?;
+        let lights = file
+            .lights
+            .iter()
+            .map(|l| PointLight {
+                position: l.position.into(),
+                color: l.color.into(),
+            })
+            .collect();
+        let r = &file.render;
+        Ok(Scene {
+            camera: Camera::from_scene(&file.camera),
+            objects,
+            materials: materials.materials,
+            lights,
+            trace: TraceSettings {
+                max_depth: r.max_depth,
+                min_energy: r.min_energy,
+                background: r.background.into(),
+            },
+            encoding: Encoding {
+                gamma: r.gamma,
+                saturation: r.saturation,
+            },
+        })
+    }
+
+    /// The nearest hit in (t_min, t_max).
+    pub fn closest_hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        for (index, object) in self.objects.iter().enumerate() {
+            let limit = best.map_or(t_max, |h| h.t);
+            if let Some(t) = object.shape.intersect(ray, t_min, limit) {
+                best = Some(Hit { t, object: index });
+            }
+        }
+        best
+    }
+
+    /// Whether anything lies on the ray within (t_min, t_max): shadow rays.
+    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        self.objects
+            .iter()
+            .any(|o| o.shape.intersect(ray, t_min, t_max).is_some())
+    }
+}
+
+/// Materials of the prepared scene: the named ones once each, inline ones
+/// per object, and textures shared by name.
+struct MaterialTable<'a> {
+    file: &'a fmt::SceneFile,
+    materials: Vec<Material>,
+    by_key: HashMap<(Option<String>, Option<String>), usize>,
+    textures: HashMap<String, Arc<Texture>>,
+}
+
+impl<'a> MaterialTable<'a> {
+    fn new(file: &'a fmt::SceneFile) -> Self {
+        MaterialTable {
+            file,
+            materials: Vec::new(),
+            by_key: HashMap::new(),
+            textures: HashMap::new(),
+        }
+    }
+
+    fn texture(&mut self, path: &str, name: &str) -> Result<Arc<Texture>, PrepareError> {
+        if let Some(t) = self.textures.get(name) {
+            return Ok(t.clone());
+        }
+        let texture = match name {
+            "lab-stripes" => Arc::new(Texture::lab_stripes(400, 400)),
+            _ => {
+                return Err(PrepareError::UnknownTexture {
+                    path: path.to_string(),
+                    name: name.to_string(),
+                })
+            }
+        };
+        self.textures.insert(name.to_string(), texture.clone());
+        Ok(texture)
+    }
+
+    fn add(
+        &mut self,
+        path: &str,
+        m: &fmt::Material,
+        texture: Option<&String>,
+    ) -> Result<usize, PrepareError> {
+        let texture = match texture.or(m.texture.as_ref()) {
+            Some(name) => Some(self.texture(path, name)?),
+            None => None,
+        };
+        self.materials.push(Material::from_scene(m, texture));
+        Ok(self.materials.len() - 1)
+    }
+
+    /// The index of object `o`'s material, with the object's texture applied.
+    fn resolve(&mut self, path: &str, o: &fmt::Object) -> Result<usize, PrepareError> {
+        let texture_path = format!("{path}.texture");
+        match &o.material {
+            None => {
+                let mut grey = Material::default_grey();
+                if let Some(name) = &o.texture {
+                    grey.texture = Some(self.texture(&texture_path, name)?);
+                }
+                self.materials.push(grey);
+                Ok(self.materials.len() - 1)
+            }
+            Some(fmt::MaterialRef::Inline(m)) => self.add(&texture_path, m, o.texture.as_ref()),
+            Some(fmt::MaterialRef::Named(name)) => {
+                let key = (Some(name.clone()), o.texture.clone());
+                if let Some(&index) = self.by_key.get(&key) {
+                    return Ok(index);
+                }
+                let file = self.file;
+                let m = file
+                    .materials
+                    .get(name)
+                    .ok_or_else(|| PrepareError::UnknownMaterial {
+                        path: format!("{path}.material"),
+                        name: name.clone(),
+                    })?;
+                let index = self.add(&texture_path, m, o.texture.as_ref())?;
+                self.by_key.insert(key, index);
+                Ok(index)
+            }
+        }
+    }
+}
+
+fn prepare_object(
+    path: &str,
+    o: &fmt::Object,
+    materials: &mut MaterialTable,
+) -> Result<Object, PrepareError> {
+    let shape = match o.shapes().as_slice() {
+        [fmt::ShapeRef::Sphere(s)] => Shape::Sphere(Sphere::new(s.center.into(), s.radius)),
+        [fmt::ShapeRef::Triangle([a, b, c])] => {
+            Shape::Triangle(Triangle::new((*a).into(), (*b).into(), (*c).into()))
+        }
+        _ => {
+            return Err(PrepareError::NotOneShape {
+                path: path.to_string(),
+            })
+        }
+    };
+    Ok(Object {
+        shape,
+        material: materials.resolve(path, o)?,
+    })
+}

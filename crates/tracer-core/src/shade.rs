@@ -1,0 +1,60 @@
+//! The lab's `rayTrace`: Blinn-Phong in the lab's order, shadows, texture,
+//! and mirror recursion with energy (lab sections 4 and 5).
+
+use crate::ray::Ray;
+use crate::scene::{Hit, Scene};
+use crate::EPSILON;
+use glam::Vec3;
+
+/// The lab's threshold on the cosines of the diffuse and specular terms.
+const COS_THRESHOLD: f32 = 0.001;
+
+/// The colour a ray carries back, already scaled by `energy`; `depth` is the
+/// lab's ray-tree counter. A primary ray starts at energy 1, depth 0.
+pub fn trace(scene: &Scene, ray: &Ray, energy: f32, depth: u32) -> Vec3 {
+    let Some(hit) = scene.closest_hit(ray, EPSILON, f32::INFINITY) else {
+        // With the lab's black background this adds nothing, as in the lab.
+        return energy * scene.trace.background;
+    };
+    let object = &scene.objects[hit.object];
+    let material = &scene.materials[object.material];
+    let p = ray.at(hit.t);
+    let n = object.shape.normal(p);
+    let mut local = local_colour(scene, &hit, ray, p, n);
+    if let Some(texture) = &material.texture {
+        local *= texture.texel(object.shape.texture_uv(p, n));
+    }
+    let mut colour = energy * local;
+    let settings = &scene.trace;
+    if material.reflectance > 0.0 && depth < settings.max_depth && energy > settings.min_energy {
+        let reflected = ray.reflected(p, n);
+        colour += trace(scene, &reflected, energy * material.reflectance, depth + 1);
+    }
+    colour
+}
+
+/// Ambient, diffuse and specular of every light at `p`, in the lab's order:
+/// ambient once per light and always; diffuse and specular only when the
+/// light is not shadowed.
+fn local_colour(scene: &Scene, hit: &Hit, ray: &Ray, p: Vec3, n: Vec3) -> Vec3 {
+    let m = &scene.materials[scene.objects[hit.object].material];
+    let view = -ray.dir;
+    let mut colour = Vec3::ZERO;
+    for light in &scene.lights {
+        colour += light.color * m.ambient;
+        let to_light = light.position - p;
+        let distance = to_light.length();
+        let l = to_light / distance;
+        let cos_a = n.dot(l);
+        if cos_a <= COS_THRESHOLD || scene.occluded(&Ray::new(p, l), EPSILON, distance) {
+            continue;
+        }
+        colour += light.color * m.diffuse * cos_a;
+        let h = (l + view).normalize();
+        let cos_b = n.dot(h);
+        if cos_b > COS_THRESHOLD {
+            colour += light.color * m.specular * cos_b.powf(m.shininess);
+        }
+    }
+    colour
+}

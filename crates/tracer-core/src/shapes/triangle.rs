@@ -1,0 +1,111 @@
+use crate::ray::Ray;
+use glam::{Vec2, Vec3};
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Triangle {
+    pub v0: Vec3,
+    pub v1: Vec3,
+    pub v2: Vec3,
+}
+
+impl Triangle {
+    pub fn new(v0: Vec3, v1: Vec3, v2: Vec3) -> Self {
+        Triangle { v0, v1, v2 }
+    }
+
+    /// Moller-Trumbore, two-sided: a triangle seen from behind is still
+    /// hit (and still casts its shadow), unlike GLM's front-face-only test.
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        let e1 = self.v1 - self.v0;
+        let e2 = self.v2 - self.v0;
+        let p = ray.dir.cross(e2);
+        let det = e1.dot(p);
+        if det.abs() < f32::EPSILON * e1.length() * e2.length() * ray.dir.length() {
+            return None; // the ray runs parallel to the plane
+        }
+        let inv = 1.0 / det;
+        let s = ray.origin - self.v0;
+        let u = s.dot(p) * inv;
+        if !(0.0..=1.0).contains(&u) {
+            return None;
+        }
+        let q = s.cross(e1);
+        let v = ray.dir.dot(q) * inv;
+        if v < 0.0 || u + v > 1.0 {
+            return None;
+        }
+        let t = e2.dot(q) * inv;
+        (t > t_min && t < t_max).then_some(t)
+    }
+
+    /// The lab's normal, from the vertex order: never flipped toward the viewer.
+    pub fn normal(&self) -> Vec3 {
+        (self.v1 - self.v0).cross(self.v2 - self.v0).normalize()
+    }
+
+    /// Barycentric (u, v) of `p`: v0 maps to (0, 0), v1 to (1, 0), v2 to (0, 1).
+    pub fn texture_uv(&self, p: Vec3) -> Vec2 {
+        let e1 = self.v1 - self.v0;
+        let e2 = self.v2 - self.v0;
+        let d = p - self.v0;
+        let (d11, d12, d22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+        let (dp1, dp2) = (d.dot(e1), d.dot(e2));
+        let denom = d11 * d22 - d12 * d12;
+        Vec2::new(
+            (d22 * dp1 - d12 * dp2) / denom,
+            (d11 * dp2 - d12 * dp1) / denom,
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn wall() -> Triangle {
+        // Table 1.2's triangle.
+        Triangle::new(
+            Vec3::new(3.0, 3.0, -5.0),
+            Vec3::new(-3.0, 3.0, -10.0),
+            Vec3::new(-3.0, -3.0, -8.0),
+        )
+    }
+
+    #[test]
+    fn hit_from_both_sides() {
+        let t = wall();
+        let centroid = (t.v0 + t.v1 + t.v2) / 3.0;
+        let front = Ray::new(
+            Vec3::new(0.0, 0.0, 10.0),
+            centroid - Vec3::new(0.0, 0.0, 10.0),
+        );
+        let back = Ray::new(centroid * 2.0 - front.origin, front.origin - centroid);
+        let tf = t.intersect(&front, 0.0, f32::INFINITY).expect("front hit");
+        let tb = t.intersect(&back, 0.0, f32::INFINITY).expect("back hit");
+        assert!((front.at(tf) - centroid).length() < 1e-4);
+        assert!((back.at(tb) - centroid).length() < 1e-4);
+    }
+
+    #[test]
+    fn outside_the_edges_is_a_miss() {
+        let t = wall();
+        let ray = Ray::new(Vec3::new(0.0, 0.0, 10.0), Vec3::new(0.5, -0.5, -1.0));
+        assert_eq!(t.intersect(&ray, 0.0, f32::INFINITY), None);
+    }
+
+    #[test]
+    fn normal_follows_the_vertex_order() {
+        let t = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y);
+        assert_eq!(t.normal(), Vec3::Z);
+        let flipped = Triangle::new(Vec3::ZERO, Vec3::Y, Vec3::X);
+        assert_eq!(flipped.normal(), -Vec3::Z);
+    }
+
+    #[test]
+    fn barycentric_uv_of_vertices() {
+        let t = wall();
+        assert!(t.texture_uv(t.v0).length() < 1e-5);
+        assert!((t.texture_uv(t.v1) - Vec2::X).length() < 1e-5);
+        assert!((t.texture_uv(t.v2) - Vec2::Y).length() < 1e-5);
+    }
+}

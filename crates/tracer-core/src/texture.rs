@@ -1,0 +1,117 @@
+//! Textures and the lab's procedural stripes (lab 4.5 and 7).
+
+use glam::{Vec2, Vec3};
+
+/// An RGB texture, row 0 at the top (v = 0).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Texture {
+    pub width: u32,
+    pub height: u32,
+    texels: Vec<Vec3>,
+}
+
+/// The two greys of the lab's stripes (8-bit values) and the stripe heights.
+const STRIPE_DARK: u8 = 10;
+const STRIPE_LIGHT: u8 = 200;
+const STRIPE_ROWS: u32 = 20;
+
+impl Texture {
+    /// `texels` row by row; its length must be `width * height`.
+    pub fn new(width: u32, height: u32, texels: Vec<Vec3>) -> Self {
+        assert_eq!(texels.len(), (width * height) as usize, "texel count");
+        Texture {
+            width,
+            height,
+            texels,
+        }
+    }
+
+    /// The template's `CImage::createTexture(w, h)`: horizontal stripes of grey
+    /// 10 and 200, starting with 10; the first stripe is 21 rows, the rest 20.
+    pub fn lab_stripes(width: u32, height: u32) -> Self {
+        let texels = (0..height)
+            .flat_map(|row| {
+                let grey = Vec3::splat(f32::from(lab_stripe_grey(row)) / 255.0);
+                std::iter::repeat_n(grey, width as usize)
+            })
+            .collect();
+        Texture::new(width, height, texels)
+    }
+
+    /// The lab's `getTexel(u, v)`: column floor(w u), row floor(h v), clamped to
+    /// the last texel where the template read out of bounds.
+    pub fn texel(&self, uv: Vec2) -> Vec3 {
+        let col = index(uv.x, self.width);
+        let row = index(uv.y, self.height);
+        self.texels[(row * self.width + col) as usize]
+    }
+}
+
+fn index(coord: f32, size: u32) -> u32 {
+    // `as` saturates: negative and NaN give 0.
+    ((size as f32 * coord).floor() as u32).min(size - 1)
+}
+
+/// The 8-bit grey of row `row` of the lab's stripes.
+pub fn lab_stripe_grey(row: u32) -> u8 {
+    // Row 0 opens a 21-row stripe; thereafter a new stripe starts every 20 rows.
+    let stripe = row.saturating_sub(1) / STRIPE_ROWS;
+    if stripe.is_multiple_of(2) {
+        STRIPE_DARK
+    } else {
+        STRIPE_LIGHT
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stripes_have_the_exact_row_layout() {
+        let expected = |row: u32| -> u8 {
+            // Written out from lab section 7, independently of lab_stripe_grey.
+            let mut bounds = vec![(0, 20, 10u8)];
+            let mut start = 21;
+            let mut grey = 200;
+            while start < 400 {
+                bounds.push((start, (start + 19).min(399), grey));
+                start += 20;
+                grey = if grey == 200 { 10 } else { 200 };
+            }
+            bounds
+                .iter()
+                .find(|(a, b, _)| (*a..=*b).contains(&row))
+                .unwrap()
+                .2
+        };
+        let tex = Texture::lab_stripes(400, 400);
+        for row in 0..400 {
+            let v = (row as f32 + 0.5) / 400.0;
+            for u in [0.0, 0.37, 0.999] {
+                let texel = tex.texel(Vec2::new(u, v));
+                assert_eq!(
+                    texel,
+                    Vec3::splat(expected(row) as f32 / 255.0),
+                    "row {row}"
+                );
+            }
+        }
+        assert_eq!(lab_stripe_grey(20), 10);
+        assert_eq!(lab_stripe_grey(21), 200);
+        assert_eq!(lab_stripe_grey(381), 200);
+        assert_eq!(lab_stripe_grey(399), 200);
+        assert_eq!(lab_stripe_grey(380), 10);
+    }
+
+    #[test]
+    fn lookups_at_and_past_the_edges_are_clamped() {
+        let tex = Texture::lab_stripes(400, 400);
+        assert_eq!(tex.texel(Vec2::new(1.0, 1.0)), Vec3::splat(200.0 / 255.0));
+        assert_eq!(tex.texel(Vec2::new(-0.5, -0.1)), Vec3::splat(10.0 / 255.0));
+        assert_eq!(
+            tex.texel(Vec2::new(f32::NAN, 0.0)),
+            Vec3::splat(10.0 / 255.0)
+        );
+    }
+}
