@@ -1,9 +1,62 @@
 //! Project chores, the cargo-xtask way: `cargo xtask <task>`.
 
+use clap::{Args, Parser, Subcommand};
 use std::process::ExitCode;
 
+#[derive(Parser)]
+#[command(name = "cargo xtask", about = "Project chores")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    Golden(GoldenArgs),
+}
+
+/// Render every scene and compare it with its golden image in golden/; the
+/// report is target/golden/index.html. Exit status 1 when any image fails or
+/// has no golden.
+#[derive(Args)]
+struct GoldenArgs {
+    /// Make the renders the new goldens (look at them first: target/golden/)
+    #[arg(long)]
+    bless: bool,
+    /// Only these images (a golden's file stem, e.g. reflectance2) [default: all]
+    #[arg(value_name = "NAME")]
+    names: Vec<String>,
+}
+
 fn main() -> ExitCode {
-    let task = std::env::args().nth(1);
-    eprintln!("unknown task {task:?}\nusage: cargo xtask <task>");
-    ExitCode::from(2)
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Golden(args) => golden(&args),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn golden(args: &GoldenArgs) -> anyhow::Result<ExitCode> {
+    let root = xtask::workspace_root();
+    if args.bless {
+        for change in xtask::golden::run_bless(&root, &args.names)? {
+            println!("{change}");
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
+    let report_dir = xtask::target_dir().join("golden");
+    let summary = xtask::golden::run_check(&root, &args.names, &report_dir)?;
+    println!("{}", summary.table);
+    println!("report: {}", summary.report.display());
+    Ok(if summary.all_passed() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
 }
