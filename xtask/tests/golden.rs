@@ -1,0 +1,332 @@
+//! The golden check: the real scenes against `golden/`, and proof that the
+//! check fails when a render drifts.
+
+use image::{Rgb, RgbImage};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use xtask::golden::{self, Blessed, Case, CaseResult, Outcome};
+use xtask::manifest::Manifest;
+
+fn root() -> PathBuf {
+    xtask::workspace_root()
+}
+
+fn golden_dir() -> PathBuf {
+    root().join("golden")
+}
+
+fn real_golden(name: &str) -> RgbImage {
+    image::open(golden_dir().join(format!("{name}.png")))
+        .unwrap()
+        .to_rgb8()
+}
+
+fn scene_file_count() -> usize {
+    std::fs::read_dir(root().join("scenes"))
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .path()
+                .extension()
+                .is_some_and(|x| x == "toml")
+        })
+        .count()
+}
+
+/// Checks one case that returns `image` against the real golden `name`.
+fn check_as(name: &str, image: RgbImage, manifest: &Manifest) -> CaseResult {
+    let case = Case::new(name, move || Ok(image.clone()));
+    golden::check(&[case], &golden_dir(), manifest)
+        .pop()
+        .unwrap()
+}
+
+fn comparison(result: &CaseResult) -> &xtask::compare::Comparison {
+    match &result.outcome {
+        Outcome::Compared(c) => c,
+        other => panic!("expected a comparison, got {other:?}"),
+    }
+}
+
+/// Flipping the top bit changes a channel by exactly 128, whatever its value.
+fn flip_block(image: &mut RgbImage, x0: u32, y0: u32, w: u32, h: u32) {
+    for y in y0..y0 + h {
+        for x in x0..x0 + w {
+            let p = image.get_pixel_mut(x, y);
+            *p = Rgb(p.0.map(|c| c ^ 0x80));
+        }
+    }
+}
+
+/// The README's test command runs the whole golden check; the report is
+/// written where `cargo xtask golden` writes it, for a person to open.
+#[test]
+fn every_image_matches_its_golden() {
+    let report = xtask::target_dir().join("golden");
+    let summary = golden::run_check(&root(), &[], &report).unwrap();
+    assert!(
+        summary.all_passed(),
+        "golden check failed; report: {}\n{}",
+        summary.report.display(),
+        summary.table
+    );
+    assert_eq!(summary.results.len(), scene_file_count());
+    assert!(summary.results.len() >= 12);
+}
+
+#[test]
+fn a_render_changed_beyond_tolerance_fails_with_exact_counts() {
+    let mut image = real_golden("reflectance2");
+    flip_block(&mut image, 100, 50, 15, 14); // 210 pixels > 0.1 % of 200 000
+    let result = check_as("reflectance2", image, &Manifest::default());
+    assert_eq!(result.verdict(), "FAIL");
+    assert!(!result.passed());
+    let c = comparison(&result);
+    assert_eq!(c.pixels, 200_000);
+    assert_eq!(c.differing, 210);
+    assert_eq!(c.max_diff, 128);
+    // 210 pixels * 3 channels * 128 / (200 000 * 3)
+    assert!((c.mean_diff - 0.1344).abs() < 1e-12, "{}", c.mean_diff);
+    let table = golden::table(&[result]);
+    assert!(
+        table.contains("reflectance2") && table.contains("210") && table.contains("FAIL"),
+        "{table}"
+    );
+}
+
+#[test]
+fn exactly_the_allowed_share_of_differing_pixels_passes() {
+    let mut image = real_golden("reflectance2");
+    flip_block(&mut image, 100, 50, 10, 20); // 200 pixels = 0.1 %
+    let result = check_as("reflectance2", image, &Manifest::default());
+    assert_eq!(comparison(&result).differing, 200);
+    assert_eq!(result.verdict(), "PASS");
+}
+
+#[test]
+fn a_render_changed_within_tolerance_passes() {
+    let mut image = real_golden("shadows");
+    for p in image.pixels_mut() {
+        *p = Rgb(p.0.map(|c| if c >= 2 { c - 2 } else { c + 2 }));
+    }
+    let result = check_as("shadows", image, &Manifest::default());
+    assert_eq!(result.verdict(), "PASS");
+    let c = comparison(&result);
+    assert_eq!((c.differing, c.max_diff), (0, 2));
+    assert!((c.mean_diff - 2.0).abs() < 1e-12);
+}
+
+#[test]
+fn the_manifest_sets_an_images_own_tolerance() {
+    let mut image = real_golden("reflectance2");
+    flip_block(&mut image, 100, 50, 15, 14);
+    let manifest = Manifest::parse(
+        "[scenes.reflectance2]\nmax_differing_percent = 0.2\n",
+        Path::new("golden.toml"),
+    )
+    .unwrap();
+    let result = check_as("reflectance2", image.clone(), &manifest);
+    assert_eq!(result.verdict(), "PASS");
+    assert_eq!(comparison(&result).differing, 210);
+
+    let manifest = Manifest::parse(
+        "[scenes.reflectance2]\nchannel_tolerance = 128\n",
+        Path::new("golden.toml"),
+    )
+    .unwrap();
+    let result = check_as("reflectance2", image, &manifest);
+    assert_eq!(comparison(&result).differing, 0);
+}
+
+#[test]
+fn a_render_of_another_size_fails_with_a_clear_message() {
+    let image = real_golden("texture");
+    let cropped = image::imageops::crop_imm(&image, 0, 0, 499, 400).to_image();
+    let result = check_as("texture", cropped, &Manifest::default());
+    assert_eq!(result.verdict(), "FAIL");
+    assert_eq!(
+        result.problem().unwrap(),
+        "size differs: golden 500x400, render 499x400"
+    );
+    assert!(result.diff.is_none());
+}
+
+#[test]
+fn a_missing_golden_is_not_a_pass() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = Case::new("new-scene", || Ok(RgbImage::new(2, 2)));
+    let result = golden::check(&[case], dir.path(), &Manifest::default())
+        .pop()
+        .unwrap();
+    assert_eq!(result.outcome, Outcome::MissingGolden);
+    assert_eq!(result.verdict(), "MISSING");
+    assert!(result
+        .problem()
+        .unwrap()
+        .contains("cargo xtask golden --bless new-scene"));
+}
+
+#[test]
+fn a_scene_that_cannot_be_loaded_is_an_error_naming_the_place() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenes = dir.path().join("scenes");
+    std::fs::create_dir(&scenes).unwrap();
+    std::fs::write(
+        scenes.join("broken.toml"),
+        "[camera]\neye = [0, 0, 10]\nfov = \"wide\"\n",
+    )
+    .unwrap();
+    let cases = golden::scene_cases(&scenes).unwrap();
+    let result = golden::check(&cases, dir.path(), &Manifest::default())
+        .pop()
+        .unwrap();
+    assert_eq!(result.verdict(), "ERROR");
+    let problem = result.problem().unwrap();
+    assert!(problem.contains("broken.toml:3:"), "{problem}");
+}
+
+#[test]
+fn every_toml_scene_file_is_a_case_in_name_order() {
+    let dir = tempfile::tempdir().unwrap();
+    for file in ["b.toml", "a-x.toml", "a.toml", "c.json", "notes.txt"] {
+        std::fs::write(dir.path().join(file), "").unwrap();
+    }
+    let names: Vec<String> = golden::scene_cases(dir.path())
+        .unwrap()
+        .into_iter()
+        .map(|c| c.name)
+        .collect();
+    assert_eq!(names, ["a", "a-x", "b"]);
+}
+
+#[test]
+fn selecting_an_unknown_image_is_an_error_listing_the_known() {
+    let cases = vec![Case::new("a", || Ok(RgbImage::new(1, 1)))];
+    let err = golden::select(cases, &["b".to_string()])
+        .err()
+        .unwrap()
+        .to_string();
+    assert_eq!(err, "no image named b; known: a");
+}
+
+#[test]
+fn bless_writes_new_and_changed_goldens_and_says_what_changed() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = |image: RgbImage| Case::new("img", move || Ok(image.clone()));
+    let grey = RgbImage::from_pixel(4, 5, Rgb([100, 100, 100]));
+
+    let blessed = golden::bless(&[case(grey.clone())], dir.path()).unwrap();
+    assert_eq!(
+        blessed,
+        [Blessed::New {
+            name: "img".into(),
+            size: (4, 5)
+        }]
+    );
+    let blessed = golden::bless(&[case(grey.clone())], dir.path()).unwrap();
+    assert_eq!(blessed, [Blessed::Unchanged { name: "img".into() }]);
+
+    let mut changed = grey;
+    changed.put_pixel(0, 0, Rgb([101, 100, 100]));
+    changed.put_pixel(3, 4, Rgb([100, 90, 100]));
+    let blessed = golden::bless(&[case(changed.clone())], dir.path()).unwrap();
+    let Blessed::Changed { change, .. } = &blessed[0] else {
+        panic!("{blessed:?}")
+    };
+    // Blessing counts every pixel that is not identical, even within tolerance.
+    assert_eq!(
+        (change.differing, change.pixels, change.max_diff),
+        (2, 20, 10)
+    );
+    assert_eq!(
+        blessed[0].to_string(),
+        "changed    img: 2 of 20 pixels (10.000 %), max diff 10, mean diff 0.1833"
+    );
+    let on_disk = image::open(dir.path().join("img.png")).unwrap().to_rgb8();
+    assert_eq!(on_disk, changed);
+}
+
+#[test]
+fn bless_writes_nothing_when_a_render_fails() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        Case::new("good", || Ok(RgbImage::new(1, 1))),
+        Case::new("bad", || anyhow::bail!("no light")),
+    ];
+    let err = golden::bless(&cases, dir.path()).unwrap_err();
+    assert!(format!("{err:#}").contains("bad: render failed: no light"));
+    assert!(!dir.path().join("good.png").exists());
+}
+
+#[test]
+fn the_report_shows_failures_first_with_relative_image_paths() {
+    let dir = tempfile::tempdir().unwrap();
+    let golden_dir = dir.path().join("golden");
+    let grey = RgbImage::from_pixel(3, 3, Rgb([100; 3]));
+    golden::bless(
+        &[
+            Case::new("a-passes", {
+                let g = grey.clone();
+                move || Ok(g.clone())
+            }),
+            Case::new("b-fails", {
+                let g = grey.clone();
+                move || Ok(g.clone())
+            }),
+        ],
+        &golden_dir,
+    )
+    .unwrap();
+    let cases = [
+        Case::new("a-passes", move || Ok(grey.clone())),
+        Case::new("b-fails", || Ok(RgbImage::new(3, 3))),
+        Case::new("c-missing", || Ok(RgbImage::new(3, 3))),
+    ];
+    let results = golden::check(&cases, &golden_dir, &Manifest::default());
+    let report = dir.path().join("report");
+    let index = xtask::report::write(&report, &results).unwrap();
+    let html = std::fs::read_to_string(&index).unwrap();
+
+    let at = |s: &str| html.find(s).unwrap_or_else(|| panic!("{s} not in page"));
+    assert!(at("<h2>b-fails") < at("<h2>a-passes"));
+    assert!(at("<h2>c-missing") < at("<h2>a-passes"));
+    assert!(html.contains("9 of 9 pixels differ (100.000 %)"));
+    for file in [
+        "a-passes-golden.png",
+        "a-passes-actual.png",
+        "a-passes-diff.png",
+        "b-fails-diff.png",
+        "c-missing-actual.png",
+    ] {
+        assert!(html.contains(&format!("src=\"{file}\"")), "{file}");
+        assert!(report.join(file).is_file(), "{file}");
+    }
+    assert!(!report.join("c-missing-golden.png").exists());
+    assert_eq!(xtask::report::image_count(&results), 3 + 3 + 1);
+    // A second report replaces the first whole.
+    xtask::report::write(&report, &results[..1]).unwrap();
+    assert!(!report.join("b-fails-actual.png").exists());
+}
+
+#[test]
+fn cargo_xtask_golden_prints_the_table_and_exits_by_the_result() {
+    let target = tempfile::tempdir().unwrap();
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_xtask"))
+            .args(args)
+            .env("CARGO_TARGET_DIR", target.path())
+            .output()
+            .unwrap()
+    };
+    let ok = run(&["golden", "reflectance2", "texture"]);
+    let stdout = String::from_utf8_lossy(&ok.stdout);
+    assert!(ok.status.success(), "{stdout}");
+    assert!(stdout.contains("2 images: 2 passed, 0 not"), "{stdout}");
+    assert!(target.path().join("golden/index.html").is_file());
+    assert!(target.path().join("golden/texture-diff.png").is_file());
+
+    let unknown = run(&["golden", "no-such-scene"]);
+    assert_eq!(unknown.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&unknown.stderr).contains("no image named no-such-scene"));
+}
