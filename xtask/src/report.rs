@@ -84,6 +84,7 @@ pub fn html(results: &[CaseResult]) -> String {
         results.len(),
         legend()
     );
+    page.push_str(&summary_table(&order));
     for r in order {
         page.push_str(&section(r));
     }
@@ -110,11 +111,42 @@ fn legend() -> String {
     )
 }
 
+/// All the numbers at a glance, each name linking to its section.
+fn summary_table(order: &[&CaseResult]) -> String {
+    let mut s = String::from(
+        "<table>\n<tr><th>image</th><th>pixels differing</th><th>max diff</th>\
+         <th>mean diff</th><th>result</th></tr>\n",
+    );
+    for r in order {
+        let numbers = match &r.outcome {
+            Outcome::Compared(c) => format!(
+                "<td>{} ({:.3} %)</td><td>{}</td><td>{:.4}</td>",
+                c.differing,
+                c.differing_percent(),
+                c.max_diff,
+                c.mean_diff
+            ),
+            _ => "<td>-</td><td>-</td><td>-</td>".to_string(),
+        };
+        let _ = writeln!(
+            s,
+            "<tr class=\"{}\"><td><a href=\"#case-{}\">{}</a></td>{numbers}<td>{}</td></tr>",
+            r.verdict().to_ascii_lowercase(),
+            url_escape(&r.name),
+            escape(&r.name),
+            r.verdict()
+        );
+    }
+    s.push_str("</table>\n");
+    s
+}
+
 fn section(r: &CaseResult) -> String {
     let name = escape(&r.name);
     let verdict = r.verdict();
     let mut s = format!(
-        "<section class=\"{}\">\n<h2>{name} <span class=\"verdict\">{verdict}</span></h2>\n",
+        "<section id=\"case-{}\" class=\"{}\">\n<h2>{name} <span class=\"verdict\">{verdict}</span></h2>\n",
+        url_escape(&r.name),
         verdict.to_ascii_lowercase()
     );
     s.push_str(&numbers(r));
@@ -200,6 +232,10 @@ figure { margin: 0; flex: 1 1 0; min-width: 200px; }
 figure img { width: 100%; image-rendering: pixelated; display: block; }
 .none { padding: 3em 0; text-align: center; background: #ddd; color: #666; }
 .swatch { display: inline-block; width: 1em; height: 1em; vertical-align: middle; }
+table { border-collapse: collapse; background: #fff; font-family: monospace; }
+td, th { padding: 0.1em 0.8em; text-align: right; }
+td:first-child, th:first-child { text-align: left; }
+tr.fail td, tr.missing td, tr.error td { color: #b00; font-weight: bold; }
 #image-check { display: block; margin: 0.5em 0; }
 #image-check.bad { color: #b00; font-weight: bold; }
 </style>
