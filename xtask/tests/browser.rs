@@ -1,0 +1,89 @@
+//! The report opened in a real browser: headless Chromium loads
+//! `index.html` from disk, and every image on it must load.
+
+use image::{Rgb, RgbImage};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+use xtask::browser::{dump_dom, find_chromium, image_check, ImageCheck};
+use xtask::golden::{self, Case};
+use xtask::manifest::Manifest;
+
+const TIMEOUT: Duration = Duration::from_secs(120);
+
+/// Chromium, or `None` with a notice. Under CI (env `CI` set) a missing
+/// Chromium fails the test: `.ci/run` installs it.
+fn chromium() -> Option<PathBuf> {
+    let found = find_chromium();
+    if found.is_none() {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "CI is set but Chromium is missing: .ci/run installs Debian's `chromium` package"
+        );
+        // Straight to the stderr handle: libtest captures eprintln! of passing tests.
+        let _ = writeln!(
+            std::io::stderr(),
+            "SKIPPED: the browser check of the golden report needs Chromium \
+             (Debian: apt-get install chromium; or set CHROMIUM=/path/to/binary)"
+        );
+    }
+    found
+}
+
+fn load(chromium: &Path, index: &Path) -> ImageCheck {
+    let dom = dump_dom(chromium, index, TIMEOUT).unwrap();
+    image_check(&dom).unwrap_or_else(|e| panic!("{e:#}\n{dom}"))
+}
+
+#[test]
+fn every_image_of_the_golden_report_loads_in_chromium() {
+    let Some(chromium) = chromium() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let summary =
+        golden::run_check(&xtask::workspace_root(), &[], &dir.path().join("golden")).unwrap();
+    let scenes = golden::scene_cases(&xtask::workspace_root().join("scenes"))
+        .unwrap()
+        .len();
+    let check = load(&chromium, &summary.report);
+    // golden, actual and difference for every scene
+    let expected = 3 * scenes;
+    assert_eq!(
+        check,
+        ImageCheck {
+            total: expected,
+            loaded: expected,
+            failed: vec![]
+        }
+    );
+}
+
+#[test]
+fn the_browser_check_notices_an_image_that_does_not_load() {
+    let Some(chromium) = chromium() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let golden_dir = dir.path().join("golden");
+    let red = RgbImage::from_pixel(8, 6, Rgb([200, 0, 0]));
+    let cases = [Case::new("odd name #1", move || Ok(red.clone()))];
+    golden::bless(&cases, &golden_dir).unwrap();
+    let results = golden::check(&cases, &golden_dir, &Manifest::default());
+    let report = dir.path().join("report");
+    let index = xtask::report::write(&report, &results).unwrap();
+
+    assert_eq!(
+        load(&chromium, &index),
+        ImageCheck {
+            total: 3,
+            loaded: 3,
+            failed: vec![]
+        }
+    );
+    std::fs::remove_file(report.join("odd name #1-diff.png")).unwrap();
+    assert_eq!(
+        load(&chromium, &index),
+        ImageCheck {
+            total: 3,
+            loaded: 2,
+            failed: vec!["odd%20name%20%231-diff.png".to_string()]
+        }
+    );
+}
