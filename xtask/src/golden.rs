@@ -314,6 +314,11 @@ pub enum Blessed {
         name: String,
         change: SizeMismatch,
     },
+    /// The old golden could not be read; it was replaced.
+    Unreadable {
+        name: String,
+        error: String,
+    },
     Unchanged {
         name: String,
     },
@@ -333,6 +338,12 @@ impl std::fmt::Display for Blessed {
                 c.mean_diff
             ),
             Blessed::Resized { name, change } => write!(f, "changed    {name}: {change}"),
+            Blessed::Unreadable { name, error } => {
+                write!(
+                    f,
+                    "replaced   {name}: the old golden was unreadable ({error})"
+                )
+            }
             Blessed::Unchanged { name } => write!(f, "unchanged  {name}"),
         }
     }
@@ -364,12 +375,16 @@ fn bless_one(name: &str, image: &RgbImage, golden_dir: &Path) -> Result<Blessed>
         max_differing_percent: 0.0,
     };
     let name = name.to_string();
-    let blessed = match read_golden(&path).ok().flatten() {
-        None => Blessed::New {
+    let blessed = match read_golden(&path) {
+        Ok(None) => Blessed::New {
             name,
             size: image.dimensions(),
         },
-        Some(old) => match compare(&old, image, &exact) {
+        Err(e) => Blessed::Unreadable {
+            name,
+            error: format!("{e:#}"),
+        },
+        Ok(Some(old)) => match compare(&old, image, &exact) {
             Ok(c) if c.differing == 0 => return Ok(Blessed::Unchanged { name }),
             Ok(change) => Blessed::Changed { name, change },
             Err(change) => Blessed::Resized { name, change },

@@ -75,6 +75,41 @@ fn every_image_matches_its_golden() {
     assert!(summary.results.len() >= 12);
 }
 
+/// The committed goldens themselves, checked against values worked out by
+/// hand from the lab's formulas (gamma 2.2, truncation to 8 bits), so that a
+/// wrongly blessed image is caught whatever the renderer does.
+#[test]
+fn the_goldens_hold_the_labs_hand_worked_values() {
+    let px = |name: &str, i, j| real_golden(name).get_pixel(i, j).0;
+    // Hit colour (0, 0.5, 0): 0.5^(1/2.2) * 255 = 186.08 -> 186; a miss is black.
+    assert_eq!(px("sphere-intersection", 250, 200), [0, 186, 0]);
+    assert_eq!(px("sphere-intersection", 5, 5), [0, 0, 0]);
+    // The small sphere (-2.5, 1.3, -3) projects to column 250 + 2.5/13 * 536 = 353,
+    // row 200 - 1.3/13 * 536 = 146: top-RIGHT, since +x points left.
+    assert_eq!(px("sphere-intersection", 353, 146), [0, 186, 0]);
+    assert_eq!(px("sphere-intersection", 147, 146), [0, 0, 0]);
+    // Triangle (3,3,-5) (-3,3,-10) (-3,-3,-8): its centroid (-1, 1, -7.67)
+    // projects to column 250 + 1/17.67 * 536 = 280, row 200 - 30 = 170.
+    assert_eq!(px("triangle-intersection", 280, 170), [0, 186, 0]);
+    assert_eq!(px("triangle-intersection", 200, 300), [0, 0, 0]);
+    // Ambient only: 0.6 * 0.5 = 0.3; 0.3^(1/2.2) * 255 = 147.5 -> 147.
+    assert_eq!(px("illumination-ambient", 250, 200), [147, 0, 0]);
+    // Diffuse at the front, p ~ (0, 0, 1.6): cos = 6.4 / |(-3,-2,6.4)| = 0.8713,
+    // 0.6 * 0.7 * 0.8713 = 0.3659 -> 0.6332 * 255 = 161.5 -> 161 (+-1: p is near the front).
+    let [r, g, b] = px("illumination-diffuse", 250, 200);
+    assert!(r.abs_diff(161) <= 1 && g == 0 && b == 0, "{r} {g} {b}");
+    // The red sphere's shadow on the back wall: ambient 0.6 * 0.1 = 0.06 only;
+    // 0.06^(1/2.2) * 255 = 70.98 -> 70.
+    assert_eq!(px("shadows", 100, 150), [70, 70, 70]);
+    for name in golden::scene_cases(&root().join("scenes"))
+        .unwrap()
+        .iter()
+        .map(|c| &c.name)
+    {
+        assert_eq!(real_golden(name).dimensions(), (500, 400), "{name}");
+    }
+}
+
 #[test]
 fn a_render_changed_beyond_tolerance_fails_with_exact_counts() {
     let mut image = real_golden("reflectance2");
@@ -242,6 +277,15 @@ fn bless_writes_new_and_changed_goldens_and_says_what_changed() {
     assert_eq!(
         blessed[0].to_string(),
         "changed    img: 2 of 20 pixels (10.000 %), max diff 10, mean diff 0.1833"
+    );
+    let on_disk = image::open(dir.path().join("img.png")).unwrap().to_rgb8();
+    assert_eq!(on_disk, changed);
+
+    std::fs::write(dir.path().join("img.png"), "not a PNG").unwrap();
+    let blessed = golden::bless(&[case(changed.clone())], dir.path()).unwrap();
+    assert!(
+        matches!(&blessed[0], Blessed::Unreadable { name, .. } if name == "img"),
+        "{blessed:?}"
     );
     let on_disk = image::open(dir.path().join("img.png")).unwrap().to_rgb8();
     assert_eq!(on_disk, changed);
