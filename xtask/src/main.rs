@@ -4,7 +4,11 @@ use clap::{Args, Parser, Subcommand};
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "cargo xtask", about = "Project chores")]
+#[command(
+    name = "cargo xtask",
+    bin_name = "cargo xtask",
+    about = "Project chores"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -15,9 +19,11 @@ enum Command {
     Golden(GoldenArgs),
 }
 
-/// Render every scene and compare it with its golden image in golden/; the
-/// report is target/golden/index.html. Exit status 1 when any image fails or
-/// has no golden.
+/// Check every scene's render against its golden image in golden/
+///
+/// Renders every scene, compares each with golden/<NAME>.png (tolerances in
+/// golden/golden.toml), prints a table and writes the report
+/// target/golden/index.html. Exit status 1 when any image fails or has no golden.
 #[derive(Args)]
 struct GoldenArgs {
     /// Make the renders the new goldens (look at them first: target/golden/)
