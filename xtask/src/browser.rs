@@ -38,6 +38,8 @@ pub fn dump_dom(chromium: &Path, page: &Path, timeout: Duration) -> Result<Strin
             "--disable-background-networking",
             "--disable-component-update",
             "--disable-sync",
+            // Containers often have a tiny /dev/shm, which crashes Chromium.
+            "--disable-dev-shm-usage",
             "--virtual-time-budget=10000",
             "--dump-dom",
         ])
