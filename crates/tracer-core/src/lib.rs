@@ -2,7 +2,9 @@
 //! shadows, mirror recursion, and the encoding of the image. It reads no
 //! files and prints nothing.
 
+pub mod aov;
 pub mod camera;
+pub mod canvas;
 pub mod image;
 pub mod light;
 pub mod material;
