@@ -3,8 +3,11 @@
 //! files and prints nothing.
 
 pub mod aov;
+pub mod calib;
 pub mod camera;
 pub mod canvas;
+pub mod gamma;
+pub mod gamma_plot;
 pub mod image;
 pub mod light;
 pub mod material;
