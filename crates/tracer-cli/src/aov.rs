@@ -37,22 +37,13 @@ impl From<AovArg> for Aov {
     }
 }
 
-/// `--gamma` must be a number > 0.
-pub fn checked_gamma(gamma: f32) -> Result<f32> {
-    if gamma.is_finite() && gamma > 0.0 {
-        Ok(gamma)
-    } else {
-        Err(BadInput(format!("--gamma: expected a number > 0, found {gamma}")).into())
-    }
-}
-
 /// Renders the AOV of a 3D scene; written linearly unless `--gamma` is given.
 pub fn run(args: &RenderArgs, aov: AovArg) -> Result<()> {
     let aov = Aov::from(aov);
     let (scene_name, file) = crate::render::load(args.scene.as_deref())?;
     let mut encoding = AOV_ENCODING;
     if let Some(gamma) = args.gamma {
-        encoding.gamma = checked_gamma(gamma)?;
+        encoding.gamma = crate::gamma::checked_gamma(gamma)?;
     }
     let output = args.output.clone().unwrap_or_else(|| {
         let stem = crate::render::default_output(&scene_name);

@@ -31,7 +31,7 @@ const MAX_SIDE: u32 = 16384;
 
 pub fn run(args: &CalibChartArgs) -> Result<()> {
     let gamma = match args.gamma {
-        Some(g) => crate::aov::checked_gamma(g)?,
+        Some(g) => crate::gamma::checked_gamma(g)?,
         None => 1.0,
     };
     if !(5..=MAX_SIDE).contains(&args.width) || !(1..=MAX_SIDE).contains(&args.height) {

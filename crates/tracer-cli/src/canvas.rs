@@ -29,7 +29,7 @@ fn draw(args: &RenderArgs, path: &Path, file: &CanvasFile) -> Result<()> {
     }
     let mut encoding = tracer_core::canvas::encoding(file);
     if let Some(gamma) = args.gamma {
-        encoding.gamma = crate::aov::checked_gamma(gamma)?;
+        encoding.gamma = crate::gamma::checked_gamma(gamma)?;
     }
     let output = args
         .output

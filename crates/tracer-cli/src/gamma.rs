@@ -30,6 +30,15 @@ pub struct FitArgs {
     pub plot: Option<PathBuf>,
 }
 
+/// `--gamma` must be a number > 0.
+pub fn checked_gamma(gamma: f32) -> Result<f32> {
+    if gamma.is_finite() && gamma > 0.0 {
+        Ok(gamma)
+    } else {
+        Err(BadInput(format!("--gamma: expected a number > 0, found {gamma}")).into())
+    }
+}
+
 pub fn run(command: &GammaCommand) -> Result<()> {
     match command {
         GammaCommand::Fit(args) => fit(args),

@@ -341,6 +341,11 @@ mod tests {
             error_of("0,1\n0.5,-3\n1,9\n"),
             "row 2: luminance: expected a luminance > 0 (cd/m2), found -3"
         );
+        // Comment and blank lines count: the row is the file's line.
+        assert_eq!(
+            error_of("# display A\n\n0,1\n0.5,x\n"),
+            "row 4: luminance: expected a number, found `x`"
+        );
         assert_eq!(
             error_of("0,1\n1.5,3\n"),
             "row 2: level: expected a number from 0 to 1, found 1.5"
