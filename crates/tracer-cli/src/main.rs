@@ -1,5 +1,9 @@
 //! `tracer`: renders scene files (TOML or JSON) to PNG images.
 
+mod aov;
+mod calib_chart;
+mod canvas;
+mod gamma;
 mod output;
 mod render;
 
@@ -20,6 +24,9 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     Render(render::RenderArgs),
+    CalibChart(calib_chart::CalibChartArgs),
+    #[command(subcommand)]
+    Gamma(gamma::GammaCommand),
 }
 
 /// Exit status for bad input (a scene or the arguments); 1 is any other failure.
@@ -41,6 +48,8 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
+        Command::CalibChart(args) => calib_chart::run(&args),
+        Command::Gamma(command) => gamma::run(&command),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

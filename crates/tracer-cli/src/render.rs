@@ -26,9 +26,19 @@ pub struct RenderArgs {
     /// (1 writes linear values)
     #[arg(long, value_name = "G")]
     pub gamma: Option<f32>,
+    /// Write one quantity per pixel instead of the shaded colour (linear,
+    /// unless --gamma is given)
+    #[arg(long, value_name = "NAME")]
+    pub aov: Option<crate::aov::AovArg>,
 }
 
 pub fn run(args: &RenderArgs) -> Result<()> {
+    if crate::canvas::render_if_canvas(args)? {
+        return Ok(());
+    }
+    if let Some(aov) = args.aov {
+        return crate::aov::run(args, aov);
+    }
     let (scene_name, mut file) = load(args.scene.as_deref())?;
     if let Some(gamma) = args.gamma {
         if !(gamma.is_finite() && gamma > 0.0) {
@@ -58,7 +68,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 }
 
 /// The scene's name (for messages and the default output) and its contents.
-fn load(path: Option<&Path>) -> Result<(PathBuf, SceneFile)> {
+pub(crate) fn load(path: Option<&Path>) -> Result<(PathBuf, SceneFile)> {
     let name = path.map_or_else(|| PathBuf::from(DEFAULT_SCENE_NAME), Path::to_path_buf);
     let scene = match path {
         Some(path) => scene_format::load_path(path),
@@ -68,7 +78,7 @@ fn load(path: Option<&Path>) -> Result<(PathBuf, SceneFile)> {
     Ok((name, scene))
 }
 
-fn default_output(scene: &Path) -> PathBuf {
+pub(crate) fn default_output(scene: &Path) -> PathBuf {
     let stem = scene.file_stem().unwrap_or(scene.as_os_str());
     PathBuf::from(stem).with_extension("png")
 }

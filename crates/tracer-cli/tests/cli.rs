@@ -81,3 +81,107 @@ fn gamma_flag_overrides_the_scene() {
     let out = tracer(dir.path(), &["render", &s, "--gamma", "0"]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+fn rgb(path: &Path) -> image::RgbImage {
+    image::open(path).unwrap().to_rgb8()
+}
+
+#[test]
+fn a_canvas_scene_is_drawn_without_gamma() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = tracer(dir.path(), &["render", &scene("triangle-2d.toml")]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let img = rgb(&dir.path().join("triangle-2d.png"));
+    assert_eq!(img.dimensions(), (500, 400));
+    // The template's grey 0.1 without gamma: (int)(0.1 * 255) = 25.
+    assert_eq!(img.get_pixel(5, 5).0, [25, 25, 25]);
+    // The vertical edge x = 0.4 is column 500 * 0.6 / 2 = 150: columns 149
+    // and 150, red; halfway between y = 0.3 and -0.3, row 200.
+    assert_eq!(img.get_pixel(149, 200).0, [255, 0, 0]);
+    assert_eq!(img.get_pixel(150, 200).0, [255, 0, 0]);
+    assert_eq!(img.get_pixel(152, 200).0, [25, 25, 25]);
+    // Translated by (0.2, 0.1): 50 columns left, 20 rows up, green.
+    assert_eq!(img.get_pixel(99, 180).0, [0, 255, 0]);
+    assert_eq!(img.get_pixel(100, 180).0, [0, 255, 0]);
+    let out = tracer(
+        dir.path(),
+        &["render", &scene("robot.toml"), "--aov", "depth"],
+    );
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn aov_ray_dir_x_writes_the_labs_gradient() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = scene("sphere-intersection.toml");
+    let out = tracer(dir.path(), &["render", &s, "--aov", "ray-dir-x"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let img = rgb(&dir.path().join("sphere-intersection-ray-dir-x.png"));
+    // Top-left direction (249.5, 199.5, -536.127) / 624.086: x = 0.39979,
+    // (x + 1) / 2 * 255 = 178.47 -> 178, written linearly.
+    assert_eq!(img.get_pixel(0, 0).0, [178, 0, 0]);
+    let out = tracer(dir.path(), &["render", &s, "--aov", "colour"]);
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn calib_chart_writes_five_patches_with_and_without_gamma() {
+    let dir = tempfile::tempdir().unwrap();
+    let patches = |name: &str| -> Vec<u8> {
+        let img = rgb(&dir.path().join(name));
+        (0..5)
+            .map(|k| img.get_pixel(k * 100 + 50, 50).0[0])
+            .collect()
+    };
+    assert!(tracer(dir.path(), &["calib-chart"]).status.success());
+    assert_eq!(patches("chart.png"), [0, 63, 127, 191, 255]);
+    let out = tracer(
+        dir.path(),
+        &["calib-chart", "-o", "g.png", "--gamma", "2.2"],
+    );
+    assert!(out.status.success());
+    // c^(1/2.2) * 255 truncated: 135.79, 186.08, 223.74.
+    assert_eq!(patches("g.png"), [0, 135, 186, 223, 255]);
+    let out = tracer(dir.path(), &["calib-chart", "--gamma", "-1"]);
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn gamma_fit_prints_gamma_and_draws_the_plot() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = scene("gamma/sample-measurements.csv");
+    let out = tracer(dir.path(), &["gamma", "fit", &csv, "--plot", "gamma.png"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.starts_with("gamma = 2.28\nRMSE = "), "{stdout}");
+    assert_eq!(rgb(&dir.path().join("gamma.png")).dimensions(), (800, 600));
+}
+
+#[test]
+fn a_bad_measurement_file_exits_2_naming_the_row() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("m.csv"),
+        "level,luminance\n0,0.4\n0.5,-2\n1,250\n",
+    )
+    .unwrap();
+    let out = tracer(dir.path(), &["gamma", "fit", "m.csv", "--plot", "p.png"]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("m.csv: row 3: luminance"), "{stderr}");
+    assert!(!dir.path().join("p.png").exists());
+    let out = tracer(dir.path(), &["gamma", "fit", "missing.csv"]);
+    assert_eq!(out.status.code(), Some(2));
+}

@@ -2,7 +2,12 @@
 //! shadows, mirror recursion, and the encoding of the image. It reads no
 //! files and prints nothing.
 
+pub mod aov;
+pub mod calib;
 pub mod camera;
+pub mod canvas;
+pub mod gamma;
+pub mod gamma_plot;
 pub mod image;
 pub mod light;
 pub mod material;

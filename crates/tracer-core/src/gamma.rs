@@ -1,0 +1,372 @@
+//! Measuring a display's gamma without Matlab (lab section 6, exercise 17):
+//! luminances measured on the calibration chart, normalised by their maximum,
+//! fitted to `y = x^gamma` by least squares (as the lab's `cftool` does).
+
+use std::fmt;
+
+/// One measured patch: its level in [0, 1], the luminance measured on the
+/// display (cd/m2) and, optionally, the luminance measured after correction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Measurement {
+    pub level: f64,
+    pub luminance: f64,
+    pub corrected: Option<f64>,
+}
+
+/// What is wrong with a measurement file, and where: `line` counts from 1.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub struct MeasurementError {
+    pub line: Option<u64>,
+    pub message: String,
+}
+
+impl fmt::Display for MeasurementError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.line {
+            Some(line) => write!(f, "row {line}: {}", self.message),
+            None => f.write_str(&self.message),
+        }
+    }
+}
+
+fn error_at(line: u64, message: impl Into<String>) -> MeasurementError {
+    MeasurementError {
+        line: Some(line),
+        message: message.into(),
+    }
+}
+
+const COLUMNS: [&str; 3] = ["level", "luminance", "corrected luminance"];
+
+/// Reads measurements from CSV text: columns level, luminance and optionally
+/// the corrected luminance; one optional header row (a first row whose first
+/// value is not a number); `#` starts a comment line. Rows are counted as
+/// lines of the file, from 1.
+pub fn parse_measurements(text: &str) -> Result<Vec<Measurement>, MeasurementError> {
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .trim(csv::Trim::All)
+        .comment(Some(b'#'))
+        .from_reader(text.as_bytes());
+    let mut columns: Option<usize> = None;
+    let mut out = Vec::new();
+    for (index, record) in reader.records().enumerate() {
+        let record = record.map_err(|e| {
+            let line = e.position().map_or(0, |p| p.line());
+            error_at(line, format!("cannot read the CSV: {e}"))
+        })?;
+        let line = record.position().map_or(index as u64 + 1, |p| p.line());
+        let fields: Vec<&str> = record.iter().collect();
+        if index == 0 && fields.first().is_some_and(|f| f.parse::<f64>().is_err()) {
+            columns = Some(check_header_width(line, fields.len())?);
+            continue;
+        }
+        let width = match columns {
+            Some(width) => width,
+            None => *columns.insert(check_header_width(line, fields.len())?),
+        };
+        out.push(parse_row(line, &fields, width)?);
+    }
+    check_enough(&out)?;
+    Ok(out)
+}
+
+/// Two columns (level, luminance) or three (and the corrected luminance).
+fn check_header_width(line: u64, n: usize) -> Result<usize, MeasurementError> {
+    match n {
+        2 | 3 => Ok(n),
+        _ => Err(error_at(
+            line,
+            format!("expected 2 or 3 columns (level, luminance[, corrected luminance]), found {n}"),
+        )),
+    }
+}
+
+fn parse_row(line: u64, fields: &[&str], width: usize) -> Result<Measurement, MeasurementError> {
+    if fields.len() > width {
+        return Err(error_at(
+            line,
+            format!("expected {width} values, found {}", fields.len()),
+        ));
+    }
+    let value = |k: usize| -> Result<f64, MeasurementError> {
+        let name = COLUMNS[k];
+        let text = fields.get(k).copied().unwrap_or("");
+        if text.is_empty() {
+            return Err(error_at(line, format!("{name}: missing value")));
+        }
+        match text.parse::<f64>() {
+            Ok(x) if x.is_finite() => Ok(x),
+            _ => Err(error_at(
+                line,
+                format!("{name}: expected a number, found `{text}`"),
+            )),
+        }
+    };
+    let level = value(0)?;
+    if !(0.0..=1.0).contains(&level) {
+        return Err(error_at(
+            line,
+            format!("level: expected a number from 0 to 1, found {level}"),
+        ));
+    }
+    let positive = |k: usize| -> Result<f64, MeasurementError> {
+        let x = value(k)?;
+        if x > 0.0 {
+            Ok(x)
+        } else {
+            Err(error_at(
+                line,
+                format!(
+                    "{}: expected a luminance > 0 (cd/m2), found {x}",
+                    COLUMNS[k]
+                ),
+            ))
+        }
+    };
+    Ok(Measurement {
+        level,
+        luminance: positive(1)?,
+        corrected: if width == 3 { Some(positive(2)?) } else { None },
+    })
+}
+
+fn check_enough(rows: &[Measurement]) -> Result<(), MeasurementError> {
+    let whole = |message: &str| MeasurementError {
+        line: None,
+        message: message.to_string(),
+    };
+    if rows.len() < 2 {
+        return Err(whole(&format!(
+            "expected at least 2 measured rows, found {}",
+            rows.len()
+        )));
+    }
+    if !rows.iter().any(|m| m.level > 0.0 && m.level < 1.0) {
+        return Err(whole(
+            "expected at least one level strictly between 0 and 1; at 0 and 1 every gamma fits alike",
+        ));
+    }
+    Ok(())
+}
+
+/// Values divided by their maximum (the lab's normalisation).
+pub fn normalise(values: &[f64]) -> Vec<f64> {
+    let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    values.iter().map(|v| v / max).collect()
+}
+
+/// A fitted `y = x^gamma` and its root-mean-square error on the points.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GammaFit {
+    pub gamma: f64,
+    pub rmse: f64,
+}
+
+/// The gamma range searched; displays lie well inside it.
+pub const GAMMA_RANGE: (f64, f64) = (0.05, 20.0);
+
+/// Sum of squared residuals of `y = x^gamma`.
+pub fn sse(points: &[(f64, f64)], gamma: f64) -> f64 {
+    points
+        .iter()
+        .map(|&(x, y)| (x.powf(gamma) - y).powi(2))
+        .sum()
+}
+
+/// Least squares fit of `y = x^gamma` to normalised points: a scan over a
+/// log-spaced grid finds the basin of the smallest error, golden-section
+/// search narrows it down.
+pub fn fit_gamma(points: &[(f64, f64)]) -> GammaFit {
+    const STEPS: usize = 2000;
+    let (lo, hi) = GAMMA_RANGE;
+    let ratio = (hi / lo).powf(1.0 / STEPS as f64);
+    let grid: Vec<f64> = (0..=STEPS).map(|k| lo * ratio.powi(k as i32)).collect();
+    let best = (0..grid.len())
+        .min_by(|&a, &b| sse(points, grid[a]).total_cmp(&sse(points, grid[b])))
+        .unwrap_or(0);
+    let a = grid[best.saturating_sub(1)];
+    let b = grid[(best + 1).min(STEPS)];
+    let gamma = golden_section(|g| sse(points, g), a, b);
+    let rmse = (sse(points, gamma) / points.len().max(1) as f64).sqrt();
+    GammaFit { gamma, rmse }
+}
+
+/// The minimum of a function unimodal on [a, b].
+fn golden_section(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
+    let inv_phi = (5f64.sqrt() - 1.0) / 2.0;
+    let mut c = b - inv_phi * (b - a);
+    let mut d = a + inv_phi * (b - a);
+    let (mut fc, mut fd) = (f(c), f(d));
+    for _ in 0..200 {
+        if b - a <= 1e-12 * b.abs().max(1.0) {
+            break;
+        }
+        if fc < fd {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - inv_phi * (b - a);
+            fc = f(c);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + inv_phi * (b - a);
+            fd = f(d);
+        }
+    }
+    (a + b) / 2.0
+}
+
+/// The fit of a measurement file: levels against luminances normalised by
+/// their maximum.
+pub fn fit_measurements(rows: &[Measurement]) -> GammaFit {
+    fit_gamma(&normalised_points(rows, |m| Some(m.luminance)))
+}
+
+/// (level, luminance / max luminance) of the rows where `value` has one.
+pub fn normalised_points(
+    rows: &[Measurement],
+    value: impl Fn(&Measurement) -> Option<f64>,
+) -> Vec<(f64, f64)> {
+    let pairs: Vec<(f64, f64)> = rows
+        .iter()
+        .filter_map(|m| value(m).map(|v| (m.level, v)))
+        .collect();
+    let ys: Vec<f64> = pairs.iter().map(|p| p.1).collect();
+    pairs
+        .iter()
+        .zip(normalise(&ys))
+        .map(|(&(x, _), y)| (x, y))
+        .collect()
+}
+
+/// RMSE of normalised corrected measurements from the straight line y = x:
+/// how close to linear the corrected display is.
+pub fn linearity_rmse(points: &[(f64, f64)]) -> f64 {
+    let sum: f64 = points.iter().map(|&(x, y)| (y - x).powi(2)).sum();
+    (sum / points.len().max(1) as f64).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exact_power_law_data_give_back_their_gamma() {
+        for gamma in [1.0, 1.8, 2.2, 2.3, 2.6] {
+            let points: Vec<(f64, f64)> = [0.0, 0.25, 0.5, 0.75, 1.0]
+                .iter()
+                .map(|&x: &f64| (x, x.powf(gamma)))
+                .collect();
+            let fit = fit_gamma(&points);
+            assert!((fit.gamma - gamma).abs() < 1e-6, "{fit:?} for {gamma}");
+            assert!(fit.rmse < 1e-6);
+        }
+    }
+
+    #[test]
+    fn noisy_data_agree_with_a_brute_force_scan() {
+        // Luminances of a gamma-2.3 display with a black level and noise.
+        let points = [
+            (0.0, 0.002),
+            (0.25, 0.047),
+            (0.5, 0.199),
+            (0.75, 0.526),
+            (1.0, 1.0),
+        ];
+        let fit = fit_gamma(&points);
+        // An independent minimiser: every gamma from 1 to 4 in steps of 1e-5.
+        let brute = (100_000..=400_000)
+            .map(|k| k as f64 * 1e-5)
+            .min_by(|&a, &b| sse(&points, a).total_cmp(&sse(&points, b)))
+            .unwrap();
+        assert!((fit.gamma - brute).abs() < 2e-5, "{} vs {brute}", fit.gamma);
+        assert!((fit.gamma - 2.3).abs() < 0.05);
+        let rmse = (sse(&points, fit.gamma) / 5.0).sqrt();
+        assert_eq!(fit.rmse, rmse);
+    }
+
+    #[test]
+    fn measurements_are_normalised_by_their_maximum() {
+        let text = "level,luminance\n0,0.5\n0.5,25\n1,100\n";
+        let rows = parse_measurements(text).unwrap();
+        let points = normalised_points(&rows, |m| Some(m.luminance));
+        assert_eq!(points, [(0.0, 0.005), (0.5, 0.25), (1.0, 1.0)]);
+        // 0.5^gamma = 0.25 -> gamma = 2 (0 -> 0.005 pulls a hair off 2).
+        assert!((fit_measurements(&rows).gamma - 2.0).abs() < 1e-3);
+    }
+
+    #[test]
+    fn a_header_a_corrected_column_and_comments_are_read() {
+        let text = "# measured on the lab display\nlevel, luminance, corrected\n\
+                    0, 0.4, 0.4\n0.5, 50, 120\n\n1, 250, 249\n";
+        let rows = parse_measurements(text).unwrap();
+        assert_eq!(rows.len(), 3);
+        assert_eq!(
+            rows[1],
+            Measurement {
+                level: 0.5,
+                luminance: 50.0,
+                corrected: Some(120.0)
+            }
+        );
+    }
+
+    fn error_of(text: &str) -> String {
+        parse_measurements(text).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn bad_rows_are_named() {
+        assert_eq!(
+            error_of("level,luminance\n0,1\n0.5,abc\n1,9\n"),
+            "row 3: luminance: expected a number, found `abc`"
+        );
+        assert_eq!(
+            error_of("0,1,1\n0.5,2\n1,9,9\n"),
+            "row 2: corrected luminance: missing value"
+        );
+        assert_eq!(
+            error_of("0,1\n0.5,\n1,9\n"),
+            "row 2: luminance: missing value"
+        );
+        assert_eq!(
+            error_of("0,1\n0.5,0\n1,9\n"),
+            "row 2: luminance: expected a luminance > 0 (cd/m2), found 0"
+        );
+        assert_eq!(
+            error_of("0,1\n0.5,-3\n1,9\n"),
+            "row 2: luminance: expected a luminance > 0 (cd/m2), found -3"
+        );
+        // Comment and blank lines count: the row is the file's line.
+        assert_eq!(
+            error_of("# display A\n\n0,1\n0.5,x\n"),
+            "row 4: luminance: expected a number, found `x`"
+        );
+        assert_eq!(
+            error_of("0,1\n1.5,3\n"),
+            "row 2: level: expected a number from 0 to 1, found 1.5"
+        );
+        assert_eq!(
+            error_of("0,1\n0.5,3,4,5\n"),
+            "row 2: expected 2 values, found 4"
+        );
+        assert_eq!(
+            error_of("level\n0\n"),
+            "row 1: expected 2 or 3 columns (level, luminance[, corrected luminance]), found 1"
+        );
+    }
+
+    #[test]
+    fn too_few_points_are_refused() {
+        assert_eq!(
+            error_of("level,luminance\n0.5,10\n"),
+            "expected at least 2 measured rows, found 1"
+        );
+        assert_eq!(error_of(""), "expected at least 2 measured rows, found 0");
+        assert!(error_of("0,1\n1,9\n").contains("strictly between 0 and 1"));
+    }
+}

@@ -1,0 +1,194 @@
+//! The lab's `draw-gamma.m` figure, drawn with plotters into an image: the
+//! measured (normalised) display curve, the fitted `y = x^gamma`, the
+//! correcting `y = x^(1/gamma)` and, when measured, the display after
+//! correction, against the straight line it should approach.
+
+use crate::gamma::{normalised_points, GammaFit, Measurement};
+use plotters::prelude::*;
+use plotters::style::{register_font, FontStyle};
+use std::sync::Once;
+
+/// The font family plotters draws with; registered from the embedded DejaVu
+/// Sans, so the plot needs no font installed on the machine.
+const FONT: &str = "sans-serif";
+
+pub const DEFAULT_SIZE: (u32, u32) = (800, 600);
+
+#[derive(Debug, thiserror::Error)]
+#[error("cannot draw the gamma plot: {0}")]
+pub struct PlotError(String);
+
+fn register_embedded_font() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        // The font is compiled in; it can only fail if the bytes were bad.
+        let _ = register_font(FONT, FontStyle::Normal, dejavu::sans::regular());
+    });
+}
+
+/// Samples of `f` over [0, 1] for a smooth curve.
+fn curve(f: impl Fn(f64) -> f64) -> Vec<(f64, f64)> {
+    const SAMPLES: usize = 200;
+    (0..=SAMPLES)
+        .map(|k| {
+            let x = k as f64 / SAMPLES as f64;
+            (x, f(x))
+        })
+        .collect()
+}
+
+/// The measured points joined in order of level: the measured curve.
+fn by_level(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let mut sorted = points.to_vec();
+    sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+    sorted
+}
+
+/// Draws the plot as an RGB image of `width` x `height` pixels.
+pub fn plot_gamma(
+    rows: &[Measurement],
+    fit: &GammaFit,
+    width: u32,
+    height: u32,
+) -> Result<image::RgbImage, PlotError> {
+    register_embedded_font();
+    let mut buffer = vec![0u8; width as usize * height as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut buffer, (width, height)).into_drawing_area();
+        draw(&root, rows, fit).map_err(|e| PlotError(e.to_string()))?;
+        root.present().map_err(|e| PlotError(e.to_string()))?;
+    }
+    image::RgbImage::from_raw(width, height, buffer)
+        .ok_or_else(|| PlotError("the plot buffer has the wrong size".to_string()))
+}
+
+type DrawResult = Result<(), Box<dyn std::error::Error>>;
+
+fn draw(
+    root: &DrawingArea<BitMapBackend, plotters::coord::Shift>,
+    rows: &[Measurement],
+    fit: &GammaFit,
+) -> DrawResult {
+    let g = fit.gamma;
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(root)
+        .caption(format!("Display gamma: {g:.2}"), (FONT, 28))
+        .margin(20)
+        .x_label_area_size(50)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0f64..1f64, 0f64..1.05f64)?;
+    chart
+        .configure_mesh()
+        .x_desc("input value x (colour level)")
+        .y_desc("normalised luminance y")
+        .axis_desc_style((FONT, 18))
+        .label_style((FONT, 15))
+        .draw()?;
+
+    let grey = RGBColor(150, 150, 150);
+    chart
+        .draw_series(DashedLineSeries::new(
+            curve(|x| x),
+            6,
+            4,
+            grey.stroke_width(1),
+        ))?
+        .label("linear: y = x")
+        .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], grey));
+
+    let red = RGBColor(210, 40, 40);
+    chart
+        .draw_series(LineSeries::new(curve(|x| x.powf(g)), red.stroke_width(2)))?
+        .label(format!("fit: y = x^{g:.2}"))
+        .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], red.stroke_width(2)));
+
+    let green = RGBColor(30, 150, 60);
+    chart
+        .draw_series(LineSeries::new(
+            curve(|x| x.powf(1.0 / g)),
+            green.stroke_width(2),
+        ))?
+        .label(format!("correction: y = x^(1/{g:.2})"))
+        .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], green.stroke_width(2)));
+
+    let blue = RGBColor(30, 80, 200);
+    let measured = normalised_points(rows, |m| Some(m.luminance));
+    chart.draw_series(LineSeries::new(by_level(&measured), blue.stroke_width(1)))?;
+    chart
+        .draw_series(measured.iter().map(|&p| Circle::new(p, 5, blue.filled())))?
+        .label("measured")
+        .legend(move |(x, y)| Circle::new((x + 10, y), 5, blue.filled()));
+
+    let purple = RGBColor(140, 40, 170);
+    let corrected = normalised_points(rows, |m| m.corrected);
+    if !corrected.is_empty() {
+        chart.draw_series(LineSeries::new(
+            by_level(&corrected),
+            purple.stroke_width(1),
+        ))?;
+        chart
+            .draw_series(
+                corrected
+                    .iter()
+                    .map(|&p| TriangleMarker::new(p, 7, purple.filled())),
+            )?
+            .label("measured after correction")
+            .legend(move |(x, y)| TriangleMarker::new((x + 10, y), 7, purple.filled()));
+    }
+
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .label_font((FONT, 16))
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK)
+        .draw()?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gamma::{fit_measurements, parse_measurements};
+
+    fn sample() -> Vec<Measurement> {
+        parse_measurements("0,0.4,0.4\n0.25,10.7,63\n0.5,51,126\n0.75,129,187\n1,250,249\n")
+            .unwrap()
+    }
+
+    fn has_colour(img: &image::RgbImage, rgb: [u8; 3]) -> bool {
+        img.pixels().any(|p| p.0 == rgb)
+    }
+
+    #[test]
+    fn the_plot_shows_every_series_and_some_text() {
+        let rows = sample();
+        let fit = fit_measurements(&rows);
+        let img = plot_gamma(&rows, &fit, 800, 600).unwrap();
+        assert_eq!(img.dimensions(), (800, 600));
+        for colour in [[210, 40, 40], [30, 150, 60], [30, 80, 200], [140, 40, 170]] {
+            assert!(has_colour(&img, colour), "{colour:?} missing");
+        }
+        // The text is anti-aliased: grey levels between black and white
+        // appear only where glyphs (or the legend's box) are drawn.
+        let greys = img
+            .pixels()
+            .filter(|p| p.0[0] == p.0[1] && p.0[1] == p.0[2] && (30..220).contains(&p.0[0]))
+            .count();
+        assert!(greys > 200, "{greys} grey pixels: no text?");
+    }
+
+    #[test]
+    fn without_a_corrected_column_its_series_is_left_out() {
+        let rows: Vec<Measurement> = sample()
+            .into_iter()
+            .map(|m| Measurement {
+                corrected: None,
+                ..m
+            })
+            .collect();
+        let fit = fit_measurements(&rows);
+        let img = plot_gamma(&rows, &fit, 640, 480).unwrap();
+        assert!(!has_colour(&img, [140, 40, 170]));
+    }
+}
