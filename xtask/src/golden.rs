@@ -6,9 +6,12 @@ use crate::manifest::Manifest;
 use anyhow::{bail, Context, Result};
 use image::RgbImage;
 use rayon::prelude::*;
+use scene_format::{Saturation, SceneKind};
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use tracer_core::aov::Aov;
+use tracer_core::Encoding;
 
 pub type RenderFn = Box<dyn Fn() -> Result<RgbImage> + Send + Sync>;
 
@@ -34,15 +37,74 @@ impl Case {
 /// The one way a scene file becomes an image here: load, prepare, render,
 /// encode with the scene's own gamma and saturation rule.
 pub fn render_scene_file(path: &Path) -> Result<RgbImage> {
-    let file = scene_format::load_path(path)?;
-    let scene = tracer_core::Scene::prepare(&file)
-        .with_context(|| format!("{}: cannot prepare the scene", path.display()))?;
-    Ok(tracer_core::render(&scene).encode(&scene.encoding))
+    match scene_format::load_any(path)? {
+        SceneKind::Scene3d(file) => {
+            let scene = prepare(&file, path)?;
+            Ok(tracer_core::render(&scene).encode(&scene.encoding))
+        }
+        SceneKind::Canvas(canvas) => {
+            Ok(tracer_core::canvas::draw(&canvas).encode(&tracer_core::canvas::encoding(&canvas)))
+        }
+    }
+}
+
+fn prepare(file: &scene_format::SceneFile, path: &Path) -> Result<tracer_core::Scene> {
+    tracer_core::Scene::prepare(file)
+        .with_context(|| format!("{}: cannot prepare the scene", path.display()))
+}
+
+/// A ray-direction image of the lab (exercise 6), as `tracer render --aov`.
+fn render_aov(path: &Path, aov: Aov) -> Result<RgbImage> {
+    let scene = prepare(&scene_format::load_path(path)?, path)?;
+    Ok(tracer_core::aov::render_aov(&scene, aov).encode(&tracer_core::aov::AOV_ENCODING))
+}
+
+/// The calibration chart, as `tracer calib-chart [--gamma G]` writes it.
+fn render_chart(gamma: f32) -> Result<RgbImage> {
+    let encoding = Encoding {
+        gamma,
+        saturation: Saturation::White,
+    };
+    Ok(tracer_core::calib::calibration_chart(500, 100).encode(&encoding))
+}
+
+/// The gamma plot of a measurements CSV, as `tracer gamma fit --plot`.
+fn render_gamma_plot(csv: &Path) -> Result<RgbImage> {
+    let text =
+        std::fs::read_to_string(csv).with_context(|| format!("cannot read {}", csv.display()))?;
+    let rows = tracer_core::gamma::parse_measurements(&text)
+        .with_context(|| format!("{}: bad measurements", csv.display()))?;
+    let fit = tracer_core::gamma::fit_measurements(&rows);
+    let (w, h) = tracer_core::gamma_plot::DEFAULT_SIZE;
+    Ok(tracer_core::gamma_plot::plot_gamma(&rows, &fit, w, h)?)
+}
+
+/// The lab's images that are not scene renders: its three gradient images
+/// (lab names), the chart without and with gamma, and the sample gamma plot.
+pub fn lab_image_cases(root: &Path) -> Vec<Case> {
+    let lab_camera = root.join("scenes/sphere-intersection.toml");
+    let mut cases: Vec<Case> = [
+        ("gradient-OX", Aov::RayDirX),
+        ("gradient-OY", Aov::RayDirY),
+        ("gradient-OZ", Aov::RayDirZ),
+    ]
+    .into_iter()
+    .map(|(name, aov)| {
+        let path = lab_camera.clone();
+        Case::new(name, move || render_aov(&path, aov))
+    })
+    .collect();
+    cases.push(Case::new("calib-chart", || render_chart(1.0)));
+    cases.push(Case::new("calib-chart-gamma-2.2", || render_chart(2.2)));
+    let csv = root.join("scenes/gamma/sample-measurements.csv");
+    cases.push(Case::new("gamma-plot", move || render_gamma_plot(&csv)));
+    cases
 }
 
 /// Every image checked against a golden. New kinds of images join the list here.
 pub fn all_cases(root: &Path) -> Result<Vec<Case>> {
-    let cases = scene_cases(&root.join("scenes"))?;
+    let mut cases = scene_cases(&root.join("scenes"))?;
+    cases.extend(lab_image_cases(root));
     check_unique(&cases)?;
     Ok(cases)
 }

@@ -71,8 +71,9 @@ fn every_image_matches_its_golden() {
         summary.report.display(),
         summary.table
     );
-    assert_eq!(summary.results.len(), scene_file_count());
-    assert!(summary.results.len() >= 12);
+    let lab_images = golden::lab_image_cases(&root()).len();
+    assert_eq!(summary.results.len(), scene_file_count() + lab_images);
+    assert!(summary.results.len() >= 12 + 8);
 }
 
 /// The committed goldens themselves, checked against values worked out by
@@ -108,6 +109,44 @@ fn the_goldens_hold_the_labs_hand_worked_values() {
     {
         assert_eq!(real_golden(name).dimensions(), (500, 400), "{name}");
     }
+}
+
+#[test]
+fn the_other_lab_goldens_hold_hand_worked_values() {
+    let px = |name: &str, i, j| real_golden(name).get_pixel(i, j).0;
+    // Pixel (0.5, 0.5) of the lab camera has dir (0.40, 0.32, -0.86), written
+    // linearly as (d + 1) / 2: 0.70 -> 178, 0.66 -> 168, 0.07 -> 17 (+-1).
+    let close = |got: u8, want: u8| got.abs_diff(want) <= 1;
+    let [r, g, b] = px("gradient-OX", 0, 0);
+    assert!(close(r, 178) && g == 0 && b == 0, "{r} {g} {b}");
+    let [r, g, b] = px("gradient-OY", 0, 0);
+    assert!(r == 0 && close(g, 168) && b == 0, "{r} {g} {b}");
+    let [r, g, b] = px("gradient-OZ", 0, 0);
+    assert!(r == 0 && g == 0 && close(b, 17), "{r} {g} {b}");
+    // Bottom-right mirrors top-left in x: (-0.40 + 1) / 2 = 0.30 -> 76.
+    assert!(close(px("gradient-OX", 499, 399)[0], 76));
+    // Five patches 0, 0.25, 0.5, 0.75, 1: (int)(c * 255) linear, and with
+    // c^(1/2.2) first: 0.25 -> 0.5325 -> 135, 0.5 -> 186, 0.75 -> 0.8774 -> 223.
+    for (k, (linear, encoded)) in [(0, 0), (63, 135), (127, 186), (191, 223), (255, 255)]
+        .into_iter()
+        .enumerate()
+    {
+        let centre = 50 + 100 * k as u32;
+        assert_eq!(px("calib-chart", centre, 50), [linear; 3], "patch {k}");
+        assert_eq!(
+            px("calib-chart-gamma-2.2", centre, 50),
+            [encoded; 3],
+            "patch {k}"
+        );
+    }
+    // The lab's triangle: vertex (0.4, 0.3) goes to column 500 - 1.4 / 2 * 500 = 150,
+    // row 400 - 1.3 / 2 * 400 = 140; translated by (0.2, 0.1) it is 50 columns
+    // further left and 20 rows up. Midpoints of the top edges lie on the lines.
+    let bg = [25, 25, 25]; // grey 0.1 without gamma: (int)(25.5)
+    assert_eq!(px("triangle-2d", 5, 5), bg);
+    assert_ne!(px("triangle-2d", 250, 140), bg);
+    assert_ne!(px("triangle-2d", 200, 120), bg);
+    assert_eq!(px("triangle-2d", 250, 130), bg);
 }
 
 #[test]
