@@ -2,6 +2,7 @@
 //! shadows, mirror recursion, and the encoding of the image. It reads no
 //! files and prints nothing.
 
+pub mod bvh;
 pub mod camera;
 pub mod image;
 pub mod light;
@@ -16,8 +17,9 @@ pub mod texture;
 pub use camera::Camera;
 pub use image::{Encoding, LinearImage};
 pub use ray::Ray;
-pub use render::render;
+pub use render::{render, render_with_progress};
 pub use scene::Scene;
+pub use shade::RayStats;
 
 /// Minimum distance along a secondary ray, so it does not hit its own origin
 /// surface (the lab's epsilon for self-hits).

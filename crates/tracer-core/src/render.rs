@@ -1,8 +1,9 @@
-//! The pixel loop: one ray through each pixel centre, rows in parallel.
+//! The pixel loop: one ray through each pixel centre, rows in parallel on
+//! the current rayon pool.
 
 use crate::image::LinearImage;
 use crate::scene::Scene;
-use crate::shade::trace;
+use crate::shade::{trace, trace_counted, RayStats};
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -11,19 +12,33 @@ pub fn render_pixel(scene: &Scene, i: u32, j: u32) -> Vec3 {
     trace(scene, &scene.camera.primary_ray(i, j), 1.0, 0)
 }
 
-/// Renders the whole image. Every pixel is computed on its own, so the result
-/// does not depend on how rows are spread over threads.
+/// Renders the whole image.
 pub fn render(scene: &Scene) -> LinearImage {
+    render_with_progress(scene, &|| {}).0
+}
+
+/// Renders the whole image, calling `row_done` after each row, and counts
+/// the rays. Every pixel is computed on its own, so the image does not
+/// depend on how rows are spread over threads.
+pub fn render_with_progress(
+    scene: &Scene,
+    row_done: &(dyn Fn() + Sync),
+) -> (LinearImage, RayStats) {
     let (width, height) = (scene.camera.width, scene.camera.height);
     let mut image = LinearImage::new(width, height);
-    image
+    let stats = image
         .pixels
         .par_chunks_mut(width as usize)
         .enumerate()
-        .for_each(|(j, row)| {
+        .map(|(j, row)| {
+            let mut stats = RayStats::default();
             for (i, pixel) in row.iter_mut().enumerate() {
-                *pixel = render_pixel(scene, i as u32, j as u32);
+                let ray = scene.camera.primary_ray(i as u32, j as u32);
+                *pixel = trace_counted(scene, &ray, 1.0, 0, &mut stats);
             }
-        });
-    image
+            row_done();
+            stats
+        })
+        .reduce(RayStats::default, |a, b| a + b);
+    (image, stats)
 }
