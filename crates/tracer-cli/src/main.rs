@@ -1,6 +1,7 @@
 //! `tracer`: renders scene files (TOML or JSON) to PNG images.
 
 mod output;
+mod progress;
 mod render;
 
 use clap::{Parser, Subcommand};
