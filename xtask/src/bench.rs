@@ -1,0 +1,388 @@
+//! `cargo xtask bench`: the tracer against its peers on the benchmark scenes
+//! of `../shared/bench/README.md`, all in one run (the machines are noisy:
+//! only figures of the same run compare).
+//!
+//! For each scene (the bunny, its 1.1M-triangle variant, the lab's
+//! reflectance2): BVH build time, render time and Mrays/s (primary +
+//! shadow + reflected) on 1 and 2 threads, medians of `--reps` runs; and
+//! POV-Ray 3.7's render-only time ("Trace Time") for the same scene when
+//! `povray` is installed.
+
+use anyhow::{bail, Context, Result};
+use scene_format::{MeshData, SceneFile};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::Arc;
+use std::time::Instant;
+use tracer_core::bvh::Bvh;
+use tracer_core::{render_with_progress, RayStats, Scene};
+
+/// Options of `cargo xtask bench`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct BenchArgs {
+    /// Runs of each measurement; the median is reported
+    #[arg(long, default_value_t = 5)]
+    pub reps: usize,
+    /// The peers' folder (POV-Ray scene writer, reflectance2.pov)
+    #[arg(long, value_name = "DIR")]
+    pub peers: Option<PathBuf>,
+    /// Skip POV-Ray even when it is installed
+    #[arg(long)]
+    pub no_povray: bool,
+    /// Only these scenes (bunny, bunny-1.1m, reflectance2)
+    #[arg(long, value_delimiter = ',')]
+    pub only: Vec<String>,
+}
+
+const THREADS: [usize; 2] = [1, 2];
+
+struct BenchScene {
+    name: &'static str,
+    file: SceneFile,
+    /// How POV-Ray gets the same scene: a .pov file, or None.
+    pov: Option<PovScene>,
+}
+
+enum PovScene {
+    /// mesh2pov.py on the bunny, with `--subdiv N`.
+    Mesh {
+        subdiv: u32,
+        width: u32,
+        height: u32,
+    },
+    /// A ready .pov file from the peers' folder.
+    File(&'static str, u32, u32),
+}
+
+#[derive(Debug, Default)]
+struct Row {
+    scene: String,
+    triangles: usize,
+    build_s: [f64; 2],
+    render_s: [f64; 2],
+    rays: RayStats,
+    pov_s: [Option<f64>; 2],
+}
+
+impl Row {
+    fn mrays(&self, t: usize) -> f64 {
+        self.rays.total() as f64 / self.render_s[t] / 1e6
+    }
+    fn ns_per_ray(&self) -> f64 {
+        self.render_s[0] * 1e9 / self.rays.total() as f64
+    }
+}
+
+pub fn run(args: &BenchArgs) -> Result<()> {
+    if args.reps == 0 {
+        bail!("--reps: expected at least 1");
+    }
+    let root = workspace_root();
+    let peers = args
+        .peers
+        .clone()
+        .unwrap_or_else(|| root.join("../shared/bench"));
+    let povray = !args.no_povray && povray_available();
+    if !povray && !args.no_povray {
+        eprintln!("povray not found: POV-Ray columns left empty (apt-get install povray)");
+    }
+    let mut rows = Vec::new();
+    for scene in scenes(&root)? {
+        if !args.only.is_empty() && !args.only.iter().any(|o| o == scene.name) {
+            continue;
+        }
+        eprintln!("bench: {} ...", scene.name);
+        let mut row = measure(&scene, args.reps)?;
+        if povray {
+            if let Some(pov) = &scene.pov {
+                row.pov_s = measure_povray(pov, &root, &peers, args.reps)
+                    .with_context(|| format!("POV-Ray on {}", scene.name))?;
+            }
+        }
+        rows.push(row);
+    }
+    print_report(&rows, args.reps);
+    Ok(())
+}
+
+fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("xtask sits in the workspace") // a compile-time path with a parent
+        .to_path_buf()
+}
+
+fn load(path: &Path) -> Result<SceneFile> {
+    scene_format::load_path(path).map_err(|e| anyhow::anyhow!("{e}"))
+}
+
+fn scenes(root: &Path) -> Result<Vec<BenchScene>> {
+    let bunny = load(&root.join("scenes/bench/bunny.toml"))?;
+    let mut big = bunny.clone();
+    for object in &mut big.objects {
+        if let Some(mesh) = object.mesh.as_mut() {
+            let data = mesh.data.as_ref().context("bunny mesh not loaded")?;
+            mesh.data = Some(Arc::new(subdivide(&subdivide(data))));
+        }
+    }
+    let (w, h) = (bunny.camera.width, bunny.camera.height);
+    Ok(vec![
+        BenchScene {
+            name: "bunny",
+            file: bunny,
+            pov: Some(PovScene::Mesh {
+                subdiv: 0,
+                width: w,
+                height: h,
+            }),
+        },
+        BenchScene {
+            name: "bunny-1.1m",
+            file: big,
+            pov: Some(PovScene::Mesh {
+                subdiv: 2,
+                width: w,
+                height: h,
+            }),
+        },
+        BenchScene {
+            name: "reflectance2",
+            file: load(&root.join("scenes/reflectance2.toml"))?,
+            pov: Some(PovScene::File("reflectance2.pov", 500, 400)),
+        },
+    ])
+}
+
+/// Splits every triangle 1 -> 4 at its edge midpoints: the same surface,
+/// four times the triangles (the peers' `--subdiv`).
+pub fn subdivide(data: &MeshData) -> MeshData {
+    let mid = |a: [f32; 3], b: [f32; 3]| {
+        [
+            (a[0] + b[0]) * 0.5,
+            (a[1] + b[1]) * 0.5,
+            (a[2] + b[2]) * 0.5,
+        ]
+    };
+    let mut triangles = Vec::with_capacity(data.triangles.len() * 4);
+    for &[a, b, c] in &data.triangles {
+        let (ab, bc, ca) = (mid(a, b), mid(b, c), mid(c, a));
+        triangles.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+    }
+    MeshData {
+        triangles,
+        skipped_degenerate: data.skipped_degenerate,
+    }
+}
+
+fn pool(threads: usize) -> Result<rayon::ThreadPool> {
+    Ok(rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()?)
+}
+
+fn median(mut xs: Vec<f64>) -> f64 {
+    xs.sort_by(f64::total_cmp);
+    xs[xs.len() / 2]
+}
+
+fn measure(scene: &BenchScene, reps: usize) -> Result<Row> {
+    let prepared = Scene::prepare(&scene.file).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let mut row = Row {
+        scene: scene.name.to_string(),
+        triangles: prepared.objects.len(),
+        ..Row::default()
+    };
+    for (t, &threads) in THREADS.iter().enumerate() {
+        let pool = pool(threads)?;
+        let mut builds = Vec::new();
+        for _ in 0..reps {
+            let start = Instant::now();
+            let bvh = pool.install(|| Bvh::build(&prepared.objects));
+            builds.push(start.elapsed().as_secs_f64());
+            drop(bvh);
+        }
+        row.build_s[t] = median(builds);
+        let mut renders = Vec::new();
+        for _ in 0..reps {
+            let start = Instant::now();
+            let (image, rays) = pool.install(|| render_with_progress(&prepared, &|| {}));
+            renders.push(start.elapsed().as_secs_f64());
+            row.rays = rays;
+            drop(image);
+        }
+        row.render_s[t] = median(renders);
+    }
+    Ok(row)
+}
+
+fn povray_available() -> bool {
+    Command::new("povray")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success() || !o.stderr.is_empty())
+}
+
+/// POV-Ray's render-only time on 1 and 2 threads, medians.
+fn measure_povray(
+    pov: &PovScene,
+    root: &Path,
+    peers: &Path,
+    reps: usize,
+) -> Result<[Option<f64>; 2]> {
+    let dir = tempfile::tempdir()?;
+    let (file, w, h) = match pov {
+        PovScene::Mesh {
+            subdiv,
+            width,
+            height,
+        } => {
+            let out = dir.path().join("scene.pov");
+            let status = Command::new("python3")
+                .arg(peers.join("mesh2pov.py"))
+                .arg(root.join("scenes/bench/bunny.obj"))
+                .arg(&out)
+                .args(["--subdiv", &subdiv.to_string()])
+                .output()
+                .context("run mesh2pov.py (python3 with numpy)")?;
+            if !status.status.success() {
+                bail!(
+                    "mesh2pov.py failed: {}",
+                    String::from_utf8_lossy(&status.stderr)
+                );
+            }
+            (out, *width, *height)
+        }
+        PovScene::File(name, w, h) => (peers.join(name), *w, *h),
+    };
+    let mut result = [None, None];
+    for (t, &threads) in THREADS.iter().enumerate() {
+        let mut times = Vec::new();
+        for _ in 0..reps {
+            times.push(povray_trace_time(&file, w, h, threads, dir.path())?);
+        }
+        result[t] = Some(median(times));
+    }
+    Ok(result)
+}
+
+/// Runs POV-Ray once and reads its own "Trace Time" (render only, without
+/// its start-up and parsing).
+fn povray_trace_time(pov: &Path, w: u32, h: u32, threads: usize, dir: &Path) -> Result<f64> {
+    let out = Command::new("povray")
+        .arg(format!("+I{}", pov.display()))
+        .arg(format!("+O{}", dir.join("pov.png").display()))
+        .args([format!("+W{w}"), format!("+H{h}")])
+        .args(["-D", "-A", "-P", "+V"])
+        .arg(format!("+WT{threads}"))
+        .current_dir(dir)
+        .output()
+        .context("run povray")?;
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    if !out.status.success() {
+        bail!("povray failed: {stderr}");
+    }
+    parse_trace_time(&stderr)
+        .with_context(|| format!("no Trace Time in povray's output:\n{stderr}"))
+}
+
+/// "Trace Time:       0 hours  0 minutes  1 seconds (1.437 seconds)".
+fn parse_trace_time(text: &str) -> Option<f64> {
+    let line = text
+        .lines()
+        .find(|l| l.trim_start().starts_with("Trace Time:"))?;
+    let inner = line.rsplit_once('(')?.1;
+    inner.split_whitespace().next()?.parse().ok()
+}
+
+fn print_report(rows: &[Row], reps: usize) {
+    println!("medians of {reps} runs; Mrays/s counts primary + shadow + reflected rays\n");
+    println!(
+        "| scene | objects | BVH build 1 / 2 thr | render 1 thr | render 2 thr | Mrays/s 1 / 2 thr | speed-up | POV-Ray 1 / 2 thr | vs POV-Ray 1 thr |"
+    );
+    println!("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
+    for r in rows {
+        let pov = match r.pov_s {
+            [Some(a), Some(b)] => format!("{a:.3} s / {b:.3} s"),
+            _ => "-".to_string(),
+        };
+        let ratio = r.pov_s[0].map_or("-".to_string(), |p| format!("{:.2}x", p / r.render_s[0]));
+        println!(
+            "| {} | {} | {:.3} s / {:.3} s | {:.3} s | {:.3} s | {:.2} / {:.2} | {:.2}x | {} | {} |",
+            r.scene,
+            r.triangles,
+            r.build_s[0],
+            r.build_s[1],
+            r.render_s[0],
+            r.render_s[1],
+            r.mrays(0),
+            r.mrays(1),
+            r.render_s[0] / r.render_s[1],
+            pov,
+            ratio
+        );
+    }
+    println!();
+    for r in rows {
+        println!(
+            "{}: {} primary/reflected + {} shadow rays, {:.1} ns per ray on 1 thread",
+            r.scene,
+            r.rays.nearest,
+            r.rays.shadow,
+            r.ns_per_ray()
+        );
+    }
+    let find = |name: &str| rows.iter().find(|r| r.scene == name);
+    if let (Some(small), Some(big)) = (find("bunny"), find("bunny-1.1m")) {
+        println!(
+            "per-ray cost 1.1M / 70k triangles: {:.2}x (target <= 1.5x)",
+            big.ns_per_ray() / small.ns_per_ray()
+        );
+        println!(
+            "BVH build of {} triangles: {:.3} s on 1 thread (target < 1 s)",
+            big.triangles, big.build_s[0]
+        );
+    }
+    if let Some(bunny) = find("bunny") {
+        println!(
+            "bunny single-threaded: {:.2} Mrays/s (target >= 5.5, half of Embree's ~11); \
+             2-thread speed-up {:.2}x (target >= 1.8x)",
+            bunny.mrays(0),
+            bunny.render_s[0] / bunny.render_s[1]
+        );
+        if let Some(p) = bunny.pov_s[0] {
+            println!(
+                "bunny single-threaded vs POV-Ray render-only: {:.2}x (target >= 3x)",
+                p / bunny.render_s[0]
+            );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn subdivision_quarters_each_triangle_on_the_same_surface() {
+        let data = MeshData {
+            triangles: vec![[[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]]],
+            skipped_degenerate: 0,
+        };
+        let twice = subdivide(&subdivide(&data));
+        assert_eq!(twice.triangles.len(), 16);
+        let area = |[a, b, c]: &[[f32; 3]; 3]| {
+            ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])) / 2.0
+        };
+        // Same orientation and total area (2) as the original.
+        assert!(twice.triangles.iter().all(|t| area(t) == 0.125));
+    }
+
+    #[test]
+    fn povray_trace_time_is_read_from_its_statistics() {
+        let text = "Render Time:\n  Photon Time:      No photons\n  \
+                    Radiosity Time:   No radiosity\n  \
+                    Trace Time:       0 hours  0 minutes  1 seconds (1.437 seconds)\n";
+        assert_eq!(parse_trace_time(text), Some(1.437));
+        assert_eq!(parse_trace_time("nothing"), None);
+    }
+}
