@@ -9,7 +9,7 @@
 use crate::ray::Ray;
 use crate::scene::{Hit, Object};
 use crate::shapes::{moller_trumbore, Shape, Sphere};
-use glam::{Vec3, Vec3A};
+use glam::{UVec3, Vec3, Vec3A, Vec4};
 
 /// Bins per axis of the SAH sweep.
 const BINS: usize = 16;
@@ -25,15 +25,39 @@ const PARALLEL_BUILD: usize = 4096;
 /// the primitive test would find (pbrt's `1 + 2 gamma(3)`, with margin).
 const PAD: f32 = 1.0 + 4.0 * f32::EPSILON;
 
-/// A node: a box; a leaf (`count > 0`) holds `prims[offset..offset + count]`;
-/// an inner node's children are the next node and node `offset`.
+/// A node, 32 bytes: a box, with two integers in the spare lanes so that
+/// each corner loads as one SIMD register. A leaf (`count > 0`) holds
+/// `prims[offset..offset + count]`; an inner node's children are the next
+/// node and node `offset`.
 #[derive(Debug, Clone, Copy, PartialEq)]
-#[repr(C)]
 struct Node {
-    min: [f32; 3],
-    offset: u32,
-    max: [f32; 3],
-    count: u32,
+    /// min.w: `offset` as bits.
+    min: Vec4,
+    /// max.w: `count` as bits.
+    max: Vec4,
+}
+
+impl Node {
+    fn new(bounds: &Aabb, offset: u32, count: u32) -> Node {
+        Node {
+            min: bounds.min.extend(f32::from_bits(offset)),
+            max: bounds.max.extend(f32::from_bits(count)),
+        }
+    }
+
+    #[inline(always)]
+    fn offset(&self) -> u32 {
+        self.min.w.to_bits()
+    }
+
+    #[inline(always)]
+    fn count(&self) -> u32 {
+        self.max.w.to_bits()
+    }
+
+    fn set_offset(&mut self, offset: u32) {
+        self.min.w = f32::from_bits(offset);
+    }
 }
 
 /// A primitive with the numbers its test needs, in leaf order.
@@ -117,8 +141,8 @@ impl RayData {
     /// (t_min, t_max], padded against rounding.
     #[inline(always)]
     fn enter(&self, node: &Node, t_min: f32, t_max: f32) -> Option<f32> {
-        let t0 = (Vec3A::from(node.min) - self.origin) * self.inv_dir;
-        let t1 = (Vec3A::from(node.max) - self.origin) * self.inv_dir;
+        let t0 = (Vec3A::from_vec4(node.min) - self.origin) * self.inv_dir;
+        let t1 = (Vec3A::from_vec4(node.max) - self.origin) * self.inv_dir;
         let near = t0.min(t1).max_element().max(t_min);
         let far = (t0.max(t1).min_element() * PAD).min(t_max * PAD);
         (near <= far).then_some(near)
@@ -180,9 +204,9 @@ impl Bvh {
                 continue;
             }
             let node = &self.nodes[index as usize];
-            if node.count > 0 {
-                let start = node.offset as usize;
-                for k in start..start + node.count as usize {
+            if node.count() > 0 {
+                let start = node.offset() as usize;
+                for k in start..start + node.count() as usize {
                     // Once something is hit, up to and including best_t: an
                     // equal distance wins if its object comes first.
                     let limit = if best_id == u32::MAX {
@@ -199,7 +223,7 @@ impl Bvh {
                 }
                 continue;
             }
-            let (left, right) = (index + 1, node.offset);
+            let (left, right) = (index + 1, node.offset());
             let hit_left = r.enter(&self.nodes[left as usize], t_min, best_t);
             let hit_right = r.enter(&self.nodes[right as usize], t_min, best_t);
             match (hit_left, hit_right) {
@@ -245,9 +269,9 @@ impl Bvh {
             sp -= 1;
             let index = stack[sp];
             let node = &self.nodes[index as usize];
-            if node.count > 0 {
-                let start = node.offset as usize;
-                let prims = &self.prims[start..start + node.count as usize];
+            if node.count() > 0 {
+                let start = node.offset() as usize;
+                let prims = &self.prims[start..start + node.count() as usize];
                 if prims
                     .iter()
                     .any(|p| p.intersect(&r, t_min, t_max).is_some())
@@ -256,7 +280,7 @@ impl Bvh {
                 }
                 continue;
             }
-            for child in [node.offset, index + 1] {
+            for child in [node.offset(), index + 1] {
                 if r.enter(&self.nodes[child as usize], t_min, t_max).is_some() {
                     stack[sp] = child;
                     sp += 1;
@@ -402,44 +426,54 @@ fn build_node(items: &mut [BuildPrim], depth: usize) -> BuildNode {
     }
 }
 
-fn bin_of(c: f32, min: f32, scale: f32) -> usize {
-    (((c - min) * scale) as usize).min(BINS - 1)
+/// Bins per unit of each axis of the centroid box; 0 on a flat axis.
+fn bin_scale(centroids: &Aabb) -> Vec3A {
+    let extent = centroids.max - centroids.min;
+    let scale = Vec3A::splat(BINS as f32) / extent;
+    Vec3A::select(extent.cmpgt(Vec3A::ZERO), scale, Vec3A::ZERO)
+}
+
+/// The bin of a primitive on each axis.
+#[inline(always)]
+fn bins_of(p: &BuildPrim, centroids: &Aabb, scale: Vec3A) -> UVec3 {
+    ((p.centroid2() - centroids.min) * scale)
+        .as_uvec3()
+        .min(UVec3::splat(BINS as u32 - 1))
 }
 
 /// The cheapest binned SAH split over the three axes, with its cost in
 /// units of one primitive test; None if the centroids do not spread.
 fn best_split(items: &[BuildPrim], bounds: &Aabb, centroids: &Aabb) -> Option<Split> {
-    let extent = centroids.max - centroids.min;
-    let scale = Vec3A::splat(BINS as f32) / extent;
-    let mut bins = [[(Aabb::EMPTY, 0u32); BINS]; 3];
+    let scale = bin_scale(centroids);
+    let mut boxes = [[Aabb::EMPTY; BINS]; 3];
+    let mut counts = [[0u32; BINS]; 3];
     for p in items {
-        let c = p.centroid2();
+        let b = bins_of(p, centroids, scale);
         for axis in 0..3 {
-            if extent[axis] > 0.0 {
-                let b = bin_of(c[axis], centroids.min[axis], scale[axis]);
-                bins[axis][b].0.grow(&p.bounds);
-                bins[axis][b].1 += 1;
-            }
+            let bin = b[axis] as usize;
+            boxes[axis][bin].grow(&p.bounds);
+            counts[axis][bin] += 1;
         }
     }
     let parent_area = bounds.half_area();
     let mut best: Option<Split> = None;
-    for (axis, bins) in bins.iter().enumerate() {
-        if extent[axis] <= 0.0 {
+    for axis in 0..3 {
+        if scale[axis] == 0.0 {
             continue;
         }
+        let (boxes, counts) = (&boxes[axis], &counts[axis]);
         // Right-side area * count for each first-right bin, swept from the end.
         let mut right_cost = [0f32; BINS];
         let (mut acc, mut n) = (Aabb::EMPTY, 0u32);
         for b in (1..BINS).rev() {
-            acc.grow(&bins[b].0);
-            n += bins[b].1;
+            acc.grow(&boxes[b]);
+            n += counts[b];
             right_cost[b] = acc.half_area() * n as f32;
         }
         let (mut acc, mut n) = (Aabb::EMPTY, 0u32);
         for b in 1..BINS {
-            acc.grow(&bins[b - 1].0);
-            n += bins[b - 1].1;
+            acc.grow(&boxes[b - 1]);
+            n += counts[b - 1];
             if n == 0 || n as usize == items.len() {
                 continue;
             }
@@ -454,11 +488,10 @@ fn best_split(items: &[BuildPrim], bounds: &Aabb, centroids: &Aabb) -> Option<Sp
 
 /// Puts the primitives of bins below `bin` first; returns how many.
 fn partition(items: &mut [BuildPrim], centroids: &Aabb, axis: usize, bin: usize) -> usize {
-    let min = centroids.min[axis];
-    let scale = BINS as f32 / (centroids.max[axis] - centroids.min[axis]);
+    let scale = bin_scale(centroids);
     let mut mid = 0;
     for i in 0..items.len() {
-        if bin_of(items[i].centroid2()[axis], min, scale) < bin {
+        if (bins_of(&items[i], centroids, scale)[axis] as usize) < bin {
             items.swap(i, mid);
             mid += 1;
         }
@@ -473,15 +506,11 @@ fn flatten(node: &BuildNode, first: usize, nodes: &mut Vec<Node>) {
         BuildNode::Leaf { bounds, count } => (bounds, *count),
         BuildNode::Inner { bounds, .. } => (bounds, 0),
     };
-    nodes.push(Node {
-        min: bounds.min.into(),
-        offset: first as u32,
-        max: bounds.max.into(),
-        count: count as u32,
-    });
+    nodes.push(Node::new(bounds, first as u32, count as u32));
     if let BuildNode::Inner { left, right, .. } = node {
         flatten(left, first, nodes);
-        nodes[index].offset = nodes.len() as u32;
+        let right_index = nodes.len() as u32;
+        nodes[index].set_offset(right_index);
         flatten(right, first + prim_count(left), nodes);
     }
 }
@@ -603,10 +632,10 @@ mod tests {
     fn check_node(bvh: &Bvh, index: usize) {
         let n = bvh.nodes[index];
         let inside = |m: &Node| (0..3).all(|a| m.min[a] >= n.min[a] && m.max[a] <= n.max[a]);
-        if n.count > 0 {
+        if n.count() > 0 {
             return;
         }
-        for child in [index + 1, n.offset as usize] {
+        for child in [index + 1, n.offset() as usize] {
             assert!(inside(&bvh.nodes[child]), "node {child} outside {index}");
             check_node(bvh, child);
         }

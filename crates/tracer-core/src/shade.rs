@@ -101,7 +101,8 @@ fn local_colour(
         colour += light.color * m.diffuse * cos_a;
         let h = (l + view).normalize();
         let cos_b = n.dot(h);
-        if cos_b > COS_THRESHOLD {
+        // No specular colour adds nothing: powf is skipped, the sum is the same.
+        if cos_b > COS_THRESHOLD && m.specular != Vec3::ZERO {
             colour += light.color * m.specular * cos_b.powf(m.shininess);
         }
     }
