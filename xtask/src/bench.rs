@@ -29,6 +29,9 @@ pub struct BenchArgs {
     /// Skip POV-Ray even when it is installed
     #[arg(long)]
     pub no_povray: bool,
+    /// Skip Embree even when it can be built (libembree-dev and g++)
+    #[arg(long)]
+    pub no_embree: bool,
     /// Only these scenes (bunny, bunny-1.1m, reflectance2)
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
@@ -66,6 +69,15 @@ struct Row {
     render_cpu_s: f64,
     rays: RayStats,
     pov_s: [Option<f64>; 2],
+    embree: Option<Embree>,
+}
+
+/// Embree's figures for the same mesh scene (medium-quality BVH).
+#[derive(Debug, Default, Clone, Copy)]
+struct Embree {
+    build_s: [f64; 2],
+    /// Primary + shadow + shade, Mrays/s.
+    mrays: [f64; 2],
 }
 
 impl Row {
@@ -91,6 +103,11 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     if !povray && !args.no_povray {
         eprintln!("povray not found: POV-Ray columns left empty (apt-get install povray)");
     }
+    let embree = if args.no_embree {
+        None
+    } else {
+        build_embree(&root, &peers)
+    };
     let mut rows = Vec::new();
     for scene in scenes(&root)? {
         if !args.only.is_empty() && !args.only.iter().any(|o| o == scene.name) {
@@ -103,6 +120,12 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 row.pov_s = measure_povray(pov, &root, &peers, args.reps)
                     .with_context(|| format!("POV-Ray on {}", scene.name))?;
             }
+        }
+        if let (Some(exe), Some(PovScene::Mesh { subdiv, .. })) = (&embree, &scene.pov) {
+            row.embree = Some(
+                run_embree(exe, &root, *subdiv, args.reps)
+                    .with_context(|| format!("Embree on {}", scene.name))?,
+            );
         }
         rows.push(row);
     }
@@ -224,6 +247,77 @@ fn measure(scene: &BenchScene, reps: usize) -> Result<Row> {
         }
     }
     Ok(row)
+}
+
+/// Compiles the peers' `embree_bench.cpp` into `target/peers/` once; None
+/// (with a note) when Embree or g++ is missing.
+fn build_embree(root: &Path, peers: &Path) -> Option<PathBuf> {
+    let exe = root.join("target/peers/embree_bench");
+    let source = peers.join("embree_bench.cpp");
+    if exe.is_file() {
+        return Some(exe);
+    }
+    if !Path::new("/usr/include/embree3/rtcore.h").is_file() || !source.is_file() {
+        eprintln!("Embree not found: its columns left empty (apt-get install libembree-dev g++)");
+        return None;
+    }
+    eprintln!("bench: compiling {} ...", source.display());
+    std::fs::create_dir_all(exe.parent()?).ok()?;
+    let built = Command::new("g++")
+        .args(["-O3", "-march=native", "-std=c++17"])
+        .arg(&source)
+        .arg("-o")
+        .arg(&exe)
+        .args(["-lembree3", "-lpthread"])
+        .status();
+    match built {
+        Ok(status) if status.success() => Some(exe),
+        _ => {
+            eprintln!("could not compile embree_bench: Embree columns left empty");
+            None
+        }
+    }
+}
+
+fn run_embree(exe: &Path, root: &Path, subdiv: u32, reps: usize) -> Result<Embree> {
+    let out = Command::new(exe)
+        .arg(root.join("scenes/bench/bunny.obj"))
+        .args(["--reps", &reps.to_string(), "--subdiv", &subdiv.to_string()])
+        .output()
+        .context("run embree_bench")?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    if !out.status.success() {
+        bail!(
+            "embree_bench failed: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    parse_embree(&text).with_context(|| format!("unexpected embree_bench output:\n{text}"))
+}
+
+/// Reads the medium-quality sections of embree_bench's report.
+fn parse_embree(text: &str) -> Option<Embree> {
+    let mut e = Embree::default();
+    let mut found = [false; 2];
+    let mut section = None;
+    for line in text.lines() {
+        if line.starts_with('[') {
+            section = match line {
+                l if l.starts_with("[quality=medium threads=1]") => Some(0),
+                l if l.starts_with("[quality=medium threads=2]") => Some(1),
+                _ => None,
+            };
+            if let Some(t) = section {
+                let ms = line.split("median").nth(1)?.split_whitespace().next()?;
+                e.build_s[t] = ms.parse::<f64>().ok()? / 1e3;
+            }
+        } else if let (Some(t), true) = (section, line.contains("+ shade")) {
+            let before = line.split("Mrays/s").next()?;
+            e.mrays[t] = before.split_whitespace().last()?.parse().ok()?;
+            found[t] = true;
+        }
+    }
+    (found == [true, true]).then_some(e)
 }
 
 /// CPU seconds this process has used, on all its threads.
@@ -359,6 +453,26 @@ fn print_report(rows: &[Row], reps: usize) {
             r.ns_per_ray()
         );
     }
+    if rows.iter().any(|r| r.embree.is_some()) {
+        println!("\nEmbree 3 (embree_bench, medium quality, rtcIntersect1 + rtcOccluded1 + shade), same run:\n");
+        println!(
+            "| scene | Embree build 1 / 2 thr | Embree Mrays/s 1 / 2 thr | ours / Embree, 1 thr |"
+        );
+        println!("| --- | ---: | ---: | ---: |");
+        for r in rows {
+            if let Some(e) = r.embree {
+                println!(
+                    "| {} | {:.3} s / {:.3} s | {:.2} / {:.2} | {:.2} |",
+                    r.scene,
+                    e.build_s[0],
+                    e.build_s[1],
+                    e.mrays[0],
+                    e.mrays[1],
+                    r.mrays(0) / e.mrays[0]
+                );
+            }
+        }
+    }
     println!();
     let find = |name: &str| rows.iter().find(|r| r.scene == name);
     if let (Some(small), Some(big)) = (find("bunny"), find("bunny-1.1m")) {
@@ -407,6 +521,21 @@ mod tests {
         };
         // Same orientation and total area (2) as the original.
         assert!(twice.triangles.iter().all(|t| area(t) == 0.125));
+    }
+
+    #[test]
+    fn embree_figures_are_read_from_its_report() {
+        let text = "[quality=medium threads=1] BVH build (rtcCommitScene) median 63.9 ms  (1.09 Mtris/s)\n\
+            primary rtcIntersect1   232.25 ms/frame      8.93 Mrays/s  (hits 510496 = 24.6%)\n\
+            primary1 + shadow rtcOccluded1 + shade   357.65 ms/frame      7.13 Mrays/s  (hits)\n\
+            [quality=medium threads=2] BVH build (rtcCommitScene) median 48.7 ms  (1.43 Mtris/s)\n\
+            primary1 + shadow rtcOccluded1 + shade   200.00 ms/frame     12.50 Mrays/s  (hits)\n\
+            [quality=high threads=1] BVH build (rtcCommitScene) median 256.6 ms  (0.27 Mtris/s)\n\
+            primary1 + shadow rtcOccluded1 + shade   361.86 ms/frame      7.05 Mrays/s  (hits)\n";
+        let e = parse_embree(text).expect("parsed");
+        assert_eq!(e.build_s, [0.0639, 0.0487]);
+        assert_eq!(e.mrays, [7.13, 12.5]);
+        assert!(parse_embree("[quality=medium threads=1] nothing").is_none());
     }
 
     #[test]

@@ -280,11 +280,27 @@ impl Bvh {
                 }
                 continue;
             }
-            for child in [node.offset(), index + 1] {
-                if r.enter(&self.nodes[child as usize], t_min, t_max).is_some() {
-                    stack[sp] = child;
+            // Nearer child on top: an occluder near the ray's start is
+            // found before the far side of the scene is searched.
+            let (left, right) = (index + 1, node.offset());
+            let hit_left = r.enter(&self.nodes[left as usize], t_min, t_max);
+            let hit_right = r.enter(&self.nodes[right as usize], t_min, t_max);
+            match (hit_left, hit_right) {
+                (Some(tl), Some(tr)) => {
+                    let (near, far) = if tl <= tr { (left, right) } else { (right, left) };
+                    stack[sp] = far;
+                    stack[sp + 1] = near;
+                    sp += 2;
+                }
+                (Some(_), None) => {
+                    stack[sp] = left;
                     sp += 1;
                 }
+                (None, Some(_)) => {
+                    stack[sp] = right;
+                    sp += 1;
+                }
+                (None, None) => {}
             }
         }
         false
