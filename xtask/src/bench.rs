@@ -69,6 +69,8 @@ struct Row {
     render_cpu_s: f64,
     rays: RayStats,
     pov_s: [Option<f64>; 2],
+    /// POV-Ray's CPU-seconds of its 1-thread trace.
+    pov_cpu_s: Option<f64>,
     embree: Option<Embree>,
 }
 
@@ -117,8 +119,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         let mut row = measure(&scene, args.reps)?;
         if povray {
             if let Some(pov) = &scene.pov {
-                row.pov_s = measure_povray(pov, &root, &peers, args.reps)
+                let (wall, cpu) = measure_povray(pov, &root, &peers, args.reps)
                     .with_context(|| format!("POV-Ray on {}", scene.name))?;
+                (row.pov_s, row.pov_cpu_s) = (wall.map(Some), Some(cpu));
             }
         }
         if let (Some(exe), Some(PovScene::Mesh { subdiv, .. })) = (&embree, &scene.pov) {
@@ -339,13 +342,14 @@ fn povray_available() -> bool {
         .is_ok_and(|o| o.status.success() || !o.stderr.is_empty())
 }
 
-/// POV-Ray's render-only time on 1 and 2 threads, medians.
+/// POV-Ray's render-only wall time on 1 and 2 threads and its CPU time on
+/// 1 thread, medians.
 fn measure_povray(
     pov: &PovScene,
     root: &Path,
     peers: &Path,
     reps: usize,
-) -> Result<[Option<f64>; 2]> {
+) -> Result<([f64; 2], f64)> {
     let dir = tempfile::tempdir()?;
     let (file, w, h) = match pov {
         PovScene::Mesh {
@@ -371,20 +375,25 @@ fn measure_povray(
         }
         PovScene::File(name, w, h) => (peers.join(name), *w, *h),
     };
-    let mut result = [None, None];
+    let (mut wall, mut cpu) = ([0.0; 2], 0.0);
     for (t, &threads) in THREADS.iter().enumerate() {
-        let mut times = Vec::new();
+        let (mut walls, mut cpus) = (Vec::new(), Vec::new());
         for _ in 0..reps {
-            times.push(povray_trace_time(&file, w, h, threads, dir.path())?);
+            let (w, c) = povray_trace_time(&file, w, h, threads, dir.path())?;
+            walls.push(w);
+            cpus.push(c);
         }
-        result[t] = Some(median(times));
+        wall[t] = median(walls);
+        if threads == 1 {
+            cpu = median(cpus);
+        }
     }
-    Ok(result)
+    Ok((wall, cpu))
 }
 
 /// Runs POV-Ray once and reads its own "Trace Time" (render only, without
-/// its start-up and parsing).
-fn povray_trace_time(pov: &Path, w: u32, h: u32, threads: usize, dir: &Path) -> Result<f64> {
+/// its start-up and parsing): wall and CPU seconds.
+fn povray_trace_time(pov: &Path, w: u32, h: u32, threads: usize, dir: &Path) -> Result<(f64, f64)> {
     let out = Command::new("povray")
         .arg(format!("+I{}", pov.display()))
         .arg(format!("+O{}", dir.join("pov.png").display()))
@@ -402,13 +411,17 @@ fn povray_trace_time(pov: &Path, w: u32, h: u32, threads: usize, dir: &Path) -> 
         .with_context(|| format!("no Trace Time in povray's output:\n{stderr}"))
 }
 
-/// "Trace Time:       0 hours  0 minutes  1 seconds (1.437 seconds)".
-fn parse_trace_time(text: &str) -> Option<f64> {
-    let line = text
+/// "Trace Time:       0 hours  0 minutes  1 seconds (1.659 seconds)" and
+/// the next line, "using 1 thread(s) with 1.427 CPU-seconds total".
+fn parse_trace_time(text: &str) -> Option<(f64, f64)> {
+    let mut lines = text
         .lines()
-        .find(|l| l.trim_start().starts_with("Trace Time:"))?;
-    let inner = line.rsplit_once('(')?.1;
-    inner.split_whitespace().next()?.parse().ok()
+        .skip_while(|l| !l.trim_start().starts_with("Trace Time:"));
+    let wall = lines.next()?.rsplit_once('(')?.1;
+    let wall = wall.split_whitespace().next()?.parse().ok()?;
+    let cpu = lines.next()?.split(" with ").nth(1)?;
+    let cpu = cpu.split_whitespace().next()?.parse().ok()?;
+    Some((wall, cpu))
 }
 
 fn print_report(rows: &[Row], reps: usize) {
@@ -439,18 +452,23 @@ fn print_report(rows: &[Row], reps: usize) {
         );
     }
     println!("\nOne thread, CPU time of this process (less sensitive to other load):\n");
-    println!("| scene | rays (nearest + shadow) | BVH build CPU | render CPU | Mrays per CPU-s | ns per ray |");
-    println!("| --- | ---: | ---: | ---: | ---: | ---: |");
+    println!("| scene | rays (nearest + shadow) | BVH build CPU | render CPU | Mrays per CPU-s | ns per ray | POV-Ray CPU | POV-Ray / ours, CPU |");
+    println!("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
     for r in rows {
+        let (pov, ratio) = r.pov_cpu_s.map_or(("-".into(), "-".into()), |p| {
+            (format!("{p:.3} s"), format!("{:.2}x", p / r.render_cpu_s))
+        });
         println!(
-            "| {} | {} + {} | {:.3} s | {:.3} s | {:.2} | {:.1} |",
+            "| {} | {} + {} | {:.3} s | {:.3} s | {:.2} | {:.1} | {} | {} |",
             r.scene,
             r.rays.nearest,
             r.rays.shadow,
             r.build_cpu_s,
             r.render_cpu_s,
             r.rays.total() as f64 / r.render_cpu_s / 1e6,
-            r.ns_per_ray()
+            r.ns_per_ray(),
+            pov,
+            ratio
         );
     }
     if rows.iter().any(|r| r.embree.is_some()) {
@@ -495,10 +513,11 @@ fn print_report(rows: &[Row], reps: usize) {
             "target: 2-thread speed-up >= 1.8x: {:.2}x",
             b.render_s[0] / b.render_s[1]
         );
-        if let Some(p) = b.pov_s[0] {
+        if let (Some(p), Some(c)) = (b.pov_s[0], b.pov_cpu_s) {
             println!(
-                "target: bunny, 1 thread, >= 3x POV-Ray render-only: {:.2}x",
-                p / b.render_s[0]
+                "target: bunny, 1 thread, >= 3x POV-Ray render-only: {:.2}x wall, {:.2}x CPU",
+                p / b.render_s[0],
+                c / b.render_cpu_s
             );
         }
     }
@@ -542,8 +561,9 @@ mod tests {
     fn povray_trace_time_is_read_from_its_statistics() {
         let text = "Render Time:\n  Photon Time:      No photons\n  \
                     Radiosity Time:   No radiosity\n  \
-                    Trace Time:       0 hours  0 minutes  1 seconds (1.437 seconds)\n";
-        assert_eq!(parse_trace_time(text), Some(1.437));
+                    Trace Time:       0 hours  0 minutes  1 seconds (1.659 seconds)\n  \
+                    using 1 thread(s) with 1.427 CPU-seconds total\n";
+        assert_eq!(parse_trace_time(text), Some((1.659, 1.427)));
         assert_eq!(parse_trace_time("nothing"), None);
     }
 }
