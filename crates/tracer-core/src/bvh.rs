@@ -60,9 +60,16 @@ impl Node {
     }
 }
 
-/// A primitive with the numbers its test needs, in leaf order.
+/// A primitive with the numbers its test needs and its object index, in
+/// leaf order: one 48-byte record, so a leaf test touches no other array.
 #[derive(Debug, Clone, PartialEq)]
-enum Prim {
+struct Prim {
+    geometry: Geometry,
+    id: u32,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+enum Geometry {
     Triangle {
         v0: Vec3,
         e1: Vec3,
@@ -72,26 +79,26 @@ enum Prim {
     Sphere(Sphere),
 }
 
-impl Prim {
-    fn new(shape: &Shape) -> Prim {
+impl Geometry {
+    fn new(shape: &Shape) -> Geometry {
         match shape {
             Shape::Triangle(t) => {
                 let (e1, e2) = (t.v1 - t.v0, t.v2 - t.v0);
-                Prim::Triangle {
+                Geometry::Triangle {
                     v0: t.v0,
                     e1,
                     e2,
                     edge_scale: f32::EPSILON * e1.length() * e2.length(),
                 }
             }
-            Shape::Sphere(s) => Prim::Sphere(s.clone()),
+            Shape::Sphere(s) => Geometry::Sphere(s.clone()),
         }
     }
 
     #[inline(always)]
     fn intersect(&self, ray: &RayData, t_min: f32, t_max: f32) -> Option<f32> {
         match self {
-            Prim::Triangle {
+            Geometry::Triangle {
                 v0,
                 e1,
                 e2,
@@ -106,7 +113,7 @@ impl Prim {
                 t_min,
                 t_max,
             ),
-            Prim::Sphere(s) => s.intersect(&ray.ray, t_min, t_max),
+            Geometry::Sphere(s) => s.intersect(&ray.ray, t_min, t_max),
         }
     }
 }
@@ -153,8 +160,6 @@ impl RayData {
 pub struct Bvh {
     nodes: Vec<Node>,
     prims: Vec<Prim>,
-    /// The object index of each primitive.
-    ids: Vec<u32>,
 }
 
 impl Bvh {
@@ -172,12 +177,14 @@ impl Bvh {
         let tree = build_node(&mut items, 0);
         let mut nodes = Vec::with_capacity(tree.size());
         flatten(&tree, 0, &mut nodes);
-        let ids: Vec<u32> = items.iter().map(|p| p.id).collect();
-        let prims = ids
+        let prims = items
             .iter()
-            .map(|&i| Prim::new(&objects[i as usize].shape))
+            .map(|p| Prim {
+                geometry: Geometry::new(&objects[p.id as usize].shape),
+                id: p.id,
+            })
             .collect();
-        Bvh { nodes, prims, ids }
+        Bvh { nodes, prims }
     }
 
     pub fn node_count(&self) -> usize {
@@ -214,8 +221,9 @@ impl Bvh {
                     } else {
                         next_up(best_t)
                     };
-                    if let Some(t) = self.prims[k].intersect(&r, t_min, limit) {
-                        let id = self.ids[k];
+                    let prim = &self.prims[k];
+                    if let Some(t) = prim.geometry.intersect(&r, t_min, limit) {
+                        let id = prim.id;
                         if t < best_t || id < best_id {
                             (best_t, best_id) = (t, id);
                         }
@@ -274,7 +282,7 @@ impl Bvh {
                 let prims = &self.prims[start..start + node.count() as usize];
                 if prims
                     .iter()
-                    .any(|p| p.intersect(&r, t_min, t_max).is_some())
+                    .any(|p| p.geometry.intersect(&r, t_min, t_max).is_some())
                 {
                     return true;
                 }
@@ -287,7 +295,11 @@ impl Bvh {
             let hit_right = r.enter(&self.nodes[right as usize], t_min, t_max);
             match (hit_left, hit_right) {
                 (Some(tl), Some(tr)) => {
-                    let (near, far) = if tl <= tr { (left, right) } else { (right, left) };
+                    let (near, far) = if tl <= tr {
+                        (left, right)
+                    } else {
+                        (right, left)
+                    };
                     stack[sp] = far;
                     stack[sp + 1] = near;
                     sp += 2;
@@ -639,7 +651,7 @@ mod tests {
         let mut rng = Rng(42);
         let objects = soup(&mut rng, 1000);
         let bvh = Bvh::build(&objects);
-        let mut ids = bvh.ids.clone();
+        let mut ids: Vec<u32> = bvh.prims.iter().map(|p| p.id).collect();
         ids.sort_unstable();
         assert_eq!(ids, (0..objects.len() as u32).collect::<Vec<_>>());
         check_node(&bvh, 0);
@@ -670,6 +682,12 @@ mod tests {
         let one = pool(1).install(|| Bvh::build(&objects));
         let three = pool(3).install(|| Bvh::build(&objects));
         assert!(one == three);
+    }
+
+    #[test]
+    fn records_are_compact() {
+        assert_eq!(std::mem::size_of::<Node>(), 32);
+        assert_eq!(std::mem::size_of::<Prim>(), 48);
     }
 
     #[test]
