@@ -237,7 +237,7 @@ fn measure(scene: &BenchScene, reps: usize) -> Result<Row> {
         let (mut renders, mut render_cpu) = (Vec::new(), Vec::new());
         for _ in 0..reps {
             let (start, cpu) = (Instant::now(), cpu_time());
-            let (image, rays) = pool.install(|| render_with_progress(&prepared, &|| {}));
+            let (image, rays) = pool.install(|| render_with_progress(&prepared, &|_| {}));
             renders.push(start.elapsed().as_secs_f64());
             render_cpu.push(cpu_time() - cpu);
             row.rays = rays;

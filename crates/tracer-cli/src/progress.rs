@@ -35,9 +35,9 @@ impl Progress {
         }
     }
 
-    /// Called from the render threads after each row.
-    pub fn row_done(&self) {
-        self.bar.inc(1);
+    /// Called from the render threads as `rows` more rows are done.
+    pub fn rows_done(&self, rows: u32) {
+        self.bar.inc(rows.into());
         if self.enabled
             && self.start.elapsed() >= SHOW_AFTER
             && !self.shown.swap(true, Ordering::Relaxed)

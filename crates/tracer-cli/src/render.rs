@@ -64,7 +64,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let progress = Progress::new(scene.camera.height.into(), args.quiet);
     let start = Instant::now();
     let (image, rays) =
-        pool.install(|| tracer_core::render_with_progress(&scene, &|| progress.row_done()));
+        pool.install(|| tracer_core::render_with_progress(&scene, &|n| progress.rows_done(n)));
     let elapsed = start.elapsed().as_secs_f64();
     progress.finish();
     write_png_atomically(&image.encode(&scene.encoding), &output)?;

@@ -84,8 +84,8 @@ fn rays_and_rows_are_counted() {
     let file = load(&scenes_dir().join("sphere-intersection.toml"));
     let scene = Scene::prepare(&file).unwrap();
     let rows = std::sync::atomic::AtomicU32::new(0);
-    let (_, stats) = render_with_progress(&scene, &|| {
-        rows.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let (_, stats) = render_with_progress(&scene, &|n| {
+        rows.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
     });
     assert_eq!(rows.into_inner(), 400);
     // No mirrors: one nearest-hit ray per pixel.
