@@ -3,8 +3,9 @@
 
 use crate::error::Diagnostic;
 use crate::model::{MeshData, SceneFile, Vec3};
+use std::collections::HashMap;
 use std::io::BufReader;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// Reads the OBJ file of every mesh object, relative to `base` (the scene
@@ -12,12 +13,23 @@ use std::sync::Arc;
 /// `objects[i].mesh.obj`.
 pub fn load_meshes(scene: &mut SceneFile, base: &Path) -> Vec<Diagnostic> {
     let mut diagnostics = Vec::new();
+    // A file used by several objects is read once and shared.
+    let mut read: HashMap<PathBuf, Arc<MeshData>> = HashMap::new();
     for (i, object) in scene.objects.iter_mut().enumerate() {
         let Some(mesh) = object.mesh.as_mut() else {
             continue;
         };
-        match read_obj(&base.join(&mesh.obj)) {
-            Ok(data) => mesh.data = Some(Arc::new(data)),
+        let path = base.join(&mesh.obj);
+        if let Some(data) = read.get(&path) {
+            mesh.data = Some(data.clone());
+            continue;
+        }
+        match read_obj(&path) {
+            Ok(data) => {
+                let data = Arc::new(data);
+                read.insert(path, data.clone());
+                mesh.data = Some(data);
+            }
             Err(message) => diagnostics.push(Diagnostic::new(
                 format!("objects[{i}].mesh.obj"),
                 format!("cannot load `{}`: {message}", mesh.obj),

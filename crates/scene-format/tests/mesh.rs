@@ -30,18 +30,27 @@ fn obj_path_is_relative_to_the_scene_file() {
     );
     let scene = format!(
         "{HEAD}[[objects]]\nmesh = {{ obj = \"models/tri.obj\" }}\n\
-         transform = {{ translate = [1, 2, 3], rotate = [0, 90, 0], scale = 2 }}\n"
+         transform = {{ translate = [1, 2, 3], rotate = [0, 90, 0], scale = 2 }}\n\
+         [[objects]]\nmesh = {{ obj = \"models/tri.obj\" }}\n"
     );
-    let path = write(dir.path(), "scenes/../scene.toml", &scene);
+    let path = write(dir.path(), "scene.toml", &scene);
     let file = load_path(&path).unwrap_or_else(|e| panic!("{e}"));
     let mesh = file.objects[0].mesh.as_ref().unwrap();
     let data = mesh.data.as_ref().expect("the OBJ was read");
+    let again = file.objects[1]
+        .mesh
+        .as_ref()
+        .unwrap()
+        .data
+        .as_ref()
+        .unwrap();
+    assert!(std::sync::Arc::ptr_eq(data, again), "read once, shared");
     assert_eq!(
         data.triangles,
         vec![[[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]]
     );
     let warnings = mesh_warnings(&file);
-    assert_eq!(warnings.len(), 1);
+    assert_eq!(warnings.len(), 2);
     assert_eq!(warnings[0].path, "objects[0].mesh.obj");
     assert!(warnings[0].message.starts_with("1 degenerate"));
 }
