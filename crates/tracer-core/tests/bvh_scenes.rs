@@ -93,3 +93,43 @@ fn rays_and_rows_are_counted() {
     // Every shadow ray starts on the sphere, which covers part of the image.
     assert!(stats.shadow > 0 && stats.shadow < 500 * 400);
 }
+
+/// Rays aimed exactly at the bunny's vertices and edge midpoints, where
+/// neighbouring triangles meet and rounding decides which one is hit: the
+/// cases where a box test could lose a hit that the brute-force loop finds.
+#[test]
+fn rays_at_shared_vertices_and_edges_find_the_brute_force_hits() {
+    use glam::Vec3;
+    use tracer_core::shapes::Shape;
+    use tracer_core::Ray;
+    let scene = small_bunny();
+    let origins = [
+        Vec3::new(0.0, 0.0, 4.743_032),
+        Vec3::new(2.845_819, 2.845_819, 4.743_032),
+        Vec3::new(-3.0, 0.5, -2.0),
+    ];
+    let mut hits = 0;
+    for (k, object) in scene.objects.iter().enumerate().step_by(31) {
+        let Shape::Triangle(t) = &object.shape else {
+            continue;
+        };
+        let targets = [t.v0, (t.v0 + t.v1) * 0.5, (t.v1 + t.v2) * 0.5];
+        for (origin, target) in origins.iter().zip(targets) {
+            let ray = Ray::new(*origin, (target - *origin).normalize());
+            let brute = scene.closest_hit_brute_force(&ray, 1e-4, f32::INFINITY);
+            assert_eq!(
+                scene.closest_hit(&ray, 1e-4, f32::INFINITY),
+                brute,
+                "triangle {k}"
+            );
+            let distance = (target - *origin).length() * 1.5;
+            assert_eq!(
+                scene.occluded(&ray, 1e-4, distance),
+                scene.occluded_brute_force(&ray, 1e-4, distance),
+                "triangle {k}"
+            );
+            hits += brute.is_some() as u32;
+        }
+    }
+    assert!(hits > 2500, "{hits} hits");
+}
