@@ -191,7 +191,10 @@ impl Default for Transform {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(untagged)]
+#[serde(
+    untagged,
+    expecting = "a number (one factor for all axes) or [x, y, z] (one per axis)"
+)]
 pub enum Scale {
     Uniform(f32),
     PerAxis(Vec3),

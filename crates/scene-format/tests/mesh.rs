@@ -91,3 +91,15 @@ fn transform_belongs_to_meshes_and_needs_non_zero_scale() {
         ["objects[0].transform", "objects[1].transform.scale"]
     );
 }
+
+#[test]
+fn a_scale_of_the_wrong_type_says_what_is_expected() {
+    let text = format!(
+        "{HEAD}[[objects]]\nmesh = {{ obj = \"m.obj\" }}\ntransform = {{ scale = \"big\" }}\n"
+    );
+    let e =
+        scene_format::load_str(&text, scene_format::Format::Toml, Path::new("s.toml")).unwrap_err();
+    let message = e.to_string();
+    assert!(message.contains("a number (one factor"), "{message}");
+    assert!(message.contains("s.toml:6:"), "{message}");
+}
