@@ -17,6 +17,8 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     Golden(GoldenArgs),
+    /// Benchmark the tracer against POV-Ray and Embree on the bench scenes (docs/performance.md)
+    Bench(xtask::bench::BenchArgs),
 }
 
 /// Check every scene's render against its golden image in golden/
@@ -38,6 +40,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Golden(args) => golden(&args),
+        Command::Bench(args) => xtask::bench::run(&args).map(|()| ExitCode::SUCCESS),
     };
     match result {
         Ok(code) => code,

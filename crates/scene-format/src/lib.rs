@@ -4,11 +4,13 @@
 pub mod canvas;
 pub mod error;
 pub mod model;
+pub mod obj;
 pub mod validate;
 
 pub use canvas::CanvasFile;
 pub use error::{Diagnostic, Location, SceneError};
 pub use model::*;
+pub use obj::mesh_warnings;
 
 use std::path::Path;
 
@@ -30,7 +32,8 @@ impl Format {
     }
 }
 
-/// Reads, parses and validates the scene file at `path`.
+/// Reads, parses and validates the scene file at `path`, and reads the OBJ
+/// files of its meshes (relative to the scene file's folder).
 pub fn load_path(path: &Path) -> Result<SceneFile, SceneError> {
     let format = Format::from_path(path).ok_or_else(|| SceneError::UnknownFormat {
         file: path.to_path_buf(),
@@ -39,10 +42,21 @@ pub fn load_path(path: &Path) -> Result<SceneFile, SceneError> {
         file: path.to_path_buf(),
         source,
     })?;
-    load_str(&text, format, path)
+    let mut scene = load_str(&text, format, path)?;
+    let base = path.parent().unwrap_or(Path::new(""));
+    let diagnostics = obj::load_meshes(&mut scene, base);
+    if diagnostics.is_empty() {
+        Ok(scene)
+    } else {
+        Err(SceneError::Invalid {
+            file: path.to_path_buf(),
+            diagnostics,
+        })
+    }
 }
 
-/// Parses and validates scene text; `file` names it in errors.
+/// Parses and validates scene text; `file` names it in errors. Meshes are
+/// not read: see `obj::load_meshes`.
 pub fn load_str(text: &str, format: Format, file: &Path) -> Result<SceneFile, SceneError> {
     let invalid = |diagnostics| SceneError::Invalid {
         file: file.to_path_buf(),

@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
+use std::sync::Arc;
 
 pub type Vec3 = [f32; 3];
 pub type Color = [f32; 3];
@@ -130,6 +131,12 @@ pub struct Object {
     /// Three vertices, clockwise as seen from the front (the lab's order).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub triangle: Option<[Vec3; 3]>,
+    /// A triangle mesh read from a Wavefront OBJ file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mesh: Option<Mesh>,
+    /// Scale, rotation and translation of a mesh.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transform: Option<Transform>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<MaterialRef>,
     /// A texture on this object; overrides the material's.
@@ -144,11 +151,70 @@ pub struct Sphere {
     pub radius: f32,
 }
 
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Mesh {
+    /// The OBJ file, relative to the scene file's folder.
+    pub obj: String,
+    /// The triangles of `obj`, filled in by `load_path`; not part of the file.
+    #[serde(skip)]
+    pub data: Option<Arc<MeshData>>,
+}
+
+/// The triangles read from an OBJ file, in the file's vertex order.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MeshData {
+    pub triangles: Vec<[Vec3; 3]>,
+    /// Faces of zero area, left out.
+    pub skipped_degenerate: usize,
+}
+
+/// Applied to a mesh's vertices in this order: scale, rotate, translate.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Transform {
+    pub translate: Vec3,
+    /// Degrees about the x axis, then y, then z.
+    pub rotate: Vec3,
+    /// One factor for all axes, or one per axis.
+    pub scale: Scale,
+}
+
+impl Default for Transform {
+    fn default() -> Self {
+        Transform {
+            translate: [0.0; 3],
+            rotate: [0.0; 3],
+            scale: Scale::Uniform(1.0),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(
+    untagged,
+    expecting = "a number (one factor for all axes) or [x, y, z] (one per axis)"
+)]
+pub enum Scale {
+    Uniform(f32),
+    PerAxis(Vec3),
+}
+
+impl Scale {
+    pub fn per_axis(self) -> Vec3 {
+        match self {
+            Scale::Uniform(s) => [s; 3],
+            Scale::PerAxis(v) => v,
+        }
+    }
+}
+
 /// The object's shape, once validation has made sure there is exactly one.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ShapeRef<'a> {
     Sphere(&'a Sphere),
     Triangle(&'a [Vec3; 3]),
+    Mesh(&'a Mesh),
 }
 
 impl Object {
@@ -160,6 +226,9 @@ impl Object {
         }
         if let Some(t) = &self.triangle {
             shapes.push(ShapeRef::Triangle(t));
+        }
+        if let Some(m) = &self.mesh {
+            shapes.push(ShapeRef::Mesh(m));
         }
         shapes
     }

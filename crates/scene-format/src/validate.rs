@@ -173,12 +173,18 @@ impl Validator {
 
     fn object(&mut self, path: &str, o: &Object, scene: &SceneFile) {
         match o.shapes().as_slice() {
-            [] => self.error(path, "expected a shape: one of `sphere`, `triangle`"),
+            [] => self.error(
+                path,
+                "expected a shape: one of `sphere`, `triangle`, `mesh`",
+            ),
             [shape] => self.shape(path, shape),
             _ => self.error(
                 path,
-                "expected exactly one shape per object; found several of `sphere`, `triangle`",
+                "expected exactly one shape per object; found several of `sphere`, `triangle`, `mesh`",
             ),
+        }
+        if let Some(t) = &o.transform {
+            self.transform(&format!("{path}.transform"), t, o.mesh.is_some());
         }
         match &o.material {
             Some(MaterialRef::Named(name)) if !scene.materials.contains_key(name) => {
@@ -201,8 +207,29 @@ impl Validator {
         }
     }
 
+    fn transform(&mut self, path: &str, t: &Transform, on_mesh: bool) {
+        if !on_mesh {
+            self.error(path, "expected `transform` only on a `mesh` object");
+        }
+        self.finite_vec(&format!("{path}.translate"), t.translate);
+        self.finite_vec(&format!("{path}.rotate"), t.rotate);
+        let scale = format!("{path}.scale");
+        let s = t.scale.per_axis();
+        if self.finite_vec(&scale, s) && s.contains(&0.0) {
+            self.error(&scale, format!("expected non-zero factors, found {s:?}"));
+        }
+    }
+
     fn shape(&mut self, path: &str, shape: &ShapeRef) {
         match shape {
+            ShapeRef::Mesh(m) => {
+                if m.obj.trim().is_empty() {
+                    self.error(
+                        &format!("{path}.mesh.obj"),
+                        "expected the path of an OBJ file",
+                    );
+                }
+            }
             ShapeRef::Sphere(s) => {
                 self.finite_vec(&format!("{path}.sphere.center"), s.center);
                 let r = format!("{path}.sphere.radius");

@@ -5,6 +5,7 @@ mod calib_chart;
 mod canvas;
 mod gamma;
 mod output;
+mod progress;
 mod render;
 
 use clap::{Parser, Subcommand};

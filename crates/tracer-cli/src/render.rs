@@ -1,6 +1,7 @@
 //! `tracer render`: scene file in, PNG out.
 
 use crate::output::write_png_atomically;
+use crate::progress::Progress;
 use crate::BadInput;
 use anyhow::Result;
 use clap::Args;
@@ -30,6 +31,12 @@ pub struct RenderArgs {
     /// unless --gamma is given)
     #[arg(long, value_name = "NAME")]
     pub aov: Option<crate::aov::AovArg>,
+    /// Threads to render with [default: one per core]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+    /// Print no progress bar and no summary, only warnings and errors
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 pub fn run(args: &RenderArgs) -> Result<()> {
@@ -50,21 +57,51 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         .output
         .clone()
         .unwrap_or_else(|| default_output(&scene_name));
-    let scene =
-        Scene::prepare(&file).map_err(|e| BadInput(format!("{}: {e}", scene_name.display())))?;
+    for w in scene_format::mesh_warnings(&file) {
+        eprintln!(
+            "warning: {}: `{}`: {}",
+            scene_name.display(),
+            w.path,
+            w.message
+        );
+    }
+    let pool = thread_pool(args.threads)?;
     let start = Instant::now();
-    let image = tracer_core::render(&scene);
-    let elapsed = start.elapsed();
+    let scene = pool
+        .install(|| Scene::prepare(&file))
+        .map_err(|e| BadInput(format!("{}: {e}", scene_name.display())))?;
+    let prepared = start.elapsed();
+    let progress = Progress::new(scene.camera.height.into(), args.quiet);
+    let start = Instant::now();
+    let (image, rays) =
+        pool.install(|| tracer_core::render_with_progress(&scene, &|n| progress.rows_done(n)));
+    let elapsed = start.elapsed().as_secs_f64();
+    progress.finish();
     write_png_atomically(&image.encode(&scene.encoding), &output)?;
-    eprintln!(
-        "rendered {} ({}x{}) in {:.3} s -> {}",
-        scene_name.display(),
-        scene.camera.width,
-        scene.camera.height,
-        elapsed.as_secs_f64(),
-        output.display()
-    );
+    if !args.quiet {
+        eprintln!(
+            "rendered {} ({}x{}, {} objects) in {:.3} s ({:.3} s to prepare), \
+             {:.1} Mrays/s on {} threads -> {}",
+            scene_name.display(),
+            scene.camera.width,
+            scene.camera.height,
+            scene.objects.len(),
+            elapsed,
+            prepared.as_secs_f64(),
+            rays.total() as f64 / elapsed.max(1e-9) / 1e6,
+            pool.current_num_threads(),
+            output.display()
+        );
+    }
     Ok(())
+}
+
+fn thread_pool(threads: Option<u32>) -> Result<rayon::ThreadPool> {
+    let mut builder = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = threads {
+        builder = builder.num_threads(n as usize);
+    }
+    Ok(builder.build()?)
 }
 
 /// The scene's name (for messages and the default output) and its contents.

@@ -185,3 +185,56 @@ fn a_bad_measurement_file_exits_2_naming_the_row() {
     let out = tracer(dir.path(), &["gamma", "fit", "missing.csv"]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn threads_change_nothing_in_the_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = scene("reflectance2.toml");
+    for (threads, out) in [("1", "one.png"), ("2", "two.png")] {
+        let run = tracer(dir.path(), &["render", &s, "--threads", threads, "-o", out]);
+        assert!(run.status.success());
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert!(
+            stderr.contains(&format!("on {threads} threads")),
+            "{stderr}"
+        );
+        assert!(stderr.contains("Mrays/s"), "{stderr}");
+        // stderr is a pipe here, not a terminal: no progress bar.
+        assert!(!stderr.contains("rendering ["), "{stderr}");
+    }
+    let one = std::fs::read(dir.path().join("one.png")).unwrap();
+    assert_eq!(one, std::fs::read(dir.path().join("two.png")).unwrap());
+    let zero = tracer(dir.path(), &["render", &s, "--threads", "0"]);
+    assert_eq!(zero.status.code(), Some(2));
+}
+
+#[test]
+fn quiet_prints_nothing_on_success() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = scene("sphere-intersection.toml");
+    let out = tracer(dir.path(), &["render", &s, "--quiet"]);
+    assert!(out.status.success());
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(dir.path().join("sphere-intersection.png").is_file());
+}
+
+#[test]
+fn a_missing_mesh_file_exits_2_and_names_the_key() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("m.toml"),
+        "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
+         [[objects]]\nmesh = { obj = \"gone.obj\" }\n",
+    )
+    .unwrap();
+    let out = tracer(dir.path(), &["render", "m.toml"]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("objects[0].mesh.obj"), "{stderr}");
+    assert!(stderr.contains("gone.obj"), "{stderr}");
+    assert!(!dir.path().join("m.png").exists());
+}

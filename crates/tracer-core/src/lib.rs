@@ -3,6 +3,7 @@
 //! files and prints nothing.
 
 pub mod aov;
+pub mod bvh;
 pub mod calib;
 pub mod camera;
 pub mod canvas;
@@ -21,8 +22,9 @@ pub mod texture;
 pub use camera::Camera;
 pub use image::{Encoding, LinearImage};
 pub use ray::Ray;
-pub use render::render;
+pub use render::{render, render_with_progress};
 pub use scene::Scene;
+pub use shade::RayStats;
 
 /// Minimum distance along a secondary ray, so it does not hit its own origin
 /// surface (the lab's epsilon for self-hits).

@@ -1,8 +1,9 @@
-//! The pixel loop: one ray through each pixel centre, rows in parallel.
+//! The pixel loop: one ray through each pixel centre, bands of rows in
+//! parallel on the current rayon pool.
 
 use crate::image::LinearImage;
 use crate::scene::Scene;
-use crate::shade::trace;
+use crate::shade::{trace, trace_counted, RayStats};
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -11,19 +12,49 @@ pub fn render_pixel(scene: &Scene, i: u32, j: u32) -> Vec3 {
     trace(scene, &scene.camera.primary_ray(i, j), 1.0, 0)
 }
 
-/// Renders the whole image. Every pixel is computed on its own, so the result
-/// does not depend on how rows are spread over threads.
+/// Renders the whole image.
 pub fn render(scene: &Scene) -> LinearImage {
+    render_with_progress(scene, &|_| {}).0
+}
+
+/// Renders the whole image, calling `rows_done(n)` as each band of `n` rows
+/// is finished, and counts the rays. Every pixel is computed on its own, so
+/// the image does not depend on how bands are spread over threads.
+pub fn render_with_progress(
+    scene: &Scene,
+    rows_done: &(dyn Fn(u32) + Sync),
+) -> (LinearImage, RayStats) {
     let (width, height) = (scene.camera.width, scene.camera.height);
     let mut image = LinearImage::new(width, height);
-    image
+    let stats = image
         .pixels
-        .par_chunks_mut(width as usize)
+        .par_chunks_mut((width * TILE) as usize)
         .enumerate()
-        .for_each(|(j, row)| {
-            for (i, pixel) in row.iter_mut().enumerate() {
-                *pixel = render_pixel(scene, i as u32, j as u32);
+        .map(|(band, pixels)| {
+            let stats = render_band(scene, band as u32 * TILE, pixels);
+            rows_done(pixels.len() as u32 / width);
+            stats
+        })
+        .reduce(RayStats::default, |a, b| a + b);
+    (image, stats)
+}
+
+/// Side of the square tiles a band of rows is rendered in: neighbouring
+/// rays visit the same BVH nodes while they are still in the cache.
+const TILE: u32 = 16;
+
+/// Renders the rows from `top` on into `pixels`, tile by tile.
+fn render_band(scene: &Scene, top: u32, pixels: &mut [Vec3]) -> RayStats {
+    let width = scene.camera.width;
+    let rows = pixels.len() as u32 / width;
+    let mut stats = RayStats::default();
+    for left in (0..width).step_by(TILE as usize) {
+        for y in 0..rows {
+            for x in left..(left + TILE).min(width) {
+                let ray = scene.camera.primary_ray(x, top + y);
+                pixels[(y * width + x) as usize] = trace_counted(scene, &ray, 1.0, 0, &mut stats);
             }
-        });
-    image
+        }
+    }
+    stats
 }

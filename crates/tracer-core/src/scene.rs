@@ -1,10 +1,12 @@
 //! The prepared scene: shapes with resolved materials, lights, settings.
 
+use crate::bvh::Bvh;
 use crate::camera::Camera;
 use crate::image::Encoding;
 use crate::light::PointLight;
 use crate::material::Material;
 use crate::ray::Ray;
+use crate::shapes::mesh::{self, Placement};
 use crate::shapes::{Shape, Sphere, Triangle};
 use crate::texture::Texture;
 use glam::Vec3;
@@ -35,6 +37,8 @@ pub struct Scene {
     pub lights: Vec<PointLight>,
     pub trace: TraceSettings,
     pub encoding: Encoding,
+    /// The hierarchy over `objects`; None: every ray tests every object.
+    pub bvh: Option<Bvh>,
 }
 
 /// A hit: the distance along the ray and the object's index.
@@ -52,18 +56,19 @@ pub enum PrepareError {
     UnknownTexture { path: String, name: String },
     #[error("`{path}`: expected exactly one shape")]
     NotOneShape { path: String },
+    #[error("`{path}`: the mesh's OBJ file was not read (load the scene with `load_path`)")]
+    MeshNotLoaded { path: String },
 }
 
 impl Scene {
     /// Builds the renderable scene from a validated scene file.
     pub fn prepare(file: &fmt::SceneFile) -> Result<Scene, PrepareError> {
         let mut materials = MaterialTable::new(file);
-        let objects = file
-            .objects
-            .iter()
-            .enumerate()
-            .map(|(i, o)| prepare_object(&format!("objects[{i}]"), o, &mut materials))
-            .collect::<Result<_, _>>()?;
+        let mut objects = Vec::new();
+        for (i, o) in file.objects.iter().enumerate() {
+            prepare_object(&format!("objects[{i}]"), o, &mut materials, &mut objects)?;
+        }
+        let bvh = Some(Bvh::build(&objects));
         let lights = file
             .lights
             .iter()
@@ -87,11 +92,34 @@ impl Scene {
                 gamma: r.gamma,
                 saturation: r.saturation,
             },
+            bvh,
         })
     }
 
-    /// The nearest hit in (t_min, t_max).
+    /// The same scene without its BVH: every ray tests every object. The
+    /// reference the BVH is tested against.
+    pub fn brute_force(self) -> Scene {
+        Scene { bvh: None, ..self }
+    }
+
+    /// The nearest hit in (t_min, t_max); of hits at the same distance, the
+    /// object listed first.
     pub fn closest_hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        match &self.bvh {
+            Some(bvh) => bvh.closest_hit(ray, t_min, t_max),
+            None => self.closest_hit_brute_force(ray, t_min, t_max),
+        }
+    }
+
+    /// Whether anything lies on the ray within (t_min, t_max): shadow rays.
+    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        match &self.bvh {
+            Some(bvh) => bvh.occluded(ray, t_min, t_max),
+            None => self.occluded_brute_force(ray, t_min, t_max),
+        }
+    }
+
+    pub fn closest_hit_brute_force(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
         let mut best: Option<Hit> = None;
         for (index, object) in self.objects.iter().enumerate() {
             let limit = best.map_or(t_max, |h| h.t);
@@ -102,8 +130,7 @@ impl Scene {
         best
     }
 
-    /// Whether anything lies on the ray within (t_min, t_max): shadow rays.
-    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+    pub fn occluded_brute_force(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
         self.objects
             .iter()
             .any(|o| o.shape.intersect(ray, t_min, t_max).is_some())
@@ -198,11 +225,24 @@ fn prepare_object(
     path: &str,
     o: &fmt::Object,
     materials: &mut MaterialTable,
-) -> Result<Object, PrepareError> {
-    let shape = match o.shapes().as_slice() {
-        [fmt::ShapeRef::Sphere(s)] => Shape::Sphere(Sphere::new(s.center.into(), s.radius)),
-        [fmt::ShapeRef::Triangle([a, b, c])] => {
-            Shape::Triangle(Triangle::new((*a).into(), (*b).into(), (*c).into()))
+    objects: &mut Vec<Object>,
+) -> Result<(), PrepareError> {
+    let shapes = match o.shapes().as_slice() {
+        [fmt::ShapeRef::Sphere(s)] => vec![Shape::Sphere(Sphere::new(s.center.into(), s.radius))],
+        [fmt::ShapeRef::Triangle([a, b, c])] => vec![Shape::Triangle(Triangle::new(
+            (*a).into(),
+            (*b).into(),
+            (*c).into(),
+        ))],
+        [fmt::ShapeRef::Mesh(m)] => {
+            let data = m.data.as_ref().ok_or_else(|| PrepareError::MeshNotLoaded {
+                path: format!("{path}.mesh.obj"),
+            })?;
+            let placement = Placement::from_scene(o.transform.as_ref());
+            mesh::triangles(data, &placement)
+                .into_iter()
+                .map(Shape::Triangle)
+                .collect()
         }
         _ => {
             return Err(PrepareError::NotOneShape {
@@ -210,8 +250,7 @@ fn prepare_object(
             })
         }
     };
-    Ok(Object {
-        shape,
-        material: materials.resolve(path, o)?,
-    })
+    let material = materials.resolve(path, o)?;
+    objects.extend(shapes.into_iter().map(|shape| Object { shape, material }));
+    Ok(())
 }

@@ -1,9 +1,11 @@
 //! The shapes a ray can hit.
 
+pub mod mesh;
 mod sphere;
 mod triangle;
 
 pub use sphere::Sphere;
+pub(crate) use triangle::moller_trumbore;
 pub use triangle::Triangle;
 
 use crate::ray::Ray;

@@ -18,24 +18,17 @@ impl Triangle {
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         let e1 = self.v1 - self.v0;
         let e2 = self.v2 - self.v0;
-        let p = ray.dir.cross(e2);
-        let det = e1.dot(p);
-        if det.abs() < f32::EPSILON * e1.length() * e2.length() * ray.dir.length() {
-            return None; // the ray runs parallel to the plane
-        }
-        let inv = 1.0 / det;
-        let s = ray.origin - self.v0;
-        let u = s.dot(p) * inv;
-        if !(0.0..=1.0).contains(&u) {
-            return None;
-        }
-        let q = s.cross(e1);
-        let v = ray.dir.dot(q) * inv;
-        if v < 0.0 || u + v > 1.0 {
-            return None;
-        }
-        let t = e2.dot(q) * inv;
-        (t > t_min && t < t_max).then_some(t)
+        let edge_scale = f32::EPSILON * e1.length() * e2.length();
+        moller_trumbore(
+            self.v0,
+            e1,
+            e2,
+            edge_scale,
+            ray,
+            ray.dir.length(),
+            t_min,
+            t_max,
+        )
     }
 
     /// The lab's normal, from the vertex order: never flipped toward the viewer.
@@ -56,6 +49,41 @@ impl Triangle {
             (d11 * dp2 - d12 * dp1) / denom,
         )
     }
+}
+
+/// Moller-Trumbore on precomputed edges `e1 = v1 - v0`, `e2 = v2 - v0`,
+/// `edge_scale = EPSILON * |e1| * |e2|` and `dir_len = |ray.dir|`, so that
+/// the BVH, which precomputes them, finds bit-identical distances.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(crate) fn moller_trumbore(
+    v0: Vec3,
+    e1: Vec3,
+    e2: Vec3,
+    edge_scale: f32,
+    ray: &Ray,
+    dir_len: f32,
+    t_min: f32,
+    t_max: f32,
+) -> Option<f32> {
+    let p = ray.dir.cross(e2);
+    let det = e1.dot(p);
+    if det.abs() < edge_scale * dir_len {
+        return None; // the ray runs parallel to the plane
+    }
+    let inv = 1.0 / det;
+    let s = ray.origin - v0;
+    let u = s.dot(p) * inv;
+    if !(0.0..=1.0).contains(&u) {
+        return None;
+    }
+    let q = s.cross(e1);
+    let v = ray.dir.dot(q) * inv;
+    if v < 0.0 || u + v > 1.0 {
+        return None;
+    }
+    let t = e2.dot(q) * inv;
+    (t > t_min && t < t_max).then_some(t)
 }
 
 #[cfg(test)]

@@ -1,0 +1,105 @@
+//! Mesh objects in scene files: the OBJ path is relative to the scene file,
+//! and a file that cannot be read is an error at `objects[i].mesh.obj`.
+
+use scene_format::{load_path, mesh_warnings, SceneError};
+use std::path::Path;
+
+const HEAD: &str = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n";
+
+fn write(dir: &Path, name: &str, text: &str) -> std::path::PathBuf {
+    let path = dir.join(name);
+    std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn diagnostics(e: SceneError) -> Vec<(String, String)> {
+    e.diagnostics()
+        .iter()
+        .map(|d| (d.path.clone(), d.message.clone()))
+        .collect()
+}
+
+#[test]
+fn obj_path_is_relative_to_the_scene_file() {
+    let dir = tempfile::tempdir().unwrap();
+    write(
+        dir.path(),
+        "models/tri.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 2 2\nf 1 2 3\nf 1 1 2\n",
+    );
+    let scene = format!(
+        "{HEAD}[[objects]]\nmesh = {{ obj = \"models/tri.obj\" }}\n\
+         transform = {{ translate = [1, 2, 3], rotate = [0, 90, 0], scale = 2 }}\n\
+         [[objects]]\nmesh = {{ obj = \"models/tri.obj\" }}\n"
+    );
+    let path = write(dir.path(), "scene.toml", &scene);
+    let file = load_path(&path).unwrap_or_else(|e| panic!("{e}"));
+    let mesh = file.objects[0].mesh.as_ref().unwrap();
+    let data = mesh.data.as_ref().expect("the OBJ was read");
+    let again = file.objects[1]
+        .mesh
+        .as_ref()
+        .unwrap()
+        .data
+        .as_ref()
+        .unwrap();
+    assert!(std::sync::Arc::ptr_eq(data, again), "read once, shared");
+    assert_eq!(
+        data.triangles,
+        vec![[[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]]
+    );
+    let warnings = mesh_warnings(&file);
+    assert_eq!(warnings.len(), 2);
+    assert_eq!(warnings[0].path, "objects[0].mesh.obj");
+    assert!(warnings[0].message.starts_with("1 degenerate"));
+}
+
+#[test]
+fn a_missing_obj_is_located() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = format!(
+        "{HEAD}[[objects]]\nsphere = {{ center = [0, 0, 0], radius = 1 }}\n\
+         [[objects]]\nmesh = {{ obj = \"nowhere.obj\" }}\n"
+    );
+    let path = write(dir.path(), "scene.toml", &scene);
+    let found = diagnostics(load_path(&path).unwrap_err());
+    assert_eq!(found.len(), 1);
+    assert_eq!(found[0].0, "objects[1].mesh.obj");
+    assert!(found[0].1.contains("nowhere.obj"), "{}", found[0].1);
+}
+
+#[test]
+fn transform_belongs_to_meshes_and_needs_non_zero_scale() {
+    let dir = tempfile::tempdir().unwrap();
+    write(
+        dir.path(),
+        "tri.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    );
+    let scene = format!(
+        "{HEAD}[[objects]]\nsphere = {{ center = [0, 0, 0], radius = 1 }}\n\
+         transform = {{ translate = [1, 0, 0] }}\n\
+         [[objects]]\nmesh = {{ obj = \"tri.obj\" }}\n\
+         transform = {{ scale = [1, 0, 1] }}\n"
+    );
+    let path = write(dir.path(), "scene.toml", &scene);
+    let found = diagnostics(load_path(&path).unwrap_err());
+    let paths: Vec<&str> = found.iter().map(|(p, _)| p.as_str()).collect();
+    assert_eq!(
+        paths,
+        ["objects[0].transform", "objects[1].transform.scale"]
+    );
+}
+
+#[test]
+fn a_scale_of_the_wrong_type_says_what_is_expected() {
+    let text = format!(
+        "{HEAD}[[objects]]\nmesh = {{ obj = \"m.obj\" }}\ntransform = {{ scale = \"big\" }}\n"
+    );
+    let e =
+        scene_format::load_str(&text, scene_format::Format::Toml, Path::new("s.toml")).unwrap_err();
+    let message = e.to_string();
+    assert!(message.contains("a number (one factor"), "{message}");
+    assert!(message.contains("s.toml:6:"), "{message}");
+}

@@ -1,0 +1,135 @@
+//! The BVH and the threads change how fast an image is made, never the
+//! image: checked against the brute-force loop and across thread counts.
+
+use std::path::{Path, PathBuf};
+use tracer_core::{render, render_with_progress, LinearImage, Scene};
+
+fn scenes_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
+}
+
+fn load(path: &Path) -> scene_format::SceneFile {
+    scene_format::load_path(path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The bunny benchmark scene, made small enough for brute force.
+fn small_bunny() -> Scene {
+    let mut file = load(&scenes_dir().join("bench/bunny.toml"));
+    (file.camera.width, file.camera.height) = (96, 54);
+    Scene::prepare(&file).expect("prepare")
+}
+
+fn in_pool(threads: usize, scene: &Scene) -> LinearImage {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a thread pool")
+        .install(|| render(scene))
+}
+
+const LAB_SCENES: [&str; 12] = [
+    "sphere-intersection",
+    "triangle-intersection",
+    "illumination-ambient",
+    "illumination-diffuse",
+    "illumination-specular",
+    "illumination",
+    "illumination-shininess-10",
+    "illumination-shininess-50",
+    "texture",
+    "shadows",
+    "reflectance",
+    "reflectance2",
+];
+
+#[test]
+fn lab_scenes_are_identical_with_and_without_the_bvh() {
+    for name in LAB_SCENES {
+        let file = load(&scenes_dir().join(format!("{name}.toml")));
+        let scene = Scene::prepare(&file).expect("prepare");
+        assert!(scene.bvh.is_some());
+        let fast = render(&scene);
+        let slow = render(&scene.brute_force());
+        assert!(fast == slow, "{name}: the BVH changed the image");
+    }
+}
+
+#[test]
+fn the_bunny_is_identical_with_and_without_the_bvh() {
+    let scene = small_bunny();
+    assert_eq!(scene.objects.len(), 69_666);
+    let fast = render(&scene);
+    let slow = render(&scene.clone().brute_force());
+    assert!(fast == slow, "the BVH changed the image");
+    // About a quarter of the rays hit the bunny (bench README: 24.6 %), so
+    // both hits and misses were compared.
+    let background = glam::Vec3::new(0.1, 0.1, 0.15);
+    let misses = fast.pixels.iter().filter(|&&p| p == background).count();
+    let n = fast.pixels.len();
+    assert!(misses > n / 2 && misses < n * 9 / 10, "{misses} of {n}");
+}
+
+#[test]
+fn the_image_does_not_depend_on_the_thread_count() {
+    let reflectance2 = Scene::prepare(&load(&scenes_dir().join("reflectance2.toml"))).unwrap();
+    for scene in [reflectance2, small_bunny()] {
+        let one = in_pool(1, &scene);
+        assert!(one == in_pool(2, &scene));
+        assert!(one == in_pool(3, &scene));
+    }
+}
+
+#[test]
+fn rays_and_rows_are_counted() {
+    let file = load(&scenes_dir().join("sphere-intersection.toml"));
+    let scene = Scene::prepare(&file).unwrap();
+    let rows = std::sync::atomic::AtomicU32::new(0);
+    let (_, stats) = render_with_progress(&scene, &|n| {
+        rows.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+    });
+    assert_eq!(rows.into_inner(), 400);
+    // No mirrors: one nearest-hit ray per pixel.
+    assert_eq!(stats.nearest, 500 * 400);
+    // Every shadow ray starts on the sphere, which covers part of the image.
+    assert!(stats.shadow > 0 && stats.shadow < 500 * 400);
+}
+
+/// Rays aimed exactly at the bunny's vertices and edge midpoints, where
+/// neighbouring triangles meet and rounding decides which one is hit: the
+/// cases where a box test could lose a hit that the brute-force loop finds.
+#[test]
+fn rays_at_shared_vertices_and_edges_find_the_brute_force_hits() {
+    use glam::Vec3;
+    use tracer_core::shapes::Shape;
+    use tracer_core::Ray;
+    let scene = small_bunny();
+    let origins = [
+        Vec3::new(0.0, 0.0, 4.743_032),
+        Vec3::new(2.845_819, 2.845_819, 4.743_032),
+        Vec3::new(-3.0, 0.5, -2.0),
+    ];
+    let mut hits = 0;
+    for (k, object) in scene.objects.iter().enumerate().step_by(31) {
+        let Shape::Triangle(t) = &object.shape else {
+            continue;
+        };
+        let targets = [t.v0, (t.v0 + t.v1) * 0.5, (t.v1 + t.v2) * 0.5];
+        for (origin, target) in origins.iter().zip(targets) {
+            let ray = Ray::new(*origin, (target - *origin).normalize());
+            let brute = scene.closest_hit_brute_force(&ray, 1e-4, f32::INFINITY);
+            assert_eq!(
+                scene.closest_hit(&ray, 1e-4, f32::INFINITY),
+                brute,
+                "triangle {k}"
+            );
+            let distance = (target - *origin).length() * 1.5;
+            assert_eq!(
+                scene.occluded(&ray, 1e-4, distance),
+                scene.occluded_brute_force(&ray, 1e-4, distance),
+                "triangle {k}"
+            );
+            hits += brute.is_some() as u32;
+        }
+    }
+    assert!(hits > 2500, "{hits} hits");
+}
