@@ -2,11 +2,16 @@
 //! validated, with errors that say where. No rendering here.
 
 pub mod error;
+pub mod locate;
 pub mod model;
+mod parse;
+pub mod schema;
 pub mod validate;
 
 pub use error::{Diagnostic, Location, SceneError};
+pub use locate::KeyPath;
 pub use model::*;
+pub use parse::suggestion;
 
 use std::path::Path;
 
@@ -33,50 +38,67 @@ pub fn load_path(path: &Path) -> Result<SceneFile, SceneError> {
     let format = Format::from_path(path).ok_or_else(|| SceneError::UnknownFormat {
         file: path.to_path_buf(),
     })?;
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+    let bytes = std::fs::read(path).map_err(|source| SceneError::Io {
         file: path.to_path_buf(),
         source,
     })?;
-    load_str(&text, format, path)
+    load_bytes(&bytes, format, path)
 }
 
-/// Parses and validates scene text; `file` names it in errors.
+/// Parses and validates a scene file's bytes; `file` names it in errors.
+/// Bytes that are not UTF-8 text are reported, not read lossily.
+pub fn load_bytes(bytes: &[u8], format: Format, file: &Path) -> Result<SceneFile, SceneError> {
+    match std::str::from_utf8(bytes) {
+        Ok(text) => load_str(text, format, file),
+        Err(e) => {
+            let text = String::from_utf8_lossy(bytes).into_owned();
+            let d = parse::not_utf8(bytes, &text, e);
+            Err(SceneError::Invalid {
+                file: file.to_path_buf(),
+                text,
+                diagnostics: vec![d],
+            })
+        }
+    }
+}
+
+/// Parses and validates scene text; `file` names it in errors. A parse
+/// error stops at the first problem; validation reports all it finds.
 pub fn load_str(text: &str, format: Format, file: &Path) -> Result<SceneFile, SceneError> {
     let invalid = |diagnostics| SceneError::Invalid {
         file: file.to_path_buf(),
+        text: text.to_string(),
         diagnostics,
     };
-    let scene = parse(text, format).map_err(|d| invalid(vec![d]))?;
+    let scene = parse::parse(text, format).map_err(invalid)?;
     let diagnostics = validate::validate(&scene);
     if diagnostics.is_empty() {
         Ok(scene)
     } else {
-        Err(invalid(diagnostics))
+        Err(invalid(locate_all(text, format, diagnostics)))
     }
 }
 
-fn parse(text: &str, format: Format) -> Result<SceneFile, Diagnostic> {
-    match format {
-        Format::Toml => toml::from_str(text).map_err(|e| Diagnostic {
-            path: String::new(),
-            message: e.message().trim_end().to_string(),
-            location: e.span().map(|s| Location::from_offset(text, s.start)),
-        }),
-        Format::Json => serde_json::from_str(text).map_err(|e| Diagnostic {
-            path: String::new(),
-            message: strip_json_position(&e.to_string()),
-            location: Some(Location {
-                line: e.line(),
-                column: e.column(),
-            }),
-        }),
-    }
-}
-
-/// serde_json appends " at line L column C"; the location is kept apart.
-fn strip_json_position(message: &str) -> String {
-    match message.rfind(" at line ") {
-        Some(i) => message[..i].to_string(),
-        None => message.to_string(),
-    }
+/// Gives each validation diagnostic the span of its key path.
+fn locate_all(text: &str, format: Format, diagnostics: Vec<Diagnostic>) -> Vec<Diagnostic> {
+    let Some(tree) = locate::tree(text, format) else {
+        return diagnostics;
+    };
+    let mut located: Vec<Diagnostic> = diagnostics
+        .into_iter()
+        .map(|d| {
+            let found = tree.locate(&d.path);
+            // A missing key (a default that fails a check) or a whole
+            // table: point at the key that names the nearest table.
+            let span = match (found.exact, &found.key) {
+                (true, _) => found.value,
+                (false, Some(key)) => key.clone(),
+                (false, None) => found.value.start..found.value.start,
+            };
+            d.at(text, span)
+        })
+        .collect();
+    // In file order, as a reader goes through the file.
+    located.sort_by_key(|d| d.span.as_ref().map(|s| s.start));
+    located
 }

@@ -1,13 +1,14 @@
 //! The serde types of a scene file. These names and this nesting are the
 //! contract with users (see design.md): extend, never rename.
 
-use serde::{Deserialize, Serialize};
+use schemars::JsonSchema;
+use serde::{Deserialize, Deserializer, Serialize};
 use std::collections::BTreeMap;
 
 pub type Vec3 = [f32; 3];
 pub type Color = [f32; 3];
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SceneFile {
     pub camera: Camera,
@@ -21,7 +22,7 @@ pub struct SceneFile {
     pub objects: Vec<Object>,
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Camera {
     pub eye: Vec3,
@@ -51,7 +52,7 @@ fn default_height() -> u32 {
 }
 
 /// What to do with a pixel whose linear colour has a channel above 1.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum Saturation {
     /// The lab's rule: the whole pixel becomes white.
@@ -61,7 +62,7 @@ pub enum Saturation {
     Clamp,
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct RenderSettings {
     /// The lab's MAX_RAY_TREE: how many mirror bounces a ray may take.
@@ -86,7 +87,7 @@ impl Default for RenderSettings {
     }
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Light {
     pub position: Vec3,
@@ -99,7 +100,7 @@ fn white() -> Color {
 }
 
 /// A Blinn-Phong material; every key left out is 0 (black, no reflection).
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Material {
     pub ambient: Color,
@@ -114,15 +115,41 @@ pub struct Material {
 }
 
 /// A material given by name (a key of `[materials]`) or inline.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
 #[serde(untagged)]
 pub enum MaterialRef {
     Named(String),
     Inline(Material),
 }
 
+/// By hand rather than `untagged`: serde's untagged enums hide the inner
+/// error ("did not match any variant"); this keeps a misspelt key inside
+/// an inline material reported as such, with its path.
+impl<'de> Deserialize<'de> for MaterialRef {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = MaterialRef;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a material name (a string) or an inline material table")
+            }
+            fn visit_str<E: serde::de::Error>(self, name: &str) -> Result<MaterialRef, E> {
+                Ok(MaterialRef::Named(name.to_string()))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> Result<MaterialRef, A::Error> {
+                let de = serde::de::value::MapAccessDeserializer::new(map);
+                Material::deserialize(de).map(MaterialRef::Inline)
+            }
+        }
+        deserializer.deserialize_any(Visitor)
+    }
+}
+
 /// One object: exactly one shape key (`sphere`, `triangle`) and its material.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Object {
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -137,7 +164,7 @@ pub struct Object {
     pub texture: Option<String>,
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Sphere {
     pub center: Vec3,
