@@ -56,15 +56,16 @@ impl KeyPath {
         }
     }
 
-    /// How a user names the table at this path: `[camera]`,
-    /// `[materials.red]`, `objects[2].sphere`, or "the top level".
-    pub fn table_name(&self) -> String {
+    /// Where a key of the table at this path sits, as a user says it:
+    /// "in [camera]", "in [materials.red]", "in `objects[2].sphere`", or
+    /// "at the top level".
+    pub fn in_table(&self) -> String {
         if self.is_root() {
-            "the top level".to_string()
+            "at the top level".to_string()
         } else if self.0.iter().all(|s| matches!(s, Segment::Key(_))) {
-            format!("[{self}]")
+            format!("in [{self}]")
         } else {
-            format!("`{self}`")
+            format!("in `{self}`")
         }
     }
 
@@ -481,11 +482,12 @@ mod tests {
             KeyPath::root().key("materials").key("my red").to_string(),
             "materials.\"my red\""
         );
-        assert_eq!(KeyPath::root().key("camera").table_name(), "[camera]");
+        assert_eq!(KeyPath::root().key("camera").in_table(), "in [camera]");
         assert_eq!(
-            KeyPath::root().key("objects").index(0).table_name(),
-            "`objects[0]`"
+            KeyPath::root().key("objects").index(0).in_table(),
+            "in `objects[0]`"
         );
+        assert_eq!(KeyPath::root().in_table(), "at the top level");
     }
 
     #[test]

@@ -93,6 +93,13 @@ fn toml_syntax(text: &str, e: &toml::de::Error) -> Diagnostic {
 fn parse_json(text: &str) -> Result<SceneFile, Vec<Diagnostic>> {
     // serde_json keeps the last of duplicate keys silently; report them.
     if let Ok(tree) = json::parse(text) {
+        if !matches!(tree.kind, locate::NodeKind::Table(_)) {
+            let d = Diagnostic::new(
+                KeyPath::root(),
+                "expected a JSON object ({ \"camera\": ... }) at the top level",
+            );
+            return Err(vec![d.at(text, tree.span)]);
+        }
         let duplicates: Vec<Diagnostic> = json::duplicate_keys(&tree)
             .into_iter()
             .map(|(path, span, first)| {
@@ -102,8 +109,8 @@ fn parse_json(text: &str) -> Result<SceneFile, Vec<Diagnostic>> {
                 Diagnostic::new(
                     path.clone(),
                     format!(
-                        "duplicate key `{name}` in {} (first defined at line {}, column {}); expected each key once",
-                        path.parent().table_name(),
+                        "duplicate key `{name}` {} (first defined at line {}, column {}); expected each key once",
+                        path.parent().in_table(),
                         first.line,
                         first.column
                     ),
@@ -193,18 +200,19 @@ fn locate_or_start(
 ) -> Diagnostic {
     match locate::locate(text, format, path) {
         Some(found) => {
-            let span = pick_span(&found, target);
+            let span = pick_span(&found, target, path);
             d.at(text, span)
         }
         None => d,
     }
 }
 
-fn pick_span(found: &Located, target: Target) -> std::ops::Range<usize> {
+fn pick_span(found: &Located, target: Target, path: &KeyPath) -> std::ops::Range<usize> {
     match (target, &found.key) {
         (Target::Key | Target::Table, Some(key)) => key.clone(),
-        // The top-level table: point at the start of the file.
-        (Target::Table, None) => found.value.start..found.value.start,
+        // A key missing at the top level: point at the start of the file,
+        // not at all of it.
+        (Target::Table, None) if path.0.len() <= 1 => found.value.start..found.value.start,
         _ => found.value.clone(),
     }
 }
@@ -229,19 +237,19 @@ fn rephrase(path: KeyPath, message: &str) -> (KeyPath, String, Target) {
     }
     if let Some(rest) = message.strip_prefix("missing field ") {
         let name = rest.trim_matches('`');
-        let table = path.table_name();
+        let table = path.in_table();
         return (
             path.key(name),
-            format!("missing key `{name}` in {table}; it has no default"),
+            format!("missing key `{name}` {table}; it has no default"),
             Target::Table,
         );
     }
     if let Some(rest) = message.strip_prefix("duplicate field ") {
         let name = rest.trim_matches('`');
-        let table = path.table_name();
+        let table = path.in_table();
         return (
             path.key(name),
-            format!("duplicate key `{name}` in {table}; expected each key once"),
+            format!("duplicate key `{name}` {table}; expected each key once"),
             Target::Table,
         );
     }
@@ -305,7 +313,7 @@ fn unknown_key(path: KeyPath, rest: &str) -> (KeyPath, String, Target) {
     } else {
         path.key(found)
     };
-    let table = path.parent().table_name();
+    let table = path.parent().in_table();
     let names = backticked(expected);
     let hint = match suggestion(found, &names) {
         Some(s) => format!("did you mean `{s}`?"),
@@ -314,7 +322,7 @@ fn unknown_key(path: KeyPath, rest: &str) -> (KeyPath, String, Target) {
     };
     (
         path,
-        format!("unknown key `{found}` in {table}; {hint}"),
+        format!("unknown key `{found}` {table}; {hint}"),
         Target::Key,
     )
 }
@@ -438,6 +446,11 @@ mod tests {
         let (p, m, t) = rephrase(camera, "missing field `eye`");
         assert_eq!(p.to_string(), "camera.eye");
         assert_eq!(m, "missing key `eye` in [camera]; it has no default");
+        let (_, m, _) = rephrase(KeyPath::root(), "missing field `camera`");
+        assert_eq!(
+            m,
+            "missing key `camera` at the top level; it has no default"
+        );
         assert_eq!(t, Target::Table);
     }
 }
