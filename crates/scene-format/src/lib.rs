@@ -102,3 +102,34 @@ fn locate_all(text: &str, format: Format, diagnostics: Vec<Diagnostic>) -> Vec<D
     located.sort_by_key(|d| d.span.as_ref().map(|s| s.start));
     located
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const CAMERA: &str = r#""camera": {"eye": [0, 0, 10], "look_at": [0, 0, 0]}"#;
+
+    #[test]
+    fn json_scenes_may_name_their_schema() {
+        let text = format!(r#"{{"$schema": "./schema.json", {CAMERA}}}"#);
+        let scene = load_str(&text, Format::Json, Path::new("s.json")).unwrap();
+        assert_eq!(scene.schema.as_deref(), Some("./schema.json"));
+    }
+
+    #[test]
+    fn other_extensions_are_refused() {
+        let err = load_path(Path::new("scene.yaml")).unwrap_err();
+        assert!(matches!(err, SceneError::UnknownFormat { .. }));
+    }
+
+    #[test]
+    fn a_defaulted_value_that_fails_points_at_its_table() {
+        // `up` is not in the file; its default [0, 1, 0] is parallel to
+        // the view direction here.
+        let text = "[camera]\neye = [0, 5, 0]\nlook_at = [0, 0, 0]\n";
+        let err = load_str(text, Format::Toml, Path::new("s.toml")).unwrap_err();
+        let d = &err.diagnostics()[0];
+        assert_eq!(d.path.to_string(), "camera.up");
+        assert_eq!(d.location, Some(Location { line: 1, column: 2 }));
+    }
+}

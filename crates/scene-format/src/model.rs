@@ -20,6 +20,10 @@ pub struct SceneFile {
     pub materials: BTreeMap<String, Material>,
     #[serde(default)]
     pub objects: Vec<Object>,
+    /// The JSON Schema an editor checks a JSON scene against (TOML scenes
+    /// use a `#:schema` comment instead). The tracer ignores it.
+    #[serde(rename = "$schema", default, skip_serializing_if = "Option::is_none")]
+    pub schema: Option<String>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]

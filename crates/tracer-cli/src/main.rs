@@ -1,9 +1,12 @@
 //! `tracer`: renders scene files (TOML or JSON) to PNG images.
 
+mod check;
 mod output;
 mod render;
+mod report;
 
 use clap::{Parser, Subcommand};
+use std::io::IsTerminal;
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -20,6 +23,10 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     Render(render::RenderArgs),
+    Check(check::CheckArgs),
+    /// Print the JSON Schema of scene files, for editor completion and
+    /// checking (e.g. `tracer schema > schema.json`)
+    Schema,
 }
 
 /// Exit status for bad input (a scene or the arguments); 1 is any other failure.
@@ -38,19 +45,41 @@ impl std::fmt::Display for BadInput {
 impl std::error::Error for BadInput {}
 
 fn main() -> ExitCode {
+    // clap exits with 2 on bad arguments, 0 for --help.
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
+        Command::Check(args) => {
+            return match check::run(&args) {
+                check::Outcome::Ok => ExitCode::SUCCESS,
+                check::Outcome::BadInput => ExitCode::from(EXIT_BAD_INPUT),
+                check::Outcome::Failure => ExitCode::FAILURE,
+            }
+        }
+        Command::Schema => {
+            println!("{}", scene_format::schema::json_schema());
+            Ok(())
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e:#}");
-            if e.downcast_ref::<BadInput>().is_some() {
-                ExitCode::from(EXIT_BAD_INPUT)
-            } else {
-                ExitCode::FAILURE
-            }
-        }
+        Err(e) => report_error(&e),
+    }
+}
+
+fn report_error(e: &anyhow::Error) -> ExitCode {
+    if let Some(scene) = e.downcast_ref::<scene_format::SceneError>() {
+        eprint!("{}", report::render(scene, std::io::stderr().is_terminal()));
+        return if report::is_bad_input(scene) {
+            ExitCode::from(EXIT_BAD_INPUT)
+        } else {
+            ExitCode::FAILURE
+        };
+    }
+    eprintln!("error: {e:#}");
+    if e.downcast_ref::<BadInput>().is_some() {
+        ExitCode::from(EXIT_BAD_INPUT)
+    } else {
+        ExitCode::FAILURE
     }
 }

@@ -63,8 +63,7 @@ fn load(path: Option<&Path>) -> Result<(PathBuf, SceneFile)> {
     let scene = match path {
         Some(path) => scene_format::load_path(path),
         None => scene_format::load_str(DEFAULT_SCENE, Format::Toml, &name),
-    }
-    .map_err(|e| BadInput(e.to_string()))?;
+    }?;
     Ok((name, scene))
 }
 
