@@ -29,16 +29,24 @@ pub struct SceneFile {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Camera {
+    /// Where the camera is.
     pub eye: Vec3,
+    /// The point the camera looks at; not `eye`.
     pub look_at: Vec3,
+    /// Which way is up in the image; not parallel to `look_at - eye`.
     #[serde(default = "default_up")]
     pub up: Vec3,
-    /// Horizontal field of view in degrees.
+    /// Horizontal field of view in degrees, between 0 and 180.
     #[serde(default = "default_fov")]
+    #[schemars(extend("exclusiveMinimum" = 0, "exclusiveMaximum" = 180))]
     pub fov: f32,
+    /// Image width in pixels.
     #[serde(default = "default_width")]
+    #[schemars(range(min = 1, max = 16384))]
     pub width: u32,
+    /// Image height in pixels.
     #[serde(default = "default_height")]
+    #[schemars(range(min = 1, max = 16384))]
     pub height: u32,
 }
 
@@ -70,12 +78,16 @@ pub enum Saturation {
 #[serde(deny_unknown_fields, default)]
 pub struct RenderSettings {
     /// The lab's MAX_RAY_TREE: how many mirror bounces a ray may take.
+    #[schemars(range(max = 64))]
     pub max_depth: u32,
     /// The lab's MIN_RAY_ENERGY: no bounce once the energy falls to this.
+    #[schemars(range(min = 0))]
     pub min_energy: f32,
+    /// The colour of rays that leave the scene.
     pub background: Color,
     pub saturation: Saturation,
     /// Display gamma; 1.0 writes linear values.
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub gamma: f32,
 }
 
@@ -110,8 +122,11 @@ pub struct Material {
     pub ambient: Color,
     pub diffuse: Color,
     pub specular: Color,
+    /// The Blinn-Phong exponent.
+    #[schemars(range(min = 0))]
     pub shininess: f32,
     /// 0 = no mirror reflection, 1 = perfect mirror.
+    #[schemars(range(min = 0, max = 1))]
     pub reflectance: f32,
     /// A texture name, e.g. "lab-stripes".
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -172,6 +187,7 @@ pub struct Object {
 #[serde(deny_unknown_fields)]
 pub struct Sphere {
     pub center: Vec3,
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub radius: f32,
 }
 

@@ -9,3 +9,40 @@ pub fn json_schema() -> String {
     // Serialising a `serde_json::Value`-backed schema cannot fail.
     serde_json::to_string_pretty(&schema).expect("a schema is plain JSON")
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::validate::{MAX_DEPTH_CAP, MAX_IMAGE_SIDE};
+
+    #[test]
+    fn the_schema_states_the_validation_limits() {
+        let schema: serde_json::Value = serde_json::from_str(&json_schema()).unwrap();
+        let defs = &schema["$defs"];
+        let camera = &defs["Camera"]["properties"];
+        assert_eq!(camera["width"]["maximum"], MAX_IMAGE_SIDE);
+        assert_eq!(camera["height"]["minimum"], 1);
+        assert_eq!(camera["fov"]["exclusiveMaximum"], 180);
+        assert_eq!(
+            defs["RenderSettings"]["properties"]["max_depth"]["maximum"],
+            MAX_DEPTH_CAP
+        );
+        assert_eq!(
+            defs["Sphere"]["properties"]["radius"]["exclusiveMinimum"],
+            0
+        );
+    }
+
+    /// `scenes/schema.json` is what editors read; it must be the schema
+    /// of this model.
+    #[test]
+    fn the_committed_schema_is_current() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/schema.json");
+        let committed = std::fs::read_to_string(path).unwrap_or_default();
+        assert!(
+            committed.trim_end() == json_schema().trim_end(),
+            "scenes/schema.json is stale; regenerate it with\n  \
+             cargo run --release --bin tracer -- schema > scenes/schema.json"
+        );
+    }
+}
