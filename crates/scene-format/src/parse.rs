@@ -139,7 +139,10 @@ fn json_error(text: &str, path: KeyPath, e: serde_json::Error) -> Vec<Diagnostic
         .at(text, offset_of(text, e.line(), e.column()));
     if syntax_like {
         let mut d = position;
-        d.message = message;
+        d.message = match message.as_str() {
+            "number out of range" => "number out of range; expected a finite number".to_string(),
+            _ => message,
+        };
         return vec![d];
     }
     let (path, message, target) = rephrase(path, &message);

@@ -34,6 +34,8 @@ const fn case(
 
 #[rustfmt::skip]
 const CASES: &[Case] = &[
+    case("big-number.toml", "camera.fov", 4, 7, "expected a finite number, found inf"),
+    case("huge-number.json", "", 1, 31, "number out of range; expected a finite number"),
     case("binary.toml", "", 1, 1, "found byte 0x89, which is not UTF-8 text"),
     case("comments-only.toml", "camera", 1, 1, "missing key `camera` at the top level"),
     case("degenerate-triangle.toml", "objects[0].triangle", 6, 12, "the triangle is degenerate"),
