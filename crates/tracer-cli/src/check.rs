@@ -2,7 +2,6 @@
 
 use crate::report;
 use clap::Args;
-use std::io::IsTerminal;
 use std::path::PathBuf;
 
 /// Check scene files for mistakes without rendering them; every problem
@@ -24,7 +23,7 @@ pub enum Outcome {
 }
 
 pub fn run(args: &CheckArgs) -> Outcome {
-    let color = std::io::stderr().is_terminal();
+    let color = report::color_wanted();
     let mut outcome = Outcome::Ok;
     let mut bad = 0;
     for scene in &args.scenes {

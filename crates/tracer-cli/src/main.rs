@@ -6,7 +6,6 @@ mod render;
 mod report;
 
 use clap::{Parser, Subcommand};
-use std::io::IsTerminal;
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -69,7 +68,7 @@ fn main() -> ExitCode {
 
 fn report_error(e: &anyhow::Error) -> ExitCode {
     if let Some(scene) = e.downcast_ref::<scene_format::SceneError>() {
-        eprint!("{}", report::render(scene, std::io::stderr().is_terminal()));
+        eprint!("{}", report::render(scene, report::color_wanted()));
         return if report::is_bad_input(scene) {
             ExitCode::from(EXIT_BAD_INPUT)
         } else {

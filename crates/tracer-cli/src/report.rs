@@ -74,6 +74,13 @@ pub fn render(error: &SceneError, color: bool) -> String {
     out
 }
 
+/// Colours only on a terminal, and not when NO_COLOR is set (no-color.org).
+pub fn color_wanted() -> bool {
+    use std::io::IsTerminal;
+    let no_color = matches!(std::env::var_os("NO_COLOR"), Some(v) if !v.is_empty());
+    std::io::stderr().is_terminal() && !no_color
+}
+
 /// Whether the scene error is the user's input (exit 2) rather than the
 /// machine's (exit 1): a missing file is a wrong argument, an unreadable
 /// disk is not.
