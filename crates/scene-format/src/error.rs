@@ -118,8 +118,11 @@ fn render_one(file: &Path, text: &str, d: &Diagnostic) -> String {
     if !d.path.is_root() {
         out += &format!(" ({})", d.path);
     }
-    if let (Some(span), Some(loc)) = (&d.span, d.location) {
-        out += &snippet(text, span, loc);
+    if let (Some(span), Some(_)) = (&d.span, d.location) {
+        // The fields are public: make any span safe to slice with.
+        let start = floor_char_boundary(text, span.start.min(text.len()));
+        let end = floor_char_boundary(text, span.end.clamp(start, text.len()));
+        out += &snippet(text, &(start..end), Location::from_offset(text, start));
     }
     out
 }
@@ -169,5 +172,57 @@ fn printable(c: char) -> char {
         '\t' => ' ',
         c if c.is_control() => '\u{FFFD}',
         c => c,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn report(text: &str, span: Range<usize>) -> String {
+        let mut d = Diagnostic::new(KeyPath::root().key("k"), "bad").at(text, 0..0);
+        d.span = Some(span);
+        SceneError::Invalid {
+            file: PathBuf::from("f.toml"),
+            text: text.to_string(),
+            diagnostics: vec![d],
+        }
+        .to_string()
+    }
+
+    #[test]
+    fn the_caret_sits_under_the_span_counting_characters() {
+        let text = "a = 1\nkey = \"grün\" # x\n";
+        let start = text.find("# x").unwrap();
+        let d = Diagnostic::new(KeyPath::root().key("k"), "bad").at(text, start..start + 3);
+        assert_eq!(
+            d.location,
+            Some(Location {
+                line: 2,
+                column: 14
+            })
+        );
+        let r = report(text, start..start + 3);
+        let lines: Vec<&str> = r.lines().collect();
+        assert_eq!(lines[3], "2 | key = \"grün\" # x");
+        assert_eq!(lines[4], "  |              ^^^");
+    }
+
+    #[test]
+    fn any_span_renders_without_panicking() {
+        let text = "ü\n";
+        for span in [0..1, 1..2, 5..9, 2..1, 0..100] {
+            assert!(report(text, span).starts_with("error: bad"));
+        }
+    }
+
+    #[test]
+    fn long_lines_show_a_window_around_the_caret() {
+        let text = format!("{}X{}", "a".repeat(300), "b".repeat(300));
+        let r = report(&text, 300..301);
+        let lines: Vec<&str> = r.lines().collect();
+        let caret = lines[4].find('^').unwrap();
+        assert_eq!(lines[3].as_bytes()[caret], b'X');
+        assert!(lines[3].len() < 120);
     }
 }
