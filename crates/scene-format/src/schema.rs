@@ -6,8 +6,39 @@ use crate::model::SceneFile;
 /// The schema as pretty-printed JSON.
 pub fn json_schema() -> String {
     let schema = schemars::schema_for!(SceneFile);
-    // Serialising a `serde_json::Value`-backed schema cannot fail.
-    serde_json::to_string_pretty(&schema).expect("a schema is plain JSON")
+    let mut value = schema.to_value();
+    drop_null(&mut value);
+    // Serialising a `serde_json::Value` cannot fail.
+    serde_json::to_string_pretty(&value).expect("a schema is plain JSON")
+}
+
+/// TOML has no null: an optional key is simply left out. schemars allows
+/// `null` for every `Option`, which makes editors say "not valid under any
+/// of the schemas in anyOf" instead of naming the wrong key; take it out.
+fn drop_null(value: &mut serde_json::Value) {
+    use serde_json::Value;
+    match value {
+        Value::Object(map) => {
+            if let Some(Value::Array(types)) = map.get_mut("type") {
+                types.retain(|t| t != "null");
+                if types.len() == 1 {
+                    let only = types.remove(0);
+                    map.insert("type".to_string(), only);
+                }
+            }
+            if let Some(Value::Array(alternatives)) = map.get_mut("anyOf") {
+                alternatives.retain(|a| a.get("type").and_then(Value::as_str) != Some("null"));
+                if let [Value::Object(only)] = alternatives.as_slice() {
+                    let only = only.clone();
+                    map.remove("anyOf");
+                    map.extend(only);
+                }
+            }
+            map.values_mut().for_each(drop_null);
+        }
+        Value::Array(items) => items.iter_mut().for_each(drop_null),
+        _ => {}
+    }
 }
 
 #[cfg(test)]
