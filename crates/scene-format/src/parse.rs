@@ -91,77 +91,70 @@ fn toml_syntax(text: &str, e: &toml::de::Error) -> Diagnostic {
 }
 
 fn parse_json(text: &str) -> Result<SceneFile, Vec<Diagnostic>> {
-    // serde_json keeps the last of duplicate keys silently; report them.
-    if let Ok(tree) = json::parse(text) {
-        if !matches!(tree.kind, locate::NodeKind::Table(_)) {
-            let d = Diagnostic::new(
-                KeyPath::root(),
-                "expected a JSON object ({ \"camera\": ... }) at the top level",
-            );
-            return Err(vec![d.at(text, tree.span)]);
-        }
-        let duplicates: Vec<Diagnostic> = json::duplicate_keys(&tree)
-            .into_iter()
-            .map(|(path, span, first)| {
-                let path = KeyPath(path);
-                let first = crate::error::Location::from_offset(text, first.start);
-                let name = path.last_key().unwrap_or_default().to_string();
-                Diagnostic::new(
-                    path.clone(),
-                    format!(
-                        "duplicate key `{name}` {} (first defined at line {}, column {}); expected each key once",
-                        path.parent().in_table(),
-                        first.line,
-                        first.column
-                    ),
-                )
-                .at(text, span)
-            })
-            .collect();
-        if !duplicates.is_empty() {
-            return Err(duplicates);
-        }
+    let structure = json_structure_errors(text);
+    if !structure.is_empty() {
+        return Err(structure);
     }
     let mut de = serde_json::Deserializer::from_str(text);
     let result: Result<SceneFile, _> = serde_path_to_error::deserialize(&mut de);
     let scene = result.map_err(|e| {
         let path = KeyPath::from_serde(e.path());
-        json_error(text, path, e.into_inner())
+        vec![json_error(text, path, e.into_inner())]
     })?;
-    de.end().map_err(|e| json_error(text, KeyPath::root(), e))?;
+    de.end()
+        .map_err(|e| vec![json_error(text, KeyPath::root(), e)])?;
     Ok(scene)
 }
 
-fn json_error(text: &str, path: KeyPath, e: serde_json::Error) -> Vec<Diagnostic> {
+/// What serde_json lets through or words poorly: a top level that is not
+/// an object, and duplicate keys (serde_json keeps the last one silently).
+/// Text that is not JSON at all is left to serde_json to report.
+fn json_structure_errors(text: &str) -> Vec<Diagnostic> {
+    let Ok(tree) = json::parse(text) else {
+        return Vec::new();
+    };
+    if !matches!(tree.kind, locate::NodeKind::Table(_)) {
+        let d = Diagnostic::new(
+            KeyPath::root(),
+            "expected a JSON object ({ \"camera\": ... }) at the top level",
+        );
+        return vec![d.at(text, tree.span)];
+    }
+    json::duplicate_keys(&tree)
+        .into_iter()
+        .map(|(path, span, first)| {
+            let path = KeyPath(path);
+            let first = crate::error::Location::from_offset(text, first.start);
+            let name = path.last_key().unwrap_or_default().to_string();
+            let message = format!(
+                "duplicate key `{name}` {} (first defined at line {}, column {}); expected each key once",
+                path.parent().in_table(),
+                first.line,
+                first.column
+            );
+            Diagnostic::new(path, message).at(text, span)
+        })
+        .collect()
+}
+
+fn json_error(text: &str, path: KeyPath, e: serde_json::Error) -> Diagnostic {
     let message = strip_json_position(&e.to_string());
-    let syntax_like = e.is_syntax() || e.is_eof() || e.is_io();
-    let position = Diagnostic::new(KeyPath::root(), String::new())
-        .at(text, offset_of(text, e.line(), e.column()));
-    if syntax_like {
-        let mut d = position;
-        d.message = match message.as_str() {
+    // serde_json's own position: where it stopped reading.
+    let position = offset_of(text, e.line(), e.column());
+    if e.is_syntax() || e.is_eof() || e.is_io() {
+        let message = match message.as_str() {
             "number out of range" => "number out of range; expected a finite number".to_string(),
             _ => message,
         };
-        return vec![d];
+        return Diagnostic::new(KeyPath::root(), message).at(text, position);
     }
     let (path, message, target) = rephrase(path, &message);
     let d = Diagnostic::new(path.clone(), message);
-    vec![locate_or_start(d, text, Format::Json, &path, target).or_at(position)]
-}
-
-trait OrAt {
-    fn or_at(self, fallback: Diagnostic) -> Diagnostic;
-}
-
-impl OrAt for Diagnostic {
-    /// Falls back to serde_json's own position when the locator found none.
-    fn or_at(mut self, fallback: Diagnostic) -> Diagnostic {
-        if self.span.is_none() {
-            self.span = fallback.span;
-            self.location = fallback.location;
-        }
-        self
+    let d = locate_or_start(d, text, Format::Json, &path, target);
+    match d.span {
+        Some(_) => d,
+        // The text is not JSON past this point, so the locator found nothing.
+        None => d.at(text, position),
     }
 }
 

@@ -64,16 +64,16 @@ mod tests {
         );
     }
 
-    /// `scenes/schema.json` is what editors read; it must be the schema
-    /// of this model.
+    /// `schema.json` (at the top of the repository) is what editors read;
+    /// it must be the schema of this model.
     #[test]
     fn the_committed_schema_is_current() {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/schema.json");
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../schema.json");
         let committed = std::fs::read_to_string(path).unwrap_or_default();
         assert!(
             committed.trim_end() == json_schema().trim_end(),
-            "scenes/schema.json is stale; regenerate it with\n  \
-             cargo run --release --bin tracer -- schema > scenes/schema.json"
+            "schema.json is stale; regenerate it with\n  \
+             cargo run --release --bin tracer -- schema > schema.json"
         );
     }
 }
