@@ -44,9 +44,9 @@ pub struct Diagnostic {
 }
 
 impl Diagnostic {
-    pub fn new(path: KeyPath, message: impl Into<String>) -> Self {
+    pub fn new(path: impl Into<KeyPath>, message: impl Into<String>) -> Self {
         Diagnostic {
-            path,
+            path: path.into(),
             message: message.into(),
             span: None,
             location: None,

@@ -85,6 +85,87 @@ impl KeyPath {
     }
 }
 
+impl KeyPath {
+    /// Reads a path as `Display` writes it: `objects[2].sphere.radius`,
+    /// `materials."my red".diffuse`. Lenient: text it cannot split is
+    /// taken as a key.
+    pub fn parse(text: &str) -> KeyPath {
+        let mut segments = Vec::new();
+        let mut chars = text.chars().peekable();
+        let mut key = String::new();
+        while let Some(c) = chars.next() {
+            match c {
+                '.' => push_key(&mut segments, &mut key),
+                '"' if key.is_empty() => {
+                    let mut quoted = String::from('"');
+                    for q in chars.by_ref() {
+                        quoted.push(q);
+                        if q == '"' && !quoted.ends_with("\\\"") {
+                            break;
+                        }
+                    }
+                    key = serde_json::from_str(&quoted).unwrap_or(quoted);
+                }
+                '[' => {
+                    push_key(&mut segments, &mut key);
+                    let digits: String = chars.by_ref().take_while(|&d| d != ']').collect();
+                    match digits.parse() {
+                        Ok(i) => segments.push(Segment::Index(i)),
+                        Err(_) => segments.push(Segment::Key(format!("[{digits}]"))),
+                    }
+                }
+                _ => key.push(c),
+            }
+        }
+        push_key(&mut segments, &mut key);
+        KeyPath(segments)
+    }
+}
+
+fn push_key(segments: &mut Vec<Segment>, key: &mut String) {
+    if !key.is_empty() {
+        segments.push(Segment::Key(std::mem::take(key)));
+    }
+}
+
+/// Paths written as text (`"camera.fov"`) work wherever a path is taken,
+/// so validation code may build them either way.
+impl From<&str> for KeyPath {
+    fn from(text: &str) -> KeyPath {
+        KeyPath::parse(text)
+    }
+}
+
+impl From<String> for KeyPath {
+    fn from(text: String) -> KeyPath {
+        KeyPath::parse(&text)
+    }
+}
+
+impl From<&String> for KeyPath {
+    fn from(text: &String) -> KeyPath {
+        KeyPath::parse(text)
+    }
+}
+
+impl From<&KeyPath> for KeyPath {
+    fn from(path: &KeyPath) -> KeyPath {
+        path.clone()
+    }
+}
+
+impl PartialEq<str> for KeyPath {
+    fn eq(&self, other: &str) -> bool {
+        self.to_string() == other
+    }
+}
+
+impl PartialEq<&str> for KeyPath {
+    fn eq(&self, other: &&str) -> bool {
+        self.to_string() == *other
+    }
+}
+
 impl fmt::Display for KeyPath {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         for (i, segment) in self.0.iter().enumerate() {
@@ -488,6 +569,30 @@ mod tests {
             "in `objects[0]`"
         );
         assert_eq!(KeyPath::root().in_table(), "at the top level");
+    }
+
+    #[test]
+    fn key_paths_read_back_what_they_print() {
+        for text in [
+            "objects[2].sphere.radius",
+            "materials.\"my red\".diffuse",
+            "materials.\"a.b\"",
+            "lights[0]",
+            "[3]",
+            "",
+        ] {
+            let path = KeyPath::parse(text);
+            assert_eq!(path.to_string(), text);
+        }
+        assert_eq!(
+            KeyPath::parse("objects[2].sphere"),
+            KeyPath::root().key("objects").index(2).key("sphere")
+        );
+        assert_eq!(
+            KeyPath::parse("materials.\"a.b\"").0,
+            vec![k("materials"), k("a.b")]
+        );
+        assert!(KeyPath::from("camera.fov") == "camera.fov");
     }
 
     #[test]

@@ -36,19 +36,18 @@ struct Validator {
 }
 
 impl Validator {
-    fn error(&mut self, path: &KeyPath, message: impl Into<String>) {
-        self.diagnostics
-            .push(Diagnostic::new(path.clone(), message));
+    fn error(&mut self, path: impl Into<KeyPath>, message: impl Into<String>) {
+        self.diagnostics.push(Diagnostic::new(path, message));
     }
 
-    fn finite(&mut self, path: &KeyPath, x: f32) -> bool {
+    fn finite(&mut self, path: impl Into<KeyPath>, x: f32) -> bool {
         if !x.is_finite() {
             self.error(path, format!("expected a finite number, found {x}"));
         }
         x.is_finite()
     }
 
-    fn finite_vec(&mut self, path: &KeyPath, v: Vec3) -> bool {
+    fn finite_vec(&mut self, path: impl Into<KeyPath>, v: Vec3) -> bool {
         if v.iter().all(|x| x.is_finite()) {
             return true;
         }
@@ -56,8 +55,9 @@ impl Validator {
         false
     }
 
-    fn color(&mut self, path: &KeyPath, c: Color) {
-        if self.finite_vec(path, c) && c.iter().any(|&x| x < 0.0) {
+    fn color(&mut self, path: impl Into<KeyPath>, c: Color) {
+        let path = path.into();
+        if self.finite_vec(&path, c) && c.iter().any(|&x| x < 0.0) {
             self.error(
                 path,
                 format!("expected a colour with channels >= 0, found {c:?}"),
@@ -165,7 +165,7 @@ impl Validator {
         }
     }
 
-    fn texture_name(&mut self, path: &KeyPath, name: &str) {
+    fn texture_name(&mut self, path: impl Into<KeyPath>, name: &str) {
         if !TEXTURE_NAMES.contains(&name) {
             self.error(
                 path,
