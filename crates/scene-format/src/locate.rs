@@ -156,13 +156,13 @@ impl From<&KeyPath> for KeyPath {
 
 impl PartialEq<str> for KeyPath {
     fn eq(&self, other: &str) -> bool {
-        self.to_string() == other
+        *self == KeyPath::parse(other)
     }
 }
 
 impl PartialEq<&str> for KeyPath {
     fn eq(&self, other: &&str) -> bool {
-        self.to_string() == *other
+        *self == KeyPath::parse(other)
     }
 }
 
@@ -592,7 +592,7 @@ mod tests {
             KeyPath::parse("materials.\"a.b\"").0,
             vec![k("materials"), k("a.b")]
         );
-        assert!(KeyPath::from("camera.fov") == "camera.fov");
+        assert_eq!(KeyPath::root().key("camera").key("fov"), "camera.fov");
     }
 
     #[test]

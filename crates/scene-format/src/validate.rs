@@ -18,8 +18,8 @@ pub fn validate(scene: &SceneFile) -> Vec<Diagnostic> {
     v.render(&root.key("render"), &scene.render);
     for (i, light) in scene.lights.iter().enumerate() {
         let path = root.key("lights").index(i);
-        v.finite_vec(&path.key("position"), light.position);
-        v.color(&path.key("color"), light.color);
+        v.finite_vec(path.key("position"), light.position);
+        v.color(path.key("color"), light.color);
     }
     for (name, material) in &scene.materials {
         v.material(&root.key("materials").key(name), material);
@@ -66,12 +66,12 @@ impl Validator {
     }
 
     fn camera(&mut self, path: &KeyPath, c: &Camera) {
-        let ok = self.finite_vec(&path.key("eye"), c.eye)
-            & self.finite_vec(&path.key("look_at"), c.look_at)
-            & self.finite_vec(&path.key("up"), c.up);
-        if self.finite(&path.key("fov"), c.fov) && !(c.fov > 0.0 && c.fov < 180.0) {
+        let ok = self.finite_vec(path.key("eye"), c.eye)
+            & self.finite_vec(path.key("look_at"), c.look_at)
+            & self.finite_vec(path.key("up"), c.up);
+        if self.finite(path.key("fov"), c.fov) && !(c.fov > 0.0 && c.fov < 180.0) {
             self.error(
-                &path.key("fov"),
+                path.key("fov"),
                 format!(
                     "expected degrees between 0 and 180 (exclusive), found {}",
                     c.fov
@@ -85,17 +85,17 @@ impl Validator {
         let view = sub(c.look_at, c.eye);
         if length(view) == 0.0 {
             self.error(
-                &path.key("look_at"),
+                path.key("look_at"),
                 "expected a point other than `camera.eye`; the camera would look nowhere",
             );
         } else if length(c.up) == 0.0 {
             self.error(
-                &path.key("up"),
+                path.key("up"),
                 "expected a non-zero vector, found [0, 0, 0]",
             );
         } else if length(cross(c.up, view)) <= 1e-6 * length(c.up) * length(view) {
             self.error(
-                &path.key("up"),
+                path.key("up"),
                 "expected a vector not parallel to the view direction (look_at - eye)",
             );
         }
@@ -105,7 +105,7 @@ impl Validator {
         for (key, side) in [("width", width), ("height", height)] {
             if side == 0 || side > MAX_IMAGE_SIDE {
                 self.error(
-                    &path.key(key),
+                    path.key(key),
                     format!("expected 1 to {MAX_IMAGE_SIDE} pixels, found {side}"),
                 );
             }
@@ -123,29 +123,29 @@ impl Validator {
     fn render(&mut self, path: &KeyPath, r: &RenderSettings) {
         if r.max_depth > MAX_DEPTH_CAP {
             self.error(
-                &path.key("max_depth"),
+                path.key("max_depth"),
                 format!("expected at most {MAX_DEPTH_CAP}, found {}", r.max_depth),
             );
         }
-        if self.finite(&path.key("min_energy"), r.min_energy) && r.min_energy < 0.0 {
+        if self.finite(path.key("min_energy"), r.min_energy) && r.min_energy < 0.0 {
             self.error(
-                &path.key("min_energy"),
+                path.key("min_energy"),
                 format!("expected a number >= 0, found {}", r.min_energy),
             );
         }
-        self.color(&path.key("background"), r.background);
-        if self.finite(&path.key("gamma"), r.gamma) && r.gamma <= 0.0 {
+        self.color(path.key("background"), r.background);
+        if self.finite(path.key("gamma"), r.gamma) && r.gamma <= 0.0 {
             self.error(
-                &path.key("gamma"),
+                path.key("gamma"),
                 format!("expected a number > 0, found {}", r.gamma),
             );
         }
     }
 
     fn material(&mut self, path: &KeyPath, m: &Material) {
-        self.color(&path.key("ambient"), m.ambient);
-        self.color(&path.key("diffuse"), m.diffuse);
-        self.color(&path.key("specular"), m.specular);
+        self.color(path.key("ambient"), m.ambient);
+        self.color(path.key("diffuse"), m.diffuse);
+        self.color(path.key("specular"), m.specular);
         let shin = path.key("shininess");
         if self.finite(&shin, m.shininess) && m.shininess < 0.0 {
             self.error(
@@ -161,7 +161,7 @@ impl Validator {
             );
         }
         if let Some(t) = &m.texture {
-            self.texture_name(&path.key("texture"), t);
+            self.texture_name(path.key("texture"), t);
         }
     }
 
@@ -192,7 +192,7 @@ impl Validator {
                     hint(name, &known)
                 };
                 self.error(
-                    &path.key("material"),
+                    path.key("material"),
                     format!("unknown material `{name}`; {expected}"),
                 );
             }
@@ -200,14 +200,14 @@ impl Validator {
             _ => {}
         }
         if let Some(t) = &o.texture {
-            self.texture_name(&path.key("texture"), t);
+            self.texture_name(path.key("texture"), t);
         }
     }
 
     fn shape(&mut self, path: &KeyPath, shape: &ShapeRef) {
         match shape {
             ShapeRef::Sphere(s) => {
-                self.finite_vec(&path.key("sphere").key("center"), s.center);
+                self.finite_vec(path.key("sphere").key("center"), s.center);
                 let r = path.key("sphere").key("radius");
                 if self.finite(&r, s.radius) && s.radius <= 0.0 {
                     self.error(&r, format!("expected a radius > 0, found {}", s.radius));

@@ -129,7 +129,7 @@ fn every_bad_file_names_the_key_line_column_and_problem() {
         let error = load_bad(case.file);
         let d = &error.diagnostics()[0];
         let location = d.location.map(|l| (l.line, l.column));
-        let ok = d.path.to_string() == case.path
+        let ok = d.path == case.path
             && location == Some((case.line, case.column))
             && d.message.contains(case.message);
         if !ok {
