@@ -84,6 +84,7 @@ pub struct RenderSettings {
     #[schemars(range(min = 0))]
     pub min_energy: f32,
     /// The colour of rays that leave the scene.
+    #[schemars(inner(range(min = 0)))]
     pub background: Color,
     pub saturation: Saturation,
     /// Display gamma; 1.0 writes linear values.
@@ -108,6 +109,7 @@ impl Default for RenderSettings {
 pub struct Light {
     pub position: Vec3,
     #[serde(default = "white")]
+    #[schemars(inner(range(min = 0)))]
     pub color: Color,
 }
 
@@ -119,8 +121,11 @@ fn white() -> Color {
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Material {
+    #[schemars(inner(range(min = 0)))]
     pub ambient: Color,
+    #[schemars(inner(range(min = 0)))]
     pub diffuse: Color,
+    #[schemars(inner(range(min = 0)))]
     pub specular: Color,
     /// The Blinn-Phong exponent.
     #[schemars(range(min = 0))]
