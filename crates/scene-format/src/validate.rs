@@ -51,7 +51,7 @@ impl Validator {
         if v.iter().all(|x| x.is_finite()) {
             return true;
         }
-        self.error(path, format!("expected finite numbers, found {v:?}"));
+        self.error(path, format!("expected finite numbers, found {}", show(v)));
         false
     }
 
@@ -60,7 +60,7 @@ impl Validator {
         if self.finite_vec(&path, c) && c.iter().any(|&x| x < 0.0) {
             self.error(
                 path,
-                format!("expected a colour with channels >= 0, found {c:?}"),
+                format!("expected a colour with channels >= 0, found {}", show(c)),
             );
         }
     }
@@ -86,17 +86,24 @@ impl Validator {
         if length(view) == 0.0 {
             self.error(
                 path.key("look_at"),
-                "expected a point other than `camera.eye`; the camera would look nowhere",
+                format!(
+                    "expected a point other than `camera.eye`, found {}, the same point; the camera would look nowhere",
+                    show(c.look_at)
+                ),
             );
         } else if length(c.up) == 0.0 {
             self.error(
                 path.key("up"),
-                "expected a non-zero vector, found [0, 0, 0]",
+                format!("expected a non-zero vector, found {}", show(c.up)),
             );
         } else if length(cross(c.up, view)) <= 1e-6 * length(c.up) * length(view) {
             self.error(
                 path.key("up"),
-                "expected a vector not parallel to the view direction (look_at - eye)",
+                format!(
+                    "expected a vector not parallel to the view direction (look_at - eye = {}), found {}",
+                    show(view),
+                    show(c.up)
+                ),
             );
         }
     }
@@ -176,7 +183,10 @@ impl Validator {
 
     fn object(&mut self, path: &KeyPath, o: &Object, scene: &SceneFile) {
         match o.shapes().as_slice() {
-            [] => self.error(path, "expected a shape: one of `sphere`, `triangle`"),
+            [] => self.error(
+                path,
+                "expected a shape: one of `sphere`, `triangle`; found none",
+            ),
             [shape] => self.shape(path, shape),
             _ => self.error(
                 path,
@@ -218,7 +228,15 @@ impl Validator {
                 if t.iter().all(|v| self.finite_vec(&p, *v)) {
                     let n = cross(sub(t[1], t[0]), sub(t[2], t[0]));
                     if length(n) == 0.0 {
-                        self.error(&p, "expected three vertices not on one line; the triangle is degenerate (zero area)");
+                        self.error(
+                            &p,
+                            format!(
+                                "expected three vertices not on one line, found {}, {}, {}; the triangle is degenerate (zero area)",
+                                show(t[0]),
+                                show(t[1]),
+                                show(t[2])
+                            ),
+                        );
                     }
                 }
             }
@@ -235,6 +253,11 @@ fn hint(name: &str, known: &[&str]) -> String {
             format!("expected one of {}", names.join(", "))
         }
     }
+}
+
+/// A vector as it is written in a scene file: `[0, 1.5, -2]`.
+fn show(v: Vec3) -> String {
+    format!("[{}, {}, {}]", v[0], v[1], v[2])
 }
 
 fn sub(a: Vec3, b: Vec3) -> Vec3 {
