@@ -338,7 +338,10 @@ mod tests {
             square = {}
             "#,
         );
-        let paths: Vec<String> = validate(&f).into_iter().map(|d| d.path).collect();
+        let paths: Vec<String> = validate(&f)
+            .into_iter()
+            .map(|d| d.path.to_string())
+            .collect();
         assert_eq!(
             paths,
             [
@@ -372,7 +375,7 @@ mod tests {
         assert!(matches!(json, SceneKind::Canvas(c) if c.canvas.height == 7));
         let bad = load_any_str("[canvas]\nwidht = 10\n", Format::Toml, file).unwrap_err();
         let message = bad.to_string();
-        assert!(message.starts_with("x.toml:2:1"), "{message}");
-        assert!(message.contains("widht"), "{message}");
+        assert!(message.contains("x.toml:2:1"), "{message}");
+        assert!(message.contains("did you mean `width`?"), "{message}");
     }
 }

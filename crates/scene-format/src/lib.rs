@@ -3,14 +3,19 @@
 
 pub mod canvas;
 pub mod error;
+pub mod locate;
 pub mod model;
 pub mod obj;
+mod parse;
+pub mod schema;
 pub mod validate;
 
 pub use canvas::CanvasFile;
 pub use error::{Diagnostic, Location, SceneError};
+pub use locate::KeyPath;
 pub use model::*;
 pub use obj::mesh_warnings;
+pub use parse::suggestion;
 
 use std::path::Path;
 
@@ -32,42 +37,55 @@ impl Format {
     }
 }
 
-/// Reads, parses and validates the scene file at `path`, and reads the OBJ
-/// files of its meshes (relative to the scene file's folder).
+/// Reads, parses and validates the 3D scene file at `path`, and reads the
+/// OBJ files of its meshes (relative to the scene file's folder).
 pub fn load_path(path: &Path) -> Result<SceneFile, SceneError> {
-    let format = Format::from_path(path).ok_or_else(|| SceneError::UnknownFormat {
-        file: path.to_path_buf(),
-    })?;
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
-        file: path.to_path_buf(),
-        source,
-    })?;
-    let mut scene = load_str(&text, format, path)?;
-    let base = path.parent().unwrap_or(Path::new(""));
-    let diagnostics = obj::load_meshes(&mut scene, base);
-    if diagnostics.is_empty() {
-        Ok(scene)
-    } else {
-        Err(SceneError::Invalid {
+    match load_any(path)? {
+        SceneKind::Scene3d(scene) => Ok(scene),
+        SceneKind::Canvas(_) => Err(SceneError::Invalid {
             file: path.to_path_buf(),
-            diagnostics,
-        })
+            text: String::new(),
+            diagnostics: vec![Diagnostic::new(
+                "canvas",
+                "found a 2D canvas scene ([canvas]); expected a 3D scene with a [camera] here",
+            )],
+        }),
     }
 }
 
-/// Parses and validates scene text; `file` names it in errors. Meshes are
-/// not read: see `obj::load_meshes`.
+/// Parses and validates a scene file's bytes; `file` names it in errors.
+/// Bytes that are not UTF-8 text are reported, not read lossily.
+pub fn load_bytes(bytes: &[u8], format: Format, file: &Path) -> Result<SceneFile, SceneError> {
+    load_str(utf8_text(bytes, file)?, format, file)
+}
+
+fn utf8_text<'a>(bytes: &'a [u8], file: &Path) -> Result<&'a str, SceneError> {
+    std::str::from_utf8(bytes).map_err(|e| {
+        let text = String::from_utf8_lossy(bytes).into_owned();
+        let d = parse::not_utf8(bytes, &text, e);
+        SceneError::Invalid {
+            file: file.to_path_buf(),
+            text,
+            diagnostics: vec![d],
+        }
+    })
+}
+
+/// Parses and validates scene text; `file` names it in errors. A parse
+/// error stops at the first problem; validation reports all it finds.
+/// Meshes are not read: see `obj::load_meshes`.
 pub fn load_str(text: &str, format: Format, file: &Path) -> Result<SceneFile, SceneError> {
     let invalid = |diagnostics| SceneError::Invalid {
         file: file.to_path_buf(),
+        text: text.to_string(),
         diagnostics,
     };
-    let scene = parse(text, format).map_err(|d| invalid(vec![d]))?;
+    let scene = parse::parse(text, format).map_err(invalid)?;
     let diagnostics = validate::validate(&scene);
     if diagnostics.is_empty() {
         Ok(scene)
     } else {
-        Err(invalid(diagnostics))
+        Err(invalid(locate_all(text, format, diagnostics)))
     }
 }
 
@@ -80,15 +98,29 @@ pub enum SceneKind {
 
 /// Reads, parses and validates the file at `path`, a 3D scene or, when it
 /// has a top-level `[canvas]` table, a 2D canvas scene.
+/// A 3D scene's meshes are read too.
 pub fn load_any(path: &Path) -> Result<SceneKind, SceneError> {
     let format = Format::from_path(path).ok_or_else(|| SceneError::UnknownFormat {
         file: path.to_path_buf(),
     })?;
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+    let bytes = std::fs::read(path).map_err(|source| SceneError::Io {
         file: path.to_path_buf(),
         source,
     })?;
-    load_any_str(&text, format, path)
+    let text = utf8_text(&bytes, path)?;
+    let mut kind = load_any_str(text, format, path)?;
+    if let SceneKind::Scene3d(scene) = &mut kind {
+        let base = path.parent().unwrap_or(Path::new(""));
+        let diagnostics = obj::load_meshes(scene, base);
+        if !diagnostics.is_empty() {
+            return Err(SceneError::Invalid {
+                file: path.to_path_buf(),
+                text: text.to_string(),
+                diagnostics: locate_all(text, format, diagnostics),
+            });
+        }
+    }
+    Ok(kind)
 }
 
 /// `load_any` on text; `file` names it in errors.
@@ -98,14 +130,15 @@ pub fn load_any_str(text: &str, format: Format, file: &Path) -> Result<SceneKind
     }
     let invalid = |diagnostics| SceneError::Invalid {
         file: file.to_path_buf(),
+        text: text.to_string(),
         diagnostics,
     };
-    let canvas: CanvasFile = parse(text, format).map_err(|d| invalid(vec![d]))?;
+    let canvas: CanvasFile = parse::parse(text, format).map_err(invalid)?;
     let diagnostics = canvas::validate(&canvas);
     if diagnostics.is_empty() {
         Ok(SceneKind::Canvas(canvas))
     } else {
-        Err(invalid(diagnostics))
+        Err(invalid(locate_all(text, format, diagnostics)))
     }
 }
 
@@ -120,28 +153,57 @@ fn has_canvas_table(text: &str, format: Format) -> bool {
     }
 }
 
-fn parse<T: serde::de::DeserializeOwned>(text: &str, format: Format) -> Result<T, Diagnostic> {
-    match format {
-        Format::Toml => toml::from_str(text).map_err(|e| Diagnostic {
-            path: String::new(),
-            message: e.message().trim_end().to_string(),
-            location: e.span().map(|s| Location::from_offset(text, s.start)),
-        }),
-        Format::Json => serde_json::from_str(text).map_err(|e| Diagnostic {
-            path: String::new(),
-            message: strip_json_position(&e.to_string()),
-            location: Some(Location {
-                line: e.line(),
-                column: e.column(),
-            }),
-        }),
-    }
+/// Gives each validation diagnostic the span of its key path.
+fn locate_all(text: &str, format: Format, diagnostics: Vec<Diagnostic>) -> Vec<Diagnostic> {
+    let Some(tree) = locate::tree(text, format) else {
+        return diagnostics;
+    };
+    let mut located: Vec<Diagnostic> = diagnostics
+        .into_iter()
+        .map(|d| {
+            let found = tree.locate(&d.path);
+            // A missing key (a default that fails a check) or a whole
+            // table: point at the key that names the nearest table.
+            let span = match (found.exact, &found.key) {
+                (true, _) => found.value,
+                (false, Some(key)) => key.clone(),
+                (false, None) => found.value.start..found.value.start,
+            };
+            d.at(text, span)
+        })
+        .collect();
+    // In file order, as a reader goes through the file.
+    located.sort_by_key(|d| d.span.as_ref().map(|s| s.start));
+    located
 }
 
-/// serde_json appends " at line L column C"; the location is kept apart.
-fn strip_json_position(message: &str) -> String {
-    match message.rfind(" at line ") {
-        Some(i) => message[..i].to_string(),
-        None => message.to_string(),
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const CAMERA: &str = r#""camera": {"eye": [0, 0, 10], "look_at": [0, 0, 0]}"#;
+
+    #[test]
+    fn json_scenes_may_name_their_schema() {
+        let text = format!(r#"{{"$schema": "./schema.json", {CAMERA}}}"#);
+        let scene = load_str(&text, Format::Json, Path::new("s.json")).unwrap();
+        assert_eq!(scene.schema.as_deref(), Some("./schema.json"));
+    }
+
+    #[test]
+    fn other_extensions_are_refused() {
+        let err = load_path(Path::new("scene.yaml")).unwrap_err();
+        assert!(matches!(err, SceneError::UnknownFormat { .. }));
+    }
+
+    #[test]
+    fn a_defaulted_value_that_fails_points_at_its_table() {
+        // `up` is not in the file; its default [0, 1, 0] is parallel to
+        // the view direction here.
+        let text = "[camera]\neye = [0, 5, 0]\nlook_at = [0, 0, 0]\n";
+        let err = load_str(text, Format::Toml, Path::new("s.toml")).unwrap_err();
+        let d = &err.diagnostics()[0];
+        assert_eq!(d.path.to_string(), "camera.up");
+        assert_eq!(d.location, Some(Location { line: 1, column: 2 }));
     }
 }

@@ -1,14 +1,15 @@
 //! The serde types of a scene file. These names and this nesting are the
 //! contract with users (see design.md): extend, never rename.
 
-use serde::{Deserialize, Serialize};
+use schemars::JsonSchema;
+use serde::{Deserialize, Deserializer, Serialize};
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
 pub type Vec3 = [f32; 3];
 pub type Color = [f32; 3];
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SceneFile {
     pub camera: Camera,
@@ -20,21 +21,33 @@ pub struct SceneFile {
     pub materials: BTreeMap<String, Material>,
     #[serde(default)]
     pub objects: Vec<Object>,
+    /// The JSON Schema an editor checks a JSON scene against (TOML scenes
+    /// use a `#:schema` comment instead). The tracer ignores it.
+    #[serde(rename = "$schema", default, skip_serializing_if = "Option::is_none")]
+    pub schema: Option<String>,
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Camera {
+    /// Where the camera is.
     pub eye: Vec3,
+    /// The point the camera looks at; not `eye`.
     pub look_at: Vec3,
+    /// Which way is up in the image; not parallel to `look_at - eye`.
     #[serde(default = "default_up")]
     pub up: Vec3,
-    /// Horizontal field of view in degrees.
+    /// Horizontal field of view in degrees, between 0 and 180.
     #[serde(default = "default_fov")]
+    #[schemars(extend("exclusiveMinimum" = 0, "exclusiveMaximum" = 180))]
     pub fov: f32,
+    /// Image width in pixels.
     #[serde(default = "default_width")]
+    #[schemars(range(min = 1, max = 16384))]
     pub width: u32,
+    /// Image height in pixels.
     #[serde(default = "default_height")]
+    #[schemars(range(min = 1, max = 16384))]
     pub height: u32,
 }
 
@@ -52,7 +65,7 @@ fn default_height() -> u32 {
 }
 
 /// What to do with a pixel whose linear colour has a channel above 1.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum Saturation {
     /// The lab's rule: the whole pixel becomes white.
@@ -62,16 +75,21 @@ pub enum Saturation {
     Clamp,
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct RenderSettings {
     /// The lab's MAX_RAY_TREE: how many mirror bounces a ray may take.
+    #[schemars(range(max = 64))]
     pub max_depth: u32,
     /// The lab's MIN_RAY_ENERGY: no bounce once the energy falls to this.
+    #[schemars(range(min = 0))]
     pub min_energy: f32,
+    /// The colour of rays that leave the scene.
+    #[schemars(inner(range(min = 0)))]
     pub background: Color,
     pub saturation: Saturation,
     /// Display gamma; 1.0 writes linear values.
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub gamma: f32,
 }
 
@@ -87,11 +105,12 @@ impl Default for RenderSettings {
     }
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Light {
     pub position: Vec3,
     #[serde(default = "white")]
+    #[schemars(inner(range(min = 0)))]
     pub color: Color,
 }
 
@@ -100,14 +119,20 @@ fn white() -> Color {
 }
 
 /// A Blinn-Phong material; every key left out is 0 (black, no reflection).
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Material {
+    #[schemars(inner(range(min = 0)))]
     pub ambient: Color,
+    #[schemars(inner(range(min = 0)))]
     pub diffuse: Color,
+    #[schemars(inner(range(min = 0)))]
     pub specular: Color,
+    /// The Blinn-Phong exponent.
+    #[schemars(range(min = 0))]
     pub shininess: f32,
     /// 0 = no mirror reflection, 1 = perfect mirror.
+    #[schemars(range(min = 0, max = 1))]
     pub reflectance: f32,
     /// A texture name, e.g. "lab-stripes".
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -115,15 +140,41 @@ pub struct Material {
 }
 
 /// A material given by name (a key of `[materials]`) or inline.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
 #[serde(untagged)]
 pub enum MaterialRef {
     Named(String),
     Inline(Material),
 }
 
+/// By hand rather than `untagged`: serde's untagged enums hide the inner
+/// error ("did not match any variant"); this keeps a misspelt key inside
+/// an inline material reported as such, with its path.
+impl<'de> Deserialize<'de> for MaterialRef {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = MaterialRef;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a material name (a string) or an inline material table")
+            }
+            fn visit_str<E: serde::de::Error>(self, name: &str) -> Result<MaterialRef, E> {
+                Ok(MaterialRef::Named(name.to_string()))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> Result<MaterialRef, A::Error> {
+                let de = serde::de::value::MapAccessDeserializer::new(map);
+                Material::deserialize(de).map(MaterialRef::Inline)
+            }
+        }
+        deserializer.deserialize_any(Visitor)
+    }
+}
+
 /// One object: exactly one shape key (`sphere`, `triangle`) and its material.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Object {
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -144,20 +195,22 @@ pub struct Object {
     pub texture: Option<String>,
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Sphere {
     pub center: Vec3,
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub radius: f32,
 }
 
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Mesh {
     /// The OBJ file, relative to the scene file's folder.
     pub obj: String,
     /// The triangles of `obj`, filled in by `load_path`; not part of the file.
     #[serde(skip)]
+    #[schemars(skip)]
     pub data: Option<Arc<MeshData>>,
 }
 
@@ -170,7 +223,7 @@ pub struct MeshData {
 }
 
 /// Applied to a mesh's vertices in this order: scale, rotate, translate.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Transform {
     pub translate: Vec3,
@@ -190,7 +243,7 @@ impl Default for Transform {
     }
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(
     untagged,
     expecting = "a number (one factor for all axes) or [x, y, z] (one per axis)"

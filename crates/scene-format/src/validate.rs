@@ -1,6 +1,7 @@
 //! Checks every value of a parsed scene, so the renderer can trust it.
 
 use crate::error::Diagnostic;
+use crate::locate::KeyPath;
 use crate::model::*;
 
 /// Largest image side accepted, and largest pixel count (2^28).
@@ -12,18 +13,19 @@ pub const MAX_DEPTH_CAP: u32 = 64;
 /// All problems found in `scene`, in file order.
 pub fn validate(scene: &SceneFile) -> Vec<Diagnostic> {
     let mut v = Validator::default();
-    v.camera(&scene.camera);
-    v.render(&scene.render);
+    let root = KeyPath::root();
+    v.camera(&root.key("camera"), &scene.camera);
+    v.render(&root.key("render"), &scene.render);
     for (i, light) in scene.lights.iter().enumerate() {
-        let path = format!("lights[{i}]");
-        v.finite_vec(&format!("{path}.position"), light.position);
-        v.color(&format!("{path}.color"), light.color);
+        let path = root.key("lights").index(i);
+        v.finite_vec(path.key("position"), light.position);
+        v.color(path.key("color"), light.color);
     }
     for (name, material) in &scene.materials {
-        v.material(&format!("materials.{name}"), material);
+        v.material(&root.key("materials").key(name), material);
     }
     for (i, object) in scene.objects.iter().enumerate() {
-        v.object(&format!("objects[{i}]"), object, scene);
+        v.object(&root.key("objects").index(i), object, scene);
     }
     v.diagnostics
 }
@@ -34,79 +36,90 @@ struct Validator {
 }
 
 impl Validator {
-    fn error(&mut self, path: &str, message: impl Into<String>) {
+    fn error(&mut self, path: impl Into<KeyPath>, message: impl Into<String>) {
         self.diagnostics.push(Diagnostic::new(path, message));
     }
 
-    fn finite(&mut self, path: &str, x: f32) -> bool {
+    fn finite(&mut self, path: impl Into<KeyPath>, x: f32) -> bool {
         if !x.is_finite() {
             self.error(path, format!("expected a finite number, found {x}"));
         }
         x.is_finite()
     }
 
-    fn finite_vec(&mut self, path: &str, v: Vec3) -> bool {
+    fn finite_vec(&mut self, path: impl Into<KeyPath>, v: Vec3) -> bool {
         if v.iter().all(|x| x.is_finite()) {
             return true;
         }
-        self.error(path, format!("expected finite numbers, found {v:?}"));
+        self.error(path, format!("expected finite numbers, found {}", show(v)));
         false
     }
 
-    fn color(&mut self, path: &str, c: Color) {
-        if self.finite_vec(path, c) && c.iter().any(|&x| x < 0.0) {
+    fn color(&mut self, path: impl Into<KeyPath>, c: Color) {
+        let path = path.into();
+        if self.finite_vec(&path, c) && c.iter().any(|&x| x < 0.0) {
             self.error(
                 path,
-                format!("expected a colour with channels >= 0, found {c:?}"),
+                format!("expected a colour with channels >= 0, found {}", show(c)),
             );
         }
     }
 
-    fn camera(&mut self, c: &Camera) {
-        let ok = self.finite_vec("camera.eye", c.eye)
-            & self.finite_vec("camera.look_at", c.look_at)
-            & self.finite_vec("camera.up", c.up);
-        if self.finite("camera.fov", c.fov) && !(c.fov > 0.0 && c.fov < 180.0) {
+    fn camera(&mut self, path: &KeyPath, c: &Camera) {
+        let ok = self.finite_vec(path.key("eye"), c.eye)
+            & self.finite_vec(path.key("look_at"), c.look_at)
+            & self.finite_vec(path.key("up"), c.up);
+        if self.finite(path.key("fov"), c.fov) && !(c.fov > 0.0 && c.fov < 180.0) {
             self.error(
-                "camera.fov",
+                path.key("fov"),
                 format!(
                     "expected degrees between 0 and 180 (exclusive), found {}",
                     c.fov
                 ),
             );
         }
-        self.image_size(c.width, c.height);
+        self.image_size(path, c.width, c.height);
         if !ok {
             return;
         }
         let view = sub(c.look_at, c.eye);
         if length(view) == 0.0 {
             self.error(
-                "camera.look_at",
-                "expected a point other than `camera.eye`; the camera would look nowhere",
+                path.key("look_at"),
+                format!(
+                    "expected a point other than `camera.eye`, found {}, the same point; the camera would look nowhere",
+                    show(c.look_at)
+                ),
             );
         } else if length(c.up) == 0.0 {
-            self.error("camera.up", "expected a non-zero vector");
+            self.error(
+                path.key("up"),
+                format!("expected a non-zero vector, found {}", show(c.up)),
+            );
         } else if length(cross(c.up, view)) <= 1e-6 * length(c.up) * length(view) {
             self.error(
-                "camera.up",
-                "expected a vector not parallel to the view direction (look_at - eye)",
+                path.key("up"),
+                format!(
+                    "expected a vector not parallel to the view direction (look_at - eye = {}), found {}",
+                    show(view),
+                    show(c.up)
+                ),
             );
         }
     }
 
-    fn image_size(&mut self, width: u32, height: u32) {
-        for (key, side) in [("camera.width", width), ("camera.height", height)] {
+    fn image_size(&mut self, path: &KeyPath, width: u32, height: u32) {
+        for (key, side) in [("width", width), ("height", height)] {
             if side == 0 || side > MAX_IMAGE_SIDE {
                 self.error(
-                    key,
+                    path.key(key),
                     format!("expected 1 to {MAX_IMAGE_SIDE} pixels, found {side}"),
                 );
             }
         }
         if u64::from(width) * u64::from(height) > MAX_IMAGE_PIXELS {
             self.error(
-                "camera",
+                path,
                 format!(
                     "expected at most {MAX_IMAGE_PIXELS} pixels (2^28), found {width}x{height}"
                 ),
@@ -114,40 +127,40 @@ impl Validator {
         }
     }
 
-    fn render(&mut self, r: &RenderSettings) {
+    fn render(&mut self, path: &KeyPath, r: &RenderSettings) {
         if r.max_depth > MAX_DEPTH_CAP {
             self.error(
-                "render.max_depth",
+                path.key("max_depth"),
                 format!("expected at most {MAX_DEPTH_CAP}, found {}", r.max_depth),
             );
         }
-        if self.finite("render.min_energy", r.min_energy) && r.min_energy < 0.0 {
+        if self.finite(path.key("min_energy"), r.min_energy) && r.min_energy < 0.0 {
             self.error(
-                "render.min_energy",
+                path.key("min_energy"),
                 format!("expected a number >= 0, found {}", r.min_energy),
             );
         }
-        self.color("render.background", r.background);
-        if self.finite("render.gamma", r.gamma) && r.gamma <= 0.0 {
+        self.color(path.key("background"), r.background);
+        if self.finite(path.key("gamma"), r.gamma) && r.gamma <= 0.0 {
             self.error(
-                "render.gamma",
+                path.key("gamma"),
                 format!("expected a number > 0, found {}", r.gamma),
             );
         }
     }
 
-    fn material(&mut self, path: &str, m: &Material) {
-        self.color(&format!("{path}.ambient"), m.ambient);
-        self.color(&format!("{path}.diffuse"), m.diffuse);
-        self.color(&format!("{path}.specular"), m.specular);
-        let shin = format!("{path}.shininess");
+    fn material(&mut self, path: &KeyPath, m: &Material) {
+        self.color(path.key("ambient"), m.ambient);
+        self.color(path.key("diffuse"), m.diffuse);
+        self.color(path.key("specular"), m.specular);
+        let shin = path.key("shininess");
         if self.finite(&shin, m.shininess) && m.shininess < 0.0 {
             self.error(
                 &shin,
                 format!("expected a number >= 0, found {}", m.shininess),
             );
         }
-        let refl = format!("{path}.reflectance");
+        let refl = path.key("reflectance");
         if self.finite(&refl, m.reflectance) && !(0.0..=1.0).contains(&m.reflectance) {
             self.error(
                 &refl,
@@ -155,27 +168,24 @@ impl Validator {
             );
         }
         if let Some(t) = &m.texture {
-            self.texture_name(&format!("{path}.texture"), t);
+            self.texture_name(path.key("texture"), t);
         }
     }
 
-    fn texture_name(&mut self, path: &str, name: &str) {
+    fn texture_name(&mut self, path: impl Into<KeyPath>, name: &str) {
         if !TEXTURE_NAMES.contains(&name) {
             self.error(
                 path,
-                format!(
-                    "unknown texture `{name}`; expected one of: {}",
-                    TEXTURE_NAMES.join(", ")
-                ),
+                format!("unknown texture `{name}`; {}", hint(name, TEXTURE_NAMES)),
             );
         }
     }
 
-    fn object(&mut self, path: &str, o: &Object, scene: &SceneFile) {
+    fn object(&mut self, path: &KeyPath, o: &Object, scene: &SceneFile) {
         match o.shapes().as_slice() {
             [] => self.error(
                 path,
-                "expected a shape: one of `sphere`, `triangle`, `mesh`",
+                "expected a shape: one of `sphere`, `triangle`, `mesh`; found none",
             ),
             [shape] => self.shape(path, shape),
             _ => self.error(
@@ -184,70 +194,94 @@ impl Validator {
             ),
         }
         if let Some(t) = &o.transform {
-            self.transform(&format!("{path}.transform"), t, o.mesh.is_some());
+            self.transform(&path.key("transform"), t, o.mesh.is_some());
         }
         match &o.material {
             Some(MaterialRef::Named(name)) if !scene.materials.contains_key(name) => {
                 let known: Vec<&str> = scene.materials.keys().map(String::as_str).collect();
                 let expected = if known.is_empty() {
-                    "no [materials] are defined".to_string()
+                    "expected a name from [materials], but none are defined".to_string()
                 } else {
-                    format!("expected one of: {}", known.join(", "))
+                    hint(name, &known)
                 };
                 self.error(
-                    &format!("{path}.material"),
+                    path.key("material"),
                     format!("unknown material `{name}`; {expected}"),
                 );
             }
-            Some(MaterialRef::Inline(m)) => self.material(&format!("{path}.material"), m),
+            Some(MaterialRef::Inline(m)) => self.material(&path.key("material"), m),
             _ => {}
         }
         if let Some(t) = &o.texture {
-            self.texture_name(&format!("{path}.texture"), t);
+            self.texture_name(path.key("texture"), t);
         }
     }
 
-    fn transform(&mut self, path: &str, t: &Transform, on_mesh: bool) {
+    fn transform(&mut self, path: &KeyPath, t: &Transform, on_mesh: bool) {
         if !on_mesh {
             self.error(path, "expected `transform` only on a `mesh` object");
         }
-        self.finite_vec(&format!("{path}.translate"), t.translate);
-        self.finite_vec(&format!("{path}.rotate"), t.rotate);
-        let scale = format!("{path}.scale");
+        self.finite_vec(path.key("translate"), t.translate);
+        self.finite_vec(path.key("rotate"), t.rotate);
+        let scale = path.key("scale");
         let s = t.scale.per_axis();
         if self.finite_vec(&scale, s) && s.contains(&0.0) {
             self.error(&scale, format!("expected non-zero factors, found {s:?}"));
         }
     }
 
-    fn shape(&mut self, path: &str, shape: &ShapeRef) {
+    fn shape(&mut self, path: &KeyPath, shape: &ShapeRef) {
         match shape {
             ShapeRef::Mesh(m) => {
                 if m.obj.trim().is_empty() {
                     self.error(
-                        &format!("{path}.mesh.obj"),
+                        path.key("mesh").key("obj"),
                         "expected the path of an OBJ file",
                     );
                 }
             }
             ShapeRef::Sphere(s) => {
-                self.finite_vec(&format!("{path}.sphere.center"), s.center);
-                let r = format!("{path}.sphere.radius");
+                self.finite_vec(path.key("sphere").key("center"), s.center);
+                let r = path.key("sphere").key("radius");
                 if self.finite(&r, s.radius) && s.radius <= 0.0 {
                     self.error(&r, format!("expected a radius > 0, found {}", s.radius));
                 }
             }
             ShapeRef::Triangle(t) => {
-                let p = format!("{path}.triangle");
+                let p = path.key("triangle");
                 if t.iter().all(|v| self.finite_vec(&p, *v)) {
                     let n = cross(sub(t[1], t[0]), sub(t[2], t[0]));
                     if length(n) == 0.0 {
-                        self.error(&p, "expected three vertices not on one line; the triangle is degenerate (zero area)");
+                        self.error(
+                            &p,
+                            format!(
+                                "expected three vertices not on one line, found {}, {}, {}; the triangle is degenerate (zero area)",
+                                show(t[0]),
+                                show(t[1]),
+                                show(t[2])
+                            ),
+                        );
                     }
                 }
             }
         }
     }
+}
+
+/// "did you mean `x`?" for a near miss, else the list of known names.
+fn hint(name: &str, known: &[&str]) -> String {
+    match crate::suggestion(name, known) {
+        Some(s) => format!("did you mean `{s}`?"),
+        None => {
+            let names: Vec<String> = known.iter().map(|k| format!("`{k}`")).collect();
+            format!("expected one of {}", names.join(", "))
+        }
+    }
+}
+
+/// A vector as it is written in a scene file: `[0, 1.5, -2]`.
+fn show(v: Vec3) -> String {
+    format!("[{}, {}, {}]", v[0], v[1], v[2])
 }
 
 fn sub(a: Vec3, b: Vec3) -> Vec3 {

@@ -16,7 +16,7 @@ fn write(dir: &Path, name: &str, text: &str) -> std::path::PathBuf {
 fn diagnostics(e: SceneError) -> Vec<(String, String)> {
     e.diagnostics()
         .iter()
-        .map(|d| (d.path.clone(), d.message.clone()))
+        .map(|d| (d.path.to_string(), d.message.clone()))
         .collect()
 }
 

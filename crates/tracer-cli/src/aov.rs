@@ -6,7 +6,8 @@ use crate::render::RenderArgs;
 use crate::BadInput;
 use anyhow::Result;
 use clap::ValueEnum;
-use std::path::PathBuf;
+use scene_format::SceneFile;
+use std::path::{Path, PathBuf};
 use tracer_core::aov::{render_aov, Aov, AOV_ENCODING};
 use tracer_core::Scene;
 
@@ -38,20 +39,19 @@ impl From<AovArg> for Aov {
 }
 
 /// Renders the AOV of a 3D scene; written linearly unless `--gamma` is given.
-pub fn run(args: &RenderArgs, aov: AovArg) -> Result<()> {
+pub fn run(args: &RenderArgs, aov: AovArg, scene_name: &Path, file: &SceneFile) -> Result<()> {
     let aov = Aov::from(aov);
-    let (scene_name, file) = crate::render::load(args.scene.as_deref())?;
     let mut encoding = AOV_ENCODING;
     if let Some(gamma) = args.gamma {
         encoding.gamma = crate::gamma::checked_gamma(gamma)?;
     }
     let output = args.output.clone().unwrap_or_else(|| {
-        let stem = crate::render::default_output(&scene_name);
+        let stem = crate::render::default_output(scene_name);
         let stem = stem.file_stem().unwrap_or_default().to_string_lossy();
         PathBuf::from(format!("{stem}-{}.png", aov.name()))
     });
     let scene =
-        Scene::prepare(&file).map_err(|e| BadInput(format!("{}: {e}", scene_name.display())))?;
+        Scene::prepare(file).map_err(|e| BadInput(format!("{}: {e}", scene_name.display())))?;
     let image = render_aov(&scene, aov);
     write_png_atomically(&image.encode(&encoding), &output)?;
     eprintln!(

@@ -4,22 +4,11 @@ use crate::output::write_png_atomically;
 use crate::render::RenderArgs;
 use crate::BadInput;
 use anyhow::Result;
-use scene_format::{CanvasFile, SceneKind};
+use scene_format::CanvasFile;
 use std::path::Path;
 
-/// Draws the scene if it is a canvas scene and says whether it was; a 3D
-/// scene is left to the caller.
-pub fn render_if_canvas(args: &RenderArgs) -> Result<bool> {
-    let Some(path) = args.scene.as_deref() else {
-        return Ok(false);
-    };
-    match scene_format::load_any(path).map_err(|e| BadInput(e.to_string()))? {
-        SceneKind::Scene3d(_) => Ok(false),
-        SceneKind::Canvas(file) => draw(args, path, &file).map(|()| true),
-    }
-}
-
-fn draw(args: &RenderArgs, path: &Path, file: &CanvasFile) -> Result<()> {
+/// Draws a canvas scene read from `path`.
+pub fn draw(args: &RenderArgs, path: &Path, file: &CanvasFile) -> Result<()> {
     if args.aov.is_some() {
         return Err(BadInput(format!(
             "{}: --aov needs a 3D scene; this is a 2D canvas scene",

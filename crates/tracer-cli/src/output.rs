@@ -35,3 +35,47 @@ pub fn write_atomically(bytes: &[u8], path: &Path) -> Result<()> {
         .with_context(|| format!("cannot write {}", path.display()))?;
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn leftovers(dir: &Path) -> Vec<String> {
+        std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().into_string().unwrap())
+            .filter(|n| n.starts_with(".tracer-"))
+            .collect()
+    }
+
+    #[test]
+    fn a_write_replaces_the_old_file_whole() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("out.png");
+        std::fs::write(&path, b"an old, longer image file").unwrap();
+        write_atomically(b"new", &path).unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"new");
+        assert!(leftovers(dir.path()).is_empty());
+    }
+
+    #[test]
+    fn a_failed_write_leaves_the_target_and_no_temporary_file() {
+        let dir = tempfile::tempdir().unwrap();
+        // The rename onto a non-empty folder fails after the data is written.
+        let target = dir.path().join("image.png");
+        std::fs::create_dir(&target).unwrap();
+        std::fs::write(target.join("keep"), b"old").unwrap();
+        assert!(write_atomically(b"new", &target).is_err());
+        assert_eq!(std::fs::read(target.join("keep")).unwrap(), b"old");
+        assert!(leftovers(dir.path()).is_empty());
+    }
+
+    #[test]
+    fn a_missing_folder_is_an_error_not_a_panic() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("no/such/folder/out.png");
+        let err = write_atomically(b"new", &path).unwrap_err();
+        assert!(format!("{err:#}").contains("cannot create a file in"));
+        assert!(!path.exists());
+    }
+}

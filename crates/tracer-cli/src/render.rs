@@ -5,7 +5,7 @@ use crate::progress::Progress;
 use crate::BadInput;
 use anyhow::Result;
 use clap::Args;
-use scene_format::{Format, SceneFile};
+use scene_format::{Format, SceneKind};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use tracer_core::Scene;
@@ -40,13 +40,13 @@ pub struct RenderArgs {
 }
 
 pub fn run(args: &RenderArgs) -> Result<()> {
-    if crate::canvas::render_if_canvas(args)? {
-        return Ok(());
-    }
+    let (scene_name, mut file) = match load(args.scene.as_deref())? {
+        (name, SceneKind::Scene3d(file)) => (name, file),
+        (name, SceneKind::Canvas(canvas)) => return crate::canvas::draw(args, &name, &canvas),
+    };
     if let Some(aov) = args.aov {
-        return crate::aov::run(args, aov);
+        return crate::aov::run(args, aov, &scene_name, &file);
     }
-    let (scene_name, mut file) = load(args.scene.as_deref())?;
     if let Some(gamma) = args.gamma {
         if !(gamma.is_finite() && gamma > 0.0) {
             return Err(BadInput(format!("--gamma: expected a number > 0, found {gamma}")).into());
@@ -105,13 +105,12 @@ fn thread_pool(threads: Option<u32>) -> Result<rayon::ThreadPool> {
 }
 
 /// The scene's name (for messages and the default output) and its contents.
-pub(crate) fn load(path: Option<&Path>) -> Result<(PathBuf, SceneFile)> {
+fn load(path: Option<&Path>) -> Result<(PathBuf, SceneKind)> {
     let name = path.map_or_else(|| PathBuf::from(DEFAULT_SCENE_NAME), Path::to_path_buf);
     let scene = match path {
-        Some(path) => scene_format::load_path(path),
-        None => scene_format::load_str(DEFAULT_SCENE, Format::Toml, &name),
-    }
-    .map_err(|e| BadInput(e.to_string()))?;
+        Some(path) => scene_format::load_any(path),
+        None => scene_format::load_any_str(DEFAULT_SCENE, Format::Toml, &name),
+    }?;
     Ok((name, scene))
 }
 

@@ -238,3 +238,119 @@ fn a_missing_mesh_file_exits_2_and_names_the_key() {
     assert!(stderr.contains("gone.obj"), "{stderr}");
     assert!(!dir.path().join("m.png").exists());
 }
+
+fn bad(name: &str) -> String {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../scene-format/tests/bad")
+        .join(name);
+    p.to_str().unwrap().to_string()
+}
+
+#[test]
+fn check_reports_every_error_of_every_file_and_exits_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = tracer(
+        dir.path(),
+        &[
+            "check",
+            &bad("many-errors.toml"),
+            &scene("shadows.toml"),
+            &bad("unknown-key.json"),
+        ],
+    );
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    for expected in [
+        "many-errors.toml:4:7",
+        "camera.fov",
+        "many-errors.toml:5:9",
+        "camera.width",
+        "materials.red.reflectance",
+        "objects[0].sphere.radius",
+        "many-errors.toml:12:12",
+        "unknown material `green`",
+        "ok: ",
+        "unknown-key.json:5:5",
+        "did you mean `fov`?",
+        "\"fvo\": 50",
+        "2 of 3 scene files failed the check",
+    ] {
+        assert!(stderr.contains(expected), "{expected:?} not in:\n{stderr}");
+    }
+    assert!(std::fs::read_dir(dir.path()).unwrap().next().is_none());
+}
+
+#[test]
+fn check_passes_every_lab_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenes: Vec<String> = std::fs::read_dir(scene(""))
+        .unwrap()
+        .map(|e| e.unwrap().path().to_str().unwrap().to_string())
+        .filter(|p| p.ends_with(".toml") || p.ends_with(".json"))
+        .collect();
+    assert!(scenes.len() >= 12);
+    let mut args = vec!["check"];
+    args.extend(scenes.iter().map(String::as_str));
+    let out = tracer(dir.path(), &args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn exit_status_is_2_for_bad_arguments_and_missing_scenes() {
+    let dir = tempfile::tempdir().unwrap();
+    assert_eq!(
+        tracer(dir.path(), &["render", "--bogus"]).status.code(),
+        Some(2)
+    );
+    assert_eq!(tracer(dir.path(), &["check"]).status.code(), Some(2));
+    let out = tracer(dir.path(), &["check", "no-such-scene.toml"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no-such-scene.toml"));
+    let out = tracer(dir.path(), &["render", "scene.yaml"]);
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn a_failed_write_exits_1_and_leaves_what_was_there() {
+    let dir = tempfile::tempdir().unwrap();
+    // An output path that cannot be replaced: a non-empty folder.
+    let target = dir.path().join("out.png");
+    std::fs::create_dir(&target).unwrap();
+    std::fs::write(target.join("keep"), b"old").unwrap();
+    let out = tracer(
+        dir.path(),
+        &[
+            "render",
+            &scene("sphere-intersection.toml"),
+            "-o",
+            "out.png",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(std::fs::read(target.join("keep")).unwrap(), b"old");
+    let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+    assert_eq!(names.len(), 1, "a temporary file was left behind");
+}
+
+#[test]
+fn schema_is_json_describing_the_scene_keys() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = tracer(dir.path(), &["schema"]);
+    assert!(out.status.success());
+    let schema: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let camera = &schema["$defs"]["Camera"];
+    assert_eq!(camera["additionalProperties"], false);
+    let mut keys: Vec<&str> = camera["properties"]
+        .as_object()
+        .unwrap()
+        .keys()
+        .map(String::as_str)
+        .collect();
+    keys.sort();
+    assert_eq!(keys, ["eye", "fov", "height", "look_at", "up", "width"]);
+    assert_eq!(camera["required"], serde_json::json!(["eye", "look_at"]));
+}

@@ -1,0 +1,193 @@
+//! Every file in `tests/bad/` is a scene with a mistake a student could
+//! make. Each is rejected with the key path, line, column and message
+//! listed here (worked out by reading the file, not by running the code),
+//! and the full report is snapshotted so its wording gets reviewed.
+
+use scene_format::{Format, SceneError};
+use std::path::{Path, PathBuf};
+
+struct Case {
+    file: &'static str,
+    /// The key path of the first diagnostic; empty for the whole file.
+    path: &'static str,
+    line: usize,
+    column: usize,
+    /// A part of the first diagnostic's message.
+    message: &'static str,
+}
+
+const fn case(
+    file: &'static str,
+    path: &'static str,
+    line: usize,
+    column: usize,
+    message: &'static str,
+) -> Case {
+    Case {
+        file,
+        path,
+        line,
+        column,
+        message,
+    }
+}
+
+#[rustfmt::skip]
+const CASES: &[Case] = &[
+    case("big-number.toml", "camera.fov", 4, 7, "expected a finite number, found inf"),
+    case("huge-number.json", "", 1, 31, "number out of range; expected a finite number"),
+    case("binary.toml", "", 1, 1, "found byte 0x89, which is not UTF-8 text"),
+    case("comments-only.toml", "camera", 1, 1, "missing key `camera` at the top level"),
+    case("degenerate-triangle.toml", "objects[0].triangle", 6, 12, "the triangle is degenerate"),
+    case("duplicate-key.json", "camera.eye", 5, 5, "duplicate key `eye` in [camera] (first defined at line 3, column 5)"),
+    case("duplicate-key.toml", "", 5, 1, "duplicate key `fov`"),
+    case("duplicate-material.json", "materials.red", 5, 5, "duplicate key `red` in [materials] (first defined at line 4, column 5)"),
+    case("duplicate-table.toml", "", 5, 2, "duplicate key `camera`"),
+    case("empty.json", "", 1, 1, "the file is empty"),
+    case("empty.toml", "", 1, 1, "the file is empty"),
+    case("eye-equals-look-at.toml", "camera.look_at", 3, 11, "expected a point other than `camera.eye`"),
+    case("float-width.toml", "camera.width", 4, 9, "expected a whole number >= 0, found 640.5"),
+    case("fov-180.toml", "camera.fov", 4, 7, "expected degrees between 0 and 180 (exclusive), found 180"),
+    case("fov-zero.toml", "camera.fov", 4, 7, "found 0"),
+    case("gamma-zero.toml", "render.gamma", 6, 9, "expected a number > 0, found 0"),
+    case("height-too-large.toml", "camera.height", 4, 10, "expected 1 to 16384 pixels, found 20000"),
+    case("inf-radius.toml", "objects[0].sphere.radius", 6, 41, "expected a finite number, found inf"),
+    case("latin1.json", "", 1, 72, "found byte 0xfc, which is not UTF-8 text"),
+    case("many-errors.toml", "camera.fov", 4, 7, "found 200"),
+    case("max-depth-too-deep.toml", "render.max_depth", 6, 13, "expected at most 64, found 1000"),
+    case("min-energy-negative.toml", "render.min_energy", 6, 14, "expected a number >= 0, found -0.01"),
+    case("minified.json", "objects[0].material.reflectance", 1, 299, "expected a number from 0 to 1, found 3"),
+    case("missing-camera.toml", "camera", 1, 1, "missing key `camera` at the top level"),
+    case("missing-eye.toml", "camera.eye", 1, 2, "missing key `eye` in [camera]"),
+    case("missing-light-position.toml", "lights[0].position", 5, 1, "missing key `position` in `lights[0]`"),
+    case("missing-look-at.json", "camera.look_at", 2, 3, "missing key `look_at` in [camera]"),
+    case("missing-sphere-radius.toml", "objects[0].sphere.radius", 6, 1, "missing key `radius` in `objects[0].sphere`"),
+    case("nan-eye.toml", "camera.eye", 2, 7, "expected finite numbers"),
+    case("negative-background.toml", "render.background", 6, 14, "expected a colour with channels >= 0"),
+    case("negative-diffuse.toml", "materials.red.diffuse", 6, 11, "expected a colour with channels >= 0"),
+    case("negative-light-colour.toml", "lights[0].color", 7, 9, "expected a colour with channels >= 0"),
+    case("negative-width.toml", "camera.width", 4, 9, "expected a whole number >= 0, found -5"),
+    case("no-materials-defined.toml", "objects[0].material", 7, 12, "unknown material `red`; expected a name from [materials], but none are defined"),
+    case("not-an-object.json", "", 1, 1, "expected a JSON object"),
+    case("nul-byte.toml", "", 2, 17, "found a NUL byte"),
+    case("object-two-shapes.toml", "objects[0]", 5, 1, "expected exactly one shape per object"),
+    case("object-without-shape.toml", "objects[0]", 5, 1, "expected a shape: one of `sphere`, `triangle`"),
+    case("radius-negative.json", "objects[1].sphere.radius", 5, 48, "expected a radius > 0, found -2"),
+    case("radius-negative.toml", "objects[1].sphere.radius", 9, 41, "expected a radius > 0, found -1.5"),
+    case("radius-zero.toml", "objects[0].sphere.radius", 6, 41, "expected a radius > 0, found 0"),
+    case("reflectance-above-one.toml", "materials.mirror.reflectance", 6, 15, "expected a number from 0 to 1, found 1.5"),
+    case("saturation-typo.toml", "render.saturation", 6, 14, "unknown value `clmap`; did you mean `clamp`?"),
+    case("shininess-negative.toml", "materials.shiny.shininess", 6, 13, "expected a number >= 0, found -30"),
+    case("syntax-missing-equals.toml", "", 2, 5, "expected `=`"),
+    case("syntax-single-quotes.json", "", 2, 3, "key must be a string"),
+    case("syntax-trailing-comma.json", "", 5, 3, "trailing comma"),
+    case("syntax-unclosed-array.toml", "", 3, 1, "expected `,`"),
+    case("syntax-unclosed-string.toml", "", 6, 23, "expected `\"`"),
+    case("tabs-and-unicode.toml", "materials.\"grün\".shininess", 8, 14, "expected a number >= 0, found -1"),
+    case("too-wide.toml", "camera.width", 4, 9, "expected 1 to 16384 pixels, found 16385"),
+    case("trailing-garbage.json", "", 2, 1, "trailing characters"),
+    case("unknown-camera-key.toml", "camera.fvo", 4, 1, "unknown key `fvo` in [camera]; did you mean `fov`?"),
+    case("unknown-inline-material-key.toml", "objects[0].material.specullar", 7, 37, "unknown key `specullar` in `objects[0].material`; did you mean `specular`?"),
+    case("unknown-key-no-suggestion.toml", "camera.zoom", 4, 1, "unknown key `zoom` in [camera]; expected one of `eye`, `look_at`, `up`, `fov`, `width`, `height`"),
+    case("unknown-key.json", "camera.fvo", 5, 5, "unknown key `fvo` in [camera]; did you mean `fov`?"),
+    case("unknown-material-key.toml", "materials.red.difuse", 6, 1, "unknown key `difuse` in [materials.red]; did you mean `diffuse`?"),
+    case("unknown-material-name.toml", "objects[0].material", 10, 12, "unknown material `bleu`; did you mean `blue`?"),
+    case("unknown-material-texture.toml", "materials.wood.texture", 6, 11, "unknown texture `wood`; expected one of `lab-stripes`"),
+    case("unknown-sphere-key.toml", "objects[0].sphere.raduis", 6, 32, "unknown key `raduis` in `objects[0].sphere`; did you mean `radius`?"),
+    case("unknown-table.toml", "lihgts", 5, 3, "unknown key `lihgts` at the top level; did you mean `lights`?"),
+    case("unknown-texture.toml", "objects[0].texture", 7, 11, "unknown texture `lab-stripe`; did you mean `lab-stripes`?"),
+    case("up-parallel.toml", "camera.up", 4, 6, "expected a vector not parallel to the view direction"),
+    case("up-zero.toml", "camera.up", 4, 6, "expected a non-zero vector"),
+    case("width-zero.toml", "camera.width", 4, 9, "expected 1 to 16384 pixels, found 0"),
+    case("wrong-length-eye.toml", "camera.eye", 2, 7, "expected an array of 3 elements, found 2 elements"),
+    case("wrong-type-eye.toml", "camera.eye", 2, 7, "expected an array of 3 elements, found 5"),
+    case("wrong-type-fov.toml", "camera.fov", 4, 7, "expected a number, found the string \"wide\""),
+    case("wrong-type-lights.toml", "lights", 1, 10, "expected an array, found 5"),
+    case("wrong-type-material.toml", "objects[0].material", 7, 12, "expected a material name (a string) or an inline material table, found 5"),
+    case("wrong-type.json", "camera.width", 2, 64, "expected a whole number >= 0, found the string \"640\""),
+];
+
+fn bad_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad")
+}
+
+/// Loads `tests/bad/<name>`, naming it `bad/<name>` so reports do not
+/// depend on where the checkout is.
+fn load_bad(name: &str) -> SceneError {
+    let bytes = std::fs::read(bad_dir().join(name)).unwrap();
+    let format = Format::from_path(Path::new(name)).unwrap();
+    match scene_format::load_bytes(&bytes, format, &Path::new("bad").join(name)) {
+        Ok(_) => panic!("{name}: accepted, expected an error"),
+        Err(e) => e,
+    }
+}
+
+#[test]
+fn every_bad_file_names_the_key_line_column_and_problem() {
+    let mut failures = Vec::new();
+    for case in CASES {
+        let error = load_bad(case.file);
+        let d = &error.diagnostics()[0];
+        let location = d.location.map(|l| (l.line, l.column));
+        let ok = d.path == case.path
+            && location == Some((case.line, case.column))
+            && d.message.contains(case.message);
+        if !ok {
+            failures.push(format!(
+                "{}: expected `{}` at {}:{} with {:?}\n   got `{}` at {:?} with {:?}",
+                case.file,
+                case.path,
+                case.line,
+                case.column,
+                case.message,
+                d.path,
+                location,
+                d.message
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "\n{}", failures.join("\n"));
+}
+
+#[test]
+fn every_bad_file_has_a_case_and_there_are_at_least_40() {
+    let mut files: Vec<String> = std::fs::read_dir(bad_dir())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    files.sort();
+    let listed: Vec<&str> = CASES.iter().map(|c| c.file).collect();
+    for f in &files {
+        assert!(listed.contains(&f.as_str()), "{f} has no case in CASES");
+    }
+    assert_eq!(files.len(), CASES.len(), "a case names a missing file");
+    assert!(files.len() >= 40);
+}
+
+#[test]
+fn validation_reports_every_problem_in_file_order() {
+    let error = load_bad("many-errors.toml");
+    let found: Vec<(String, usize)> = error
+        .diagnostics()
+        .iter()
+        .map(|d| (d.path.to_string(), d.location.unwrap().line))
+        .collect();
+    let expected = [
+        ("camera.fov", 4),
+        ("camera.width", 5),
+        ("materials.red.reflectance", 8),
+        ("objects[0].sphere.radius", 11),
+        ("objects[0].material", 12),
+    ];
+    let expected: Vec<(String, usize)> =
+        expected.iter().map(|(p, l)| (p.to_string(), *l)).collect();
+    assert_eq!(found, expected);
+}
+
+#[test]
+fn reports_show_the_source_line_and_a_caret() {
+    for case in CASES {
+        let report = load_bad(case.file).to_string();
+        insta::assert_snapshot!(case.file, report);
+    }
+}
