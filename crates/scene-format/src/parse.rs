@@ -250,31 +250,19 @@ fn rephrase(path: KeyPath, message: &str) -> (KeyPath, String, Target) {
             Target::Table,
         );
     }
-    if let Some(rest) = message.strip_prefix("invalid type: ") {
-        if let Some((found, expected)) = rest.split_once(", expected ") {
-            return (
-                path,
-                format!(
-                    "expected {}, found {}",
-                    expected_words(expected),
-                    found_words(found)
-                ),
-                Target::Value,
-            );
-        }
-    }
-    if let Some(rest) = message.strip_prefix("invalid value: ") {
-        if let Some((found, expected)) = rest.split_once(", expected ") {
-            return (
-                path,
-                format!(
-                    "expected {}, found {}",
-                    expected_words(expected),
-                    found_words(found)
-                ),
-                Target::Value,
-            );
-        }
+    let wrong_value = ["invalid type: ", "invalid value: "]
+        .iter()
+        .find_map(|prefix| message.strip_prefix(prefix)?.split_once(", expected "));
+    if let Some((found, expected)) = wrong_value {
+        return (
+            path,
+            format!(
+                "expected {}, found {}",
+                expected_words(expected),
+                found_words(found)
+            ),
+            Target::Value,
+        );
     }
     if let Some(rest) = message.strip_prefix("invalid length ") {
         if let Some((n, expected)) = rest.split_once(", expected ") {
