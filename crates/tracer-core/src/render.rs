@@ -3,14 +3,9 @@
 
 use crate::image::LinearImage;
 use crate::scene::Scene;
-use crate::shade::{trace, trace_counted, RayStats};
+use crate::shade::{trace_counted, RayStats};
 use glam::Vec3;
 use rayon::prelude::*;
-
-/// The linear colour of pixel (column i, row j).
-pub fn render_pixel(scene: &Scene, i: u32, j: u32) -> Vec3 {
-    trace(scene, &scene.camera.primary_ray(i, j), 1.0, 0)
-}
 
 /// Renders the whole image.
 pub fn render(scene: &Scene) -> LinearImage {

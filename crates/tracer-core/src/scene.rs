@@ -142,7 +142,8 @@ impl Scene {
 struct MaterialTable<'a> {
     file: &'a fmt::SceneFile,
     materials: Vec<Material>,
-    by_key: HashMap<(Option<String>, Option<String>), usize>,
+    /// Named material and object texture -> index, so objects share materials.
+    by_key: HashMap<(String, Option<String>), usize>,
     textures: HashMap<String, Arc<Texture>>,
 }
 
@@ -201,7 +202,7 @@ impl<'a> MaterialTable<'a> {
             }
             Some(fmt::MaterialRef::Inline(m)) => self.add(&texture_path, m, o.texture.as_ref()),
             Some(fmt::MaterialRef::Named(name)) => {
-                let key = (Some(name.clone()), o.texture.clone());
+                let key = (name.clone(), o.texture.clone());
                 if let Some(&index) = self.by_key.get(&key) {
                     return Ok(index);
                 }
