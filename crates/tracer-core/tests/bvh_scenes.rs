@@ -1,16 +1,10 @@
 //! The BVH and the threads change how fast an image is made, never the
 //! image: checked against the brute-force loop and across thread counts.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use common::{load, scenes_dir, LAB_SCENES};
 use tracer_core::{render, render_with_progress, LinearImage, Scene};
-
-fn scenes_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
-}
-
-fn load(path: &Path) -> scene_format::SceneFile {
-    scene_format::load_path(path).unwrap_or_else(|e| panic!("{e}"))
-}
 
 /// The bunny benchmark scene, made small enough for brute force.
 fn small_bunny() -> Scene {
@@ -26,21 +20,6 @@ fn in_pool(threads: usize, scene: &Scene) -> LinearImage {
         .expect("a thread pool")
         .install(|| render(scene))
 }
-
-const LAB_SCENES: [&str; 12] = [
-    "sphere-intersection",
-    "triangle-intersection",
-    "illumination-ambient",
-    "illumination-diffuse",
-    "illumination-specular",
-    "illumination",
-    "illumination-shininess-10",
-    "illumination-shininess-50",
-    "texture",
-    "shadows",
-    "reflectance",
-    "reflectance2",
-];
 
 #[test]
 fn lab_scenes_are_identical_with_and_without_the_bvh() {

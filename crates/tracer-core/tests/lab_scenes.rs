@@ -2,16 +2,11 @@
 //! values worked out by hand from the lab's formulas.
 
 use glam::Vec3;
-use std::path::{Path, PathBuf};
+mod common;
+
+use common::{load, scenes_dir, LAB_SCENES};
+use std::path::Path;
 use tracer_core::{render, LinearImage, Scene};
-
-fn scenes_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
-}
-
-fn load(path: &Path) -> scene_format::SceneFile {
-    scene_format::load_path(path).unwrap_or_else(|e| panic!("{e}"))
-}
 
 fn render_file(path: &Path) -> (Scene, LinearImage) {
     let scene = Scene::prepare(&load(path)).expect("prepare");
@@ -27,21 +22,6 @@ fn encoded(name: &str, i: u32, j: u32) -> [u8; 3] {
     let (scene, image) = render_lab(name);
     image.encode(&scene.encoding).get_pixel(i, j).0
 }
-
-const LAB_SCENES: [&str; 12] = [
-    "sphere-intersection",
-    "triangle-intersection",
-    "illumination-ambient",
-    "illumination-diffuse",
-    "illumination-specular",
-    "illumination",
-    "illumination-shininess-10",
-    "illumination-shininess-50",
-    "texture",
-    "shadows",
-    "reflectance",
-    "reflectance2",
-];
 
 #[test]
 fn every_lab_scene_file_exists_and_renders_500x400() {

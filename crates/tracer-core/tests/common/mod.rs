@@ -1,0 +1,27 @@
+//! What the scene-level tests share: where the scenes are and how to load one.
+
+use std::path::{Path, PathBuf};
+
+pub fn scenes_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
+}
+
+pub fn load(path: &Path) -> scene_format::SceneFile {
+    scene_format::load_path(path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The lab's scene tables, one file each in `scenes/`.
+pub const LAB_SCENES: [&str; 12] = [
+    "sphere-intersection",
+    "triangle-intersection",
+    "illumination-ambient",
+    "illumination-diffuse",
+    "illumination-specular",
+    "illumination",
+    "illumination-shininess-10",
+    "illumination-shininess-50",
+    "texture",
+    "shadows",
+    "reflectance",
+    "reflectance2",
+];
