@@ -257,6 +257,19 @@ mod tests {
     }
 
     /// The set of pixels that differ from the background.
+    /// A 100x100 black canvas, linear, holding `shapes`.
+    fn black_100x100(shapes: Vec<CanvasShape>) -> CanvasFile {
+        CanvasFile {
+            canvas: scene_format::canvas::Canvas {
+                width: 100,
+                height: 100,
+                background: [0.0; 3],
+                gamma: 1.0,
+            },
+            shapes,
+        }
+    }
+
     fn painted(canvas: &Canvas) -> BTreeSet<(u32, u32)> {
         let img = &canvas.image;
         let bg = Vec3::ZERO;
@@ -367,21 +380,13 @@ mod tests {
     #[test]
     fn a_filled_square_under_scale_and_translation_covers_its_box() {
         use Transform::{Scale, Translate};
-        let file = CanvasFile {
-            canvas: scene_format::canvas::Canvas {
-                width: 100,
-                height: 100,
-                background: [0.0; 3],
-                gamma: 1.0,
-            },
-            shapes: vec![CanvasShape {
-                square: Some(Default::default()),
-                fill: true,
-                color: Some([1.0, 0.0, 0.0]),
-                transform: vec![Translate([0.5, 0.5]), Scale([0.2, 0.2])],
-                ..Default::default()
-            }],
-        };
+        let file = black_100x100(vec![CanvasShape {
+            square: Some(Default::default()),
+            fill: true,
+            color: Some([1.0, 0.0, 0.0]),
+            transform: vec![Translate([0.5, 0.5]), Scale([0.2, 0.2])],
+            ..Default::default()
+        }]);
         let image = draw(&file);
         let canvas = Canvas { image };
         // x in [0.3, 0.7] -> columns 100 - 1.7 * 50 = 15 to 35; likewise rows.
@@ -402,20 +407,12 @@ mod tests {
             fill: true,
             ..Default::default()
         };
-        let file = CanvasFile {
-            canvas: scene_format::canvas::Canvas {
-                width: 100,
-                height: 100,
-                background: [0.0; 3],
-                gamma: 1.0,
-            },
-            shapes: vec![CanvasShape {
-                group: Some(vec![child]),
-                color: Some([0.0, 1.0, 0.0]),
-                transform: vec![Translate([-0.5, 0.0])],
-                ..Default::default()
-            }],
-        };
+        let file = black_100x100(vec![CanvasShape {
+            group: Some(vec![child]),
+            color: Some([0.0, 1.0, 0.0]),
+            transform: vec![Translate([-0.5, 0.0])],
+            ..Default::default()
+        }]);
         let image = draw(&file);
         // x = -0.5 is column 75; the group's colour is green.
         assert_eq!(image.get(75, 50), Vec3::new(0.0, 1.0, 0.0));
