@@ -232,7 +232,7 @@ impl Bvh {
                 }
                 let node = &self.nodes[entry.child as usize];
                 let (mask, near) = r.enter(node, t_min, best_t);
-                sp = push_nearest_last(stack, sp, node, mask, near);
+                sp = push_nearest_last(stack, &self.nodes, &self.prims, sp, node, mask, near);
             }
         });
         (best_id != u32::MAX).then_some(Hit {
@@ -268,7 +268,7 @@ impl Bvh {
                 // found before the far side of the scene is searched.
                 let node = &self.nodes[entry.child as usize];
                 let (mask, near) = r.enter(node, t_min, t_max);
-                sp = push_nearest_last(stack, sp, node, mask, near);
+                sp = push_nearest_last(stack, &self.nodes, &self.prims, sp, node, mask, near);
             }
             false
         })
@@ -280,6 +280,8 @@ impl Bvh {
 #[inline(always)]
 fn push_nearest_last(
     stack: &mut [Entry],
+    nodes: &[Node4],
+    prims: &[Prim],
     mut sp: usize,
     node: &Node4,
     mut mask: u32,
@@ -289,6 +291,13 @@ fn push_nearest_last(
     while mask != 0 {
         let lane = mask.trailing_zeros() as usize;
         mask &= mask - 1;
+        if node.count[lane] == 0 {
+            let p = nodes.as_ptr().wrapping_add(node.child[lane] as usize);
+            prefetch(p);
+            prefetch(p.cast::<u8>().wrapping_add(64));
+        } else {
+            prefetch(prims.as_ptr().wrapping_add(node.child[lane] as usize));
+        }
         let entry = Entry {
             child: node.child[lane],
             count: node.count[lane],
@@ -304,6 +313,17 @@ fn push_nearest_last(
         sp += 1;
     }
     sp
+}
+
+/// Asks for the cache line at `p` to be loaded, without waiting for it.
+#[inline(always)]
+fn prefetch<T>(p: *const T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch is a hint: it never faults and reads nothing.
+    unsafe {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        _mm_prefetch::<_MM_HINT_T0>(p.cast());
+    }
 }
 
 /// The next larger float, for a positive `t` (infinity stays).
