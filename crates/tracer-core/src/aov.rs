@@ -60,10 +60,7 @@ pub fn render_aov(scene: &Scene, aov: Aov) -> LinearImage {
             let ray = scene.camera.primary_ray(i, j);
             scene
                 .closest_hit(&ray, EPSILON, f32::INFINITY)
-                .map_or(Vec3::ZERO, |hit| {
-                    let n = scene.objects[hit.object].shape.normal(ray.at(hit.t));
-                    (n + Vec3::ONE) / 2.0
-                })
+                .map_or(Vec3::ZERO, |hit| (hit.normal + Vec3::ONE) / 2.0)
         }),
         Aov::Depth => depth(scene),
     }

@@ -41,11 +41,30 @@ pub struct Scene {
     pub bvh: Option<Bvh>,
 }
 
-/// A hit: the distance along the ray and the object's index.
+/// A hit: the distance along the ray, the object's index, and what shading
+/// needs of it. The BVH fills in the normal and material from the record it
+/// has just tested, in cache, rather than from `Scene::objects`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Hit {
     pub t: f32,
     pub object: usize,
+    /// The unit normal, as the lab defines it (`Shape::normal`).
+    pub normal: Vec3,
+    /// The index of the object's material in `Scene::materials`.
+    pub material: usize,
+}
+
+impl Hit {
+    /// The hit on `objects[index]` at distance `t` along `ray`.
+    pub fn on(objects: &[Object], index: usize, ray: &Ray, t: f32) -> Hit {
+        let object = &objects[index];
+        Hit {
+            t,
+            object: index,
+            normal: object.shape.normal(ray.at(t)),
+            material: object.material,
+        }
+    }
 }
 
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -120,14 +139,14 @@ impl Scene {
     }
 
     pub fn closest_hit_brute_force(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
-        let mut best: Option<Hit> = None;
+        let mut best: Option<(f32, usize)> = None;
         for (index, object) in self.objects.iter().enumerate() {
-            let limit = best.map_or(t_max, |h| h.t);
+            let limit = best.map_or(t_max, |(t, _)| t);
             if let Some(t) = object.shape.intersect(ray, t_min, limit) {
-                best = Some(Hit { t, object: index });
+                best = Some((t, index));
             }
         }
-        best
+        best.map(|(t, index)| Hit::on(&self.objects, index, ray, t))
     }
 
     pub fn occluded_brute_force(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {

@@ -53,13 +53,13 @@ pub fn trace_counted(
         // With the lab's black background this adds nothing, as in the lab.
         return energy * scene.trace.background;
     };
-    let object = &scene.objects[hit.object];
-    let material = &scene.materials[object.material];
+    let material = &scene.materials[hit.material];
     let p = ray.at(hit.t);
-    let n = object.shape.normal(p);
+    let n = hit.normal;
     let mut local = local_colour(scene, &hit, ray, p, n, stats);
     if let Some(texture) = &material.texture {
-        local *= texture.texel(object.shape.texture_uv(p, n));
+        let shape = &scene.objects[hit.object].shape;
+        local *= texture.texel(shape.texture_uv(p, n));
     }
     let mut colour = energy * local;
     let settings = &scene.trace;
@@ -82,7 +82,7 @@ fn local_colour(
     n: Vec3,
     stats: &mut RayStats,
 ) -> Vec3 {
-    let m = &scene.materials[scene.objects[hit.object].material];
+    let m = &scene.materials[hit.material];
     let view = -ray.dir;
     let mut colour = Vec3::ZERO;
     for light in &scene.lights {

@@ -46,12 +46,14 @@ fn with_stack<R>(f: impl FnOnce(&mut [Entry]) -> R) -> R {
     })
 }
 
-/// A primitive with the numbers its test needs and its object index, in
-/// leaf order: one 48-byte record, so a leaf test touches no other array.
+/// A primitive with the numbers its test needs, its object index and its
+/// material, in leaf order: one 52-byte record, so neither a leaf test nor
+/// the shading of its hit touches another array.
 #[derive(Debug, Clone, PartialEq)]
 struct Prim {
     geometry: Geometry,
     id: u32,
+    material: u32,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -100,6 +102,23 @@ impl Geometry {
                 t_max,
             ),
             Geometry::Sphere(s) => s.intersect(&ray.ray, t_min, t_max),
+        }
+    }
+}
+
+impl Prim {
+    /// The hit at distance `t`, as `Hit::on` gives it for the object.
+    fn hit(&self, ray: &Ray, t: f32) -> Hit {
+        let normal = match &self.geometry {
+            // e1 and e2 are Triangle::normal's edges, computed the same way.
+            Geometry::Triangle { e1, e2, .. } => e1.cross(*e2).normalize(),
+            Geometry::Sphere(s) => s.normal(ray.at(t)),
+        };
+        Hit {
+            t,
+            object: self.id as usize,
+            normal,
+            material: self.material as usize,
         }
     }
 }
@@ -182,9 +201,13 @@ impl Bvh {
         wide::flatten(&tree, &mut nodes);
         let prims = items
             .iter()
-            .map(|p| Prim {
-                geometry: Geometry::new(&objects[p.id as usize].shape),
-                id: p.id,
+            .map(|p| {
+                let object = &objects[p.id as usize];
+                Prim {
+                    geometry: Geometry::new(&object.shape),
+                    id: p.id,
+                    material: object.material as u32,
+                }
             })
             .collect();
         Bvh { nodes, prims }
@@ -203,6 +226,7 @@ impl Bvh {
         let r = RayData::new(ray);
         let mut best_t = t_max;
         let mut best_id = u32::MAX;
+        let mut best_prim = 0;
         with_stack(|stack| {
             stack[0] = Entry::default();
             let mut sp = 1;
@@ -214,7 +238,8 @@ impl Bvh {
                 }
                 if entry.count > 0 {
                     let start = entry.child as usize;
-                    for prim in &self.prims[start..start + entry.count as usize] {
+                    for k in start..start + entry.count as usize {
+                        let prim = &self.prims[k];
                         // Once something is hit, up to and including best_t: an
                         // equal distance wins if its object comes first.
                         let limit = if best_id == u32::MAX {
@@ -224,7 +249,7 @@ impl Bvh {
                         };
                         if let Some(t) = prim.geometry.intersect(&r, t_min, limit) {
                             if t < best_t || prim.id < best_id {
-                                (best_t, best_id) = (t, prim.id);
+                                (best_t, best_id, best_prim) = (t, prim.id, k);
                             }
                         }
                     }
@@ -235,10 +260,7 @@ impl Bvh {
                 sp = push_nearest_last(stack, &self.nodes, &self.prims, sp, node, mask, near);
             }
         });
-        (best_id != u32::MAX).then_some(Hit {
-            t: best_t,
-            object: best_id as usize,
-        })
+        (best_id != u32::MAX).then(|| self.prims[best_prim].hit(ray, best_t))
     }
 
     /// Whether any primitive lies on the ray in (t_min, t_max).
@@ -368,7 +390,8 @@ mod tests {
             } else {
                 Shape::Triangle(Triangle::new(c, c + rng.vec(0.6), c + rng.vec(0.6)))
             };
-            objects.push(object(shape));
+            // Materials vary, so a hit's material is checked too.
+            objects.push(Object { shape, material: i % 3 });
         }
         // Exact duplicates: the lower index must win the tie.
         let copies: Vec<Object> = objects.iter().step_by(7).cloned().collect();
@@ -380,7 +403,7 @@ mod tests {
         let mut best: Option<Hit> = None;
         for (i, o) in objects.iter().enumerate() {
             if let Some(t) = o.shape.intersect(ray, 1e-4, best.map_or(t_max, |h| h.t)) {
-                best = Some(Hit { t, object: i });
+                best = Some(Hit::on(objects, i, ray, t));
             }
         }
         best
@@ -478,7 +501,7 @@ mod tests {
     #[test]
     fn records_are_compact() {
         assert_eq!(std::mem::size_of::<Node4>(), 128);
-        assert_eq!(std::mem::size_of::<Prim>(), 48);
+        assert_eq!(std::mem::size_of::<Prim>(), 52);
     }
 
     #[test]
