@@ -16,7 +16,7 @@ use crate::shapes::{moller_trumbore, Shape, Sphere};
 use build::{build_node, BuildPrim, MAX_DEPTH};
 use glam::{Vec3, Vec4};
 use std::cell::RefCell;
-use wide::{Node4, WIDTH};
+use wide::{Node4, GROUPS, WIDTH};
 
 /// Widens box intervals by a few ulps against the rounding of the slab test
 /// (pbrt's `1 + 2 gamma(3)`, with margin). Rays that Moller-Trumbore rounds
@@ -157,15 +157,21 @@ impl RayData {
     /// Which of the node's four boxes the ray meets within (t_min, t_max],
     /// padded against rounding, as a bit mask; and the entry distances.
     #[inline(always)]
-    fn enter(&self, node: &Node4, t_min: f32, t_max: f32) -> (u32, Vec4) {
-        let mut near = Vec4::splat(t_min);
-        let mut far = Vec4::splat(t_max);
-        for axis in 0..3 {
-            let (n, f) = (self.near_plane[axis], (self.near_plane[axis] + 3) % 6);
-            near = near.max((node.planes[n] - self.origin[axis]) * self.inv_dir[axis]);
-            far = far.min((node.planes[f] - self.origin[axis]) * self.inv_dir[axis]);
+    fn enter(&self, node: &Node4, t_min: f32, t_max: f32) -> (u32, [Vec4; GROUPS]) {
+        let mut mask = 0;
+        let mut entries = [Vec4::ZERO; GROUPS];
+        for (g, entry) in entries.iter_mut().enumerate() {
+            let mut near = Vec4::splat(t_min);
+            let mut far = Vec4::splat(t_max);
+            for axis in 0..3 {
+                let (n, f) = (self.near_plane[axis], (self.near_plane[axis] + 3) % 6);
+                near = near.max((node.planes[n][g] - self.origin[axis]) * self.inv_dir[axis]);
+                far = far.min((node.planes[f][g] - self.origin[axis]) * self.inv_dir[axis]);
+            }
+            mask |= near.cmple(far * PAD).bitmask() << (4 * g);
+            *entry = near;
         }
-        (near.cmple(far * PAD).bitmask(), near)
+        (mask, entries)
     }
 }
 
@@ -307,7 +313,7 @@ fn push_nearest_last(
     mut sp: usize,
     node: &Node4,
     mut mask: u32,
-    near: Vec4,
+    near: [Vec4; GROUPS],
 ) -> usize {
     let first = sp;
     while mask != 0 {
@@ -315,15 +321,16 @@ fn push_nearest_last(
         mask &= mask - 1;
         if node.count[lane] == 0 {
             let p = nodes.as_ptr().wrapping_add(node.child[lane] as usize);
-            prefetch(p);
-            prefetch(p.cast::<u8>().wrapping_add(64));
+            for line in 0..std::mem::size_of::<Node4>() / 64 {
+                prefetch(p.cast::<u8>().wrapping_add(64 * line));
+            }
         } else {
             prefetch(prims.as_ptr().wrapping_add(node.child[lane] as usize));
         }
         let entry = Entry {
             child: node.child[lane],
             count: node.count[lane],
-            t: near[lane],
+            t: near[lane / 4][lane % 4],
         };
         // Insertion into the pushed run, kept in decreasing distance.
         let mut k = sp;
@@ -500,7 +507,7 @@ mod tests {
 
     #[test]
     fn records_are_compact() {
-        assert_eq!(std::mem::size_of::<Node4>(), 128);
+        assert_eq!(std::mem::size_of::<Node4>(), 32 * WIDTH);
         assert_eq!(std::mem::size_of::<Prim>(), 52);
     }
 

@@ -6,16 +6,18 @@ use super::build::{prim_count, Aabb, BuildNode};
 use glam::Vec4;
 
 /// Children per node.
-pub(super) const WIDTH: usize = 4;
+pub(super) const WIDTH: usize = 8;
+/// SIMD registers of four lanes per plane.
+pub(super) const GROUPS: usize = WIDTH / 4;
 
-/// Four children's boxes, one child per SIMD lane; 128 bytes, two cache
+/// The children's boxes, one child per SIMD lane; 256 bytes, four cache
 /// lines. Unused lanes hold an inverted box (min +inf, max -inf), which the
 /// sign-ordered slab test never enters.
 #[repr(C, align(64))]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Node4 {
-    /// min x, min y, min z, max x, max y, max z of the four children.
-    pub(super) planes: [Vec4; 6],
+    /// min x, min y, min z, max x, max y, max z of the children.
+    pub(super) planes: [[Vec4; GROUPS]; 6],
     /// An inner child's node index, or a leaf child's first primitive.
     pub(super) child: [u32; WIDTH],
     /// A leaf child's primitive count; 0 for an inner child.
@@ -25,32 +27,30 @@ pub(super) struct Node4 {
 impl Node4 {
     const EMPTY: Node4 = Node4 {
         planes: [
-            Vec4::INFINITY,
-            Vec4::INFINITY,
-            Vec4::INFINITY,
-            Vec4::NEG_INFINITY,
-            Vec4::NEG_INFINITY,
-            Vec4::NEG_INFINITY,
+            [Vec4::INFINITY; GROUPS],
+            [Vec4::INFINITY; GROUPS],
+            [Vec4::INFINITY; GROUPS],
+            [Vec4::NEG_INFINITY; GROUPS],
+            [Vec4::NEG_INFINITY; GROUPS],
+            [Vec4::NEG_INFINITY; GROUPS],
         ],
         child: [0; WIDTH],
         count: [0; WIDTH],
     };
 
     fn set_bounds(&mut self, lane: usize, bounds: &Aabb) {
+        let (g, l) = (lane / 4, lane % 4);
         for axis in 0..3 {
-            self.planes[axis][lane] = bounds.min[axis];
-            self.planes[axis + 3][lane] = bounds.max[axis];
+            self.planes[axis][g][l] = bounds.min[axis];
+            self.planes[axis + 3][g][l] = bounds.max[axis];
         }
     }
 
     /// The box of one lane, for tests.
     #[cfg(test)]
     pub(super) fn bounds(&self, lane: usize) -> ([f32; 3], [f32; 3]) {
-        let p = &self.planes;
-        (
-            [p[0][lane], p[1][lane], p[2][lane]],
-            [p[3][lane], p[4][lane], p[5][lane]],
-        )
+        let p = self.planes.map(|plane| plane[lane / 4][lane % 4]);
+        ([p[0], p[1], p[2]], [p[3], p[4], p[5]])
     }
 }
 
