@@ -106,31 +106,65 @@ struct Split {
     cost: f32,
 }
 
-pub(super) fn build_node(items: &mut [BuildPrim], depth: usize) -> BuildNode {
-    let mut bounds = Aabb::EMPTY;
-    let mut centroids = Aabb::EMPTY;
-    for p in items.iter() {
-        bounds.grow(&p.bounds);
-        centroids.grow_point(p.centroid2());
+/// The boxes of a set of primitives and of their centroids.
+#[derive(Debug, Clone, Copy)]
+struct Extent {
+    bounds: Aabb,
+    centroids: Aabb,
+}
+
+impl Extent {
+    const EMPTY: Extent = Extent {
+        bounds: Aabb::EMPTY,
+        centroids: Aabb::EMPTY,
+    };
+
+    fn grow(&mut self, p: &BuildPrim) {
+        self.bounds.grow(&p.bounds);
+        self.centroids.grow_point(p.centroid2());
     }
-    let count = items.len();
+
+    fn of(items: &[BuildPrim]) -> Extent {
+        let mut extent = Extent::EMPTY;
+        items.iter().for_each(|p| extent.grow(p));
+        extent
+    }
+}
+
+/// The tree over `items`, which it reorders into leaf order.
+pub(super) fn build_tree(items: &mut [BuildPrim]) -> BuildNode {
+    let extent = Extent::of(items);
+    build_node(items, &extent, 0)
+}
+
+fn build_node(items: &mut [BuildPrim], extent: &Extent, depth: usize) -> BuildNode {
+    let (bounds, count) = (extent.bounds, items.len());
     if count == 1 || depth >= MAX_DEPTH {
         return BuildNode::Leaf { bounds, count };
     }
-    let split = best_split(items, &bounds, &centroids);
-    let mid = match split {
+    let split = best_split(items, &bounds, &extent.centroids);
+    let (mid, left, right) = match split {
         Some(s) if count > MAX_LEAF || s.cost < count as f32 => {
-            partition(items, &centroids, s.axis, s.bin)
+            partition(items, &extent.centroids, s.axis, s.bin)
         }
         // Every centroid in one place: halve by count if too many.
-        None if count > MAX_LEAF => count / 2,
+        None if count > MAX_LEAF => {
+            let mid = count / 2;
+            (mid, Extent::of(&items[..mid]), Extent::of(&items[mid..]))
+        }
         _ => return BuildNode::Leaf { bounds, count },
     };
     let (lo, hi) = items.split_at_mut(mid);
     let (left, right) = if count > PARALLEL_BUILD {
-        rayon::join(|| build_node(lo, depth + 1), || build_node(hi, depth + 1))
+        rayon::join(
+            || build_node(lo, &left, depth + 1),
+            || build_node(hi, &right, depth + 1),
+        )
     } else {
-        (build_node(lo, depth + 1), build_node(hi, depth + 1))
+        (
+            build_node(lo, &left, depth + 1),
+            build_node(hi, &right, depth + 1),
+        )
     };
     BuildNode::Inner {
         bounds,
@@ -140,29 +174,36 @@ pub(super) fn build_node(items: &mut [BuildPrim], depth: usize) -> BuildNode {
     }
 }
 
+/// Bins for a node of `count` primitives: fewer for small nodes, whose
+/// sweep over empty bins would cost more than the binning.
+fn bins_for(count: usize) -> usize {
+    count.clamp(4, BINS)
+}
+
 /// Bins per unit of each axis of the centroid box; 0 on a flat axis.
-fn bin_scale(centroids: &Aabb) -> Vec3A {
+fn bin_scale(centroids: &Aabb, bins: usize) -> Vec3A {
     let extent = centroids.max - centroids.min;
-    let scale = Vec3A::splat(BINS as f32) / extent;
+    let scale = Vec3A::splat(bins as f32) / extent;
     Vec3A::select(extent.cmpgt(Vec3A::ZERO), scale, Vec3A::ZERO)
 }
 
 /// The bin of a primitive on each axis.
 #[inline(always)]
-fn bins_of(p: &BuildPrim, centroids: &Aabb, scale: Vec3A) -> UVec3 {
+fn bins_of(p: &BuildPrim, centroids: &Aabb, scale: Vec3A, bins: usize) -> UVec3 {
     ((p.centroid2() - centroids.min) * scale)
         .as_uvec3()
-        .min(UVec3::splat(BINS as u32 - 1))
+        .min(UVec3::splat(bins as u32 - 1))
 }
 
 /// The cheapest binned SAH split over the three axes, with its cost in
 /// units of one primitive test; None if the centroids do not spread.
 fn best_split(items: &[BuildPrim], bounds: &Aabb, centroids: &Aabb) -> Option<Split> {
-    let scale = bin_scale(centroids);
+    let bins = bins_for(items.len());
+    let scale = bin_scale(centroids, bins);
     let mut boxes = [[Aabb::EMPTY; BINS]; 3];
     let mut counts = [[0u32; BINS]; 3];
     for p in items {
-        let b = bins_of(p, centroids, scale);
+        let b = bins_of(p, centroids, scale, bins);
         for axis in 0..3 {
             let bin = b[axis] as usize;
             boxes[axis][bin].grow(&p.bounds);
@@ -179,13 +220,13 @@ fn best_split(items: &[BuildPrim], bounds: &Aabb, centroids: &Aabb) -> Option<Sp
         // Right-side area * count for each first-right bin, swept from the end.
         let mut right_cost = [0f32; BINS];
         let (mut acc, mut n) = (Aabb::EMPTY, 0u32);
-        for b in (1..BINS).rev() {
+        for b in (1..bins).rev() {
             acc.grow(&boxes[b]);
             n += counts[b];
             right_cost[b] = acc.half_area() * n as f32;
         }
         let (mut acc, mut n) = (Aabb::EMPTY, 0u32);
-        for b in 1..BINS {
+        for b in 1..bins {
             acc.grow(&boxes[b - 1]);
             n += counts[b - 1];
             if n == 0 || n as usize == items.len() {
@@ -200,17 +241,28 @@ fn best_split(items: &[BuildPrim], bounds: &Aabb, centroids: &Aabb) -> Option<Sp
     best
 }
 
-/// Puts the primitives of bins below `bin` first; returns how many.
-fn partition(items: &mut [BuildPrim], centroids: &Aabb, axis: usize, bin: usize) -> usize {
-    let scale = bin_scale(centroids);
+/// Puts the primitives of bins below `bin` first; returns how many, and
+/// the extents of both sides.
+fn partition(
+    items: &mut [BuildPrim],
+    centroids: &Aabb,
+    axis: usize,
+    bin: usize,
+) -> (usize, Extent, Extent) {
+    let bins = bins_for(items.len());
+    let scale = bin_scale(centroids, bins);
+    let (mut left, mut right) = (Extent::EMPTY, Extent::EMPTY);
     let mut mid = 0;
     for i in 0..items.len() {
-        if (bins_of(&items[i], centroids, scale)[axis] as usize) < bin {
+        if (bins_of(&items[i], centroids, scale, bins)[axis] as usize) < bin {
+            left.grow(&items[i]);
             items.swap(i, mid);
             mid += 1;
+        } else {
+            right.grow(&items[i]);
         }
     }
-    mid
+    (mid, left, right)
 }
 
 pub(super) fn prim_count(node: &BuildNode) -> usize {

@@ -13,7 +13,7 @@ mod wide;
 use crate::ray::Ray;
 use crate::scene::{Hit, Object};
 use crate::shapes::{moller_trumbore, Shape, Sphere};
-use build::{build_node, BuildPrim, MAX_DEPTH};
+use build::{build_tree, BuildPrim, MAX_DEPTH};
 use glam::{Vec3, Vec4};
 use std::cell::RefCell;
 use wide::{Node4, GROUPS, WIDTH};
@@ -202,7 +202,7 @@ impl Bvh {
         if items.is_empty() {
             return Bvh::default();
         }
-        let tree = build_node(&mut items, 0);
+        let tree = build_tree(&mut items);
         let mut nodes = Vec::new();
         wide::flatten(&tree, &mut nodes);
         let prims = items
