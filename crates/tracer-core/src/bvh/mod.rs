@@ -1,6 +1,6 @@
 //! A bounding volume hierarchy over all the scene's shapes: built as a
 //! binary tree with the binned surface area heuristic (`build.rs`), then
-//! collapsed into 4-wide nodes (`wide.rs`) whose boxes a ray tests in SIMD
+//! collapsed into 8-wide nodes (`wide.rs`) whose boxes a ray tests in SIMD
 //! lanes; traversed nearest child first; shadow rays stop at the first hit.
 //!
 //! It finds exactly the hits of the brute-force loop over all objects: the
@@ -16,7 +16,7 @@ use crate::shapes::{moller_trumbore, Shape, Sphere};
 use build::{build_tree, BuildPrim, MAX_DEPTH};
 use glam::{Vec3, Vec4};
 use std::cell::RefCell;
-use wide::{Node4, GROUPS, WIDTH};
+use wide::{Node, GROUPS, WIDTH};
 
 /// Widens box intervals by a few ulps against the rounding of the slab test
 /// (pbrt's `1 + 2 gamma(3)`, with margin). Rays that Moller-Trumbore rounds
@@ -26,7 +26,7 @@ use wide::{Node4, GROUPS, WIDTH};
 const PAD: f32 = 1.0 + 4.0 * f32::EPSILON;
 
 /// Room on the traversal stack: each level pops one entry and pushes at
-/// most four.
+/// most `WIDTH`.
 const STACK: usize = (WIDTH - 1) * MAX_DEPTH + 1;
 
 thread_local! {
@@ -154,10 +154,10 @@ impl RayData {
         }
     }
 
-    /// Which of the node's four boxes the ray meets within (t_min, t_max],
+    /// Which of the node's boxes the ray meets within (t_min, t_max],
     /// padded against rounding, as a bit mask; and the entry distances.
     #[inline(always)]
-    fn enter(&self, node: &Node4, t_min: f32, t_max: f32) -> (u32, [Vec4; GROUPS]) {
+    fn enter(&self, node: &Node, t_min: f32, t_max: f32) -> (u32, [Vec4; GROUPS]) {
         let mut mask = 0;
         let mut entries = [Vec4::ZERO; GROUPS];
         for (g, entry) in entries.iter_mut().enumerate() {
@@ -186,7 +186,7 @@ struct Entry {
 
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Bvh {
-    nodes: Vec<Node4>,
+    nodes: Vec<Node>,
     prims: Vec<Prim>,
 }
 
@@ -203,7 +203,8 @@ impl Bvh {
             return Bvh::default();
         }
         let tree = build_tree(&mut items);
-        let mut nodes = Vec::new();
+        // About one node per eight primitives: leaves hold one to eight.
+        let mut nodes = Vec::with_capacity(items.len() / 8 + 1);
         wide::flatten(&tree, &mut nodes);
         let prims = items
             .iter()
@@ -308,10 +309,10 @@ impl Bvh {
 #[inline(always)]
 fn push_nearest_last(
     stack: &mut [Entry],
-    nodes: &[Node4],
+    nodes: &[Node],
     prims: &[Prim],
     mut sp: usize,
-    node: &Node4,
+    node: &Node,
     mut mask: u32,
     near: [Vec4; GROUPS],
 ) -> usize {
@@ -321,7 +322,7 @@ fn push_nearest_last(
         mask &= mask - 1;
         if node.count[lane] == 0 {
             let p = nodes.as_ptr().wrapping_add(node.child[lane] as usize);
-            for line in 0..std::mem::size_of::<Node4>() / 64 {
+            for line in 0..std::mem::size_of::<Node>() / 64 {
                 prefetch(p.cast::<u8>().wrapping_add(64 * line));
             }
         } else {
@@ -398,7 +399,10 @@ mod tests {
                 Shape::Triangle(Triangle::new(c, c + rng.vec(0.6), c + rng.vec(0.6)))
             };
             // Materials vary, so a hit's material is checked too.
-            objects.push(Object { shape, material: i % 3 });
+            objects.push(Object {
+                shape,
+                material: i % 3,
+            });
         }
         // Exact duplicates: the lower index must win the tie.
         let copies: Vec<Object> = objects.iter().step_by(7).cloned().collect();
@@ -507,7 +511,7 @@ mod tests {
 
     #[test]
     fn records_are_compact() {
-        assert_eq!(std::mem::size_of::<Node4>(), 32 * WIDTH);
+        assert_eq!(std::mem::size_of::<Node>(), 32 * WIDTH);
         assert_eq!(std::mem::size_of::<Prim>(), 52);
     }
 

@@ -1,6 +1,6 @@
-//! The binary tree collapsed into 4-wide nodes: a ray tests four boxes at
-//! once in SIMD lanes, and the path from root to leaf has half the nodes, so
-//! a large mesh costs half the dependent memory loads.
+//! The binary tree collapsed into 8-wide nodes: a ray tests eight boxes in
+//! two SIMD registers, and the path from root to leaf has a third of the
+//! nodes, so a large mesh costs a third of the dependent memory loads.
 
 use super::build::{prim_count, Aabb, BuildNode};
 use glam::Vec4;
@@ -15,7 +15,7 @@ pub(super) const GROUPS: usize = WIDTH / 4;
 /// sign-ordered slab test never enters.
 #[repr(C, align(64))]
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) struct Node4 {
+pub(super) struct Node {
     /// min x, min y, min z, max x, max y, max z of the children.
     pub(super) planes: [[Vec4; GROUPS]; 6],
     /// An inner child's node index, or a leaf child's first primitive.
@@ -24,8 +24,8 @@ pub(super) struct Node4 {
     pub(super) count: [u32; WIDTH],
 }
 
-impl Node4 {
-    const EMPTY: Node4 = Node4 {
+impl Node {
+    const EMPTY: Node = Node {
         planes: [
             [Vec4::INFINITY; GROUPS],
             [Vec4::INFINITY; GROUPS],
@@ -56,17 +56,18 @@ impl Node4 {
 
 /// Writes the tree into `nodes`, root first, each node before its subtrees;
 /// leaves keep the binary tree's primitive order.
-pub(super) fn flatten(root: &BuildNode, nodes: &mut Vec<Node4>) {
+pub(super) fn flatten(root: &BuildNode, nodes: &mut Vec<Node>) {
     write(root, 0, nodes);
 }
 
 /// Writes `node`'s lanes (and their subtrees) and returns its index; `first`
 /// is the index of its first primitive.
-fn write(node: &BuildNode, mut first: u32, nodes: &mut Vec<Node4>) -> u32 {
+fn write(node: &BuildNode, mut first: u32, nodes: &mut Vec<Node>) -> u32 {
     let index = nodes.len();
-    nodes.push(Node4::EMPTY);
-    let mut wide = Node4::EMPTY;
-    for (lane, child) in children(node).into_iter().enumerate() {
+    nodes.push(Node::EMPTY);
+    let mut wide = Node::EMPTY;
+    let (children, len) = children(node);
+    for (lane, &child) in children[..len].iter().enumerate() {
         let (bounds, count) = match child {
             BuildNode::Leaf { bounds, count } => (bounds, *count as u32),
             BuildNode::Inner { bounds, .. } => (bounds, 0),
@@ -84,16 +85,14 @@ fn write(node: &BuildNode, mut first: u32, nodes: &mut Vec<Node4>) -> u32 {
     index as u32
 }
 
-/// Up to four nodes that together hold `node`'s primitives, in order: its
-/// two children, then the largest inner one replaced by its own two, until
-/// there are four or only leaves. A leaf root is its own single child.
-fn children(node: &BuildNode) -> Vec<&BuildNode> {
-    let mut children = match node {
-        BuildNode::Leaf { .. } => return vec![node],
-        BuildNode::Inner { left, right, .. } => vec![left.as_ref(), right.as_ref()],
-    };
-    while children.len() < WIDTH {
-        let largest = children
+/// Up to `WIDTH` nodes that together hold `node`'s primitives, in order:
+/// its two children, then the largest inner one replaced by its own two,
+/// until they are `WIDTH` or all leaves. A leaf root is its own one child.
+fn children(node: &BuildNode) -> ([&BuildNode; WIDTH], usize) {
+    let mut children = [node; WIDTH];
+    let mut len = 1;
+    while len < WIDTH {
+        let largest = children[..len]
             .iter()
             .enumerate()
             .filter_map(|(k, c)| match c {
@@ -102,12 +101,16 @@ fn children(node: &BuildNode) -> Vec<&BuildNode> {
                     left,
                     right,
                     ..
-                } => Some((k, bounds.half_area(), [left.as_ref(), right.as_ref()])),
+                } => Some((k, bounds.half_area(), left.as_ref(), right.as_ref())),
                 BuildNode::Leaf { .. } => None,
             })
             .max_by(|a, b| a.1.total_cmp(&b.1));
-        let Some((k, _, pair)) = largest else { break };
-        children.splice(k..=k, pair);
+        let Some((k, _, left, right)) = largest else {
+            break;
+        };
+        children.copy_within(k + 1..len, k + 2);
+        (children[k], children[k + 1]) = (left, right);
+        len += 1;
     }
-    children
+    (children, len)
 }
