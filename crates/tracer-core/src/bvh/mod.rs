@@ -264,7 +264,7 @@ impl Bvh {
                 }
                 let node = &self.nodes[entry.child as usize];
                 let (mask, near) = r.enter(node, t_min, best_t);
-                sp = push_nearest_last(stack, &self.nodes, &self.prims, sp, node, mask, near);
+                sp = push_nearest_last(stack, sp, node, mask, near);
             }
         });
         (best_id != u32::MAX).then(|| self.prims[best_prim].hit(ray, best_t))
@@ -297,7 +297,7 @@ impl Bvh {
                 // found before the far side of the scene is searched.
                 let node = &self.nodes[entry.child as usize];
                 let (mask, near) = r.enter(node, t_min, t_max);
-                sp = push_nearest_last(stack, &self.nodes, &self.prims, sp, node, mask, near);
+                sp = push_nearest_last(stack, sp, node, mask, near);
             }
             false
         })
@@ -309,8 +309,6 @@ impl Bvh {
 #[inline(always)]
 fn push_nearest_last(
     stack: &mut [Entry],
-    nodes: &[Node],
-    prims: &[Prim],
     mut sp: usize,
     node: &Node,
     mut mask: u32,
@@ -320,14 +318,6 @@ fn push_nearest_last(
     while mask != 0 {
         let lane = mask.trailing_zeros() as usize;
         mask &= mask - 1;
-        if node.count[lane] == 0 {
-            let p = nodes.as_ptr().wrapping_add(node.child[lane] as usize);
-            for line in 0..std::mem::size_of::<Node>() / 64 {
-                prefetch(p.cast::<u8>().wrapping_add(64 * line));
-            }
-        } else {
-            prefetch(prims.as_ptr().wrapping_add(node.child[lane] as usize));
-        }
         let entry = Entry {
             child: node.child[lane],
             count: node.count[lane],
@@ -343,17 +333,6 @@ fn push_nearest_last(
         sp += 1;
     }
     sp
-}
-
-/// Asks for the cache line at `p` to be loaded, without waiting for it.
-#[inline(always)]
-fn prefetch<T>(p: *const T) {
-    #[cfg(target_arch = "x86_64")]
-    // SAFETY: a prefetch is a hint: it never faults and reads nothing.
-    unsafe {
-        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-        _mm_prefetch::<_MM_HINT_T0>(p.cast());
-    }
 }
 
 /// The next larger float, for a positive `t` (infinity stays).
@@ -513,6 +492,23 @@ mod tests {
     fn records_are_compact() {
         assert_eq!(std::mem::size_of::<Node>(), 32 * WIDTH);
         assert_eq!(std::mem::size_of::<Prim>(), 52);
+    }
+
+    #[test]
+    fn a_single_object_is_found() {
+        let objects = [Object {
+            shape: Shape::Sphere(Sphere::new(Vec3::new(0.0, 0.0, -5.0), 1.0)),
+            material: 2,
+        }];
+        let bvh = Bvh::build(&objects);
+        let ray = Ray::new(Vec3::ZERO, -Vec3::Z);
+        let expected = brute_closest(&objects, &ray, f32::INFINITY);
+        assert_eq!(expected.map(|h| (h.t, h.material)), Some((4.0, 2)));
+        assert_eq!(bvh.closest_hit(&ray, 1e-4, f32::INFINITY), expected);
+        assert!(bvh.occluded(&ray, 1e-4, 10.0));
+        assert!(!bvh.occluded(&ray, 1e-4, 3.0));
+        let away = Ray::new(Vec3::ZERO, Vec3::Z);
+        assert_eq!(bvh.closest_hit(&away, 1e-4, f32::INFINITY), None);
     }
 
     #[test]
