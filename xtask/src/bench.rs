@@ -68,8 +68,8 @@ struct Row {
     build_cpu_s: f64,
     render_cpu_s: f64,
     rays: RayStats,
-    /// Median over runs of each run's 1-thread / 2-thread render time.
-    speedup: f64,
+    /// Each run's 1-thread / 2-thread render time, in run order.
+    speedup_runs: Vec<f64>,
     /// Each run's 1-thread CPU nanoseconds per ray, in run order.
     ns_per_ray_runs: Vec<f64>,
     pov_s: [Option<f64>; 2],
@@ -215,6 +215,13 @@ fn pool(threads: usize) -> Result<rayon::ThreadPool> {
         .build()?)
 }
 
+/// "lowest-highest" of a run's figures.
+fn spread(xs: &[f64]) -> String {
+    let lo = xs.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    format!("{lo:.2}x-{hi:.2}x")
+}
+
 fn median(mut xs: Vec<f64>) -> f64 {
     xs.sort_by(f64::total_cmp);
     xs[xs.len() / 2]
@@ -288,7 +295,7 @@ fn summarise(name: &str, triangles: usize, runs: &[Run]) -> Row {
         build_cpu_s: med(&|r| r.build_cpu_s),
         render_cpu_s: med(&|r| r.render_cpu_s),
         rays,
-        speedup: med(&|r| r.render_s[0] / r.render_s[1]),
+        speedup_runs: runs.iter().map(|r| r.render_s[0] / r.render_s[1]).collect(),
         ns_per_ray_runs: runs
             .iter()
             .map(|r| r.render_cpu_s * 1e9 / rays.total() as f64)
@@ -493,7 +500,7 @@ fn print_report(rows: &[Row], reps: usize) {
             r.render_s[1],
             r.mrays(0),
             r.mrays(1),
-            r.speedup,
+            median(r.speedup_runs.clone()),
             pov,
             ratio
         );
@@ -541,16 +548,20 @@ fn print_report(rows: &[Row], reps: usize) {
     println!();
     let find = |name: &str| rows.iter().find(|r| r.scene == name);
     if let (Some(small), Some(big)) = (find("bunny"), find("bunny-1.1m")) {
-        let ratios = big
+        let ratios: Vec<f64> = big
             .ns_per_ray_runs
             .iter()
             .zip(&small.ns_per_ray_runs)
             .map(|(b, s)| b / s)
             .collect();
+        let embree = match (small.embree, big.embree) {
+            (Some(s), Some(b)) => format!("; Embree's: {:.2}x", s.mrays[0] / b.mrays[0]),
+            _ => String::new(),
+        };
         println!(
-            "target: per-ray cost at 1.1M / at 70k triangles <= 1.5x: {:.2}x (median of each run's ratio, CPU time; {:.2}x from the medians)",
-            median(ratios),
-            big.ns_per_ray() / small.ns_per_ray()
+            "target: per-ray cost at 1.1M / at 70k triangles <= 1.5x: {:.2}x (CPU time, median of each run's ratio; runs {}{embree})",
+            median(ratios.clone()),
+            spread(&ratios)
         );
         println!(
             "target: BVH build of {} triangles < 1 s: {:.3} s wall, {:.3} s CPU on 1 thread; {:.3} s on 2",
@@ -563,10 +574,13 @@ fn print_report(rows: &[Row], reps: usize) {
             b.mrays(0),
             b.rays.total() as f64 / b.render_cpu_s / 1e6
         );
+        let embree = b.embree.map_or(String::new(), |e| {
+            format!("; Embree's: {:.2}x", e.mrays[1] / e.mrays[0])
+        });
         println!(
-            "target: 2-thread speed-up >= 1.8x: {:.2}x (median of each run's; {:.2}x from the medians)",
-            b.speedup,
-            b.render_s[0] / b.render_s[1]
+            "target: 2-thread speed-up >= 1.8x: {:.2}x (median of each run's; runs {}{embree})",
+            median(b.speedup_runs.clone()),
+            spread(&b.speedup_runs)
         );
         if let (Some(p), Some(c)) = (b.pov_s[0], b.pov_cpu_s) {
             println!(
