@@ -1,5 +1,6 @@
-//! The binary tree the BVH is built as: top-down, with the surface area
-//! heuristic over binned centroids; `wide.rs` then collapses it.
+//! The splits the BVH is built from: top-down, with the surface area
+//! heuristic over binned centroids. A `Part` is a run of primitives with its
+//! split decided; `wide.rs` splits parts until a node has its lanes.
 
 use crate::shapes::Shape;
 use glam::{UVec3, Vec3A};
@@ -13,7 +14,7 @@ const TRAVERSAL_COST: f32 = 1.0;
 /// Deeper nodes become leaves, so the traversal stack cannot overflow.
 pub(super) const MAX_DEPTH: usize = 60;
 /// Nodes with more primitives than this build their children in parallel.
-const PARALLEL_BUILD: usize = 4096;
+pub(super) const PARALLEL_BUILD: usize = 4096;
 /// How much a triangle's box is widened, relative to its coordinates.
 const TRIANGLE_PAD: f32 = 64.0 * f32::EPSILON;
 
@@ -85,19 +86,6 @@ impl BuildPrim {
     }
 }
 
-pub(super) enum BuildNode {
-    Leaf {
-        bounds: Aabb,
-        count: usize,
-    },
-    Inner {
-        bounds: Aabb,
-        count: usize,
-        left: Box<BuildNode>,
-        right: Box<BuildNode>,
-    },
-}
-
 /// One SAH split candidate: axis, first bin of the right side, cost.
 #[derive(Clone, Copy)]
 struct Split {
@@ -108,9 +96,9 @@ struct Split {
 
 /// The boxes of a set of primitives and of their centroids.
 #[derive(Debug, Clone, Copy)]
-struct Extent {
-    bounds: Aabb,
-    centroids: Aabb,
+pub(super) struct Extent {
+    pub(super) bounds: Aabb,
+    pub(super) centroids: Aabb,
 }
 
 impl Extent {
@@ -124,53 +112,99 @@ impl Extent {
         self.centroids.grow_point(p.centroid2());
     }
 
-    fn of(items: &[BuildPrim]) -> Extent {
+    pub(super) fn of(items: &[BuildPrim]) -> Extent {
         let mut extent = Extent::EMPTY;
         items.iter().for_each(|p| extent.grow(p));
         extent
     }
 }
 
-/// The tree over `items`, which it reorders into leaf order.
-pub(super) fn build_tree(items: &mut [BuildPrim]) -> BuildNode {
-    let extent = Extent::of(items);
-    build_node(items, &extent, 0)
+/// How the SAH divides a part: not at all, at a bin boundary, or (when
+/// every centroid is in one place) in two halves by count.
+#[derive(Debug, Clone, Copy)]
+enum Cut {
+    Leaf,
+    Bins { axis: usize, bin: usize },
+    Halve,
 }
 
-fn build_node(items: &mut [BuildPrim], extent: &Extent, depth: usize) -> BuildNode {
-    let (bounds, count) = (extent.bounds, items.len());
-    if count == 1 || depth >= MAX_DEPTH {
-        return BuildNode::Leaf { bounds, count };
+/// A run of primitives, `items[start..end]` of the node being built, with
+/// its boxes, its depth in the binary tree of splits, and its cut decided.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Part {
+    pub(super) start: usize,
+    pub(super) end: usize,
+    pub(super) extent: Extent,
+    depth: usize,
+    cut: Cut,
+}
+
+impl Part {
+    /// All of `items`: the root.
+    pub(super) fn root(items: &[BuildPrim]) -> Part {
+        Part::new(items, 0, items.len(), Extent::of(items), 0)
     }
-    let split = best_split(items, &bounds, &extent.centroids);
-    let (mid, left, right) = match split {
-        Some(s) if count > MAX_LEAF || s.cost < count as f32 => {
-            partition(items, &extent.centroids, s.axis, s.bin)
+
+    /// `items[start..end]`, whose boxes are `extent`, with its cut decided.
+    fn new(items: &[BuildPrim], start: usize, end: usize, extent: Extent, depth: usize) -> Part {
+        let run = &items[start..end];
+        let count = run.len();
+        let cut = if count == 1 || depth >= MAX_DEPTH {
+            Cut::Leaf
+        } else {
+            match best_split(run, &extent.bounds, &extent.centroids) {
+                Some(s) if count > MAX_LEAF || s.cost < count as f32 => Cut::Bins {
+                    axis: s.axis,
+                    bin: s.bin,
+                },
+                None if count > MAX_LEAF => Cut::Halve,
+                _ => Cut::Leaf,
+            }
+        };
+        Part {
+            start,
+            end,
+            extent,
+            depth,
+            cut,
         }
-        // Every centroid in one place: halve by count if too many.
-        None if count > MAX_LEAF => {
-            let mid = count / 2;
-            (mid, Extent::of(&items[..mid]), Extent::of(&items[mid..]))
+    }
+
+    pub(super) fn len(&self) -> usize {
+        self.end - self.start
+    }
+
+    pub(super) fn is_leaf(&self) -> bool {
+        matches!(self.cut, Cut::Leaf)
+    }
+
+    /// The same part, its items now the first of a slice of their own.
+    pub(super) fn rebased(&self) -> Part {
+        Part {
+            start: 0,
+            end: self.len(),
+            ..*self
         }
-        _ => return BuildNode::Leaf { bounds, count },
-    };
-    let (lo, hi) = items.split_at_mut(mid);
-    let (left, right) = if count > PARALLEL_BUILD {
-        rayon::join(
-            || build_node(lo, &left, depth + 1),
-            || build_node(hi, &right, depth + 1),
-        )
-    } else {
-        (
-            build_node(lo, &left, depth + 1),
-            build_node(hi, &right, depth + 1),
-        )
-    };
-    BuildNode::Inner {
-        bounds,
-        count,
-        left: Box::new(left),
-        right: Box::new(right),
+    }
+
+    /// Divides the part by its cut, reordering its items: the two halves,
+    /// each with its own cut decided; None for a leaf.
+    pub(super) fn split(&self, items: &mut [BuildPrim]) -> Option<[Part; 2]> {
+        let run = &mut items[self.start..self.end];
+        let (mid, left, right) = match self.cut {
+            Cut::Leaf => return None,
+            Cut::Bins { axis, bin } => partition(run, &self.extent.centroids, axis, bin),
+            Cut::Halve => {
+                let mid = run.len() / 2;
+                (mid, Extent::of(&run[..mid]), Extent::of(&run[mid..]))
+            }
+        };
+        let mid = self.start + mid;
+        let depth = self.depth + 1;
+        Some([
+            Part::new(items, self.start, mid, left, depth),
+            Part::new(items, mid, self.end, right, depth),
+        ])
     }
 }
 
@@ -263,11 +297,4 @@ fn partition(
         }
     }
     (mid, left, right)
-}
-
-pub(super) fn prim_count(node: &BuildNode) -> usize {
-    match node {
-        BuildNode::Leaf { count, .. } => *count,
-        BuildNode::Inner { count, .. } => *count,
-    }
 }

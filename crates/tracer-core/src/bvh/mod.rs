@@ -1,7 +1,7 @@
-//! A bounding volume hierarchy over all the scene's shapes: built as a
-//! binary tree with the binned surface area heuristic (`build.rs`), then
-//! collapsed into 8-wide nodes (`wide.rs`) whose boxes a ray tests in SIMD
-//! lanes; traversed nearest child first; shadow rays stop at the first hit.
+//! A bounding volume hierarchy over all the scene's shapes: built top-down
+//! with the binned surface area heuristic (`build.rs`) into 8-wide nodes
+//! (`wide.rs`) whose boxes a ray tests in SIMD lanes; traversed nearest
+//! child first; shadow rays stop at the first hit.
 //!
 //! It finds exactly the hits of the brute-force loop over all objects: the
 //! same intersection code on the same (precomputed) numbers, box tests padded
@@ -13,7 +13,7 @@ mod wide;
 use crate::ray::Ray;
 use crate::scene::{Hit, Object};
 use crate::shapes::{moller_trumbore, Shape, Sphere};
-use build::{build_tree, BuildPrim, MAX_DEPTH};
+use build::{BuildPrim, MAX_DEPTH};
 use glam::{Vec3, Vec4};
 use std::cell::RefCell;
 use wide::{Node, GROUPS, WIDTH};
@@ -202,10 +202,7 @@ impl Bvh {
         if items.is_empty() {
             return Bvh::default();
         }
-        let tree = build_tree(&mut items);
-        // About one node per eight primitives: leaves hold one to eight.
-        let mut nodes = Vec::with_capacity(items.len() / 8 + 1);
-        wide::flatten(&tree, &mut nodes);
+        let nodes = wide::build(&mut items);
         let prims = items
             .iter()
             .map(|p| {

@@ -1,9 +1,12 @@
-//! The binary tree collapsed into 8-wide nodes: a ray tests eight boxes in
-//! two SIMD registers, and the path from root to leaf has a third of the
-//! nodes, so a large mesh costs a third of the dependent memory loads.
+//! 8-wide nodes: a ray tests eight boxes in two SIMD registers, and the path
+//! from root to leaf has a third of the nodes of a binary tree, so a large
+//! mesh costs a third of the dependent memory loads. A node's lanes are the
+//! parts the SAH's splits give, the largest split first (a binary tree
+//! collapsed as it is built, never stored).
 
-use super::build::{prim_count, Aabb, BuildNode};
+use super::build::{Aabb, BuildPrim, Part, PARALLEL_BUILD};
 use glam::Vec4;
+use rayon::prelude::*;
 
 /// Children per node.
 pub(super) const WIDTH: usize = 8;
@@ -20,7 +23,8 @@ pub(super) struct Node {
     pub(super) planes: [[Vec4; GROUPS]; 6],
     /// An inner child's node index, or a leaf child's first primitive.
     pub(super) child: [u32; WIDTH],
-    /// A leaf child's primitive count; 0 for an inner child.
+    /// A leaf child's primitive count; 0 for an inner child, `u32::MAX`
+    /// for an unused lane.
     pub(super) count: [u32; WIDTH],
 }
 
@@ -35,7 +39,9 @@ impl Node {
             [Vec4::NEG_INFINITY; GROUPS],
         ],
         child: [0; WIDTH],
-        count: [0; WIDTH],
+        // Not 0, which marks an inner lane: the indices of unused lanes
+        // are never moved.
+        count: [u32::MAX; WIDTH],
     };
 
     fn set_bounds(&mut self, lane: usize, bounds: &Aabb) {
@@ -54,63 +60,108 @@ impl Node {
     }
 }
 
-/// Writes the tree into `nodes`, root first, each node before its subtrees;
-/// leaves keep the binary tree's primitive order.
-pub(super) fn flatten(root: &BuildNode, nodes: &mut Vec<Node>) {
-    write(root, 0, nodes);
+/// Builds the nodes over `items`, reordering them into leaf order: the
+/// root first, each node before its subtrees. The nodes are the same
+/// whatever the size of the rayon pool.
+pub(super) fn build(items: &mut [BuildPrim]) -> Vec<Node> {
+    // About one node per five primitives: leaves hold one to eight.
+    let mut nodes = Vec::with_capacity(items.len() / 4 + 1);
+    let root = Part::root(items);
+    write(items, 0, root, &mut nodes);
+    nodes
 }
 
-/// Writes `node`'s lanes (and their subtrees) and returns its index; `first`
-/// is the index of its first primitive.
-fn write(node: &BuildNode, mut first: u32, nodes: &mut Vec<Node>) -> u32 {
+/// Writes the node of `part`, which covers all of `items` (the first being
+/// primitive `base`), then the subtrees of its lanes; returns its index.
+fn write(items: &mut [BuildPrim], base: usize, part: Part, nodes: &mut Vec<Node>) -> u32 {
+    let (lanes, len) = lanes(items, part);
+    let lanes = &lanes[..len];
     let index = nodes.len();
     nodes.push(Node::EMPTY);
-    let mut wide = Node::EMPTY;
-    let (children, len) = children(node);
-    for (lane, &child) in children[..len].iter().enumerate() {
-        let (bounds, count) = match child {
-            BuildNode::Leaf { bounds, count } => (bounds, *count as u32),
-            BuildNode::Inner { bounds, .. } => (bounds, 0),
-        };
-        wide.set_bounds(lane, bounds);
-        wide.count[lane] = count;
-        wide.child[lane] = if count > 0 {
-            first
+    let mut node = Node::EMPTY;
+    for (lane, p) in lanes.iter().enumerate() {
+        node.set_bounds(lane, &p.extent.bounds);
+        if p.is_leaf() {
+            node.child[lane] = (base + p.start) as u32;
+            node.count[lane] = p.len() as u32;
         } else {
-            write(child, first, nodes)
-        };
-        first += prim_count(child) as u32;
+            node.count[lane] = 0;
+        }
     }
-    nodes[index] = wide;
+    if items.len() > PARALLEL_BUILD {
+        write_subtrees_in_parallel(items, base, lanes, &mut node, nodes);
+    } else {
+        for (lane, p) in lanes.iter().enumerate().filter(|(_, p)| !p.is_leaf()) {
+            let run = &mut items[p.start..p.end];
+            node.child[lane] = write(run, base + p.start, p.rebased(), nodes);
+        }
+    }
+    nodes[index] = node;
     index as u32
 }
 
-/// Up to `WIDTH` nodes that together hold `node`'s primitives, in order:
-/// its two children, then the largest inner one replaced by its own two,
-/// until they are `WIDTH` or all leaves. A leaf root is its own one child.
-fn children(node: &BuildNode) -> ([&BuildNode; WIDTH], usize) {
-    let mut children = [node; WIDTH];
+/// The subtrees of `node`'s inner lanes, each built into a vector of its
+/// own on the rayon pool, then appended in lane order with their node
+/// indices moved: the same nodes `write` gives one after another.
+fn write_subtrees_in_parallel(
+    items: &mut [BuildPrim],
+    base: usize,
+    lanes: &[Part],
+    node: &mut Node,
+    nodes: &mut Vec<Node>,
+) {
+    let mut runs = Vec::with_capacity(lanes.len());
+    let mut rest = items;
+    for p in lanes {
+        let (run, tail) = rest.split_at_mut(p.len());
+        runs.push((run, p));
+        rest = tail;
+    }
+    let subtrees: Vec<Option<Vec<Node>>> = runs
+        .into_par_iter()
+        .map(|(run, p)| {
+            (!p.is_leaf()).then(|| {
+                let mut subtree = Vec::with_capacity(run.len() / 4 + 1);
+                write(run, base + p.start, p.rebased(), &mut subtree);
+                subtree
+            })
+        })
+        .collect();
+    for (lane, subtree) in subtrees.into_iter().enumerate() {
+        let Some(mut subtree) = subtree else { continue };
+        let offset = nodes.len() as u32;
+        for n in &mut subtree {
+            for k in (0..WIDTH).filter(|&k| n.count[k] == 0) {
+                n.child[k] += offset;
+            }
+        }
+        node.child[lane] = offset;
+        nodes.append(&mut subtree);
+    }
+}
+
+/// Up to `WIDTH` parts that together hold `part`'s primitives, in order:
+/// its two halves, then the largest one that is not a leaf split in two,
+/// until they are `WIDTH` or all leaves. A leaf is its own one lane.
+fn lanes(items: &mut [BuildPrim], part: Part) -> ([Part; WIDTH], usize) {
+    let mut lanes = [part; WIDTH];
     let mut len = 1;
     while len < WIDTH {
-        let largest = children[..len]
+        let largest = lanes[..len]
             .iter()
             .enumerate()
-            .filter_map(|(k, c)| match c {
-                BuildNode::Inner {
-                    bounds,
-                    left,
-                    right,
-                    ..
-                } => Some((k, bounds.half_area(), left.as_ref(), right.as_ref())),
-                BuildNode::Leaf { .. } => None,
-            })
-            .max_by(|a, b| a.1.total_cmp(&b.1));
-        let Some((k, _, left, right)) = largest else {
+            .filter(|(_, p)| !p.is_leaf())
+            .max_by(|a, b| {
+                let area = |p: &Part| p.extent.bounds.half_area();
+                area(a.1).total_cmp(&area(b.1))
+            });
+        let Some((k, _)) = largest else { break };
+        let Some([left, right]) = lanes[k].split(items) else {
             break;
         };
-        children.copy_within(k + 1..len, k + 2);
-        (children[k], children[k + 1]) = (left, right);
+        lanes.copy_within(k + 1..len, k + 2);
+        (lanes[k], lanes[k + 1]) = (left, right);
         len += 1;
     }
-    (children, len)
+    (lanes, len)
 }
