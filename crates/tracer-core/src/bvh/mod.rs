@@ -15,6 +15,7 @@ use crate::scene::{Hit, Object};
 use crate::shapes::{moller_trumbore, Shape, Sphere};
 use build::{BuildPrim, MAX_DEPTH};
 use glam::{Vec3, Vec4};
+use rayon::prelude::*;
 use std::cell::RefCell;
 use wide::{Node, GROUPS, WIDTH};
 
@@ -195,7 +196,7 @@ impl Bvh {
     /// gives the same tree whatever its size.
     pub fn build(objects: &[Object]) -> Bvh {
         let mut items: Vec<BuildPrim> = objects
-            .iter()
+            .par_iter()
             .enumerate()
             .map(|(i, o)| BuildPrim::new(&o.shape, i as u32))
             .collect();
@@ -204,7 +205,7 @@ impl Bvh {
         }
         let nodes = wide::build(&mut items);
         let prims = items
-            .iter()
+            .par_iter()
             .map(|p| {
                 let object = &objects[p.id as usize];
                 Prim {
