@@ -17,7 +17,7 @@ use build::{BuildPrim, MAX_DEPTH};
 use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 use std::cell::RefCell;
-use wide::{Node, GROUPS, WIDTH};
+use wide::{node_halves, Node, GROUPS, INNER, WIDTH};
 
 /// Widens box intervals by a few ulps against the rounding of the slab test
 /// (pbrt's `1 + 2 gamma(3)`, with margin). Rays that Moller-Trumbore rounds
@@ -41,7 +41,7 @@ thread_local! {
 fn with_stack<R>(f: impl FnOnce(&mut [Entry]) -> R) -> R {
     STACKS.with_borrow_mut(|stack| {
         if stack.is_empty() {
-            stack.resize(STACK, Entry::default());
+            stack.resize(STACK, Entry::ROOT);
         }
         f(stack)
     })
@@ -155,19 +155,21 @@ impl RayData {
         }
     }
 
-    /// Which of the node's boxes the ray meets within (t_min, t_max],
-    /// padded against rounding, as a bit mask; and the entry distances.
+    /// Which boxes of the node's first `halves` halves the ray meets within
+    /// (t_min, t_max], padded against rounding, as a bit mask; and the
+    /// entry distances.
     #[inline(always)]
-    fn enter(&self, node: &Node, t_min: f32, t_max: f32) -> (u32, [Vec4; GROUPS]) {
+    fn enter(&self, node: &Node, halves: usize, t_min: f32, t_max: f32) -> (u32, [Vec4; GROUPS]) {
         let mut mask = 0;
         let mut entries = [Vec4::ZERO; GROUPS];
-        for (g, entry) in entries.iter_mut().enumerate() {
+        for (g, entry) in entries.iter_mut().enumerate().take(halves) {
+            let planes = &node.halves[g].planes;
             let mut near = Vec4::splat(t_min);
             let mut far = Vec4::splat(t_max);
             for axis in 0..3 {
                 let (n, f) = (self.near_plane[axis], (self.near_plane[axis] + 3) % 6);
-                near = near.max((node.planes[n][g] - self.origin[axis]) * self.inv_dir[axis]);
-                far = far.min((node.planes[f][g] - self.origin[axis]) * self.inv_dir[axis]);
+                near = near.max((planes[n] - self.origin[axis]) * self.inv_dir[axis]);
+                far = far.min((planes[f] - self.origin[axis]) * self.inv_dir[axis]);
             }
             mask |= near.cmple(far * PAD).bitmask() << (4 * g);
             *entry = near;
@@ -176,13 +178,22 @@ impl RayData {
     }
 }
 
-/// A node or leaf waiting on the traversal stack, with the distance at
-/// which the ray enters its box.
-#[derive(Clone, Copy, Default)]
+/// A node or leaf waiting on the traversal stack, as its parent's lane
+/// refers to it, with the distance at which the ray enters its box.
+#[derive(Clone, Copy)]
 struct Entry {
     child: u32,
     count: u32,
     t: f32,
+}
+
+impl Entry {
+    /// The root, read whole.
+    const ROOT: Entry = Entry {
+        child: 0,
+        count: INNER,
+        t: 0.0,
+    };
 }
 
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -233,7 +244,7 @@ impl Bvh {
         let mut best_id = u32::MAX;
         let mut best_prim = 0;
         with_stack(|stack| {
-            stack[0] = Entry::default();
+            stack[0] = Entry::ROOT;
             let mut sp = 1;
             while sp > 0 {
                 sp -= 1;
@@ -241,7 +252,7 @@ impl Bvh {
                 if entry.t > best_t * PAD {
                     continue;
                 }
-                if entry.count > 0 {
+                let Some(halves) = node_halves(entry.count) else {
                     let start = entry.child as usize;
                     for k in start..start + entry.count as usize {
                         let prim = &self.prims[k];
@@ -259,9 +270,9 @@ impl Bvh {
                         }
                     }
                     continue;
-                }
+                };
                 let node = &self.nodes[entry.child as usize];
-                let (mask, near) = r.enter(node, t_min, best_t);
+                let (mask, near) = r.enter(node, halves, t_min, best_t);
                 sp = push_nearest_last(stack, sp, node, mask, near);
             }
         });
@@ -275,12 +286,12 @@ impl Bvh {
         }
         let r = RayData::new(ray);
         with_stack(|stack| {
-            stack[0] = Entry::default();
+            stack[0] = Entry::ROOT;
             let mut sp = 1;
             while sp > 0 {
                 sp -= 1;
                 let entry = stack[sp];
-                if entry.count > 0 {
+                let Some(halves) = node_halves(entry.count) else {
                     let start = entry.child as usize;
                     let prims = &self.prims[start..start + entry.count as usize];
                     if prims
@@ -290,11 +301,11 @@ impl Bvh {
                         return true;
                     }
                     continue;
-                }
+                };
                 // Nearer children on top: an occluder near the ray's start is
                 // found before the far side of the scene is searched.
                 let node = &self.nodes[entry.child as usize];
-                let (mask, near) = r.enter(node, t_min, t_max);
+                let (mask, near) = r.enter(node, halves, t_min, t_max);
                 sp = push_nearest_last(stack, sp, node, mask, near);
             }
             false
@@ -316,9 +327,10 @@ fn push_nearest_last(
     while mask != 0 {
         let lane = mask.trailing_zeros() as usize;
         mask &= mask - 1;
+        let (child, count) = node.child(lane);
         let entry = Entry {
-            child: node.child[lane],
-            count: node.count[lane],
+            child,
+            count,
             t: near[lane / 4][lane % 4],
         };
         // Insertion into the pushed run, kept in decreasing distance.
@@ -450,23 +462,26 @@ mod tests {
         let mut ids: Vec<u32> = bvh.prims.iter().map(|p| p.id).collect();
         ids.sort_unstable();
         assert_eq!(ids, (0..objects.len() as u32).collect::<Vec<_>>());
-        check_node(&bvh, 0, ([f32::MIN; 3], [f32::MAX; 3]));
+        check_node(&bvh, 0, ([f32::MIN; 3], [f32::MAX; 3]), GROUPS);
     }
 
-    /// Every lane's box lies inside the box its parent gave it.
-    fn check_node(bvh: &Bvh, index: usize, parent: ([f32; 3], [f32; 3])) {
+    /// Every used lane's box lies inside the box its parent gave it, and
+    /// within the halves the parent says the traversal reads.
+    fn check_node(bvh: &Bvh, index: usize, parent: ([f32; 3], [f32; 3]), halves: usize) {
         let node = &bvh.nodes[index];
         for lane in 0..WIDTH {
             let (min, max) = node.bounds(lane);
             if min[0] > max[0] {
                 continue; // an unused lane
             }
+            assert!(lane < 4 * halves, "lane {lane} of node {index} is never read");
             assert!(
                 (0..3).all(|a| min[a] >= parent.0[a] && max[a] <= parent.1[a]),
                 "lane {lane} of node {index} outside its parent's box"
             );
-            if node.count[lane] == 0 {
-                check_node(bvh, node.child[lane] as usize, (min, max));
+            let (child, count) = node.child(lane);
+            if let Some(halves) = node_halves(count) {
+                check_node(bvh, child as usize, (min, max), halves);
             }
         }
     }

@@ -10,52 +10,92 @@ use rayon::prelude::*;
 
 /// Children per node.
 pub(super) const WIDTH: usize = 8;
-/// SIMD registers of four lanes per plane.
+/// Halves of a node: four lanes each, one SIMD register per plane.
 pub(super) const GROUPS: usize = WIDTH / 4;
 
-/// The children's boxes, one child per SIMD lane; 256 bytes, four cache
-/// lines. Unused lanes hold an inverted box (min +inf, max -inf), which the
-/// sign-ordered slab test never enters.
+/// `count` of an inner lane whose node has more than four lanes.
+pub(super) const INNER: u32 = 0;
+/// `count` of an inner lane whose node has at most four: only the first
+/// half of that node, two of its four cache lines, is read.
+pub(super) const INNER_HALF: u32 = u32::MAX - 1;
+/// `count` of an unused lane.
+const UNUSED: u32 = u32::MAX;
+
+/// The children's boxes, one child per SIMD lane, in two halves of four
+/// lanes: 256 bytes, four cache lines. Unused lanes hold an inverted box
+/// (min +inf, max -inf), which the sign-ordered slab test never enters.
 #[repr(C, align(64))]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Node {
-    /// min x, min y, min z, max x, max y, max z of the children.
-    pub(super) planes: [[Vec4; GROUPS]; 6],
+    pub(super) halves: [Half; GROUPS],
+}
+
+/// Four lanes of a node: 128 bytes, two cache lines.
+#[repr(C, align(64))]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Half {
+    /// min x, min y, min z, max x, max y, max z of the four children.
+    pub(super) planes: [Vec4; 6],
     /// An inner child's node index, or a leaf child's first primitive.
-    pub(super) child: [u32; WIDTH],
-    /// A leaf child's primitive count; 0 for an inner child, `u32::MAX`
-    /// for an unused lane.
-    pub(super) count: [u32; WIDTH],
+    pub(super) child: [u32; 4],
+    /// A leaf child's primitive count; `INNER`, `INNER_HALF` or `UNUSED`.
+    pub(super) count: [u32; 4],
+}
+
+impl Half {
+    const EMPTY: Half = Half {
+        planes: [
+            Vec4::INFINITY,
+            Vec4::INFINITY,
+            Vec4::INFINITY,
+            Vec4::NEG_INFINITY,
+            Vec4::NEG_INFINITY,
+            Vec4::NEG_INFINITY,
+        ],
+        child: [0; 4],
+        count: [UNUSED; 4],
+    };
+}
+
+/// Whether a lane's `count` marks a node, and then how many halves of it
+/// hold lanes.
+#[inline(always)]
+pub(super) fn node_halves(count: u32) -> Option<usize> {
+    match count {
+        INNER => Some(GROUPS),
+        INNER_HALF => Some(1),
+        _ => None,
+    }
 }
 
 impl Node {
     const EMPTY: Node = Node {
-        planes: [
-            [Vec4::INFINITY; GROUPS],
-            [Vec4::INFINITY; GROUPS],
-            [Vec4::INFINITY; GROUPS],
-            [Vec4::NEG_INFINITY; GROUPS],
-            [Vec4::NEG_INFINITY; GROUPS],
-            [Vec4::NEG_INFINITY; GROUPS],
-        ],
-        child: [0; WIDTH],
-        // Not 0, which marks an inner lane: the indices of unused lanes
-        // are never moved.
-        count: [u32::MAX; WIDTH],
+        halves: [Half::EMPTY; GROUPS],
     };
 
     fn set_bounds(&mut self, lane: usize, bounds: &Aabb) {
-        let (g, l) = (lane / 4, lane % 4);
+        let half = &mut self.halves[lane / 4];
         for axis in 0..3 {
-            self.planes[axis][g][l] = bounds.min[axis];
-            self.planes[axis + 3][g][l] = bounds.max[axis];
+            half.planes[axis][lane % 4] = bounds.min[axis];
+            half.planes[axis + 3][lane % 4] = bounds.max[axis];
         }
+    }
+
+    fn set(&mut self, lane: usize, child: u32, count: u32) {
+        let half = &mut self.halves[lane / 4];
+        (half.child[lane % 4], half.count[lane % 4]) = (child, count);
+    }
+
+    #[inline(always)]
+    pub(super) fn child(&self, lane: usize) -> (u32, u32) {
+        let half = &self.halves[lane / 4];
+        (half.child[lane % 4], half.count[lane % 4])
     }
 
     /// The box of one lane, for tests.
     #[cfg(test)]
     pub(super) fn bounds(&self, lane: usize) -> ([f32; 3], [f32; 3]) {
-        let p = self.planes.map(|plane| plane[lane / 4][lane % 4]);
+        let p = self.halves[lane / 4].planes.map(|plane| plane[lane % 4]);
         ([p[0], p[1], p[2]], [p[3], p[4], p[5]])
     }
 }
@@ -72,8 +112,9 @@ pub(super) fn build(items: &mut [BuildPrim]) -> Vec<Node> {
 }
 
 /// Writes the node of `part`, which covers all of `items` (the first being
-/// primitive `base`), then the subtrees of its lanes; returns its index.
-fn write(items: &mut [BuildPrim], base: usize, part: Part, nodes: &mut Vec<Node>) -> u32 {
+/// primitive `base`), then the subtrees of its lanes; returns its index and
+/// the `count` its parent's lane marks it with.
+fn write(items: &mut [BuildPrim], base: usize, part: Part, nodes: &mut Vec<Node>) -> (u32, u32) {
     let (lanes, len) = lanes(items, part);
     let lanes = &lanes[..len];
     let index = nodes.len();
@@ -82,10 +123,7 @@ fn write(items: &mut [BuildPrim], base: usize, part: Part, nodes: &mut Vec<Node>
     for (lane, p) in lanes.iter().enumerate() {
         node.set_bounds(lane, &p.extent.bounds);
         if p.is_leaf() {
-            node.child[lane] = (base + p.start) as u32;
-            node.count[lane] = p.len() as u32;
-        } else {
-            node.count[lane] = 0;
+            node.set(lane, (base + p.start) as u32, p.len() as u32);
         }
     }
     if items.len() > PARALLEL_BUILD {
@@ -93,11 +131,13 @@ fn write(items: &mut [BuildPrim], base: usize, part: Part, nodes: &mut Vec<Node>
     } else {
         for (lane, p) in lanes.iter().enumerate().filter(|(_, p)| !p.is_leaf()) {
             let run = &mut items[p.start..p.end];
-            node.child[lane] = write(run, base + p.start, p.rebased(), nodes);
+            let (child, count) = write(run, base + p.start, p.rebased(), nodes);
+            node.set(lane, child, count);
         }
     }
     nodes[index] = node;
-    index as u32
+    let count = if len > 4 { INNER } else { INNER_HALF };
+    (index as u32, count)
 }
 
 /// The subtrees of `node`'s inner lanes, each built into a vector of its
@@ -117,25 +157,27 @@ fn write_subtrees_in_parallel(
         runs.push((run, p));
         rest = tail;
     }
-    let subtrees: Vec<Option<Vec<Node>>> = runs
+    let subtrees: Vec<Option<(Vec<Node>, u32)>> = runs
         .into_par_iter()
         .map(|(run, p)| {
             (!p.is_leaf()).then(|| {
                 let mut subtree = Vec::with_capacity(run.len() / 4 + 1);
-                write(run, base + p.start, p.rebased(), &mut subtree);
-                subtree
+                let (_, count) = write(run, base + p.start, p.rebased(), &mut subtree);
+                (subtree, count)
             })
         })
         .collect();
     for (lane, subtree) in subtrees.into_iter().enumerate() {
-        let Some(mut subtree) = subtree else { continue };
+        let Some((mut subtree, count)) = subtree else {
+            continue;
+        };
         let offset = nodes.len() as u32;
-        for n in &mut subtree {
-            for k in (0..WIDTH).filter(|&k| n.count[k] == 0) {
-                n.child[k] += offset;
+        for half in subtree.iter_mut().flat_map(|n| &mut n.halves) {
+            for k in (0..4).filter(|&k| node_halves(half.count[k]).is_some()) {
+                half.child[k] += offset;
             }
         }
-        node.child[lane] = offset;
+        node.set(lane, offset, count);
         nodes.append(&mut subtree);
     }
 }
