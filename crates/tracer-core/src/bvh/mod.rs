@@ -474,7 +474,10 @@ mod tests {
             if min[0] > max[0] {
                 continue; // an unused lane
             }
-            assert!(lane < 4 * halves, "lane {lane} of node {index} is never read");
+            assert!(
+                lane < 4 * halves,
+                "lane {lane} of node {index} is never read"
+            );
             assert!(
                 (0..3).all(|a| min[a] >= parent.0[a] && max[a] <= parent.1[a]),
                 "lane {lane} of node {index} outside its parent's box"
