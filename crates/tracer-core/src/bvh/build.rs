@@ -11,6 +11,8 @@ const BINS: usize = 16;
 const MAX_LEAF: usize = 8;
 /// Cost of visiting a node, relative to one primitive test.
 const TRAVERSAL_COST: f32 = 1.0;
+/// Cost of testing four triangles at once, relative to one.
+const BLOCK_COST: f32 = 1.5;
 /// Deeper nodes become leaves, so the traversal stack cannot overflow.
 pub(super) const MAX_DEPTH: usize = 60;
 /// Nodes with more primitives than this build their children in parallel.
@@ -51,6 +53,8 @@ impl Aabb {
 pub(super) struct BuildPrim {
     bounds: Aabb,
     pub(super) id: u32,
+    /// Spheres and triangles are tested differently, so never share a leaf.
+    pub(super) sphere: bool,
 }
 
 impl BuildPrim {
@@ -77,7 +81,8 @@ impl BuildPrim {
                 }
             }
         };
-        BuildPrim { bounds, id }
+        let sphere = matches!(shape, Shape::Sphere(_));
+        BuildPrim { bounds, id, sphere }
     }
 
     /// Twice the box centre: only compared, never used as a point.
@@ -99,17 +104,20 @@ struct Split {
 pub(super) struct Extent {
     pub(super) bounds: Aabb,
     pub(super) centroids: Aabb,
+    spheres: usize,
 }
 
 impl Extent {
     const EMPTY: Extent = Extent {
         bounds: Aabb::EMPTY,
         centroids: Aabb::EMPTY,
+        spheres: 0,
     };
 
     fn grow(&mut self, p: &BuildPrim) {
         self.bounds.grow(&p.bounds);
         self.centroids.grow_point(p.centroid2());
+        self.spheres += p.sphere as usize;
     }
 
     pub(super) fn of(items: &[BuildPrim]) -> Extent {
@@ -119,13 +127,15 @@ impl Extent {
     }
 }
 
-/// How the SAH divides a part: not at all, at a bin boundary, or (when
-/// every centroid is in one place) in two halves by count.
+/// How the SAH divides a part: not at all, at a bin boundary, (when every
+/// centroid is in one place) in two halves by count, or (a leaf that would
+/// mix them) spheres from triangles.
 #[derive(Debug, Clone, Copy)]
 enum Cut {
     Leaf,
     Bins { axis: usize, bin: usize },
     Halve,
+    Kind,
 }
 
 /// A run of primitives, `items[start..end]` of the node being built, with
@@ -153,13 +163,18 @@ impl Part {
             Cut::Leaf
         } else {
             match best_split(run, &extent.bounds, &extent.centroids) {
-                Some(s) if count > MAX_LEAF || s.cost < count as f32 => Cut::Bins {
+                Some(s) if count > MAX_LEAF || s.cost < leaf_cost(count) => Cut::Bins {
                     axis: s.axis,
                     bin: s.bin,
                 },
                 None if count > MAX_LEAF => Cut::Halve,
                 _ => Cut::Leaf,
             }
+        };
+        let mixed = extent.spheres > 0 && extent.spheres < count;
+        let cut = match cut {
+            Cut::Leaf if mixed => Cut::Kind,
+            cut => cut,
         };
         Part {
             start,
@@ -198,6 +213,7 @@ impl Part {
                 let mid = run.len() / 2;
                 (mid, Extent::of(&run[..mid]), Extent::of(&run[mid..]))
             }
+            Cut::Kind => partition_by(run, |p| p.sphere),
         };
         let mid = self.start + mid;
         let depth = self.depth + 1;
@@ -206,6 +222,11 @@ impl Part {
             Part::new(items, mid, self.end, right, depth),
         ])
     }
+}
+
+/// The cost of testing `count` primitives: triangles go four at a time.
+fn leaf_cost(count: usize) -> f32 {
+    count.div_ceil(4) as f32 * BLOCK_COST
 }
 
 /// Bins for a node of `count` primitives: fewer for small nodes, whose
@@ -257,7 +278,7 @@ fn best_split(items: &[BuildPrim], bounds: &Aabb, centroids: &Aabb) -> Option<Sp
         for b in (1..bins).rev() {
             acc.grow(&boxes[b]);
             n += counts[b];
-            right_cost[b] = acc.half_area() * n as f32;
+            right_cost[b] = acc.half_area() * leaf_cost(n as usize);
         }
         let (mut acc, mut n) = (Aabb::EMPTY, 0u32);
         for b in 1..bins {
@@ -266,7 +287,8 @@ fn best_split(items: &[BuildPrim], bounds: &Aabb, centroids: &Aabb) -> Option<Sp
             if n == 0 || n as usize == items.len() {
                 continue;
             }
-            let cost = TRAVERSAL_COST + (acc.half_area() * n as f32 + right_cost[b]) / parent_area;
+            let cost = TRAVERSAL_COST
+                + (acc.half_area() * leaf_cost(n as usize) + right_cost[b]) / parent_area;
             if best.is_none_or(|s| cost < s.cost) {
                 best = Some(Split { axis, bin: b, cost });
             }
@@ -285,16 +307,28 @@ fn partition(
 ) -> (usize, Extent, Extent) {
     let bins = bins_for(items.len());
     let scale = bin_scale(centroids, bins);
-    let (mut left, mut right) = (Extent::EMPTY, Extent::EMPTY);
+    partition_by(items, |p| {
+        (bins_of(p, centroids, scale, bins)[axis] as usize) < bin
+    })
+}
+
+/// Puts the primitives for which `left` holds first; returns how many, and
+/// the extents of both sides.
+#[inline(always)]
+fn partition_by(
+    items: &mut [BuildPrim],
+    left: impl Fn(&BuildPrim) -> bool,
+) -> (usize, Extent, Extent) {
+    let (mut lo, mut hi) = (Extent::EMPTY, Extent::EMPTY);
     let mut mid = 0;
     for i in 0..items.len() {
-        if (bins_of(&items[i], centroids, scale, bins)[axis] as usize) < bin {
-            left.grow(&items[i]);
+        if left(&items[i]) {
+            lo.grow(&items[i]);
             items.swap(i, mid);
             mid += 1;
         } else {
-            right.grow(&items[i]);
+            hi.grow(&items[i]);
         }
     }
-    (mid, left, right)
+    (mid, lo, hi)
 }

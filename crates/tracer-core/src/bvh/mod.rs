@@ -1,23 +1,27 @@
 //! A bounding volume hierarchy over all the scene's shapes: built top-down
 //! with the binned surface area heuristic (`build.rs`) into 8-wide nodes
-//! (`wide.rs`) whose boxes a ray tests in SIMD lanes; traversed nearest
-//! child first; shadow rays stop at the first hit.
+//! (`wide.rs`) whose boxes a ray tests in SIMD lanes; leaves of triangles
+//! in blocks of four tested at once (`tri4.rs`), or of spheres; traversed
+//! nearest child first; shadow rays stop at the first hit.
 //!
 //! It finds exactly the hits of the brute-force loop over all objects: the
-//! same intersection code on the same (precomputed) numbers, box tests padded
-//! against rounding, and ties in distance won by the lower object index.
+//! same intersection arithmetic on the same (precomputed) numbers, box tests
+//! padded against rounding, and ties in distance won by the lower object
+//! index.
 
 mod build;
+mod tri4;
 mod wide;
 
 use crate::ray::Ray;
 use crate::scene::{Hit, Object};
-use crate::shapes::{moller_trumbore, Shape, Sphere};
+use crate::shapes::{Shape, Sphere};
 use build::{BuildPrim, MAX_DEPTH};
-use glam::{Vec3, Vec4};
+use glam::Vec4;
 use rayon::prelude::*;
 use std::cell::RefCell;
-use wide::{node_halves, Node, GROUPS, INNER, WIDTH};
+use tri4::{Ray4, Tri4, TriRecord};
+use wide::{is_leaf, node_halves, Node, GROUPS, INNER, WIDTH};
 
 /// Widens box intervals by a few ulps against the rounding of the slab test
 /// (pbrt's `1 + 2 gamma(3)`, with margin). Rays that Moller-Trumbore rounds
@@ -27,8 +31,9 @@ use wide::{node_halves, Node, GROUPS, INNER, WIDTH};
 const PAD: f32 = 1.0 + 4.0 * f32::EPSILON;
 
 /// Room on the traversal stack: each level pops one entry and pushes at
-/// most `WIDTH`.
-const STACK: usize = (WIDTH - 1) * MAX_DEPTH + 1;
+/// most `WIDTH`; a split of spheres from triangles may go one below
+/// `MAX_DEPTH`.
+const STACK: usize = (WIDTH - 1) * (MAX_DEPTH + 1) + 1;
 
 thread_local! {
     /// Each thread's traversal stack, allocated once: zeroing a fresh one
@@ -47,79 +52,50 @@ fn with_stack<R>(f: impl FnOnce(&mut [Entry]) -> R) -> R {
     })
 }
 
-/// A primitive with the numbers its test needs, its object index and its
-/// material, in leaf order: one 52-byte record, so neither a leaf test nor
-/// the shading of its hit touches another array.
+/// A sphere, with its object index and material. Leaves hold spheres or
+/// triangles, never both.
 #[derive(Debug, Clone, PartialEq)]
-struct Prim {
-    geometry: Geometry,
+struct SpherePrim {
+    sphere: Sphere,
     id: u32,
     material: u32,
 }
 
-#[derive(Debug, Clone, PartialEq)]
-enum Geometry {
-    Triangle {
-        v0: Vec3,
-        e1: Vec3,
-        e2: Vec3,
-        edge_scale: f32,
-    },
-    Sphere(Sphere),
+/// Marks a leaf lane's `count` as a run of spheres; without it, the count
+/// is of triangle blocks.
+const SPHERE_LEAF: u32 = 1 << 30;
+
+/// The best hit so far of a nearest-hit search, and where it is.
+struct Best {
+    t: f32,
+    id: u32,
+    at: HitAt,
 }
 
-impl Geometry {
-    fn new(shape: &Shape) -> Geometry {
-        match shape {
-            Shape::Triangle(t) => {
-                let (e1, e2) = (t.v1 - t.v0, t.v2 - t.v0);
-                Geometry::Triangle {
-                    v0: t.v0,
-                    e1,
-                    e2,
-                    edge_scale: f32::EPSILON * e1.length() * e2.length(),
-                }
-            }
-            Shape::Sphere(s) => Geometry::Sphere(s.clone()),
+#[derive(Clone, Copy)]
+enum HitAt {
+    Triangle { block: usize, lane: usize },
+    Sphere(usize),
+}
+
+impl Best {
+    /// Whether `t` (within t_min and the limit the test was given) and
+    /// `id` make a better hit, as the brute-force loop would take it: once
+    /// something is hit, up to and including best_t, an equal distance
+    /// winning if its object comes first.
+    #[inline(always)]
+    fn offer(&mut self, t: f32, id: u32, t_max: f32, at: HitAt) {
+        if t < self.limit(t_max) && (t < self.t || id < self.id) {
+            (self.t, self.id, self.at) = (t, id, at);
         }
     }
 
     #[inline(always)]
-    fn intersect(&self, ray: &RayData, t_min: f32, t_max: f32) -> Option<f32> {
-        match self {
-            Geometry::Triangle {
-                v0,
-                e1,
-                e2,
-                edge_scale,
-            } => moller_trumbore(
-                *v0,
-                *e1,
-                *e2,
-                *edge_scale,
-                &ray.ray,
-                ray.dir_len,
-                t_min,
-                t_max,
-            ),
-            Geometry::Sphere(s) => s.intersect(&ray.ray, t_min, t_max),
-        }
-    }
-}
-
-impl Prim {
-    /// The hit at distance `t`, as `Hit::on` gives it for the object.
-    fn hit(&self, ray: &Ray, t: f32) -> Hit {
-        let normal = match &self.geometry {
-            // e1 and e2 are Triangle::normal's edges, computed the same way.
-            Geometry::Triangle { e1, e2, .. } => e1.cross(*e2).normalize(),
-            Geometry::Sphere(s) => s.normal(ray.at(t)),
-        };
-        Hit {
-            t,
-            object: self.id as usize,
-            normal,
-            material: self.material as usize,
+    fn limit(&self, t_max: f32) -> f32 {
+        if self.id == u32::MAX {
+            t_max
+        } else {
+            next_up(self.t)
         }
     }
 }
@@ -129,10 +105,10 @@ impl Prim {
 /// first (min if it runs toward +, max if toward -).
 struct RayData {
     ray: Ray,
+    ray4: Ray4,
     origin: [Vec4; 3],
     inv_dir: [Vec4; 3],
     near_plane: [usize; 3],
-    dir_len: f32,
 }
 
 impl RayData {
@@ -146,12 +122,13 @@ impl RayData {
             }
         };
         let inv = ray.dir.to_array().map(|d| 1.0 / safe(d));
+        let dir_len = ray.dir.length();
         RayData {
             ray: *ray,
+            ray4: Ray4::new(ray, dir_len),
             origin: ray.origin.to_array().map(Vec4::splat),
             inv_dir: inv.map(Vec4::splat),
             near_plane: [0, 1, 2].map(|axis| if inv[axis] < 0.0 { axis + 3 } else { axis }),
-            dir_len: ray.dir.length(),
         }
     }
 
@@ -199,7 +176,8 @@ impl Entry {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Bvh {
     nodes: Vec<Node>,
-    prims: Vec<Prim>,
+    tris: Vec<Tri4>,
+    spheres: Vec<SpherePrim>,
 }
 
 impl Bvh {
@@ -214,19 +192,13 @@ impl Bvh {
         if items.is_empty() {
             return Bvh::default();
         }
-        let nodes = wide::build(&mut items);
-        let prims = items
-            .par_iter()
-            .map(|p| {
-                let object = &objects[p.id as usize];
-                Prim {
-                    geometry: Geometry::new(&object.shape),
-                    id: p.id,
-                    material: object.material as u32,
-                }
-            })
-            .collect();
-        Bvh { nodes, prims }
+        let mut nodes = wide::build(&mut items);
+        let (tris, spheres) = pack_leaves(&mut nodes, &items, objects);
+        Bvh {
+            nodes,
+            tris,
+            spheres,
+        }
     }
 
     pub fn node_count(&self) -> usize {
@@ -240,43 +212,64 @@ impl Bvh {
             return None;
         }
         let r = RayData::new(ray);
-        let mut best_t = t_max;
-        let mut best_id = u32::MAX;
-        let mut best_prim = 0;
+        let mut best = Best {
+            t: t_max,
+            id: u32::MAX,
+            at: HitAt::Sphere(0),
+        };
         with_stack(|stack| {
             stack[0] = Entry::ROOT;
             let mut sp = 1;
             while sp > 0 {
                 sp -= 1;
                 let entry = stack[sp];
-                if entry.t > best_t * PAD {
+                if entry.t > best.t * PAD {
                     continue;
                 }
                 let Some(halves) = node_halves(entry.count) else {
-                    let start = entry.child as usize;
-                    for k in start..start + entry.count as usize {
-                        let prim = &self.prims[k];
-                        // Once something is hit, up to and including best_t: an
-                        // equal distance wins if its object comes first.
-                        let limit = if best_id == u32::MAX {
-                            t_max
-                        } else {
-                            next_up(best_t)
-                        };
-                        if let Some(t) = prim.geometry.intersect(&r, t_min, limit) {
-                            if t < best_t || prim.id < best_id {
-                                (best_t, best_id, best_prim) = (t, prim.id, k);
-                            }
-                        }
-                    }
+                    self.nearest_in_leaf(&r, entry, t_min, t_max, &mut best);
                     continue;
                 };
                 let node = &self.nodes[entry.child as usize];
-                let (mask, near) = r.enter(node, halves, t_min, best_t);
+                let (mask, near) = r.enter(node, halves, t_min, best.t);
                 sp = push_nearest_last(stack, sp, node, mask, near);
             }
         });
-        (best_id != u32::MAX).then(|| self.prims[best_prim].hit(ray, best_t))
+        (best.id != u32::MAX).then(|| match best.at {
+            HitAt::Triangle { block, lane } => self.tris[block].hit(lane, best.t),
+            HitAt::Sphere(k) => self.spheres[k].hit(ray, best.t),
+        })
+    }
+
+    /// Offers `best` every hit in the leaf `entry`.
+    #[inline(always)]
+    fn nearest_in_leaf(&self, r: &RayData, entry: Entry, t_min: f32, t_max: f32, best: &mut Best) {
+        let start = entry.child as usize;
+        if entry.count & SPHERE_LEAF != 0 {
+            let count = (entry.count & !SPHERE_LEAF) as usize;
+            for k in start..start + count {
+                let s = &self.spheres[k];
+                if let Some(t) = s.sphere.intersect(&r.ray, t_min, best.limit(t_max)) {
+                    best.offer(t, s.id, t_max, HitAt::Sphere(k));
+                }
+            }
+            return;
+        }
+        for block in start..start + entry.count as usize {
+            let tris = &self.tris[block];
+            let (mut mask, t) = tris.intersect(&r.ray4, t_min, best.limit(t_max));
+            // In lane order, as the scalar loop would meet them.
+            while mask != 0 {
+                let lane = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                best.offer(
+                    t[lane],
+                    tris.id[lane],
+                    t_max,
+                    HitAt::Triangle { block, lane },
+                );
+            }
+        }
     }
 
     /// Whether any primitive lies on the ray in (t_min, t_max).
@@ -292,12 +285,7 @@ impl Bvh {
                 sp -= 1;
                 let entry = stack[sp];
                 let Some(halves) = node_halves(entry.count) else {
-                    let start = entry.child as usize;
-                    let prims = &self.prims[start..start + entry.count as usize];
-                    if prims
-                        .iter()
-                        .any(|p| p.geometry.intersect(&r, t_min, t_max).is_some())
-                    {
+                    if self.any_in_leaf(&r, entry, t_min, t_max) {
                         return true;
                     }
                     continue;
@@ -311,6 +299,100 @@ impl Bvh {
             false
         })
     }
+}
+
+impl Bvh {
+    /// Whether anything in the leaf `entry` lies on the ray in (t_min, t_max).
+    #[inline(always)]
+    fn any_in_leaf(&self, r: &RayData, entry: Entry, t_min: f32, t_max: f32) -> bool {
+        let start = entry.child as usize;
+        if entry.count & SPHERE_LEAF != 0 {
+            let count = (entry.count & !SPHERE_LEAF) as usize;
+            return self.spheres[start..start + count]
+                .iter()
+                .any(|s| s.sphere.intersect(&r.ray, t_min, t_max).is_some());
+        }
+        self.tris[start..start + entry.count as usize]
+            .iter()
+            .any(|tris| tris.intersect(&r.ray4, t_min, t_max).0 != 0)
+    }
+}
+
+impl SpherePrim {
+    /// The hit at distance `t`, as `Hit::on` gives it for the object.
+    fn hit(&self, ray: &Ray, t: f32) -> Hit {
+        Hit {
+            t,
+            object: self.id as usize,
+            normal: self.sphere.normal(ray.at(t)),
+            material: self.material as usize,
+        }
+    }
+}
+
+/// Turns the leaf lanes' runs of primitives into blocks of up to four
+/// triangles or runs of spheres, stored in leaf order, and points the lanes
+/// at them.
+fn pack_leaves(
+    nodes: &mut [Node],
+    items: &[BuildPrim],
+    objects: &[Object],
+) -> (Vec<Tri4>, Vec<SpherePrim>) {
+    let mut leaves: Vec<(u32, usize, usize)> = Vec::new();
+    for (n, node) in nodes.iter().enumerate() {
+        for lane in 0..WIDTH {
+            let (first, count) = node.child(lane);
+            if is_leaf(count) {
+                leaves.push((first, n, lane));
+            }
+        }
+    }
+    leaves.sort_unstable();
+    let (mut tris, mut spheres) = (Vec::with_capacity(items.len() / 3), Vec::new());
+    for (first, n, lane) in leaves {
+        let (_, count) = nodes[n].child(lane);
+        let run = &items[first as usize..][..count as usize];
+        // A leaf holds spheres or triangles (`build.rs` splits the two).
+        let records = || run.iter().map(|p| (&objects[p.id as usize], p.id));
+        if run[0].sphere {
+            let start = spheres.len();
+            spheres.extend(records().filter_map(|(o, id)| sphere_prim(o, id)));
+            let count = (spheres.len() - start) as u32;
+            nodes[n].set(lane, start as u32, SPHERE_LEAF | count);
+        } else {
+            let triangles: Vec<TriRecord> =
+                records().filter_map(|(o, id)| tri_record(o, id)).collect();
+            nodes[n].set(lane, tris.len() as u32, triangles.len().div_ceil(4) as u32);
+            tris.extend(triangles.chunks(4).map(Tri4::new));
+        }
+    }
+    (tris, spheres)
+}
+
+fn tri_record(object: &Object, id: u32) -> Option<TriRecord> {
+    let Shape::Triangle(t) = &object.shape else {
+        return None;
+    };
+    let (e1, e2, edge_scale) = t.edges();
+    Some(TriRecord {
+        v0: t.v0,
+        e1,
+        e2,
+        edge_scale,
+        id,
+        material: object.material as u32,
+    })
+}
+
+fn sphere_prim(object: &Object, id: u32) -> Option<SpherePrim> {
+    let Shape::Sphere(sphere) = &object.shape else {
+        return None;
+    };
+    Some(SpherePrim {
+        sphere: sphere.clone(),
+        id,
+        material: object.material as u32,
+    })
 }
 
 /// Pushes the children of `node` that the ray enters (`mask`), farthest
@@ -358,6 +440,7 @@ fn next_up(t: f32) -> f32 {
 mod tests {
     use super::*;
     use crate::shapes::Triangle;
+    use glam::Vec3;
 
     /// xorshift: reproducible numbers in [-1, 1) without a dependency.
     struct Rng(u64);
@@ -459,7 +542,12 @@ mod tests {
         let mut rng = Rng(42);
         let objects = soup(&mut rng, 1000);
         let bvh = Bvh::build(&objects);
-        let mut ids: Vec<u32> = bvh.prims.iter().map(|p| p.id).collect();
+        let triangles = bvh
+            .tris
+            .iter()
+            .flat_map(|b| b.id)
+            .filter(|&id| id != u32::MAX);
+        let mut ids: Vec<u32> = triangles.chain(bvh.spheres.iter().map(|s| s.id)).collect();
         ids.sort_unstable();
         assert_eq!(ids, (0..objects.len() as u32).collect::<Vec<_>>());
         check_node(&bvh, 0, ([f32::MIN; 3], [f32::MAX; 3]), GROUPS);
@@ -507,7 +595,7 @@ mod tests {
     #[test]
     fn records_are_compact() {
         assert_eq!(std::mem::size_of::<Node>(), 32 * WIDTH);
-        assert_eq!(std::mem::size_of::<Prim>(), 52);
+        assert_eq!(std::mem::size_of::<Tri4>(), 192);
     }
 
     #[test]

@@ -68,6 +68,11 @@ pub(super) fn node_halves(count: u32) -> Option<usize> {
     }
 }
 
+/// Whether a lane's `count` marks a leaf.
+pub(super) fn is_leaf(count: u32) -> bool {
+    count != UNUSED && node_halves(count).is_none()
+}
+
 impl Node {
     const EMPTY: Node = Node {
         halves: [Half::EMPTY; GROUPS],
@@ -81,7 +86,7 @@ impl Node {
         }
     }
 
-    fn set(&mut self, lane: usize, child: u32, count: u32) {
+    pub(super) fn set(&mut self, lane: usize, child: u32, count: u32) {
         let half = &mut self.halves[lane / 4];
         (half.child[lane % 4], half.count[lane % 4]) = (child, count);
     }

@@ -5,7 +5,6 @@ mod sphere;
 mod triangle;
 
 pub use sphere::Sphere;
-pub(crate) use triangle::moller_trumbore;
 pub use triangle::Triangle;
 
 use crate::ray::Ray;

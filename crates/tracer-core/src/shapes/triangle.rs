@@ -16,9 +16,7 @@ impl Triangle {
     /// Moller-Trumbore, two-sided: a triangle seen from behind is still
     /// hit (and still casts its shadow), unlike GLM's front-face-only test.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        let e1 = self.v1 - self.v0;
-        let e2 = self.v2 - self.v0;
-        let edge_scale = f32::EPSILON * e1.length() * e2.length();
+        let (e1, e2, edge_scale) = self.edges();
         moller_trumbore(
             self.v0,
             e1,
@@ -29,6 +27,14 @@ impl Triangle {
             t_min,
             t_max,
         )
+    }
+
+    /// The edges from `v0` and the scale of the parallel test,
+    /// `EPSILON * |e1| * |e2|`: what `intersect` computes, and what the BVH
+    /// precomputes to find the same distances.
+    pub(crate) fn edges(&self) -> (Vec3, Vec3, f32) {
+        let (e1, e2) = (self.v1 - self.v0, self.v2 - self.v0);
+        (e1, e2, f32::EPSILON * e1.length() * e2.length())
     }
 
     /// The lab's normal, from the vertex order: never flipped toward the viewer.
@@ -51,12 +57,13 @@ impl Triangle {
     }
 }
 
-/// Moller-Trumbore on precomputed edges `e1 = v1 - v0`, `e2 = v2 - v0`,
-/// `edge_scale = EPSILON * |e1| * |e2|` and `dir_len = |ray.dir|`, so that
-/// the BVH, which precomputes them, finds bit-identical distances.
+/// Moller-Trumbore on the edges `e1 = v1 - v0`, `e2 = v2 - v0` and
+/// `edge_scale = EPSILON * |e1| * |e2|` (`Triangle::edges`) and
+/// `dir_len = |ray.dir|`. The BVH's four-lane test (`bvh/tri4.rs`) does the
+/// same operations in the same order.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-pub(crate) fn moller_trumbore(
+fn moller_trumbore(
     v0: Vec3,
     e1: Vec3,
     e2: Vec3,
