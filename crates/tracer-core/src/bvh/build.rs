@@ -7,10 +7,14 @@ use glam::{UVec3, Vec3A};
 
 /// Bins per axis of the SAH sweep.
 const BINS: usize = 16;
-/// Largest leaf the SAH may choose; larger nodes are always split.
-const MAX_LEAF: usize = 8;
-/// Cost of visiting a node, relative to one primitive test.
-const TRAVERSAL_COST: f32 = 1.0;
+/// Largest leaf the SAH may choose (four blocks of four triangles); larger
+/// nodes are always split.
+const MAX_LEAF: usize = 16;
+/// Cost of visiting a node, relative to one primitive test: an 8-wide node
+/// reads two to four cache lines and tests up to eight boxes. (Against 1,
+/// in one process: under half the nodes, the bunny 1 % slower, the 1.1M
+/// bunny 2 % faster.)
+const TRAVERSAL_COST: f32 = 2.0;
 /// Cost of testing four triangles at once, relative to one.
 const BLOCK_COST: f32 = 1.5;
 /// Deeper nodes become leaves, so the traversal stack cannot overflow.
