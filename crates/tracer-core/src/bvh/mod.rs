@@ -443,15 +443,15 @@ mod tests {
     use glam::Vec3;
 
     /// xorshift: reproducible numbers in [-1, 1) without a dependency.
-    struct Rng(u64);
+    pub(super) struct Rng(pub(super) u64);
     impl Rng {
-        fn next(&mut self) -> f32 {
+        pub(super) fn next(&mut self) -> f32 {
             self.0 ^= self.0 << 13;
             self.0 ^= self.0 >> 7;
             self.0 ^= self.0 << 17;
             (self.0 >> 40) as f32 / (1u64 << 23) as f32 - 1.0
         }
-        fn vec(&mut self, scale: f32) -> Vec3 {
+        pub(super) fn vec(&mut self, scale: f32) -> Vec3 {
             Vec3::new(self.next(), self.next(), self.next()) * scale
         }
     }

@@ -127,22 +127,9 @@ fn dot(a: &[Vec4; 3], b: &[Vec4; 3]) -> Vec4 {
 
 #[cfg(test)]
 mod tests {
+    use super::super::tests::Rng;
     use super::*;
     use crate::shapes::Triangle;
-
-    /// xorshift: reproducible numbers in [-1, 1).
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> f32 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            (self.0 >> 40) as f32 / (1u64 << 23) as f32 - 1.0
-        }
-        fn vec(&mut self, scale: f32) -> Vec3 {
-            Vec3::new(self.next(), self.next(), self.next()) * scale
-        }
-    }
 
     fn record(t: &Triangle, id: u32) -> TriRecord {
         let (e1, e2, edge_scale) = t.edges();
