@@ -80,12 +80,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     write_png_atomically(&image.encode(&scene.encoding), &output)?;
     if !args.quiet {
         eprintln!(
-            "rendered {} ({}x{}, {} objects) in {:.3} s ({:.3} s to prepare), \
+            "rendered {} ({}x{}, {}) in {:.3} s ({:.3} s to prepare), \
              {:.1} Mrays/s on {} threads -> {}",
             scene_name.display(),
             scene.camera.width,
             scene.camera.height,
-            scene.objects.len(),
+            objects_summary(file.objects.len(), scene.objects.len()),
             elapsed,
             prepared.as_secs_f64(),
             rays.total() as f64 / elapsed.max(1e-9) / 1e6,
@@ -94,6 +94,17 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// "5 objects", or with meshes "2 objects, 69667 primitives": a mesh is one
+/// object of the scene file and many triangles to the tracer.
+fn objects_summary(objects: usize, primitives: usize) -> String {
+    let plural = if objects == 1 { "" } else { "s" };
+    if primitives == objects {
+        format!("{objects} object{plural}")
+    } else {
+        format!("{objects} object{plural}, {primitives} primitives")
+    }
 }
 
 fn thread_pool(threads: Option<u32>) -> Result<rayon::ThreadPool> {

@@ -223,6 +223,33 @@ fn quiet_prints_nothing_on_success() {
 }
 
 #[test]
+fn the_summary_counts_scene_objects_and_mesh_triangles_apart() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("quad.obj"),
+        "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("m.toml"),
+        "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\nwidth = 40\nheight = 30\n\
+         [[objects]]\nmesh = { obj = \"quad.obj\" }\n\
+         [[objects]]\nsphere = { center = [0, 0, -3], radius = 1 }\n",
+    )
+    .unwrap();
+    let out = tracer(dir.path(), &["render", "m.toml"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("(40x30, 2 objects, 3 primitives)"),
+        "{stderr}"
+    );
+    let out = tracer(dir.path(), &["render", &scene("reflectance2.toml")]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("(500x400, 5 objects)"), "{stderr}");
+}
+
+#[test]
 fn a_missing_mesh_file_exits_2_and_names_the_key() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(
