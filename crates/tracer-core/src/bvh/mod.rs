@@ -201,6 +201,7 @@ impl Bvh {
         }
     }
 
+    /// How many 8-wide nodes the tree has.
     pub fn node_count(&self) -> usize {
         self.nodes.len()
     }
