@@ -100,7 +100,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     if args.reps == 0 {
         bail!("--reps: expected at least 1");
     }
-    let root = workspace_root();
+    let root = crate::workspace_root();
     let peers = args
         .peers
         .clone()
@@ -138,13 +138,6 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     print_report(&rows, args.reps);
     Ok(())
-}
-
-fn workspace_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("xtask sits in the workspace") // a compile-time path with a parent
-        .to_path_buf()
 }
 
 fn load(path: &Path) -> Result<SceneFile> {

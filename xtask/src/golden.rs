@@ -452,7 +452,7 @@ fn bless_one(name: &str, image: &RgbImage, golden_dir: &Path) -> Result<Blessed>
             Err(change) => Blessed::Resized { name, change },
         },
     };
-    crate::write_atomically(&crate::png_bytes(image)?, &path)?;
+    tracer_cli::output::write_png_atomically(image, &path)?;
     Ok(blessed)
 }
 

@@ -52,7 +52,7 @@ pub fn write(dir: &Path, results: &[CaseResult]) -> Result<PathBuf> {
 
 fn save(dir: &Path, file: &str, image: Option<&RgbImage>) -> Result<()> {
     if let Some(image) = image {
-        std::fs::write(dir.join(file), crate::png_bytes(image)?)
+        std::fs::write(dir.join(file), tracer_cli::output::png_bytes(image)?)
             .with_context(|| format!("cannot write {file}"))?;
     }
     Ok(())

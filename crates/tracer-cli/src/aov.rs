@@ -1,13 +1,13 @@
 //! `tracer render --aov NAME`: an image of one quantity per pixel (the lab's
 //! ray-direction images, normals, depth) instead of the shaded colour.
 
-use crate::output::write_png_atomically;
 use crate::render::RenderArgs;
 use crate::BadInput;
 use anyhow::Result;
 use clap::ValueEnum;
 use scene_format::SceneFile;
 use std::path::{Path, PathBuf};
+use tracer_cli::output::write_png_atomically;
 use tracer_core::aov::{render_aov, Aov, AOV_ENCODING};
 use tracer_core::Scene;
 

@@ -1,11 +1,11 @@
 //! `tracer calib-chart`: the lab's calibration chart for measuring a
 //! display's gamma (five grey patches 0, 0.25, 0.5, 0.75, 1).
 
-use crate::output::write_png_atomically;
 use crate::BadInput;
 use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
+use tracer_cli::output::write_png_atomically;
 use tracer_core::calib::calibration_chart;
 use tracer_core::image::{Encoding, Saturation};
 

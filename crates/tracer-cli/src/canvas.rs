@@ -1,11 +1,11 @@
 //! `tracer render` of a 2D canvas scene (a file with a `[canvas]` table).
 
-use crate::output::write_png_atomically;
 use crate::render::RenderArgs;
 use crate::BadInput;
 use anyhow::Result;
 use scene_format::CanvasFile;
 use std::path::Path;
+use tracer_cli::output::write_png_atomically;
 
 /// Draws a canvas scene read from `path`.
 pub fn draw(args: &RenderArgs, path: &Path, file: &CanvasFile) -> Result<()> {

@@ -1,11 +1,11 @@
 //! `tracer gamma fit`: a display's gamma from luminances measured on the
 //! calibration chart (the lab's Matlab step, exercise 17).
 
-use crate::output::write_png_atomically;
 use crate::BadInput;
 use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
 use std::path::PathBuf;
+use tracer_cli::output::write_png_atomically;
 use tracer_core::gamma::{fit_measurements, linearity_rmse, normalised_points, parse_measurements};
 use tracer_core::gamma_plot::{plot_gamma, DEFAULT_SIZE};
 

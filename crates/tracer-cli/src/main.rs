@@ -5,7 +5,6 @@ mod calib_chart;
 mod canvas;
 mod check;
 mod gamma;
-mod output;
 mod progress;
 mod render;
 mod report;

@@ -8,6 +8,11 @@ use std::path::Path;
 /// folder and a rename: a failure leaves no partial file and an existing
 /// image untouched.
 pub fn write_png_atomically(image: &image::RgbImage, path: &Path) -> Result<()> {
+    write_atomically(&png_bytes(image)?, path)
+}
+
+/// The PNG bytes of an image.
+pub fn png_bytes(image: &image::RgbImage) -> Result<Vec<u8>> {
     let mut bytes = Vec::new();
     image
         .write_to(
@@ -15,7 +20,7 @@ pub fn write_png_atomically(image: &image::RgbImage, path: &Path) -> Result<()> 
             image::ImageFormat::Png,
         )
         .context("cannot encode the PNG")?;
-    write_atomically(&bytes, path)
+    Ok(bytes)
 }
 
 pub fn write_atomically(bytes: &[u8], path: &Path) -> Result<()> {

@@ -1,6 +1,5 @@
 //! `tracer render`: scene file in, PNG out.
 
-use crate::output::write_png_atomically;
 use crate::progress::Progress;
 use crate::BadInput;
 use anyhow::Result;
@@ -8,6 +7,7 @@ use clap::Args;
 use scene_format::{Format, SceneKind};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use tracer_cli::output::write_png_atomically;
 use tracer_core::Scene;
 
 /// The scene rendered when none is given: the lab's final scene (table 1.10).

@@ -11,11 +11,14 @@ fn tracer(dir: &Path, args: &[&str]) -> Output {
         .expect("run tracer")
 }
 
-fn scene(name: &str) -> String {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenes")
-        .join(name);
+/// `relative` to this crate's folder, as an argument for `tracer`.
+fn from_crate(relative: &str) -> String {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(relative);
     p.to_str().unwrap().to_string()
+}
+
+fn scene(name: &str) -> String {
+    from_crate(&format!("../../scenes/{name}"))
 }
 
 #[test]
@@ -267,10 +270,7 @@ fn a_missing_mesh_file_exits_2_and_names_the_key() {
 }
 
 fn bad(name: &str) -> String {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../scene-format/tests/bad")
-        .join(name);
-    p.to_str().unwrap().to_string()
+    from_crate(&format!("../scene-format/tests/bad/{name}"))
 }
 
 #[test]
