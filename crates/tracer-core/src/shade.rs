@@ -1,8 +1,9 @@
 //! The lab's `rayTrace`: Blinn-Phong in the lab's order, shadows, texture,
 //! and mirror recursion with energy (lab sections 4 and 5).
 
+use crate::material::Material;
 use crate::ray::Ray;
-use crate::scene::{Hit, Scene};
+use crate::scene::Scene;
 use crate::EPSILON;
 use glam::Vec3;
 
@@ -56,7 +57,7 @@ pub fn trace_counted(
     let material = &scene.materials[hit.material];
     let p = ray.at(hit.t);
     let n = hit.normal;
-    let mut local = local_colour(scene, &hit, ray, p, n, stats);
+    let mut local = local_colour(scene, material, ray, p, n, stats);
     if let Some(texture) = &material.texture {
         let shape = &scene.objects[hit.object].shape;
         local *= texture.texel(shape.texture_uv(p, n));
@@ -76,13 +77,12 @@ pub fn trace_counted(
 /// light is not shadowed.
 fn local_colour(
     scene: &Scene,
-    hit: &Hit,
+    m: &Material,
     ray: &Ray,
     p: Vec3,
     n: Vec3,
     stats: &mut RayStats,
 ) -> Vec3 {
-    let m = &scene.materials[hit.material];
     let view = -ray.dir;
     let mut colour = Vec3::ZERO;
     for light in &scene.lights {
