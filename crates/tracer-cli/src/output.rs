@@ -28,9 +28,11 @@ pub fn write_atomically(bytes: &[u8], path: &Path) -> Result<()> {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".tracer-")
-        .suffix(".tmp")
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".tracer-").suffix(".tmp");
+    #[cfg(unix)]
+    builder.permissions(permissions_for(path));
+    let mut tmp = builder
         .tempfile_in(dir)
         .with_context(|| format!("cannot create a file in {}", dir.display()))?;
     tmp.write_all(bytes)
@@ -39,6 +41,16 @@ pub fn write_atomically(bytes: &[u8], path: &Path) -> Result<()> {
     tmp.persist(path)
         .with_context(|| format!("cannot write {}", path.display()))?;
     Ok(())
+}
+
+/// The mode of the file being replaced, or an ordinary file's (rw-r--r--,
+/// less the umask): a temporary file is created readable by its owner
+/// only, and the renamed image would keep that.
+#[cfg(unix)]
+fn permissions_for(path: &Path) -> std::fs::Permissions {
+    use std::os::unix::fs::PermissionsExt;
+    let mode = std::fs::metadata(path).map_or(0o644, |m| m.permissions().mode() & 0o7777);
+    std::fs::Permissions::from_mode(mode)
 }
 
 #[cfg(test)]
@@ -73,6 +85,26 @@ mod tests {
         assert!(write_atomically(b"new", &target).is_err());
         assert_eq!(std::fs::read(target.join("keep")).unwrap(), b"old");
         assert!(leftovers(dir.path()).is_empty());
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_new_file_is_readable_by_all_and_a_replaced_one_keeps_its_mode() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = tempfile::tempdir().unwrap();
+        let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+        let new = dir.path().join("new.png");
+        write_atomically(b"new", &new).unwrap();
+        // As a plain write would make it (0o666 less the umask), less
+        // others' and the group's write permission.
+        let plain = dir.path().join("plain.png");
+        std::fs::write(&plain, b"plain").unwrap();
+        assert_eq!(mode(&new), mode(&plain) & 0o644);
+        let old = dir.path().join("old.png");
+        std::fs::write(&old, b"old").unwrap();
+        std::fs::set_permissions(&old, std::fs::Permissions::from_mode(0o640)).unwrap();
+        write_atomically(b"new", &old).unwrap();
+        assert_eq!(mode(&old), 0o640);
     }
 
     #[test]
