@@ -14,8 +14,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::Arc;
 use std::time::Instant;
-use tracer_core::bvh::Bvh;
-use tracer_core::{render_with_progress, RayStats, Scene};
+use tracer_core::accel::Bvh;
+use tracer_core::{prepare, render, RayStats, RenderJob, Scene};
 
 /// Options of `cargo xtask bench`.
 #[derive(Debug, Clone, clap::Args)]
@@ -237,7 +237,7 @@ struct Run {
 fn measure(scenes: &[BenchScene], reps: usize) -> Result<Vec<Row>> {
     let prepared = scenes
         .iter()
-        .map(|s| Scene::prepare(&s.file).map_err(|e| anyhow::anyhow!("{e}")))
+        .map(|s| prepare(&s.file).map_err(|e| anyhow::anyhow!("{e}")))
         .collect::<Result<Vec<_>>>()?;
     let pools = [pool(THREADS[0])?, pool(THREADS[1])?];
     let mut runs = vec![Vec::new(); scenes.len()];
@@ -251,7 +251,7 @@ fn measure(scenes: &[BenchScene], reps: usize) -> Result<Vec<Row>> {
         .iter()
         .zip(&prepared)
         .zip(runs)
-        .map(|((s, p), runs)| summarise(s.name, p.objects.len(), &runs))
+        .map(|((s, p), runs)| summarise(s.name, p.objects().len(), &runs))
         .collect())
 }
 
@@ -259,12 +259,14 @@ fn measure_run(scene: &Scene, pools: &[rayon::ThreadPool; 2]) -> Run {
     let mut run = Run::default();
     for (t, pool) in pools.iter().enumerate() {
         let (start, cpu) = (Instant::now(), cpu_time());
-        let bvh = pool.install(|| Bvh::build(&scene.objects));
+        let bvh = pool.install(|| Bvh::build(scene.objects()));
         run.build_s[t] = start.elapsed().as_secs_f64();
         let build_cpu = cpu_time() - cpu;
         drop(bvh);
         let (start, cpu) = (Instant::now(), cpu_time());
-        let (image, rays) = pool.install(|| render_with_progress(scene, &|_| {}));
+        let job = RenderJob::full(scene);
+        let rendered = pool.install(|| render(scene, &job, &|_| {}));
+        let (image, rays) = (rendered.image, rendered.rays);
         run.render_s[t] = start.elapsed().as_secs_f64();
         let render_cpu = cpu_time() - cpu;
         drop(image);

@@ -6,11 +6,12 @@ use crate::manifest::Manifest;
 use anyhow::{bail, Context, Result};
 use image::RgbImage;
 use rayon::prelude::*;
-use scene_format::{Saturation, SceneKind};
+use scene_format::SceneKind;
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use tracer_core::aov::Aov;
+use tracer_core::image::Saturation;
 use tracer_core::Encoding;
 
 pub type RenderFn = Box<dyn Fn() -> Result<RgbImage> + Send + Sync>;
@@ -40,7 +41,9 @@ pub fn render_scene_file(path: &Path) -> Result<RgbImage> {
     match scene_format::load_any(path)? {
         SceneKind::Scene3d(file) => {
             let scene = prepare(&file, path)?;
-            Ok(tracer_core::render(&scene).encode(&scene.encoding))
+            let job = tracer_core::RenderJob::full(&scene);
+            let image = tracer_core::render(&scene, &job, &|_| {}).image;
+            Ok(image.encode(scene.encoding()))
         }
         SceneKind::Canvas(canvas) => {
             Ok(tracer_core::canvas::draw(&canvas).encode(&tracer_core::canvas::encoding(&canvas)))
@@ -49,14 +52,16 @@ pub fn render_scene_file(path: &Path) -> Result<RgbImage> {
 }
 
 fn prepare(file: &scene_format::SceneFile, path: &Path) -> Result<tracer_core::Scene> {
-    tracer_core::Scene::prepare(file)
+    tracer_core::prepare(file)
         .with_context(|| format!("{}: cannot prepare the scene", path.display()))
 }
 
 /// A ray-direction image of the lab (exercise 6), as `tracer render --aov`.
 fn render_aov(path: &Path, aov: Aov) -> Result<RgbImage> {
     let scene = prepare(&scene_format::load_path(path)?, path)?;
-    Ok(tracer_core::aov::render_aov(&scene, aov).encode(&tracer_core::aov::AOV_ENCODING))
+    let job = tracer_core::RenderJob::full(&scene).with_output(tracer_core::Output::Aov(aov));
+    let image = tracer_core::render(&scene, &job, &|_| {}).image;
+    Ok(image.encode(&tracer_core::aov::AOV_ENCODING))
 }
 
 /// The calibration chart, as `tracer calib-chart [--gamma G]` writes it.

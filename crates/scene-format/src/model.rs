@@ -287,5 +287,25 @@ impl Object {
     }
 }
 
-/// The names of the built-in textures.
-pub const TEXTURE_NAMES: &[&str] = &["lab-stripes"];
+/// The textures built into the tracer, as scene files name them
+/// (`texture = "lab-stripes"`). The tracer's core maps each to its image
+/// with an exhaustive match, so a texture added here cannot be forgotten there.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum BuiltinTexture {
+    LabStripes,
+}
+
+impl BuiltinTexture {
+    pub const ALL: [BuiltinTexture; 1] = [BuiltinTexture::LabStripes];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            BuiltinTexture::LabStripes => "lab-stripes",
+        }
+    }
+
+    /// The built-in texture called `name`, if there is one.
+    pub fn from_name(name: &str) -> Option<BuiltinTexture> {
+        Self::ALL.into_iter().find(|t| t.name() == name)
+    }
+}

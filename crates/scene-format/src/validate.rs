@@ -173,10 +173,11 @@ impl Validator {
     }
 
     fn texture_name(&mut self, path: impl Into<KeyPath>, name: &str) {
-        if !TEXTURE_NAMES.contains(&name) {
+        if BuiltinTexture::from_name(name).is_none() {
+            let known = BuiltinTexture::ALL.map(BuiltinTexture::name);
             self.error(
                 path,
-                format!("unknown texture `{name}`; {}", hint(name, TEXTURE_NAMES)),
+                format!("unknown texture `{name}`; {}", hint(name, &known)),
             );
         }
     }

@@ -8,8 +8,8 @@ use clap::ValueEnum;
 use scene_format::SceneFile;
 use std::path::{Path, PathBuf};
 use tracer_cli::output::write_png_atomically;
-use tracer_core::aov::{render_aov, Aov, AOV_ENCODING};
-use tracer_core::Scene;
+use tracer_core::aov::{Aov, AOV_ENCODING};
+use tracer_core::{Output, RenderJob};
 
 /// The AOV names on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -50,9 +50,10 @@ pub fn run(args: &RenderArgs, aov: AovArg, scene_name: &Path, file: &SceneFile) 
         let stem = stem.file_stem().unwrap_or_default().to_string_lossy();
         PathBuf::from(format!("{stem}-{}.png", aov.name()))
     });
-    let scene =
-        Scene::prepare(file).map_err(|e| BadInput(format!("{}: {e}", scene_name.display())))?;
-    let image = render_aov(&scene, aov);
+    let scene = tracer_core::prepare(file)
+        .map_err(|e| BadInput(format!("{}: {e}", scene_name.display())))?;
+    let job = RenderJob::full(&scene).with_output(Output::Aov(aov));
+    let image = tracer_core::render(&scene, &job, &|_| {}).image;
     write_png_atomically(&image.encode(&encoding), &output)?;
     eprintln!(
         "rendered {} of {} -> {}",

@@ -8,7 +8,7 @@ use scene_format::{Format, SceneKind};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use tracer_cli::output::write_png_atomically;
-use tracer_core::Scene;
+use tracer_core::RenderJob;
 
 /// The scene rendered when none is given: the lab's final scene (table 1.10).
 const DEFAULT_SCENE: &str = include_str!("../../../scenes/reflectance2.toml");
@@ -68,24 +68,26 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let pool = thread_pool(args.threads)?;
     let start = Instant::now();
     let scene = pool
-        .install(|| Scene::prepare(&file))
+        .install(|| tracer_core::prepare(&file))
         .map_err(|e| BadInput(format!("{}: {e}", scene_name.display())))?;
     let prepared = start.elapsed();
-    let progress = Progress::new(scene.camera.height.into(), args.quiet);
+    let camera = scene.camera();
+    let progress = Progress::new(camera.height.into(), args.quiet);
     let start = Instant::now();
-    let (image, rays) =
-        pool.install(|| tracer_core::render_with_progress(&scene, &|n| progress.rows_done(n)));
+    let job = RenderJob::full(&scene);
+    let rendered = pool.install(|| tracer_core::render(&scene, &job, &|n| progress.rows_done(n)));
+    let (image, rays) = (rendered.image, rendered.rays);
     let elapsed = start.elapsed().as_secs_f64();
     progress.finish();
-    write_png_atomically(&image.encode(&scene.encoding), &output)?;
+    write_png_atomically(&image.encode(scene.encoding()), &output)?;
     if !args.quiet {
         eprintln!(
             "rendered {} ({}x{}, {}) in {:.3} s ({:.3} s to prepare), \
              {:.1} Mrays/s on {} threads -> {}",
             scene_name.display(),
-            scene.camera.width,
-            scene.camera.height,
-            objects_summary(file.objects.len(), scene.objects.len()),
+            camera.width,
+            camera.height,
+            objects_summary(file.objects.len(), scene.objects().len()),
             elapsed,
             prepared.as_secs_f64(),
             rays.total() as f64 / elapsed.max(1e-9) / 1e6,

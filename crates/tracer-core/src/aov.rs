@@ -1,13 +1,15 @@
 //! Images of one quantity per pixel instead of the shaded colour ("arbitrary
 //! output variables"): the lab's ray-direction images (exercise 6, lab
-//! section 2), the surface normal and the depth, for debugging scenes.
+//! section 2), the surface normal and the depth, for debugging scenes. The
+//! pixel driver (`render`) computes them, sample by sample.
 
-use crate::image::{Encoding, LinearImage, Saturation};
+use crate::image::{Encoding, Saturation};
+use crate::ray::Ray;
 use crate::scene::Scene;
 use crate::EPSILON;
 use glam::Vec3;
-use rayon::prelude::*;
 
+/// One quantity per pixel.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Aov {
     /// `(dir.x + 1) / 2` of the primary ray in red, the lab's gradient-OX.png.
@@ -19,8 +21,10 @@ pub enum Aov {
     /// `(n + 1) / 2` of the lab's (unflipped) unit normal at the nearest hit;
     /// black where the ray hits nothing.
     Normal,
-    /// Distance to the nearest hit, bright near, dark far: the nearest hit in
-    /// the image is 1, the farthest 0.1, no hit 0.
+    /// Distance to the nearest hit, bright near, dark far: 1 at the nearest
+    /// point of the scene's bounding box, 0.1 at its farthest corner (as seen
+    /// from the eye), 0 for no hit. The range is the scene's, not the
+    /// image's, so a region of the image gets the greys of the whole.
     Depth,
 }
 
@@ -50,90 +54,73 @@ pub const AOV_ENCODING: Encoding = Encoding {
     saturation: Saturation::Clamp,
 };
 
-/// The image of `aov` for the scene's camera, one primary ray per pixel centre.
-pub fn render_aov(scene: &Scene, aov: Aov) -> LinearImage {
-    match aov {
-        Aov::RayDirX => ray_dir(scene, 0),
-        Aov::RayDirY => ray_dir(scene, 1),
-        Aov::RayDirZ => ray_dir(scene, 2),
-        Aov::Normal => per_pixel(scene, |i, j| {
-            let ray = scene.camera.primary_ray(i, j);
-            scene
-                .closest_hit(&ray, EPSILON, f32::INFINITY)
-                .map_or(Vec3::ZERO, |hit| (hit.normal + Vec3::ONE) / 2.0)
-        }),
-        Aov::Depth => depth(scene),
+/// What the AOVs of one render share: the depth range of the scene.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct AovContext {
+    near: f32,
+    far: f32,
+}
+
+impl AovContext {
+    pub(crate) fn new(scene: &Scene) -> AovContext {
+        let eye = scene.camera().eye;
+        let (near, far) = scene.bounds().map_or((0.0, 0.0), |(lo, hi)| {
+            // The nearest point of the box (the eye itself when inside), and
+            // the farthest corner.
+            let near = (eye.clamp(lo, hi) - eye).length();
+            let far_corner = Vec3::select(eye.cmplt((lo + hi) / 2.0), hi, lo);
+            (near, (far_corner - eye).length())
+        });
+        AovContext { near, far }
     }
-}
 
-/// Component `axis` of each primary direction, `(d + 1) / 2`, in channel `axis`.
-fn ray_dir(scene: &Scene, axis: usize) -> LinearImage {
-    per_pixel(scene, |i, j| {
-        let d = scene.camera.primary_ray(i, j).dir;
-        let mut rgb = Vec3::ZERO;
-        rgb[axis] = (d[axis] + 1.0) / 2.0;
-        rgb
-    })
-}
+    /// The AOV's value for one primary ray.
+    pub(crate) fn value(&self, scene: &Scene, aov: Aov, ray: &Ray) -> Vec3 {
+        match aov {
+            Aov::RayDirX => channel(0, ray.dir.x),
+            Aov::RayDirY => channel(1, ray.dir.y),
+            Aov::RayDirZ => channel(2, ray.dir.z),
+            Aov::Normal => scene
+                .closest_hit(ray, EPSILON, f32::INFINITY)
+                .map_or(Vec3::ZERO, |hit| (hit.geometric_normal + Vec3::ONE) / 2.0),
+            Aov::Depth => scene
+                .closest_hit(ray, EPSILON, f32::INFINITY)
+                .map_or(Vec3::ZERO, |hit| {
+                    Vec3::splat(self.grey(hit.t * ray.dir.length()))
+                }),
+        }
+    }
 
-fn depth(scene: &Scene) -> LinearImage {
-    // First the distances (infinite for a miss), then the grey levels.
-    let distances = per_pixel(scene, |i, j| {
-        let ray = scene.camera.primary_ray(i, j);
-        let t = scene
-            .closest_hit(&ray, EPSILON, f32::INFINITY)
-            .map_or(f32::INFINITY, |h| h.t);
-        Vec3::splat(t)
-    });
-    let hits = distances
-        .pixels
-        .iter()
-        .map(|p| p.x)
-        .filter(|t| t.is_finite());
-    let (near, far) = hits.fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), t| {
-        (lo.min(t), hi.max(t))
-    });
-    let span = far - near;
-    let grey = |t: f32| {
-        if !t.is_finite() {
-            0.0
-        } else if span > 0.0 {
-            1.0 - 0.9 * (t - near) / span
+    /// The depth grey of a hit at `distance` from the eye.
+    fn grey(&self, distance: f32) -> f32 {
+        let span = self.far - self.near;
+        if span > 0.0 {
+            (1.0 - 0.9 * (distance - self.near) / span).clamp(0.1, 1.0)
         } else {
             1.0
         }
-    };
-    LinearImage {
-        pixels: distances
-            .pixels
-            .iter()
-            .map(|p| Vec3::splat(grey(p.x)))
-            .collect(),
-        ..distances
     }
 }
 
-/// An image whose pixel (i, j) is `f(i, j)`, rows in parallel.
-fn per_pixel(scene: &Scene, f: impl Fn(u32, u32) -> Vec3 + Sync) -> LinearImage {
-    let (width, height) = (scene.camera.width, scene.camera.height);
-    let mut image = LinearImage::new(width, height);
-    image
-        .pixels
-        .par_chunks_mut(width as usize)
-        .enumerate()
-        .for_each(|(j, row)| {
-            for (i, pixel) in row.iter_mut().enumerate() {
-                *pixel = f(i as u32, j as u32);
-            }
-        });
-    image
+/// `(d + 1) / 2` in channel `axis`, the others 0.
+fn channel(axis: usize, d: f32) -> Vec3 {
+    let mut rgb = Vec3::ZERO;
+    rgb[axis] = (d + 1.0) / 2.0;
+    rgb
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::image::LinearImage;
+    use crate::render::{render, Output, Region, RenderJob};
     use scene_format::Format;
     use std::path::Path;
+
+    fn render_aov(scene: &Scene, aov: Aov) -> LinearImage {
+        let job = RenderJob::full(scene).with_output(Output::Aov(aov));
+        render(scene, &job, &|_| {}).image
+    }
 
     /// The lab's camera (eye (0,0,10), fov 50, 500x400) and one sphere at the
     /// origin, r 1.6.
@@ -141,7 +128,7 @@ mod tests {
         let text = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
                     [[objects]]\nsphere = { center = [0, 0, 0], radius = 1.6 }\n";
         let file = scene_format::load_str(text, Format::Toml, Path::new("t.toml")).unwrap();
-        Scene::prepare(&file).unwrap()
+        crate::prepare::prepare(&file).unwrap()
     }
 
     fn assert_near(got: Vec3, expected: [f32; 3], tolerance: f32) {
@@ -193,15 +180,54 @@ mod tests {
     }
 
     #[test]
-    fn depth_is_brightest_nearest_and_black_for_misses() {
+    fn depth_greys_follow_the_scenes_box() {
         let d = render_aov(&lab_scene(), Aov::Depth);
-        let max = d.pixels.iter().map(|p| p.x).fold(0.0, f32::max);
-        assert_eq!(max, 1.0);
-        // The centre pixel is among the nearest: the sphere's front point.
-        assert!(d.get(249, 199).x > 0.99);
-        assert_eq!(d.get(0, 0), Vec3::ZERO);
-        // The silhouette is farther than the centre.
-        let edge = (0..250).find(|&i| d.get(i, 199).x > 0.0).unwrap();
-        assert!(d.get(edge, 199).x < d.get(249, 199).x);
+        // The sphere's box is [-1.6, 1.6]^3 seen from (0, 0, 10): nearest at
+        // 8.4, farthest corner (-1.6, -1.6, -1.6) at sqrt(2 * 1.6^2 + 11.6^2).
+        let (near, far) = (8.4f32, (2.0 * 1.6f32 * 1.6 + 11.6 * 11.6).sqrt());
+        let grey = |distance: f32| 1.0 - 0.9 * (distance - near) / (far - near);
+        // The centre ray meets the sphere's front point, at 8.4: white.
+        assert!(
+            (d.get(249, 199).x - 1.0).abs() < 1e-3,
+            "{}",
+            d.get(249, 199)
+        );
+        assert_eq!(d.get(0, 0), Vec3::ZERO, "a miss is black");
+        // Along the middle row the farthest hit nears the silhouette, where
+        // the ray grazes the sphere at sqrt(10^2 - 1.6^2) from the eye.
+        let row: Vec<f32> = (0..500)
+            .map(|i| d.get(i, 199).x)
+            .filter(|&g| g > 0.0)
+            .collect();
+        let darkest = row.iter().copied().fold(1.0, f32::min);
+        let silhouette = grey((100.0f32 - 1.6 * 1.6).sqrt());
+        assert!(
+            darkest >= silhouette - 1e-3 && darkest < silhouette + 0.05,
+            "{darkest} vs {silhouette}"
+        );
+    }
+
+    #[test]
+    fn a_regions_depth_is_the_same_as_the_whole_images() {
+        let scene = lab_scene();
+        let whole = render_aov(&scene, Aov::Depth);
+        let region = Region {
+            x0: 240,
+            y0: 150,
+            x1: 330,
+            y1: 210,
+        };
+        let job = RenderJob {
+            region,
+            samples: 1,
+            output: Output::Aov(Aov::Depth),
+        };
+        let part = render(&scene, &job, &|_| {}).image;
+        assert_eq!((part.width, part.height), (90, 60));
+        for j in 0..60 {
+            for i in 0..90 {
+                assert_eq!(part.get(i, j), whole.get(240 + i, 150 + j), "({i}, {j})");
+            }
+        }
     }
 }

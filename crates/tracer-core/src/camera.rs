@@ -4,6 +4,9 @@
 use crate::ray::Ray;
 use glam::{Mat3, Vec3};
 
+/// The lab's pinhole camera: the eye, the image size, and the projection
+/// matrix that turns an image point into a ray direction. With the lab's
+/// conventions world +x is on the image's left (lab section 0).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Camera {
     pub eye: Vec3,
@@ -29,17 +32,6 @@ impl Camera {
             height,
             projection: Mat3::from_cols(u, v, o),
         }
-    }
-
-    pub fn from_scene(c: &scene_format::Camera) -> Self {
-        Camera::new(
-            c.eye.into(),
-            c.look_at.into(),
-            c.up.into(),
-            c.fov,
-            c.width,
-            c.height,
-        )
     }
 
     /// The ray through image point (fx, fy); a pixel's centre is (i + 0.5, j + 0.5).

@@ -2,7 +2,16 @@
 //! rule, gamma, 8-bit truncation (lab sections 5.3, 6 and 7).
 
 use glam::Vec3;
-pub use scene_format::Saturation;
+
+/// What happens to a colour with a channel over 1 (lab 5.3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Saturation {
+    /// The lab's rule: any channel over 1 makes the whole pixel white.
+    #[default]
+    White,
+    /// Each channel is clamped to 1 on its own.
+    Clamp,
+}
 
 /// Linear RGB, row 0 at the top; pixel (i, j) at `pixels[j * width + i]`.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,30 +1,38 @@
-//! The ray tracer of the lab: camera, rays, shapes, Blinn-Phong shading,
-//! shadows, mirror recursion, and the encoding of the image. It reads no
-//! files and prints nothing.
+//! The 3D ray tracer of the lab, and beyond it: camera, rays, shapes and
+//! their BVH, materials, lights, shading with shadows and mirror recursion,
+//! the pixel driver, and the encoding of the image. It reads no files and
+//! prints nothing; `prepare` is the one module that reads the scene file's
+//! types.
+//!
+//! The flow: `prepare(&SceneFile) -> Scene`, then
+//! `render(&Scene, &RenderJob, progress) -> Rendered` (a linear image and
+//! the ray counts), then `LinearImage::encode(scene.encoding())`.
 
+pub mod accel;
 pub mod aov;
-pub mod bvh;
 pub mod calib;
 pub mod camera;
 pub mod canvas;
 pub mod gamma;
 pub mod gamma_plot;
+pub mod geometry;
 pub mod image;
+pub mod integrate;
 pub mod light;
 pub mod material;
+pub mod prepare;
 pub mod ray;
 pub mod render;
 pub mod scene;
-pub mod shade;
-pub mod shapes;
 pub mod texture;
 
 pub use camera::Camera;
 pub use image::{Encoding, LinearImage};
+pub use integrate::RayStats;
+pub use prepare::{prepare, PrepareError};
 pub use ray::Ray;
-pub use render::{render, render_with_progress};
+pub use render::{render, Output, Region, RenderJob, Rendered};
 pub use scene::Scene;
-pub use shade::RayStats;
 
 /// Minimum distance along a secondary ray, so it does not hit its own origin
 /// surface (the lab's epsilon for self-hits).

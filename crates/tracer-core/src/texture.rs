@@ -10,6 +10,24 @@ pub struct Texture {
     texels: Vec<Vec3>,
 }
 
+/// The textures built into the tracer, by the name a scene file gives them.
+/// The one registry: the file format knows the names, this the images, and
+/// `prepare` maps one to the other with an exhaustive match.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Builtin {
+    /// The lab's `createTexture(400, 400)`: grey stripes.
+    LabStripes,
+}
+
+impl Builtin {
+    /// The texture's image.
+    pub fn texture(self) -> Texture {
+        match self {
+            Builtin::LabStripes => Texture::lab_stripes(400, 400),
+        }
+    }
+}
+
 /// The two greys of the lab's stripes (8-bit values) and the stripe heights.
 const STRIPE_DARK: u8 = 10;
 const STRIPE_LIGHT: u8 = 200;

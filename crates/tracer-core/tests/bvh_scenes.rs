@@ -4,13 +4,18 @@
 mod common;
 
 use common::{load, scenes_dir, LAB_SCENES};
-use tracer_core::{render, render_with_progress, LinearImage, Scene};
+use tracer_core::accel::brute_force;
+use tracer_core::{prepare, render, LinearImage, RenderJob, Scene};
+
+fn render_image(scene: &Scene) -> LinearImage {
+    render(scene, &RenderJob::full(scene), &|_| {}).image
+}
 
 /// The bunny benchmark scene, made small enough for brute force.
 fn small_bunny() -> Scene {
     let mut file = load(&scenes_dir().join("bench/bunny.toml"));
     (file.camera.width, file.camera.height) = (96, 54);
-    Scene::prepare(&file).expect("prepare")
+    prepare(&file).expect("prepare")
 }
 
 fn in_pool(threads: usize, scene: &Scene) -> LinearImage {
@@ -18,17 +23,17 @@ fn in_pool(threads: usize, scene: &Scene) -> LinearImage {
         .num_threads(threads)
         .build()
         .expect("a thread pool")
-        .install(|| render(scene))
+        .install(|| render_image(scene))
 }
 
 #[test]
 fn lab_scenes_are_identical_with_and_without_the_bvh() {
     for name in LAB_SCENES {
         let file = load(&scenes_dir().join(format!("{name}.toml")));
-        let scene = Scene::prepare(&file).expect("prepare");
-        assert!(scene.bvh.is_some());
-        let fast = render(&scene);
-        let slow = render(&scene.brute_force());
+        let scene = prepare(&file).expect("prepare");
+        assert!(scene.has_bvh());
+        let fast = render_image(&scene);
+        let slow = render_image(&scene.brute_force());
         assert!(fast == slow, "{name}: the BVH changed the image");
     }
 }
@@ -36,9 +41,9 @@ fn lab_scenes_are_identical_with_and_without_the_bvh() {
 #[test]
 fn the_bunny_is_identical_with_and_without_the_bvh() {
     let scene = small_bunny();
-    assert_eq!(scene.objects.len(), 69_666);
-    let fast = render(&scene);
-    let slow = render(&scene.clone().brute_force());
+    assert_eq!(scene.objects().len(), 69_666);
+    let fast = render_image(&scene);
+    let slow = render_image(&scene.clone().brute_force());
     assert!(fast == slow, "the BVH changed the image");
     // About a quarter of the rays hit the bunny (bench README: 24.6 %), so
     // both hits and misses were compared.
@@ -50,7 +55,7 @@ fn the_bunny_is_identical_with_and_without_the_bvh() {
 
 #[test]
 fn the_image_does_not_depend_on_the_thread_count() {
-    let reflectance2 = Scene::prepare(&load(&scenes_dir().join("reflectance2.toml"))).unwrap();
+    let reflectance2 = prepare(&load(&scenes_dir().join("reflectance2.toml"))).unwrap();
     for scene in [reflectance2, small_bunny()] {
         let one = in_pool(1, &scene);
         assert!(one == in_pool(2, &scene));
@@ -61,11 +66,12 @@ fn the_image_does_not_depend_on_the_thread_count() {
 #[test]
 fn rays_and_rows_are_counted() {
     let file = load(&scenes_dir().join("sphere-intersection.toml"));
-    let scene = Scene::prepare(&file).unwrap();
+    let scene = prepare(&file).unwrap();
     let rows = std::sync::atomic::AtomicU32::new(0);
-    let (_, stats) = render_with_progress(&scene, &|n| {
+    let stats = render(&scene, &RenderJob::full(&scene), &|n| {
         rows.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
-    });
+    })
+    .rays;
     assert_eq!(rows.into_inner(), 400);
     // No mirrors: one nearest-hit ray per pixel.
     assert_eq!(stats.nearest, 500 * 400);
@@ -79,7 +85,7 @@ fn rays_and_rows_are_counted() {
 #[test]
 fn rays_at_shared_vertices_and_edges_find_the_brute_force_hits() {
     use glam::Vec3;
-    use tracer_core::shapes::Shape;
+    use tracer_core::geometry::Shape;
     use tracer_core::Ray;
     let scene = small_bunny();
     let origins = [
@@ -88,14 +94,14 @@ fn rays_at_shared_vertices_and_edges_find_the_brute_force_hits() {
         Vec3::new(-3.0, 0.5, -2.0),
     ];
     let mut hits = 0;
-    for (k, object) in scene.objects.iter().enumerate().step_by(31) {
+    for (k, object) in scene.objects().iter().enumerate().step_by(31) {
         let Shape::Triangle(t) = &object.shape else {
             continue;
         };
         let targets = [t.v0, (t.v0 + t.v1) * 0.5, (t.v1 + t.v2) * 0.5];
         for (origin, target) in origins.iter().zip(targets) {
             let ray = Ray::new(*origin, (target - *origin).normalize());
-            let brute = scene.closest_hit_brute_force(&ray, 1e-4, f32::INFINITY);
+            let brute = brute_force::closest_hit(scene.objects(), &ray, 1e-4, f32::INFINITY);
             assert_eq!(
                 scene.closest_hit(&ray, 1e-4, f32::INFINITY),
                 brute,
@@ -104,7 +110,7 @@ fn rays_at_shared_vertices_and_edges_find_the_brute_force_hits() {
             let distance = (target - *origin).length() * 1.5;
             assert_eq!(
                 scene.occluded(&ray, 1e-4, distance),
-                scene.occluded_brute_force(&ray, 1e-4, distance),
+                brute_force::occluded(scene.objects(), &ray, 1e-4, distance),
                 "triangle {k}"
             );
             hits += brute.is_some() as u32;

@@ -6,12 +6,17 @@ mod common;
 
 use common::{load, scenes_dir, LAB_SCENES};
 use std::path::Path;
-use tracer_core::{render, LinearImage, Scene};
+use tracer_core::scene::TraceSettings;
+use tracer_core::{prepare, render, LinearImage, RenderJob, Scene};
 
 fn render_file(path: &Path) -> (Scene, LinearImage) {
-    let scene = Scene::prepare(&load(path)).expect("prepare");
-    let image = render(&scene);
+    let scene = prepare(&load(path)).expect("prepare");
+    let image = render_image(&scene);
     (scene, image)
+}
+
+fn render_image(scene: &Scene) -> LinearImage {
+    render(scene, &RenderJob::full(scene), &|_| {}).image
 }
 
 fn render_lab(name: &str) -> (Scene, LinearImage) {
@@ -20,7 +25,7 @@ fn render_lab(name: &str) -> (Scene, LinearImage) {
 
 fn encoded(name: &str, i: u32, j: u32) -> [u8; 3] {
     let (scene, image) = render_lab(name);
-    image.encode(&scene.encoding).get_pixel(i, j).0
+    image.encode(scene.encoding()).get_pixel(i, j).0
 }
 
 #[test]
@@ -28,9 +33,9 @@ fn every_lab_scene_file_exists_and_renders_500x400() {
     for name in LAB_SCENES {
         let (scene, image) = render_lab(name);
         assert_eq!((image.width, image.height), (500, 400), "{name}");
-        assert_eq!(scene.encoding.gamma, 2.2, "{name}");
-        assert_eq!(scene.trace.max_depth, 1, "{name}");
-        assert_eq!(scene.trace.min_energy, 0.01, "{name}");
+        assert_eq!(scene.encoding().gamma, 2.2, "{name}");
+        assert_eq!(scene.trace_settings().max_depth, 1, "{name}");
+        assert_eq!(scene.trace_settings().min_energy, 0.01, "{name}");
         assert!(
             image.pixels.iter().any(|p| p.max_element() > 0.0),
             "{name} is black"
@@ -98,9 +103,12 @@ fn shadowed_wall_gets_ambient_only() {
 #[test]
 fn mirror_wall_shows_the_red_sphere() {
     let (scene, image) = render_lab("reflectance2");
-    let mut flat = scene.clone();
-    flat.trace.max_depth = 0;
-    let no_mirror = render(&flat);
+    let settings = TraceSettings {
+        max_depth: 0,
+        ..scene.trace_settings().clone()
+    };
+    let flat = scene.with_trace_settings(settings);
+    let no_mirror = render_image(&flat);
     // Below the red sphere the wall reflects the sphere's unlit underside:
     // its ambient under both lights, (0.6 + 0.3) * 0.1 = 0.09 red, is added to
     // the plain grey that the wall shows without recursion.

@@ -1,7 +1,10 @@
 //! The lab's `rayTrace`: Blinn-Phong in the lab's order, shadows, texture,
 //! and mirror recursion with energy (lab sections 4 and 5).
 
-use crate::material::Material;
+use super::RayStats;
+use crate::geometry::SurfaceHit;
+use crate::light::Light;
+use crate::material::{Material, Phong};
 use crate::ray::Ray;
 use crate::scene::Scene;
 use crate::EPSILON;
@@ -9,31 +12,6 @@ use glam::Vec3;
 
 /// The lab's threshold on the cosines of the diffuse and specular terms.
 const COS_THRESHOLD: f32 = 0.001;
-
-/// How many rays of each kind a render traced.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct RayStats {
-    /// Rays that look for the nearest hit: primary and reflected.
-    pub nearest: u64,
-    /// Shadow rays: any hit between a point and a light.
-    pub shadow: u64,
-}
-
-impl RayStats {
-    pub fn total(&self) -> u64 {
-        self.nearest + self.shadow
-    }
-}
-
-impl std::ops::Add for RayStats {
-    type Output = RayStats;
-    fn add(self, o: RayStats) -> RayStats {
-        RayStats {
-            nearest: self.nearest + o.nearest,
-            shadow: self.shadow + o.shadow,
-        }
-    }
-}
 
 /// The colour a ray carries back, already scaled by `energy`; `depth` is the
 /// lab's ray-tree counter. A primary ray starts at energy 1, depth 0.
@@ -52,21 +30,34 @@ pub fn trace_counted(
     stats.nearest += 1;
     let Some(hit) = scene.closest_hit(ray, EPSILON, f32::INFINITY) else {
         // With the lab's black background this adds nothing, as in the lab.
-        return energy * scene.trace.background;
+        return energy * scene.trace_settings().background;
     };
-    let material = &scene.materials[hit.material];
+    match scene.material(hit.material) {
+        Material::Phong(m) => phong(scene, m, ray, &hit, energy, depth, stats),
+    }
+}
+
+/// The lab's shading of a hit on a Blinn-Phong material, and its mirror ray.
+fn phong(
+    scene: &Scene,
+    m: &Phong,
+    ray: &Ray,
+    hit: &SurfaceHit,
+    energy: f32,
+    depth: u32,
+    stats: &mut RayStats,
+) -> Vec3 {
     let p = ray.at(hit.t);
-    let n = hit.normal;
-    let mut local = local_colour(scene, material, ray, p, n, stats);
-    if let Some(texture) = &material.texture {
-        let shape = &scene.objects[hit.object].shape;
-        local *= texture.texel(shape.texture_uv(p, n));
+    let n = hit.shading_normal;
+    let mut local = local_colour(scene, m, ray, p, n, stats);
+    if let Some(texture) = &m.texture {
+        local *= texture.texel(hit.uv);
     }
     let mut colour = energy * local;
-    let settings = &scene.trace;
-    if material.reflectance > 0.0 && depth < settings.max_depth && energy > settings.min_energy {
+    let settings = scene.trace_settings();
+    if m.reflectance > 0.0 && depth < settings.max_depth && energy > settings.min_energy {
         let reflected = ray.reflected(p, n);
-        let energy = energy * material.reflectance;
+        let energy = energy * m.reflectance;
         colour += trace_counted(scene, &reflected, energy, depth + 1, stats);
     }
     colour
@@ -77,7 +68,7 @@ pub fn trace_counted(
 /// light is not shadowed.
 fn local_colour(
     scene: &Scene,
-    m: &Material,
+    m: &Phong,
     ray: &Ray,
     p: Vec3,
     n: Vec3,
@@ -85,7 +76,8 @@ fn local_colour(
 ) -> Vec3 {
     let view = -ray.dir;
     let mut colour = Vec3::ZERO;
-    for light in &scene.lights {
+    for light in scene.lights() {
+        let Light::Point(light) = light;
         colour += light.color * m.ambient;
         let to_light = light.position - p;
         let distance = to_light.length();

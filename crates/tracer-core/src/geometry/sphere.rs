@@ -1,7 +1,11 @@
+//! The lab's sphere (section 3): the quadratic, the outward normal, the
+//! spherical texture mapping (section 4.5).
+
 use crate::ray::Ray;
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 
+/// A sphere: centre and radius.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sphere {
     pub center: Vec3,

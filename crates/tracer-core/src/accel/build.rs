@@ -2,7 +2,7 @@
 //! heuristic over binned centroids. A `Part` is a run of primitives with its
 //! split decided; `wide.rs` splits parts until a node has its lanes.
 
-use crate::shapes::Shape;
+use crate::geometry::Shape;
 use glam::{UVec3, Vec3A};
 
 /// Bins per axis of the SAH sweep.

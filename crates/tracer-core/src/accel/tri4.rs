@@ -1,10 +1,10 @@
 //! Four triangles tested at once, one per SIMD lane: Moller-Trumbore with
-//! the very operations of `shapes::moller_trumbore`, lane by lane, so every
+//! the very operations of `geometry::triangle::moller_trumbore`, lane by lane, so every
 //! distance is the one the scalar test finds.
 
+use crate::geometry::{SurfaceHit, TriangleHit};
 use crate::ray::Ray;
-use crate::scene::Hit;
-use glam::{Vec3, Vec4};
+use glam::{Vec2, Vec3, Vec4};
 
 /// One triangle as the test needs it: `e1 = v1 - v0`, `e2 = v2 - v0`,
 /// `edge_scale = EPSILON * |e1| * |e2|`.
@@ -73,10 +73,11 @@ impl Tri4 {
         block
     }
 
-    /// The lanes hit within (t_min, t_max), as a bit mask, and the
-    /// distances. Each step is the scalar test's, in the same order.
+    /// The lanes hit within (t_min, t_max), as a bit mask, the distances
+    /// and the barycentric u and v. Each step is the scalar test's, in the
+    /// same order.
     #[inline(always)]
-    pub(super) fn intersect(&self, r: &Ray4, t_min: f32, t_max: f32) -> (u32, Vec4) {
+    pub(super) fn intersect(&self, r: &Ray4, t_min: f32, t_max: f32) -> (u32, Vec4, [Vec4; 2]) {
         let (d, e1, e2) = (&r.dir, &self.e1, &self.e2);
         // p = dir x e2, det = e1 . p
         let p = cross(d, e2);
@@ -93,19 +94,21 @@ impl Tri4 {
         let t = dot(e2, &q) * inv;
         let t_inside = t.cmpgt(Vec4::splat(t_min)) & t.cmplt(Vec4::splat(t_max));
         let hit = !parallel & u_inside & !v_outside & t_inside;
-        (hit.bitmask(), t)
+        (hit.bitmask(), t, [u, v])
     }
 
-    /// The hit on `lane` at distance `t`, as `Hit::on` gives it.
-    pub(super) fn hit(&self, lane: usize, t: f32) -> Hit {
+    /// The hit on `lane` at distance `t` and barycentric `uv`, as
+    /// `Object::surface_hit` gives it.
+    pub(super) fn hit(&self, lane: usize, ray: &Ray, t: f32, uv: Vec2) -> SurfaceHit {
         let at = |v: &[Vec4; 3]| Vec3::new(v[0][lane], v[1][lane], v[2][lane]);
-        Hit {
-            t,
-            object: self.id[lane] as usize,
-            // e1 and e2 are Triangle::normal's edges, computed the same way.
-            normal: at(&self.e1).cross(at(&self.e2)).normalize(),
-            material: self.material[lane] as usize,
-        }
+        SurfaceHit::on_triangle(
+            at(&self.e1),
+            at(&self.e2),
+            ray,
+            TriangleHit { t, uv },
+            self.id[lane] as usize,
+            self.material[lane] as usize,
+        )
     }
 }
 
@@ -129,7 +132,7 @@ fn dot(a: &[Vec4; 3], b: &[Vec4; 3]) -> Vec4 {
 mod tests {
     use super::super::tests::Rng;
     use super::*;
-    use crate::shapes::Triangle;
+    use crate::geometry::Triangle;
 
     fn record(t: &Triangle, id: u32) -> TriRecord {
         let (e1, e2, edge_scale) = t.edges();
@@ -176,13 +179,15 @@ mod tests {
                 .collect();
             let block = Tri4::new(&records);
             let t_max = if k % 3 == 0 { 2.0 } else { f32::INFINITY };
-            let (mask, t) = block.intersect(&Ray4::new(&ray, ray.dir.length()), 1e-4, t_max);
+            let (mask, t, [u, v]) =
+                block.intersect(&Ray4::new(&ray, ray.dir.length()), 1e-4, t_max);
             for (lane, tri) in triangles.iter().enumerate() {
                 let scalar = tri.intersect(&ray, 1e-4, t_max);
-                let simd = (mask >> lane & 1 == 1).then_some(t[lane]);
+                let simd = (mask >> lane & 1 == 1).then_some([t[lane], u[lane], v[lane]]);
+                let bits = |x: [f32; 3]| x.map(f32::to_bits);
                 assert_eq!(
-                    simd.map(f32::to_bits),
-                    scalar.map(f32::to_bits),
+                    simd.map(bits),
+                    scalar.map(|h| bits([h.t, h.uv.x, h.uv.y])),
                     "ray {k} lane {lane}"
                 );
                 hits += scalar.is_some() as u32;

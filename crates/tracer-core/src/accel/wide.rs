@@ -109,7 +109,8 @@ impl Node {
 /// root first, each node before its subtrees. The nodes are the same
 /// whatever the size of the rayon pool.
 pub(super) fn build(items: &mut [BuildPrim]) -> Vec<Node> {
-    // About one node per five primitives: leaves hold one to eight.
+    // A reservation, not a bound: leaves hold up to `MAX_LEAF` primitives,
+    // so a quarter of the primitive count is more nodes than most trees need.
     let mut nodes = Vec::with_capacity(items.len() / 4 + 1);
     let root = Part::root(items);
     write(items, 0, root, &mut nodes);

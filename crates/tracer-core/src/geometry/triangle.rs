@@ -1,6 +1,10 @@
+//! The lab's triangle (section 3): Moller-Trumbore, hit from both sides,
+//! normal from the vertex order.
+
 use crate::ray::Ray;
 use glam::{Vec2, Vec3};
 
+/// Three vertices, in the lab's clockwise order.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Triangle {
     pub v0: Vec3,
@@ -15,7 +19,7 @@ impl Triangle {
 
     /// Moller-Trumbore, two-sided: a triangle seen from behind is still
     /// hit (and still casts its shadow), unlike GLM's front-face-only test.
-    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<TriangleHit> {
         let (e1, e2, edge_scale) = self.edges();
         moller_trumbore(
             self.v0,
@@ -41,20 +45,14 @@ impl Triangle {
     pub fn normal(&self) -> Vec3 {
         (self.v1 - self.v0).cross(self.v2 - self.v0).normalize()
     }
+}
 
-    /// Barycentric (u, v) of `p`: v0 maps to (0, 0), v1 to (1, 0), v2 to (0, 1).
-    pub fn texture_uv(&self, p: Vec3) -> Vec2 {
-        let e1 = self.v1 - self.v0;
-        let e2 = self.v2 - self.v0;
-        let d = p - self.v0;
-        let (d11, d12, d22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
-        let (dp1, dp2) = (d.dot(e1), d.dot(e2));
-        let denom = d11 * d22 - d12 * d12;
-        Vec2::new(
-            (d22 * dp1 - d12 * dp2) / denom,
-            (d11 * dp2 - d12 * dp1) / denom,
-        )
-    }
+/// Where a ray meets a triangle: the distance and the barycentric (u, v) of
+/// the point, `v0 + u (v1 - v0) + v (v2 - v0)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TriangleHit {
+    pub t: f32,
+    pub uv: Vec2,
 }
 
 /// Moller-Trumbore on the edges `e1 = v1 - v0`, `e2 = v2 - v0` and
@@ -72,7 +70,7 @@ fn moller_trumbore(
     dir_len: f32,
     t_min: f32,
     t_max: f32,
-) -> Option<f32> {
+) -> Option<TriangleHit> {
     let p = ray.dir.cross(e2);
     let det = e1.dot(p);
     if det.abs() < edge_scale * dir_len {
@@ -90,7 +88,10 @@ fn moller_trumbore(
         return None;
     }
     let t = e2.dot(q) * inv;
-    (t > t_min && t < t_max).then_some(t)
+    (t > t_min && t < t_max).then_some(TriangleHit {
+        t,
+        uv: Vec2::new(u, v),
+    })
 }
 
 #[cfg(test)]
@@ -115,8 +116,11 @@ mod tests {
             centroid - Vec3::new(0.0, 0.0, 10.0),
         );
         let back = Ray::new(centroid * 2.0 - front.origin, front.origin - centroid);
-        let tf = t.intersect(&front, 0.0, f32::INFINITY).expect("front hit");
-        let tb = t.intersect(&back, 0.0, f32::INFINITY).expect("back hit");
+        let tf = t
+            .intersect(&front, 0.0, f32::INFINITY)
+            .expect("front hit")
+            .t;
+        let tb = t.intersect(&back, 0.0, f32::INFINITY).expect("back hit").t;
         assert!((front.at(tf) - centroid).length() < 1e-4);
         assert!((back.at(tb) - centroid).length() < 1e-4);
     }
@@ -137,10 +141,15 @@ mod tests {
     }
 
     #[test]
-    fn barycentric_uv_of_vertices() {
+    fn barycentric_uv_rebuilds_the_hit_point() {
         let t = wall();
-        assert!(t.texture_uv(t.v0).length() < 1e-5);
-        assert!((t.texture_uv(t.v1) - Vec2::X).length() < 1e-5);
-        assert!((t.texture_uv(t.v2) - Vec2::Y).length() < 1e-5);
+        let eye = Vec3::new(0.0, 0.0, 10.0);
+        // Points with known weights: near each vertex, and one inside.
+        for (u, v) in [(0.01, 0.01), (0.98, 0.01), (0.01, 0.98), (0.25, 0.5)] {
+            let p = t.v0 + u * (t.v1 - t.v0) + v * (t.v2 - t.v0);
+            let hit = t.intersect(&Ray::new(eye, p - eye), 0.0, f32::INFINITY);
+            let hit = hit.expect("a hit");
+            assert!((hit.uv - Vec2::new(u, v)).length() < 1e-4, "{:?}", hit.uv);
+        }
     }
 }

@@ -9,170 +9,25 @@
 //! padded against rounding, and ties in distance won by the lower object
 //! index.
 
+pub mod brute_force;
 mod build;
+mod leaves;
+mod traverse;
 mod tri4;
 mod wide;
 
+use crate::geometry::{Object, SurfaceHit};
 use crate::ray::Ray;
-use crate::scene::{Hit, Object};
-use crate::shapes::{Shape, Sphere};
-use build::{BuildPrim, MAX_DEPTH};
-use glam::Vec4;
+use build::BuildPrim;
+use leaves::{pack_leaves, SpherePrim, SPHERE_LEAF};
 use rayon::prelude::*;
-use std::cell::RefCell;
-use tri4::{Ray4, Tri4, TriRecord};
-use wide::{is_leaf, node_halves, Node, GROUPS, INNER, WIDTH};
+use traverse::{push_nearest_last, with_stack, Best, Entry, HitAt, RayData, PAD};
+use tri4::Tri4;
+use wide::{node_halves, Node};
 
-/// Widens box intervals by a few ulps against the rounding of the slab test
-/// (pbrt's `1 + 2 gamma(3)`, with margin). Rays that Moller-Trumbore rounds
-/// into a hit just outside an edge are met by the padding of triangle boxes
-/// (`build.rs`); neither is a proof for every angle, so the tests compare
-/// with brute force.
-const PAD: f32 = 1.0 + 4.0 * f32::EPSILON;
-
-/// Room on the traversal stack: each level pops one entry and pushes at
-/// most `WIDTH`; a split of spheres from triangles may go one below
-/// `MAX_DEPTH`.
-const STACK: usize = (WIDTH - 1) * (MAX_DEPTH + 1) + 1;
-
-thread_local! {
-    /// Each thread's traversal stack, allocated once: zeroing a fresh one
-    /// for every ray cost more than a ray that misses the scene.
-    static STACKS: RefCell<Vec<Entry>> = const { RefCell::new(Vec::new()) };
-}
-
-/// Runs `f` with this thread's traversal stack.
-#[inline(always)]
-fn with_stack<R>(f: impl FnOnce(&mut [Entry]) -> R) -> R {
-    STACKS.with_borrow_mut(|stack| {
-        if stack.is_empty() {
-            stack.resize(STACK, Entry::ROOT);
-        }
-        f(stack)
-    })
-}
-
-/// A sphere, with its object index and material. Leaves hold spheres or
-/// triangles, never both.
-#[derive(Debug, Clone, PartialEq)]
-struct SpherePrim {
-    sphere: Sphere,
-    id: u32,
-    material: u32,
-}
-
-/// Marks a leaf lane's `count` as a run of spheres; without it, the count
-/// is of triangle blocks.
-const SPHERE_LEAF: u32 = 1 << 30;
-
-/// The best hit so far of a nearest-hit search, and where it is.
-struct Best {
-    t: f32,
-    id: u32,
-    at: HitAt,
-}
-
-#[derive(Clone, Copy)]
-enum HitAt {
-    Triangle { block: usize, lane: usize },
-    Sphere(usize),
-}
-
-impl Best {
-    /// Whether `t` (within t_min and the limit the test was given) and
-    /// `id` make a better hit, as the brute-force loop would take it: once
-    /// something is hit, up to and including best_t, an equal distance
-    /// winning if its object comes first.
-    #[inline(always)]
-    fn offer(&mut self, t: f32, id: u32, t_max: f32, at: HitAt) {
-        if t < self.limit(t_max) && (t < self.t || id < self.id) {
-            (self.t, self.id, self.at) = (t, id, at);
-        }
-    }
-
-    #[inline(always)]
-    fn limit(&self, t_max: f32) -> f32 {
-        if self.id == u32::MAX {
-            t_max
-        } else {
-            next_up(self.t)
-        }
-    }
-}
-
-/// What the traversal precomputes once per ray: origin and inverse
-/// direction in every lane, and which plane of each axis the ray meets
-/// first (min if it runs toward +, max if toward -).
-struct RayData {
-    ray: Ray,
-    ray4: Ray4,
-    origin: [Vec4; 3],
-    inv_dir: [Vec4; 3],
-    near_plane: [usize; 3],
-}
-
-impl RayData {
-    fn new(ray: &Ray) -> RayData {
-        // A zero component would give 0 * inf = NaN in the slab test.
-        let safe = |d: f32| {
-            if d.abs() < 1e-30 {
-                1e-30f32.copysign(d)
-            } else {
-                d
-            }
-        };
-        let inv = ray.dir.to_array().map(|d| 1.0 / safe(d));
-        let dir_len = ray.dir.length();
-        RayData {
-            ray: *ray,
-            ray4: Ray4::new(ray, dir_len),
-            origin: ray.origin.to_array().map(Vec4::splat),
-            inv_dir: inv.map(Vec4::splat),
-            near_plane: [0, 1, 2].map(|axis| if inv[axis] < 0.0 { axis + 3 } else { axis }),
-        }
-    }
-
-    /// Which boxes of the node's first `halves` halves the ray meets within
-    /// (t_min, t_max], padded against rounding, as a bit mask; and the
-    /// entry distances.
-    #[inline(always)]
-    fn enter(&self, node: &Node, halves: usize, t_min: f32, t_max: f32) -> (u32, [Vec4; GROUPS]) {
-        let mut mask = 0;
-        let mut entries = [Vec4::ZERO; GROUPS];
-        for (g, entry) in entries.iter_mut().enumerate().take(halves) {
-            let planes = &node.halves[g].planes;
-            let mut near = Vec4::splat(t_min);
-            let mut far = Vec4::splat(t_max);
-            for axis in 0..3 {
-                let (n, f) = (self.near_plane[axis], (self.near_plane[axis] + 3) % 6);
-                near = near.max((planes[n] - self.origin[axis]) * self.inv_dir[axis]);
-                far = far.min((planes[f] - self.origin[axis]) * self.inv_dir[axis]);
-            }
-            mask |= near.cmple(far * PAD).bitmask() << (4 * g);
-            *entry = near;
-        }
-        (mask, entries)
-    }
-}
-
-/// A node or leaf waiting on the traversal stack, as its parent's lane
-/// refers to it, with the distance at which the ray enters its box.
-#[derive(Clone, Copy)]
-struct Entry {
-    child: u32,
-    count: u32,
-    t: f32,
-}
-
-impl Entry {
-    /// The root, read whole.
-    const ROOT: Entry = Entry {
-        child: 0,
-        count: INNER,
-        t: 0.0,
-    };
-}
-
+/// The bounding volume hierarchy over a scene's objects. It copies what
+/// the search needs of each object into its leaves, so it answers for the
+/// object list it was built from: `Scene` keeps the two together.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Bvh {
     nodes: Vec<Node>,
@@ -208,16 +63,12 @@ impl Bvh {
 
     /// The nearest hit in (t_min, t_max); of hits at the same distance, the
     /// one of the lowest object index (as the brute-force loop finds it).
-    pub fn closest_hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+    pub fn closest_hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
         if self.nodes.is_empty() {
             return None;
         }
         let r = RayData::new(ray);
-        let mut best = Best {
-            t: t_max,
-            id: u32::MAX,
-            at: HitAt::Sphere(0),
-        };
+        let mut best = Best::none(t_max);
         with_stack(|stack| {
             stack[0] = Entry::ROOT;
             let mut sp = 1;
@@ -236,8 +87,8 @@ impl Bvh {
                 sp = push_nearest_last(stack, sp, node, mask, near);
             }
         });
-        (best.id != u32::MAX).then(|| match best.at {
-            HitAt::Triangle { block, lane } => self.tris[block].hit(lane, best.t),
+        best.found().then(|| match best.at {
+            HitAt::Triangle { block, lane, uv } => self.tris[block].hit(lane, ray, best.t, uv),
             HitAt::Sphere(k) => self.spheres[k].hit(ray, best.t),
         })
     }
@@ -258,7 +109,7 @@ impl Bvh {
         }
         for block in start..start + entry.count as usize {
             let tris = &self.tris[block];
-            let (mut mask, t) = tris.intersect(&r.ray4, t_min, best.limit(t_max));
+            let (mut mask, t, [u, v]) = tris.intersect(&r.ray4, t_min, best.limit(t_max));
             // In lane order, as the scalar loop would meet them.
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;
@@ -267,7 +118,11 @@ impl Bvh {
                     t[lane],
                     tris.id[lane],
                     t_max,
-                    HitAt::Triangle { block, lane },
+                    HitAt::Triangle {
+                        block,
+                        lane,
+                        uv: glam::Vec2::new(u[lane], v[lane]),
+                    },
                 );
             }
         }
@@ -319,129 +174,12 @@ impl Bvh {
     }
 }
 
-impl SpherePrim {
-    /// The hit at distance `t`, as `Hit::on` gives it for the object.
-    fn hit(&self, ray: &Ray, t: f32) -> Hit {
-        Hit {
-            t,
-            object: self.id as usize,
-            normal: self.sphere.normal(ray.at(t)),
-            material: self.material as usize,
-        }
-    }
-}
-
-/// Turns the leaf lanes' runs of primitives into blocks of up to four
-/// triangles or runs of spheres, stored in leaf order, and points the lanes
-/// at them.
-fn pack_leaves(
-    nodes: &mut [Node],
-    items: &[BuildPrim],
-    objects: &[Object],
-) -> (Vec<Tri4>, Vec<SpherePrim>) {
-    let mut leaves: Vec<(u32, usize, usize)> = Vec::new();
-    for (n, node) in nodes.iter().enumerate() {
-        for lane in 0..WIDTH {
-            let (first, count) = node.child(lane);
-            if is_leaf(count) {
-                leaves.push((first, n, lane));
-            }
-        }
-    }
-    leaves.sort_unstable();
-    let (mut tris, mut spheres) = (Vec::with_capacity(items.len() / 3), Vec::new());
-    for (first, n, lane) in leaves {
-        let (_, count) = nodes[n].child(lane);
-        let run = &items[first as usize..][..count as usize];
-        // A leaf holds spheres or triangles (`build.rs` splits the two).
-        let records = || run.iter().map(|p| (&objects[p.id as usize], p.id));
-        if run[0].sphere {
-            let start = spheres.len();
-            spheres.extend(records().filter_map(|(o, id)| sphere_prim(o, id)));
-            let count = (spheres.len() - start) as u32;
-            nodes[n].set(lane, start as u32, SPHERE_LEAF | count);
-        } else {
-            let triangles: Vec<TriRecord> =
-                records().filter_map(|(o, id)| tri_record(o, id)).collect();
-            nodes[n].set(lane, tris.len() as u32, triangles.len().div_ceil(4) as u32);
-            tris.extend(triangles.chunks(4).map(Tri4::new));
-        }
-    }
-    (tris, spheres)
-}
-
-fn tri_record(object: &Object, id: u32) -> Option<TriRecord> {
-    let Shape::Triangle(t) = &object.shape else {
-        return None;
-    };
-    let (e1, e2, edge_scale) = t.edges();
-    Some(TriRecord {
-        v0: t.v0,
-        e1,
-        e2,
-        edge_scale,
-        id,
-        material: object.material as u32,
-    })
-}
-
-fn sphere_prim(object: &Object, id: u32) -> Option<SpherePrim> {
-    let Shape::Sphere(sphere) = &object.shape else {
-        return None;
-    };
-    Some(SpherePrim {
-        sphere: sphere.clone(),
-        id,
-        material: object.material as u32,
-    })
-}
-
-/// Pushes the children of `node` that the ray enters (`mask`), farthest
-/// first, so the nearest is popped next; returns the new stack size.
-#[inline(always)]
-fn push_nearest_last(
-    stack: &mut [Entry],
-    mut sp: usize,
-    node: &Node,
-    mut mask: u32,
-    near: [Vec4; GROUPS],
-) -> usize {
-    let first = sp;
-    while mask != 0 {
-        let lane = mask.trailing_zeros() as usize;
-        mask &= mask - 1;
-        let (child, count) = node.child(lane);
-        let entry = Entry {
-            child,
-            count,
-            t: near[lane / 4][lane % 4],
-        };
-        // Insertion into the pushed run, kept in decreasing distance.
-        let mut k = sp;
-        while k > first && stack[k - 1].t < entry.t {
-            stack[k] = stack[k - 1];
-            k -= 1;
-        }
-        stack[k] = entry;
-        sp += 1;
-    }
-    sp
-}
-
-/// The next larger float, for a positive `t` (infinity stays).
-fn next_up(t: f32) -> f32 {
-    if t.is_finite() {
-        f32::from_bits(t.to_bits() + 1)
-    } else {
-        t
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shapes::Triangle;
+    use crate::geometry::{Shape, Sphere, Triangle};
     use glam::Vec3;
+    use wide::{GROUPS, WIDTH};
 
     /// xorshift: reproducible numbers in [-1, 1) without a dependency.
     pub(super) struct Rng(pub(super) u64);
@@ -483,14 +221,8 @@ mod tests {
         objects
     }
 
-    fn brute_closest(objects: &[Object], ray: &Ray, t_max: f32) -> Option<Hit> {
-        let mut best: Option<Hit> = None;
-        for (i, o) in objects.iter().enumerate() {
-            if let Some(t) = o.shape.intersect(ray, 1e-4, best.map_or(t_max, |h| h.t)) {
-                best = Some(Hit::on(objects, i, ray, t));
-            }
-        }
-        best
+    fn brute_closest(objects: &[Object], ray: &Ray, t_max: f32) -> Option<SurfaceHit> {
+        brute_force::closest_hit(objects, ray, 1e-4, t_max)
     }
 
     #[test]

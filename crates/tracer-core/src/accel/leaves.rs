@@ -1,0 +1,95 @@
+//! The leaves' records: triangles packed into blocks of four, spheres in
+//! runs, each with its object index and material, so shading reads the hit
+//! from the record just tested.
+
+use super::build::BuildPrim;
+use super::tri4::{Tri4, TriRecord};
+use super::wide::{is_leaf, Node, WIDTH};
+use crate::geometry::{Object, Shape, Sphere, SurfaceHit};
+use crate::ray::Ray;
+
+/// A sphere, with its object index and material. Leaves hold spheres or
+/// triangles, never both.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct SpherePrim {
+    pub(super) sphere: Sphere,
+    pub(super) id: u32,
+    material: u32,
+}
+
+/// Marks a leaf lane's `count` as a run of spheres; without it, the count
+/// is of triangle blocks.
+pub(super) const SPHERE_LEAF: u32 = 1 << 30;
+
+impl SpherePrim {
+    /// The hit at distance `t`, as `Object::surface_hit` gives it.
+    pub(super) fn hit(&self, ray: &Ray, t: f32) -> SurfaceHit {
+        let (id, material) = (self.id as usize, self.material as usize);
+        SurfaceHit::on_sphere(&self.sphere, ray, t, id, material)
+    }
+}
+
+/// Turns the leaf lanes' runs of primitives into blocks of up to four
+/// triangles or runs of spheres, stored in leaf order, and points the lanes
+/// at them.
+pub(super) fn pack_leaves(
+    nodes: &mut [Node],
+    items: &[BuildPrim],
+    objects: &[Object],
+) -> (Vec<Tri4>, Vec<SpherePrim>) {
+    let mut leaves: Vec<(u32, usize, usize)> = Vec::new();
+    for (n, node) in nodes.iter().enumerate() {
+        for lane in 0..WIDTH {
+            let (first, count) = node.child(lane);
+            if is_leaf(count) {
+                leaves.push((first, n, lane));
+            }
+        }
+    }
+    leaves.sort_unstable();
+    let (mut tris, mut spheres) = (Vec::with_capacity(items.len() / 3), Vec::new());
+    for (first, n, lane) in leaves {
+        let (_, count) = nodes[n].child(lane);
+        let run = &items[first as usize..][..count as usize];
+        // A leaf holds spheres or triangles (`build.rs` splits the two).
+        let records = || run.iter().map(|p| (&objects[p.id as usize], p.id));
+        if run[0].sphere {
+            let start = spheres.len();
+            spheres.extend(records().filter_map(|(o, id)| sphere_prim(o, id)));
+            let count = (spheres.len() - start) as u32;
+            nodes[n].set(lane, start as u32, SPHERE_LEAF | count);
+        } else {
+            let triangles: Vec<TriRecord> =
+                records().filter_map(|(o, id)| tri_record(o, id)).collect();
+            nodes[n].set(lane, tris.len() as u32, triangles.len().div_ceil(4) as u32);
+            tris.extend(triangles.chunks(4).map(Tri4::new));
+        }
+    }
+    (tris, spheres)
+}
+
+fn tri_record(object: &Object, id: u32) -> Option<TriRecord> {
+    let Shape::Triangle(t) = &object.shape else {
+        return None;
+    };
+    let (e1, e2, edge_scale) = t.edges();
+    Some(TriRecord {
+        v0: t.v0,
+        e1,
+        e2,
+        edge_scale,
+        id,
+        material: object.material as u32,
+    })
+}
+
+fn sphere_prim(object: &Object, id: u32) -> Option<SpherePrim> {
+    let Shape::Sphere(sphere) = &object.shape else {
+        return None;
+    };
+    Some(SpherePrim {
+        sphere: sphere.clone(),
+        id,
+        material: object.material as u32,
+    })
+}

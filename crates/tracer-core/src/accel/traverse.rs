@@ -1,0 +1,211 @@
+//! What a traversal of the tree keeps: the ray prepared for box tests, the
+//! stack of nodes still to visit (one per thread), and the best hit so far.
+
+use super::build::MAX_DEPTH;
+use super::tri4::Ray4;
+use super::wide::{Node, GROUPS, INNER, WIDTH};
+use crate::ray::Ray;
+use glam::{Vec2, Vec4};
+use std::cell::RefCell;
+
+/// Widens box intervals by a few ulps against the rounding of the slab test
+/// (pbrt's `1 + 2 gamma(3)`, with margin). Rays that Moller-Trumbore rounds
+/// into a hit just outside an edge are met by the padding of triangle boxes
+/// (`build.rs`); neither is a proof for every angle, so the tests compare
+/// with brute force.
+pub(super) const PAD: f32 = 1.0 + 4.0 * f32::EPSILON;
+
+/// Room on the traversal stack: each level pops one entry and pushes at
+/// most `WIDTH`; a split of spheres from triangles may go one below
+/// `MAX_DEPTH`.
+const STACK: usize = (WIDTH - 1) * (MAX_DEPTH + 1) + 1;
+
+thread_local! {
+    /// Each thread's traversal stack, allocated once: zeroing a fresh one
+    /// for every ray cost more than a ray that misses the scene.
+    static STACKS: RefCell<Vec<Entry>> = const { RefCell::new(Vec::new()) };
+}
+
+/// Runs `f` with this thread's traversal stack.
+#[inline(always)]
+pub(super) fn with_stack<R>(f: impl FnOnce(&mut [Entry]) -> R) -> R {
+    STACKS.with_borrow_mut(|stack| {
+        if stack.is_empty() {
+            stack.resize(STACK, Entry::ROOT);
+        }
+        f(stack)
+    })
+}
+
+/// The best hit so far of a nearest-hit search, and where it is.
+pub(super) struct Best {
+    pub(super) t: f32,
+    pub(super) id: u32,
+    pub(super) at: HitAt,
+}
+
+#[derive(Clone, Copy)]
+pub(super) enum HitAt {
+    /// Lane `lane` of triangle block `block`, and the barycentric (u, v) found.
+    Triangle {
+        block: usize,
+        lane: usize,
+        uv: Vec2,
+    },
+    Sphere(usize),
+}
+
+impl Best {
+    /// No hit yet.
+    pub(super) fn none(t_max: f32) -> Best {
+        Best {
+            t: t_max,
+            id: u32::MAX,
+            at: HitAt::Sphere(0),
+        }
+    }
+
+    pub(super) fn found(&self) -> bool {
+        self.id != u32::MAX
+    }
+
+    /// Whether `t` (within t_min and the limit the test was given) and
+    /// `id` make a better hit, as the brute-force loop would take it: once
+    /// something is hit, up to and including best_t, an equal distance
+    /// winning if its object comes first.
+    #[inline(always)]
+    pub(super) fn offer(&mut self, t: f32, id: u32, t_max: f32, at: HitAt) {
+        if t < self.limit(t_max) && (t < self.t || id < self.id) {
+            (self.t, self.id, self.at) = (t, id, at);
+        }
+    }
+
+    #[inline(always)]
+    pub(super) fn limit(&self, t_max: f32) -> f32 {
+        if self.id == u32::MAX {
+            t_max
+        } else {
+            next_up(self.t)
+        }
+    }
+}
+
+/// What the traversal precomputes once per ray: origin and inverse
+/// direction in every lane, and which plane of each axis the ray meets
+/// first (min if it runs toward +, max if toward -).
+pub(super) struct RayData {
+    pub(super) ray: Ray,
+    pub(super) ray4: Ray4,
+    origin: [Vec4; 3],
+    inv_dir: [Vec4; 3],
+    near_plane: [usize; 3],
+}
+
+impl RayData {
+    pub(super) fn new(ray: &Ray) -> RayData {
+        // A zero component would give 0 * inf = NaN in the slab test.
+        let safe = |d: f32| {
+            if d.abs() < 1e-30 {
+                1e-30f32.copysign(d)
+            } else {
+                d
+            }
+        };
+        let inv = ray.dir.to_array().map(|d| 1.0 / safe(d));
+        let dir_len = ray.dir.length();
+        RayData {
+            ray: *ray,
+            ray4: Ray4::new(ray, dir_len),
+            origin: ray.origin.to_array().map(Vec4::splat),
+            inv_dir: inv.map(Vec4::splat),
+            near_plane: [0, 1, 2].map(|axis| if inv[axis] < 0.0 { axis + 3 } else { axis }),
+        }
+    }
+
+    /// Which boxes of the node's first `halves` halves the ray meets within
+    /// (t_min, t_max], padded against rounding, as a bit mask; and the
+    /// entry distances.
+    #[inline(always)]
+    pub(super) fn enter(
+        &self,
+        node: &Node,
+        halves: usize,
+        t_min: f32,
+        t_max: f32,
+    ) -> (u32, [Vec4; GROUPS]) {
+        let mut mask = 0;
+        let mut entries = [Vec4::ZERO; GROUPS];
+        for (g, entry) in entries.iter_mut().enumerate().take(halves) {
+            let planes = &node.halves[g].planes;
+            let mut near = Vec4::splat(t_min);
+            let mut far = Vec4::splat(t_max);
+            for axis in 0..3 {
+                let (n, f) = (self.near_plane[axis], (self.near_plane[axis] + 3) % 6);
+                near = near.max((planes[n] - self.origin[axis]) * self.inv_dir[axis]);
+                far = far.min((planes[f] - self.origin[axis]) * self.inv_dir[axis]);
+            }
+            mask |= near.cmple(far * PAD).bitmask() << (4 * g);
+            *entry = near;
+        }
+        (mask, entries)
+    }
+}
+
+/// A node or leaf waiting on the traversal stack, as its parent's lane
+/// refers to it, with the distance at which the ray enters its box.
+#[derive(Clone, Copy)]
+pub(super) struct Entry {
+    pub(super) child: u32,
+    pub(super) count: u32,
+    pub(super) t: f32,
+}
+
+impl Entry {
+    /// The root, read whole.
+    pub(super) const ROOT: Entry = Entry {
+        child: 0,
+        count: INNER,
+        t: 0.0,
+    };
+}
+
+/// Pushes the children of `node` that the ray enters (`mask`), farthest
+/// first, so the nearest is popped next; returns the new stack size.
+#[inline(always)]
+pub(super) fn push_nearest_last(
+    stack: &mut [Entry],
+    mut sp: usize,
+    node: &Node,
+    mut mask: u32,
+    near: [Vec4; GROUPS],
+) -> usize {
+    let first = sp;
+    while mask != 0 {
+        let lane = mask.trailing_zeros() as usize;
+        mask &= mask - 1;
+        let (child, count) = node.child(lane);
+        let entry = Entry {
+            child,
+            count,
+            t: near[lane / 4][lane % 4],
+        };
+        // Insertion into the pushed run, kept in decreasing distance.
+        let mut k = sp;
+        while k > first && stack[k - 1].t < entry.t {
+            stack[k] = stack[k - 1];
+            k -= 1;
+        }
+        stack[k] = entry;
+        sp += 1;
+    }
+    sp
+}
+
+/// The next larger float, for a positive `t` (infinity stays).
+pub(super) fn next_up(t: f32) -> f32 {
+    if t.is_finite() {
+        f32::from_bits(t.to_bits() + 1)
+    } else {
+        t
+    }
+}

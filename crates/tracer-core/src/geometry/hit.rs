@@ -1,0 +1,73 @@
+//! The record of a ray meeting a surface: what shading, textures and the
+//! next features (glass, smooth normals) read of a hit.
+
+use super::{Sphere, TriangleHit};
+use crate::ray::Ray;
+use glam::{Vec2, Vec3};
+
+/// A ray's hit on an object's surface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfaceHit {
+    /// Distance along the ray (in units of its direction's length).
+    pub t: f32,
+    /// Index of the object in `Scene::objects`.
+    pub object: usize,
+    /// Index of the object's material in `Scene::materials`.
+    pub material: usize,
+    /// The unit normal of the surface as the lab defines it: a triangle's
+    /// from its vertex order, a sphere's outward; never flipped toward the ray.
+    pub geometric_normal: Vec3,
+    /// The normal shading uses; the geometric one until meshes carry
+    /// vertex normals.
+    pub shading_normal: Vec3,
+    /// Surface coordinates: barycentric (u, v) on a triangle (v0 -> (0, 0),
+    /// v1 -> (1, 0), v2 -> (0, 1)); the lab's spherical mapping on a sphere.
+    pub uv: Vec2,
+    /// Whether the ray met the side the geometric normal points to.
+    pub front_face: bool,
+}
+
+impl SurfaceHit {
+    /// The hit on a sphere at distance `t` along `ray`.
+    pub fn on_sphere(
+        sphere: &Sphere,
+        ray: &Ray,
+        t: f32,
+        object: usize,
+        material: usize,
+    ) -> SurfaceHit {
+        let normal = sphere.normal(ray.at(t));
+        SurfaceHit {
+            t,
+            object,
+            material,
+            geometric_normal: normal,
+            shading_normal: normal,
+            uv: Sphere::texture_uv(normal),
+            front_face: ray.dir.dot(normal) < 0.0,
+        }
+    }
+
+    /// The hit on a triangle with edges `e1 = v1 - v0`, `e2 = v2 - v0`, as
+    /// Moller-Trumbore found it.
+    pub fn on_triangle(
+        e1: Vec3,
+        e2: Vec3,
+        ray: &Ray,
+        hit: TriangleHit,
+        object: usize,
+        material: usize,
+    ) -> SurfaceHit {
+        // The same edges and operations as `Triangle::normal`.
+        let normal = e1.cross(e2).normalize();
+        SurfaceHit {
+            t: hit.t,
+            object,
+            material,
+            geometric_normal: normal,
+            shading_normal: normal,
+            uv: hit.uv,
+            front_face: ray.dir.dot(normal) < 0.0,
+        }
+    }
+}

@@ -1,0 +1,14 @@
+//! What a ray can hit: the shapes, the objects of a scene (a shape and its
+//! material), and the record of a hit that shading reads.
+
+mod hit;
+mod placement;
+mod shape;
+mod sphere;
+mod triangle;
+
+pub use hit::SurfaceHit;
+pub use placement::Placement;
+pub use shape::{Object, Shape};
+pub use sphere::Sphere;
+pub use triangle::{Triangle, TriangleHit};

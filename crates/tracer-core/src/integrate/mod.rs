@@ -1,0 +1,29 @@
+//! Integrators: what colour a ray brings back. Today the lab's Whitted-style
+//! `rayTrace`; others (path tracing, ...) would sit beside it.
+
+pub mod whitted;
+
+/// How many rays of each kind a render traced.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct RayStats {
+    /// Rays that look for the nearest hit: primary and reflected.
+    pub nearest: u64,
+    /// Shadow rays: any hit between a point and a light.
+    pub shadow: u64,
+}
+
+impl RayStats {
+    pub fn total(&self) -> u64 {
+        self.nearest + self.shadow
+    }
+}
+
+impl std::ops::Add for RayStats {
+    type Output = RayStats;
+    fn add(self, o: RayStats) -> RayStats {
+        RayStats {
+            nearest: self.nearest + o.nearest,
+            shadow: self.shadow + o.shadow,
+        }
+    }
+}

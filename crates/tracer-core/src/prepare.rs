@@ -1,0 +1,282 @@
+//! From a validated scene file to the scene a render reads: the one place
+//! where the core reads the file format's types.
+
+use crate::camera::Camera;
+use crate::geometry::{Object, Placement, Shape, Sphere, Triangle};
+use crate::image::{Encoding, Saturation};
+use crate::light::{Light, PointLight};
+use crate::material::{Material, Phong};
+use crate::scene::{Scene, SceneParts, TraceSettings};
+use crate::texture::{Builtin, Texture};
+use glam::Vec3;
+use scene_format as fmt;
+use std::collections::HashMap;
+use std::sync::Arc;
+
+/// Why a scene file could not be prepared. `scene_format`'s validation
+/// reports these first, with their place in the file; here they are the
+/// guard for a `SceneFile` built by hand.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum PrepareError {
+    #[error("`{path}`: unknown material `{name}`")]
+    UnknownMaterial { path: String, name: String },
+    #[error("`{path}`: unknown texture `{name}`")]
+    UnknownTexture { path: String, name: String },
+    #[error("`{path}`: expected exactly one shape")]
+    NotOneShape { path: String },
+    #[error("`{path}`: the mesh's OBJ file was not read (load the scene with `load_path`)")]
+    MeshNotLoaded { path: String },
+}
+
+/// Builds the renderable scene from a validated scene file; the BVH is
+/// built on the current rayon pool.
+pub fn prepare(file: &fmt::SceneFile) -> Result<Scene, PrepareError> {
+    let mut materials = MaterialTable::new(file);
+    let mut objects = Vec::new();
+    for (i, o) in file.objects.iter().enumerate() {
+        let path = format!("objects[{i}]");
+        let material = materials.resolve(&path, o)?;
+        let shapes = shapes(&path, o)?;
+        objects.extend(shapes.into_iter().map(|shape| Object { shape, material }));
+    }
+    Ok(Scene::new(SceneParts {
+        camera: camera(&file.camera),
+        objects,
+        materials: materials.materials,
+        lights: file.lights.iter().map(light).collect(),
+        trace: trace_settings(&file.render),
+        encoding: encoding(&file.render),
+    }))
+}
+
+/// The camera of the file's `[camera]` table.
+pub fn camera(c: &fmt::Camera) -> Camera {
+    Camera::new(
+        c.eye.into(),
+        c.look_at.into(),
+        c.up.into(),
+        c.fov,
+        c.width,
+        c.height,
+    )
+}
+
+fn light(l: &fmt::Light) -> Light {
+    Light::Point(PointLight {
+        position: l.position.into(),
+        color: l.color.into(),
+    })
+}
+
+fn trace_settings(r: &fmt::RenderSettings) -> TraceSettings {
+    TraceSettings {
+        max_depth: r.max_depth,
+        min_energy: r.min_energy,
+        background: r.background.into(),
+    }
+}
+
+fn encoding(r: &fmt::RenderSettings) -> Encoding {
+    Encoding {
+        gamma: r.gamma,
+        saturation: saturation(r.saturation),
+    }
+}
+
+/// The file's saturation rule in the core's terms.
+pub fn saturation(s: fmt::Saturation) -> Saturation {
+    match s {
+        fmt::Saturation::White => Saturation::White,
+        fmt::Saturation::Clamp => Saturation::Clamp,
+    }
+}
+
+/// The shapes of object `o`: one, or a mesh's triangles.
+fn shapes(path: &str, o: &fmt::Object) -> Result<Vec<Shape>, PrepareError> {
+    Ok(match o.shapes().as_slice() {
+        [fmt::ShapeRef::Sphere(s)] => vec![Shape::Sphere(Sphere::new(s.center.into(), s.radius))],
+        [fmt::ShapeRef::Triangle([a, b, c])] => vec![Shape::Triangle(Triangle::new(
+            (*a).into(),
+            (*b).into(),
+            (*c).into(),
+        ))],
+        [fmt::ShapeRef::Mesh(m)] => {
+            let data = m.data.as_ref().ok_or_else(|| PrepareError::MeshNotLoaded {
+                path: format!("{path}.mesh.obj"),
+            })?;
+            mesh_triangles(data, &placement(o.transform.as_ref()))
+                .into_iter()
+                .map(Shape::Triangle)
+                .collect()
+        }
+        _ => {
+            return Err(PrepareError::NotOneShape {
+                path: path.to_string(),
+            })
+        }
+    })
+}
+
+/// The placement of an object's `transform`.
+fn placement(t: Option<&fmt::Transform>) -> Placement {
+    t.map_or(Placement::IDENTITY, |t| {
+        Placement::new(
+            t.scale.per_axis().into(),
+            t.rotate.into(),
+            t.translate.into(),
+        )
+    })
+}
+
+/// The mesh's triangles in world space; triangles that the placement makes
+/// degenerate (zero area in f32) are left out.
+fn mesh_triangles(data: &fmt::MeshData, placement: &Placement) -> Vec<Triangle> {
+    data.triangles
+        .iter()
+        .map(|[a, b, c]| {
+            let [a, b, c] = [*a, *b, *c].map(|v| placement.apply(v.into()));
+            Triangle::new(a, b, c)
+        })
+        .filter(|t| (t.v1 - t.v0).cross(t.v2 - t.v0) != Vec3::ZERO)
+        .collect()
+}
+
+/// Materials of the prepared scene: the named ones once each, inline ones
+/// per object, and textures shared by name.
+struct MaterialTable<'a> {
+    file: &'a fmt::SceneFile,
+    materials: Vec<Material>,
+    /// Named material and object texture -> index, so objects share materials.
+    by_key: HashMap<(String, Option<String>), usize>,
+    textures: HashMap<Builtin, Arc<Texture>>,
+}
+
+impl<'a> MaterialTable<'a> {
+    fn new(file: &'a fmt::SceneFile) -> Self {
+        MaterialTable {
+            file,
+            materials: Vec::new(),
+            by_key: HashMap::new(),
+            textures: HashMap::new(),
+        }
+    }
+
+    fn texture(&mut self, path: &str, name: &str) -> Result<Arc<Texture>, PrepareError> {
+        let builtin = match fmt::BuiltinTexture::from_name(name) {
+            Some(fmt::BuiltinTexture::LabStripes) => Builtin::LabStripes,
+            None => {
+                return Err(PrepareError::UnknownTexture {
+                    path: path.to_string(),
+                    name: name.to_string(),
+                })
+            }
+        };
+        let texture = self.textures.entry(builtin);
+        Ok(texture
+            .or_insert_with(|| Arc::new(builtin.texture()))
+            .clone())
+    }
+
+    fn push(&mut self, phong: Phong) -> usize {
+        self.materials.push(Material::Phong(phong));
+        self.materials.len() - 1
+    }
+
+    /// The lab's material `m`, with the object's texture if it has one, else
+    /// the material's own.
+    fn phong(
+        &mut self,
+        path: &str,
+        m: &fmt::Material,
+        texture: Option<&String>,
+    ) -> Result<Phong, PrepareError> {
+        let texture = match texture.or(m.texture.as_ref()) {
+            Some(name) => Some(self.texture(path, name)?),
+            None => None,
+        };
+        Ok(Phong {
+            ambient: m.ambient.into(),
+            diffuse: m.diffuse.into(),
+            specular: m.specular.into(),
+            shininess: m.shininess,
+            reflectance: m.reflectance,
+            texture,
+        })
+    }
+
+    /// The index of object `o`'s material, with the object's texture applied.
+    fn resolve(&mut self, path: &str, o: &fmt::Object) -> Result<usize, PrepareError> {
+        let texture_path = format!("{path}.texture");
+        match &o.material {
+            None => {
+                let mut grey = Phong::default_grey();
+                if let Some(name) = &o.texture {
+                    grey.texture = Some(self.texture(&texture_path, name)?);
+                }
+                Ok(self.push(grey))
+            }
+            Some(fmt::MaterialRef::Inline(m)) => {
+                let phong = self.phong(&texture_path, m, o.texture.as_ref())?;
+                Ok(self.push(phong))
+            }
+            Some(fmt::MaterialRef::Named(name)) => {
+                let key = (name.clone(), o.texture.clone());
+                if let Some(&index) = self.by_key.get(&key) {
+                    return Ok(index);
+                }
+                let file = self.file;
+                let m = file
+                    .materials
+                    .get(name)
+                    .ok_or_else(|| PrepareError::UnknownMaterial {
+                        path: format!("{path}.material"),
+                        name: name.clone(),
+                    })?;
+                let phong = self.phong(&texture_path, m, o.texture.as_ref())?;
+                let index = self.push(phong);
+                self.by_key.insert(key, index);
+                Ok(index)
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn without_a_transform_mesh_vertices_are_kept_exactly() {
+        let data = fmt::MeshData {
+            triangles: vec![[[0.1, 0.2, 0.3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]],
+            skipped_degenerate: 0,
+        };
+        let tris = mesh_triangles(&data, &placement(None));
+        assert_eq!(tris.len(), 1);
+        assert_eq!(tris[0].v0, Vec3::new(0.1, 0.2, 0.3));
+    }
+
+    #[test]
+    fn a_transform_is_scale_then_rotate_then_translate() {
+        let t = fmt::Transform {
+            translate: [1.0, 2.0, 3.0],
+            rotate: [0.0, 0.0, 90.0],
+            scale: fmt::Scale::PerAxis([2.0, 1.0, 1.0]),
+        };
+        // (1,0,0) -> scale (2,0,0) -> 90 deg about z (0,2,0) -> (1,4,3).
+        let p = placement(Some(&t)).apply(Vec3::X);
+        assert!((p - Vec3::new(1.0, 4.0, 3.0)).length() < 1e-5, "{p}");
+    }
+
+    #[test]
+    fn every_built_in_texture_name_prepares() {
+        let text = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n";
+        let file = fmt::load_str(text, fmt::Format::Toml, std::path::Path::new("t.toml"))
+            .expect("a minimal scene");
+        let mut table = MaterialTable::new(&file);
+        for builtin in fmt::BuiltinTexture::ALL {
+            assert!(table.texture("t", builtin.name()).is_ok(), "{builtin:?}");
+        }
+        assert!(table.texture("t", "wood").is_err());
+    }
+}
