@@ -197,7 +197,10 @@ fn sample_position(i: u32, j: u32, s: u32, n: u32) -> Vec2 {
 /// The largest divisor of `n` not above its square root: the columns of a
 /// grid of exactly `n` strata.
 fn grid_columns(n: u32) -> u32 {
-    (1..=n.isqrt()).rev().find(|c| n.is_multiple_of(*c)).unwrap_or(1)
+    (1..=n.isqrt())
+        .rev()
+        .find(|c| n.is_multiple_of(*c))
+        .unwrap_or(1)
 }
 
 /// A 64-bit mix of a pixel and a sample index (SplitMix64's finaliser).

@@ -11,6 +11,8 @@ pub fn load(path: &Path) -> scene_format::SceneFile {
 }
 
 /// The lab's scene tables, one file each in `scenes/`.
+// Not every test binary that includes this module uses the list.
+#[allow(dead_code)]
 pub const LAB_SCENES: [&str; 12] = [
     "sphere-intersection",
     "triangle-intersection",

@@ -1,0 +1,159 @@
+//! The pixel driver's jobs: regions, samples per pixel, AOVs, each checked
+//! against geometry worked out by hand or against the whole image.
+
+mod common;
+
+use common::{load, scenes_dir};
+use glam::Vec3;
+use scene_format::Format;
+use std::path::Path;
+use tracer_core::{prepare, render, LinearImage, Output, Region, RenderJob, Scene};
+
+fn scene_from(text: &str) -> Scene {
+    let file = scene_format::load_str(text, Format::Toml, Path::new("t.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    prepare(&file).expect("prepare")
+}
+
+fn render_job(scene: &Scene, job: &RenderJob) -> LinearImage {
+    render(scene, job, &|_| {}).image
+}
+
+/// The lab's camera and a flat triangle in the plane z = 0 whose left edge
+/// (world +x is on the image's left) is the line x = `edge`; ambient 0.8
+/// under one white light, so a hit is 0.8 and a miss 0.
+fn half_plane_scene(edge: f32) -> Scene {
+    scene_from(&format!(
+        "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
+         [render]\ngamma = 1\n\
+         [[lights]]\nposition = [0, 0, 20]\n\
+         [[objects]]\ntriangle = [[{edge}, -50, 0], [{edge}, 50, 0], [{x}, 0, 0]]\n\
+         material = {{ ambient = [0.8, 0.8, 0.8] }}\n",
+        x = edge + 100.0
+    ))
+}
+
+#[test]
+fn sixteen_samples_see_an_edge_through_the_pixel_centre_as_half_covered() {
+    // Where the ray through the centre line of column 249 (fx = 249.5)
+    // meets z = 0: every point of the pixel left of it lies at larger x.
+    let probe = half_plane_scene(0.0);
+    let dir = probe.camera().ray(249.5, 200.5).dir;
+    let edge = dir.x * 10.0 / -dir.z;
+    let scene = half_plane_scene(edge);
+    let job = RenderJob {
+        samples: 16,
+        ..RenderJob::full(&scene)
+    };
+    let image = render_job(&scene, &job);
+    // 4 x 4 strata: the two left columns of strata hit, the two right miss.
+    assert!(
+        (image.get(249, 200).x - 0.4).abs() < 1e-6,
+        "{}",
+        image.get(249, 200)
+    );
+    assert!(
+        (image.get(248, 200).x - 0.8).abs() < 1e-6,
+        "{}",
+        image.get(248, 200)
+    );
+    assert_eq!(image.get(250, 200), Vec3::ZERO);
+    // One sample per pixel is the lab's ray through the centre, on the edge.
+    let lab = render_job(&scene, &RenderJob::full(&scene));
+    assert!(lab.get(249, 200).x == 0.8 || lab.get(249, 200).x == 0.0);
+}
+
+#[test]
+fn samples_give_the_same_image_on_any_number_of_threads() {
+    let scene = prepare(&load(&scenes_dir().join("reflectance2.toml"))).unwrap();
+    let job = RenderJob {
+        samples: 4,
+        ..RenderJob::full(&scene)
+    };
+    let on = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| render_job(&scene, &job))
+    };
+    let one = on(1);
+    assert!(one == on(2) && one == on(3));
+    // Anti-aliased, not the one-sample image.
+    assert!(one != render_job(&scene, &RenderJob::full(&scene)));
+}
+
+#[test]
+fn a_region_holds_exactly_those_pixels_of_the_whole_image() {
+    let scene = prepare(&load(&scenes_dir().join("reflectance2.toml"))).unwrap();
+    let whole = render_job(&scene, &RenderJob::full(&scene));
+    for output in [Output::Shading, Output::Aov(tracer_core::aov::Aov::Normal)] {
+        let whole = render_job(&scene, &RenderJob::full(&scene).with_output(output));
+        let region = Region {
+            x0: 123,
+            y0: 57,
+            x1: 411,
+            y1: 300,
+        };
+        let job = RenderJob {
+            region,
+            ..RenderJob::full(&scene).with_output(output)
+        };
+        let rows = std::sync::atomic::AtomicU32::new(0);
+        let part = render(&scene, &job, &|n| {
+            rows.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+        })
+        .image;
+        assert_eq!(rows.into_inner(), 243, "progress counts the region's rows");
+        assert_eq!((part.width, part.height), (288, 243));
+        for j in 0..part.height {
+            for i in 0..part.width {
+                assert_eq!(part.get(i, j), whole.get(123 + i, 57 + j), "{output:?}");
+            }
+        }
+    }
+    let empty = Region {
+        x0: 5,
+        y0: 5,
+        x1: 5,
+        y1: 9,
+    };
+    let job = RenderJob {
+        region: empty,
+        ..RenderJob::full(&scene)
+    };
+    assert!(render_job(&scene, &job).pixels.is_empty());
+    assert!(whole.pixels.iter().any(|p| p.max_element() > 0.0));
+}
+
+#[test]
+fn hits_know_the_side_they_met() {
+    // A triangle in z = 0 with normal +z (counter-clockwise seen from +z),
+    // and a sphere.
+    let scene = scene_from(
+        "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
+         [[objects]]\ntriangle = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]\n\
+         [[objects]]\nsphere = { center = [5, 5, 0], radius = 1 }\n",
+    );
+    let at = |origin: Vec3, target: Vec3| {
+        let ray = tracer_core::Ray::new(origin, target - origin);
+        scene.closest_hit(&ray, 1e-4, f32::INFINITY).expect("a hit")
+    };
+    let front = at(Vec3::new(0.2, 0.2, 5.0), Vec3::new(0.2, 0.2, 0.0));
+    assert!(front.front_face);
+    assert_eq!(front.geometric_normal, Vec3::Z);
+    let back = at(Vec3::new(0.2, 0.2, -5.0), Vec3::new(0.2, 0.2, 0.0));
+    assert!(!back.front_face);
+    assert_eq!(
+        back.geometric_normal,
+        Vec3::Z,
+        "the lab's normal is never flipped"
+    );
+    // Barycentrics: (0.2, 0.2) = v0 + 0.2 (v1 - v0) + 0.2 (v2 - v0).
+    assert!((front.uv - glam::Vec2::new(0.2, 0.2)).length() < 1e-6);
+    let outside = at(Vec3::new(5.0, 5.0, 5.0), Vec3::new(5.0, 5.0, 0.0));
+    // t is in units of the direction (0, 0, -5): the hit at z = 1 is at 4 / 5.
+    assert!(outside.front_face && (outside.t - 0.8).abs() < 1e-5);
+    let inside = at(Vec3::new(5.0, 5.0, 0.0), Vec3::new(5.0, 5.0, 3.0));
+    assert!(!inside.front_face && (inside.t - 1.0 / 3.0).abs() < 1e-5);
+}
