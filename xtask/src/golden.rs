@@ -43,7 +43,7 @@ pub fn render_scene_file(path: &Path) -> Result<RgbImage> {
             Ok(tracer_core::render(&scene).encode(&scene.encoding))
         }
         SceneKind::Canvas(canvas) => {
-            Ok(tracer_core::canvas::draw(&canvas).encode(&tracer_core::canvas::encoding(&canvas)))
+            Ok(lab_tools::canvas::draw(&canvas).encode(&lab_tools::canvas::encoding(&canvas)))
         }
     }
 }
@@ -65,18 +65,18 @@ fn render_chart(gamma: f32) -> Result<RgbImage> {
         gamma,
         saturation: Saturation::White,
     };
-    Ok(tracer_core::calib::calibration_chart(500, 100).encode(&encoding))
+    Ok(lab_tools::calib::calibration_chart(500, 100).encode(&encoding))
 }
 
 /// The gamma plot of a measurements CSV, as `tracer gamma fit --plot`.
 fn render_gamma_plot(csv: &Path) -> Result<RgbImage> {
     let text =
         std::fs::read_to_string(csv).with_context(|| format!("cannot read {}", csv.display()))?;
-    let rows = tracer_core::gamma::parse_measurements(&text)
+    let rows = lab_tools::measurements::parse_measurements(&text)
         .with_context(|| format!("{}: bad measurements", csv.display()))?;
-    let fit = tracer_core::gamma::fit_measurements(&rows);
-    let (w, h) = tracer_core::gamma_plot::DEFAULT_SIZE;
-    Ok(tracer_core::gamma_plot::plot_gamma(&rows, &fit, w, h)?)
+    let fit = lab_tools::gamma_fit::fit_measurements(&rows);
+    let (w, h) = lab_tools::gamma_plot::DEFAULT_SIZE;
+    Ok(lab_tools::gamma_plot::plot_gamma(&rows, &fit, w, h)?)
 }
 
 /// The lab's images that are not scene renders: its three gradient images

@@ -4,9 +4,9 @@
 use crate::BadInput;
 use anyhow::Result;
 use clap::Args;
+use lab_tools::calib::calibration_chart;
 use std::path::PathBuf;
 use tracer_cli::output::write_png_atomically;
-use tracer_core::calib::calibration_chart;
 use tracer_core::image::{Encoding, Saturation};
 
 /// Write the calibration chart: five equal grey patches 0, 0.25, 0.5, 0.75, 1.

@@ -16,7 +16,7 @@ pub fn draw(args: &RenderArgs, path: &Path, file: &CanvasFile) -> Result<()> {
         ))
         .into());
     }
-    let mut encoding = tracer_core::canvas::encoding(file);
+    let mut encoding = lab_tools::canvas::encoding(file);
     if let Some(gamma) = args.gamma {
         encoding.gamma = crate::gamma::checked_gamma(gamma)?;
     }
@@ -24,7 +24,7 @@ pub fn draw(args: &RenderArgs, path: &Path, file: &CanvasFile) -> Result<()> {
         .output
         .clone()
         .unwrap_or_else(|| crate::render::default_output(path));
-    let image = tracer_core::canvas::draw(file);
+    let image = lab_tools::canvas::draw(file);
     write_png_atomically(&image.encode(&encoding), &output)?;
     eprintln!(
         "drew {} ({}x{}) -> {}",

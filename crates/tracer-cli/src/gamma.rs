@@ -4,10 +4,11 @@
 use crate::BadInput;
 use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
+use lab_tools::gamma_fit::{fit_measurements, linearity_rmse};
+use lab_tools::gamma_plot::{plot_gamma, DEFAULT_SIZE};
+use lab_tools::measurements::{normalised_points, parse_measurements};
 use std::path::PathBuf;
 use tracer_cli::output::write_png_atomically;
-use tracer_core::gamma::{fit_measurements, linearity_rmse, normalised_points, parse_measurements};
-use tracer_core::gamma_plot::{plot_gamma, DEFAULT_SIZE};
 
 /// Measure a display's gamma.
 #[derive(Subcommand)]

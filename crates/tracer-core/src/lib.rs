@@ -4,11 +4,7 @@
 
 pub mod aov;
 pub mod bvh;
-pub mod calib;
 pub mod camera;
-pub mod canvas;
-pub mod gamma;
-pub mod gamma_plot;
 pub mod image;
 pub mod light;
 pub mod material;
