@@ -76,7 +76,9 @@ pub fn lab_image_cases(root: &Path) -> Vec<Case> {
     })
     .collect();
     cases.push(Case::new("calib-chart", || render_chart(None)));
-    cases.push(Case::new("calib-chart-gamma-2.2", || render_chart(Some(2.2))));
+    cases.push(Case::new("calib-chart-gamma-2.2", || {
+        render_chart(Some(2.2))
+    }));
     let csv = root.join("scenes/gamma/sample-measurements.csv");
     cases.push(Case::new("gamma-plot", move || render_gamma_plot(&csv)));
     cases
