@@ -6,13 +6,10 @@ use crate::manifest::Manifest;
 use anyhow::{bail, Context, Result};
 use image::RgbImage;
 use rayon::prelude::*;
-use scene_format::SceneKind;
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use tracer_core::aov::Aov;
-use tracer_core::image::Saturation;
-use tracer_core::Encoding;
+use tracer_pipeline::{lab, output, Aov, Gamma, Input, Options};
 
 pub type RenderFn = Box<dyn Fn() -> Result<RgbImage> + Send + Sync>;
 
@@ -35,57 +32,32 @@ impl Case {
     }
 }
 
-/// The one way a scene file becomes an image here: load, prepare, render,
-/// encode with the scene's own gamma and saturation rule.
+/// A scene file rendered as `tracer render SCENE` renders it.
 pub fn render_scene_file(path: &Path) -> Result<RgbImage> {
-    match scene_format::load_any(path)? {
-        SceneKind::Scene3d(file) => {
-            let scene = prepare(&file, path)?;
-            let job = tracer_core::RenderJob::full(&scene);
-            let image = tracer_core::render(&scene, &job, &|_| {}).image;
-            Ok(image.encode(scene.encoding()))
-        }
-        SceneKind::Canvas(canvas) => {
-            Ok(tracer_core::canvas::draw(&canvas).encode(&tracer_core::canvas::encoding(&canvas)))
-        }
-    }
+    render(path, Options::default())
 }
 
-fn prepare(file: &scene_format::SceneFile, path: &Path) -> Result<tracer_core::Scene> {
-    tracer_core::prepare(file)
-        .with_context(|| format!("{}: cannot prepare the scene", path.display()))
-}
-
-/// A ray-direction image of the lab (exercise 6), as `tracer render --aov`.
-fn render_aov(path: &Path, aov: Aov) -> Result<RgbImage> {
-    let scene = prepare(&scene_format::load_path(path)?, path)?;
-    let job = tracer_core::RenderJob::full(&scene).with_output(tracer_core::Output::Aov(aov));
-    let image = tracer_core::render(&scene, &job, &|_| {}).image;
-    Ok(image.encode(&tracer_core::aov::AOV_ENCODING))
+/// A scene file through the pipeline, as the `tracer` command runs it.
+fn render(path: &Path, options: Options) -> Result<RgbImage> {
+    let loaded = tracer_pipeline::load(&Input::File(path.to_path_buf()))?;
+    Ok(tracer_pipeline::render(&loaded, &options, &|_| {})?.image)
 }
 
 /// The calibration chart, as `tracer calib-chart [--gamma G]` writes it.
-fn render_chart(gamma: f32) -> Result<RgbImage> {
-    let encoding = Encoding {
-        gamma,
-        saturation: Saturation::White,
-    };
-    Ok(tracer_core::calib::calibration_chart(500, 100).encode(&encoding))
+fn render_chart(gamma: Option<f32>) -> Result<RgbImage> {
+    let gamma = gamma.map(Gamma::new).transpose()?;
+    let (width, height) = lab::DEFAULT_CHART_SIZE;
+    Ok(lab::chart(width, height, gamma)?)
 }
 
 /// The gamma plot of a measurements CSV, as `tracer gamma fit --plot`.
 fn render_gamma_plot(csv: &Path) -> Result<RgbImage> {
-    let text =
-        std::fs::read_to_string(csv).with_context(|| format!("cannot read {}", csv.display()))?;
-    let rows = tracer_core::gamma::parse_measurements(&text)
-        .with_context(|| format!("{}: bad measurements", csv.display()))?;
-    let fit = tracer_core::gamma::fit_measurements(&rows);
-    let (w, h) = tracer_core::gamma_plot::DEFAULT_SIZE;
-    Ok(tracer_core::gamma_plot::plot_gamma(&rows, &fit, w, h)?)
+    Ok(lab::gamma_plot(&lab::fit_gamma(csv)?)?)
 }
 
 /// The lab's images that are not scene renders: its three gradient images
-/// (lab names), the chart without and with gamma, and the sample gamma plot.
+/// (lab names, `tracer render --aov ray-dir-*`), the chart without and with
+/// gamma, and the sample gamma plot.
 pub fn lab_image_cases(root: &Path) -> Vec<Case> {
     let lab_camera = root.join("scenes/sphere-intersection.toml");
     let mut cases: Vec<Case> = [
@@ -96,11 +68,17 @@ pub fn lab_image_cases(root: &Path) -> Vec<Case> {
     .into_iter()
     .map(|(name, aov)| {
         let path = lab_camera.clone();
-        Case::new(name, move || render_aov(&path, aov))
+        let options = Options {
+            aov: Some(aov),
+            ..Options::default()
+        };
+        Case::new(name, move || render(&path, options))
     })
     .collect();
-    cases.push(Case::new("calib-chart", || render_chart(1.0)));
-    cases.push(Case::new("calib-chart-gamma-2.2", || render_chart(2.2)));
+    cases.push(Case::new("calib-chart", || render_chart(None)));
+    cases.push(Case::new("calib-chart-gamma-2.2", || {
+        render_chart(Some(2.2))
+    }));
     let csv = root.join("scenes/gamma/sample-measurements.csv");
     cases.push(Case::new("gamma-plot", move || render_gamma_plot(&csv)));
     cases
@@ -457,7 +435,7 @@ fn bless_one(name: &str, image: &RgbImage, golden_dir: &Path) -> Result<Blessed>
             Err(change) => Blessed::Resized { name, change },
         },
     };
-    tracer_cli::output::write_png_atomically(image, &path)?;
+    output::write_image(image, &path)?;
     Ok(blessed)
 }
 

@@ -8,6 +8,7 @@ use anyhow::{Context, Result};
 use image::RgbImage;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use tracer_pipeline::output::{encode, ImageFormat};
 
 /// The three pictures of one image, as files in the report folder.
 pub fn golden_file(name: &str) -> String {
@@ -52,7 +53,7 @@ pub fn write(dir: &Path, results: &[CaseResult]) -> Result<PathBuf> {
 
 fn save(dir: &Path, file: &str, image: Option<&RgbImage>) -> Result<()> {
     if let Some(image) = image {
-        std::fs::write(dir.join(file), tracer_cli::output::png_bytes(image)?)
+        std::fs::write(dir.join(file), encode(image, ImageFormat::Png)?)
             .with_context(|| format!("cannot write {file}"))?;
     }
     Ok(())

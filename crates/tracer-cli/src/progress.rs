@@ -4,13 +4,15 @@
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
 const SHOW_AFTER: Duration = Duration::from_millis(500);
 
 pub struct Progress {
     bar: ProgressBar,
-    start: Instant,
+    /// When the rows began: the first report, after loading and preparing.
+    start: OnceLock<Instant>,
     enabled: bool,
     shown: AtomicBool,
 }
@@ -29,17 +31,24 @@ impl Progress {
         }
         Progress {
             bar,
-            start: Instant::now(),
+            start: OnceLock::new(),
             enabled: !quiet && std::io::stderr().is_terminal(),
             shown: AtomicBool::new(false),
         }
     }
 
-    /// Called from the render threads as `rows` more rows are done.
+    /// Called from the render threads as `rows` more rows are done (0
+    /// when the rows begin).
     pub fn rows_done(&self, rows: u32) {
+        let start = self.start.get_or_init(|| {
+            // Preparing the scene is not rendering: time and ETA from here.
+            self.bar.reset_elapsed();
+            self.bar.reset_eta();
+            Instant::now()
+        });
         self.bar.inc(rows.into());
         if self.enabled
-            && self.start.elapsed() >= SHOW_AFTER
+            && start.elapsed() >= SHOW_AFTER
             && !self.shown.swap(true, Ordering::Relaxed)
         {
             self.bar.set_draw_target(ProgressDrawTarget::stderr());

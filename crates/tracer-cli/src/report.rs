@@ -81,12 +81,14 @@ pub fn color_wanted() -> bool {
     std::io::stderr().is_terminal() && !no_color
 }
 
-/// Whether the scene error is the user's input (exit 2) rather than the
-/// machine's (exit 1): a missing file is a wrong argument, an unreadable
-/// disk is not.
-pub fn is_bad_input(error: &SceneError) -> bool {
-    match error {
-        SceneError::Io { source, .. } => source.kind() == std::io::ErrorKind::NotFound,
-        SceneError::UnknownFormat { .. } | SceneError::Invalid { .. } => true,
+/// The loaded scene's warnings, one line each; shown even when quiet.
+pub fn warnings(loaded: &tracer_pipeline::Loaded) {
+    for w in &loaded.warnings {
+        eprintln!(
+            "warning: {}: `{}`: {}",
+            loaded.name.display(),
+            w.path,
+            w.message
+        );
     }
 }

@@ -381,3 +381,101 @@ fn schema_is_json_describing_the_scene_keys() {
     assert_eq!(keys, ["eye", "fov", "height", "look_at", "up", "width"]);
     assert_eq!(camera["required"], serde_json::json!(["eye", "look_at"]));
 }
+
+#[test]
+fn quiet_prints_nothing_for_an_aov_or_a_canvas_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    for args in [
+        [
+            "render",
+            &scene("sphere-intersection.toml"),
+            "--aov",
+            "depth",
+            "--quiet",
+        ],
+        ["render", &scene("robot.toml"), "-o", "robot.png", "--quiet"],
+    ] {
+        let out = tracer(dir.path(), &args);
+        assert!(out.status.success(), "{args:?}");
+        assert!(
+            out.stderr.is_empty(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    assert!(dir.path().join("sphere-intersection-depth.png").is_file());
+    assert!(dir.path().join("robot.png").is_file());
+}
+
+/// A scene whose mesh has one face of zero area, next to a good one.
+fn scene_with_a_degenerate_face(dir: &Path) {
+    std::fs::write(
+        dir.join("flat.obj"),
+        "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nv 2 -1 0\nf 1 2 3\nf 1 2 4\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("m.toml"),
+        "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\nwidth = 40\nheight = 30\n\
+         [[objects]]\nmesh = { obj = \"flat.obj\" }\n",
+    )
+    .unwrap();
+}
+
+#[test]
+fn mesh_warnings_are_shown_on_every_render_path_even_when_quiet() {
+    let dir = tempfile::tempdir().unwrap();
+    scene_with_a_degenerate_face(dir.path());
+    for args in [
+        &["render", "m.toml", "--aov", "normal"][..],
+        &["render", "m.toml", "--aov", "depth", "--quiet"],
+        &["render", "m.toml", "--quiet"],
+    ] {
+        let out = tracer(dir.path(), args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains(
+                "warning: m.toml: `objects[0].mesh.obj`: 1 degenerate (zero-area) faces left out"
+            ),
+            "{args:?}: {stderr}"
+        );
+    }
+    let out = tracer(dir.path(), &["check", "m.toml"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains("1 degenerate"), "{stderr}");
+}
+
+#[test]
+fn threads_are_honoured_by_an_aov_and_change_nothing_in_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = scene("shadows.toml");
+    for (threads, out) in [("1", "one.png"), ("2", "two.png")] {
+        let run = tracer(
+            dir.path(),
+            &[
+                "render",
+                &s,
+                "--aov",
+                "normal",
+                "--threads",
+                threads,
+                "-o",
+                out,
+            ],
+        );
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+    }
+    let one = std::fs::read(dir.path().join("one.png")).unwrap();
+    assert_eq!(one, std::fs::read(dir.path().join("two.png")).unwrap());
+    let zero = tracer(
+        dir.path(),
+        &["render", &s, "--aov", "normal", "--threads", "0"],
+    );
+    assert_eq!(zero.status.code(), Some(2));
+}

@@ -10,11 +10,7 @@
 
 pub mod accel;
 pub mod aov;
-pub mod calib;
 pub mod camera;
-pub mod canvas;
-pub mod gamma;
-pub mod gamma_plot;
 pub mod geometry;
 pub mod image;
 pub mod integrate;

@@ -1,29 +1,76 @@
-//! Writing output files whole or not at all.
+//! Writing output files whole or not at all, in the format their
+//! extension names.
 
-use anyhow::{Context, Result};
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-/// Writes `image` as PNG to `path` through a temporary file in the same
-/// folder and a rename: a failure leaves no partial file and an existing
-/// image untouched.
-pub fn write_png_atomically(image: &image::RgbImage, path: &Path) -> Result<()> {
-    write_atomically(&png_bytes(image)?, path)
+/// Why an output file was not written; the file is then as it was before.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    #[error("cannot encode the {format}")]
+    Encode {
+        format: &'static str,
+        #[source]
+        source: image::ImageError,
+    },
+    #[error("cannot create a file in {}", dir.display())]
+    Create {
+        dir: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("cannot write {}", path.display())]
+    Write {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
 }
 
-/// The PNG bytes of an image.
-pub fn png_bytes(image: &image::RgbImage) -> Result<Vec<u8>> {
+/// The image file formats written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ImageFormat {
+    Png,
+}
+
+impl ImageFormat {
+    /// The format for an output path. Only PNG is written so far, whatever
+    /// the extension (as the tracer always did); EXR and the others join here.
+    pub fn for_path(_path: &Path) -> ImageFormat {
+        ImageFormat::Png
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            ImageFormat::Png => "PNG",
+        }
+    }
+}
+
+/// Writes `image` to `path`, in the format of its extension, through a
+/// temporary file in the same folder and a rename: a failure leaves no
+/// partial file and an existing image untouched.
+pub fn write_image(image: &image::RgbImage, path: &Path) -> Result<(), OutputError> {
+    write_atomically(&encode(image, ImageFormat::for_path(path))?, path)
+}
+
+/// The bytes of an image file in `format`.
+pub fn encode(image: &image::RgbImage, format: ImageFormat) -> Result<Vec<u8>, OutputError> {
+    let encoder = match format {
+        ImageFormat::Png => image::ImageFormat::Png,
+    };
     let mut bytes = Vec::new();
     image
-        .write_to(
-            &mut std::io::Cursor::new(&mut bytes),
-            image::ImageFormat::Png,
-        )
-        .context("cannot encode the PNG")?;
+        .write_to(&mut std::io::Cursor::new(&mut bytes), encoder)
+        .map_err(|source| OutputError::Encode {
+            format: format.name(),
+            source,
+        })?;
     Ok(bytes)
 }
 
-pub fn write_atomically(bytes: &[u8], path: &Path) -> Result<()> {
+/// Writes `bytes` to `path` whole or not at all (see `write_image`).
+pub fn write_atomically(bytes: &[u8], path: &Path) -> Result<(), OutputError> {
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
@@ -34,15 +81,20 @@ pub fn write_atomically(bytes: &[u8], path: &Path) -> Result<()> {
     builder.permissions(permissions_for(path));
     let mut tmp = builder
         .tempfile_in(dir)
-        .with_context(|| format!("cannot create a file in {}", dir.display()))?;
+        .map_err(|source| OutputError::Create {
+            dir: dir.to_path_buf(),
+            source,
+        })?;
+    let write_error = |source| OutputError::Write {
+        path: path.to_path_buf(),
+        source,
+    };
     tmp.write_all(bytes)
         .and_then(|()| tmp.as_file().sync_all())
-        .with_context(|| format!("cannot write {}", path.display()))?;
-    tmp.persist(path)
-        .with_context(|| format!("cannot write {}", path.display()))?;
+        .map_err(write_error)?;
+    tmp.persist(path).map_err(|e| write_error(e.error))?;
     Ok(())
 }
-
 /// The mode of the file being replaced, or an ordinary file's (rw-r--r--,
 /// less the umask): a temporary file is created readable by its owner
 /// only, and the renamed image would keep that.
@@ -112,7 +164,20 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("no/such/folder/out.png");
         let err = write_atomically(b"new", &path).unwrap_err();
-        assert!(format!("{err:#}").contains("cannot create a file in"));
+        assert!(err.to_string().contains("cannot create a file in"));
         assert!(!path.exists());
+    }
+
+    #[test]
+    fn an_image_is_written_as_png_whatever_its_extension() {
+        let dir = tempfile::tempdir().unwrap();
+        let image = image::RgbImage::from_pixel(3, 2, image::Rgb([10, 20, 30]));
+        for name in ["a.png", "b.jpg", "c"] {
+            let path = dir.path().join(name);
+            write_image(&image, &path).unwrap();
+            let bytes = std::fs::read(&path).unwrap();
+            assert_eq!(bytes, encode(&image, ImageFormat::Png).unwrap(), "{name}");
+            assert!(bytes.starts_with(b"\x89PNG"), "{name}");
+        }
     }
 }

@@ -2,9 +2,9 @@
 //! positions worked out by hand from the template's pixel mapping.
 
 use glam::Vec3;
+use lab_tools::canvas::{draw, encoding};
 use scene_format::{CanvasFile, SceneKind};
 use std::path::Path;
-use tracer_core::canvas::{draw, encoding};
 
 fn load(name: &str) -> CanvasFile {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))

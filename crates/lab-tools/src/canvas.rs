@@ -5,9 +5,9 @@
 //! Every shape is rasterised by testing pixel centres, so what a pixel gets
 //! never depends on the order of a line's end points.
 
-use crate::image::{Encoding, LinearImage, Saturation};
 use glam::{Mat3, Vec2, Vec3};
 use scene_format::canvas::{CanvasFile, CanvasShape, CanvasShapeRef, Transform};
+use tracer_core::image::{Encoding, LinearImage, Saturation};
 
 /// Lines are 2 pixels thick, as in the template.
 pub const LINE_WIDTH: f32 = 2.0;

@@ -3,7 +3,8 @@
 //! correcting `y = x^(1/gamma)` and, when measured, the display after
 //! correction, against the straight line it should approach.
 
-use crate::gamma::{normalised_points, GammaFit, Measurement};
+use crate::gamma_fit::GammaFit;
+use crate::measurements::{normalised_points, Measurement};
 use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle};
 use std::sync::Once;
@@ -149,7 +150,8 @@ fn draw(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gamma::{fit_measurements, parse_measurements};
+    use crate::gamma_fit::fit_measurements;
+    use crate::measurements::parse_measurements;
 
     fn sample() -> Vec<Measurement> {
         parse_measurements("0,0.4,0.4\n0.25,10.7,63\n0.5,51,126\n0.75,129,187\n1,250,249\n")

@@ -2,11 +2,24 @@
 //! equal grey patches 0, 0.25, 0.5, 0.75, 1 side by side, to be measured on
 //! a display with a luminance meter.
 
-use crate::image::LinearImage;
 use glam::Vec3;
+use tracer_core::image::{Encoding, LinearImage, Saturation};
 
 /// The grey levels of the patches, left to right.
 pub const CHART_LEVELS: [f32; 5] = [0.0, 0.25, 0.5, 0.75, 1.0];
+
+/// The chart's size when none is asked for, (width, height) in pixels: 100
+/// pixels per patch, as `tracer calib-chart` writes it and its golden holds.
+pub const DEFAULT_CHART_SIZE: (u32, u32) = (500, 100);
+
+/// How the chart is written: gamma `gamma` (1 = none, the lab's chart) and
+/// the lab's saturation rule (the levels never exceed 1, so it never acts).
+pub fn chart_encoding(gamma: f32) -> Encoding {
+    Encoding {
+        gamma,
+        saturation: Saturation::White,
+    }
+}
 
 /// The chart in linear values; patch k covers columns `k * W / 5` up to
 /// `(k + 1) * W / 5` (equal when W is a multiple of 5), all rows.
@@ -24,14 +37,10 @@ pub fn calibration_chart(width: u32, height: u32) -> LinearImage {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::image::{Encoding, Saturation};
 
     fn bytes_per_patch(gamma: f32) -> Vec<u8> {
-        let encoding = Encoding {
-            gamma,
-            saturation: Saturation::White,
-        };
-        let image = calibration_chart(500, 100).encode(&encoding);
+        let (width, height) = DEFAULT_CHART_SIZE;
+        let image = calibration_chart(width, height).encode(&chart_encoding(gamma));
         (0..5)
             .map(|k| image.get_pixel(k * 100 + 50, 50).0[0])
             .collect()

@@ -1,0 +1,61 @@
+//! What can go wrong between a scene file and an image, sorted into the
+//! user's mistakes (bad input) and the machine's failures.
+
+use crate::output::OutputError;
+use scene_format::SceneError;
+use std::path::PathBuf;
+
+/// Why the pipeline made no image. [`Error::is_bad_input`] tells the
+/// user's mistakes (the CLI's exit status 2) from other failures (1).
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The scene file could not be read, or has mistakes; the CLI shows the
+    /// diagnostics with their source lines.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// A gamma override that is not a number > 0.
+    #[error("--gamma: expected a number > 0, found {0}")]
+    Gamma(f32),
+    /// A calibration chart of a size that cannot be made.
+    #[error("--width/--height: expected 5 to {max} by 1 to {max} pixels, found {width}x{height}")]
+    ChartSize { width: u32, height: u32, max: u32 },
+    /// An AOV asked of a 2D canvas scene.
+    #[error("{}: --aov needs a 3D scene; this is a 2D canvas scene", scene.display())]
+    AovOfCanvas { scene: PathBuf },
+    /// A valid scene file the tracer still cannot build.
+    #[error("{}: {message}", scene.display())]
+    Prepare { scene: PathBuf, message: String },
+    /// A measurements file that is missing or malformed.
+    #[error("{}: {message}", file.display())]
+    Measurements { file: PathBuf, message: String },
+    /// The gamma plot could not be drawn.
+    #[error(transparent)]
+    Plot(#[from] lab_tools::gamma_plot::PlotError),
+    /// An output file could not be written.
+    #[error(transparent)]
+    Output(#[from] OutputError),
+}
+
+impl Error {
+    /// Whether the user's input is at fault (exit 2) rather than the machine (exit 1).
+    pub fn is_bad_input(&self) -> bool {
+        match self {
+            Error::Scene(e) => scene_error_is_bad_input(e),
+            Error::Gamma(_)
+            | Error::ChartSize { .. }
+            | Error::AovOfCanvas { .. }
+            | Error::Prepare { .. }
+            | Error::Measurements { .. } => true,
+            Error::Plot(_) | Error::Output(_) => false,
+        }
+    }
+}
+
+/// Whether a scene error is the user's input rather than the machine's: a
+/// missing file is a wrong argument, an unreadable disk is not.
+pub fn scene_error_is_bad_input(error: &SceneError) -> bool {
+    match error {
+        SceneError::Io { source, .. } => source.kind() == std::io::ErrorKind::NotFound,
+        SceneError::UnknownFormat { .. } | SceneError::Invalid { .. } => true,
+    }
+}

@@ -1,0 +1,18 @@
+//! Scene file and options in, image out: the one way the tracer makes an
+//! image, used by the `tracer` command and by `cargo xtask golden`, so the
+//! goldens check exactly what `tracer` writes.
+//!
+//! [`load`] reads a scene (a file or the built-in one) and says which files
+//! it read; [`render`] makes the 8-bit image; [`output`] writes it whole or
+//! not at all. [`lab`] makes the lab's calibration chart and gamma fit.
+
+mod error;
+pub mod lab;
+mod load;
+pub mod output;
+mod render;
+mod scene3d;
+
+pub use error::{scene_error_is_bad_input, Error};
+pub use load::{load, Input, Loaded, DEFAULT_SCENE_NAME};
+pub use render::{default_output, render, Aov, Gamma, Options, Rendered, ShadedStats, Summary};

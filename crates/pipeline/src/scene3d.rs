@@ -1,0 +1,95 @@
+//! Every call into tracer-core's 3D API: preparing a scene file, rendering
+//! it shaded or as an AOV, encoding it. The rest of the pipeline reaches
+//! the core through here only, so a change of that API stays in this file.
+
+use crate::render::{Aov, Gamma, ShadedStats};
+use crate::Error;
+use image::RgbImage;
+use scene_format::SceneFile;
+use std::path::Path;
+use std::time::Instant;
+use tracer_core::{Output, RenderJob, Scene};
+
+/// The shaded image, encoded with the scene's gamma (or `gamma`) and
+/// saturation rule; `rows_done(0)` once the scene is prepared, then
+/// `rows_done(n)` from the render threads as `n` more rows are done.
+pub(crate) fn shade(
+    file: &SceneFile,
+    name: &Path,
+    gamma: Option<Gamma>,
+    rows_done: &(dyn Fn(u32) + Sync),
+) -> Result<(RgbImage, ShadedStats), Error> {
+    let start = Instant::now();
+    let scene = prepare(file, name)?;
+    let prepare_seconds = start.elapsed().as_secs_f64();
+    rows_done(0);
+    let start = Instant::now();
+    let rendered = tracer_core::render(&scene, &RenderJob::full(&scene), rows_done);
+    let (image, rays) = (rendered.image, rendered.rays);
+    let render_seconds = start.elapsed().as_secs_f64();
+    let mut encoding = *scene.encoding();
+    if let Some(gamma) = gamma {
+        encoding.gamma = gamma.get();
+    }
+    let stats = ShadedStats {
+        objects: file.objects.len(),
+        primitives: scene.objects().len(),
+        rays: rays.total(),
+        prepare_seconds,
+        render_seconds,
+    };
+    Ok((image.encode(&encoding), stats))
+}
+
+/// The image of one AOV, written linearly unless `gamma` is given.
+pub(crate) fn aov(
+    file: &SceneFile,
+    name: &Path,
+    aov: Aov,
+    gamma: Option<Gamma>,
+) -> Result<RgbImage, Error> {
+    let scene = prepare(file, name)?;
+    let mut encoding = tracer_core::aov::AOV_ENCODING;
+    if let Some(gamma) = gamma {
+        encoding.gamma = gamma.get();
+    }
+    let job = RenderJob::full(&scene).with_output(Output::Aov(core_aov(aov)));
+    let image = tracer_core::render(&scene, &job, &|_| {}).image;
+    Ok(image.encode(&encoding))
+}
+
+fn prepare(file: &SceneFile, name: &Path) -> Result<Scene, Error> {
+    tracer_core::prepare(file).map_err(|e| Error::Prepare {
+        scene: name.to_path_buf(),
+        message: e.to_string(),
+    })
+}
+
+fn core_aov(aov: Aov) -> tracer_core::aov::Aov {
+    use tracer_core::aov::Aov as Core;
+    match aov {
+        Aov::RayDirX => Core::RayDirX,
+        Aov::RayDirY => Core::RayDirY,
+        Aov::RayDirZ => Core::RayDirZ,
+        Aov::Normal => Core::Normal,
+        Aov::Depth => Core::Depth,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_aov_is_the_core_aov_of_its_name() {
+        for aov in [
+            Aov::RayDirX,
+            Aov::RayDirY,
+            Aov::RayDirZ,
+            Aov::Normal,
+            Aov::Depth,
+        ] {
+            assert_eq!(core_aov(aov).name(), aov.name());
+        }
+    }
+}

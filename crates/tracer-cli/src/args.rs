@@ -1,0 +1,161 @@
+//! The command line as clap parses it (`*Args`), and resolved once, before
+//! any work (ripgrep's `HiArgs`): the gamma checked, the thread pool built.
+//! Every command then reads the resolved form only.
+
+use clap::{Args, Subcommand, ValueEnum};
+use std::path::PathBuf;
+use tracer_pipeline::lab::DEFAULT_CHART_SIZE;
+use tracer_pipeline::{Aov, Gamma, Input, Options};
+
+/// Render a scene file to a PNG image.
+#[derive(Args)]
+pub struct RenderArgs {
+    /// Scene file (.toml or .json). Without one, the lab's final scene
+    /// (table 1.10, reflectance2) is rendered.
+    pub scene: Option<PathBuf>,
+    /// Output PNG [default: the scene's file name with .png, in the current folder]
+    #[arg(short, long, value_name = "OUT.png")]
+    pub output: Option<PathBuf>,
+    /// Display gamma for encoding, overriding the scene's `[render] gamma`
+    /// (1 writes linear values)
+    #[arg(long, value_name = "G")]
+    pub gamma: Option<f32>,
+    /// Write one quantity per pixel instead of the shaded colour (linear,
+    /// unless --gamma is given)
+    #[arg(long, value_name = "NAME")]
+    pub aov: Option<AovArg>,
+    /// Threads to render with [default: one per core]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+    /// Print no progress bar and no summary, only warnings and errors
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// The AOV names on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum AovArg {
+    /// (dir.x + 1) / 2 of each primary ray in red (the lab's gradient-OX.png)
+    RayDirX,
+    /// (dir.y + 1) / 2 in green (gradient-OY.png)
+    RayDirY,
+    /// (dir.z + 1) / 2 in blue (gradient-OZ.png)
+    RayDirZ,
+    /// (n + 1) / 2 of the surface normal at the nearest hit
+    Normal,
+    /// Distance to the nearest hit: near bright, far dark, no hit black
+    Depth,
+}
+
+impl From<AovArg> for Aov {
+    fn from(a: AovArg) -> Aov {
+        match a {
+            AovArg::RayDirX => Aov::RayDirX,
+            AovArg::RayDirY => Aov::RayDirY,
+            AovArg::RayDirZ => Aov::RayDirZ,
+            AovArg::Normal => Aov::Normal,
+            AovArg::Depth => Aov::Depth,
+        }
+    }
+}
+
+/// Write the calibration chart: five equal grey patches 0, 0.25, 0.5, 0.75, 1.
+#[derive(Args)]
+pub struct CalibChartArgs {
+    /// Output PNG
+    #[arg(short, long, value_name = "OUT.png", default_value = "chart.png")]
+    pub output: PathBuf,
+    /// Encode with display gamma G (c^(1/G)); without it no gamma encoding
+    #[arg(long, value_name = "G")]
+    pub gamma: Option<f32>,
+    /// Image width in pixels (a multiple of 5 gives equal patches)
+    #[arg(long, default_value_t = DEFAULT_CHART_SIZE.0)]
+    pub width: u32,
+    /// Image height in pixels
+    #[arg(long, default_value_t = DEFAULT_CHART_SIZE.1)]
+    pub height: u32,
+}
+
+/// Measure a display's gamma.
+#[derive(Subcommand)]
+pub enum GammaCommand {
+    Fit(FitArgs),
+}
+
+/// Fit y = x^gamma to luminances measured on the calibration chart.
+///
+/// The CSV has one row per patch: level (0 to 1), luminance (cd/m2) and
+/// optionally the luminance measured after gamma correction; a header row
+/// and `#` comment lines are allowed. Luminances are normalised by their
+/// maximum before the least-squares fit.
+#[derive(Args)]
+pub struct FitArgs {
+    /// Measurements, CSV
+    pub measurements: PathBuf,
+    /// Also draw the measured, fitted and correcting curves to this PNG
+    #[arg(long, value_name = "gamma.png")]
+    pub plot: Option<PathBuf>,
+}
+
+/// Check scene files for mistakes without rendering them; every problem
+/// found is reported, with its file, line, column and key.
+#[derive(Args)]
+pub struct CheckArgs {
+    /// Scene files (.toml or .json): 3D scenes or 2D canvas scenes
+    #[arg(required = true, value_name = "SCENE")]
+    pub scenes: Vec<PathBuf>,
+}
+
+/// `tracer render`, resolved.
+pub struct Render {
+    pub input: Input,
+    /// `None`: named after the scene (`tracer_pipeline::default_output`).
+    pub output: Option<PathBuf>,
+    pub options: Options,
+    /// The one pool every path renders on, so `--threads` holds for all.
+    pub pool: rayon::ThreadPool,
+    pub quiet: bool,
+}
+
+impl RenderArgs {
+    pub fn resolve(self) -> anyhow::Result<Render> {
+        let mut pool = rayon::ThreadPoolBuilder::new();
+        if let Some(n) = self.threads {
+            pool = pool.num_threads(n as usize);
+        }
+        Ok(Render {
+            input: Input::from_arg(self.scene),
+            output: self.output,
+            options: Options {
+                gamma: checked(self.gamma)?,
+                aov: self.aov.map(Aov::from),
+            },
+            pool: pool.build()?,
+            quiet: self.quiet,
+        })
+    }
+}
+
+/// `tracer calib-chart`, resolved.
+pub struct CalibChart {
+    pub output: PathBuf,
+    pub gamma: Option<Gamma>,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl CalibChartArgs {
+    pub fn resolve(self) -> anyhow::Result<CalibChart> {
+        Ok(CalibChart {
+            output: self.output,
+            gamma: checked(self.gamma)?,
+            width: self.width,
+            height: self.height,
+        })
+    }
+}
+
+/// The one check of `--gamma`, wherever it is given.
+fn checked(gamma: Option<f32>) -> Result<Option<Gamma>, tracer_pipeline::Error> {
+    gamma.map(Gamma::new).transpose()
+}

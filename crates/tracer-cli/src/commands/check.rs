@@ -1,0 +1,33 @@
+//! `tracer check`: validate scene files without rendering.
+
+use crate::args::CheckArgs;
+use crate::error::{scene_outcome, Outcome};
+use crate::report;
+use tracer_pipeline::Input;
+
+pub fn run(args: &CheckArgs) -> Outcome {
+    let color = report::color_wanted();
+    let mut outcome = Outcome::Ok;
+    let mut bad = 0;
+    for scene in &args.scenes {
+        match tracer_pipeline::load(&Input::File(scene.clone())) {
+            Ok(loaded) => {
+                report::warnings(&loaded);
+                eprintln!("ok: {}", scene.display());
+            }
+            Err(e) => {
+                bad += 1;
+                eprint!("{}", report::render(&e, color));
+                outcome = outcome.max(scene_outcome(&e));
+            }
+        }
+    }
+    if bad > 0 {
+        eprintln!(
+            "{bad} of {} scene file{} failed the check",
+            args.scenes.len(),
+            if args.scenes.len() == 1 { "" } else { "s" }
+        );
+    }
+    outcome
+}

@@ -1,0 +1,7 @@
+//! One module per command; each reads its resolved arguments from `args`.
+
+pub mod calib_chart;
+pub mod check;
+pub mod gamma_fit;
+pub mod render;
+pub mod schema;

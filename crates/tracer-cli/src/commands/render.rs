@@ -1,0 +1,61 @@
+//! `tracer render`: scene file in, PNG out; a 3D scene shaded or as an
+//! AOV, or a 2D canvas scene drawn. Every path loads, warns, renders on the
+//! one thread pool, writes and (unless quiet) sums up the same way.
+
+use crate::args::Render;
+use crate::progress::Progress;
+use crate::report;
+use anyhow::Result;
+use std::path::Path;
+use tracer_pipeline::{default_output, output, Rendered, ShadedStats, Summary};
+
+pub fn run(args: &Render) -> Result<()> {
+    let loaded = tracer_pipeline::load(&args.input)?;
+    report::warnings(&loaded);
+    let output = args
+        .output
+        .clone()
+        .unwrap_or_else(|| default_output(&loaded.name, args.options.aov));
+    let progress = Progress::new(loaded.size().1.into(), args.quiet);
+    let rendered = args
+        .pool
+        .install(|| tracer_pipeline::render(&loaded, &args.options, &|n| progress.rows_done(n)));
+    progress.finish();
+    let rendered = rendered?;
+    output::write_image(&rendered.image, &output)?;
+    if !args.quiet {
+        let threads = args.pool.current_num_threads();
+        eprintln!("{}", summary(&loaded.name, &rendered, threads, &output));
+    }
+    Ok(())
+}
+
+/// The line that says what was written.
+fn summary(scene: &Path, rendered: &Rendered, threads: usize, output: &Path) -> String {
+    let (scene, output) = (scene.display(), output.display());
+    let (width, height) = rendered.image.dimensions();
+    match &rendered.summary {
+        Summary::Shaded(stats) => format!(
+            "rendered {scene} ({width}x{height}, {}) in {:.3} s ({:.3} s to prepare), \
+             {:.1} Mrays/s on {threads} threads -> {output}",
+            objects_summary(stats),
+            stats.render_seconds,
+            stats.prepare_seconds,
+            stats.rays as f64 / stats.render_seconds.max(1e-9) / 1e6,
+        ),
+        Summary::Aov(aov) => format!("rendered {} of {scene} -> {output}", aov.name()),
+        Summary::Canvas => format!("drew {scene} ({width}x{height}) -> {output}"),
+    }
+}
+
+/// "5 objects", or with meshes "2 objects, 69667 primitives": a mesh is one
+/// object of the scene file and many triangles to the tracer.
+fn objects_summary(stats: &ShadedStats) -> String {
+    let objects = stats.objects;
+    let plural = if objects == 1 { "" } else { "s" };
+    if stats.primitives == objects {
+        format!("{objects} object{plural}")
+    } else {
+        format!("{objects} object{plural}, {} primitives", stats.primitives)
+    }
+}
