@@ -83,7 +83,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         scenes.retain(|s| args.only.iter().any(|o| o == s.name));
     }
     let povray = !args.no_povray && povray::available();
-    let embree = if args.no_embree {
+    let embree = if args.no_embree || scenes.iter().all(|s| s.embree_subdiv.is_none()) {
         None
     } else {
         embree::build(&root, &crate::target_dir().join("peers"))
