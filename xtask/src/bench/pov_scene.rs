@@ -33,7 +33,7 @@ pub fn pov_scene(scene: &SceneFile) -> String {
     // Writing to a String cannot fail: the results of write! are ignored.
     let _ = writeln!(
         pov,
-        "// Written by `cargo xtask bench` from a scene file ({} objects).",
+        "// Written by `cargo xtask bench` from a scene file; objects: {}.",
         scene.objects.len()
     );
     pov.push_str("#version 3.7;\n");
