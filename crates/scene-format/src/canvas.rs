@@ -2,7 +2,7 @@
 //! under 3x3 transforms. A file with a top-level `[canvas]` table is a canvas
 //! scene; any other is a 3D scene (see `load_any`).
 
-use crate::error::Diagnostic;
+use crate::diagnostic::Diagnostic;
 use crate::model::Color;
 use crate::validate::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE};
 use serde::{Deserialize, Serialize};

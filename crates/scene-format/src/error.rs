@@ -1,78 +1,28 @@
-//! Errors of loading a scene file, each pointing at where the problem is.
+//! The error of loading a scene file: the file could not be read, is of an
+//! unknown type, or holds problems (diagnostics); and how the problems read
+//! as text, each with its source line and a caret.
 
-use crate::locate::KeyPath;
+use crate::diagnostic::{floor_char_boundary, Diagnostic, Location};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-/// A line and column in the source text, both counted from 1.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Location {
-    pub line: usize,
-    pub column: usize,
-}
-
-impl Location {
-    /// The location of a byte offset in `text`; columns count characters.
-    pub fn from_offset(text: &str, offset: usize) -> Location {
-        let offset = floor_char_boundary(text, offset.min(text.len()));
-        let before = &text[..offset];
-        let line = before.matches('\n').count() + 1;
-        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-        let column = before[line_start..].chars().count() + 1;
-        Location { line, column }
-    }
-}
-
-fn floor_char_boundary(text: &str, mut offset: usize) -> usize {
-    while !text.is_char_boundary(offset) {
-        offset -= 1;
-    }
-    offset
-}
-
-/// One problem in a scene file.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Diagnostic {
-    /// The key path, e.g. `objects[2].sphere.radius`; empty for the whole file.
-    pub path: KeyPath,
-    /// What was found and what was expected.
-    pub message: String,
-    /// The bytes of the source the message is about, once located.
-    pub span: Option<Range<usize>>,
-    /// `span`'s start as line and column.
-    pub location: Option<Location>,
-}
-
-impl Diagnostic {
-    pub fn new(path: impl Into<KeyPath>, message: impl Into<String>) -> Self {
-        Diagnostic {
-            path: path.into(),
-            message: message.into(),
-            span: None,
-            location: None,
-        }
-    }
-
-    /// This diagnostic pointing at `span` of `text`.
-    pub fn at(mut self, text: &str, span: Range<usize>) -> Self {
-        let start = floor_char_boundary(text, span.start.min(text.len()));
-        let end = floor_char_boundary(text, span.end.clamp(start, text.len()));
-        self.location = Some(Location::from_offset(text, start));
-        self.span = Some(start..end);
-        self
-    }
-}
-
+/// Why a scene file could not be loaded. Its `Display` is the whole report
+/// for a user: the file, and for `Invalid` every diagnostic with its source
+/// line and a caret under the place.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
+    /// The file could not be read (missing, unreadable).
     #[error("{file}: cannot read the scene file: {source}")]
     Io {
         file: PathBuf,
         #[source]
         source: std::io::Error,
     },
+    /// The file's extension is neither `.toml` nor `.json`.
     #[error("{file}: unknown scene file type; expected a .toml or .json file")]
     UnknownFormat { file: PathBuf },
+    /// The file was read but holds problems: a parse error (the first
+    /// one only) or every value that failed validation, in file order.
     #[error("{}", render_diagnostics(file, text, diagnostics))]
     Invalid {
         file: PathBuf,
@@ -84,6 +34,7 @@ pub enum SceneError {
 }
 
 impl SceneError {
+    /// The problems found in the file; empty unless `Invalid`.
     pub fn diagnostics(&self) -> &[Diagnostic] {
         match self {
             SceneError::Invalid { diagnostics, .. } => diagnostics,
@@ -178,6 +129,7 @@ fn printable(c: char) -> char {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::key_path::KeyPath;
 
     fn report(text: &str, span: Range<usize>) -> String {
         let mut d = Diagnostic::new(KeyPath::root().key("k"), "bad").at(text, 0..0);

@@ -2,20 +2,28 @@
 //! validated, with errors that say where. No rendering here.
 
 pub mod canvas;
+pub mod diagnostic;
 pub mod error;
+pub mod json_spans;
+pub mod key_path;
+mod load;
 pub mod locate;
 pub mod model;
 pub mod obj;
 mod parse;
 pub mod schema;
+pub mod span_tree;
+mod suggest;
 pub mod validate;
 
 pub use canvas::CanvasFile;
-pub use error::{Diagnostic, Location, SceneError};
-pub use locate::KeyPath;
+pub use diagnostic::{Diagnostic, Location};
+pub use error::SceneError;
+pub use key_path::{KeyPath, Segment};
+pub use load::{load_any, load_any_str, load_bytes, load_path, load_str, SceneKind};
 pub use model::*;
 pub use obj::mesh_warnings;
-pub use parse::suggestion;
+pub use suggest::suggestion;
 
 use std::path::Path;
 
@@ -34,176 +42,5 @@ impl Format {
             "json" => Some(Format::Json),
             _ => None,
         }
-    }
-}
-
-/// Reads, parses and validates the 3D scene file at `path`, and reads the
-/// OBJ files of its meshes (relative to the scene file's folder).
-pub fn load_path(path: &Path) -> Result<SceneFile, SceneError> {
-    match load_any(path)? {
-        SceneKind::Scene3d(scene) => Ok(scene),
-        SceneKind::Canvas(_) => Err(SceneError::Invalid {
-            file: path.to_path_buf(),
-            text: String::new(),
-            diagnostics: vec![Diagnostic::new(
-                "canvas",
-                "found a 2D canvas scene ([canvas]); expected a 3D scene with a [camera] here",
-            )],
-        }),
-    }
-}
-
-/// Parses and validates a scene file's bytes; `file` names it in errors.
-/// Bytes that are not UTF-8 text are reported, not read lossily.
-pub fn load_bytes(bytes: &[u8], format: Format, file: &Path) -> Result<SceneFile, SceneError> {
-    load_str(utf8_text(bytes, file)?, format, file)
-}
-
-fn utf8_text<'a>(bytes: &'a [u8], file: &Path) -> Result<&'a str, SceneError> {
-    std::str::from_utf8(bytes).map_err(|e| {
-        let text = String::from_utf8_lossy(bytes).into_owned();
-        let d = parse::not_utf8(bytes, &text, e);
-        SceneError::Invalid {
-            file: file.to_path_buf(),
-            text,
-            diagnostics: vec![d],
-        }
-    })
-}
-
-/// Parses and validates scene text; `file` names it in errors. A parse
-/// error stops at the first problem; validation reports all it finds.
-/// Meshes are not read: see `obj::load_meshes`.
-pub fn load_str(text: &str, format: Format, file: &Path) -> Result<SceneFile, SceneError> {
-    let invalid = |diagnostics| SceneError::Invalid {
-        file: file.to_path_buf(),
-        text: text.to_string(),
-        diagnostics,
-    };
-    let scene = parse::parse(text, format).map_err(invalid)?;
-    let diagnostics = validate::validate(&scene);
-    if diagnostics.is_empty() {
-        Ok(scene)
-    } else {
-        Err(invalid(locate_all(text, format, diagnostics)))
-    }
-}
-
-/// What a scene file describes: a 3D scene or a 2D canvas.
-#[derive(Debug, Clone, PartialEq)]
-pub enum SceneKind {
-    Scene3d(SceneFile),
-    Canvas(CanvasFile),
-}
-
-/// Reads, parses and validates the file at `path`, a 3D scene or, when it
-/// has a top-level `[canvas]` table, a 2D canvas scene.
-/// A 3D scene's meshes are read too.
-pub fn load_any(path: &Path) -> Result<SceneKind, SceneError> {
-    let format = Format::from_path(path).ok_or_else(|| SceneError::UnknownFormat {
-        file: path.to_path_buf(),
-    })?;
-    let bytes = std::fs::read(path).map_err(|source| SceneError::Io {
-        file: path.to_path_buf(),
-        source,
-    })?;
-    let text = utf8_text(&bytes, path)?;
-    let mut kind = load_any_str(text, format, path)?;
-    if let SceneKind::Scene3d(scene) = &mut kind {
-        let base = path.parent().unwrap_or(Path::new(""));
-        let diagnostics = obj::load_meshes(scene, base);
-        if !diagnostics.is_empty() {
-            return Err(SceneError::Invalid {
-                file: path.to_path_buf(),
-                text: text.to_string(),
-                diagnostics: locate_all(text, format, diagnostics),
-            });
-        }
-    }
-    Ok(kind)
-}
-
-/// `load_any` on text; `file` names it in errors.
-pub fn load_any_str(text: &str, format: Format, file: &Path) -> Result<SceneKind, SceneError> {
-    if !has_canvas_table(text, format) {
-        return load_str(text, format, file).map(SceneKind::Scene3d);
-    }
-    let invalid = |diagnostics| SceneError::Invalid {
-        file: file.to_path_buf(),
-        text: text.to_string(),
-        diagnostics,
-    };
-    let canvas: CanvasFile = parse::parse(text, format).map_err(invalid)?;
-    let diagnostics = canvas::validate(&canvas);
-    if diagnostics.is_empty() {
-        Ok(SceneKind::Canvas(canvas))
-    } else {
-        Err(invalid(locate_all(text, format, diagnostics)))
-    }
-}
-
-/// Whether the text has a top-level `canvas` key. Text that does not parse
-/// is left to the 3D loader, whose error says where.
-fn has_canvas_table(text: &str, format: Format) -> bool {
-    match format {
-        Format::Toml => toml::from_str::<toml::Table>(text).is_ok_and(|t| t.contains_key("canvas")),
-        Format::Json => {
-            serde_json::from_str::<serde_json::Value>(text).is_ok_and(|v| v.get("canvas").is_some())
-        }
-    }
-}
-
-/// Gives each validation diagnostic the span of its key path.
-fn locate_all(text: &str, format: Format, diagnostics: Vec<Diagnostic>) -> Vec<Diagnostic> {
-    let Some(tree) = locate::tree(text, format) else {
-        return diagnostics;
-    };
-    let mut located: Vec<Diagnostic> = diagnostics
-        .into_iter()
-        .map(|d| {
-            let found = tree.locate(&d.path);
-            // A missing key (a default that fails a check) or a whole
-            // table: point at the key that names the nearest table.
-            let span = match (found.exact, &found.key) {
-                (true, _) => found.value,
-                (false, Some(key)) => key.clone(),
-                (false, None) => found.value.start..found.value.start,
-            };
-            d.at(text, span)
-        })
-        .collect();
-    // In file order, as a reader goes through the file.
-    located.sort_by_key(|d| d.span.as_ref().map(|s| s.start));
-    located
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    const CAMERA: &str = r#""camera": {"eye": [0, 0, 10], "look_at": [0, 0, 0]}"#;
-
-    #[test]
-    fn json_scenes_may_name_their_schema() {
-        let text = format!(r#"{{"$schema": "./schema.json", {CAMERA}}}"#);
-        let scene = load_str(&text, Format::Json, Path::new("s.json")).unwrap();
-        assert_eq!(scene.schema.as_deref(), Some("./schema.json"));
-    }
-
-    #[test]
-    fn other_extensions_are_refused() {
-        let err = load_path(Path::new("scene.yaml")).unwrap_err();
-        assert!(matches!(err, SceneError::UnknownFormat { .. }));
-    }
-
-    #[test]
-    fn a_defaulted_value_that_fails_points_at_its_table() {
-        // `up` is not in the file; its default [0, 1, 0] is parallel to
-        // the view direction here.
-        let text = "[camera]\neye = [0, 5, 0]\nlook_at = [0, 0, 0]\n";
-        let err = load_str(text, Format::Toml, Path::new("s.toml")).unwrap_err();
-        let d = &err.diagnostics()[0];
-        assert_eq!(d.path.to_string(), "camera.up");
-        assert_eq!(d.location, Some(Location { line: 1, column: 2 }));
     }
 }

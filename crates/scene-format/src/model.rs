@@ -1,5 +1,6 @@
-//! The serde types of a scene file. These names and this nesting are the
-//! contract with users (see design.md): extend, never rename.
+//! The serde types of a 3D scene file. These names and this nesting are the
+//! contract with users (the scene files they have written, `schema.json`,
+//! the README's reference): extend, never rename.
 
 use schemars::JsonSchema;
 use serde::{Deserialize, Deserializer, Serialize};

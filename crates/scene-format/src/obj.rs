@@ -1,7 +1,7 @@
 //! Wavefront OBJ meshes: read with `tobj`, triangulated, degenerate faces
 //! left out and counted.
 
-use crate::error::Diagnostic;
+use crate::diagnostic::Diagnostic;
 use crate::model::{MeshData, SceneFile, Vec3};
 use std::collections::HashMap;
 use std::io::BufReader;

@@ -1,8 +1,9 @@
 //! Checks every value of a parsed scene, so the renderer can trust it.
 
-use crate::error::Diagnostic;
-use crate::locate::KeyPath;
+use crate::diagnostic::Diagnostic;
+use crate::key_path::KeyPath;
 use crate::model::*;
+use crate::suggest::hint;
 
 /// Largest image side accepted, and largest pixel count (2^28).
 pub const MAX_IMAGE_SIDE: u32 = 16384;
@@ -265,17 +266,6 @@ impl Validator {
                     }
                 }
             }
-        }
-    }
-}
-
-/// "did you mean `x`?" for a near miss, else the list of known names.
-fn hint(name: &str, known: &[&str]) -> String {
-    match crate::suggestion(name, known) {
-        Some(s) => format!("did you mean `{s}`?"),
-        None => {
-            let names: Vec<String> = known.iter().map(|k| format!("`{k}`")).collect();
-            format!("expected one of {}", names.join(", "))
         }
     }
 }

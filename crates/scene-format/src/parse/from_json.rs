@@ -1,0 +1,100 @@
+//! JSON text to a value, through serde_json, with what serde_json lets
+//! through (duplicate keys, a top level that is not an object) caught by
+//! the span-keeping reader first.
+
+use super::locate_or_start;
+use super::rephrase::rephrase;
+use crate::diagnostic::{Diagnostic, Location};
+use crate::json_spans;
+use crate::key_path::KeyPath;
+use crate::span_tree::NodeKind;
+use crate::Format;
+use serde::de::DeserializeOwned;
+
+pub(super) fn parse_json<T: DeserializeOwned>(text: &str) -> Result<T, Vec<Diagnostic>> {
+    let structure = json_structure_errors(text);
+    if !structure.is_empty() {
+        return Err(structure);
+    }
+    let mut de = serde_json::Deserializer::from_str(text);
+    let result: Result<T, _> = serde_path_to_error::deserialize(&mut de);
+    let scene = result.map_err(|e| {
+        let path = KeyPath::from_serde(e.path());
+        vec![json_error(text, path, e.into_inner())]
+    })?;
+    de.end()
+        .map_err(|e| vec![json_error(text, KeyPath::root(), e)])?;
+    Ok(scene)
+}
+
+/// What serde_json lets through or words poorly: a top level that is not
+/// an object, and duplicate keys (serde_json keeps the last one silently).
+/// Text that is not JSON at all is left to serde_json to report.
+fn json_structure_errors(text: &str) -> Vec<Diagnostic> {
+    let Ok(tree) = json_spans::parse(text) else {
+        return Vec::new();
+    };
+    if !matches!(tree.kind, NodeKind::Table(_)) {
+        let d = Diagnostic::new(
+            KeyPath::root(),
+            "expected a JSON object ({ \"camera\": ... }) at the top level",
+        );
+        return vec![d.at(text, tree.span)];
+    }
+    json_spans::duplicate_keys(&tree)
+        .into_iter()
+        .map(|(path, span, first)| {
+            let path = KeyPath(path);
+            let first = Location::from_offset(text, first.start);
+            let name = path.last_key().unwrap_or_default().to_string();
+            let message = format!(
+                "duplicate key `{name}` {} (first defined at line {}, column {}); expected each key once",
+                path.parent().in_table(),
+                first.line,
+                first.column
+            );
+            Diagnostic::new(path, message).at(text, span)
+        })
+        .collect()
+}
+
+fn json_error(text: &str, path: KeyPath, e: serde_json::Error) -> Diagnostic {
+    let message = strip_json_position(&e.to_string());
+    // serde_json's own position: where it stopped reading.
+    let position = offset_of(text, e.line(), e.column());
+    if e.is_syntax() || e.is_eof() || e.is_io() {
+        let message = match message.as_str() {
+            "number out of range" => "number out of range; expected a finite number".to_string(),
+            _ => message,
+        };
+        return Diagnostic::new(KeyPath::root(), message).at(text, position);
+    }
+    let (path, message, target) = rephrase(path, &message);
+    let d = Diagnostic::new(path.clone(), message);
+    let d = locate_or_start(d, text, Format::Json, &path, target);
+    match d.span {
+        Some(_) => d,
+        // The text is not JSON past this point, so the locator found nothing.
+        None => d.at(text, position),
+    }
+}
+
+/// The byte offset of serde_json's 1-based line and column (column counts
+/// bytes; 0 means before the first byte of the line).
+fn offset_of(text: &str, line: usize, column: usize) -> std::ops::Range<usize> {
+    let line_start: usize = text
+        .split_inclusive('\n')
+        .take(line.saturating_sub(1))
+        .map(str::len)
+        .sum();
+    let at = (line_start + column.saturating_sub(1)).min(text.len());
+    at..at
+}
+
+/// serde_json appends " at line L column C"; the location is kept apart.
+fn strip_json_position(message: &str) -> String {
+    match message.rfind(" at line ") {
+        Some(i) => message[..i].to_string(),
+        None => message.to_string(),
+    }
+}

@@ -1,0 +1,97 @@
+//! Text to a `SceneFile` or `CanvasFile`, with every failure turned into a located diagnostic
+//! in the user's words: key paths from serde_path_to_error, spans from the
+//! parser or the locator, serde's messages rephrased.
+//!
+//! - `from_toml`, `from_json`: each syntax's parse and its errors;
+//! - `rephrase`: serde's messages in the user's words.
+
+mod from_json;
+mod from_toml;
+mod rephrase;
+
+use crate::diagnostic::Diagnostic;
+use crate::key_path::KeyPath;
+use crate::locate::{self, Located};
+use crate::Format;
+use from_json::parse_json;
+use from_toml::parse_toml;
+use rephrase::Target;
+use serde::de::DeserializeOwned;
+
+/// The parsed file (a 3D scene or a 2D canvas), or the problems that
+/// stopped parsing.
+pub fn parse<T: DeserializeOwned>(text: &str, format: Format) -> Result<T, Vec<Diagnostic>> {
+    if let Some(d) = check_text(text, format) {
+        return Err(vec![d]);
+    }
+    match format {
+        Format::Toml => parse_toml(text).map_err(|d| vec![d]),
+        Format::Json => parse_json(text),
+    }
+}
+
+/// Files that are not scene text at all: empty, or binary.
+fn check_text(text: &str, format: Format) -> Option<Diagnostic> {
+    if let Some(i) = text.find('\0') {
+        let d = Diagnostic::new(
+            KeyPath::root(),
+            "found a NUL byte; expected a text file (is this a binary file?)",
+        );
+        return Some(d.at(text, i..i + 1));
+    }
+    if text.trim().is_empty() {
+        let expected = match format {
+            Format::Toml => "a scene with at least a [camera] table",
+            Format::Json => "a JSON object with at least a \"camera\" key",
+        };
+        let d = Diagnostic::new(
+            KeyPath::root(),
+            format!("the file is empty; expected {expected}"),
+        );
+        return Some(d.at(text, 0..0));
+    }
+    None
+}
+
+/// The diagnostic for bytes that are not UTF-8: the file is binary or in
+/// another encoding. `text` is the lossy decoding of `bytes`.
+pub fn not_utf8(bytes: &[u8], text: &str, error: std::str::Utf8Error) -> Diagnostic {
+    let offset = error.valid_up_to();
+    let d = Diagnostic::new(
+        KeyPath::root(),
+        format!(
+            "found byte 0x{:02x}, which is not UTF-8 text; expected a UTF-8 text file (is this a binary file?)",
+            bytes[offset]
+        ),
+    );
+    // The lossy text matches `bytes` up to the first bad byte.
+    d.at(text, offset..offset + 1)
+}
+
+/// `d` pointing at what it is about, when the text parses far enough to
+/// find `path`.
+fn locate_or_start(
+    d: Diagnostic,
+    text: &str,
+    format: Format,
+    path: &KeyPath,
+    target: Target,
+) -> Diagnostic {
+    match locate::locate(text, format, path) {
+        Some(found) => {
+            let span = pick_span(&found, target, path);
+            d.at(text, span)
+        }
+        None => d,
+    }
+}
+
+fn pick_span(found: &Located, target: Target, path: &KeyPath) -> std::ops::Range<usize> {
+    match (target, &found.key) {
+        (Target::Key | Target::Table, Some(key)) => key.clone(),
+        // A key missing at the top level: point at the start of the file,
+        // not at all of it.
+        (Target::Table, None) if path.0.len() <= 1 => found.value.start..found.value.start,
+        _ => found.value.clone(),
+    }
+}

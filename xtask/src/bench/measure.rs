@@ -1,0 +1,161 @@
+//! Timing the tracer: BVH build and render, on 1 and 2 threads, in-process.
+//! The only file of the bench that calls tracer-core.
+
+use super::scenes::BenchScene;
+use super::stats::median;
+use super::THREADS;
+use anyhow::Result;
+use std::time::Instant;
+use tracer_core::accel::Bvh;
+use tracer_core::{prepare, render, RayStats, RenderJob, Scene};
+
+/// The rays one render traced.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Rays {
+    /// Primary and reflected rays: they look for the nearest hit.
+    pub nearest: u64,
+    /// Shadow rays.
+    pub shadow: u64,
+}
+
+impl Rays {
+    pub fn total(&self) -> u64 {
+        self.nearest + self.shadow
+    }
+}
+
+impl From<RayStats> for Rays {
+    fn from(r: RayStats) -> Rays {
+        Rays {
+            nearest: r.nearest,
+            shadow: r.shadow,
+        }
+    }
+}
+
+/// The tracer's figures on one scene: medians over the runs.
+#[derive(Debug, Default)]
+pub struct Ours {
+    /// Objects of the prepared scene (every mesh triangle is one).
+    pub objects: usize,
+    pub build_s: [f64; 2],
+    pub render_s: [f64; 2],
+    /// Process CPU time of the 1-thread build and render: what the work
+    /// costs when other processes take turns on the cores.
+    pub build_cpu_s: f64,
+    pub render_cpu_s: f64,
+    pub rays: Rays,
+    /// Each run's 1-thread / 2-thread render time, in run order.
+    pub speedup_runs: Vec<f64>,
+    /// Each run's 1-thread CPU nanoseconds per ray, in run order.
+    pub ns_per_ray_runs: Vec<f64>,
+}
+
+impl Ours {
+    /// Mrays/s of the render on `THREADS[t]` threads, wall time.
+    pub fn mrays(&self, t: usize) -> f64 {
+        self.rays.total() as f64 / self.render_s[t] / 1e6
+    }
+    /// Mrays per CPU-second on one thread.
+    pub fn mrays_per_cpu_s(&self) -> f64 {
+        self.rays.total() as f64 / self.render_cpu_s / 1e6
+    }
+    /// On one thread, from CPU time.
+    pub fn ns_per_ray(&self) -> f64 {
+        self.render_cpu_s * 1e9 / self.rays.total() as f64
+    }
+}
+
+/// One run of one scene: build and render on 1 thread, then on 2.
+#[derive(Debug, Clone, Copy, Default)]
+struct Run {
+    build_s: [f64; 2],
+    render_s: [f64; 2],
+    build_cpu_s: f64,
+    render_cpu_s: f64,
+    rays: Rays,
+}
+
+/// Runs every scene `reps` times, taking turns: run r of each scene and its
+/// 1- and 2-thread halves are measured close together in time, so the
+/// ratios between them (speed-up, cost at 1.1M / at 70k) are taken within a
+/// run, where the machine's slow swings in speed cancel out.
+pub fn measure(scenes: &[BenchScene], reps: usize) -> Result<Vec<Ours>> {
+    let prepared = scenes
+        .iter()
+        .map(|s| prepare(&s.file).map_err(|e| anyhow::anyhow!("{e}")))
+        .collect::<Result<Vec<_>>>()?;
+    let pools = [pool(THREADS[0])?, pool(THREADS[1])?];
+    let mut runs = vec![Vec::new(); scenes.len()];
+    for rep in 0..reps {
+        eprintln!("bench: run {} of {reps} ...", rep + 1);
+        for (scene, runs) in prepared.iter().zip(&mut runs) {
+            runs.push(measure_run(scene, &pools));
+        }
+    }
+    Ok(prepared
+        .iter()
+        .zip(runs)
+        .map(|(p, runs)| summarise(p.objects().len(), &runs))
+        .collect())
+}
+
+fn pool(threads: usize) -> Result<rayon::ThreadPool> {
+    Ok(rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()?)
+}
+
+fn measure_run(scene: &Scene, pools: &[rayon::ThreadPool; 2]) -> Run {
+    let mut run = Run::default();
+    for (t, pool) in pools.iter().enumerate() {
+        let (start, cpu) = (Instant::now(), cpu_time());
+        let bvh = pool.install(|| Bvh::build(scene.objects()));
+        run.build_s[t] = start.elapsed().as_secs_f64();
+        let build_cpu = cpu_time() - cpu;
+        drop(bvh);
+        let (start, cpu) = (Instant::now(), cpu_time());
+        let job = RenderJob::full(scene);
+        let rendered = pool.install(|| render(scene, &job, &|_| {}));
+        let (image, rays) = (rendered.image, rendered.rays);
+        run.render_s[t] = start.elapsed().as_secs_f64();
+        let render_cpu = cpu_time() - cpu;
+        drop(image);
+        if t == 0 {
+            (run.build_cpu_s, run.render_cpu_s) = (build_cpu, render_cpu);
+        }
+        run.rays = rays.into();
+    }
+    run
+}
+
+/// Medians of the runs, and each run's own speed-up and cost per ray.
+fn summarise(objects: usize, runs: &[Run]) -> Ours {
+    let med = |f: &dyn Fn(&Run) -> f64| median(runs.iter().map(f).collect());
+    let rays = runs[0].rays;
+    Ours {
+        objects,
+        build_s: [med(&|r| r.build_s[0]), med(&|r| r.build_s[1])],
+        render_s: [med(&|r| r.render_s[0]), med(&|r| r.render_s[1])],
+        build_cpu_s: med(&|r| r.build_cpu_s),
+        render_cpu_s: med(&|r| r.render_cpu_s),
+        rays,
+        speedup_runs: runs.iter().map(|r| r.render_s[0] / r.render_s[1]).collect(),
+        ns_per_ray_runs: runs
+            .iter()
+            .map(|r| r.render_cpu_s * 1e9 / rays.total() as f64)
+            .collect(),
+    }
+}
+
+/// CPU seconds this process has used, on all its threads.
+fn cpu_time() -> f64 {
+    // SAFETY: getrusage only writes the struct it is given.
+    let usage = unsafe {
+        let mut usage = std::mem::zeroed::<libc::rusage>();
+        libc::getrusage(libc::RUSAGE_SELF, &mut usage);
+        usage
+    };
+    let seconds = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
+    seconds(usage.ru_utime) + seconds(usage.ru_stime)
+}

@@ -1,0 +1,122 @@
+//! `cargo xtask bench`: the tracer against its peers on the benchmark
+//! scenes, all in one run (the machines are noisy: only figures of the same
+//! run compare). See `docs/performance.md`.
+//!
+//! For each scene (the bunny, its 1.1M-triangle variant, the lab's
+//! reflectance2): BVH build time, render time and Mrays/s (primary,
+//! shadow and reflected rays) on 1 and 2 threads, medians of `--reps` runs; POV-Ray 3.7's
+//! render-only time for the same scene, written from the same scene data,
+//! when `povray` is installed; Embree 3's figures on the bunnies when
+//! `libembree-dev` and `g++` are. A peer that is not installed is skipped,
+//! with a line saying so.
+//!
+//! - `scenes`: the bench scenes, the 1.1M-triangle bunny.
+//! - `measure`: timing the tracer (the only file that calls tracer-core).
+//! - `pov_scene`: a scene file as POV-Ray SDL.
+//! - `povray`: timing POV-Ray.
+//! - `embree`: building and timing the Embree harness (`xtask/peers/`).
+//! - `print`: the report.
+
+mod embree;
+mod measure;
+mod pov_scene;
+mod povray;
+mod print;
+mod scenes;
+mod stats;
+
+pub use pov_scene::pov_scene;
+pub use scenes::subdivide;
+
+use anyhow::{bail, Context, Result};
+
+/// Options of `cargo xtask bench`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct BenchArgs {
+    /// Runs of each measurement; the median is reported
+    #[arg(long, default_value_t = 5)]
+    pub reps: usize,
+    /// Skip POV-Ray even when it is installed
+    #[arg(long)]
+    pub no_povray: bool,
+    /// Skip Embree even when it can be built (libembree-dev and g++)
+    #[arg(long)]
+    pub no_embree: bool,
+    /// Keep the .pov files written for POV-Ray, and its images, in DIR
+    #[arg(long, value_name = "DIR")]
+    pub keep_pov: Option<std::path::PathBuf>,
+    /// Only these scenes (bunny, bunny-1.1m, reflectance2)
+    #[arg(long, value_delimiter = ',')]
+    pub only: Vec<String>,
+}
+
+/// The thread counts every scene is measured on.
+const THREADS: [usize; 2] = [1, 2];
+
+/// Everything measured on one scene: ours, and the peers' when they ran.
+#[derive(Debug)]
+struct Row {
+    scene: &'static str,
+    ours: measure::Ours,
+    povray: Option<povray::PovRay>,
+    embree: Option<embree::Embree>,
+}
+
+pub fn run(args: &BenchArgs) -> Result<()> {
+    if args.reps == 0 {
+        bail!("--reps: expected at least 1");
+    }
+    let root = crate::workspace_root();
+    let mut scenes = scenes::scenes(&root)?;
+    if !args.only.is_empty() {
+        if let Some(unknown) = args
+            .only
+            .iter()
+            .find(|o| !scenes.iter().any(|s| s.name == *o))
+        {
+            let names: Vec<&str> = scenes.iter().map(|s| s.name).collect();
+            bail!(
+                "--only: no scene `{unknown}` (the scenes: {})",
+                names.join(", ")
+            );
+        }
+        scenes.retain(|s| args.only.iter().any(|o| o == s.name));
+    }
+    let povray = !args.no_povray && povray::available();
+    let embree = if args.no_embree || scenes.iter().all(|s| s.embree_subdiv.is_none()) {
+        None
+    } else {
+        embree::build(&root, &crate::target_dir().join("peers"))
+    };
+    let ours = measure::measure(&scenes, args.reps)?;
+    let mut rows = Vec::new();
+    for (scene, ours) in scenes.iter().zip(ours) {
+        let povray = if povray {
+            eprintln!("bench: POV-Ray on {} ...", scene.name);
+            let figures =
+                povray::measure(&scene.file, scene.name, args.reps, args.keep_pov.as_deref())
+                    .with_context(|| format!("POV-Ray on {}", scene.name))?;
+            Some(figures)
+        } else {
+            None
+        };
+        let embree = match (&embree, scene.embree_subdiv) {
+            (Some(exe), Some(subdiv)) => {
+                eprintln!("bench: Embree on {} ...", scene.name);
+                let obj = root.join(scenes::BUNNY_OBJ);
+                let figures = embree::measure(exe, &obj, subdiv, args.reps)
+                    .with_context(|| format!("Embree on {}", scene.name))?;
+                Some(figures)
+            }
+            _ => None,
+        };
+        rows.push(Row {
+            scene: scene.name,
+            ours,
+            povray,
+            embree,
+        });
+    }
+    print::report(&rows, args.reps);
+    Ok(())
+}

@@ -1,0 +1,91 @@
+//! The bench scenes: the benchmark scene of the peers (the Stanford bunny),
+//! the same bunny at 1.1M triangles, and the lab's final scene.
+
+use anyhow::{Context, Result};
+use scene_format::{MeshData, SceneFile};
+use std::path::Path;
+use std::sync::Arc;
+
+/// The bunny's mesh, relative to the workspace root (Embree reads it too).
+pub const BUNNY_OBJ: &str = "scenes/bench/bunny.obj";
+
+pub struct BenchScene {
+    pub name: &'static str,
+    /// The scene, its meshes loaded.
+    pub file: SceneFile,
+    /// For a scene Embree can run (the bunny): its `--subdiv`.
+    pub embree_subdiv: Option<u32>,
+}
+
+pub fn scenes(root: &Path) -> Result<Vec<BenchScene>> {
+    let bunny = load(&root.join("scenes/bench/bunny.toml"))?;
+    let mut big = bunny.clone();
+    for object in &mut big.objects {
+        if let Some(mesh) = object.mesh.as_mut() {
+            let data = mesh.data.as_ref().context("bunny mesh not loaded")?;
+            mesh.data = Some(Arc::new(subdivide(&subdivide(data))));
+        }
+    }
+    Ok(vec![
+        BenchScene {
+            name: "bunny",
+            file: bunny,
+            embree_subdiv: Some(0),
+        },
+        BenchScene {
+            name: "bunny-1.1m",
+            file: big,
+            embree_subdiv: Some(2),
+        },
+        BenchScene {
+            name: "reflectance2",
+            file: load(&root.join("scenes/reflectance2.toml"))?,
+            embree_subdiv: None,
+        },
+    ])
+}
+
+fn load(path: &Path) -> Result<SceneFile> {
+    scene_format::load_path(path).map_err(|e| anyhow::anyhow!("{e}"))
+}
+
+/// Splits every triangle 1 -> 4 at its edge midpoints: the same surface,
+/// four times the triangles (the peers' `--subdiv`).
+pub fn subdivide(data: &MeshData) -> MeshData {
+    let mid = |a: [f32; 3], b: [f32; 3]| {
+        [
+            (a[0] + b[0]) * 0.5,
+            (a[1] + b[1]) * 0.5,
+            (a[2] + b[2]) * 0.5,
+        ]
+    };
+    let mut triangles = Vec::with_capacity(data.triangles.len() * 4);
+    for &[a, b, c] in &data.triangles {
+        let (ab, bc, ca) = (mid(a, b), mid(b, c), mid(c, a));
+        triangles.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+    }
+    MeshData {
+        triangles,
+        skipped_degenerate: data.skipped_degenerate,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn subdivision_quarters_each_triangle_on_the_same_surface() {
+        let data = MeshData {
+            triangles: vec![[[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]]],
+            skipped_degenerate: 0,
+        };
+        let twice = subdivide(&subdivide(&data));
+        assert_eq!(twice.triangles.len(), 16);
+        let area = |[a, b, c]: &[[f32; 3]; 3]| {
+            ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])) / 2.0
+        };
+        // Same orientation and total area (2) as the original.
+        assert!(twice.triangles.iter().all(|t| area(t) == 0.125));
+    }
+}
