@@ -108,7 +108,7 @@ pub fn render(
             })
         }
         (SceneKind::Scene3d(file), Some(aov)) => Ok(Rendered {
-            image: scene3d::aov(file, &loaded.name, aov, options.gamma)?,
+            image: scene3d::aov(file, &loaded.name, aov, options.gamma, rows_done)?,
             summary: Summary::Aov(aov),
         }),
         (SceneKind::Canvas(file), None) => Ok(Rendered {

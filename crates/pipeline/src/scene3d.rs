@@ -41,12 +41,14 @@ pub(crate) fn shade(
     Ok((image.encode(&encoding), stats))
 }
 
-/// The image of one AOV, written linearly unless `gamma` is given.
+/// The image of one AOV, written linearly unless `gamma` is given; progress
+/// is reported as for `shade`.
 pub(crate) fn aov(
     file: &SceneFile,
     name: &Path,
     aov: Aov,
     gamma: Option<Gamma>,
+    rows_done: &(dyn Fn(u32) + Sync),
 ) -> Result<RgbImage, Error> {
     let scene = prepare(file, name)?;
     let mut encoding = tracer_core::aov::AOV_ENCODING;
@@ -54,7 +56,8 @@ pub(crate) fn aov(
         encoding.gamma = gamma.get();
     }
     let job = RenderJob::full(&scene).with_output(Output::Aov(core_aov(aov)));
-    let image = tracer_core::render(&scene, &job, &|_| {}).image;
+    rows_done(0);
+    let image = tracer_core::render(&scene, &job, rows_done).image;
     Ok(image.encode(&encoding))
 }
 
