@@ -2,11 +2,7 @@
 //! here as a library so that tests run them in-process.
 
 pub mod bench;
-pub mod browser;
-pub mod compare;
 pub mod golden;
-pub mod manifest;
-pub mod report;
 
 use std::path::{Path, PathBuf};
 

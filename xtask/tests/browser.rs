@@ -5,9 +5,9 @@ use image::{Rgb, RgbImage};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
-use xtask::browser::{dump_dom, find_chromium, image_check, ImageCheck};
+use xtask::golden::browser::{dump_dom, find_chromium, image_check, ImageCheck};
+use xtask::golden::manifest::Manifest;
 use xtask::golden::{self, Case};
-use xtask::manifest::Manifest;
 
 const TIMEOUT: Duration = Duration::from_secs(120);
 
@@ -64,7 +64,7 @@ fn the_browser_check_notices_an_image_that_does_not_load() {
     golden::bless(&cases, &golden_dir).unwrap();
     let results = golden::check(&cases, &golden_dir, &Manifest::default());
     let report = dir.path().join("report");
-    let index = xtask::report::write(&report, &results).unwrap();
+    let index = xtask::golden::report::write(&report, &results).unwrap();
 
     assert_eq!(
         load(&chromium, &index),

@@ -4,8 +4,8 @@
 use image::{Rgb, RgbImage};
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use xtask::golden::manifest::Manifest;
 use xtask::golden::{self, Blessed, Case, CaseResult, Outcome};
-use xtask::manifest::Manifest;
 
 fn root() -> PathBuf {
     xtask::workspace_root()
@@ -42,7 +42,7 @@ fn check_as(name: &str, image: RgbImage, manifest: &Manifest) -> CaseResult {
         .unwrap()
 }
 
-fn comparison(result: &CaseResult) -> &xtask::compare::Comparison {
+fn comparison(result: &CaseResult) -> &xtask::golden::compare::Comparison {
     match &result.outcome {
         Outcome::Compared(c) => c,
         other => panic!("expected a comparison, got {other:?}"),
@@ -368,7 +368,7 @@ fn the_report_shows_failures_first_with_relative_image_paths() {
     ];
     let results = golden::check(&cases, &golden_dir, &Manifest::default());
     let report = dir.path().join("report");
-    let index = xtask::report::write(&report, &results).unwrap();
+    let index = xtask::golden::report::write(&report, &results).unwrap();
     let html = std::fs::read_to_string(&index).unwrap();
 
     let at = |s: &str| html.find(s).unwrap_or_else(|| panic!("{s} not in page"));
@@ -386,9 +386,9 @@ fn the_report_shows_failures_first_with_relative_image_paths() {
         assert!(report.join(file).is_file(), "{file}");
     }
     assert!(!report.join("c-missing-golden.png").exists());
-    assert_eq!(xtask::report::image_count(&results), 3 + 3 + 1);
+    assert_eq!(xtask::golden::report::image_count(&results), 3 + 3 + 1);
     // A second report replaces the first whole.
-    xtask::report::write(&report, &results[..1]).unwrap();
+    xtask::golden::report::write(&report, &results[..1]).unwrap();
     assert!(!report.join("b-fails-actual.png").exists());
 }
 

@@ -2,8 +2,8 @@
 //! map of their difference, side by side in `index.html`, failures first. The
 //! page links only files beside it, so it opens from disk with no server.
 
-use crate::compare::heat;
-use crate::golden::{CaseResult, Outcome};
+use super::check::{CaseResult, Outcome};
+use super::compare::heat;
 use anyhow::{Context, Result};
 use image::RgbImage;
 use std::fmt::Write as _;

@@ -9,7 +9,7 @@
 //! channel_tolerance = 4         # come from [default]
 //! ```
 
-use crate::compare::Tolerance;
+use super::compare::Tolerance;
 use anyhow::{bail, Context, Result};
 use scene_format::Location;
 use serde::Deserialize;
