@@ -7,6 +7,9 @@ use image::RgbImage;
 use scene_format::{CanvasFile, SceneKind};
 use std::path::{Path, PathBuf};
 
+/// One quantity per pixel instead of the shaded colour: the core's list.
+pub use tracer_core::aov::Aov;
+
 /// A display gamma, checked: a finite number > 0.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Gamma(f32);
@@ -23,34 +26,6 @@ impl Gamma {
 
     pub fn get(self) -> f32 {
         self.0
-    }
-}
-
-/// One quantity per pixel instead of the shaded colour.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Aov {
-    /// `(dir.x + 1) / 2` of each primary ray in red (the lab's gradient-OX.png).
-    RayDirX,
-    /// `(dir.y + 1) / 2` in green (gradient-OY.png).
-    RayDirY,
-    /// `(dir.z + 1) / 2` in blue (gradient-OZ.png).
-    RayDirZ,
-    /// `(n + 1) / 2` of the surface normal at the nearest hit.
-    Normal,
-    /// Distance to the nearest hit: near bright, far dark, no hit black.
-    Depth,
-}
-
-impl Aov {
-    /// The name on the command line and in output file names.
-    pub fn name(self) -> &'static str {
-        match self {
-            Aov::RayDirX => "ray-dir-x",
-            Aov::RayDirY => "ray-dir-y",
-            Aov::RayDirZ => "ray-dir-z",
-            Aov::Normal => "normal",
-            Aov::Depth => "depth",
-        }
     }
 }
 

@@ -55,7 +55,7 @@ pub(crate) fn aov(
     if let Some(gamma) = gamma {
         encoding.gamma = gamma.get();
     }
-    let job = RenderJob::full(&scene).with_output(Output::Aov(core_aov(aov)));
+    let job = RenderJob::full(&scene).with_output(Output::Aov(aov));
     rows_done(0);
     let image = tracer_core::render(&scene, &job, rows_done).image;
     Ok(image.encode(&encoding))
@@ -66,33 +66,4 @@ fn prepare(file: &SceneFile, name: &Path) -> Result<Scene, Error> {
         scene: name.to_path_buf(),
         message: e.to_string(),
     })
-}
-
-fn core_aov(aov: Aov) -> tracer_core::aov::Aov {
-    use tracer_core::aov::Aov as Core;
-    match aov {
-        Aov::RayDirX => Core::RayDirX,
-        Aov::RayDirY => Core::RayDirY,
-        Aov::RayDirZ => Core::RayDirZ,
-        Aov::Normal => Core::Normal,
-        Aov::Depth => Core::Depth,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn every_aov_is_the_core_aov_of_its_name() {
-        for aov in [
-            Aov::RayDirX,
-            Aov::RayDirY,
-            Aov::RayDirZ,
-            Aov::Normal,
-            Aov::Depth,
-        ] {
-            assert_eq!(core_aov(aov).name(), aov.name());
-        }
-    }
 }

@@ -159,3 +159,23 @@ impl CalibChartArgs {
 fn checked(gamma: Option<f32>) -> Result<Option<Gamma>, tracer_pipeline::Error> {
     gamma.map(Gamma::new).transpose()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_aov_of_the_core_has_its_name_on_the_command_line() {
+        let names: Vec<(String, &str)> = AovArg::value_variants()
+            .iter()
+            .map(|&a| {
+                let clap_name = a.to_possible_value().expect("not hidden");
+                (clap_name.get_name().to_string(), Aov::from(a).name())
+            })
+            .collect();
+        for (clap_name, aov_name) in &names {
+            assert_eq!(clap_name, aov_name);
+        }
+        assert_eq!(names.len(), Aov::ALL.len());
+    }
+}
