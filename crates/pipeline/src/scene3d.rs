@@ -1,6 +1,7 @@
 //! Every call into tracer-core's 3D API: preparing a scene file, rendering
 //! it shaded or as an AOV, encoding it. The rest of the pipeline reaches
-//! the core through here only, so a change of that API stays in this file.
+//! the core through here (and names the core's `Aov` list), so a change of
+//! that API stays in this file.
 
 use crate::render::{Aov, Gamma, ShadedStats};
 use crate::Error;

@@ -289,8 +289,9 @@ impl Object {
 }
 
 /// The textures built into the tracer, as scene files name them
-/// (`texture = "lab-stripes"`). The tracer's core maps each to its image
-/// with an exhaustive match, so a texture added here cannot be forgotten there.
+/// (`texture = "lab-stripes"`): the one list of them. A new one goes into
+/// the enum and `ALL`; the core's `prepare` then fails to compile until it
+/// maps the new variant to an image (an exhaustive match).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum BuiltinTexture {
     LabStripes,

@@ -17,13 +17,3 @@ pub struct PointLight {
     pub position: Vec3,
     pub color: Vec3,
 }
-
-impl Light {
-    /// The light's colour (its intensity): what the lab's ambient term is
-    /// multiplied by, once per light.
-    pub fn color(&self) -> Vec3 {
-        match self {
-            Light::Point(p) => p.color,
-        }
-    }
-}

@@ -50,7 +50,7 @@ pub fn prepare(file: &fmt::SceneFile) -> Result<Scene, PrepareError> {
 }
 
 /// The camera of the file's `[camera]` table.
-pub fn camera(c: &fmt::Camera) -> Camera {
+fn camera(c: &fmt::Camera) -> Camera {
     Camera::new(
         c.eye.into(),
         c.look_at.into(),
@@ -84,7 +84,7 @@ fn encoding(r: &fmt::RenderSettings) -> Encoding {
 }
 
 /// The file's saturation rule in the core's terms.
-pub fn saturation(s: fmt::Saturation) -> Saturation {
+fn saturation(s: fmt::Saturation) -> Saturation {
     match s {
         fmt::Saturation::White => Saturation::White,
         fmt::Saturation::Clamp => Saturation::Clamp,

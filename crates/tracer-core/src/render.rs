@@ -37,6 +37,16 @@ impl Region {
     pub fn height(&self) -> u32 {
         self.y1.saturating_sub(self.y0)
     }
+
+    /// The part of the region inside an image of `width` x `height`.
+    pub fn within(self, width: u32, height: u32) -> Region {
+        Region {
+            x0: self.x0.min(width),
+            y0: self.y0.min(height),
+            x1: self.x1.min(width),
+            y1: self.y1.min(height),
+        }
+    }
 }
 
 /// What each sample of a pixel computes.
@@ -87,9 +97,11 @@ pub struct Rendered {
 /// Renders `job`, calling `rows_done(n)` as each band of `n` rows is
 /// finished. Every pixel is computed on its own, from its own position and
 /// samples, so the image depends neither on the threads nor on the region
-/// (a region's pixels are those of the whole image).
+/// (a region's pixels are those of the whole image). The part of the
+/// region outside the camera's image is left out.
 pub fn render(scene: &Scene, job: &RenderJob, rows_done: &(dyn Fn(u32) + Sync)) -> Rendered {
-    let region = job.region;
+    let camera = scene.camera();
+    let region = job.region.within(camera.width, camera.height);
     let width = region.width();
     let mut image = LinearImage::new(width, region.height());
     if image.pixels.is_empty() {

@@ -58,9 +58,9 @@ fn sixteen_samples_see_an_edge_through_the_pixel_centre_as_half_covered() {
         image.get(248, 200)
     );
     assert_eq!(image.get(250, 200), Vec3::ZERO);
-    // One sample per pixel is the lab's ray through the centre, on the edge.
+    // One sample per pixel, the lab's ray through the centre: all or nothing.
     let lab = render_job(&scene, &RenderJob::full(&scene));
-    assert!(lab.get(249, 200).x == 0.8 || lab.get(249, 200).x == 0.0);
+    assert_eq!((lab.get(248, 200).x, lab.get(250, 200).x), (0.8, 0.0));
 }
 
 #[test]
@@ -123,6 +123,20 @@ fn a_region_holds_exactly_those_pixels_of_the_whole_image() {
         ..RenderJob::full(&scene)
     };
     assert!(render_job(&scene, &job).pixels.is_empty());
+    // A region reaching past the image keeps only the image's pixels.
+    let past = Region {
+        x0: 490,
+        y0: 390,
+        x1: 600,
+        y1: 450,
+    };
+    let job = RenderJob {
+        region: past,
+        ..RenderJob::full(&scene)
+    };
+    let edge = render_job(&scene, &job);
+    assert_eq!((edge.width, edge.height), (10, 10));
+    assert_eq!(edge.get(9, 9), whole.get(499, 399));
     assert!(whole.pixels.iter().any(|p| p.max_element() > 0.0));
 }
 

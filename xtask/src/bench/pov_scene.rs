@@ -4,7 +4,7 @@
 //! lab's Blinn-Phong materials with mirror reflection.
 //!
 //! The lab's shading, term by term, in POV-Ray's words (`tracer-core`'s
-//! `shade.rs` is the reference):
+//! `integrate/whitted.rs` is the reference):
 //! - diffuse `kd * cos * light`: `pigment` is the diffuse colour divided
 //!   by its largest channel, `diffuse` that channel;
 //! - specular `ks * cos^shininess * light` (Blinn's half vector): POV-Ray's

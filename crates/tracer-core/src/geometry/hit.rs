@@ -10,9 +10,9 @@ use glam::{Vec2, Vec3};
 pub struct SurfaceHit {
     /// Distance along the ray (in units of its direction's length).
     pub t: f32,
-    /// Index of the object in `Scene::objects`.
+    /// Index of the object in `Scene::objects()`.
     pub object: usize,
-    /// Index of the object's material in `Scene::materials`.
+    /// Index of the object's material (`Scene::material(index)`).
     pub material: usize,
     /// The unit normal of the surface as the lab defines it: a triangle's
     /// from its vertex order, a sphere's outward; never flipped toward the ray.

@@ -11,7 +11,7 @@ pub enum Shape {
     Triangle(Triangle),
 }
 
-/// A shape and the index of its material in `Scene::materials`.
+/// A shape and the index of its material (`Scene::material(index)`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Object {
     pub shape: Shape,

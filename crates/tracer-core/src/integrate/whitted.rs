@@ -13,13 +13,9 @@ use glam::Vec3;
 /// The lab's threshold on the cosines of the diffuse and specular terms.
 const COS_THRESHOLD: f32 = 0.001;
 
-/// The colour a ray carries back, already scaled by `energy`; `depth` is the
-/// lab's ray-tree counter. A primary ray starts at energy 1, depth 0.
-pub fn trace(scene: &Scene, ray: &Ray, energy: f32, depth: u32) -> Vec3 {
-    trace_counted(scene, ray, energy, depth, &mut RayStats::default())
-}
-
-/// `trace`, counting the rays it casts into `stats`.
+/// The colour a ray carries back, already scaled by `energy`, counting the
+/// rays it casts into `stats`; `depth` is the lab's ray-tree counter. A
+/// primary ray starts at energy 1, depth 0.
 pub fn trace_counted(
     scene: &Scene,
     ray: &Ray,
