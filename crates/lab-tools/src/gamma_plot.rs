@@ -13,8 +13,10 @@ use std::sync::Once;
 /// Sans, so the plot needs no font installed on the machine.
 const FONT: &str = "sans-serif";
 
+/// The plot's size in pixels, as `tracer gamma fit --plot` draws it.
 pub const DEFAULT_SIZE: (u32, u32) = (800, 600);
 
+/// The plotting library failed to draw (plotters' own message inside).
 #[derive(Debug, thiserror::Error)]
 #[error("cannot draw the gamma plot: {0}")]
 pub struct PlotError(String);
