@@ -17,4 +17,7 @@ mod scene3d;
 pub use error::{scene_error_is_bad_input, Error};
 pub use limits::{BYTES_PER_PRIMITIVE, MAX_PRIMITIVES};
 pub use load::{load, Input, Loaded, DEFAULT_SCENE_NAME};
-pub use render::{default_output, render, Aov, Gamma, Options, Rendered, ShadedStats, Summary};
+pub use render::{
+    default_output, render, Aov, Gamma, Options, Rendered, ShadedStats, Summary,
+    FORCED_WHITE_WARNING,
+};
