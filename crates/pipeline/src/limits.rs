@@ -38,10 +38,9 @@ pub(crate) fn check(file: &SceneFile) -> Vec<Diagnostic> {
             return vec![Diagnostic::new(
                 path,
                 format!(
-                    "with this object the scene has {total} primitives (this one: {n}), more than the {MAX_PRIMITIVES} the tracer builds (about {:.1} GB, {:.1} GB allowed); \
-                     each mesh object is a full copy of its triangles, as instancing is not supported yet",
-                    gb(total),
-                    gb(MAX_PRIMITIVES)
+                    "with this object the scene has {total} primitives (this one: {n}), more than the {MAX_PRIMITIVES} the tracer builds \
+                     (they would take about {:.1} GB to prepare); each mesh object is a full copy of its triangles, as instancing is not supported yet",
+                    gb(total)
                 ),
             )];
         }
