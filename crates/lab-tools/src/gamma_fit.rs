@@ -2,7 +2,7 @@
 //! normalised luminances fitted to `y = x^gamma` by least squares (as the
 //! lab's `cftool` does).
 
-use crate::measurements::{normalised_points, Measurement};
+use crate::measurements::{normalised_points, Measurement, MeasurementError};
 
 /// A fitted `y = x^gamma` and its root-mean-square error on the points.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -68,9 +68,22 @@ fn golden_section(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
 }
 
 /// The fit of a measurement file: levels against luminances normalised by
-/// their maximum.
-pub fn fit_measurements(rows: &[Measurement]) -> GammaFit {
-    fit_gamma(&normalised_points(rows, |m| Some(m.luminance)))
+/// their maximum. A fit at an end of [`GAMMA_RANGE`] is an error: the
+/// least-squares minimum lies outside it, so the number would be the
+/// search's bound, not the display's gamma.
+pub fn fit_measurements(rows: &[Measurement]) -> Result<GammaFit, MeasurementError> {
+    let fit = fit_gamma(&normalised_points(rows, |m| Some(m.luminance)));
+    let (lo, hi) = GAMMA_RANGE;
+    // Golden-section search stops within 1e-12 of a bound it is pushed to.
+    if fit.gamma <= lo * (1.0 + 1e-6) || fit.gamma >= hi * (1.0 - 1e-6) {
+        return Err(MeasurementError {
+            line: None,
+            message: format!(
+                "the fit reached the end of the gamma range searched ({lo} to {hi}), so no gamma fits these luminances; are they of this chart's patches, in order?"
+            ),
+        });
+    }
+    Ok(fit)
 }
 
 /// RMSE of normalised corrected measurements from the straight line y = x:
@@ -124,6 +137,16 @@ mod tests {
     fn a_fit_of_measurements_normalises_them_first() {
         let rows = parse_measurements("level,luminance\n0,0.5\n0.5,25\n1,100\n").unwrap();
         // 0.5^gamma = 0.25 -> gamma = 2 (0 -> 0.005 pulls a hair off 2).
-        assert!((fit_measurements(&rows).gamma - 2.0).abs() < 1e-3);
+        assert!((fit_measurements(&rows).unwrap().gamma - 2.0).abs() < 1e-3);
+    }
+
+    #[test]
+    fn a_fit_stuck_at_an_end_of_the_range_is_an_error() {
+        // 0.5^gamma = 1e-9 wants gamma 30; 0.5^gamma = 0.9999 wants 1.4e-4.
+        for text in ["0,1e-9\n0.5,1e-9\n1,1\n", "0,0.9999\n0.5,0.9999\n1,1\n"] {
+            let rows = parse_measurements(text).unwrap();
+            let err = fit_measurements(&rows).unwrap_err().to_string();
+            assert!(err.contains("end of the gamma range"), "{err}");
+        }
     }
 }

@@ -167,7 +167,7 @@ mod tests {
     #[test]
     fn the_plot_shows_every_series_and_some_text() {
         let rows = sample();
-        let fit = fit_measurements(&rows);
+        let fit = fit_measurements(&rows).unwrap();
         let img = plot_gamma(&rows, &fit, 800, 600).unwrap();
         assert_eq!(img.dimensions(), (800, 600));
         for colour in [[210, 40, 40], [30, 150, 60], [30, 80, 200], [140, 40, 170]] {
@@ -191,7 +191,7 @@ mod tests {
                 ..m
             })
             .collect();
-        let fit = fit_measurements(&rows);
+        let fit = fit_measurements(&rows).unwrap();
         let img = plot_gamma(&rows, &fit, 640, 480).unwrap();
         assert!(!has_colour(&img, [140, 40, 170]));
     }

@@ -37,38 +37,77 @@ fn error_at(line: u64, message: impl Into<String>) -> MeasurementError {
 
 const COLUMNS: [&str; 3] = ["level", "luminance", "corrected luminance"];
 
+/// At most this many measured rows. The chart has five patches; a file of
+/// many thousands is not a measurement, and the fit's time grows with the
+/// rows (500,000 took 35 s), so reading stops here.
+pub const MAX_ROWS: usize = 10_000;
+
 /// Reads measurements from CSV text: columns level, luminance and optionally
-/// the corrected luminance; one optional header row (a first row whose first
-/// value is not a number); `#` starts a comment line. Rows are counted as
-/// lines of the file, from 1.
+/// the corrected luminance; one optional header row (a first row none of
+/// whose values is a number); `#` starts a comment line. Rows are counted as
+/// lines of the file, from 1. Spreadsheets in many locales (Polish among
+/// them) write `;` between values and a decimal comma: a file whose first
+/// row holds a `;` is read that way.
+///
+/// Levels must differ, and luminances must rise with the level and not be
+/// all equal: otherwise no gamma describes them.
 pub fn parse_measurements(text: &str) -> Result<Vec<Measurement>, MeasurementError> {
+    let semicolons = first_row(text).is_some_and(|row| row.contains(';'));
     let mut reader = csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
         .trim(csv::Trim::All)
         .comment(Some(b'#'))
+        .delimiter(if semicolons { b';' } else { b',' })
         .from_reader(text.as_bytes());
     let mut columns: Option<usize> = None;
     let mut out = Vec::new();
+    let mut lines = Vec::new();
     for (index, record) in reader.records().enumerate() {
         let record = record.map_err(|e| {
             let line = e.position().map_or(0, |p| p.line());
             error_at(line, format!("cannot read the CSV: {e}"))
         })?;
         let line = record.position().map_or(index as u64 + 1, |p| p.line());
-        let fields: Vec<&str> = record.iter().collect();
-        if index == 0 && fields.first().is_some_and(|f| f.parse::<f64>().is_err()) {
+        // With `;` between values the comma is the decimal point.
+        let fields: Vec<String> = record
+            .iter()
+            .map(|f| {
+                if semicolons {
+                    f.replace(',', ".")
+                } else {
+                    f.to_string()
+                }
+            })
+            .collect();
+        let fields: Vec<&str> = fields.iter().map(String::as_str).collect();
+        if index == 0 && fields.iter().all(|f| f.parse::<f64>().is_err()) {
             columns = Some(check_header_width(line, fields.len())?);
             continue;
+        }
+        if out.len() == MAX_ROWS {
+            return Err(error_at(
+                line,
+                format!("expected at most {MAX_ROWS} measured rows (the chart has 5 patches)"),
+            ));
         }
         let width = match columns {
             Some(width) => width,
             None => *columns.insert(check_header_width(line, fields.len())?),
         };
         out.push(parse_row(line, &fields, width)?);
+        lines.push(line);
     }
     check_enough(&out)?;
+    check_rising(&out, &lines)?;
     Ok(out)
+}
+
+/// The first line that is neither blank nor a comment.
+fn first_row(text: &str) -> Option<&str> {
+    text.lines()
+        .map(str::trim)
+        .find(|l| !l.is_empty() && !l.starts_with('#'))
 }
 
 /// Two columns (level, luminance) or three (and the corrected luminance).
@@ -146,6 +185,47 @@ fn check_enough(rows: &[Measurement]) -> Result<(), MeasurementError> {
         return Err(whole(
             "expected at least one level strictly between 0 and 1; at 0 and 1 every gamma fits alike",
         ));
+    }
+    Ok(())
+}
+
+/// Levels measured once each; luminances that rise with the level (a
+/// display that gets darker as the level rises, or does not change, is a
+/// mistake in the file, not a gamma).
+fn check_rising(rows: &[Measurement], lines: &[u64]) -> Result<(), MeasurementError> {
+    let mut order: Vec<usize> = (0..rows.len()).collect();
+    order.sort_by(|&a, &b| rows[a].level.total_cmp(&rows[b].level));
+    for pair in order.windows(2) {
+        let (a, b) = (&rows[pair[0]], &rows[pair[1]]);
+        let (la, lb) = (lines[pair[0]], lines[pair[1]]);
+        let (first, second) = (la.min(lb), la.max(lb));
+        if a.level == b.level {
+            return Err(error_at(
+                second,
+                format!(
+                    "level {} is measured twice (rows {first} and {second}); expected one row per level",
+                    a.level
+                ),
+            ));
+        }
+        if b.luminance < a.luminance {
+            return Err(error_at(
+                lb,
+                format!(
+                    "luminance {} at level {} is below {} at level {} (row {la}); expected luminances that rise with the level",
+                    b.luminance, b.level, a.luminance, a.level
+                ),
+            ));
+        }
+    }
+    let first = rows[0].luminance;
+    if rows.iter().all(|m| m.luminance == first) {
+        return Err(MeasurementError {
+            line: None,
+            message: format!(
+                "every luminance is {first}; expected luminances that rise with the level (a constant display has no gamma)"
+            ),
+        });
     }
     Ok(())
 }
@@ -254,5 +334,81 @@ mod tests {
         );
         assert_eq!(error_of(""), "expected at least 2 measured rows, found 0");
         assert!(error_of("0,1\n1,9\n").contains("strictly between 0 and 1"));
+    }
+
+    #[test]
+    fn semicolons_and_decimal_commas_are_read() {
+        // What a spreadsheet in a Polish locale saves as CSV.
+        let text = "poziom;luminancja;po korekcji\n0;0,42;0,41\n0,5;50,6;124,9\n1;249,8;249,6\n";
+        let rows = parse_measurements(text).unwrap();
+        assert_eq!(
+            rows[1],
+            Measurement {
+                level: 0.5,
+                luminance: 50.6,
+                corrected: Some(124.9)
+            }
+        );
+        assert_eq!(
+            error_of("0;1\n0,5;abc\n1;9\n"),
+            "row 2: luminance: expected a number, found `abc`"
+        );
+    }
+
+    #[test]
+    fn a_first_row_with_a_number_is_data_not_a_header() {
+        // Before, `x` as the first value made the row a header, silently.
+        assert_eq!(
+            error_of("0,abc\n0.5,3\n1,9\n"),
+            "row 1: luminance: expected a number, found `abc`"
+        );
+        assert_eq!(
+            error_of("zero,1\n0.5,3\n1,9\n"),
+            "row 1: level: expected a number, found `zero`"
+        );
+    }
+
+    #[test]
+    fn duplicate_levels_are_refused() {
+        assert_eq!(
+            error_of("0,1\n0.5,20\n1,90\n0.5,22\n"),
+            "row 4: level 0.5 is measured twice (rows 2 and 4); expected one row per level"
+        );
+    }
+
+    #[test]
+    fn luminances_must_rise_with_the_level() {
+        assert_eq!(
+            error_of("0,1\n0.5,50\n1,9\n"),
+            "row 3: luminance 9 at level 1 is below 50 at level 0.5 (row 2); expected luminances that rise with the level"
+        );
+        // Order in the file does not matter, only the levels'.
+        assert!(parse_measurements("1,90\n0,1\n0.5,20\n").is_ok());
+        assert_eq!(
+            error_of("0,7\n0.5,7\n1,7\n"),
+            "every luminance is 7; expected luminances that rise with the level (a constant display has no gamma)"
+        );
+    }
+
+    #[test]
+    fn rows_beyond_the_cap_are_refused_without_reading_on() {
+        let mut text = String::from("level,luminance\n");
+        for k in 0..500_000u32 {
+            let x = f64::from(k) / 500_000.0;
+            text.push_str(&format!("{x},{}\n", 1.0 + x * x * 100.0));
+        }
+        assert_eq!(
+            error_of(&text),
+            format!(
+                "row {}: expected at most 10000 measured rows (the chart has 5 patches)",
+                MAX_ROWS + 2
+            )
+        );
+        let capped: String = text
+            .lines()
+            .take(MAX_ROWS + 1)
+            .map(|l| format!("{l}\n"))
+            .collect();
+        assert_eq!(parse_measurements(&capped).unwrap().len(), MAX_ROWS);
     }
 }

@@ -47,7 +47,7 @@ pub fn fit_gamma(csv: &Path) -> Result<GammaReport, Error> {
     let text = std::fs::read_to_string(csv)
         .map_err(|e| bad(format!("cannot read the measurements: {e}")))?;
     let rows = parse_measurements(&text).map_err(|e| bad(e.to_string()))?;
-    let fit = fit_measurements(&rows);
+    let fit = fit_measurements(&rows).map_err(|e| bad(e.to_string()))?;
     let corrected = normalised_points(&rows, |m| m.corrected);
     let corrected_rmse = (!corrected.is_empty()).then(|| linearity_rmse(&corrected));
     Ok(GammaReport {

@@ -8,11 +8,16 @@
 
 mod error;
 pub mod lab;
+mod limits;
 mod load;
 pub mod output;
 mod render;
 mod scene3d;
 
 pub use error::{scene_error_is_bad_input, Error};
+pub use limits::{BYTES_PER_PRIMITIVE, MAX_PRIMITIVES};
 pub use load::{load, Input, Loaded, DEFAULT_SCENE_NAME};
-pub use render::{default_output, render, Aov, Gamma, Options, Rendered, ShadedStats, Summary};
+pub use render::{
+    default_output, render, Aov, Gamma, Options, Rendered, ShadedStats, Summary,
+    FORCED_WHITE_WARNING,
+};

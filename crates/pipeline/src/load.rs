@@ -1,6 +1,7 @@
 //! Reading the scene: a file, or the scene built in for `tracer render`
 //! without one; with the files it read and the warnings it gave.
 
+use crate::limits;
 use scene_format::{Diagnostic, Format, SceneError, SceneFile, SceneKind};
 use std::path::{Path, PathBuf};
 
@@ -44,7 +45,8 @@ pub struct Loaded {
     /// Every file the scene was read from: the scene file, then the OBJ
     /// files of its meshes, each once. Empty for the built-in scene.
     pub files_read: Vec<PathBuf>,
-    /// What was read but not used (mesh faces of zero area); worth showing.
+    /// Likely mistakes (mesh faces of zero area, no lights, ...; see
+    /// `scene_format::warnings`); worth showing, not errors.
     pub warnings: Vec<Diagnostic>,
 }
 
@@ -65,6 +67,12 @@ pub fn load(input: &Input) -> Result<Loaded, SceneError> {
         Input::File(path) => scene_format::load_any(path)?,
         Input::DefaultScene => scene_format::load_any_str(DEFAULT_SCENE, Format::Toml, &name)?,
     };
+    if let SceneKind::Scene3d(file) = &kind {
+        let diagnostics = limits::check(file);
+        if !diagnostics.is_empty() {
+            return Err(located(input, &name, diagnostics));
+        }
+    }
     let (files_read, warnings) = match (&kind, input) {
         (SceneKind::Scene3d(file), Input::File(path)) => (files_read(path, file), warnings(file)),
         (SceneKind::Scene3d(file), Input::DefaultScene) => (Vec::new(), warnings(file)),
@@ -80,7 +88,22 @@ pub fn load(input: &Input) -> Result<Loaded, SceneError> {
 }
 
 fn warnings(file: &SceneFile) -> Vec<Diagnostic> {
-    scene_format::mesh_warnings(file)
+    scene_format::warnings(file)
+}
+
+/// The limits' diagnostics located in the scene's text. The file is read
+/// again: it was read and parsed moments ago, and it is small (what is
+/// large is its meshes).
+fn located(input: &Input, name: &Path, diagnostics: Vec<Diagnostic>) -> SceneError {
+    let (text, format) = match input {
+        Input::File(path) => match std::fs::read_to_string(path) {
+            Ok(text) => (text, Format::from_path(path).unwrap_or(Format::Toml)),
+            // Changed under our feet: the messages without their lines.
+            Err(_) => (String::new(), Format::Toml),
+        },
+        Input::DefaultScene => (DEFAULT_SCENE.to_string(), Format::Toml),
+    };
+    scene_format::checks::invalid(name, &text, format, diagnostics)
 }
 
 /// The scene file and its meshes' OBJ files, relative to the scene file's
@@ -142,7 +165,89 @@ mod tests {
         assert_eq!(loaded.files_read, [scene, dir.path().join("t.obj")]);
         // The second face has its three vertices on the x axis.
         let paths: Vec<String> = loaded.warnings.iter().map(|w| w.path.to_string()).collect();
-        assert_eq!(paths, ["objects[0].mesh.obj", "objects[1].mesh.obj"]);
+        assert_eq!(
+            paths,
+            ["objects[0].mesh.obj", "objects[1].mesh.obj", "lights"]
+        );
+    }
+
+    /// A scene in a temporary folder: `obj` as `m.obj`, `scene` as `s.toml`.
+    fn scene_with_obj(obj: &str, scene: &str) -> (tempfile::TempDir, PathBuf) {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("m.obj"), obj).unwrap();
+        let path = dir.path().join("s.toml");
+        std::fs::write(&path, scene).unwrap();
+        (dir, path)
+    }
+
+    const HEAD: &str =
+        "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n[[lights]]\nposition = [0, 0, 10]\n";
+
+    fn first_diagnostic(path: &Path) -> (String, Option<(usize, usize)>, String) {
+        let err = load(&Input::File(path.to_path_buf())).unwrap_err();
+        let d = &err.diagnostics()[0];
+        (
+            d.path.to_string(),
+            d.location.map(|l| (l.line, l.column)),
+            d.message.clone(),
+        )
+    }
+
+    #[test]
+    fn too_many_primitives_are_refused_at_the_mesh_that_crosses_the_limit() {
+        // 20,000 triangles named 1,001 times: 20,020,000 > 20M, found
+        // without building one of them.
+        let mut obj = String::new();
+        for k in 0..20_000 {
+            obj.push_str(&format!("v {k} 0 0\nv {k} 1 0\nv {k} 0 1\n"));
+            obj.push_str(&format!("f {} {} {}\n", 3 * k + 1, 3 * k + 2, 3 * k + 3));
+        }
+        let mut scene = HEAD.to_string();
+        for _ in 0..1001 {
+            scene.push_str("[[objects]]\nmesh = { obj = \"m.obj\" }\n");
+        }
+        let (_dir, path) = scene_with_obj(&obj, &scene);
+        let (key, location, message) = first_diagnostic(&path);
+        assert_eq!(key, "objects[1000].mesh");
+        // HEAD is 5 lines, each object 2: object k's mesh is on line 7 + 2k;
+        // its value starts after `mesh = `.
+        assert_eq!(location, Some((2007, 8)));
+        assert!(message.contains("20020000 primitives"), "{message}");
+        assert!(
+            message.contains("instancing is not supported yet"),
+            "{message}"
+        );
+    }
+
+    #[test]
+    fn a_mesh_scaled_to_nothing_is_an_error_at_the_mesh() {
+        // Edges of 1e-3 scaled by 1e-6 and moved to 1000, where f32's step
+        // is 6e-5: every vertex lands on the same point.
+        let obj = "v 0 0 0\nv 0.001 0 0\nv 0 0.001 0\nf 1 2 3\n";
+        let scene = format!(
+            "{HEAD}[[objects]]\nmesh = {{ obj = \"m.obj\" }}\n\
+             transform = {{ scale = 1e-6, translate = [1000, 0, 0] }}\n"
+        );
+        let (_dir, path) = scene_with_obj(obj, &scene);
+        let (key, location, message) = first_diagnostic(&path);
+        assert_eq!(key, "objects[0].mesh");
+        assert_eq!(location, Some((7, 8)));
+        assert!(
+            message.starts_with("no triangle of `m.obj` is left once placed"),
+            "{message}"
+        );
+    }
+
+    #[test]
+    fn a_mesh_placed_beyond_the_coordinate_bound_is_an_error() {
+        let obj = "v 0 0 0\nv 1e5 0 0\nv 0 1 0\nf 1 2 3\n";
+        let scene = format!(
+            "{HEAD}[[objects]]\nmesh = {{ obj = \"m.obj\" }}\ntransform = {{ scale = 100 }}\n"
+        );
+        let (_dir, path) = scene_with_obj(obj, &scene);
+        let (key, _, message) = first_diagnostic(&path);
+        assert_eq!(key, "objects[0].mesh");
+        assert!(message.contains("reaches a coordinate of 1e7"), "{message}");
     }
 
     #[test]

@@ -9,6 +9,7 @@ use image::RgbImage;
 use scene_format::SceneFile;
 use std::path::Path;
 use std::time::Instant;
+use tracer_core::image::Saturation;
 use tracer_core::{Output, RenderJob, Scene};
 
 /// The shaded image, encoded with the scene's gamma (or `gamma`) and
@@ -32,12 +33,23 @@ pub(crate) fn shade(
     if let Some(gamma) = gamma {
         encoding.gamma = gamma.get();
     }
+    // Counted here, where the rule is applied, so the count is the image's.
+    let forced_white = match encoding.saturation {
+        Saturation::White => image
+            .pixels
+            .iter()
+            .filter(|c| c.max_element() > 1.0)
+            .count() as u64,
+        Saturation::Clamp => 0,
+    };
     let stats = ShadedStats {
         objects: file.objects.len(),
         primitives: scene.objects().len(),
         rays: rays.total(),
         prepare_seconds,
         render_seconds,
+        forced_white,
+        pixels: image.pixels.len() as u64,
     };
     Ok((image.encode(&encoding), stats))
 }

@@ -2,6 +2,7 @@
 //! validated, with errors that say where. No rendering here.
 
 pub mod canvas;
+pub mod checks;
 pub mod diagnostic;
 pub mod error;
 pub mod json_spans;
@@ -17,6 +18,7 @@ mod suggest;
 pub mod validate;
 
 pub use canvas::CanvasFile;
+pub use checks::warnings;
 pub use diagnostic::{Diagnostic, Location};
 pub use error::SceneError;
 pub use key_path::{KeyPath, Segment};

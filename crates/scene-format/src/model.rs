@@ -31,16 +31,16 @@ pub struct SceneFile {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Camera {
-    /// Where the camera is.
+    /// Where the camera is; coordinates from -1e6 to 1e6.
     pub eye: Vec3,
     /// The point the camera looks at; not `eye`.
     pub look_at: Vec3,
     /// Which way is up in the image; not parallel to `look_at - eye`.
     #[serde(default = "default_up")]
     pub up: Vec3,
-    /// Horizontal field of view in degrees, between 0 and 180.
+    /// Horizontal field of view in degrees, at least 1 and below 180.
     #[serde(default = "default_fov")]
-    #[schemars(extend("exclusiveMinimum" = 0, "exclusiveMaximum" = 180))]
+    #[schemars(extend("minimum" = 1, "exclusiveMaximum" = 180))]
     pub fov: f32,
     /// Image width in pixels.
     #[serde(default = "default_width")]
@@ -199,8 +199,10 @@ pub struct Object {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Sphere {
+    /// Coordinates from -1e6 to 1e6.
     pub center: Vec3,
-    #[schemars(extend("exclusiveMinimum" = 0))]
+    /// From 1e-4 (the lab's epsilon) to 1e6: what single-precision tracing handles.
+    #[schemars(extend("minimum" = 1e-4, "maximum" = 1e6))]
     pub radius: f32,
 }
 
@@ -230,7 +232,8 @@ pub struct Transform {
     pub translate: Vec3,
     /// Degrees about the x axis, then y, then z.
     pub rotate: Vec3,
-    /// One factor for all axes, or one per axis.
+    /// One factor for all axes, or one per axis; each non-zero, its size
+    /// from 1e-6 to 1e6.
     pub scale: Scale,
 }
 

@@ -44,7 +44,7 @@ fn drop_null(value: &mut serde_json::Value) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::validate::{MAX_DEPTH_CAP, MAX_IMAGE_SIDE};
+    use crate::validate::{MAX_COORDINATE, MAX_DEPTH_CAP, MAX_IMAGE_SIDE, MIN_FOV, MIN_RADIUS};
 
     #[test]
     fn the_schema_states_the_validation_limits() {
@@ -54,14 +54,14 @@ mod tests {
         assert_eq!(camera["width"]["maximum"], MAX_IMAGE_SIDE);
         assert_eq!(camera["height"]["minimum"], 1);
         assert_eq!(camera["fov"]["exclusiveMaximum"], 180);
+        assert_eq!(camera["fov"]["minimum"], MIN_FOV);
         assert_eq!(
             defs["RenderSettings"]["properties"]["max_depth"]["maximum"],
             MAX_DEPTH_CAP
         );
-        assert_eq!(
-            defs["Sphere"]["properties"]["radius"]["exclusiveMinimum"],
-            0
-        );
+        let radius = &defs["Sphere"]["properties"]["radius"];
+        assert_eq!(radius["minimum"], MIN_RADIUS);
+        assert_eq!(radius["maximum"], MAX_COORDINATE);
     }
 
     /// `schema.json` (at the top of the repository) is what editors read;

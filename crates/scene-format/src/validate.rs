@@ -11,6 +11,38 @@ pub const MAX_IMAGE_PIXELS: u64 = 1 << 28;
 /// Largest `render.max_depth`: deeper mirror recursion only costs time.
 pub const MAX_DEPTH_CAP: u32 = 64;
 
+// Bounds of what single-precision (f32) tracing can handle. Finite but
+// absurd values (1e19, 3e38) overflow inside the intersection tests and
+// render nothing, without a word; these bounds keep every product finite.
+//
+// Coordinates: the tests square differences of points (sphere: |o - c|^2,
+// b^2; triangle: cross products of edges, then dot products), so with
+// |x| <= 1e6 the largest intermediate is about (2e6)^3 = 8e18, far below
+// f32::MAX (3.4e38); at 1e19 the squares alone reach it. f32 resolves 1e6
+// to 1/16 of a unit: beyond that positions stop meaning anything. The lab's
+// epsilon (1e-4, the gap a ray leaves before it may hit a surface) is
+// absolute, so it outweighs rounding (an ulp of |x|) only for |x| below
+// about 1e3; scenes between 1e3 and 1e6 are traced, possibly with speckled
+// shadows, which is a matter of quality, not of nothing at all.
+/// Largest absolute coordinate of a point (eye, look_at, lights, shapes, translate).
+pub const MAX_COORDINATE: f32 = 1e6;
+/// Sphere radii: at least the lab's epsilon (a sphere smaller than the gap
+/// a ray leaves before it may hit anything is skipped by the rays cast from
+/// beside it; seen from distance d its r^2 survives |o - c|^2 - r^2 in f32
+/// only when r > ~2.5e-4 d anyway), at most `MAX_COORDINATE`.
+pub const MIN_RADIUS: f32 = 1e-4;
+/// Smallest `camera.fov` in degrees. Pixel directions are `u * x + v * y +
+/// o` normalised, with |o| the focal length `width / (2 tan(fov / 2))`:
+/// neighbouring pixels differ by 1 / focal. At 1 degree and the widest image
+/// (16384) that is 1.1e-6, nine f32 ulps of 1; at 0.1 degree it is one ulp
+/// and neighbouring pixels see the same ray.
+pub const MIN_FOV: f32 = 1.0;
+/// Mesh scale factors: |s| from 1e-6 to 1e6, so that an OBJ in ordinary
+/// units (0.001 to 1000) lands within `MAX_COORDINATE` and its edges keep
+/// cross products that f32 does not flush to zero. What the placement makes
+/// of the mesh itself is checked once it is read (no triangle left is an error).
+pub const SCALE_RANGE: (f32, f32) = (1e-6, 1e6);
+
 /// All problems found in `scene`, in file order.
 pub fn validate(scene: &SceneFile) -> Vec<Diagnostic> {
     let mut v = Validator::default();
@@ -19,7 +51,7 @@ pub fn validate(scene: &SceneFile) -> Vec<Diagnostic> {
     v.render(&root.key("render"), &scene.render);
     for (i, light) in scene.lights.iter().enumerate() {
         let path = root.key("lights").index(i);
-        v.finite_vec(path.key("position"), light.position);
+        v.point(path.key("position"), light.position);
         v.color(path.key("color"), light.color);
     }
     for (name, material) in &scene.materials {
@@ -56,6 +88,25 @@ impl Validator {
         false
     }
 
+    /// A finite point within `MAX_COORDINATE` on every axis.
+    fn point(&mut self, path: impl Into<KeyPath>, p: Vec3) -> bool {
+        let path = path.into();
+        if !self.finite_vec(&path, p) {
+            return false;
+        }
+        if p.iter().any(|x| x.abs() > MAX_COORDINATE) {
+            self.error(
+                path,
+                format!(
+                    "expected coordinates from -{MAX_COORDINATE:e} to {MAX_COORDINATE:e}, found {}; single-precision tracing cannot handle larger ones",
+                    show(p)
+                ),
+            );
+            return false;
+        }
+        true
+    }
+
     fn color(&mut self, path: impl Into<KeyPath>, c: Color) {
         let path = path.into();
         if self.finite_vec(&path, c) && c.iter().any(|&x| x < 0.0) {
@@ -67,8 +118,8 @@ impl Validator {
     }
 
     fn camera(&mut self, path: &KeyPath, c: &Camera) {
-        let ok = self.finite_vec(path.key("eye"), c.eye)
-            & self.finite_vec(path.key("look_at"), c.look_at)
+        let ok = self.point(path.key("eye"), c.eye)
+            & self.point(path.key("look_at"), c.look_at)
             & self.finite_vec(path.key("up"), c.up);
         if self.finite(path.key("fov"), c.fov) && !(c.fov > 0.0 && c.fov < 180.0) {
             self.error(
@@ -76,6 +127,14 @@ impl Validator {
                 format!(
                     "expected degrees between 0 and 180 (exclusive), found {}",
                     c.fov
+                ),
+            );
+        } else if c.fov < MIN_FOV {
+            self.error(
+                path.key("fov"),
+                format!(
+                    "expected at least {MIN_FOV} degree, found {}; below it neighbouring pixels get the same single-precision ray",
+                    num(c.fov)
                 ),
             );
         }
@@ -223,12 +282,24 @@ impl Validator {
         if !on_mesh {
             self.error(path, "expected `transform` only on a `mesh` object");
         }
-        self.finite_vec(path.key("translate"), t.translate);
+        self.point(path.key("translate"), t.translate);
         self.finite_vec(path.key("rotate"), t.rotate);
         let scale = path.key("scale");
         let s = t.scale.per_axis();
-        if self.finite_vec(&scale, s) && s.contains(&0.0) {
+        let (lo, hi) = SCALE_RANGE;
+        if !self.finite_vec(&scale, s) {
+            return;
+        }
+        if s.contains(&0.0) {
             self.error(&scale, format!("expected non-zero factors, found {s:?}"));
+        } else if s.iter().any(|x| !(lo..=hi).contains(&x.abs())) {
+            self.error(
+                &scale,
+                format!(
+                    "expected factors from {lo:e} to {hi:e} (or their negatives), found {}; single-precision tracing would flatten or overflow the mesh",
+                    show(s)
+                ),
+            );
         }
     }
 
@@ -243,15 +314,26 @@ impl Validator {
                 }
             }
             ShapeRef::Sphere(s) => {
-                self.finite_vec(path.key("sphere").key("center"), s.center);
+                self.point(path.key("sphere").key("center"), s.center);
                 let r = path.key("sphere").key("radius");
-                if self.finite(&r, s.radius) && s.radius <= 0.0 {
+                if !self.finite(&r, s.radius) {
+                    return;
+                }
+                if s.radius <= 0.0 {
                     self.error(&r, format!("expected a radius > 0, found {}", s.radius));
+                } else if !(MIN_RADIUS..=MAX_COORDINATE).contains(&s.radius) {
+                    self.error(
+                        &r,
+                        format!(
+                            "expected a radius from {MIN_RADIUS:e} to {MAX_COORDINATE:e}, found {}; single-precision tracing cannot handle it",
+                            num(s.radius)
+                        ),
+                    );
                 }
             }
             ShapeRef::Triangle(t) => {
                 let p = path.key("triangle");
-                if t.iter().all(|v| self.finite_vec(&p, *v)) {
+                if t.iter().all(|v| self.point(&p, *v)) {
                     let n = cross(sub(t[1], t[0]), sub(t[2], t[0]));
                     if length(n) == 0.0 {
                         self.error(
@@ -272,7 +354,16 @@ impl Validator {
 
 /// A vector as it is written in a scene file: `[0, 1.5, -2]`.
 fn show(v: Vec3) -> String {
-    format!("[{}, {}, {}]", v[0], v[1], v[2])
+    format!("[{}, {}, {}]", num(v[0]), num(v[1]), num(v[2]))
+}
+
+/// A number as a person writes it: `1e19` rather than twenty digits.
+fn num(x: f32) -> String {
+    if x != 0.0 && x.is_finite() && !(1e-4..1e7).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
 }
 
 fn sub(a: Vec3, b: Vec3) -> Vec3 {

@@ -479,3 +479,80 @@ fn threads_are_honoured_by_an_aov_and_change_nothing_in_it() {
     );
     assert_eq!(zero.status.code(), Some(2));
 }
+
+/// `tracer check` on `text` written as `s.toml`: its stderr.
+fn check_stderr(text: &str) -> String {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("s.toml"), text).unwrap();
+    let out = tracer(dir.path(), &["check", "s.toml"]);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(out.status.success(), "{stderr}");
+    stderr
+}
+
+#[test]
+fn likely_mistakes_are_warnings_not_errors() {
+    let camera = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n";
+    let light = "[[lights]]\nposition = [0, 0, 10]\n";
+    let sphere = "[[objects]]\nsphere = { center = [0, 0, 0], radius = 1 }\n";
+    let no_lights = check_stderr(&format!("{camera}{sphere}"));
+    assert!(
+        no_lights.contains("warning: s.toml: `lights`: no lights: ambient is added once per light"),
+        "{no_lights}"
+    );
+    let no_objects = check_stderr(&format!("{camera}{light}"));
+    assert!(no_objects.contains("`objects`: no objects"), "{no_objects}");
+    let behind = check_stderr(&format!(
+        "{camera}{light}[[objects]]\nsphere = {{ center = [0, 0, 20], radius = 1 }}\n"
+    ));
+    assert!(
+        behind.contains("`camera.look_at`: nothing is in front of the camera"),
+        "{behind}"
+    );
+    let bytes = check_stderr(&format!(
+        "{camera}{light}[materials.red]\ndiffuse = [200, 0, 0]\n{sphere}material = \"red\"\n"
+    ));
+    assert!(
+        bytes.contains("`materials.red.diffuse`: a channel above 1 in [200, 0, 0]"),
+        "{bytes}"
+    );
+    let fine = check_stderr(&format!("{camera}{light}{sphere}"));
+    assert!(!fine.contains("warning"), "{fine}");
+}
+
+#[test]
+fn the_lab_scenes_give_no_warnings() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenes: Vec<String> = std::fs::read_dir(scene(""))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .map(|p| p.to_str().unwrap().to_string())
+        .collect();
+    let mut args = vec!["check"];
+    args.extend(scenes.iter().map(String::as_str));
+    let out = tracer(dir.path(), &args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(!stderr.contains("warning"), "{stderr}");
+}
+
+#[test]
+fn a_render_mostly_forced_white_suggests_clamp() {
+    let dir = tempfile::tempdir().unwrap();
+    // A bright sphere filling the view: the lab's rule whitens most of it.
+    let text = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\nwidth = 40\nheight = 30\n\
+                [[lights]]\nposition = [0, 0, 10]\ncolor = [3, 3, 3]\n\
+                [[objects]]\nsphere = { center = [0, 0, 0], radius = 4 }\n\
+                material = { diffuse = [0.8, 0.2, 0.2] }\n";
+    std::fs::write(dir.path().join("s.toml"), text).unwrap();
+    let out = tracer(dir.path(), &["render", "s.toml", "--quiet"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains("warning: s.toml: "), "{stderr}");
+    assert!(stderr.contains("saturation = \"clamp\""), "{stderr}");
+    let clamped = text.replace("[[lights]]", "[render]\nsaturation = \"clamp\"\n[[lights]]");
+    std::fs::write(dir.path().join("s.toml"), clamped).unwrap();
+    let out = tracer(dir.path(), &["render", "s.toml", "--quiet"]);
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("warning"));
+}

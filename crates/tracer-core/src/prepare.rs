@@ -131,6 +131,13 @@ fn placement(t: Option<&fmt::Transform>) -> Placement {
 /// The mesh's triangles in world space; triangles that the placement makes
 /// degenerate (zero area in f32) are left out.
 fn mesh_triangles(data: &fmt::MeshData, placement: &Placement) -> Vec<Triangle> {
+    placed(data, placement).collect()
+}
+
+fn placed<'a>(
+    data: &'a fmt::MeshData,
+    placement: &'a Placement,
+) -> impl Iterator<Item = Triangle> + 'a {
     data.triangles
         .iter()
         .map(|[a, b, c]| {
@@ -138,7 +145,32 @@ fn mesh_triangles(data: &fmt::MeshData, placement: &Placement) -> Vec<Triangle> 
             Triangle::new(a, b, c)
         })
         .filter(|t| (t.v1 - t.v0).cross(t.v2 - t.v0) != Vec3::ZERO)
-        .collect()
+}
+
+/// What `prepare` will make of a mesh object, found without building it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeshExtent {
+    /// Triangles left once placed (the others have zero area in f32).
+    pub triangles: usize,
+    /// The largest absolute coordinate of a placed vertex.
+    pub max_abs: f32,
+}
+
+/// The extent of a mesh placed by `transform`: the same arithmetic as
+/// `prepare`, so it says exactly how many triangles it keeps, with no
+/// allocation.
+pub fn mesh_extent(data: &fmt::MeshData, transform: Option<&fmt::Transform>) -> MeshExtent {
+    let placement = placement(transform);
+    let mut extent = MeshExtent {
+        triangles: 0,
+        max_abs: 0.0,
+    };
+    for t in placed(data, &placement) {
+        extent.triangles += 1;
+        let m = t.v0.abs().max(t.v1.abs()).max(t.v2.abs()).max_element();
+        extent.max_abs = extent.max_abs.max(m);
+    }
+    extent
 }
 
 /// Materials of the prepared scene: the named ones once each, inline ones
@@ -254,6 +286,28 @@ mod tests {
         let tris = mesh_triangles(&data, &placement(None));
         assert_eq!(tris.len(), 1);
         assert_eq!(tris[0].v0, Vec3::new(0.1, 0.2, 0.3));
+    }
+
+    #[test]
+    fn a_mesh_extent_counts_the_triangles_prepare_keeps() {
+        let data = fmt::MeshData {
+            triangles: vec![
+                [[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+                [[0.0; 3], [1e-3, 0.0, 0.0], [0.0, 1e-3, 0.0]],
+            ],
+            skipped_degenerate: 0,
+        };
+        // Tiny triangles far from the origin: whatever f32 keeps of them,
+        // the count is prepare's.
+        let t = fmt::Transform {
+            scale: fmt::Scale::Uniform(1e-18),
+            translate: [0.0, 0.0, 5.0],
+            ..fmt::Transform::default()
+        };
+        let kept = mesh_triangles(&data, &placement(Some(&t))).len();
+        let extent = mesh_extent(&data, Some(&t));
+        assert_eq!(extent.triangles, kept);
+        assert_eq!(extent.max_abs, 5.0);
     }
 
     #[test]

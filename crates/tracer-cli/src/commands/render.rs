@@ -22,6 +22,11 @@ pub fn run(args: &Render) -> Result<()> {
         .install(|| tracer_pipeline::render(&loaded, &args.options, &|n| progress.rows_done(n)));
     progress.finish();
     let rendered = rendered?;
+    if let Summary::Shaded(stats) = &rendered.summary {
+        if let Some(warning) = stats.forced_white_warning() {
+            eprintln!("warning: {}: {warning}", loaded.name.display());
+        }
+    }
     output::write_image(&rendered.image, &output)?;
     if !args.quiet {
         let threads = args.pool.current_num_threads();
