@@ -4,6 +4,7 @@
 pub mod canvas;
 pub mod diagnostic;
 pub mod error;
+pub mod excerpt;
 pub mod json_spans;
 pub mod key_path;
 mod load;

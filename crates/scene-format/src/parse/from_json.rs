@@ -4,7 +4,7 @@
 
 use super::locate_or_start;
 use super::rephrase::rephrase;
-use crate::diagnostic::{Diagnostic, Location};
+use crate::diagnostic::{Diagnostic, Locator};
 use crate::json_spans;
 use crate::key_path::KeyPath;
 use crate::span_tree::NodeKind;
@@ -41,11 +41,14 @@ fn json_structure_errors(text: &str) -> Vec<Diagnostic> {
         );
         return vec![d.at(text, tree.span)];
     }
+    // One locator for all: thousands of duplicates must not each read the
+    // file from the start.
+    let (mut locator, mut first_locator) = (Locator::new(text), Locator::new(text));
     json_spans::duplicate_keys(&tree)
         .into_iter()
         .map(|(path, span, first)| {
             let path = KeyPath(path);
-            let first = Location::from_offset(text, first.start);
+            let first = first_locator.location(first.start);
             let name = path.last_key().unwrap_or_default().to_string();
             let message = format!(
                 "duplicate key `{name}` {} (first defined at line {}, column {}); expected each key once",
@@ -53,7 +56,10 @@ fn json_structure_errors(text: &str) -> Vec<Diagnostic> {
                 first.line,
                 first.column
             );
-            Diagnostic::new(path, message).at(text, span)
+            let mut d = Diagnostic::new(path, message);
+            d.location = Some(locator.location(span.start));
+            d.span = Some(span);
+            d
         })
         .collect()
 }
