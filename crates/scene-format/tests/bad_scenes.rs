@@ -84,8 +84,12 @@ const CASES: &[Case] = &[
     case("syntax-unclosed-array.toml", "", 3, 1, "expected `,`"),
     case("syntax-unclosed-string.toml", "", 6, 23, "expected `\"`"),
     case("tabs-and-unicode.toml", "materials.\"grün\".shininess", 8, 14, "expected a number >= 0, found -1"),
+    case("too-long-colour.json", "lights[0].color", 4, 38, "expected 3 numbers, found 4"),
+    case("too-long-eye.toml", "camera.eye", 2, 7, "expected 3 numbers, found 4"),
+    case("too-long-translate-2d.toml", "shapes[0].transform[0].translate", 8, 28, "expected 2 numbers, found 3"),
     case("too-wide.toml", "camera.width", 4, 9, "expected 1 to 16384 pixels, found 16385"),
     case("trailing-garbage.json", "", 2, 1, "trailing characters"),
+    case("triangle-four-vertices.toml", "objects[0].triangle", 6, 12, "expected 3 vertices, found 4"),
     case("unknown-camera-key.toml", "camera.fvo", 4, 1, "unknown key `fvo` in [camera]; did you mean `fov`?"),
     case("unknown-inline-material-key.toml", "objects[0].material.specullar", 7, 37, "unknown key `specullar` in `objects[0].material`; did you mean `specular`?"),
     case("unknown-key-no-suggestion.toml", "camera.zoom", 4, 1, "unknown key `zoom` in [camera]; expected one of `eye`, `look_at`, `up`, `fov`, `width`, `height`"),
@@ -116,8 +120,15 @@ fn bad_dir() -> PathBuf {
 fn load_bad(name: &str) -> SceneError {
     let bytes = std::fs::read(bad_dir().join(name)).unwrap();
     let format = Format::from_path(Path::new(name)).unwrap();
-    match scene_format::load_bytes(&bytes, format, &Path::new("bad").join(name)) {
-        Ok(_) => panic!("{name}: accepted, expected an error"),
+    let file = Path::new("bad").join(name);
+    // Text may be a 3D or a 2D canvas scene; bytes that are not text go
+    // through the byte loader, which says so.
+    let result = match std::str::from_utf8(&bytes) {
+        Ok(text) => scene_format::load_any_str(text, format, &file).map(drop),
+        Err(_) => scene_format::load_bytes(&bytes, format, &file).map(drop),
+    };
+    match result {
+        Ok(()) => panic!("{name}: accepted, expected an error"),
         Err(e) => e,
     }
 }

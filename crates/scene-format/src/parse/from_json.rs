@@ -68,6 +68,11 @@ fn json_error(text: &str, path: KeyPath, e: serde_json::Error) -> Diagnostic {
     let message = strip_json_position(&e.to_string());
     // serde_json's own position: where it stopped reading.
     let position = offset_of(text, e.line(), e.column());
+    if e.is_syntax() && message == "trailing characters" && !path.is_root() {
+        if let Some(d) = too_long_array(text, &path, position.start) {
+            return d;
+        }
+    }
     if e.is_syntax() || e.is_eof() || e.is_io() {
         let message = match message.as_str() {
             "number out of range" => "number out of range; expected a finite number".to_string(),
@@ -103,4 +108,37 @@ fn strip_json_position(message: &str) -> String {
         Some(i) => message[..i].to_string(),
         None => message.to_string(),
     }
+}
+
+/// serde_json stops at the first element past a fixed-length array's end
+/// and calls the rest "trailing characters": say what was expected, at the
+/// array.
+fn too_long_array(text: &str, path: &KeyPath, stopped_at: usize) -> Option<Diagnostic> {
+    let tree = json_spans::parse(text).ok()?;
+    let found = tree.locate(path);
+    let NodeKind::Array(items) = &tree_node(&tree, path)?.kind else {
+        return None;
+    };
+    let expected = items.iter().filter(|n| n.span.end <= stopped_at).count();
+    let message = super::too_long(items, expected);
+    Some(Diagnostic::new(path.clone(), message).at(text, found.value))
+}
+
+/// The node at `path`, if the whole path is there.
+fn tree_node<'t>(
+    tree: &'t crate::span_tree::Node,
+    path: &KeyPath,
+) -> Option<&'t crate::span_tree::Node> {
+    use crate::key_path::Segment;
+    let mut node = tree;
+    for segment in &path.0 {
+        node = match (&node.kind, segment) {
+            (NodeKind::Table(entries), Segment::Key(k)) => {
+                &entries.iter().rev().find(|(name, _, _)| name == k)?.2
+            }
+            (NodeKind::Array(items), Segment::Index(i)) => items.get(*i)?,
+            _ => return None,
+        };
+    }
+    Some(node)
 }
