@@ -44,6 +44,7 @@ fn utf8_text<'a>(bytes: &'a [u8], file: &Path) -> Result<&'a str, SceneError> {
 /// error stops at the first problem; validation reports all it finds.
 /// Meshes are not read: see `obj::load_meshes`.
 pub fn load_str(text: &str, format: Format, file: &Path) -> Result<SceneFile, SceneError> {
+    let text = without_bom(text);
     let invalid = |diagnostics| SceneError::Invalid {
         file: file.to_path_buf(),
         text: text.to_string(),
@@ -56,6 +57,13 @@ pub fn load_str(text: &str, format: Format, file: &Path) -> Result<SceneFile, Sc
     } else {
         Err(invalid(locate_all(text, format, diagnostics)))
     }
+}
+
+/// `text` without a leading UTF-8 byte order mark: Windows editors write
+/// one, TOML allows it and serde_json does not, so JSON would fail on it.
+/// Columns on the first line then count as an editor shows them.
+fn without_bom(text: &str) -> &str {
+    text.strip_prefix('\u{feff}').unwrap_or(text)
 }
 
 /// What a scene file describes: a 3D scene or a 2D canvas.
@@ -76,7 +84,7 @@ pub fn load_any(path: &Path) -> Result<SceneKind, SceneError> {
         file: path.to_path_buf(),
         source,
     })?;
-    let text = utf8_text(&bytes, path)?;
+    let text = without_bom(utf8_text(&bytes, path)?);
     let mut kind = load_any_str(text, format, path)?;
     if let SceneKind::Scene3d(scene) = &mut kind {
         let base = path.parent().unwrap_or(Path::new(""));
@@ -94,6 +102,7 @@ pub fn load_any(path: &Path) -> Result<SceneKind, SceneError> {
 
 /// `load_any` on text; `file` names it in errors.
 pub fn load_any_str(text: &str, format: Format, file: &Path) -> Result<SceneKind, SceneError> {
+    let text = without_bom(text);
     if !has_canvas_table(text, format) {
         return load_str(text, format, file).map(SceneKind::Scene3d);
     }
