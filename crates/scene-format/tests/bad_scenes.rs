@@ -53,6 +53,7 @@ const CASES: &[Case] = &[
     case("fov-180.toml", "camera.fov", 4, 7, "expected degrees between 0 and 180 (exclusive), found 180"),
     case("fov-zero.toml", "camera.fov", 4, 7, "found 0"),
     case("gamma-zero.toml", "render.gamma", 6, 9, "expected a number > 0, found 0"),
+    case("width-past-64-bits.toml", "camera.width", 4, 9, "expected a whole number >= 0, found 99999999999999999999"),
     case("height-too-large.toml", "camera.height", 4, 10, "expected 1 to 16384 pixels, found 20000"),
     case("inf-radius.toml", "objects[0].sphere.radius", 6, 41, "expected a finite number, found inf"),
     case("latin1.json", "", 1, 72, "found byte 0xfc, which is not UTF-8 text"),

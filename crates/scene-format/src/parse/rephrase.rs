@@ -148,7 +148,11 @@ fn found_words(found: &str) -> String {
         "sequence" => "an array".to_string(),
         _ => {
             if let Some((kind, value)) = f.split_once(' ') {
-                let value = value.trim_matches('`');
+                // serde writes integers past 64 bits as "`N` as i128".
+                let value = value
+                    .trim_end_matches(" as i128")
+                    .trim_end_matches(" as u128")
+                    .trim_matches('`');
                 match kind {
                     "integer" | "floating" => value
                         .trim_start_matches("point ")
