@@ -74,10 +74,18 @@ fn json_error(text: &str, path: KeyPath, e: serde_json::Error) -> Diagnostic {
         }
     }
     if e.is_syntax() || e.is_eof() || e.is_io() {
-        let message = match message.as_str() {
-            "number out of range" => "number out of range; expected a finite number".to_string(),
-            _ => message,
-        };
+        if message == "number out of range" {
+            let message = "number out of range; expected a finite number";
+            // serde_json stops at the number's end and names no key; the
+            // span reader finds the number and its key path.
+            if let Some((path, span)) = json_spans::parse(text)
+                .ok()
+                .and_then(|tree| value_at(&tree, position.start.saturating_sub(1)))
+            {
+                return Diagnostic::new(path, message).at(text, span);
+            }
+            return Diagnostic::new(KeyPath::root(), message).at(text, position);
+        }
         return Diagnostic::new(KeyPath::root(), message).at(text, position);
     }
     let (path, message, target) = rephrase(path, &message);
@@ -141,4 +149,32 @@ fn tree_node<'t>(
         };
     }
     Some(node)
+}
+
+/// The key path and span of the innermost scalar holding byte `offset`.
+fn value_at(
+    tree: &crate::span_tree::Node,
+    offset: usize,
+) -> Option<(KeyPath, std::ops::Range<usize>)> {
+    use crate::key_path::Segment;
+    let mut node = tree;
+    let mut path = KeyPath::root();
+    loop {
+        let inside = |n: &crate::span_tree::Node| n.span.contains(&offset);
+        let next = match &node.kind {
+            NodeKind::Table(entries) => entries
+                .iter()
+                .find(|(_, _, v)| inside(v))
+                .map(|(k, _, v)| (Segment::Key(k.clone()), v)),
+            NodeKind::Array(items) => items
+                .iter()
+                .enumerate()
+                .find(|(_, v)| inside(v))
+                .map(|(i, v)| (Segment::Index(i), v)),
+            NodeKind::Scalar => return Some((path, node.span.clone())),
+        };
+        let (segment, child) = next?;
+        path.0.push(segment);
+        node = child;
+    }
 }
