@@ -14,13 +14,50 @@ pub struct Location {
 
 impl Location {
     /// The location of a byte offset in `text`; columns count characters.
+    /// Lines end at `\n`, `\r\n` or a lone `\r`.
     pub fn from_offset(text: &str, offset: usize) -> Location {
-        let offset = floor_char_boundary(text, offset.min(text.len()));
-        let before = &text[..offset];
-        let line = before.matches('\n').count() + 1;
-        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-        let column = before[line_start..].chars().count() + 1;
-        Location { line, column }
+        Locator::new(text).location(offset)
+    }
+}
+
+/// Locations of increasing offsets in one pass over the text, so locating
+/// many diagnostics costs one reading of the file, not one each.
+pub(crate) struct Locator<'a> {
+    text: &'a str,
+    offset: usize,
+    at: Location,
+}
+
+impl<'a> Locator<'a> {
+    pub(crate) fn new(text: &'a str) -> Self {
+        Locator {
+            text,
+            offset: 0,
+            at: Location { line: 1, column: 1 },
+        }
+    }
+
+    /// The location of `offset`; cheapest when offsets come in order.
+    pub(crate) fn location(&mut self, offset: usize) -> Location {
+        let offset = floor_char_boundary(self.text, offset.min(self.text.len()));
+        if offset < self.offset {
+            *self = Locator::new(self.text);
+        }
+        let bytes = self.text.as_bytes();
+        for (i, c) in self.text[self.offset..offset].char_indices() {
+            let i = self.offset + i;
+            let line_break = c == '\n' || (c == '\r' && bytes.get(i + 1) != Some(&b'\n'));
+            if line_break {
+                self.at = Location {
+                    line: self.at.line + 1,
+                    column: 1,
+                };
+            } else {
+                self.at.column += 1;
+            }
+        }
+        self.offset = offset;
+        self.at
     }
 }
 

@@ -3,7 +3,7 @@
 //! as text, each with its source line and a caret.
 
 use crate::diagnostic::{floor_char_boundary, Diagnostic, Location};
-use std::ops::Range;
+use crate::excerpt::{escape_controls, excerpt, Excerpt, MAX_SHOWN};
 use std::path::{Path, PathBuf};
 
 /// Why a scene file could not be loaded. Its `Display` is the whole report
@@ -54,82 +54,65 @@ impl SceneError {
 ///   | ^^^
 /// ```
 fn render_diagnostics(file: &Path, text: &str, diagnostics: &[Diagnostic]) -> String {
-    let blocks: Vec<String> = diagnostics
+    // Thousands of problems are one mistake repeated: the first ones say
+    // what it is, and the output stays small.
+    let mut blocks: Vec<String> = diagnostics
         .iter()
+        .take(MAX_SHOWN)
         .map(|d| render_one(file, text, d))
         .collect();
+    if let Some(more) = more_problems(diagnostics.len()) {
+        blocks.push(format!("{}: {more}", file.display()));
+    }
     blocks.join("\n\n")
 }
 
+/// "and N more problems", when more than `MAX_SHOWN` were found.
+pub fn more_problems(count: usize) -> Option<String> {
+    (count > MAX_SHOWN).then(|| {
+        let more = count - MAX_SHOWN;
+        let s = if more == 1 { "" } else { "s" };
+        format!("and {more} more problem{s} (only the first {MAX_SHOWN} are shown)")
+    })
+}
+
 fn render_one(file: &Path, text: &str, d: &Diagnostic) -> String {
-    let mut out = format!("error: {}\n --> {}", d.message, file.display());
+    let mut out = format!(
+        "error: {}\n --> {}",
+        escape_controls(&d.message),
+        file.display()
+    );
     if let Some(loc) = d.location {
         out += &format!(":{}:{}", loc.line, loc.column);
     }
     if !d.path.is_root() {
-        out += &format!(" ({})", d.path);
+        out += &escape_controls(&format!(" ({})", d.path));
     }
     if let (Some(span), Some(_)) = (&d.span, d.location) {
         // The fields are public: make any span safe to slice with.
         let start = floor_char_boundary(text, span.start.min(text.len()));
-        let end = floor_char_boundary(text, span.end.clamp(start, text.len()));
-        out += &snippet(text, &(start..end), Location::from_offset(text, start));
+        let line = Location::from_offset(text, start).line;
+        out += &snippet(&excerpt(text, span.clone(), line, 0));
     }
     out
 }
 
-/// Lines longer than this are shown as a window around the caret.
-const SNIPPET_WIDTH: usize = 100;
-
-fn snippet(text: &str, span: &Range<usize>, loc: Location) -> String {
-    let line_start = text[..span.start].rfind('\n').map_or(0, |i| i + 1);
-    let line_end = text[span.start..]
-        .find('\n')
-        .map_or(text.len(), |i| span.start + i);
-    let line: Vec<char> = text[line_start..line_end]
-        .trim_end_matches('\r')
-        .chars()
-        .map(printable)
-        .collect();
-    let caret_from = loc.column - 1;
-    let caret_len = text[span.start..span.end.min(line_end)]
-        .chars()
-        .count()
-        .max(1);
-    // Keep the caret in view on long lines (minified JSON).
-    let skip = if line.len() <= SNIPPET_WIDTH {
-        0
-    } else {
-        caret_from.saturating_sub(SNIPPET_WIDTH / 2)
-    };
-    let shown: String = line.iter().skip(skip).take(SNIPPET_WIDTH).collect();
-    let caret_len = caret_len.min(SNIPPET_WIDTH.saturating_sub(caret_from - skip).max(1));
-    let gutter = loc.line.to_string().len();
-    let pad = " ".repeat(gutter);
+fn snippet(e: &Excerpt) -> String {
+    let number = e.first_line + e.line;
+    let pad = " ".repeat(number.to_string().len());
     format!(
-        "\n{pad} |\n{} | {}{}\n{pad} | {}{}",
-        loc.line,
-        if skip > 0 { "..." } else { "" },
-        shown,
-        " ".repeat(caret_from - skip + if skip > 0 { 3 } else { 0 }),
-        "^".repeat(caret_len)
+        "\n{pad} |\n{number} | {}\n{pad} | {}{}",
+        e.lines[e.line],
+        " ".repeat(e.column),
+        "^".repeat(e.len)
     )
-}
-
-/// Tabs and control characters would shift the caret; show them as one
-/// visible character each.
-fn printable(c: char) -> char {
-    match c {
-        '\t' => ' ',
-        c if c.is_control() => '\u{FFFD}',
-        c => c,
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::key_path::KeyPath;
+    use std::ops::Range;
 
     fn report(text: &str, span: Range<usize>) -> String {
         let mut d = Diagnostic::new(KeyPath::root().key("k"), "bad").at(text, 0..0);

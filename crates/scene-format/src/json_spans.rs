@@ -4,6 +4,7 @@
 
 use crate::key_path::Segment;
 use crate::span_tree::{Node, NodeKind};
+use std::collections::hash_map::{Entry, HashMap};
 use std::ops::Range;
 
 /// Deeper nesting than any scene needs; keeps the reader off the stack limit.
@@ -36,10 +37,17 @@ type Duplicate = (Vec<Segment>, Range<usize>, Range<usize>);
 fn walk_duplicates(node: &Node, path: &mut Vec<Segment>, out: &mut Vec<Duplicate>) {
     match &node.kind {
         NodeKind::Table(entries) => {
-            for (i, (key, span, value)) in entries.iter().enumerate() {
+            // By hash: a table of 100k names must not take n^2 comparisons.
+            let mut first_seen: HashMap<&str, &Range<usize>> = HashMap::new();
+            for (key, span, value) in entries {
                 path.push(Segment::Key(key.clone()));
-                if let Some((_, first, _)) = entries[..i].iter().find(|(k, _, _)| k == key) {
-                    out.push((path.clone(), span.clone(), first.clone()));
+                match first_seen.entry(key.as_str()) {
+                    Entry::Occupied(first) => {
+                        out.push((path.clone(), span.clone(), (*first.get()).clone()))
+                    }
+                    Entry::Vacant(slot) => {
+                        slot.insert(span);
+                    }
                 }
                 walk_duplicates(value, path, out);
                 path.pop();

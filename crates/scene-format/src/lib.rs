@@ -5,6 +5,7 @@ pub mod canvas;
 pub mod checks;
 pub mod diagnostic;
 pub mod error;
+pub mod excerpt;
 pub mod json_spans;
 pub mod key_path;
 mod load;

@@ -44,6 +44,7 @@ fn utf8_text<'a>(bytes: &'a [u8], file: &Path) -> Result<&'a str, SceneError> {
 /// error stops at the first problem; validation reports all it finds.
 /// Meshes are not read: see `obj::load_meshes`.
 pub fn load_str(text: &str, format: Format, file: &Path) -> Result<SceneFile, SceneError> {
+    let text = without_bom(text);
     let invalid = |diagnostics| SceneError::Invalid {
         file: file.to_path_buf(),
         text: text.to_string(),
@@ -56,6 +57,13 @@ pub fn load_str(text: &str, format: Format, file: &Path) -> Result<SceneFile, Sc
     } else {
         Err(invalid(locate_all(text, format, diagnostics)))
     }
+}
+
+/// `text` without a leading UTF-8 byte order mark: Windows editors write
+/// one, TOML allows it and serde_json does not, so JSON would fail on it.
+/// Columns on the first line then count as an editor shows them.
+fn without_bom(text: &str) -> &str {
+    text.strip_prefix('\u{feff}').unwrap_or(text)
 }
 
 /// What a scene file describes: a 3D scene or a 2D canvas.
@@ -76,24 +84,36 @@ pub fn load_any(path: &Path) -> Result<SceneKind, SceneError> {
         file: path.to_path_buf(),
         source,
     })?;
-    let text = utf8_text(&bytes, path)?;
-    let mut kind = load_any_str(text, format, path)?;
-    if let SceneKind::Scene3d(scene) = &mut kind {
-        let base = path.parent().unwrap_or(Path::new(""));
-        let diagnostics = obj::load_meshes(scene, base);
-        if !diagnostics.is_empty() {
-            return Err(SceneError::Invalid {
-                file: path.to_path_buf(),
-                text: text.to_string(),
-                diagnostics: locate_all(text, format, diagnostics),
-            });
+    let text = without_bom(utf8_text(&bytes, path)?);
+    if has_canvas_table(text, format) {
+        return load_any_str(text, format, path);
+    }
+    let invalid = |diagnostics| SceneError::Invalid {
+        file: path.to_path_buf(),
+        text: text.to_string(),
+        diagnostics,
+    };
+    let mut scene: SceneFile = parse::parse(text, format).map_err(invalid)?;
+    // The OBJ files are read even when values fail, so a missing OBJ is
+    // reported with them rather than after they are fixed.
+    let mut diagnostics = validate::validate(&scene);
+    let base = path.parent().unwrap_or(Path::new(""));
+    for d in obj::load_meshes(&mut scene, base) {
+        // An empty `obj` is already reported by validation.
+        if !diagnostics.iter().any(|v| v.path == d.path) {
+            diagnostics.push(d);
         }
     }
-    Ok(kind)
+    if diagnostics.is_empty() {
+        Ok(SceneKind::Scene3d(scene))
+    } else {
+        Err(invalid(locate_all(text, format, diagnostics)))
+    }
 }
 
 /// `load_any` on text; `file` names it in errors.
 pub fn load_any_str(text: &str, format: Format, file: &Path) -> Result<SceneKind, SceneError> {
+    let text = without_bom(text);
     if !has_canvas_table(text, format) {
         return load_str(text, format, file).map(SceneKind::Scene3d);
     }
@@ -134,6 +154,22 @@ mod tests {
         let text = format!(r#"{{"$schema": "./schema.json", {CAMERA}}}"#);
         let scene = load_str(&text, Format::Json, Path::new("s.json")).unwrap();
         assert_eq!(scene.schema.as_deref(), Some("./schema.json"));
+    }
+
+    #[test]
+    fn a_missing_obj_is_reported_with_the_value_errors() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("s.toml");
+        let text = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\nfov = 0\n\n\
+                    [[objects]]\nmesh = { obj = \"none.obj\" }\n";
+        std::fs::write(&path, text).unwrap();
+        let err = load_any(&path).unwrap_err();
+        let paths: Vec<String> = err
+            .diagnostics()
+            .iter()
+            .map(|d| d.path.to_string())
+            .collect();
+        assert_eq!(paths, ["camera.fov", "objects[0].mesh.obj"]);
     }
 
     #[test]

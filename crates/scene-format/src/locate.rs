@@ -3,10 +3,11 @@
 //! file, so any key added to the model gets located errors without further
 //! work.
 
-use crate::diagnostic::Diagnostic;
+use crate::diagnostic::{floor_char_boundary, Diagnostic, Locator};
 use crate::key_path::{KeyPath, Segment};
 use crate::span_tree::{tree, Node, NodeKind};
 use crate::Format;
+use std::collections::HashMap;
 use std::ops::Range;
 
 /// Where a key path points in the text.
@@ -66,7 +67,8 @@ impl Node {
     }
 }
 
-/// Gives each validation diagnostic the span of its key path.
+/// Gives each validation diagnostic the span of its key path, and sorts
+/// them in file order. Linear in the file and the number of diagnostics.
 pub(crate) fn locate_all(
     text: &str,
     format: Format,
@@ -75,10 +77,11 @@ pub(crate) fn locate_all(
     let Some(tree) = tree(text, format) else {
         return diagnostics;
     };
+    let mut index = TableIndex::default();
     let mut located: Vec<Diagnostic> = diagnostics
         .into_iter()
-        .map(|d| {
-            let found = tree.locate(&d.path);
+        .map(|mut d| {
+            let found = index.locate(&tree, &d.path);
             // A missing key (a default that fails a check) or a whole
             // table: point at the key that names the nearest table.
             let span = match (found.exact, &found.key) {
@@ -86,12 +89,73 @@ pub(crate) fn locate_all(
                 (false, Some(key)) => key.clone(),
                 (false, None) => found.value.start..found.value.start,
             };
-            d.at(text, span)
+            d.span = Some(span);
+            d
         })
         .collect();
     // In file order, as a reader goes through the file.
     located.sort_by_key(|d| d.span.as_ref().map(|s| s.start));
+    let mut locator = Locator::new(text);
+    for d in &mut located {
+        if let Some(span) = &d.span {
+            let start = locator.location(span.start);
+            d.location = Some(start);
+            let end = floor_char_boundary(text, span.end.clamp(span.start, text.len()));
+            let start_byte = floor_char_boundary(text, span.start.min(text.len()));
+            d.span = Some(start_byte..end.max(start_byte));
+        }
+    }
     located
+}
+
+/// Key lookups in big tables (a thousand materials) by hash, built on
+/// first use, so locating many diagnostics is not quadratic.
+#[derive(Default)]
+struct TableIndex<'t> {
+    tables: HashMap<*const Node, HashMap<&'t str, &'t Entry>>,
+}
+
+/// A table entry of the span tree: key, key span, value.
+type Entry = (String, Range<usize>, Node);
+
+impl<'t> TableIndex<'t> {
+    fn locate(&mut self, root: &'t Node, path: &KeyPath) -> Located {
+        let mut node = root;
+        let mut key = None;
+        for segment in &path.0 {
+            let next = match (&node.kind, segment) {
+                (NodeKind::Table(entries), Segment::Key(k)) => self
+                    .tables
+                    .entry(node as *const Node)
+                    .or_insert_with(|| {
+                        // The last of duplicate keys (JSON) is the one read.
+                        entries.iter().map(|e| (e.0.as_str(), e)).collect()
+                    })
+                    .get(k.as_str())
+                    .map(|(_, span, value)| (Some(span.clone()), value)),
+                (NodeKind::Array(items), Segment::Index(i)) => items.get(*i).map(|v| (None, v)),
+                _ => None,
+            };
+            match next {
+                Some((k, n)) => {
+                    key = k;
+                    node = n;
+                }
+                None => {
+                    return Located {
+                        value: node.span.clone(),
+                        key,
+                        exact: false,
+                    }
+                }
+            }
+        }
+        Located {
+            value: node.span.clone(),
+            key,
+            exact: true,
+        }
+    }
 }
 
 #[cfg(test)]

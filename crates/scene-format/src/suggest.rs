@@ -1,12 +1,25 @@
 //! "Did you mean": the known name nearest a misspelt one.
 
+/// Names longer than this get no "did you mean": comparing two names
+/// costs the product of their lengths, and no one misspells a name this
+/// long letter by letter.
+const MAX_NAME_LEN: usize = 64;
+/// At most this many names are listed as expected.
+const MAX_LISTED: usize = 10;
+
 /// The known name closest to a misspelt one, if it is close enough to be
 /// a likely typo (a third of the letters or fewer wrong, at least one).
 pub fn suggestion<'a>(found: &str, known: &[&'a str]) -> Option<&'a str> {
+    let len = found.chars().count();
+    if len > MAX_NAME_LEN {
+        return None;
+    }
     let found_lower = found.to_lowercase();
-    let allowed = (found.chars().count() / 3).max(1);
+    let allowed = (len / 3).max(1);
     known
         .iter()
+        // The length difference alone rules most names out, cheaply.
+        .filter(|k| k.len() <= 4 * MAX_NAME_LEN && k.chars().count().abs_diff(len) <= allowed)
         .map(|k| (strsim::damerau_levenshtein(&found_lower, k), *k))
         .filter(|(d, _)| *d <= allowed)
         .min_by_key(|(d, _)| *d)
@@ -21,13 +34,19 @@ pub(crate) fn hint(name: &str, known: &[&str]) -> String {
     }
 }
 
-/// Names in backticks: "`a`, `b`".
+/// Names in backticks: "`a`, `b`"; the first ten of a long list, then
+/// how many more.
 pub(crate) fn list(names: &[&str]) -> String {
-    names
+    let mut out = names
         .iter()
+        .take(MAX_LISTED)
         .map(|n| format!("`{n}`"))
         .collect::<Vec<_>>()
-        .join(", ")
+        .join(", ");
+    if names.len() > MAX_LISTED {
+        out += &format!(" and {} more", names.len() - MAX_LISTED);
+    }
+    out
 }
 
 #[cfg(test)]
@@ -43,5 +62,15 @@ mod tests {
         assert_eq!(suggestion("Width", &camera), Some("width"));
         assert_eq!(suggestion("zoom", &camera), None);
         assert_eq!(suggestion("position", &camera), None);
+        let long = "x".repeat(20_000);
+        assert_eq!(suggestion(&long, &[long.as_str()]), None);
+    }
+
+    #[test]
+    fn long_lists_name_ten() {
+        let names: Vec<String> = (0..5000).map(|i| format!("m{i}")).collect();
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        let l = list(&names);
+        assert!(l.ends_with("`m9` and 4990 more"), "{l}");
     }
 }

@@ -63,9 +63,17 @@ pub fn validate(scene: &SceneFile) -> Vec<Diagnostic> {
     v.diagnostics
 }
 
+/// How many unknown names get a "did you mean" (each compares the name
+/// with every known one): as many as diagnostics are shown.
+const MAX_HINTS: usize = crate::excerpt::MAX_SHOWN;
+
 #[derive(Default)]
 struct Validator {
     diagnostics: Vec<Diagnostic>,
+    /// Unknown names given a hint so far.
+    hints: usize,
+    /// The names of `[materials]`, collected once.
+    material_names: Option<Vec<String>>,
 }
 
 impl Validator {
@@ -259,11 +267,19 @@ impl Validator {
         }
         match &o.material {
             Some(MaterialRef::Named(name)) if !scene.materials.contains_key(name) => {
-                let known: Vec<&str> = scene.materials.keys().map(String::as_str).collect();
-                let expected = if known.is_empty() {
+                let expected = if scene.materials.is_empty() {
                     "expected a name from [materials], but none are defined".to_string()
-                } else {
+                } else if self.hints < MAX_HINTS {
+                    self.hints += 1;
+                    let known = self
+                        .material_names
+                        .get_or_insert_with(|| scene.materials.keys().cloned().collect());
+                    let known: Vec<&str> = known.iter().map(String::as_str).collect();
                     hint(name, &known)
+                } else {
+                    // Past the diagnostics shown, a search through every
+                    // name per mistake would only cost time.
+                    "expected a name from [materials]".to_string()
                 };
                 self.error(
                     path.key("material"),

@@ -35,9 +35,13 @@ const fn case(
 #[rustfmt::skip]
 const CASES: &[Case] = &[
     case("big-number.toml", "camera.fov", 4, 7, "expected a finite number, found inf"),
-    case("huge-number.json", "", 1, 31, "number out of range; expected a finite number"),
+    case("huge-number.json", "camera.eye[2]", 1, 27, "number out of range; expected a finite number"),
     case("binary.toml", "", 1, 1, "found byte 0x89, which is not UTF-8 text"),
+    case("bom.json", "camera.fov", 2, 62, "expected degrees between 0 and 180 (exclusive), found 0"),
+    case("canvas-transform-two-keys.toml", "shapes[0].transform[0]", 7, 14, "expected a table with exactly one key, found several"),
     case("comments-only.toml", "camera", 1, 1, "missing key `camera` at the top level"),
+    case("control-characters.toml", "objects[0].material", 10, 12, "[31mred`; expected one of `red`"),
+    case("cr-line-endings.json", "camera.fov", 5, 12, "found 500"),
     case("degenerate-triangle.toml", "objects[0].triangle", 6, 12, "the triangle is degenerate"),
     case("duplicate-key.json", "camera.eye", 5, 5, "duplicate key `eye` in [camera] (first defined at line 3, column 5)"),
     case("duplicate-key.toml", "", 5, 1, "duplicate key `fov`"),
@@ -53,6 +57,7 @@ const CASES: &[Case] = &[
     case("fov-zero.toml", "camera.fov", 4, 7, "found 0"),
     case("fov-tiny.toml", "camera.fov", 4, 7, "expected at least 1 degree, found 1e-20; below it neighbouring pixels get the same single-precision ray"),
     case("gamma-zero.toml", "render.gamma", 6, 9, "expected a number > 0, found 0"),
+    case("width-past-64-bits.toml", "camera.width", 4, 9, "expected a whole number >= 0, found 99999999999999999999"),
     case("height-too-large.toml", "camera.height", 4, 10, "expected 1 to 16384 pixels, found 20000"),
     case("inf-radius.toml", "objects[0].sphere.radius", 6, 41, "expected a finite number, found inf"),
     case("latin1.json", "", 1, 72, "found byte 0xfc, which is not UTF-8 text"),
@@ -83,6 +88,7 @@ const CASES: &[Case] = &[
     case("radius-tiny.toml", "objects[0].sphere.radius", 6, 41, "expected a radius from 1e-4 to 1e6, found 1e-7"),
     case("radius-zero.toml", "objects[0].sphere.radius", 6, 41, "expected a radius > 0, found 0"),
     case("reflectance-above-one.toml", "materials.mirror.reflectance", 6, 15, "expected a number from 0 to 1, found 1.5"),
+    case("saturation-number.toml", "render.saturation", 5, 14, "expected a name in quotes or a table with one key"),
     case("saturation-typo.toml", "render.saturation", 6, 14, "unknown value `clmap`; did you mean `clamp`?"),
     case("shininess-negative.toml", "materials.shiny.shininess", 6, 13, "expected a number >= 0, found -30"),
     case("syntax-missing-equals.toml", "", 2, 5, "expected `=`"),
@@ -91,8 +97,12 @@ const CASES: &[Case] = &[
     case("syntax-unclosed-array.toml", "", 3, 1, "expected `,`"),
     case("syntax-unclosed-string.toml", "", 6, 23, "expected `\"`"),
     case("tabs-and-unicode.toml", "materials.\"grün\".shininess", 8, 14, "expected a number >= 0, found -1"),
+    case("too-long-colour.json", "lights[0].color", 4, 38, "expected 3 numbers, found 4"),
+    case("too-long-eye.toml", "camera.eye", 2, 7, "expected 3 numbers, found 4"),
+    case("too-long-translate-2d.toml", "shapes[0].transform[0].translate", 8, 28, "expected 2 numbers, found 3"),
     case("too-wide.toml", "camera.width", 4, 9, "expected 1 to 16384 pixels, found 16385"),
     case("trailing-garbage.json", "", 2, 1, "trailing characters"),
+    case("triangle-four-vertices.toml", "objects[0].triangle", 6, 12, "expected 3 vertices, found 4"),
     case("unknown-camera-key.toml", "camera.fvo", 4, 1, "unknown key `fvo` in [camera]; did you mean `fov`?"),
     case("unknown-inline-material-key.toml", "objects[0].material.specullar", 7, 37, "unknown key `specullar` in `objects[0].material`; did you mean `specular`?"),
     case("unknown-key-no-suggestion.toml", "camera.zoom", 4, 1, "unknown key `zoom` in [camera]; expected one of `eye`, `look_at`, `up`, `fov`, `width`, `height`"),
@@ -123,8 +133,15 @@ fn bad_dir() -> PathBuf {
 fn load_bad(name: &str) -> SceneError {
     let bytes = std::fs::read(bad_dir().join(name)).unwrap();
     let format = Format::from_path(Path::new(name)).unwrap();
-    match scene_format::load_bytes(&bytes, format, &Path::new("bad").join(name)) {
-        Ok(_) => panic!("{name}: accepted, expected an error"),
+    let file = Path::new("bad").join(name);
+    // Text may be a 3D or a 2D canvas scene; bytes that are not text go
+    // through the byte loader, which says so.
+    let result = match std::str::from_utf8(&bytes) {
+        Ok(text) => scene_format::load_any_str(text, format, &file).map(drop),
+        Err(_) => scene_format::load_bytes(&bytes, format, &file).map(drop),
+    };
+    match result {
+        Ok(()) => panic!("{name}: accepted, expected an error"),
         Err(e) => e,
     }
 }

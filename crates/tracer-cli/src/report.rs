@@ -1,7 +1,11 @@
 //! Scene errors shown as a user reads them: the message, the file, line
 //! and column, the source line with the key path under a caret (miette).
 
-use miette::{Diagnostic, GraphicalReportHandler, LabeledSpan, NamedSource, SourceSpan};
+use miette::{
+    Diagnostic, GraphicalReportHandler, LabeledSpan, MietteSpanContents, SourceSpan, SpanContents,
+};
+use scene_format::error::more_problems;
+use scene_format::excerpt::{escape_controls, excerpt, MAX_SHOWN};
 use scene_format::SceneError;
 use std::fmt;
 
@@ -9,7 +13,7 @@ use std::fmt;
 #[derive(Debug)]
 struct SceneDiagnostic {
     message: String,
-    source: NamedSource<String>,
+    source: Option<Excerpted>,
     span: Option<SourceSpan>,
     key_path: String,
 }
@@ -24,7 +28,7 @@ impl std::error::Error for SceneDiagnostic {}
 
 impl Diagnostic for SceneDiagnostic {
     fn source_code(&self) -> Option<&dyn miette::SourceCode> {
-        self.span.map(|_| &self.source as &dyn miette::SourceCode)
+        self.source.as_ref().map(|s| s as &dyn miette::SourceCode)
     }
 
     fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
@@ -36,8 +40,81 @@ impl Diagnostic for SceneDiagnostic {
     }
 }
 
+/// The lines around a diagnostic, windowed on long lines (see
+/// `scene_format::excerpt`): miette is given these few lines rather than
+/// the file, which keeps the report small and miette off columns it cannot
+/// count (it panics past 65,535). Line numbers and the header's column are
+/// those of the file.
+#[derive(Debug)]
+struct Excerpted {
+    name: String,
+    text: String,
+    /// The file's line number (from 0) of the excerpt's first line.
+    first_line: usize,
+    /// The excerpt's line (from 0) that holds the span.
+    line: usize,
+    /// Added to miette's column on that line to give the file's.
+    column_shift: usize,
+}
+
+impl miette::SourceCode for Excerpted {
+    fn read_span<'a>(
+        &'a self,
+        span: &SourceSpan,
+        before: usize,
+        after: usize,
+    ) -> Result<Box<dyn SpanContents<'a> + 'a>, miette::MietteError> {
+        let inner = self.text.read_span(span, before, after)?;
+        let column = if inner.line() == self.line {
+            inner.column() + self.column_shift
+        } else {
+            inner.column()
+        };
+        Ok(Box::new(MietteSpanContents::new_named(
+            self.name.clone(),
+            inner.data(),
+            *inner.span(),
+            inner.line() + self.first_line,
+            column,
+            inner.line_count(),
+        )))
+    }
+}
+
+/// The excerpt of `text` for `d` and the span to underline in it.
+fn excerpted(
+    name: &str,
+    text: &str,
+    d: &scene_format::Diagnostic,
+) -> Option<(Excerpted, SourceSpan)> {
+    let (span, location) = (d.span.clone()?, d.location?);
+    let e = excerpt(text, span, location.line, 1);
+    let line_start: usize = e.lines[..e.line].iter().map(|l| l.len() + 1).sum();
+    let line = &e.lines[e.line];
+    let byte = |chars: usize| {
+        line.char_indices()
+            .nth(chars)
+            .map_or(line.len(), |(i, _)| i)
+    };
+    let start = byte(e.column);
+    let end = byte(e.column + e.len);
+    let source = Excerpted {
+        name: name.to_string(),
+        text: e.lines.join("\n"),
+        first_line: e.first_line - 1,
+        line: e.line,
+        // miette counts the columns of the excerpt's line; the file's
+        // column is further right when the line was windowed.
+        column_shift: (location.column - 1).saturating_sub(e.column),
+    };
+    Some((
+        source,
+        SourceSpan::from(line_start + start..line_start + end),
+    ))
+}
+
 /// The report of a scene error, ready for the terminal: one block per
-/// diagnostic, with colours when `color` is set.
+/// diagnostic (the first `MAX_SHOWN`), with colours when `color` is set.
 pub fn render(error: &SceneError, color: bool) -> String {
     let SceneError::Invalid {
         file,
@@ -55,21 +132,27 @@ pub fn render(error: &SceneError, color: bool) -> String {
     let handler = GraphicalReportHandler::new_themed(theme).with_context_lines(1);
     let name = file.display().to_string();
     let mut out = String::new();
-    for d in diagnostics {
-        let message = match d.location {
-            Some(_) => d.message.clone(),
+    for d in diagnostics.iter().take(MAX_SHOWN) {
+        let found = excerpted(&name, text, d);
+        let message = escape_controls(&d.message);
+        let message = match found {
+            Some(_) => message,
             // Without a span miette shows no file; name it in the message.
-            None => format!("{name}: {}", d.message),
+            None => format!("{name}: {message}"),
         };
+        let (source, span) = found.map_or((None, None), |(s, span)| (Some(s), Some(span)));
         let diagnostic = SceneDiagnostic {
             message,
-            source: NamedSource::new(&name, text.clone()),
-            span: d.span.clone().map(SourceSpan::from),
-            key_path: d.path.to_string(),
+            source,
+            span,
+            key_path: escape_controls(&d.path.to_string()),
         };
         // Writing to a String cannot fail.
         let _ = handler.render_report(&mut out, &diagnostic);
         out.push('\n');
+    }
+    if let Some(more) = more_problems(diagnostics.len()) {
+        out += &format!("{name}: {more}\n");
     }
     out
 }

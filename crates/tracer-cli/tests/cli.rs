@@ -556,3 +556,83 @@ fn a_render_mostly_forced_white_suggests_clamp() {
     let out = tracer(dir.path(), &["render", "s.toml", "--quiet"]);
     assert!(!String::from_utf8_lossy(&out.stderr).contains("warning"));
 }
+
+/// `tracer check` on `text` written to `dir/name`: its exit code and stderr.
+fn check_text(dir: &Path, name: &str, text: &str) -> (Option<i32>, String) {
+    std::fs::write(dir.join(name), text).unwrap();
+    let out = tracer(dir, &["check", name]);
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+const CAMERA_JSON: &str = r#""camera": {"eye": [0, 0, 10], "look_at": [0, 0, 0]}"#;
+
+#[test]
+fn an_error_far_along_a_long_line_shows_a_window_of_it() {
+    let dir = tempfile::tempdir().unwrap();
+    // Past column 65,535 miette panicked (exit 101).
+    let text = format!(
+        "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\nfov = {}500\n",
+        " ".repeat(70_000)
+    );
+    let (code, err) = check_text(dir.path(), "far.toml", &text);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("far.toml:4:70007]"), "{err}");
+    assert!(err.contains("500"), "{err}");
+    assert!(err.len() < 2_000, "{} bytes:\n{err}", err.len());
+
+    // A minified JSON file: 10,000 lights on one line, two bad colours.
+    let lights: Vec<String> = (0..10_000)
+        .map(|i| {
+            let c = if i == 5_000 || i == 9_000 { -1 } else { 1 };
+            format!(r#"{{"position":[{i},0,0],"color":[1,{c},1]}}"#)
+        })
+        .collect();
+    let text = format!(r#"{{{CAMERA_JSON},"lights":[{}]}}"#, lights.join(","));
+    assert!(text.len() > 300_000 && !text.contains('\n'));
+    let (code, err) = check_text(dir.path(), "minified.json", &text);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("lights[5000].color"), "{err}");
+    assert!(err.contains("lights[9000].color"), "{err}");
+    assert!(err.len() < 4_000, "{} bytes:\n{err}", err.len());
+}
+
+#[test]
+fn thousands_of_problems_show_the_first_hundred_and_a_count() {
+    let dir = tempfile::tempdir().unwrap();
+    // 20,000 negative radii: every one is found, a hundred are shown.
+    let objects: String = (0..20_000)
+        .map(|i| format!("[[objects]]\nsphere = {{ center = [{i}, 0, 0], radius = -1 }}\n"))
+        .collect();
+    let text = format!("[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n{objects}");
+    let (code, err) = check_text(dir.path(), "many.toml", &text);
+    assert_eq!(code, Some(2), "{err}");
+    assert_eq!(err.matches("expected a radius > 0").count(), 100, "{err}");
+    assert!(err.contains("objects[99].sphere.radius"));
+    assert!(!err.contains("objects[100].sphere.radius"));
+    assert!(err.contains("and 19900 more problems"), "{err}");
+}
+
+#[test]
+fn unknown_names_list_at_most_ten_known_ones() {
+    let dir = tempfile::tempdir().unwrap();
+    // 5,000 materials and 5,000 objects naming none of them: each message
+    // used to list all 5,000 names (280 MB in all).
+    let materials: Vec<String> = (0..5_000)
+        .map(|i| format!(r#""material{i}": {{"diffuse": [1, 0, 0]}}"#))
+        .collect();
+    let objects: Vec<String> = (0..5_000)
+        .map(|i| format!(r#"{{"sphere": {{"center": [0, 0, 0], "radius": 1}}, "material": "nothing like it {i}"}}"#))
+        .collect();
+    let text = format!(
+        "{{{CAMERA_JSON},\n\"materials\": {{{}}},\n\"objects\": [\n{}\n]}}",
+        materials.join(",\n"),
+        objects.join(",\n")
+    );
+    let (code, err) = check_text(dir.path(), "names.json", &text);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("and 4990 more"), "{err}");
+    assert!(err.len() < 100_000, "{} bytes", err.len());
+}

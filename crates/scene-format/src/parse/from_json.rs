@@ -4,7 +4,7 @@
 
 use super::locate_or_start;
 use super::rephrase::rephrase;
-use crate::diagnostic::{Diagnostic, Location};
+use crate::diagnostic::{Diagnostic, Locator};
 use crate::json_spans;
 use crate::key_path::KeyPath;
 use crate::span_tree::NodeKind;
@@ -41,11 +41,14 @@ fn json_structure_errors(text: &str) -> Vec<Diagnostic> {
         );
         return vec![d.at(text, tree.span)];
     }
+    // One locator for all: thousands of duplicates must not each read the
+    // file from the start.
+    let (mut locator, mut first_locator) = (Locator::new(text), Locator::new(text));
     json_spans::duplicate_keys(&tree)
         .into_iter()
         .map(|(path, span, first)| {
             let path = KeyPath(path);
-            let first = Location::from_offset(text, first.start);
+            let first = first_locator.location(first.start);
             let name = path.last_key().unwrap_or_default().to_string();
             let message = format!(
                 "duplicate key `{name}` {} (first defined at line {}, column {}); expected each key once",
@@ -53,7 +56,10 @@ fn json_structure_errors(text: &str) -> Vec<Diagnostic> {
                 first.line,
                 first.column
             );
-            Diagnostic::new(path, message).at(text, span)
+            let mut d = Diagnostic::new(path, message);
+            d.location = Some(locator.location(span.start));
+            d.span = Some(span);
+            d
         })
         .collect()
 }
@@ -62,11 +68,24 @@ fn json_error(text: &str, path: KeyPath, e: serde_json::Error) -> Diagnostic {
     let message = strip_json_position(&e.to_string());
     // serde_json's own position: where it stopped reading.
     let position = offset_of(text, e.line(), e.column());
+    if e.is_syntax() && message == "trailing characters" && !path.is_root() {
+        if let Some(d) = too_long_array(text, &path, position.start) {
+            return d;
+        }
+    }
     if e.is_syntax() || e.is_eof() || e.is_io() {
-        let message = match message.as_str() {
-            "number out of range" => "number out of range; expected a finite number".to_string(),
-            _ => message,
-        };
+        if message == "number out of range" {
+            let message = "number out of range; expected a finite number";
+            // serde_json stops at the number's end and names no key; the
+            // span reader finds the number and its key path.
+            if let Some((path, span)) = json_spans::parse(text)
+                .ok()
+                .and_then(|tree| value_at(&tree, position.start.saturating_sub(1)))
+            {
+                return Diagnostic::new(path, message).at(text, span);
+            }
+            return Diagnostic::new(KeyPath::root(), message).at(text, position);
+        }
         return Diagnostic::new(KeyPath::root(), message).at(text, position);
     }
     let (path, message, target) = rephrase(path, &message);
@@ -96,5 +115,66 @@ fn strip_json_position(message: &str) -> String {
     match message.rfind(" at line ") {
         Some(i) => message[..i].to_string(),
         None => message.to_string(),
+    }
+}
+
+/// serde_json stops at the first element past a fixed-length array's end
+/// and calls the rest "trailing characters": say what was expected, at the
+/// array.
+fn too_long_array(text: &str, path: &KeyPath, stopped_at: usize) -> Option<Diagnostic> {
+    let tree = json_spans::parse(text).ok()?;
+    let found = tree.locate(path);
+    let NodeKind::Array(items) = &tree_node(&tree, path)?.kind else {
+        return None;
+    };
+    let expected = items.iter().filter(|n| n.span.end <= stopped_at).count();
+    let message = super::too_long(items, expected);
+    Some(Diagnostic::new(path.clone(), message).at(text, found.value))
+}
+
+/// The node at `path`, if the whole path is there.
+fn tree_node<'t>(
+    tree: &'t crate::span_tree::Node,
+    path: &KeyPath,
+) -> Option<&'t crate::span_tree::Node> {
+    use crate::key_path::Segment;
+    let mut node = tree;
+    for segment in &path.0 {
+        node = match (&node.kind, segment) {
+            (NodeKind::Table(entries), Segment::Key(k)) => {
+                &entries.iter().rev().find(|(name, _, _)| name == k)?.2
+            }
+            (NodeKind::Array(items), Segment::Index(i)) => items.get(*i)?,
+            _ => return None,
+        };
+    }
+    Some(node)
+}
+
+/// The key path and span of the innermost scalar holding byte `offset`.
+fn value_at(
+    tree: &crate::span_tree::Node,
+    offset: usize,
+) -> Option<(KeyPath, std::ops::Range<usize>)> {
+    use crate::key_path::Segment;
+    let mut node = tree;
+    let mut path = KeyPath::root();
+    loop {
+        let inside = |n: &crate::span_tree::Node| n.span.contains(&offset);
+        let next = match &node.kind {
+            NodeKind::Table(entries) => entries
+                .iter()
+                .find(|(_, _, v)| inside(v))
+                .map(|(k, _, v)| (Segment::Key(k.clone()), v)),
+            NodeKind::Array(items) => items
+                .iter()
+                .enumerate()
+                .find(|(_, v)| inside(v))
+                .map(|(i, v)| (Segment::Index(i), v)),
+            NodeKind::Scalar => return Some((path, node.span.clone())),
+        };
+        let (segment, child) = next?;
+        path.0.push(segment);
+        node = child;
     }
 }

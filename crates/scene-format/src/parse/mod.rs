@@ -11,23 +11,97 @@ mod rephrase;
 
 use crate::diagnostic::Diagnostic;
 use crate::key_path::KeyPath;
+use crate::key_path::Segment;
 use crate::locate::{self, Located};
+use crate::span_tree::{self, Node, NodeKind};
 use crate::Format;
 use from_json::parse_json;
 use from_toml::parse_toml;
 use rephrase::Target;
 use serde::de::DeserializeOwned;
+use serde::Serialize;
 
 /// The parsed file (a 3D scene or a 2D canvas), or the problems that
 /// stopped parsing.
-pub fn parse<T: DeserializeOwned>(text: &str, format: Format) -> Result<T, Vec<Diagnostic>> {
+pub fn parse<T: DeserializeOwned + Serialize>(
+    text: &str,
+    format: Format,
+) -> Result<T, Vec<Diagnostic>> {
     if let Some(d) = check_text(text, format) {
         return Err(vec![d]);
     }
     match format {
-        Format::Toml => parse_toml(text).map_err(|d| vec![d]),
+        Format::Toml => {
+            let value: T = parse_toml(text).map_err(|d| vec![d])?;
+            // toml reads the first elements of a fixed-length array and
+            // drops the rest without a word.
+            let too_long = too_long_arrays(text, format, &value);
+            if too_long.is_empty() {
+                Ok(value)
+            } else {
+                Err(too_long)
+            }
+        }
         Format::Json => parse_json(text),
     }
+}
+
+/// Arrays in the text longer than what was read into `value`: the value
+/// written back and compared with the text's span tree.
+fn too_long_arrays<T: Serialize>(text: &str, format: Format, value: &T) -> Vec<Diagnostic> {
+    let (Some(tree), Ok(read)) = (span_tree::tree(text, format), serde_json::to_value(value))
+    else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    compare(text, &tree, &read, &mut KeyPath::root(), &mut out);
+    out.sort_by_key(|d| d.span.as_ref().map(|s| s.start));
+    out
+}
+
+fn compare(
+    text: &str,
+    node: &Node,
+    read: &serde_json::Value,
+    path: &mut KeyPath,
+    out: &mut Vec<Diagnostic>,
+) {
+    use serde_json::Value;
+    match (&node.kind, read) {
+        (NodeKind::Table(entries), Value::Object(map)) => {
+            for (key, _, child) in entries {
+                if let Some(v) = map.get(key) {
+                    path.0.push(Segment::Key(key.clone()));
+                    compare(text, child, v, path, out);
+                    path.0.pop();
+                }
+            }
+        }
+        (NodeKind::Array(items), Value::Array(kept)) => {
+            if items.len() > kept.len() {
+                let d = Diagnostic::new(path.clone(), too_long(items, kept.len()));
+                out.push(d.at(text, node.span.clone()));
+                return;
+            }
+            for (i, (child, v)) in items.iter().zip(kept).enumerate() {
+                path.0.push(Segment::Index(i));
+                compare(text, child, v, path, out);
+                path.0.pop();
+            }
+        }
+        _ => {}
+    }
+}
+
+/// "expected 3 numbers, found 4" for an array of `items` of which
+/// `expected` are read.
+pub(crate) fn too_long(items: &[Node], expected: usize) -> String {
+    let what = match items.first().map(|n| &n.kind) {
+        Some(NodeKind::Array(_)) => "vertices",
+        Some(NodeKind::Scalar) => "numbers",
+        _ => "elements",
+    };
+    format!("expected {expected} {what}, found {}", items.len())
 }
 
 /// Files that are not scene text at all: empty, or binary.

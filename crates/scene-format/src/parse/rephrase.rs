@@ -48,6 +48,32 @@ pub(super) fn rephrase(path: KeyPath, message: &str) -> (KeyPath, String, Target
             Target::Table,
         );
     }
+    // toml's own words for an enum (a name like `saturation`, or a
+    // one-key table like a canvas transform step).
+    match message {
+        "wanted string or table" => {
+            return (
+                path,
+                "expected a name in quotes or a table with one key".to_string(),
+                Target::Value,
+            )
+        }
+        "wanted exactly 1 element, more than 1 element" => {
+            return (
+                path,
+                "expected a table with exactly one key, found several".to_string(),
+                Target::Value,
+            )
+        }
+        "wanted exactly 1 element, found 0 elements" => {
+            return (
+                path,
+                "expected a table with exactly one key, found none".to_string(),
+                Target::Value,
+            )
+        }
+        _ => {}
+    }
     let wrong_value = ["invalid type: ", "invalid value: "]
         .iter()
         .find_map(|prefix| message.strip_prefix(prefix)?.split_once(", expected "));
@@ -148,7 +174,11 @@ fn found_words(found: &str) -> String {
         "sequence" => "an array".to_string(),
         _ => {
             if let Some((kind, value)) = f.split_once(' ') {
-                let value = value.trim_matches('`');
+                // serde writes integers past 64 bits as "`N` as i128".
+                let value = value
+                    .trim_end_matches(" as i128")
+                    .trim_end_matches(" as u128")
+                    .trim_matches('`');
                 match kind {
                     "integer" | "floating" => value
                         .trim_start_matches("point ")
