@@ -10,6 +10,7 @@ mod load;
 pub mod locate;
 pub mod model;
 pub mod obj;
+pub mod read;
 mod parse;
 pub mod schema;
 pub mod span_tree;

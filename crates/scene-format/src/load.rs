@@ -72,7 +72,7 @@ pub fn load_any(path: &Path) -> Result<SceneKind, SceneError> {
     let format = Format::from_path(path).ok_or_else(|| SceneError::UnknownFormat {
         file: path.to_path_buf(),
     })?;
-    let bytes = std::fs::read(path).map_err(|source| SceneError::Io {
+    let bytes = crate::read::read_capped(path, crate::read::MAX_SCENE_BYTES).map_err(|source| SceneError::Io {
         file: path.to_path_buf(),
         source,
     })?;
