@@ -357,7 +357,10 @@ mod tests {
         for name in ["a.png", "b.PNG"] {
             let path = dir.path().join(name);
             write_image(&image, &path).unwrap();
-            assert!(std::fs::read(&path).unwrap().starts_with(b"\x89PNG"), "{name}");
+            assert!(
+                std::fs::read(&path).unwrap().starts_with(b"\x89PNG"),
+                "{name}"
+            );
         }
         for (name, found) in [
             ("c.jpg", "`.jpg` files"),

@@ -3,29 +3,39 @@
 //! one thread pool, writes and (unless quiet) sums up the same way.
 
 use crate::args::Render;
+use crate::console::note;
 use crate::progress::Progress;
 use crate::report;
 use anyhow::Result;
 use std::path::Path;
-use tracer_pipeline::{default_output, output, Rendered, ShadedStats, Summary};
+use tracer_pipeline::output::{check_not_an_input, PendingOutput};
+use tracer_pipeline::{default_output, Error, Input, Rendered, ShadedStats, Summary};
 
 pub fn run(args: &Render) -> Result<()> {
-    let loaded = tracer_pipeline::load(&args.input)?;
-    report::warnings(&loaded);
     let output = args
         .output
         .clone()
-        .unwrap_or_else(|| default_output(&loaded.name, args.options.aov));
+        .unwrap_or_else(|| default_output(&args.input.name(), args.options.aov));
+    // The output is checked (and its temporary file made) before any work,
+    // so a wrong path does not cost a render.
+    if let Input::File(scene) = &args.input {
+        check_not_an_input(&output, &[scene]).map_err(Error::from)?;
+    }
+    let pending = PendingOutput::create(&output).map_err(Error::from)?;
+    let loaded = tracer_pipeline::load(&args.input)?;
+    // The scene's meshes are known only now.
+    check_not_an_input(&output, &loaded.files_read).map_err(Error::from)?;
+    report::warnings(&loaded);
     let progress = Progress::new(loaded.size().1.into(), args.quiet);
     let rendered = args
         .pool
         .install(|| tracer_pipeline::render(&loaded, &args.options, &|n| progress.rows_done(n)));
     progress.finish();
     let rendered = rendered?;
-    output::write_image(&rendered.image, &output)?;
+    pending.write_image(&rendered.image).map_err(Error::from)?;
     if !args.quiet {
         let threads = args.pool.current_num_threads();
-        eprintln!("{}", summary(&loaded.name, &rendered, threads, &output));
+        note!("{}", summary(&loaded.name, &rendered, threads, &output));
     }
     Ok(())
 }
