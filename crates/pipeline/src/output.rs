@@ -37,6 +37,9 @@ pub enum OutputError {
         path: PathBuf,
         extension: Option<String>,
     },
+    /// The output's folder does not exist (a typo, most likely).
+    #[error("{}: the folder {} does not exist", path.display(), dir.display())]
+    NoFolder { path: PathBuf, dir: PathBuf },
     /// The output is an existing folder, device or other non-file.
     #[error("{}: cannot write an image over a folder or a device", path.display())]
     NotAFile { path: PathBuf },
@@ -191,6 +194,13 @@ impl PendingOutput {
             Some(p) if !p.as_os_str().is_empty() => p,
             _ => Path::new("."),
         };
+        if !dir.is_dir() {
+            // Clearer than the temporary file's "No such file" at its path.
+            return Err(OutputError::NoFolder {
+                path: path.to_path_buf(),
+                dir: dir.to_path_buf(),
+            });
+        }
         let mut builder = tempfile::Builder::new();
         builder.prefix(".tracer-").suffix(".tmp");
         #[cfg(unix)]
@@ -346,7 +356,10 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("no/such/folder/out.png");
         let err = write_atomically(b"new", &path).unwrap_err();
-        assert!(err.to_string().contains("cannot create a file in"));
+        assert!(
+            err.to_string().ends_with("no/such/folder does not exist"),
+            "{err}"
+        );
         assert!(!path.exists());
     }
 
@@ -386,7 +399,7 @@ mod tests {
     fn a_bad_output_folder_fails_when_the_output_is_created_not_when_written() {
         let dir = tempfile::tempdir().unwrap();
         let missing = PendingOutput::create(&dir.path().join("no/out.png"));
-        assert!(matches!(missing, Err(OutputError::Create { .. })));
+        assert!(matches!(missing, Err(OutputError::NoFolder { .. })));
         std::fs::create_dir(dir.path().join("folder.png")).unwrap();
         let folder = PendingOutput::create(&dir.path().join("folder.png"));
         assert!(matches!(folder, Err(OutputError::NotAFile { .. })));

@@ -588,7 +588,10 @@ fn a_bad_output_path_fails_before_the_scene_is_read() {
     std::fs::write(d.join("bad.toml"), "[camera]\nfvo = 1\n").unwrap();
     std::fs::create_dir(d.join("folder.png")).unwrap();
     for (output, expected) in [
-        ("missing/out.png", "cannot create a file in missing"),
+        (
+            "missing/out.png",
+            "missing/out.png: the folder missing does not exist",
+        ),
         ("folder.png", "cannot write an image over a folder"),
     ] {
         let out = tracer(d, &["render", "bad.toml", "-o", output]);
