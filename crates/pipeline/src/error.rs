@@ -46,16 +46,27 @@ impl Error {
             | Error::AovOfCanvas { .. }
             | Error::Prepare { .. }
             | Error::Measurements { .. } => true,
-            Error::Plot(_) | Error::Output(_) => false,
+            Error::Output(e) => e.is_bad_input(),
+            Error::Plot(_) => false,
         }
     }
 }
 
 /// Whether a scene error is the user's input rather than the machine's: a
-/// missing file is a wrong argument, an unreadable disk is not.
+/// missing, unreadable (permissions) or oversized file, a folder or a
+/// device named as the scene is a wrong argument; a failing disk is not.
 pub fn scene_error_is_bad_input(error: &SceneError) -> bool {
+    use std::io::ErrorKind;
     match error {
-        SceneError::Io { source, .. } => source.kind() == std::io::ErrorKind::NotFound,
+        SceneError::Io { source, .. } => matches!(
+            source.kind(),
+            ErrorKind::NotFound
+                | ErrorKind::PermissionDenied
+                | ErrorKind::IsADirectory
+                | ErrorKind::NotADirectory
+                // What `scene_format::read` refuses: folders, devices, size.
+                | ErrorKind::InvalidInput
+        ),
         SceneError::UnknownFormat { .. } | SceneError::Invalid { .. } => true,
     }
 }

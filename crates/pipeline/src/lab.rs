@@ -44,8 +44,13 @@ pub fn fit_gamma(csv: &Path) -> Result<GammaReport, Error> {
         file: csv.to_path_buf(),
         message,
     };
-    let text = std::fs::read_to_string(csv)
+    let bytes = scene_format::read::read_capped(csv, scene_format::read::MAX_CSV_BYTES)
         .map_err(|e| bad(format!("cannot read the measurements: {e}")))?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        bad(format!(
+            "cannot read the measurements: not UTF-8 text ({e})"
+        ))
+    })?;
     let rows = parse_measurements(&text).map_err(|e| bad(e.to_string()))?;
     let fit = fit_measurements(&rows).map_err(|e| bad(e.to_string()))?;
     let corrected = normalised_points(&rows, |m| m.corrected);

@@ -251,6 +251,22 @@ mod tests {
     }
 
     #[test]
+    fn a_folder_or_a_device_as_the_scene_is_bad_input() {
+        let dir = tempfile::tempdir().unwrap();
+        let folder = dir.path().join("folder.toml");
+        std::fs::create_dir(&folder).unwrap();
+        let err = load(&Input::File(folder)).unwrap_err();
+        assert!(crate::scene_error_is_bad_input(&err), "{err}");
+        #[cfg(unix)]
+        {
+            let zero = dir.path().join("zero.json");
+            std::os::unix::fs::symlink("/dev/zero", &zero).unwrap();
+            let err = load(&Input::File(zero)).unwrap_err();
+            assert!(crate::scene_error_is_bad_input(&err), "{err}");
+        }
+    }
+
+    #[test]
     fn a_canvas_scene_is_one_file() {
         let path = repository_scene("robot.toml");
         let loaded = load(&Input::File(path.clone())).unwrap();

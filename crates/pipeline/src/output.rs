@@ -3,6 +3,7 @@
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard};
 
 /// Why an output file was not written; the file is then as it was before.
 #[derive(Debug, thiserror::Error)]
@@ -25,6 +26,37 @@ pub enum OutputError {
         #[source]
         source: std::io::Error,
     },
+    /// The extension names no format the tracer writes.
+    #[error(
+        "{}: cannot write {}; the image formats written are: {}",
+        path.display(),
+        match extension { Some(e) => format!("`.{e}` files"), None => "a file without an extension".to_string() },
+        ImageFormat::list()
+    )]
+    UnknownFormat {
+        path: PathBuf,
+        extension: Option<String>,
+    },
+    /// The output's folder does not exist (a typo, most likely).
+    #[error("{}: the folder {} does not exist", path.display(), dir.display())]
+    NoFolder { path: PathBuf, dir: PathBuf },
+    /// The output is an existing folder, device or other non-file.
+    #[error("{}: cannot write an image over a folder or a device", path.display())]
+    NotAFile { path: PathBuf },
+    /// The output is one of the files read (same file, however named).
+    #[error("{}: the output is the input {}; refusing to overwrite it", path.display(), input.display())]
+    IsAnInput { path: PathBuf, input: PathBuf },
+}
+
+impl OutputError {
+    /// Whether the user named a wrong output (the CLI's exit status 2)
+    /// rather than the machine failing to write one (1).
+    pub fn is_bad_input(&self) -> bool {
+        matches!(
+            self,
+            OutputError::UnknownFormat { .. } | OutputError::IsAnInput { .. }
+        )
+    }
 }
 
 /// The image file formats written.
@@ -34,10 +66,30 @@ pub enum ImageFormat {
 }
 
 impl ImageFormat {
-    /// The format for an output path. Only PNG is written so far, whatever
-    /// the extension (as the tracer always did); EXR and the others join here.
-    pub fn for_path(_path: &Path) -> ImageFormat {
-        ImageFormat::Png
+    pub const ALL: [ImageFormat; 1] = [ImageFormat::Png];
+
+    /// The format an output path's extension names (any case), or
+    /// [`OutputError::UnknownFormat`]: writing PNG bytes to `x.jpg` would
+    /// give a file that lies about its contents.
+    pub fn for_path(path: &Path) -> Result<ImageFormat, OutputError> {
+        let extension = path.extension().map(|e| e.to_string_lossy().into_owned());
+        ImageFormat::ALL
+            .into_iter()
+            .find(|f| {
+                extension
+                    .as_deref()
+                    .is_some_and(|e| e.eq_ignore_ascii_case(f.extension()))
+            })
+            .ok_or(OutputError::UnknownFormat {
+                path: path.to_path_buf(),
+                extension,
+            })
+    }
+
+    pub fn extension(self) -> &'static str {
+        match self {
+            ImageFormat::Png => "png",
+        }
     }
 
     fn name(self) -> &'static str {
@@ -45,13 +97,174 @@ impl ImageFormat {
             ImageFormat::Png => "PNG",
         }
     }
+
+    /// ".png", or ".png, .jpg" as more formats come.
+    fn list() -> String {
+        let names: Vec<String> = ImageFormat::ALL
+            .iter()
+            .map(|f| format!(".{}", f.extension()))
+            .collect();
+        names.join(", ")
+    }
+}
+
+/// Refuses an output that is one of `inputs` (the same file, whatever the
+/// path: `./s.toml`, a hard link, a symbolic link), before any work.
+pub fn check_not_an_input<P: AsRef<Path>>(output: &Path, inputs: &[P]) -> Result<(), OutputError> {
+    match inputs.iter().find(|i| same_file(output, i.as_ref())) {
+        Some(input) => Err(OutputError::IsAnInput {
+            path: output.to_path_buf(),
+            input: input.as_ref().to_path_buf(),
+        }),
+        None => Ok(()),
+    }
+}
+
+fn same_file(a: &Path, b: &Path) -> bool {
+    let (Ok(ma), Ok(mb)) = (std::fs::metadata(a), std::fs::metadata(b)) else {
+        // One does not exist: writing it cannot clobber the other.
+        return false;
+    };
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        ma.dev() == mb.dev() && ma.ino() == mb.ino()
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (ma, mb);
+        matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y)
+    }
+}
+
+/// Temporary files in flight, for [`remove_pending_files`] on a signal.
+static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn pending() -> MutexGuard<'static, Vec<PathBuf>> {
+    // A panic elsewhere must not keep the files from being cleaned up.
+    PENDING.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Held while the process exits on a signal: no output is renamed into
+/// place (nor a temporary file made) after the cleanup.
+pub struct PendingFilesRemoved(#[allow(dead_code)] MutexGuard<'static, Vec<PathBuf>>);
+
+/// Removes every temporary output file in flight, for a signal handler
+/// that then exits; keep the guard until the exit.
+pub fn remove_pending_files() -> PendingFilesRemoved {
+    remove_pending_files_where(|_| true)
+}
+
+/// The files of `remove_pending_files` that `which` picks (tests run in
+/// parallel: each removes its own only).
+fn remove_pending_files_where(which: impl Fn(&Path) -> bool) -> PendingFilesRemoved {
+    let mut list = pending();
+    list.retain(|path| {
+        if which(path) {
+            let _ = std::fs::remove_file(path);
+        }
+        !which(path)
+    });
+    PendingFilesRemoved(list)
+}
+
+/// An output file about to be written: its format known and its temporary
+/// file made in the target folder, so a bad output path fails before the
+/// work (a render) rather than after it. Dropped unwritten, it leaves
+/// nothing behind.
+pub struct PendingOutput {
+    path: PathBuf,
+    format: ImageFormat,
+    tmp: Option<tempfile::NamedTempFile>,
+    tmp_path: PathBuf,
+}
+
+impl PendingOutput {
+    /// Checks `path` (a writable image format, not a folder or a device,
+    /// a folder that takes new files) and makes the temporary file.
+    pub fn create(path: &Path) -> Result<PendingOutput, OutputError> {
+        let format = ImageFormat::for_path(path)?;
+        if std::fs::metadata(path).is_ok_and(|m| !m.is_file()) {
+            // A rename would replace a device node, or fail on a folder.
+            return Err(OutputError::NotAFile {
+                path: path.to_path_buf(),
+            });
+        }
+        let dir = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+        if !dir.is_dir() {
+            // Clearer than the temporary file's "No such file" at its path.
+            return Err(OutputError::NoFolder {
+                path: path.to_path_buf(),
+                dir: dir.to_path_buf(),
+            });
+        }
+        let mut builder = tempfile::Builder::new();
+        builder.prefix(".tracer-").suffix(".tmp");
+        #[cfg(unix)]
+        builder.permissions(permissions_for(path));
+        let mut list = pending();
+        let tmp = builder
+            .tempfile_in(dir)
+            .map_err(|source| OutputError::Create {
+                dir: dir.to_path_buf(),
+                source,
+            })?;
+        let tmp_path = tmp.path().to_path_buf();
+        list.push(tmp_path.clone());
+        Ok(PendingOutput {
+            path: path.to_path_buf(),
+            format,
+            tmp: Some(tmp),
+            tmp_path,
+        })
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Encodes `image` in the output's format and writes it into place.
+    pub fn write_image(self, image: &image::RgbImage) -> Result<(), OutputError> {
+        let bytes = encode(image, self.format)?;
+        self.write_bytes(&bytes)
+    }
+
+    /// Writes `bytes` and renames the file into place, whole or not at all.
+    pub fn write_bytes(mut self, bytes: &[u8]) -> Result<(), OutputError> {
+        let write_error = |source| OutputError::Write {
+            path: self.path.clone(),
+            source,
+        };
+        let tmp = self.tmp.as_mut().expect("written once");
+        tmp.write_all(bytes)
+            .and_then(|()| tmp.as_file().sync_all())
+            .map_err(write_error)?;
+        let mut list = pending();
+        let tmp = self.tmp.take().expect("written once");
+        // On failure the temporary file is in the error and dropped: removed.
+        let persisted = tmp.persist(&self.path).map(drop).map_err(|e| e.error);
+        list.retain(|p| *p != self.tmp_path);
+        persisted.map_err(write_error)
+    }
+}
+
+impl Drop for PendingOutput {
+    fn drop(&mut self) {
+        let mut list = pending();
+        // Removed (by NamedTempFile's drop) before it leaves the list.
+        drop(self.tmp.take());
+        list.retain(|p| *p != self.tmp_path);
+    }
 }
 
 /// Writes `image` to `path`, in the format of its extension, through a
 /// temporary file in the same folder and a rename: a failure leaves no
 /// partial file and an existing image untouched.
 pub fn write_image(image: &image::RgbImage, path: &Path) -> Result<(), OutputError> {
-    write_atomically(&encode(image, ImageFormat::for_path(path))?, path)
+    PendingOutput::create(path)?.write_image(image)
 }
 
 /// The bytes of an image file in `format`.
@@ -71,30 +284,9 @@ pub fn encode(image: &image::RgbImage, format: ImageFormat) -> Result<Vec<u8>, O
 
 /// Writes `bytes` to `path` whole or not at all (see `write_image`).
 pub fn write_atomically(bytes: &[u8], path: &Path) -> Result<(), OutputError> {
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(".tracer-").suffix(".tmp");
-    #[cfg(unix)]
-    builder.permissions(permissions_for(path));
-    let mut tmp = builder
-        .tempfile_in(dir)
-        .map_err(|source| OutputError::Create {
-            dir: dir.to_path_buf(),
-            source,
-        })?;
-    let write_error = |source| OutputError::Write {
-        path: path.to_path_buf(),
-        source,
-    };
-    tmp.write_all(bytes)
-        .and_then(|()| tmp.as_file().sync_all())
-        .map_err(write_error)?;
-    tmp.persist(path).map_err(|e| write_error(e.error))?;
-    Ok(())
+    PendingOutput::create(path)?.write_bytes(bytes)
 }
+
 /// The mode of the file being replaced, or an ordinary file's (rw-r--r--,
 /// less the umask): a temporary file is created readable by its owner
 /// only, and the renamed image would keep that.
@@ -164,20 +356,96 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("no/such/folder/out.png");
         let err = write_atomically(b"new", &path).unwrap_err();
-        assert!(err.to_string().contains("cannot create a file in"));
+        assert!(
+            err.to_string().ends_with("no/such/folder does not exist"),
+            "{err}"
+        );
         assert!(!path.exists());
     }
 
     #[test]
-    fn an_image_is_written_as_png_whatever_its_extension() {
+    fn the_extension_decides_the_format_and_others_are_refused_up_front() {
         let dir = tempfile::tempdir().unwrap();
         let image = image::RgbImage::from_pixel(3, 2, image::Rgb([10, 20, 30]));
-        for name in ["a.png", "b.jpg", "c"] {
+        for name in ["a.png", "b.PNG"] {
             let path = dir.path().join(name);
             write_image(&image, &path).unwrap();
-            let bytes = std::fs::read(&path).unwrap();
-            assert_eq!(bytes, encode(&image, ImageFormat::Png).unwrap(), "{name}");
-            assert!(bytes.starts_with(b"\x89PNG"), "{name}");
+            assert!(
+                std::fs::read(&path).unwrap().starts_with(b"\x89PNG"),
+                "{name}"
+            );
         }
+        for (name, found) in [
+            ("c.jpg", "`.jpg` files"),
+            ("d.exr", "`.exr` files"),
+            ("noext", "a file without an extension"),
+            ("scene.toml", "`.toml` files"),
+        ] {
+            let path = dir.path().join(name);
+            let err = PendingOutput::create(&path).err().unwrap();
+            assert!(err.is_bad_input());
+            let message = err.to_string();
+            assert!(message.contains(found), "{message}");
+            assert!(
+                message.ends_with("the image formats written are: .png"),
+                "{message}"
+            );
+            assert!(!path.exists());
+        }
+        assert!(leftovers(dir.path()).is_empty());
+    }
+
+    #[test]
+    fn a_bad_output_folder_fails_when_the_output_is_created_not_when_written() {
+        let dir = tempfile::tempdir().unwrap();
+        let missing = PendingOutput::create(&dir.path().join("no/out.png"));
+        assert!(matches!(missing, Err(OutputError::NoFolder { .. })));
+        std::fs::create_dir(dir.path().join("folder.png")).unwrap();
+        let folder = PendingOutput::create(&dir.path().join("folder.png"));
+        assert!(matches!(folder, Err(OutputError::NotAFile { .. })));
+        #[cfg(unix)]
+        {
+            let device = dir.path().join("null.png");
+            std::os::unix::fs::symlink("/dev/null", &device).unwrap();
+            let device = PendingOutput::create(&device);
+            assert!(matches!(device, Err(OutputError::NotAFile { .. })));
+        }
+        // A good one holds its temporary file until written or dropped.
+        let pending = PendingOutput::create(&dir.path().join("ok.png")).unwrap();
+        assert_eq!(leftovers(dir.path()).len(), 1);
+        drop(pending);
+        assert!(leftovers(dir.path()).is_empty());
+        assert!(!dir.path().join("ok.png").exists());
+    }
+
+    #[test]
+    fn pending_files_are_removed_for_a_signal() {
+        let dir = tempfile::tempdir().unwrap();
+        let pending = PendingOutput::create(&dir.path().join("out.png")).unwrap();
+        let written = PendingOutput::create(&dir.path().join("done.png")).unwrap();
+        written.write_bytes(b"done").unwrap();
+        drop(remove_pending_files_where(|p| p.starts_with(dir.path())));
+        assert!(leftovers(dir.path()).is_empty());
+        assert_eq!(std::fs::read(dir.path().join("done.png")).unwrap(), b"done");
+        drop(pending);
+    }
+
+    #[test]
+    fn an_output_that_is_an_input_is_refused_however_it_is_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let input = dir.path().join("m.png");
+        std::fs::write(&input, b"input").unwrap();
+        let link = dir.path().join("link.png");
+        std::fs::hard_link(&input, &link).unwrap();
+        let dotted = dir.path().join(".").join("m.png");
+        for output in [&input, &link, &dotted] {
+            let err = check_not_an_input(output, &[&input]).unwrap_err();
+            assert!(err.is_bad_input());
+            assert!(err.to_string().contains("refusing to overwrite"), "{err}");
+        }
+        let other = dir.path().join("other.png");
+        check_not_an_input(&other, &[&input]).unwrap();
+        std::fs::write(&other, b"other").unwrap();
+        check_not_an_input(&other, &[&input]).unwrap();
     }
 }

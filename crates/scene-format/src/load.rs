@@ -80,9 +80,11 @@ pub fn load_any(path: &Path) -> Result<SceneKind, SceneError> {
     let format = Format::from_path(path).ok_or_else(|| SceneError::UnknownFormat {
         file: path.to_path_buf(),
     })?;
-    let bytes = std::fs::read(path).map_err(|source| SceneError::Io {
-        file: path.to_path_buf(),
-        source,
+    let bytes = crate::read::read_capped(path, crate::read::MAX_SCENE_BYTES).map_err(|source| {
+        SceneError::Io {
+            file: path.to_path_buf(),
+            source,
+        }
     })?;
     let text = without_bom(utf8_text(&bytes, path)?);
     if has_canvas_table(text, format) {

@@ -61,7 +61,8 @@ pub fn mesh_warnings(scene: &SceneFile) -> Vec<Diagnostic> {
 
 /// The triangles of the OBJ file at `path`.
 pub fn read_obj(path: &Path) -> Result<MeshData, String> {
-    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let file =
+        crate::read::open_capped(path, crate::read::MAX_OBJ_BYTES).map_err(|e| e.to_string())?;
     let options = tobj::LoadOptions {
         triangulate: true,
         ignore_points: true,

@@ -1,6 +1,7 @@
 //! How a run ends: the exit status (0 done, 2 bad input, 1 anything else)
 //! and the error message on stderr.
 
+use crate::console::{self, note, ClosedPipe};
 use crate::report;
 use scene_format::SceneError;
 use std::process::ExitCode;
@@ -36,11 +37,18 @@ pub fn finish(result: anyhow::Result<()>) -> Outcome {
 }
 
 fn report_error(e: &anyhow::Error) -> Outcome {
+    if e.is::<ClosedPipe>() {
+        // Whoever read stdout has all they wanted (`tracer schema | head`).
+        return Outcome::Ok;
+    }
     if let Some(scene) = scene_error(e) {
-        eprint!("{}", report::render(scene, report::color_wanted()));
+        console::stderr(format_args!(
+            "{}",
+            report::render(scene, report::color_wanted())
+        ));
         return scene_outcome(scene);
     }
-    eprintln!("error: {e:#}");
+    note!("error: {e:#}");
     match e.downcast_ref::<tracer_pipeline::Error>() {
         Some(p) if p.is_bad_input() => Outcome::BadInput,
         _ => Outcome::Failure,

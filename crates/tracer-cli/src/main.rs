@@ -2,6 +2,7 @@
 
 mod args;
 mod commands;
+mod console;
 mod error;
 mod progress;
 mod report;
@@ -35,6 +36,8 @@ enum Command {
 fn main() -> ExitCode {
     // clap exits with 2 on bad arguments, 0 for --help.
     let cli = Cli::parse();
+    #[cfg(unix)]
+    signals::remove_outputs_on_signal();
     let outcome = match cli.command {
         Command::Render(args) => {
             error::finish(args.resolve().and_then(|a| commands::render::run(&a)))
@@ -47,4 +50,31 @@ fn main() -> ExitCode {
         Command::Schema => error::finish(commands::schema::run()),
     };
     outcome.into()
+}
+
+#[cfg(unix)]
+mod signals {
+    use crate::console::note;
+    use signal_hook::consts::{SIGINT, SIGTERM};
+
+    /// On SIGINT or SIGTERM, removes the temporary output files in flight
+    /// (they would be left behind) and exits 128 + the signal, as a shell
+    /// reports a process it killed: 130 for Ctrl-C, 143 for SIGTERM.
+    pub fn remove_outputs_on_signal() {
+        let mut signals = match signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) {
+            Ok(s) => s,
+            Err(e) => {
+                // The default handling stays: only the cleanup is lost.
+                note!("warning: cannot handle signals: {e}");
+                return;
+            }
+        };
+        std::thread::spawn(move || {
+            if let Some(signal) = signals.forever().next() {
+                // Held to the exit: nothing is renamed into place after it.
+                let _removed = tracer_pipeline::output::remove_pending_files();
+                std::process::exit(128 + signal);
+            }
+        });
+    }
 }

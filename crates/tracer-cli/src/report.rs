@@ -167,7 +167,7 @@ pub fn color_wanted() -> bool {
 /// The loaded scene's warnings, one line each; shown even when quiet.
 pub fn warnings(loaded: &tracer_pipeline::Loaded) {
     for w in &loaded.warnings {
-        eprintln!(
+        crate::console::note!(
             "warning: {}: `{}`: {}",
             loaded.name.display(),
             w.path,

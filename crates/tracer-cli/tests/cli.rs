@@ -197,10 +197,7 @@ fn threads_change_nothing_in_the_image() {
         let run = tracer(dir.path(), &["render", &s, "--threads", threads, "-o", out]);
         assert!(run.status.success());
         let stderr = String::from_utf8_lossy(&run.stderr);
-        assert!(
-            stderr.contains(&format!("on {threads} threads")),
-            "{stderr}"
-        );
+        assert!(stderr.contains(&format!("on {threads} thread")), "{stderr}");
         assert!(stderr.contains("Mrays/s"), "{stderr}");
         // stderr is a pipe here, not a terminal: no progress bar.
         assert!(!stderr.contains("rendering ["), "{stderr}");
@@ -465,11 +462,10 @@ fn threads_are_honoured_by_an_aov_and_change_nothing_in_it() {
                 out,
             ],
         );
-        assert!(
-            run.status.success(),
-            "{}",
-            String::from_utf8_lossy(&run.stderr)
-        );
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert!(run.status.success(), "{stderr}");
+        // The summary names the pool the AOV was rendered on.
+        assert!(stderr.contains(&format!("on {threads} thread")), "{stderr}");
     }
     let one = std::fs::read(dir.path().join("one.png")).unwrap();
     assert_eq!(one, std::fs::read(dir.path().join("two.png")).unwrap());
@@ -635,4 +631,278 @@ fn unknown_names_list_at_most_ten_known_ones() {
     assert_eq!(code, Some(2), "{err}");
     assert!(err.contains("and 4990 more"), "{err}");
     assert!(err.len() < 100_000, "{} bytes", err.len());
+}
+
+fn stderr_of(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// The temporary output files left in `dir`.
+fn leftovers(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(".tracer-") && n.ends_with(".tmp"))
+        .collect()
+}
+
+/// A small scene with a mesh, `m.toml` and `m.obj`.
+fn scene_with_a_mesh(dir: &Path) {
+    std::fs::write(dir.join("m.obj"), "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    std::fs::write(
+        dir.join("m.toml"),
+        "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\nwidth = 40\nheight = 30\n\
+         [[objects]]\nmesh = { obj = \"m.obj\" }\n",
+    )
+    .unwrap();
+}
+
+#[test]
+fn an_output_that_is_an_input_is_refused_with_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    scene_with_a_mesh(d);
+    let scene_text = std::fs::read(d.join("m.toml")).unwrap();
+    let obj_text = std::fs::read(d.join("m.obj")).unwrap();
+    // The OBJ under an image's name (a hard link), and the CSV too: only
+    // the file's identity tells them from an output.
+    std::fs::hard_link(d.join("m.obj"), d.join("mesh.png")).unwrap();
+    std::fs::write(d.join("m.csv"), "level,luminance\n0,0.5\n0.5,40\n1,200\n").unwrap();
+    std::fs::hard_link(d.join("m.csv"), d.join("csv.png")).unwrap();
+    for args in [
+        &["render", "m.toml", "-o", "m.toml"][..],
+        &["render", "m.toml", "-o", "./m.toml"],
+        &["render", "m.toml", "-o", "mesh.png"],
+        &["render", "m.toml", "-o", "m.obj"],
+        &["gamma", "fit", "m.csv", "--plot", "m.csv"],
+        &["gamma", "fit", "m.csv", "--plot", "./csv.png"],
+        &["gamma", "fit", "csv.png", "--plot", "csv.png"],
+        &["calib-chart", "-o", "m.toml"],
+    ] {
+        let out = tracer(d, args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr_of(&out));
+        assert!(out.stdout.is_empty(), "{args:?}: no work was done");
+    }
+    let out = tracer(d, &["render", "m.toml", "-o", "mesh.png"]);
+    assert!(
+        stderr_of(&out).contains("refusing to overwrite"),
+        "{}",
+        stderr_of(&out)
+    );
+    assert_eq!(std::fs::read(d.join("m.toml")).unwrap(), scene_text);
+    assert_eq!(std::fs::read(d.join("m.obj")).unwrap(), obj_text);
+    assert!(std::fs::read(d.join("m.csv"))
+        .unwrap()
+        .starts_with(b"level"));
+    assert!(leftovers(d).is_empty());
+}
+
+#[test]
+fn an_output_extension_the_tracer_cannot_write_is_refused_with_the_list() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let s = scene("sphere-intersection.toml");
+    for name in ["x.jpg", "x.exr", "noext"] {
+        for args in [
+            &["render", &s, "-o", name][..],
+            &["calib-chart", "-o", name],
+            &[
+                "gamma",
+                "fit",
+                &scene("gamma/sample-measurements.csv"),
+                "--plot",
+                name,
+            ],
+        ] {
+            let out = tracer(d, args);
+            let stderr = stderr_of(&out);
+            assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+            assert!(
+                stderr.contains("the image formats written are: .png"),
+                "{stderr}"
+            );
+            assert!(out.stdout.is_empty(), "{args:?}: the fit was not made");
+        }
+        assert!(!d.join(name).exists());
+    }
+    let out = tracer(d, &["render", &s, "-o", "upper.PNG"]);
+    assert!(out.status.success(), "{}", stderr_of(&out));
+    assert!(std::fs::read(d.join("upper.PNG"))
+        .unwrap()
+        .starts_with(b"\x89PNG"));
+}
+
+#[test]
+fn a_bad_output_path_fails_before_the_scene_is_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // The scene is bad too: the output's error, not the scene's, shows
+    // that the output was checked first (before loading and rendering).
+    std::fs::write(d.join("bad.toml"), "[camera]\nfvo = 1\n").unwrap();
+    std::fs::create_dir(d.join("folder.png")).unwrap();
+    for (output, expected) in [
+        (
+            "missing/out.png",
+            "missing/out.png: the folder missing does not exist",
+        ),
+        ("folder.png", "cannot write an image over a folder"),
+    ] {
+        let out = tracer(d, &["render", "bad.toml", "-o", output]);
+        let stderr = stderr_of(&out);
+        assert_eq!(out.status.code(), Some(1), "{output}: {stderr}");
+        assert!(stderr.contains(expected), "{output}: {stderr}");
+        assert!(!stderr.contains("fvo"), "{output}: {stderr}");
+    }
+    assert!(leftovers(d).is_empty());
+}
+
+#[test]
+fn a_full_stdout_exits_1_and_a_closed_one_quietly() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let csv = scene("gamma/sample-measurements.csv");
+    for args in [&["schema"][..], &["gamma", "fit", &csv]] {
+        let out = Command::new(env!("CARGO_BIN_EXE_tracer"))
+            .args(args)
+            .current_dir(d)
+            .stdout(std::fs::File::create("/dev/full").unwrap())
+            .output()
+            .unwrap();
+        let stderr = stderr_of(&out);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(stderr.contains("cannot write to stdout"), "{stderr}");
+        assert!(!stderr.contains("panicked"), "{stderr}");
+    }
+    // `true` has exited (closing the pipe) by the time tracer writes.
+    let out = Command::new("sh")
+        .arg("-c")
+        .arg("{ sleep 0.5; \"$0\" schema; echo $? > status; } | true")
+        .arg(env!("CARGO_BIN_EXE_tracer"))
+        .current_dir(d)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    assert_eq!(stderr_of(&out), "");
+    assert_eq!(std::fs::read_to_string(d.join("status")).unwrap(), "0\n");
+}
+
+#[test]
+fn a_full_stderr_does_not_stop_the_image() {
+    let dir = tempfile::tempdir().unwrap();
+    // Its degenerate face gives a warning before the render.
+    scene_with_a_degenerate_face(dir.path());
+    let out = Command::new(env!("CARGO_BIN_EXE_tracer"))
+        .args(["render", "m.toml"])
+        .current_dir(dir.path())
+        .stderr(std::fs::File::create("/dev/full").unwrap())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    assert_eq!(rgb(&dir.path().join("m.png")).dimensions(), (40, 30));
+}
+
+#[cfg(unix)]
+#[test]
+fn sigterm_during_a_render_removes_the_temporary_output() {
+    use std::os::unix::process::ExitStatusExt;
+    use std::time::{Duration, Instant};
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // The bench's bunny, large and on one thread: seconds of work.
+    let bench = std::fs::read_to_string(scene("bench/bunny.toml")).unwrap();
+    let bench = bench
+        .replace("width = 1920", "width = 3000")
+        .replace("height = 1080", "height = 3000")
+        .replace("\"bunny.obj\"", &format!("{:?}", scene("bench/bunny.obj")));
+    std::fs::write(d.join("big.toml"), bench).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_tracer"))
+        .args(["render", "big.toml", "--threads", "1", "--quiet"])
+        .current_dir(d)
+        .spawn()
+        .unwrap();
+    // The temporary output is made before the scene is read.
+    let start = Instant::now();
+    while leftovers(d).is_empty() {
+        assert!(
+            start.elapsed() < Duration::from_secs(20),
+            "no temporary file"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    std::thread::sleep(Duration::from_millis(300));
+    let kill = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let status = child.wait().unwrap();
+    // 128 + SIGTERM, as a shell reports a process it terminated.
+    assert_eq!(status.code(), Some(143), "{status:?} {:?}", status.signal());
+    assert!(leftovers(d).is_empty(), "{:?}", leftovers(d));
+    assert!(!d.join("big.png").exists());
+}
+
+#[cfg(unix)]
+#[test]
+fn devices_fifos_and_oversized_files_as_inputs_are_refused_with_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::os::unix::fs::symlink("/dev/zero", d.join("zero.toml")).unwrap();
+    std::os::unix::fs::symlink("/dev/urandom", d.join("random.obj")).unwrap();
+    std::fs::write(
+        d.join("m.toml"),
+        "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
+         [[objects]]\nmesh = { obj = \"random.obj\" }\n",
+    )
+    .unwrap();
+    assert!(Command::new("mkfifo")
+        .arg(d.join("fifo.csv"))
+        .status()
+        .unwrap()
+        .success());
+    // Sparse: 65 MiB by its size, nothing written.
+    let big = std::fs::File::create(d.join("big.json")).unwrap();
+    big.set_len(65 << 20).unwrap();
+    for (args, expected) in [
+        (&["render", "zero.toml"][..], "zero.toml: cannot read the scene file: is not a regular file"),
+        (&["check", "zero.toml"], "is not a regular file"),
+        (&["render", "m.toml"], "cannot load `random.obj`: is not a regular file"),
+        (&["gamma", "fit", "fifo.csv"], "fifo.csv: cannot read the measurements: is not a regular file"),
+        (&["check", "big.json"], "big.json: cannot read the scene file: is 65 MiB; files of this kind are read up to 64 MiB"),
+    ] {
+        let out = tracer(d, args);
+        let stderr = stderr_of(&out);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+    }
+}
+
+#[test]
+fn a_folder_or_an_unreadable_file_as_the_scene_is_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::create_dir(d.join("folder.toml")).unwrap();
+    std::fs::write(d.join("bad.toml"), "[camera]\nfvo = 1\n").unwrap();
+    let out = tracer(d, &["render", "folder.toml"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr_of(&out));
+    assert!(stderr_of(&out).contains("folder.toml: cannot read the scene file: is a folder"));
+    let good = scene("shadows.toml");
+    let mut check = vec!["check", good.as_str(), "bad.toml", "folder.toml"];
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let locked = d.join("locked.toml");
+        std::fs::write(&locked, "[camera]\n").unwrap();
+        std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o000)).unwrap();
+        // Root reads it anyway; then there is nothing to test.
+        if std::fs::read(&locked).is_err() {
+            let out = tracer(d, &["render", "locked.toml"]);
+            assert_eq!(out.status.code(), Some(2), "{}", stderr_of(&out));
+            check.push("locked.toml");
+        }
+    }
+    let out = tracer(d, &check);
+    let stderr = stderr_of(&out);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("ok: "), "{stderr}");
 }

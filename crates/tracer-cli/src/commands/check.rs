@@ -1,6 +1,7 @@
 //! `tracer check`: validate scene files without rendering.
 
 use crate::args::CheckArgs;
+use crate::console::{self, note};
 use crate::error::{scene_outcome, Outcome};
 use crate::report;
 use tracer_pipeline::Input;
@@ -13,17 +14,17 @@ pub fn run(args: &CheckArgs) -> Outcome {
         match tracer_pipeline::load(&Input::File(scene.clone())) {
             Ok(loaded) => {
                 report::warnings(&loaded);
-                eprintln!("ok: {}", scene.display());
+                note!("ok: {}", scene.display());
             }
             Err(e) => {
                 bad += 1;
-                eprint!("{}", report::render(&e, color));
+                console::stderr(format_args!("{}", report::render(&e, color)));
                 outcome = outcome.max(scene_outcome(&e));
             }
         }
     }
     if bad > 0 {
-        eprintln!(
+        note!(
             "{bad} of {} scene file{} failed the check",
             args.scenes.len(),
             if args.scenes.len() == 1 { "" } else { "s" }

@@ -2,8 +2,10 @@
 //! calibration chart (the lab's Matlab step, exercise 17).
 
 use crate::args::{FitArgs, GammaCommand};
-use anyhow::{Context, Result};
-use tracer_pipeline::{lab, output};
+use crate::console::{self, note};
+use anyhow::Result;
+use tracer_pipeline::output::{check_not_an_input, PendingOutput};
+use tracer_pipeline::{lab, Error};
 
 pub fn run(command: &GammaCommand) -> Result<()> {
     match command {
@@ -12,17 +14,28 @@ pub fn run(command: &GammaCommand) -> Result<()> {
 }
 
 fn fit(args: &FitArgs) -> Result<()> {
+    // The plot's path is checked before the fit: a wrong one fails first.
+    let plot = match &args.plot {
+        Some(plot) => {
+            check_not_an_input(plot, &[&args.measurements]).map_err(Error::from)?;
+            Some(PendingOutput::create(plot).map_err(Error::from)?)
+        }
+        None => None,
+    };
     let report = lab::fit_gamma(&args.measurements)?;
-    println!("gamma = {:.2}", report.fit.gamma);
-    println!("RMSE = {:.4} (normalised luminance)", report.fit.rmse);
+    let mut text = format!(
+        "gamma = {:.2}\nRMSE = {:.4} (normalised luminance)\n",
+        report.fit.gamma, report.fit.rmse
+    );
     if let Some(rmse) = report.corrected_rmse {
-        println!("after correction: RMSE from linear = {rmse:.4}");
+        text += &format!("after correction: RMSE from linear = {rmse:.4}\n");
     }
-    if let Some(plot) = &args.plot {
+    console::stdout(&text)?;
+    if let Some(plot) = plot {
         let image = lab::gamma_plot(&report)?;
-        output::write_image(&image, plot)
-            .with_context(|| format!("cannot write the plot {}", plot.display()))?;
-        eprintln!("plot -> {}", plot.display());
+        let path = plot.path().to_path_buf();
+        plot.write_image(&image).map_err(Error::from)?;
+        note!("plot -> {}", path.display());
     }
     Ok(())
 }

@@ -3,19 +3,29 @@
 //! one thread pool, writes and (unless quiet) sums up the same way.
 
 use crate::args::Render;
+use crate::console::note;
 use crate::progress::Progress;
 use crate::report;
 use anyhow::Result;
 use std::path::Path;
-use tracer_pipeline::{default_output, output, Rendered, ShadedStats, Summary};
+use tracer_pipeline::output::{check_not_an_input, PendingOutput};
+use tracer_pipeline::{default_output, Error, Input, Rendered, ShadedStats, Summary};
 
 pub fn run(args: &Render) -> Result<()> {
-    let loaded = tracer_pipeline::load(&args.input)?;
-    report::warnings(&loaded);
     let output = args
         .output
         .clone()
-        .unwrap_or_else(|| default_output(&loaded.name, args.options.aov));
+        .unwrap_or_else(|| default_output(&args.input.name(), args.options.aov));
+    // The output is checked (and its temporary file made) before any work,
+    // so a wrong path does not cost a render.
+    if let Input::File(scene) = &args.input {
+        check_not_an_input(&output, &[scene]).map_err(Error::from)?;
+    }
+    let pending = PendingOutput::create(&output).map_err(Error::from)?;
+    let loaded = tracer_pipeline::load(&args.input)?;
+    // The scene's meshes are known only now.
+    check_not_an_input(&output, &loaded.files_read).map_err(Error::from)?;
+    report::warnings(&loaded);
     let progress = Progress::new(loaded.size().1.into(), args.quiet);
     let rendered = args
         .pool
@@ -24,13 +34,13 @@ pub fn run(args: &Render) -> Result<()> {
     let rendered = rendered?;
     if let Summary::Shaded(stats) = &rendered.summary {
         if let Some(warning) = stats.forced_white_warning() {
-            eprintln!("warning: {}: {warning}", loaded.name.display());
+            note!("warning: {}: {warning}", loaded.name.display());
         }
     }
-    output::write_image(&rendered.image, &output)?;
+    pending.write_image(&rendered.image).map_err(Error::from)?;
     if !args.quiet {
         let threads = args.pool.current_num_threads();
-        eprintln!("{}", summary(&loaded.name, &rendered, threads, &output));
+        note!("{}", summary(&loaded.name, &rendered, threads, &output));
     }
     Ok(())
 }
@@ -42,14 +52,27 @@ fn summary(scene: &Path, rendered: &Rendered, threads: usize, output: &Path) -> 
     match &rendered.summary {
         Summary::Shaded(stats) => format!(
             "rendered {scene} ({width}x{height}, {}) in {:.3} s ({:.3} s to prepare), \
-             {:.1} Mrays/s on {threads} threads -> {output}",
+             {:.1} Mrays/s on {threads} thread{} -> {output}",
             objects_summary(stats),
             stats.render_seconds,
             stats.prepare_seconds,
             stats.rays as f64 / stats.render_seconds.max(1e-9) / 1e6,
+            plural(threads),
         ),
-        Summary::Aov(aov) => format!("rendered {} of {scene} -> {output}", aov.name()),
+        Summary::Aov(aov) => format!(
+            "rendered {} of {scene} on {threads} thread{} -> {output}",
+            aov.name(),
+            plural(threads)
+        ),
         Summary::Canvas => format!("drew {scene} ({width}x{height}) -> {output}"),
+    }
+}
+
+fn plural(n: usize) -> &'static str {
+    if n == 1 {
+        ""
+    } else {
+        "s"
     }
 }
 
