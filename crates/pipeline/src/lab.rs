@@ -1,7 +1,7 @@
 //! The lab's images that are not scene renders: the calibration chart and
 //! the gamma fit of measurements taken on it, with its plot.
 
-use crate::render::Gamma;
+use crate::options::Gamma;
 use crate::Error;
 use image::RgbImage;
 use lab_tools::gamma_fit::{fit_measurements, linearity_rmse, GammaFit};

@@ -10,14 +10,15 @@ mod error;
 pub mod lab;
 mod limits;
 mod load;
+mod options;
 pub mod output;
 mod render;
+mod rendered;
 mod scene3d;
 
 pub use error::{scene_error_is_bad_input, Error};
 pub use limits::{BYTES_PER_PRIMITIVE, MAX_PRIMITIVES};
 pub use load::{load, Input, Loaded, DEFAULT_SCENE_NAME};
-pub use render::{
-    default_output, render, Aov, Gamma, Options, Rendered, ShadedStats, Summary,
-    FORCED_WHITE_WARNING,
-};
+pub use options::{Aov, Gamma, Options};
+pub use render::{default_output, render};
+pub use rendered::{Rendered, ShadedStats, Summary, FORCED_WHITE_WARNING};

@@ -3,7 +3,8 @@
 //! the core through here (and names the core's `Aov` list), so a change of
 //! that API stays in this file.
 
-use crate::render::{Aov, Gamma, ShadedStats};
+use crate::options::{Aov, Gamma};
+use crate::rendered::ShadedStats;
 use crate::Error;
 use image::RgbImage;
 use scene_format::SceneFile;

@@ -3,7 +3,7 @@
 //! span so both can be reported.
 
 use crate::key_path::Segment;
-use crate::span_tree::{Node, NodeKind};
+use crate::span_node::{Node, NodeKind};
 use std::collections::hash_map::{Entry, HashMap};
 use std::ops::Range;
 

@@ -15,6 +15,7 @@ pub mod obj;
 mod parse;
 pub mod read;
 pub mod schema;
+pub mod span_node;
 pub mod span_tree;
 mod suggest;
 pub mod validate;

@@ -2,8 +2,8 @@
 //! every key and value, and their nesting. TOML's comes from the toml
 //! crate's spanned parse; JSON's from `json_spans`.
 
+pub use crate::span_node::{Node, NodeKind};
 use crate::{json_spans, Format};
-use std::ops::Range;
 
 /// The span-keeping tree of `text`, or `None` if the text does not parse.
 pub fn tree(text: &str, format: Format) -> Option<Node> {
@@ -11,21 +11,6 @@ pub fn tree(text: &str, format: Format) -> Option<Node> {
         Format::Toml => toml_tree(text),
         Format::Json => json_spans::parse(text).ok(),
     }
-}
-
-/// A parsed document reduced to what locating needs: spans and nesting.
-#[derive(Debug)]
-pub struct Node {
-    pub span: Range<usize>,
-    pub kind: NodeKind,
-}
-
-#[derive(Debug)]
-pub enum NodeKind {
-    /// Entries in file order: key, key span, value.
-    Table(Vec<(String, Range<usize>, Node)>),
-    Array(Vec<Node>),
-    Scalar,
 }
 
 fn toml_tree(text: &str) -> Option<Node> {
