@@ -18,7 +18,7 @@ pub struct RenderArgs {
     pub output: Option<PathBuf>,
     /// Display gamma for encoding, overriding the scene's `[render] gamma`
     /// (1 writes linear values)
-    #[arg(long, value_name = "G")]
+    #[arg(long, value_name = "G", allow_negative_numbers = true)]
     pub gamma: Option<f32>,
     /// Write one quantity per pixel instead of the shaded colour (linear,
     /// unless --gamma is given)
@@ -66,7 +66,7 @@ pub struct CalibChartArgs {
     #[arg(short, long, value_name = "OUT.png", default_value = "chart.png")]
     pub output: PathBuf,
     /// Encode with display gamma G (c^(1/G)); without it no gamma encoding
-    #[arg(long, value_name = "G")]
+    #[arg(long, value_name = "G", allow_negative_numbers = true)]
     pub gamma: Option<f32>,
     /// Image width in pixels (a multiple of 5 gives equal patches)
     #[arg(long, default_value_t = DEFAULT_CHART_SIZE.0)]

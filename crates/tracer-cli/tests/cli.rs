@@ -81,8 +81,16 @@ fn gamma_flag_overrides_the_scene() {
         .to_rgb8();
     // Linear 0.3 -> (int)(0.3 * 255) = 76.
     assert_eq!(img.get_pixel(250, 200).0, [76, 0, 0]);
-    let out = tracer(dir.path(), &["render", &s, "--gamma", "0"]);
-    assert_eq!(out.status.code(), Some(2));
+    for bad in ["0", "-1"] {
+        let out = tracer(dir.path(), &["render", &s, "--gamma", bad]);
+        assert_eq!(out.status.code(), Some(2));
+        // The gamma's own message, not clap's "unexpected argument".
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            stderr.contains("--gamma: expected a number > 0"),
+            "{stderr}"
+        );
+    }
 }
 
 fn rgb(path: &Path) -> image::RgbImage {
@@ -155,6 +163,11 @@ fn calib_chart_writes_five_patches_with_and_without_gamma() {
     assert_eq!(patches("g.png"), [0, 135, 186, 223, 255]);
     let out = tracer(dir.path(), &["calib-chart", "--gamma", "-1"]);
     assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("--gamma: expected a number > 0"),
+        "{stderr}"
+    );
 }
 
 #[test]
