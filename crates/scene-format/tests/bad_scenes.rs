@@ -45,6 +45,7 @@ const CASES: &[Case] = &[
     case("degenerate-triangle.toml", "objects[0].triangle", 6, 12, "the triangle is degenerate"),
     case("duplicate-key.json", "camera.eye", 5, 5, "duplicate key `eye` in [camera] (first defined at line 3, column 5)"),
     case("duplicate-key.toml", "camera.fov", 5, 1, "duplicate key `fov` in [camera]; expected each key once"),
+    case("duplicate-key-second-object.toml", "objects[1].material", 19, 1, "duplicate key `material` in `objects[1]`"),
     case("duplicate-material.json", "materials.red", 5, 5, "duplicate key `red` in [materials] (first defined at line 4, column 5)"),
     case("duplicate-table.toml", "camera", 5, 2, "duplicate table [camera]; expected each table once"),
     case("empty.json", "", 1, 1, "the file is empty"),
