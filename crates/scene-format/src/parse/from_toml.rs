@@ -2,10 +2,12 @@
 
 use super::locate_or_start;
 use super::rephrase::{rephrase, Target};
+use super::toml_key_at::key_at;
 use crate::diagnostic::Diagnostic;
-use crate::key_path::KeyPath;
+use crate::key_path::{KeyPath, Segment};
 use crate::Format;
 use serde::de::DeserializeOwned;
+use std::ops::Range;
 
 pub(super) fn parse_toml<T: DeserializeOwned>(text: &str) -> Result<T, Diagnostic> {
     let de = toml::Deserializer::parse(text).map_err(|e| toml_syntax(text, &e))?;
@@ -33,10 +35,35 @@ fn toml_syntax(text: &str, e: &toml::de::Error) -> Diagnostic {
         .collect::<Vec<_>>()
         .join("; ");
     let span = e.span().unwrap_or(0..0);
-    let message = match (message.as_str(), text.get(span.clone())) {
-        // toml names neither the key nor the fix.
-        ("duplicate key", Some(key)) => format!("duplicate key `{key}`; expected each key once"),
-        _ => message,
-    };
+    if message == "duplicate key" {
+        return duplicate(text, span);
+    }
     Diagnostic::new(KeyPath::root(), message).at(text, span)
+}
+
+/// toml names neither the key, nor its table, nor the fix: the key path is
+/// read from the text before the second occurrence, which `span` is.
+fn duplicate(text: &str, span: Range<usize>) -> Diagnostic {
+    let at = key_at(text, span.clone());
+    let message = match (at.header, at.path.last_key()) {
+        (true, _) => {
+            let table = if at.path.0.iter().all(|s| matches!(s, Segment::Key(_))) {
+                format!("[{}]", at.path)
+            } else {
+                format!("`{}`", at.path)
+            };
+            format!("duplicate table {table}; expected each table once")
+        }
+        (false, Some(key)) => format!(
+            "duplicate key `{key}` {}; expected each key once",
+            at.path.parent().in_table()
+        ),
+        // The key was not found: its text, in the nearest enclosing table.
+        (false, None) => format!(
+            "duplicate key `{}` {}; expected each key once",
+            text.get(span.clone()).unwrap_or_default(),
+            at.path.in_table()
+        ),
+    };
+    Diagnostic::new(at.path, message).at(text, span)
 }

@@ -3,11 +3,13 @@
 //! parser or the locator, serde's messages rephrased.
 //!
 //! - `from_toml`, `from_json`: each syntax's parse and its errors;
-//! - `rephrase`: serde's messages in the user's words.
+//! - `rephrase`: serde's messages in the user's words;
+//! - `toml_key_at`: the key path of a key in TOML that does not parse.
 
 mod from_json;
 mod from_toml;
 mod rephrase;
+mod toml_key_at;
 
 use crate::diagnostic::Diagnostic;
 use crate::key_path::KeyPath;
