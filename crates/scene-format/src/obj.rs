@@ -4,7 +4,7 @@
 use crate::diagnostic::Diagnostic;
 use crate::model::{MeshData, SceneFile, Vec3};
 use std::collections::HashMap;
-use std::io::BufReader;
+use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -59,8 +59,19 @@ pub fn mesh_warnings(scene: &SceneFile) -> Vec<Diagnostic> {
     warnings
 }
 
-/// The triangles of the OBJ file at `path`.
+/// The triangles of the OBJ file at `path`. When the file is not a valid
+/// OBJ, the message names the first offending line as `<file name>:<line>`.
 pub fn read_obj(path: &Path) -> Result<MeshData, String> {
+    read_obj_lines(path).map_err(|message| match bad_line_in(path) {
+        Some((line, what)) => {
+            let name = path.file_name().unwrap_or(path.as_os_str());
+            format!("{message}; `{}:{line}`: {what}", name.to_string_lossy())
+        }
+        None => message,
+    })
+}
+
+fn read_obj_lines(path: &Path) -> Result<MeshData, String> {
     let file =
         crate::read::open_capped(path, crate::read::MAX_OBJ_BYTES).map_err(|e| e.to_string())?;
     let options = tobj::LoadOptions {
@@ -109,6 +120,139 @@ fn add_model(mesh: &tobj::Mesh, data: &mut MeshData) -> Result<(), String> {
     Ok(())
 }
 
+/// Lines scanned for the offending line of a file tobj rejected; the scan
+/// runs only on failure, on a file already under `MAX_OBJ_BYTES`.
+const MAX_SCAN_LINES: usize = 20_000_000;
+
+/// The first offending line of the OBJ file at `path`, if a scan finds one.
+fn bad_line_in(path: &Path) -> Option<(usize, String)> {
+    let file = crate::read::open_capped(path, crate::read::MAX_OBJ_BYTES).ok()?;
+    first_bad_line(BufReader::new(file))
+}
+
+/// The first line (counted from 1) of OBJ text that tobj rejects, or whose
+/// face cannot be made a triangle, with what is wrong on it. Indices are
+/// checked against the vertices defined so far, negative ones counted back
+/// from the last, as OBJ defines them.
+fn first_bad_line(reader: impl BufRead) -> Option<(usize, String)> {
+    // Positions, texture coordinates and normals defined so far.
+    let mut counts = [0usize; 3];
+    for (i, line) in reader.split(b'\n').take(MAX_SCAN_LINES).enumerate() {
+        let number = i + 1;
+        let Ok(line) = line else {
+            return Some((number, "the file cannot be read".to_string()));
+        };
+        let Ok(line) = std::str::from_utf8(&line) else {
+            return Some((number, "the line is not UTF-8 text".to_string()));
+        };
+        if let Err(what) = check_line(line, &mut counts) {
+            return Some((number, what));
+        }
+    }
+    None
+}
+
+/// Checks one OBJ line, counting the vertices it defines.
+fn check_line(line: &str, counts: &mut [usize; 3]) -> Result<(), String> {
+    let mut words = line.split_whitespace();
+    let keyword = words.next().unwrap_or("");
+    let values: Vec<&str> = words.collect();
+    // The first `n` values as numbers; tobj ignores what follows them.
+    let numbers = |what: &str, n: usize| -> Result<Vec<f32>, String> {
+        values[..n]
+            .iter()
+            .map(|v| {
+                v.parse::<f32>()
+                    .map_err(|_| format!("expected numbers in a `{what}` line, found `{v}`"))
+            })
+            .collect()
+    };
+    match keyword {
+        "v" => {
+            if !matches!(values.len(), 3 | 4 | 6) {
+                return Err(format!(
+                    "expected a vertex of 3 coordinates (and a weight or an RGB colour), \
+                     found {} values",
+                    values.len()
+                ));
+            }
+            let v = numbers("v", values.len().min(4))?;
+            if values.len() == 4 && v[3] == 0.0 {
+                return Err("expected a non-zero vertex weight, found 0".to_string());
+            }
+            if let Some(x) = v[..3].iter().find(|x| !x.is_finite()) {
+                return Err(format!("expected finite coordinates, found {x}"));
+            }
+            counts[0] += 1;
+        }
+        "vt" | "vn" => {
+            let need = if keyword == "vt" { 2 } else { 3 };
+            if values.len() < need {
+                return Err(format!(
+                    "expected {need} numbers in a `{keyword}` line, found {}",
+                    values.len()
+                ));
+            }
+            numbers(keyword, need)?;
+            counts[if keyword == "vt" { 1 } else { 2 }] += 1;
+        }
+        "f" | "l" => {
+            if keyword == "f" && values.len() < 3 {
+                return Err(format!(
+                    "expected a face of at least 3 vertices, found {}",
+                    values.len()
+                ));
+            }
+            for value in &values {
+                check_face_vertex(value, counts, keyword == "f")?;
+            }
+        }
+        _ => {}
+    }
+    Ok(())
+}
+
+/// Checks a face vertex `v`, `v/vt`, `v//vn` or `v/vt/vn`; the ranges only
+/// in faces (`f`), not lines (`l`), which are left out. Texture coordinates
+/// and normals are checked only when the file has some, as tobj does.
+fn check_face_vertex(value: &str, counts: &[usize; 3], in_face: bool) -> Result<(), String> {
+    const NAMES: [&str; 3] = ["vertex", "texture coordinate", "normal"];
+    let parts: Vec<&str> = value.split('/').collect();
+    if parts.len() > 3 {
+        return Err(format!(
+            "expected `v`, `v/vt`, `v//vn` or `v/vt/vn`, found `{value}`"
+        ));
+    }
+    for (k, part) in parts.iter().enumerate() {
+        if part.is_empty() && k > 0 {
+            continue;
+        }
+        let Ok(index) = part.parse::<i64>() else {
+            return Err(format!(
+                "expected a {} index, found `{part}` in `{value}`",
+                NAMES[k]
+            ));
+        };
+        if index == 0 {
+            return Err(format!(
+                "{} index 0 in `{value}`; OBJ indices start at 1",
+                NAMES[k]
+            ));
+        }
+        let count = counts[k] as i64;
+        if !in_face || (k > 0 && count == 0) {
+            continue;
+        }
+        if index > count || -index > count {
+            return Err(format!(
+                "{} index {index} in `{value}`, but only {count} defined before this line",
+                NAMES[k]
+            ));
+        }
+    }
+    Ok(())
+}
+
 fn is_degenerate([a, b, c]: &[Vec3; 3]) -> bool {
     let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
     let e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
@@ -140,6 +284,68 @@ mod tests {
         assert_eq!(data.skipped_degenerate, 1);
         assert_eq!(data.triangles[0][0], [0.0, 0.0, 0.0]);
         assert_eq!(data.triangles[1][2], [0.0, 1.0, 0.0]);
+    }
+
+    fn bad(text: &str) -> Option<(usize, String)> {
+        first_bad_line(text.as_bytes())
+    }
+
+    #[test]
+    fn the_scan_finds_the_first_offending_line() {
+        let ok = "# a comment\nv 0 0 0\nv 1 0 0 1\nv 0 1 0 0.5 0.5 0.5\nvt 0 0\nvn 0 0 1\n\
+                  o thing\nf 1/1/1 2//1 3\nf -3 -2 -1\nl 1 2\nusemtl x\n";
+        assert_eq!(bad(ok), None);
+        // A bad vertex.
+        let (line, what) = bad("v 0 0 0\nv 0 0\n").unwrap();
+        assert_eq!(line, 2);
+        assert!(what.contains("found 2 values"), "{what}");
+        let (line, what) = bad("v 0 0 0\n\nv 0 zero 0\n").unwrap();
+        assert_eq!(
+            (line, what.as_str()),
+            (3, "expected numbers in a `v` line, found `zero`")
+        );
+        assert!(bad("v 0 0 inf\n").unwrap().1.contains("finite"));
+        assert!(bad("v 0 0 0 0\n").unwrap().1.contains("weight"));
+        assert_eq!(bad("v 0 0 0\nvn 0 1\n").unwrap().0, 2);
+        assert_eq!(bad("vt x 0\n").unwrap().0, 1);
+        // Bad face indices.
+        let three = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+        let (line, what) = bad(&format!("{three}f 1 2 x\n")).unwrap();
+        assert_eq!(
+            (line, what.as_str()),
+            (4, "expected a vertex index, found `x` in `x`")
+        );
+        let (line, what) = bad(&format!("{three}f 0 1 2\n")).unwrap();
+        assert_eq!(line, 4);
+        assert!(what.contains("index 0"), "{what}");
+        assert!(bad(&format!("{three}f 1 2\n"))
+            .unwrap()
+            .1
+            .contains("found 2"));
+        assert!(bad(&format!("{three}f 1/2/3/4 2 3\n")).is_some());
+        // Out of range of the vertices defined so far.
+        let (line, what) = bad(&format!("f 1 2 3\n{three}")).unwrap();
+        assert_eq!(line, 1);
+        assert!(
+            what.contains("vertex index 1 in `1`, but only 0 defined"),
+            "{what}"
+        );
+        assert_eq!(bad(&format!("{three}f 1 2 4\n")).unwrap().0, 4);
+        assert_eq!(bad(&format!("{three}vt 0 0\nf 1/2 2 3\n")).unwrap().0, 5);
+        // Negative indices count back from the last vertex defined.
+        assert_eq!(bad(&format!("{three}f -1 -2 -3\n")), None);
+        let (line, what) = bad(&format!("{three}f -1 -2 -4\n")).unwrap();
+        assert_eq!(line, 4);
+        assert!(what.contains("vertex index -4"), "{what}");
+        assert_eq!(first_bad_line(&b"v 0 0 0\n\xff\n"[..]).unwrap().0, 2);
+    }
+
+    #[test]
+    fn errors_name_the_file_and_line() {
+        let dir = tempfile::tempdir().unwrap();
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 -7\n";
+        let error = read_obj(&write(dir.path(), "bunny.obj", text)).unwrap_err();
+        assert!(error.contains("`bunny.obj:5`: vertex index -7"), "{error}");
     }
 
     #[test]
