@@ -47,13 +47,15 @@ pub fn mesh_warnings(scene: &SceneFile) -> Vec<Diagnostic> {
             continue;
         };
         if data.skipped_degenerate > 0 {
-            warnings.push(Diagnostic::new(
-                format!("objects[{i}].mesh.obj"),
-                format!(
-                    "{} degenerate (zero-area) faces left out",
-                    data.skipped_degenerate
-                ),
-            ));
+            let mut message = format!(
+                "{} degenerate (zero-area) faces left out",
+                data.skipped_degenerate
+            );
+            if let (Some(line), Some(mesh)) = (data.first_degenerate_line, &object.mesh) {
+                let name = Path::new(&mesh.obj).file_name().unwrap_or_default();
+                message += &format!("; the first at `{}:{line}`", name.to_string_lossy());
+            }
+            warnings.push(Diagnostic::new(format!("objects[{i}].mesh.obj"), message));
         }
     }
     warnings
@@ -86,8 +88,15 @@ fn read_obj_lines(path: &Path) -> Result<MeshData, String> {
     })
     .map_err(|e| format!("not a valid OBJ file: {e}"))?;
     let mut data = MeshData::default();
+    // The index among all triangles of the first degenerate one.
+    let mut first_degenerate = None;
     for model in &models {
-        add_model(&model.mesh, &mut data)?;
+        add_model(&model.mesh, &mut data, &mut first_degenerate)?;
+    }
+    if let Some(k) = first_degenerate {
+        data.first_degenerate_line = crate::read::open_capped(path, crate::read::MAX_OBJ_BYTES)
+            .ok()
+            .and_then(|file| line_of_triangle(BufReader::new(file), k));
     }
     if data.triangles.is_empty() {
         return Err("expected at least one face of non-zero area".to_string());
@@ -95,7 +104,11 @@ fn read_obj_lines(path: &Path) -> Result<MeshData, String> {
     Ok(data)
 }
 
-fn add_model(mesh: &tobj::Mesh, data: &mut MeshData) -> Result<(), String> {
+fn add_model(
+    mesh: &tobj::Mesh,
+    data: &mut MeshData,
+    first_degenerate: &mut Option<usize>,
+) -> Result<(), String> {
     let vertex = |index: u32| -> Result<Vec3, String> {
         let i = index as usize * 3;
         let p = mesh
@@ -112,6 +125,7 @@ fn add_model(mesh: &tobj::Mesh, data: &mut MeshData) -> Result<(), String> {
     for face in mesh.indices.chunks_exact(3) {
         let triangle = [vertex(face[0])?, vertex(face[1])?, vertex(face[2])?];
         if is_degenerate(&triangle) {
+            first_degenerate.get_or_insert(data.triangles.len());
             data.skipped_degenerate += 1;
         } else {
             data.triangles.push(triangle);
@@ -147,6 +161,27 @@ fn first_bad_line(reader: impl BufRead) -> Option<(usize, String)> {
         };
         if let Err(what) = check_line(line, &mut counts) {
             return Some((number, what));
+        }
+    }
+    None
+}
+
+/// The line (counted from 1) of the face that tobj triangulated into its
+/// triangle `k` (counted from 0): tobj keeps the file's face order and
+/// makes a face (`f`, or an `l` of 3 or more vertices) of n vertices into
+/// n - 2 triangles.
+fn line_of_triangle(reader: impl BufRead, k: usize) -> Option<usize> {
+    let mut triangles = 0;
+    for (i, line) in reader.split(b'\n').take(MAX_SCAN_LINES).enumerate() {
+        let line = line.ok()?;
+        let mut words = line
+            .split(|b| b.is_ascii_whitespace())
+            .filter(|w| !w.is_empty());
+        if matches!(words.next(), Some(b"f" | b"l")) {
+            triangles += words.count().saturating_sub(2);
+            if triangles > k {
+                return Some(i + 1);
+            }
         }
     }
     None
@@ -203,8 +238,10 @@ fn check_line(line: &str, counts: &mut [usize; 3]) -> Result<(), String> {
                     values.len()
                 ));
             }
+            // tobj makes an `l` of 3 or more vertices a face too.
+            let in_face = keyword == "f" || values.len() >= 3;
             for value in &values {
-                check_face_vertex(value, counts, keyword == "f")?;
+                check_face_vertex(value, counts, in_face)?;
             }
         }
         _ => {}
@@ -213,7 +250,7 @@ fn check_line(line: &str, counts: &mut [usize; 3]) -> Result<(), String> {
 }
 
 /// Checks a face vertex `v`, `v/vt`, `v//vn` or `v/vt/vn`; the ranges only
-/// in faces (`f`), not lines (`l`), which are left out. Texture coordinates
+/// in faces, not in lines of 2 vertices, which are left out. Texture coordinates
 /// and normals are checked only when the file has some, as tobj does.
 fn check_face_vertex(value: &str, counts: &[usize; 3], in_face: bool) -> Result<(), String> {
     const NAMES: [&str; 3] = ["vertex", "texture coordinate", "normal"];
@@ -282,6 +319,7 @@ mod tests {
         let data = read_obj(&write(dir.path(), "quad.obj", text)).unwrap();
         assert_eq!(data.triangles.len(), 2);
         assert_eq!(data.skipped_degenerate, 1);
+        assert_eq!(data.first_degenerate_line, Some(7));
         assert_eq!(data.triangles[0][0], [0.0, 0.0, 0.0]);
         assert_eq!(data.triangles[1][2], [0.0, 1.0, 0.0]);
     }
@@ -338,6 +376,25 @@ mod tests {
         assert_eq!(line, 4);
         assert!(what.contains("vertex index -4"), "{what}");
         assert_eq!(first_bad_line(&b"v 0 0 0\n\xff\n"[..]).unwrap().0, 2);
+    }
+
+    #[test]
+    fn the_first_degenerate_face_is_found_past_polygons_and_lines() {
+        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n\
+                    f 1 2 3 4 1\nl 1 2\nf 1 2\n\
+                    o other\nf 1 2 3\nl 1 3 4\nf 1 3 3\nf 1 1 2\n";
+        // Triangles: 3 from line 5, 1 from line 9, 1 from line 10, line 11...
+        assert_eq!(line_of_triangle(text.as_bytes(), 0), Some(5));
+        assert_eq!(line_of_triangle(text.as_bytes(), 3), Some(9));
+        assert_eq!(line_of_triangle(text.as_bytes(), 4), Some(10));
+        assert_eq!(line_of_triangle(text.as_bytes(), 5), Some(11));
+        assert_eq!(line_of_triangle(text.as_bytes(), 7), None);
+        let dir = tempfile::tempdir().unwrap();
+        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4 1\nf 1 2 3\nf 1 3 3\n";
+        let data = read_obj(&write(dir.path(), "fan.obj", text)).unwrap();
+        // The fan's last triangle (1 4 1) is degenerate, before line 7's.
+        assert_eq!(data.skipped_degenerate, 2);
+        assert_eq!(data.first_degenerate_line, Some(5));
     }
 
     #[test]
