@@ -223,6 +223,8 @@ pub struct MeshData {
     pub triangles: Vec<[Vec3; 3]>,
     /// Faces of zero area, left out.
     pub skipped_degenerate: usize,
+    /// The OBJ line of the first face left out, when a scan found it.
+    pub first_degenerate_line: Option<usize>,
 }
 
 /// Applied to a mesh's vertices in this order: scale, rotate, translate.

@@ -4,7 +4,7 @@
 use crate::diagnostic::Diagnostic;
 use crate::model::{MeshData, SceneFile, Vec3};
 use std::collections::HashMap;
-use std::io::BufReader;
+use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -47,20 +47,33 @@ pub fn mesh_warnings(scene: &SceneFile) -> Vec<Diagnostic> {
             continue;
         };
         if data.skipped_degenerate > 0 {
-            warnings.push(Diagnostic::new(
-                format!("objects[{i}].mesh.obj"),
-                format!(
-                    "{} degenerate (zero-area) faces left out",
-                    data.skipped_degenerate
-                ),
-            ));
+            let mut message = format!(
+                "{} degenerate (zero-area) faces left out",
+                data.skipped_degenerate
+            );
+            if let (Some(line), Some(mesh)) = (data.first_degenerate_line, &object.mesh) {
+                let name = Path::new(&mesh.obj).file_name().unwrap_or_default();
+                message += &format!("; the first at `{}:{line}`", name.to_string_lossy());
+            }
+            warnings.push(Diagnostic::new(format!("objects[{i}].mesh.obj"), message));
         }
     }
     warnings
 }
 
-/// The triangles of the OBJ file at `path`.
+/// The triangles of the OBJ file at `path`. When the file is not a valid
+/// OBJ, the message names the first offending line as `<file name>:<line>`.
 pub fn read_obj(path: &Path) -> Result<MeshData, String> {
+    read_obj_lines(path).map_err(|message| match bad_line_in(path) {
+        Some((line, what)) => {
+            let name = path.file_name().unwrap_or(path.as_os_str());
+            format!("{message}; `{}:{line}`: {what}", name.to_string_lossy())
+        }
+        None => message,
+    })
+}
+
+fn read_obj_lines(path: &Path) -> Result<MeshData, String> {
     let file =
         crate::read::open_capped(path, crate::read::MAX_OBJ_BYTES).map_err(|e| e.to_string())?;
     let options = tobj::LoadOptions {
@@ -75,8 +88,15 @@ pub fn read_obj(path: &Path) -> Result<MeshData, String> {
     })
     .map_err(|e| format!("not a valid OBJ file: {e}"))?;
     let mut data = MeshData::default();
+    // The index among all triangles of the first degenerate one.
+    let mut first_degenerate = None;
     for model in &models {
-        add_model(&model.mesh, &mut data)?;
+        add_model(&model.mesh, &mut data, &mut first_degenerate)?;
+    }
+    if let Some(k) = first_degenerate {
+        data.first_degenerate_line = crate::read::open_capped(path, crate::read::MAX_OBJ_BYTES)
+            .ok()
+            .and_then(|file| line_of_triangle(BufReader::new(file), k));
     }
     if data.triangles.is_empty() {
         return Err("expected at least one face of non-zero area".to_string());
@@ -84,7 +104,11 @@ pub fn read_obj(path: &Path) -> Result<MeshData, String> {
     Ok(data)
 }
 
-fn add_model(mesh: &tobj::Mesh, data: &mut MeshData) -> Result<(), String> {
+fn add_model(
+    mesh: &tobj::Mesh,
+    data: &mut MeshData,
+    first_degenerate: &mut Option<usize>,
+) -> Result<(), String> {
     let vertex = |index: u32| -> Result<Vec3, String> {
         let i = index as usize * 3;
         let p = mesh
@@ -101,9 +125,166 @@ fn add_model(mesh: &tobj::Mesh, data: &mut MeshData) -> Result<(), String> {
     for face in mesh.indices.chunks_exact(3) {
         let triangle = [vertex(face[0])?, vertex(face[1])?, vertex(face[2])?];
         if is_degenerate(&triangle) {
+            first_degenerate.get_or_insert(data.triangles.len());
             data.skipped_degenerate += 1;
         } else {
             data.triangles.push(triangle);
+        }
+    }
+    Ok(())
+}
+
+/// Lines scanned for the offending line of a file tobj rejected; the scan
+/// runs only on failure, on a file already under `MAX_OBJ_BYTES`.
+const MAX_SCAN_LINES: usize = 20_000_000;
+
+/// The first offending line of the OBJ file at `path`, if a scan finds one.
+fn bad_line_in(path: &Path) -> Option<(usize, String)> {
+    let file = crate::read::open_capped(path, crate::read::MAX_OBJ_BYTES).ok()?;
+    first_bad_line(BufReader::new(file))
+}
+
+/// The first line (counted from 1) of OBJ text that tobj rejects, or whose
+/// face cannot be made a triangle, with what is wrong on it. Indices are
+/// checked against the vertices defined so far, negative ones counted back
+/// from the last, as OBJ defines them.
+fn first_bad_line(reader: impl BufRead) -> Option<(usize, String)> {
+    // Positions, texture coordinates and normals defined so far.
+    let mut counts = [0usize; 3];
+    for (i, line) in reader.split(b'\n').take(MAX_SCAN_LINES).enumerate() {
+        let number = i + 1;
+        let Ok(line) = line else {
+            return Some((number, "the file cannot be read".to_string()));
+        };
+        let Ok(line) = std::str::from_utf8(&line) else {
+            return Some((number, "the line is not UTF-8 text".to_string()));
+        };
+        if let Err(what) = check_line(line, &mut counts) {
+            return Some((number, what));
+        }
+    }
+    None
+}
+
+/// The line (counted from 1) of the face that tobj triangulated into its
+/// triangle `k` (counted from 0): tobj keeps the file's face order and
+/// makes a face (`f`, or an `l` of 3 or more vertices) of n vertices into
+/// n - 2 triangles.
+fn line_of_triangle(reader: impl BufRead, k: usize) -> Option<usize> {
+    let mut triangles = 0;
+    for (i, line) in reader.split(b'\n').take(MAX_SCAN_LINES).enumerate() {
+        let line = line.ok()?;
+        let mut words = line
+            .split(|b| b.is_ascii_whitespace())
+            .filter(|w| !w.is_empty());
+        if matches!(words.next(), Some(b"f" | b"l")) {
+            triangles += words.count().saturating_sub(2);
+            if triangles > k {
+                return Some(i + 1);
+            }
+        }
+    }
+    None
+}
+
+/// Checks one OBJ line, counting the vertices it defines.
+fn check_line(line: &str, counts: &mut [usize; 3]) -> Result<(), String> {
+    let mut words = line.split_whitespace();
+    let keyword = words.next().unwrap_or("");
+    let values: Vec<&str> = words.collect();
+    // The first `n` values as numbers; tobj ignores what follows them.
+    let numbers = |what: &str, n: usize| -> Result<Vec<f32>, String> {
+        values[..n]
+            .iter()
+            .map(|v| {
+                v.parse::<f32>()
+                    .map_err(|_| format!("expected numbers in a `{what}` line, found `{v}`"))
+            })
+            .collect()
+    };
+    match keyword {
+        "v" => {
+            if !matches!(values.len(), 3 | 4 | 6) {
+                return Err(format!(
+                    "expected a vertex of 3 coordinates (and a weight or an RGB colour), \
+                     found {} values",
+                    values.len()
+                ));
+            }
+            let v = numbers("v", values.len().min(4))?;
+            if values.len() == 4 && v[3] == 0.0 {
+                return Err("expected a non-zero vertex weight, found 0".to_string());
+            }
+            if let Some(x) = v[..3].iter().find(|x| !x.is_finite()) {
+                return Err(format!("expected finite coordinates, found {x}"));
+            }
+            counts[0] += 1;
+        }
+        "vt" | "vn" => {
+            let need = if keyword == "vt" { 2 } else { 3 };
+            if values.len() < need {
+                return Err(format!(
+                    "expected {need} numbers in a `{keyword}` line, found {}",
+                    values.len()
+                ));
+            }
+            numbers(keyword, need)?;
+            counts[if keyword == "vt" { 1 } else { 2 }] += 1;
+        }
+        "f" | "l" => {
+            if keyword == "f" && values.len() < 3 {
+                return Err(format!(
+                    "expected a face of at least 3 vertices, found {}",
+                    values.len()
+                ));
+            }
+            // tobj makes an `l` of 3 or more vertices a face too.
+            let in_face = keyword == "f" || values.len() >= 3;
+            for value in &values {
+                check_face_vertex(value, counts, in_face)?;
+            }
+        }
+        _ => {}
+    }
+    Ok(())
+}
+
+/// Checks a face vertex `v`, `v/vt`, `v//vn` or `v/vt/vn`; the ranges only
+/// in faces, not in lines of 2 vertices, which are left out. Texture coordinates
+/// and normals are checked only when the file has some, as tobj does.
+fn check_face_vertex(value: &str, counts: &[usize; 3], in_face: bool) -> Result<(), String> {
+    const NAMES: [&str; 3] = ["vertex", "texture coordinate", "normal"];
+    let parts: Vec<&str> = value.split('/').collect();
+    if parts.len() > 3 {
+        return Err(format!(
+            "expected `v`, `v/vt`, `v//vn` or `v/vt/vn`, found `{value}`"
+        ));
+    }
+    for (k, part) in parts.iter().enumerate() {
+        if part.is_empty() && k > 0 {
+            continue;
+        }
+        let Ok(index) = part.parse::<i64>() else {
+            return Err(format!(
+                "expected a {} index, found `{part}` in `{value}`",
+                NAMES[k]
+            ));
+        };
+        if index == 0 {
+            return Err(format!(
+                "{} index 0 in `{value}`; OBJ indices start at 1",
+                NAMES[k]
+            ));
+        }
+        let count = counts[k] as i64;
+        if !in_face || (k > 0 && count == 0) {
+            continue;
+        }
+        if index > count || -index > count {
+            return Err(format!(
+                "{} index {index} in `{value}`, but only {count} defined before this line",
+                NAMES[k]
+            ));
         }
     }
     Ok(())
@@ -138,8 +319,90 @@ mod tests {
         let data = read_obj(&write(dir.path(), "quad.obj", text)).unwrap();
         assert_eq!(data.triangles.len(), 2);
         assert_eq!(data.skipped_degenerate, 1);
+        assert_eq!(data.first_degenerate_line, Some(7));
         assert_eq!(data.triangles[0][0], [0.0, 0.0, 0.0]);
         assert_eq!(data.triangles[1][2], [0.0, 1.0, 0.0]);
+    }
+
+    fn bad(text: &str) -> Option<(usize, String)> {
+        first_bad_line(text.as_bytes())
+    }
+
+    #[test]
+    fn the_scan_finds_the_first_offending_line() {
+        let ok = "# a comment\nv 0 0 0\nv 1 0 0 1\nv 0 1 0 0.5 0.5 0.5\nvt 0 0\nvn 0 0 1\n\
+                  o thing\nf 1/1/1 2//1 3\nf -3 -2 -1\nl 1 2\nusemtl x\n";
+        assert_eq!(bad(ok), None);
+        // A bad vertex.
+        let (line, what) = bad("v 0 0 0\nv 0 0\n").unwrap();
+        assert_eq!(line, 2);
+        assert!(what.contains("found 2 values"), "{what}");
+        let (line, what) = bad("v 0 0 0\n\nv 0 zero 0\n").unwrap();
+        assert_eq!(
+            (line, what.as_str()),
+            (3, "expected numbers in a `v` line, found `zero`")
+        );
+        assert!(bad("v 0 0 inf\n").unwrap().1.contains("finite"));
+        assert!(bad("v 0 0 0 0\n").unwrap().1.contains("weight"));
+        assert_eq!(bad("v 0 0 0\nvn 0 1\n").unwrap().0, 2);
+        assert_eq!(bad("vt x 0\n").unwrap().0, 1);
+        // Bad face indices.
+        let three = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+        let (line, what) = bad(&format!("{three}f 1 2 x\n")).unwrap();
+        assert_eq!(
+            (line, what.as_str()),
+            (4, "expected a vertex index, found `x` in `x`")
+        );
+        let (line, what) = bad(&format!("{three}f 0 1 2\n")).unwrap();
+        assert_eq!(line, 4);
+        assert!(what.contains("index 0"), "{what}");
+        assert!(bad(&format!("{three}f 1 2\n"))
+            .unwrap()
+            .1
+            .contains("found 2"));
+        assert!(bad(&format!("{three}f 1/2/3/4 2 3\n")).is_some());
+        // Out of range of the vertices defined so far.
+        let (line, what) = bad(&format!("f 1 2 3\n{three}")).unwrap();
+        assert_eq!(line, 1);
+        assert!(
+            what.contains("vertex index 1 in `1`, but only 0 defined"),
+            "{what}"
+        );
+        assert_eq!(bad(&format!("{three}f 1 2 4\n")).unwrap().0, 4);
+        assert_eq!(bad(&format!("{three}vt 0 0\nf 1/2 2 3\n")).unwrap().0, 5);
+        // Negative indices count back from the last vertex defined.
+        assert_eq!(bad(&format!("{three}f -1 -2 -3\n")), None);
+        let (line, what) = bad(&format!("{three}f -1 -2 -4\n")).unwrap();
+        assert_eq!(line, 4);
+        assert!(what.contains("vertex index -4"), "{what}");
+        assert_eq!(first_bad_line(&b"v 0 0 0\n\xff\n"[..]).unwrap().0, 2);
+    }
+
+    #[test]
+    fn the_first_degenerate_face_is_found_past_polygons_and_lines() {
+        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n\
+                    f 1 2 3 4 1\nl 1 2\nf 1 2\n\
+                    o other\nf 1 2 3\nl 1 3 4\nf 1 3 3\nf 1 1 2\n";
+        // Triangles: 3 from line 5, 1 from line 9, 1 from line 10, line 11...
+        assert_eq!(line_of_triangle(text.as_bytes(), 0), Some(5));
+        assert_eq!(line_of_triangle(text.as_bytes(), 3), Some(9));
+        assert_eq!(line_of_triangle(text.as_bytes(), 4), Some(10));
+        assert_eq!(line_of_triangle(text.as_bytes(), 5), Some(11));
+        assert_eq!(line_of_triangle(text.as_bytes(), 7), None);
+        let dir = tempfile::tempdir().unwrap();
+        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4 1\nf 1 2 3\nf 1 3 3\n";
+        let data = read_obj(&write(dir.path(), "fan.obj", text)).unwrap();
+        // The fan's last triangle (1 4 1) is degenerate, before line 7's.
+        assert_eq!(data.skipped_degenerate, 2);
+        assert_eq!(data.first_degenerate_line, Some(5));
+    }
+
+    #[test]
+    fn errors_name_the_file_and_line() {
+        let dir = tempfile::tempdir().unwrap();
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 -7\n";
+        let error = read_obj(&write(dir.path(), "bunny.obj", text)).unwrap_err();
+        assert!(error.contains("`bunny.obj:5`: vertex index -7"), "{error}");
     }
 
     #[test]

@@ -83,6 +83,8 @@ const CASES: &[Case] = &[
     case("nul-byte.toml", "", 2, 17, "found a NUL byte"),
     case("object-two-shapes.toml", "objects[0]", 5, 1, "expected exactly one shape per object"),
     case("object-without-shape.toml", "objects[0]", 5, 1, "expected a shape: one of `sphere`, `triangle`"),
+    case("obj-bad-vertex.toml", "objects[0].mesh.obj", 6, 16, "`obj-bad-vertex.obj:3`: expected numbers in a `v` line, found `O`"),
+    case("obj-index-out-of-range.toml", "objects[1].mesh.obj", 9, 16, "`obj-index-out-of-range.obj:5`: vertex index 4 in `4`, but only 3 defined before this line"),
     case("radius-huge.toml", "objects[0].sphere.radius", 6, 41, "expected a radius from 1e-4 to 1e6, found 1e19"),
     case("radius-negative.json", "objects[1].sphere.radius", 5, 48, "expected a radius > 0, found -2"),
     case("radius-negative.toml", "objects[1].sphere.radius", 9, 41, "expected a radius > 0, found -1.5"),
@@ -130,8 +132,16 @@ fn bad_dir() -> PathBuf {
 }
 
 /// Loads `tests/bad/<name>`, naming it `bad/<name>` so reports do not
-/// depend on where the checkout is.
+/// depend on where the checkout is. A scene with an OBJ of its own name
+/// beside it is loaded from its path, so its meshes are read too.
 fn load_bad(name: &str) -> SceneError {
+    let path = bad_dir().join(name);
+    if path.with_extension("obj").exists() {
+        return match scene_format::load_any(&path) {
+            Ok(_) => panic!("{name}: accepted, expected an error"),
+            Err(e) => e,
+        };
+    }
     let bytes = std::fs::read(bad_dir().join(name)).unwrap();
     let format = Format::from_path(Path::new(name)).unwrap();
     let file = Path::new("bad").join(name);
@@ -179,6 +189,7 @@ fn every_bad_file_has_a_case_and_there_are_at_least_40() {
     let mut files: Vec<String> = std::fs::read_dir(bad_dir())
         .unwrap()
         .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .filter(|f| !f.ends_with(".obj"))
         .collect();
     files.sort();
     let listed: Vec<&str> = CASES.iter().map(|c| c.file).collect();
@@ -212,7 +223,9 @@ fn validation_reports_every_problem_in_file_order() {
 #[test]
 fn reports_show_the_source_line_and_a_caret() {
     for case in CASES {
-        let report = load_bad(case.file).to_string();
+        let full = bad_dir().join(case.file).display().to_string();
+        let short = Path::new("bad").join(case.file).display().to_string();
+        let report = load_bad(case.file).to_string().replace(&full, &short);
         insta::assert_snapshot!(case.file, report);
     }
 }

@@ -282,6 +282,7 @@ mod tests {
         let data = fmt::MeshData {
             triangles: vec![[[0.1, 0.2, 0.3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]],
             skipped_degenerate: 0,
+            first_degenerate_line: None,
         };
         let tris = mesh_triangles(&data, &placement(None));
         assert_eq!(tris.len(), 1);
@@ -296,6 +297,7 @@ mod tests {
                 [[0.0; 3], [1e-3, 0.0, 0.0], [0.0, 1e-3, 0.0]],
             ],
             skipped_degenerate: 0,
+            first_degenerate_line: None,
         };
         // Tiny triangles far from the origin: whatever f32 keeps of them,
         // the count is prepare's.

@@ -67,6 +67,7 @@ pub fn subdivide(data: &MeshData) -> MeshData {
     MeshData {
         triangles,
         skipped_degenerate: data.skipped_degenerate,
+        first_degenerate_line: data.first_degenerate_line,
     }
 }
 
@@ -79,6 +80,7 @@ mod tests {
         let data = MeshData {
             triangles: vec![[[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]]],
             skipped_degenerate: 0,
+            first_degenerate_line: None,
         };
         let twice = subdivide(&subdivide(&data));
         assert_eq!(twice.triangles.len(), 16);
