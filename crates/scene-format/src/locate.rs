@@ -32,38 +32,7 @@ impl Node {
     /// Where `path` is in this tree: exactly, or the deepest table found
     /// on the way.
     pub fn locate(&self, path: &KeyPath) -> Located {
-        let mut node = self;
-        let mut key = None;
-        for segment in &path.0 {
-            let next = match (&node.kind, segment) {
-                // With duplicate keys (JSON) the last one is the one read.
-                (NodeKind::Table(entries), Segment::Key(k)) => entries
-                    .iter()
-                    .rev()
-                    .find(|(name, _, _)| name == k)
-                    .map(|(_, span, value)| (Some(span.clone()), value)),
-                (NodeKind::Array(items), Segment::Index(i)) => items.get(*i).map(|v| (None, v)),
-                _ => None,
-            };
-            match next {
-                Some((k, n)) => {
-                    key = k;
-                    node = n;
-                }
-                None => {
-                    return Located {
-                        value: node.span.clone(),
-                        key,
-                        exact: false,
-                    }
-                }
-            }
-        }
-        Located {
-            value: node.span.clone(),
-            key,
-            exact: true,
-        }
+        TableIndex::default().locate(self, path)
     }
 }
 
