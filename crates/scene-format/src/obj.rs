@@ -211,7 +211,8 @@ fn check_line(line: &str, counts: &mut [usize; 3]) -> Result<(), String> {
                     values.len()
                 ));
             }
-            let v = numbers("v", values.len().min(4))?;
+            // A colour (6 values) is not read: tobj ignores one it cannot parse.
+            let v = numbers("v", if values.len() == 4 { 4 } else { 3 })?;
             if values.len() == 4 && v[3] == 0.0 {
                 return Err("expected a non-zero vertex weight, found 0".to_string());
             }
@@ -333,6 +334,8 @@ mod tests {
         let ok = "# a comment\nv 0 0 0\nv 1 0 0 1\nv 0 1 0 0.5 0.5 0.5\nvt 0 0\nvn 0 0 1\n\
                   o thing\nf 1/1/1 2//1 3\nf -3 -2 -1\nl 1 2\nusemtl x\n";
         assert_eq!(bad(ok), None);
+        // A vertex colour is not checked, as tobj does not check it.
+        assert_eq!(bad("v 0 1 0 x 0.5 0.5\n"), None);
         // A bad vertex.
         let (line, what) = bad("v 0 0 0\nv 0 0\n").unwrap();
         assert_eq!(line, 2);
