@@ -2,6 +2,7 @@
 //! without one; with the files it read and the warnings it gave.
 
 use crate::limits;
+use scene_format::read::{read_capped, MAX_SCENE_BYTES};
 use scene_format::{Diagnostic, Format, SceneError, SceneFile, SceneKind};
 use std::path::{Path, PathBuf};
 
@@ -74,8 +75,12 @@ pub fn load(input: &Input) -> Result<Loaded, SceneError> {
         }
     }
     let (files_read, warnings) = match (&kind, input) {
-        (SceneKind::Scene3d(file), Input::File(path)) => (files_read(path, file), warnings(file)),
-        (SceneKind::Scene3d(file), Input::DefaultScene) => (Vec::new(), warnings(file)),
+        (SceneKind::Scene3d(file), Input::File(path)) => {
+            (files_read(path, file), scene_format::warnings(file))
+        }
+        (SceneKind::Scene3d(file), Input::DefaultScene) => {
+            (Vec::new(), scene_format::warnings(file))
+        }
         (SceneKind::Canvas(_), Input::File(path)) => (vec![path.clone()], Vec::new()),
         (SceneKind::Canvas(_), Input::DefaultScene) => (Vec::new(), Vec::new()),
     };
@@ -87,19 +92,15 @@ pub fn load(input: &Input) -> Result<Loaded, SceneError> {
     })
 }
 
-fn warnings(file: &SceneFile) -> Vec<Diagnostic> {
-    scene_format::warnings(file)
-}
-
 /// The limits' diagnostics located in the scene's text. The file is read
-/// again: it was read and parsed moments ago, and it is small (what is
-/// large is its meshes).
+/// again, through the same capped reader: it was read and parsed moments
+/// ago, and it is small (what is large is its meshes).
 fn located(input: &Input, name: &Path, diagnostics: Vec<Diagnostic>) -> SceneError {
     let (text, format) = match input {
-        Input::File(path) => match std::fs::read_to_string(path) {
-            Ok(text) => (text, Format::from_path(path).unwrap_or(Format::Toml)),
+        Input::File(path) => match read_capped(path, MAX_SCENE_BYTES).map(String::from_utf8) {
+            Ok(Ok(text)) => (text, Format::from_path(path).unwrap_or(Format::Toml)),
             // Changed under our feet: the messages without their lines.
-            Err(_) => (String::new(), Format::Toml),
+            _ => (String::new(), Format::Toml),
         },
         Input::DefaultScene => (DEFAULT_SCENE.to_string(), Format::Toml),
     };
