@@ -46,17 +46,43 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
         ));
     }
     let root = KeyPath::root();
-    for (name, m) in &scene.materials {
-        over_one(&mut warnings, &root.key("materials").key(name), m);
-    }
+    let mut materials: Vec<(KeyPath, &crate::Material)> = scene
+        .materials
+        .iter()
+        .map(|(name, m)| (root.key("materials").key(name), m))
+        .collect();
     for (i, o) in scene.objects.iter().enumerate() {
         if let Some(crate::MaterialRef::Inline(m)) = &o.material {
-            over_one(
-                &mut warnings,
-                &root.key("objects").index(i).key("material"),
-                m,
-            );
+            materials.push((root.key("objects").index(i).key("material"), m));
         }
+    }
+    for (path, m) in &materials {
+        over_one(&mut warnings, path, m);
+        if m.fresnel && m.reflectance > 0.0 {
+            warnings.push(Diagnostic::new(
+                path.key("reflectance"),
+                "ignored with `fresnel = true`: the Fresnel equations give the reflection",
+            ));
+        }
+    }
+    let transparent = materials.iter().any(|(_, m)| m.transmittance > 0.0);
+    if transparent && scene.render.max_depth < 2 {
+        warnings.push(Diagnostic::new(
+            "render.max_depth",
+            format!(
+                "{}: a ray can enter a transparent object but not leave it, so glass looks dark; try max_depth = 8",
+                scene.render.max_depth
+            ),
+        ));
+    }
+    if scene.camera.aperture > 0.0 && scene.render.samples < 16 {
+        warnings.push(Diagnostic::new(
+            "render.samples",
+            format!(
+                "{}: with an aperture, the blur is made of samples per pixel; below 16 it is grainy",
+                scene.render.samples
+            ),
+        ));
     }
     warnings
 }

@@ -50,6 +50,31 @@ pub struct Camera {
     #[serde(default = "default_height")]
     #[schemars(range(min = 1, max = 16384))]
     pub height: u32,
+    /// Which way world +x runs in the image: "lab" (to the left, as the
+    /// lab) or "right" (to the right, as other renderers and modellers).
+    #[serde(default)]
+    pub handedness: Handedness,
+    /// Lens radius for depth of field; 0 is the lab's pinhole (all sharp).
+    #[serde(default)]
+    #[schemars(range(min = 0))]
+    pub aperture: f32,
+    /// Distance from the eye to the plane in focus, along the view
+    /// direction; left out, the distance from `eye` to `look_at`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("exclusiveMinimum" = 0))]
+    pub focus_distance: Option<f32>,
+}
+
+/// Which way world +x runs in the image.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum Handedness {
+    /// The lab's camera: +x to the image's left (a mirror image of what
+    /// other renderers show).
+    #[default]
+    Lab,
+    /// +x to the image's right, +y up: models look as in other renderers.
+    Right,
 }
 
 fn default_up() -> Vec3 {
@@ -92,6 +117,13 @@ pub struct RenderSettings {
     /// Display gamma; 1.0 writes linear values.
     #[schemars(extend("exclusiveMinimum" = 0))]
     pub gamma: f32,
+    /// Samples per pixel: 1 is one ray through the pixel's centre (the
+    /// lab); more are stratified and jittered over the pixel (anti-aliasing).
+    #[schemars(range(min = 1, max = 4096))]
+    pub samples: u32,
+    /// Shadow rays per light of `radius` > 0 at each shaded point.
+    #[schemars(range(min = 1, max = 4096))]
+    pub light_samples: u32,
 }
 
 impl Default for RenderSettings {
@@ -102,6 +134,8 @@ impl Default for RenderSettings {
             background: [0.0, 0.0, 0.0],
             saturation: Saturation::White,
             gamma: 2.2,
+            samples: 1,
+            light_samples: 16,
         }
     }
 }
@@ -113,14 +147,20 @@ pub struct Light {
     #[serde(default = "white")]
     #[schemars(inner(range(min = 0)))]
     pub color: Color,
+    /// 0 is the lab's point light; above 0 a sphere light of this radius,
+    /// which casts soft shadows.
+    #[serde(default)]
+    #[schemars(range(min = 0))]
+    pub radius: f32,
 }
 
 fn white() -> Color {
     [1.0, 1.0, 1.0]
 }
 
-/// A Blinn-Phong material; every key left out is 0 (black, no reflection).
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+/// A Blinn-Phong material; every key left out is 0 (black, no reflection,
+/// opaque), except `ior` (1.5, glass).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Material {
     #[schemars(inner(range(min = 0)))]
@@ -138,7 +178,40 @@ pub struct Material {
     /// A texture name, e.g. "lab-stripes".
     #[serde(skip_serializing_if = "Option::is_none")]
     pub texture: Option<String>,
+    /// 0 = opaque, 1 = all the light passes (refracted by `ior`).
+    #[schemars(range(min = 0, max = 1))]
+    pub transmittance: f32,
+    /// Index of refraction of the inside: 1.5 glass, 1.33 water, 1 air.
+    #[schemars(extend("exclusiveMinimum" = 0))]
+    pub ior: f32,
+    /// Split reflection and transmission by the Fresnel equations instead
+    /// of `reflectance` and `transmittance` as given.
+    pub fresnel: bool,
+    /// Light absorbed per unit length travelled inside (Beer-Lambert),
+    /// per channel: [0, 0.5, 1] tints toward red.
+    #[schemars(inner(range(min = 0)))]
+    pub absorption: Color,
 }
+
+impl Default for Material {
+    fn default() -> Self {
+        Material {
+            ambient: [0.0; 3],
+            diffuse: [0.0; 3],
+            specular: [0.0; 3],
+            shininess: 0.0,
+            reflectance: 0.0,
+            texture: None,
+            transmittance: 0.0,
+            ior: DEFAULT_IOR,
+            fresnel: false,
+            absorption: [0.0; 3],
+        }
+    }
+}
+
+/// Crown glass's index of refraction.
+pub const DEFAULT_IOR: f32 = 1.5;
 
 /// A material given by name (a key of `[materials]`) or inline.
 #[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]

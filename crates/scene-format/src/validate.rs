@@ -31,6 +31,9 @@ pub const MAX_COORDINATE: f32 = 1e6;
 /// beside it; seen from distance d its r^2 survives |o - c|^2 - r^2 in f32
 /// only when r > ~2.5e-4 d anyway), at most `MAX_COORDINATE`.
 pub const MIN_RADIUS: f32 = 1e-4;
+/// Largest `camera.focus_distance`: the farthest two points within
+/// `MAX_COORDINATE` can be apart, rounded up.
+pub const MAX_DISTANCE: f32 = 4e6;
 /// Smallest `camera.fov` in degrees. Pixel directions are `u * x + v * y +
 /// o` normalised, with |o| the focal length `width / (2 tan(fov / 2))`:
 /// neighbouring pixels differ by 1 / focal. At 1 degree and the widest image
@@ -42,6 +45,9 @@ pub const MIN_FOV: f32 = 1.0;
 /// cross products that f32 does not flush to zero. What the placement makes
 /// of the mesh itself is checked once it is read (no triangle left is an error).
 pub const SCALE_RANGE: (f32, f32) = (1e-6, 1e6);
+/// Largest `render.samples` and `render.light_samples`: 4096 rays per
+/// pixel is beyond what a reference image needs.
+pub const MAX_SAMPLES: u32 = 4096;
 
 /// All problems found in `scene`, in file order.
 pub fn validate(scene: &SceneFile) -> Vec<Diagnostic> {
@@ -53,6 +59,7 @@ pub fn validate(scene: &SceneFile) -> Vec<Diagnostic> {
         let path = root.key("lights").index(i);
         v.point(path.key("position"), light.position);
         v.color(path.key("color"), light.color);
+        v.length(path.key("radius"), light.radius, "a radius");
     }
     for (name, material) in &scene.materials {
         v.material(&root.key("materials").key(name), material);
@@ -147,6 +154,18 @@ impl Validator {
             );
         }
         self.image_size(path, c.width, c.height);
+        self.length(path.key("aperture"), c.aperture, "a lens radius");
+        if let Some(f) = c.focus_distance {
+            let key = path.key("focus_distance");
+            if self.finite(&key, f) && f <= 0.0 {
+                self.error(key, format!("expected a distance > 0, found {}", num(f)));
+            } else if f > MAX_DISTANCE {
+                self.error(
+                    key,
+                    format!("expected at most {MAX_DISTANCE:e}, found {}", num(f)),
+                );
+            }
+        }
         if !ok {
             return;
         }
@@ -171,6 +190,25 @@ impl Validator {
                     "expected a vector not parallel to the view direction (look_at - eye = {}), found {}",
                     show(view),
                     show(c.up)
+                ),
+            );
+        }
+    }
+
+    /// A length (a radius, an aperture): finite, 0 or more, at most
+    /// `MAX_COORDINATE`.
+    fn length(&mut self, path: KeyPath, x: f32, what: &str) {
+        if !self.finite(&path, x) {
+            return;
+        }
+        if x < 0.0 {
+            self.error(path, format!("expected {what} >= 0, found {}", num(x)));
+        } else if x > MAX_COORDINATE {
+            self.error(
+                path,
+                format!(
+                    "expected {what} of at most {MAX_COORDINATE:e}, found {}",
+                    num(x)
                 ),
             );
         }
@@ -215,6 +253,14 @@ impl Validator {
                 format!("expected a number > 0, found {}", r.gamma),
             );
         }
+        for (key, n) in [("samples", r.samples), ("light_samples", r.light_samples)] {
+            if n == 0 || n > MAX_SAMPLES {
+                self.error(
+                    path.key(key),
+                    format!("expected 1 to {MAX_SAMPLES} samples, found {n}"),
+                );
+            }
+        }
     }
 
     fn material(&mut self, path: &KeyPath, m: &Material) {
@@ -238,6 +284,46 @@ impl Validator {
         if let Some(t) = &m.texture {
             self.texture_name(path.key("texture"), t);
         }
+        self.transmission(path, m);
+    }
+
+    /// The glass keys: `transmittance` within 0..1 and, unless `fresnel`
+    /// splits the energy, adding up with `reflectance` to at most 1 (the
+    /// lab's energy rule); `ior` above 0; `absorption` a colour.
+    fn transmission(&mut self, path: &KeyPath, m: &Material) {
+        let trans = path.key("transmittance");
+        let fraction = (0.0..=1.0).contains(&m.transmittance);
+        if self.finite(&trans, m.transmittance) && !fraction {
+            self.error(
+                &trans,
+                format!("expected a number from 0 to 1, found {}", m.transmittance),
+            );
+        } else if fraction
+            && !m.fresnel
+            && (0.0..=1.0).contains(&m.reflectance)
+            && m.reflectance + m.transmittance > 1.0
+        {
+            self.error(
+                &trans,
+                format!(
+                    "expected `reflectance` + `transmittance` at most 1 (without `fresnel = true` they are the energies of the reflected and transmitted rays), found {} + {} = {}",
+                    m.reflectance,
+                    m.transmittance,
+                    m.reflectance + m.transmittance
+                ),
+            );
+        }
+        let ior = path.key("ior");
+        if self.finite(&ior, m.ior) && m.ior <= 0.0 {
+            self.error(
+                &ior,
+                format!(
+                    "expected an index of refraction > 0 (1 air, 1.33 water, 1.5 glass), found {}",
+                    m.ior
+                ),
+            );
+        }
+        self.color(path.key("absorption"), m.absorption);
     }
 
     fn texture_name(&mut self, path: impl Into<KeyPath>, name: &str) {

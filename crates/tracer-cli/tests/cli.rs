@@ -388,7 +388,18 @@ fn schema_is_json_describing_the_scene_keys() {
         .map(String::as_str)
         .collect();
     keys.sort();
-    assert_eq!(keys, ["eye", "fov", "height", "look_at", "up", "width"]);
+    let expected = [
+        "aperture",
+        "eye",
+        "focus_distance",
+        "fov",
+        "handedness",
+        "height",
+        "look_at",
+        "up",
+        "width",
+    ];
+    assert_eq!(keys, expected);
     assert_eq!(camera["required"], serde_json::json!(["eye", "look_at"]));
 }
 

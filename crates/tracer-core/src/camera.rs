@@ -1,8 +1,9 @@
 //! The lab's camera: the projection matrix `P = [u v o]` and primary rays
-//! through pixel centres (lab section 2).
+//! through pixel centres (lab section 2); beyond the lab, a right-handed
+//! image and a thin lens.
 
 use crate::ray::Ray;
-use glam::{Mat3, Vec3};
+use glam::{Mat3, Vec2, Vec3};
 
 /// The lab's pinhole camera: the eye, the image size, and the projection
 /// matrix that turns an image point into a ray direction. With the lab's
@@ -14,6 +15,20 @@ pub struct Camera {
     pub height: u32,
     /// Columns u, v, o of the projection matrix.
     pub projection: Mat3,
+    /// A thin lens, for depth of field; `None` is the lab's pinhole.
+    pub lens: Option<Lens>,
+}
+
+/// A thin lens centred on the eye, facing the view direction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lens {
+    /// The lens' radius (the aperture): 0 would be a pinhole.
+    pub radius: f32,
+    /// Distance from the eye, along the view direction, of the plane that
+    /// is sharp.
+    pub focus_distance: f32,
+    /// The unit view direction.
+    pub forward: Vec3,
 }
 
 impl Camera {
@@ -31,7 +46,65 @@ impl Camera {
             width,
             height,
             projection: Mat3::from_cols(u, v, o),
+            lens: None,
         }
+    }
+
+    /// The same view with world +x on the image's right: the image's u
+    /// axis turned round, v (down the image) kept, so nothing is mirrored
+    /// compared with other renderers.
+    pub fn right_handed(self) -> Camera {
+        let [u, v, o] = self.projection.to_cols_array_2d().map(Vec3::from);
+        let (w, h) = (self.width as f32, self.height as f32);
+        // o is the ray to the image's corner: centre - w/2 u - h/2 v.
+        let centre = o + w / 2.0 * u + h / 2.0 * v;
+        let u = -u;
+        let o = centre - (w / 2.0 * u + h / 2.0 * v);
+        Camera {
+            projection: Mat3::from_cols(u, v, o),
+            ..self
+        }
+    }
+
+    /// The same camera with a thin lens of `radius` focused at
+    /// `focus_distance` (along the view direction); radius 0 keeps the
+    /// pinhole.
+    pub fn with_lens(self, radius: f32, focus_distance: f32) -> Camera {
+        if radius <= 0.0 {
+            return Camera { lens: None, ..self };
+        }
+        let forward = self.view_direction();
+        Camera {
+            lens: Some(Lens {
+                radius,
+                focus_distance,
+                forward,
+            }),
+            ..self
+        }
+    }
+
+    /// The unit direction through the image's centre.
+    pub fn view_direction(&self) -> Vec3 {
+        let centre = Vec2::new(self.width as f32, self.height as f32) / 2.0;
+        (self.projection * centre.extend(1.0)).normalize()
+    }
+
+    /// The ray through image point (fx, fy) from `lens_point`, a point of
+    /// the unit disk: on a thin lens it leaves that point of the lens and
+    /// crosses the pinhole ray where it meets the plane in focus; without
+    /// a lens it is the pinhole ray.
+    pub fn lens_ray(&self, fx: f32, fy: f32, lens_point: Vec2) -> Ray {
+        let pinhole = self.ray(fx, fy);
+        let Some(lens) = &self.lens else {
+            return pinhole;
+        };
+        let focus = pinhole.at(lens.focus_distance / pinhole.dir.dot(lens.forward));
+        // u and v are unit vectors across the image: the lens' plane.
+        let offset = lens.radius * lens_point;
+        let origin =
+            self.eye + offset.x * self.projection.x_axis + offset.y * self.projection.y_axis;
+        Ray::new(origin, (focus - origin).normalize())
     }
 
     /// The ray through image point (fx, fy); a pixel's centre is (i + 0.5, j + 0.5).
@@ -140,5 +213,39 @@ mod tests {
         let cam = lab_camera();
         let top_left = cam.primary_ray(0, 0).dir;
         assert!(top_left.x > 0.0 && top_left.y > 0.0);
+    }
+
+    #[test]
+    fn a_right_handed_camera_puts_plus_x_on_the_right_and_keeps_the_view() {
+        let lab = lab_camera();
+        let right = lab_camera().right_handed();
+        let top_left = right.primary_ray(0, 0).dir;
+        assert!(top_left.x < 0.0 && top_left.y > 0.0, "{top_left}");
+        // The same rays, mirrored left to right.
+        let mirrored = lab.primary_ray(499, 0).dir;
+        assert!((top_left - mirrored).length() < 1e-6);
+        let centre = (lab.view_direction() - right.view_direction()).length();
+        assert!(centre < 1e-6);
+    }
+
+    #[test]
+    fn lens_rays_meet_on_the_plane_in_focus() {
+        let cam = lab_camera().with_lens(0.5, 4.0);
+        let pinhole = cam.ray(100.5, 70.5);
+        let focus = pinhole.at(4.0 / pinhole.dir.dot(Vec3::NEG_Z));
+        assert!((focus.z - 6.0).abs() < 1e-5, "the plane z = 10 - 4");
+        for lens_point in [Vec2::new(1.0, 0.0), Vec2::new(-0.3, 0.8)] {
+            let ray = cam.lens_ray(100.5, 70.5, lens_point);
+            assert!((ray.origin - cam.eye).length() <= 0.5 + 1e-6);
+            assert!(
+                (ray.origin.z - 10.0).abs() < 1e-6,
+                "the lens faces the view"
+            );
+            let t = (6.0 - ray.origin.z) / ray.dir.z;
+            assert!((ray.at(t) - focus).length() < 1e-4, "{}", ray.at(t));
+        }
+        let no_lens = lab_camera().with_lens(0.0, 4.0);
+        assert_eq!(no_lens.lens, None);
+        assert_eq!(no_lens.lens_ray(3.5, 4.5, Vec2::X), no_lens.ray(3.5, 4.5));
     }
 }

@@ -16,9 +16,11 @@ pub mod image;
 pub mod integrate;
 pub mod light;
 pub mod material;
+pub mod optics;
 pub mod prepare;
 pub mod ray;
 pub mod render;
+pub mod sampling;
 pub mod scene;
 pub mod texture;
 

@@ -1,6 +1,5 @@
 //! Lights. An enum, so the shading loop dispatches statically; the lab's
-//! point light is one variant, and new kinds (sphere lights, ...) join as
-//! variants.
+//! point light is one variant, the sphere light (soft shadows) another.
 
 use glam::Vec3;
 
@@ -9,6 +8,31 @@ use glam::Vec3;
 pub enum Light {
     /// The lab's point light (section 4.2).
     Point(PointLight),
+    /// A light with a size: its shadows have a penumbra.
+    Sphere(SphereLight),
+}
+
+impl Light {
+    /// A point light, or a sphere light when `radius` is above 0.
+    pub fn new(position: Vec3, color: Vec3, radius: f32) -> Light {
+        if radius > 0.0 {
+            Light::Sphere(SphereLight {
+                centre: position,
+                color,
+                radius,
+            })
+        } else {
+            Light::Point(PointLight { position, color })
+        }
+    }
+
+    /// The colour, which carries the intensity.
+    pub fn color(&self) -> Vec3 {
+        match self {
+            Light::Point(l) => l.color,
+            Light::Sphere(l) => l.color,
+        }
+    }
 }
 
 /// A point light (lab 4.2); its colour carries the intensity.
@@ -16,4 +40,25 @@ pub enum Light {
 pub struct PointLight {
     pub position: Vec3,
     pub color: Vec3,
+}
+
+/// A sphere that gives off light: seen from a shaded point it is a disk of
+/// `radius` facing that point, sampled by shadow rays. Its colour is the
+/// whole light's, as for a point light in the same place, so growing the
+/// radius softens shadows without brightening the scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SphereLight {
+    pub centre: Vec3,
+    pub color: Vec3,
+    pub radius: f32,
+}
+
+impl SphereLight {
+    /// The point of the disk facing `from` at `disk`, a point of the unit
+    /// disk.
+    pub fn point_seen_from(&self, from: Vec3, disk: glam::Vec2) -> Vec3 {
+        let axis = (self.centre - from).normalize_or(Vec3::Z);
+        let (a, b) = axis.any_orthonormal_pair();
+        self.centre + self.radius * (disk.x * a + disk.y * b)
+    }
 }

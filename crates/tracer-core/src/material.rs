@@ -1,7 +1,9 @@
 //! Materials: how a surface answers light. An enum, so the shading loop
-//! dispatches statically; the lab's Blinn-Phong is one variant, and new
-//! kinds (glass, ...) join as variants.
+//! dispatches statically; the lab's Blinn-Phong is one variant, glass
+//! (Blinn-Phong with refraction) another.
 
+use crate::geometry::SurfaceHit;
+use crate::optics::{fresnel_reflectance, refract};
 use crate::texture::Texture;
 use glam::Vec3;
 use std::sync::Arc;
@@ -11,6 +13,16 @@ use std::sync::Arc;
 pub enum Material {
     /// The lab's Blinn-Phong material with mirror reflection (lab 4.1, 5.2).
     Phong(Phong),
+    /// A surface that lets light through, bent by Snell's law.
+    Glass(Glass),
+}
+
+impl Material {
+    /// Whether some light passes through the surface (it does not block
+    /// shadow rays outright).
+    pub fn is_transparent(&self) -> bool {
+        matches!(self, Material::Glass(g) if g.transmittance > 0.0)
+    }
 }
 
 /// The lab's Blinn-Phong material (section 4.1).
@@ -38,5 +50,79 @@ impl Phong {
             reflectance: 0.0,
             texture: None,
         }
+    }
+}
+
+/// A dielectric: the lab's Blinn-Phong surface (seen from outside), a
+/// mirror ray, and a refracted ray into or out of the inside.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Glass {
+    /// The local colour and, without `fresnel`, the mirror's energy.
+    pub surface: Phong,
+    /// Energy of the refracted ray (without `fresnel`), or the fraction
+    /// of the Fresnel-transmitted light that passes (with it).
+    pub transmittance: f32,
+    /// Index of refraction of the inside; the outside is taken as 1.
+    pub ior: f32,
+    /// Reflection and transmission from the Fresnel equations.
+    pub fresnel: bool,
+    /// Beer-Lambert coefficient per unit length inside, per channel.
+    pub absorption: Vec3,
+}
+
+/// How a ray's energy divides at a glass surface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Split {
+    /// Energy of the mirror ray.
+    pub reflected: f32,
+    /// Direction and energy of the refracted ray; `None` under total
+    /// internal reflection (its energy then goes to the mirror ray) or
+    /// when nothing is transmitted.
+    pub transmitted: Option<(Vec3, f32)>,
+}
+
+impl Glass {
+    /// How a ray of unit direction `dir` meeting the surface at `hit`
+    /// divides: entering when it met the front face (the side the
+    /// geometric normal points to), leaving otherwise.
+    pub fn split(&self, dir: Vec3, hit: &SurfaceHit) -> Split {
+        let (normal, eta) = if hit.front_face {
+            (hit.shading_normal, 1.0 / self.ior)
+        } else {
+            (-hit.shading_normal, self.ior)
+        };
+        let refracted = refract(dir, normal, eta);
+        let (reflected, transmitted) = if self.fresnel {
+            let cos_i = -dir.dot(normal);
+            let f = fresnel_reflectance(cos_i, eta);
+            (f, (1.0 - f) * self.transmittance)
+        } else {
+            let r = self.surface.reflectance;
+            match refracted {
+                // Total internal reflection: nothing is transmitted.
+                None => (r + self.transmittance, 0.0),
+                Some(_) => (r, self.transmittance),
+            }
+        };
+        Split {
+            reflected,
+            transmitted: refracted
+                .filter(|_| transmitted > 0.0)
+                .map(|d| (d, transmitted)),
+        }
+    }
+
+    /// The fraction of light along `dir` that passes the surface at `hit`,
+    /// for shadow rays: the transmitted energy, unbent (no caustics).
+    pub fn shadow_transmission(&self, dir: Vec3, hit: &SurfaceHit) -> f32 {
+        self.split(dir, hit).transmitted.map_or(0.0, |(_, w)| w)
+    }
+
+    /// What is left of light after `distance` inside (Beer-Lambert).
+    pub fn absorbed_over(&self, distance: f32) -> Vec3 {
+        if self.absorption == Vec3::ZERO {
+            return Vec3::ONE;
+        }
+        (-self.absorption * distance).exp()
     }
 }

@@ -4,8 +4,8 @@
 use crate::camera::Camera;
 use crate::geometry::{Object, Placement, Shape, Sphere, Triangle};
 use crate::image::{Encoding, Saturation};
-use crate::light::{Light, PointLight};
-use crate::material::{Material, Phong};
+use crate::light::Light;
+use crate::material::{Glass, Material, Phong};
 use crate::scene::{Scene, SceneParts, TraceSettings};
 use crate::texture::{Builtin, Texture};
 use glam::Vec3;
@@ -46,26 +46,24 @@ pub fn prepare(file: &fmt::SceneFile) -> Result<Scene, PrepareError> {
         lights: file.lights.iter().map(light).collect(),
         trace: trace_settings(&file.render),
         encoding: encoding(&file.render),
+        samples: file.render.samples,
     }))
 }
 
 /// The camera of the file's `[camera]` table.
 fn camera(c: &fmt::Camera) -> Camera {
-    Camera::new(
-        c.eye.into(),
-        c.look_at.into(),
-        c.up.into(),
-        c.fov,
-        c.width,
-        c.height,
-    )
+    let (eye, look_at) = (Vec3::from(c.eye), Vec3::from(c.look_at));
+    let lab = Camera::new(eye, look_at, c.up.into(), c.fov, c.width, c.height);
+    let camera = match c.handedness {
+        fmt::Handedness::Lab => lab,
+        fmt::Handedness::Right => lab.right_handed(),
+    };
+    let focus = c.focus_distance.unwrap_or_else(|| (look_at - eye).length());
+    camera.with_lens(c.aperture, focus)
 }
 
 fn light(l: &fmt::Light) -> Light {
-    Light::Point(PointLight {
-        position: l.position.into(),
-        color: l.color.into(),
-    })
+    Light::new(l.position.into(), l.color.into(), l.radius)
 }
 
 fn trace_settings(r: &fmt::RenderSettings) -> TraceSettings {
@@ -73,6 +71,7 @@ fn trace_settings(r: &fmt::RenderSettings) -> TraceSettings {
         max_depth: r.max_depth,
         min_energy: r.min_energy,
         background: r.background.into(),
+        light_samples: r.light_samples,
     }
 }
 
@@ -209,31 +208,42 @@ impl<'a> MaterialTable<'a> {
             .clone())
     }
 
-    fn push(&mut self, phong: Phong) -> usize {
-        self.materials.push(Material::Phong(phong));
+    fn push(&mut self, material: Material) -> usize {
+        self.materials.push(material);
         self.materials.len() - 1
     }
 
-    /// The lab's material `m`, with the object's texture if it has one, else
-    /// the material's own.
-    fn phong(
+    /// Material `m`, with the object's texture if it has one, else the
+    /// material's own: the lab's Blinn-Phong, or glass when it lets light
+    /// through or reflects by Fresnel.
+    fn material(
         &mut self,
         path: &str,
         m: &fmt::Material,
         texture: Option<&String>,
-    ) -> Result<Phong, PrepareError> {
+    ) -> Result<Material, PrepareError> {
         let texture = match texture.or(m.texture.as_ref()) {
             Some(name) => Some(self.texture(path, name)?),
             None => None,
         };
-        Ok(Phong {
+        let surface = Phong {
             ambient: m.ambient.into(),
             diffuse: m.diffuse.into(),
             specular: m.specular.into(),
             shininess: m.shininess,
             reflectance: m.reflectance,
             texture,
-        })
+        };
+        if m.transmittance == 0.0 && !m.fresnel {
+            return Ok(Material::Phong(surface));
+        }
+        Ok(Material::Glass(Glass {
+            surface,
+            transmittance: m.transmittance,
+            ior: m.ior,
+            fresnel: m.fresnel,
+            absorption: m.absorption.into(),
+        }))
     }
 
     /// The index of object `o`'s material, with the object's texture applied.
@@ -245,11 +255,11 @@ impl<'a> MaterialTable<'a> {
                 if let Some(name) = &o.texture {
                     grey.texture = Some(self.texture(&texture_path, name)?);
                 }
-                Ok(self.push(grey))
+                Ok(self.push(Material::Phong(grey)))
             }
             Some(fmt::MaterialRef::Inline(m)) => {
-                let phong = self.phong(&texture_path, m, o.texture.as_ref())?;
-                Ok(self.push(phong))
+                let material = self.material(&texture_path, m, o.texture.as_ref())?;
+                Ok(self.push(material))
             }
             Some(fmt::MaterialRef::Named(name)) => {
                 let key = (name.clone(), o.texture.clone());
@@ -264,8 +274,8 @@ impl<'a> MaterialTable<'a> {
                         path: format!("{path}.material"),
                         name: name.clone(),
                     })?;
-                let phong = self.phong(&texture_path, m, o.texture.as_ref())?;
-                let index = self.push(phong);
+                let material = self.material(&texture_path, m, o.texture.as_ref())?;
+                let index = self.push(material);
                 self.by_key.insert(key, index);
                 Ok(index)
             }

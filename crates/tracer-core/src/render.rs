@@ -4,8 +4,9 @@
 
 use crate::aov::{Aov, AovContext};
 use crate::image::LinearImage;
-use crate::integrate::whitted::trace_counted;
+use crate::integrate::whitted::Whitted;
 use crate::integrate::RayStats;
+use crate::sampling::{concentric_disk, Rng, Shuffle, Strata};
 use crate::scene::Scene;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
@@ -70,14 +71,20 @@ pub struct RenderJob {
 }
 
 impl RenderJob {
-    /// The lab's render of the scene's whole image: one ray per pixel centre.
+    /// The scene's whole image at the samples per pixel it asks for (the
+    /// lab's scenes: one ray per pixel centre).
     pub fn full(scene: &Scene) -> RenderJob {
         let camera = scene.camera();
         RenderJob {
             region: Region::full(camera.width, camera.height),
-            samples: 1,
+            samples: scene.samples(),
             output: Output::Shading,
         }
+    }
+
+    /// The same job at `samples` per pixel.
+    pub fn with_samples(self, samples: u32) -> RenderJob {
+        RenderJob { samples, ..self }
     }
 
     /// The same job computing `output`.
@@ -138,31 +145,39 @@ const TILE_WIDTH: u32 = 32;
 fn render_band(pixel: &PixelRenderer, region: Region, top: u32, pixels: &mut [Vec3]) -> RayStats {
     let width = region.width();
     let rows = pixels.len() as u32 / width;
-    let mut stats = RayStats::default();
+    let mut tracer = Whitted::new(pixel.scene);
     for left in (0..width).step_by(TILE_WIDTH as usize) {
         for y in 0..rows {
             for x in left..(left + TILE_WIDTH).min(width) {
-                let colour = pixel.render(region.x0 + x, top + y, &mut stats);
+                let colour = pixel.render(region.x0 + x, top + y, &mut tracer);
                 pixels[(y * width + x) as usize] = colour;
             }
         }
     }
-    stats
+    tracer.stats
 }
 
 /// What every pixel of a job shares.
 struct PixelRenderer<'a> {
     scene: &'a Scene,
     samples: u32,
+    /// Where in the pixel each sample falls.
+    strata: Strata,
+    /// Which stratum of the lens each sample takes: another order than the
+    /// pixel's, so that blur and anti-aliasing do not move together.
+    lens_order: Shuffle,
     output: Output,
     aov: AovContext,
 }
 
 impl<'a> PixelRenderer<'a> {
     fn new(scene: &'a Scene, job: &RenderJob) -> Self {
+        let samples = job.samples.max(1);
         PixelRenderer {
             scene,
-            samples: job.samples.max(1),
+            samples,
+            strata: Strata::new(samples),
+            lens_order: Shuffle::new(samples),
             output: job.output,
             aov: AovContext::new(scene),
         }
@@ -170,94 +185,37 @@ impl<'a> PixelRenderer<'a> {
 
     /// Pixel (column i, row j) of the whole image: the mean of its samples.
     #[inline(always)]
-    fn render(&self, i: u32, j: u32, stats: &mut RayStats) -> Vec3 {
+    fn render(&self, i: u32, j: u32, tracer: &mut Whitted) -> Vec3 {
         if self.samples == 1 {
-            return self.sample(Vec2::new(i as f32 + 0.5, j as f32 + 0.5), stats);
+            let centre = Vec2::new(i as f32 + 0.5, j as f32 + 0.5);
+            let mut rng = Rng::for_sample(i, j, 0);
+            let lens = concentric_disk(rng.square());
+            return self.sample(centre, lens, rng, tracer);
         }
+        let pixel = Vec2::new(i as f32, j as f32);
         let sum: Vec3 = (0..self.samples)
-            .map(|s| self.sample(sample_position(i, j, s, self.samples), stats))
+            .map(|s| {
+                let mut rng = Rng::for_sample(i, j, s);
+                let at = pixel + self.strata.point(s, rng.square());
+                let lens_stratum = self.lens_order.apply(s);
+                let lens = concentric_disk(self.strata.point(lens_stratum, rng.square()));
+                self.sample(at, lens, rng, tracer)
+            })
             .sum();
         sum / self.samples as f32
     }
 
-    /// The value of one sample at image point `at`.
+    /// The value of one sample at image point `at` through `lens` (a point
+    /// of the unit disk), with `rng` for what the tracer samples.
     #[inline(always)]
-    fn sample(&self, at: Vec2, stats: &mut RayStats) -> Vec3 {
-        let ray = self.scene.camera().ray(at.x, at.y);
+    fn sample(&self, at: Vec2, lens: Vec2, rng: Rng, tracer: &mut Whitted) -> Vec3 {
+        let ray = self.scene.camera().lens_ray(at.x, at.y, lens);
         match self.output {
-            Output::Shading => trace_counted(self.scene, &ray, 1.0, 0, stats),
+            Output::Shading => {
+                tracer.reseed(rng);
+                tracer.trace(&ray, 1.0, 0)
+            }
             Output::Aov(aov) => self.aov.value(self.scene, aov, &ray),
         }
-    }
-}
-
-/// Where sample `s` of `n` of pixel (i, j) falls: the pixel is cut into `n`
-/// strata (a grid as square as `n` allows) and each stratum gets one point,
-/// jittered by a hash of the pixel and the sample, so every run and every
-/// thread count gives the same image.
-fn sample_position(i: u32, j: u32, s: u32, n: u32) -> Vec2 {
-    let columns = grid_columns(n);
-    let rows = n / columns;
-    let (cx, cy) = (s % columns, s / columns);
-    let h = hash(i, j, s);
-    let jitter = Vec2::new(unit_float(h), unit_float(h >> 32));
-    let offset =
-        (Vec2::new(cx as f32, cy as f32) + jitter) / Vec2::new(columns as f32, rows as f32);
-    Vec2::new(i as f32, j as f32) + offset
-}
-
-/// The largest divisor of `n` not above its square root: the columns of a
-/// grid of exactly `n` strata.
-fn grid_columns(n: u32) -> u32 {
-    (1..=n.isqrt())
-        .rev()
-        .find(|c| n.is_multiple_of(*c))
-        .unwrap_or(1)
-}
-
-/// A 64-bit mix of a pixel and a sample index (SplitMix64's finaliser).
-fn hash(i: u32, j: u32, s: u32) -> u64 {
-    let mut z = (u64::from(i) << 40) ^ (u64::from(j) << 20) ^ u64::from(s);
-    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
-}
-
-/// A float in [0, 1) from the low 24 bits.
-fn unit_float(bits: u64) -> f32 {
-    (bits & 0xFF_FFFF) as f32 / (1u32 << 24) as f32
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn strata_tile_the_pixel_once_each() {
-        for n in [2, 3, 4, 6, 9, 16, 7] {
-            let columns = grid_columns(n);
-            assert_eq!(n % columns, 0);
-            let rows = n / columns;
-            let mut seen = vec![false; n as usize];
-            for s in 0..n {
-                let p = sample_position(3, 5, s, n) - Vec2::new(3.0, 5.0);
-                assert!((0.0..1.0).contains(&p.x) && (0.0..1.0).contains(&p.y));
-                let cell = (p.y * rows as f32) as u32 * columns + (p.x * columns as f32) as u32;
-                assert!(!seen[cell as usize], "n {n}: stratum {cell} twice");
-                seen[cell as usize] = true;
-            }
-        }
-        assert_eq!(grid_columns(16), 4);
-        assert_eq!(grid_columns(6), 2);
-        assert_eq!(grid_columns(7), 1);
-    }
-
-    #[test]
-    fn jitter_differs_between_pixels_and_samples() {
-        let a = sample_position(0, 0, 0, 4);
-        assert_ne!(a, sample_position(1, 0, 0, 4) - Vec2::X);
-        assert_ne!(a - sample_position(0, 1, 0, 4), -Vec2::Y);
-        assert_eq!(a, sample_position(0, 0, 0, 4), "deterministic");
     }
 }

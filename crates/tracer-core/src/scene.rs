@@ -10,7 +10,8 @@ use crate::material::Material;
 use crate::ray::Ray;
 use glam::Vec3;
 
-/// The recursion settings of the lab's `rayTrace` (lab 5.3).
+/// The recursion settings of the lab's `rayTrace` (lab 5.3), and how
+/// finely sphere lights are sampled.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TraceSettings {
     /// The lab's MAX_RAY_TREE: how many mirror bounces a ray may take.
@@ -19,6 +20,8 @@ pub struct TraceSettings {
     pub min_energy: f32,
     /// What a ray that leaves the scene picks up, times its energy.
     pub background: Vec3,
+    /// Shadow rays per sphere light at each shaded point.
+    pub light_samples: u32,
 }
 
 /// A scene ready to render: the camera, the objects with their materials,
@@ -32,7 +35,11 @@ pub struct Scene {
     lights: Vec<Light>,
     trace: TraceSettings,
     encoding: Encoding,
+    samples: u32,
     accel: Accel,
+    /// Whether some material lets light through, so shadow rays must look
+    /// past the first surface.
+    transparency: bool,
 }
 
 /// How a scene finds the hits of a ray.
@@ -53,6 +60,8 @@ pub struct SceneParts {
     pub lights: Vec<Light>,
     pub trace: TraceSettings,
     pub encoding: Encoding,
+    /// Samples per pixel of a render of the whole scene.
+    pub samples: u32,
 }
 
 impl Scene {
@@ -66,6 +75,7 @@ impl Scene {
             "an object's material index is out of range"
         );
         let accel = Accel::Bvh(Bvh::build(&parts.objects));
+        let transparency = parts.materials.iter().any(Material::is_transparent);
         Scene {
             camera: parts.camera,
             objects: parts.objects,
@@ -73,7 +83,9 @@ impl Scene {
             lights: parts.lights,
             trace: parts.trace,
             encoding: parts.encoding,
+            samples: parts.samples.max(1),
             accel,
+            transparency,
         }
     }
 
@@ -114,6 +126,16 @@ impl Scene {
     /// The same scene with other recursion settings (the hierarchy stays).
     pub fn with_trace_settings(self, trace: TraceSettings) -> Scene {
         Scene { trace, ..self }
+    }
+
+    /// Samples per pixel the scene asks for.
+    pub fn samples(&self) -> u32 {
+        self.samples
+    }
+
+    /// Whether some material lets light through.
+    pub fn has_transparency(&self) -> bool {
+        self.transparency
     }
 
     /// How the scene's linear image becomes 8-bit values.
