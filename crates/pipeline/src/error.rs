@@ -19,9 +19,16 @@ pub enum Error {
     /// A calibration chart of a size that cannot be made.
     #[error("--width/--height: expected 5 to {max} by 1 to {max} pixels, found {width}x{height}")]
     ChartSize { width: u32, height: u32, max: u32 },
-    /// An AOV asked of a 2D canvas scene.
-    #[error("{}: --aov needs a 3D scene; this is a 2D canvas scene", scene.display())]
-    AovOfCanvas { scene: PathBuf },
+    /// An option of 3D renders (`--aov`, `--samples`, ...) given for a
+    /// 2D canvas scene.
+    #[error("{}: {option} needs a 3D scene; this is a 2D canvas scene", scene.display())]
+    CanvasOption {
+        scene: PathBuf,
+        option: &'static str,
+    },
+    /// `--width`/`--height` that make an image too large (or empty).
+    #[error("--width/--height: the image would be {width}x{height} pixels; expected 1 to {side} a side and at most {pixels} (2^28) in all", side = scene_format::validate::MAX_IMAGE_SIDE, pixels = scene_format::validate::MAX_IMAGE_PIXELS)]
+    ImageSize { width: u64, height: u64 },
     /// A valid scene file the tracer still cannot build.
     #[error("{}: {message}", scene.display())]
     Prepare { scene: PathBuf, message: String },
@@ -43,7 +50,8 @@ impl Error {
             Error::Scene(e) => scene_error_is_bad_input(e),
             Error::Gamma(_)
             | Error::ChartSize { .. }
-            | Error::AovOfCanvas { .. }
+            | Error::CanvasOption { .. }
+            | Error::ImageSize { .. }
             | Error::Prepare { .. }
             | Error::Measurements { .. } => true,
             Error::Output(e) => e.is_bad_input(),

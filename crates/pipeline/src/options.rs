@@ -1,6 +1,10 @@
-//! What a render is asked for: a checked display gamma, an AOV.
+//! What a render is asked for: a checked display gamma, an AOV, and
+//! overrides of the scene's samples and image size.
 
 use crate::Error;
+use scene_format::validate::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE};
+use scene_format::SceneFile;
+use std::borrow::Cow;
 
 /// One quantity per pixel instead of the shaded colour: the core's list.
 pub use tracer_core::aov::Aov;
@@ -31,4 +35,62 @@ pub struct Options {
     pub gamma: Option<Gamma>,
     /// An AOV instead of the shaded colour; 3D scenes only.
     pub aov: Option<Aov>,
+    /// Overrides `[render] samples` (checked by the caller: 1 to 4096).
+    pub samples: Option<u32>,
+    /// Overrides the camera's width; alone, the height follows so the view
+    /// keeps its shape.
+    pub width: Option<u32>,
+    /// Overrides the camera's height; alone, the width follows.
+    pub height: Option<u32>,
+}
+
+impl Options {
+    /// Whether an option that only a 3D scene has is set: its name.
+    pub(crate) fn option_of_3d(&self) -> Option<&'static str> {
+        [
+            ("--aov", self.aov.is_some()),
+            ("--samples", self.samples.is_some()),
+            ("--width", self.width.is_some()),
+            ("--height", self.height.is_some()),
+        ]
+        .into_iter()
+        .find_map(|(name, set)| set.then_some(name))
+    }
+
+    /// The image size of `file` with `--width`/`--height` applied: the same
+    /// view (the horizontal field of view is kept) at another resolution.
+    pub fn image_size(&self, file: &SceneFile) -> Result<(u32, u32), Error> {
+        let (w, h) = (file.camera.width, file.camera.height);
+        let scaled = |side: u32, by: u32, of: u32| {
+            let exact = u64::from(side) * u64::from(by);
+            ((exact + u64::from(of) / 2) / u64::from(of)).max(1)
+        };
+        let (width, height) = match (self.width, self.height) {
+            (None, None) => return Ok((w, h)),
+            (Some(width), Some(height)) => (u64::from(width), u64::from(height)),
+            (Some(width), None) => (u64::from(width), scaled(h, width, w)),
+            (None, Some(height)) => (scaled(w, height, h), u64::from(height)),
+        };
+        let side = 1..=u64::from(MAX_IMAGE_SIDE);
+        if !side.contains(&width) || !side.contains(&height) || width * height > MAX_IMAGE_PIXELS
+        {
+            return Err(Error::ImageSize { width, height });
+        }
+        Ok((width as u32, height as u32))
+    }
+
+    /// `file` with the overrides applied (borrowed when there are none).
+    pub(crate) fn apply<'a>(&self, file: &'a SceneFile) -> Result<Cow<'a, SceneFile>, Error> {
+        if self.samples.is_none() && self.width.is_none() && self.height.is_none() {
+            return Ok(Cow::Borrowed(file));
+        }
+        let (width, height) = self.image_size(file)?;
+        let mut file = file.clone();
+        file.camera.width = width;
+        file.camera.height = height;
+        if let Some(samples) = self.samples {
+            file.render.samples = samples;
+        }
+        Ok(Cow::Owned(file))
+    }
 }

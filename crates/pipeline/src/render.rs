@@ -17,25 +17,41 @@ pub fn render(
     options: &Options,
     rows_done: &(dyn Fn(u32) + Sync),
 ) -> Result<Rendered, Error> {
-    match (&loaded.kind, options.aov) {
-        (SceneKind::Scene3d(file), None) => {
-            let (image, stats) = scene3d::shade(file, &loaded.name, options.gamma, rows_done)?;
+    let file = match &loaded.kind {
+        SceneKind::Scene3d(file) => options.apply(file)?,
+        SceneKind::Canvas(file) => {
+            if let Some(option) = options.option_of_3d() {
+                return Err(Error::CanvasOption {
+                    scene: loaded.name.clone(),
+                    option,
+                });
+            }
+            return Ok(Rendered {
+                image: draw_canvas(file, options.gamma),
+                summary: Summary::Canvas,
+            });
+        }
+    };
+    match options.aov {
+        None => {
+            let (image, stats) = scene3d::shade(&file, &loaded.name, options.gamma, rows_done)?;
             Ok(Rendered {
                 image,
                 summary: Summary::Shaded(stats),
             })
         }
-        (SceneKind::Scene3d(file), Some(aov)) => Ok(Rendered {
-            image: scene3d::aov(file, &loaded.name, aov, options.gamma, rows_done)?,
+        Some(aov) => Ok(Rendered {
+            image: scene3d::aov(&file, &loaded.name, aov, options.gamma, rows_done)?,
             summary: Summary::Aov(aov),
         }),
-        (SceneKind::Canvas(file), None) => Ok(Rendered {
-            image: draw_canvas(file, options.gamma),
-            summary: Summary::Canvas,
-        }),
-        (SceneKind::Canvas(_), Some(_)) => Err(Error::AovOfCanvas {
-            scene: loaded.name.clone(),
-        }),
+    }
+}
+
+/// The size of the image `render` makes of `loaded` with `options`.
+pub fn image_size(loaded: &Loaded, options: &Options) -> Result<(u32, u32), Error> {
+    match &loaded.kind {
+        SceneKind::Scene3d(file) => options.image_size(file),
+        SceneKind::Canvas(_) => Ok(loaded.size()),
     }
 }
 
@@ -95,7 +111,7 @@ mod tests {
             ..Options::default()
         };
         let err = render(&loaded, &options, &|_| {}).unwrap_err();
-        assert!(matches!(err, Error::AovOfCanvas { .. }));
+        assert!(matches!(err, Error::CanvasOption { option: "--aov", .. }));
         assert!(err.is_bad_input());
     }
 

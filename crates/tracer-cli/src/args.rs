@@ -24,6 +24,19 @@ pub struct RenderArgs {
     /// unless --gamma is given)
     #[arg(long, value_name = "NAME")]
     pub aov: Option<AovArg>,
+    /// Samples per pixel, overriding the scene's `[render] samples`: 1 is one
+    /// ray through each pixel's centre (the lab); more smooth the edges
+    /// (anti-aliasing) and the blur of depth of field
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub samples: Option<u32>,
+    /// Image width in pixels, overriding the camera's: the same view at
+    /// another resolution (alone, the height follows to keep the shape)
+    #[arg(long, value_name = "PIXELS", value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub width: Option<u32>,
+    /// Image height in pixels, overriding the camera's (alone, the width
+    /// follows)
+    #[arg(long, value_name = "PIXELS", value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub height: Option<u32>,
     /// Threads to render with [default: one per core]
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
@@ -129,6 +142,9 @@ impl RenderArgs {
             options: Options {
                 gamma: checked(self.gamma)?,
                 aov: self.aov.map(Aov::from),
+                samples: self.samples,
+                width: self.width,
+                height: self.height,
             },
             pool: pool.build()?,
             quiet: self.quiet,

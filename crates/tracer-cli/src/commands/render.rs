@@ -26,7 +26,8 @@ pub fn run(args: &Render) -> Result<()> {
     // The scene's meshes are known only now.
     check_not_an_input(&output, &loaded.files_read).map_err(Error::from)?;
     report::warnings(&loaded);
-    let progress = Progress::new(loaded.size().1.into(), args.quiet);
+    let (_, rows) = tracer_pipeline::image_size(&loaded, &args.options)?;
+    let progress = Progress::new(rows.into(), args.quiet);
     let rendered = args
         .pool
         .install(|| tracer_pipeline::render(&loaded, &args.options, &|n| progress.rows_done(n)));
