@@ -742,3 +742,128 @@ fn absorbing_glass_passes_exp_minus_a_l_of_the_background() {
         }
     }
 }
+
+// 7. Shadows through glass.
+
+/// The floor point at the origin seen from straight above, lit by one
+/// light at (4, 6, 0) whose way to it passes `h` from the centre of a
+/// glass ball of radius 0.5 (material `glass` in `materials`), or no ball
+/// for `None`; the ball is 2 away from the camera's ray, out of its sight.
+fn floor_behind_a_ball(materials: &str, h: Option<f32>) -> Vec3 {
+    // Halfway to the light, and h across it along z (square to the
+    // segment, which lies in z = 0).
+    let centre = Vec3::new(2.0, 3.0, h.unwrap_or(0.0));
+    let floor = [
+        [
+            Vec3::new(-10.0, 0.0, -10.0),
+            Vec3::new(-10.0, 0.0, 10.0),
+            Vec3::new(10.0, 0.0, 10.0),
+        ],
+        [
+            Vec3::new(-10.0, 0.0, -10.0),
+            Vec3::new(10.0, 0.0, 10.0),
+            Vec3::new(10.0, 0.0, -10.0),
+        ],
+    ];
+    let mut objects = String::new();
+    for [a, b, c] in floor {
+        // Normals up, toward the light and the camera.
+        assert!((b - a).cross(c - a).y > 0.0);
+        objects += &format!(
+            "[[objects]]\ntriangle = [{}, {}, {}]\nmaterial = \"floor\"\n",
+            arr(a),
+            arr(b),
+            arr(c)
+        );
+    }
+    if h.is_some() {
+        objects += &format!(
+            "[[objects]]\nsphere = {{ center = {}, radius = 0.5 }}\nmaterial = \"glass\"\n",
+            arr(centre)
+        );
+    }
+    let materials = format!(
+        "{materials}[materials.floor]\nambient = [0.1, 0.1, 0.1]\ndiffuse = [0.6, 0.5, 0.4]\n\
+         specular = [0.4, 0.4, 0.4]\nshininess = 10\n"
+    );
+    let scene = scene_from(
+        &Setup {
+            eye: Vec3::new(0.0, 5.0, 0.0),
+            look_at: Vec3::ZERO,
+            up: Vec3::new(0.0, 0.0, -1.0),
+            size: (1, 1),
+            max_depth: 8,
+            min_energy: 0.01,
+            background: Vec3::ZERO,
+            light: (Vec3::new(4.0, 6.0, 0.0), Vec3::new(0.9, 0.8, 0.7)),
+            materials: &materials,
+        }
+        .toml(&objects),
+    );
+    render_image(&scene).get(0, 0)
+}
+
+/// The lab's Blinn-Phong at the origin of the floor above, by hand, with
+/// the light dimmed by `through`: ambient + through * light (kd cos a +
+/// ks cos b ^ shininess), cos a = n . l, cos b = n . normalize(l + v).
+fn floor_colour(through: f64) -> DVec3 {
+    let light = DVec3::new(0.9, 0.8, 0.7);
+    let (ka, kd, ks) = (
+        DVec3::splat(0.1),
+        DVec3::new(0.6, 0.5, 0.4),
+        DVec3::splat(0.4),
+    );
+    let n = DVec3::Y;
+    let l = DVec3::new(4.0, 6.0, 0.0).normalize();
+    let v = DVec3::Y;
+    // cos a = 6 / sqrt 52 = 0.83205, cos b = 0.95709.
+    let (cos_a, cos_b) = (n.dot(l), n.dot((l + v).normalize()));
+    light * ka + through * light * (kd * cos_a + ks * cos_b.powf(10.0))
+}
+
+#[test]
+fn a_glass_ball_lets_transmittance_squared_of_the_light_through_its_shadow() {
+    // Without the ball, the full light: the scene's arithmetic is right.
+    let lit = floor_colour(1.0);
+    let c = floor_behind_a_ball("", None);
+    assert!(close(c, lit, 1e-5), "{c} vs {lit}");
+    // Shadow rays go straight (no caustics): through two surfaces of
+    // transmittance t the light is t^2 of itself, whatever the index, and
+    // whether the straight line passes the ball's centre or near its rim
+    // (h = 0.8 R: past the critical angle of n = 1.5 if the line were a
+    // ray inside, but the light that really gets through was bent on the
+    // way in and meets the far side at the angle it was bent to).
+    let t = 0.6f64;
+    let dark = floor_colour(0.0);
+    let expected = floor_colour(t * t);
+    for ior in [1.0f64, 1.5, 2.4] {
+        let materials = format!("[materials.glass]\ntransmittance = {t:?}\nior = {ior:?}\n");
+        for h in [0.0f32, 0.25, 0.4] {
+            let c = floor_behind_a_ball(&materials, Some(h));
+            assert!(
+                close(c, expected, 1e-5),
+                "ior {ior}, {h} from the centre: {c}, expected {expected} \
+                 (lit {lit}, ambient only {dark})"
+            );
+        }
+    }
+    // With Fresnel, each surface passes t (1 - F): in at i from the
+    // normal, sin i = h / R, F(i) from 1 to n; out at the bent angle r,
+    // where F from n to 1 is F(i) again (reciprocity, Stokes).
+    for ior in [1.5f64, 2.4] {
+        let materials =
+            format!("[materials.glass]\ntransmittance = {t:?}\nior = {ior:?}\nfresnel = true\n");
+        for h in [0.0f32, 0.25, 0.4] {
+            let i = (h as f64 / 0.5).asin();
+            let r = (i.sin() / ior).asin();
+            assert!((fresnel(ior, 1.0, r) - fresnel(1.0, ior, i)).abs() < 1e-12);
+            let pass = t * (1.0 - fresnel(1.0, ior, i));
+            let expected = floor_colour(pass * pass);
+            let c = floor_behind_a_ball(&materials, Some(h));
+            assert!(
+                close(c, expected, 1e-5),
+                "fresnel, ior {ior}, {h} from the centre: {c}, expected {expected}"
+            );
+        }
+    }
+}
