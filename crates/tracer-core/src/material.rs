@@ -113,9 +113,19 @@ impl Glass {
     }
 
     /// The fraction of light along `dir` that passes the surface at `hit`,
-    /// for shadow rays: the transmitted energy, unbent (no caustics).
+    /// for shadow rays, which go on unbent (no caustics): the transmitted
+    /// energy of a crossing at `dir`'s angle from outside, going in or out
+    /// alike. The light that really gets through was bent on the way in
+    /// and meets the far side at that bent angle, where the Fresnel
+    /// transmission is the one going in (reciprocity) and there is no
+    /// total internal reflection; the straight line's own angle from
+    /// inside would dim it wrongly and, past the critical angle, block it.
     pub fn shadow_transmission(&self, dir: Vec3, hit: &SurfaceHit) -> f32 {
-        self.split(dir, hit).transmitted.map_or(0.0, |(_, w)| w)
+        if !self.fresnel {
+            return self.transmittance;
+        }
+        let cos_i = dir.dot(hit.shading_normal).abs();
+        (1.0 - fresnel_reflectance(cos_i, 1.0 / self.ior)) * self.transmittance
     }
 
     /// What is left of light after `distance` inside (Beer-Lambert).
