@@ -3,10 +3,10 @@
 //! the thin lens' circle of confusion, the convergence rate of stratified
 //! sampling, and mirror images.
 
-use scene_format::Format;
-use std::path::Path;
 mod common;
 
+use scene_format::Format;
+use std::path::Path;
 use tracer_core::integrate::whitted::Whitted;
 use tracer_core::{prepare, render, LinearImage, Output, Region, RenderJob, Scene};
 
@@ -259,7 +259,8 @@ fn an_edge_off_the_focus_plane_blurs_over_the_circle_of_confusion() {
         }
     }
     // On the focus plane the edge stays sharp: it lies on the border of
-    // columns (rows) 99 and 100, so no pixel is partly hit.
+    // columns (rows) 99 and 100, so no pixel is partly hit (one, allowing
+    // for rounding at the border).
     for vertical_edge in [true, false] {
         let profile = edge_profile(aperture, FOCUS, vertical_edge, 1024);
         let partial = profile.iter().filter(|&&f| f > 0.0 && f < 1.0).count();
@@ -294,7 +295,8 @@ fn a_blur_about_a_pixel_wide_averages_the_lens_over_the_pixel() {
             // Column 90 + i spans image x in [90 + i, 91 + i); the edge's
             // sharp image is x = 100 and x < 100 sees the half-plane. From
             // image point x, a lens point at u-offset a (in radii) hits when
-            // x - 100 < a k: beyond the chord (x - 100) / |k| of the disk.
+            // x - 100 < a half_coc: the disk's part beyond a chord at
+            // (x - 100) / |half_coc|, whichever the sign.
             let m = 4000;
             let expected = (0..m)
                 .map(|q| {
