@@ -164,7 +164,8 @@ struct PixelRenderer<'a> {
     /// Where in the pixel each sample falls.
     strata: Strata,
     /// Which stratum of the lens each sample takes: another order than the
-    /// pixel's, so that blur and anti-aliasing do not move together.
+    /// pixel's, drawn afresh for each pixel, so that blur and
+    /// anti-aliasing do not move together.
     lens_order: Shuffle,
     output: Output,
     aov: AovContext,
@@ -193,11 +194,13 @@ impl<'a> PixelRenderer<'a> {
             return self.sample(centre, lens, rng, tracer);
         }
         let pixel = Vec2::new(i as f32, j as f32);
+        // The pixel's lens order, from a stream none of its samples uses.
+        let order = Rng::for_sample(i, j, self.samples).next_u64() as u32;
         let sum: Vec3 = (0..self.samples)
             .map(|s| {
                 let mut rng = Rng::for_sample(i, j, s);
                 let at = pixel + self.strata.point(s, rng.square());
-                let lens_stratum = self.lens_order.apply(s);
+                let lens_stratum = self.lens_order.apply(s, order);
                 let lens = concentric_disk(self.strata.point(lens_stratum, rng.square()));
                 self.sample(at, lens, rng, tracer)
             })

@@ -83,33 +83,59 @@ fn grid_columns(n: u32) -> u32 {
 
 /// A second order of `n` strata, so two quantities sampled from the same
 /// sample index (the point in the pixel, the point on the lens) do not
-/// move together: `s -> (a s + 1) mod n` with `a` coprime to `n`, which
-/// visits every stratum once.
+/// move together: a pseudo-random permutation of `0..n`, a different one
+/// for each seed (Kensler's hashed permutation, "Correlated Multi-Jittered
+/// Sampling", 2013: a bijection of the next power of two, walked until it
+/// lands below `n`). One fixed order for every pixel would pair the same n
+/// of the n^2 (pixel stratum, lens stratum) cells in every pixel, so each
+/// pixel would average over those cells only: biased wherever the colour
+/// depends on both, as across a blur about a pixel wide.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Shuffle {
     n: u32,
-    a: u32,
+    /// The next power of two of `n`, less one.
+    mask: u32,
 }
 
 impl Shuffle {
     pub fn new(n: u32) -> Shuffle {
         let n = n.max(1);
-        // Near the golden ratio of n: neighbours land far apart.
-        let start = ((n as f32 * 0.618) as u32).max(1);
-        let a = (start..n).find(|&a| gcd(a, n) == 1).unwrap_or(1);
-        Shuffle { n, a }
+        Shuffle {
+            n,
+            mask: n.next_power_of_two() - 1,
+        }
     }
 
-    pub fn apply(&self, s: u32) -> u32 {
-        ((u64::from(self.a) * u64::from(s) + 1) % u64::from(self.n)) as u32
-    }
-}
-
-fn gcd(a: u32, b: u32) -> u32 {
-    if b == 0 {
-        a
-    } else {
-        gcd(b, a % b)
+    /// Where permutation `seed` puts `s` (in `0..n`).
+    pub fn apply(&self, s: u32, seed: u32) -> u32 {
+        let (w, p) = (self.mask, seed);
+        let mut i = s;
+        // Each step is a bijection of the low bits under the mask (xor,
+        // odd multipliers, xor-shifts of the masked bits), so is the whole.
+        loop {
+            i ^= p;
+            i = i.wrapping_mul(0xe170_893d);
+            i ^= p >> 16;
+            i ^= (i & w) >> 4;
+            i ^= p >> 8;
+            i = i.wrapping_mul(0x0929_eb3f);
+            i ^= p >> 23;
+            i ^= (i & w) >> 1;
+            i = i.wrapping_mul(1 | p >> 27);
+            i = i.wrapping_mul(0x6935_fa69);
+            i ^= (i & w) >> 11;
+            i = i.wrapping_mul(0x74dc_b303);
+            i ^= (i & w) >> 2;
+            i = i.wrapping_mul(0x9e50_1cc3);
+            i ^= (i & w) >> 2;
+            i = i.wrapping_mul(0xc860_a3df);
+            i &= w;
+            i ^= i >> 5;
+            if i < self.n {
+                break;
+            }
+        }
+        (i + p % self.n) % self.n
     }
 }
 
@@ -158,12 +184,34 @@ mod tests {
     fn a_shuffle_is_a_permutation() {
         for n in [1, 2, 5, 16, 64, 100, 4096] {
             let shuffle = Shuffle::new(n);
-            let mut seen = vec![false; n as usize];
-            for s in 0..n {
-                let t = shuffle.apply(s) as usize;
-                assert!(!seen[t], "n {n}: {t} twice");
-                seen[t] = true;
+            for seed in [0, 1, 0xdead_beef, u32::MAX] {
+                let mut seen = vec![false; n as usize];
+                for s in 0..n {
+                    let t = shuffle.apply(s, seed) as usize;
+                    assert!(!seen[t], "n {n}, seed {seed}: {t} twice");
+                    seen[t] = true;
+                }
             }
+        }
+    }
+
+    #[test]
+    fn over_seeds_a_shuffle_sends_a_sample_to_every_stratum_alike() {
+        // What makes a pixel's lens strata unbiased: over the pixels'
+        // seeds, sample s's lens stratum is any of the n equally often.
+        let (n, seeds) = (16, 16_000);
+        let shuffle = Shuffle::new(n);
+        for s in [0, 5, 15] {
+            let mut counts = vec![0; n as usize];
+            for seed in 0..seeds {
+                let seed = Rng::new(seed).next_u64() as u32;
+                counts[shuffle.apply(s, seed) as usize] += 1;
+            }
+            // 1000 expected, binomial sd about 31.
+            assert!(
+                counts.iter().all(|&c| (850..1150).contains(&c)),
+                "{counts:?}"
+            );
         }
     }
 
