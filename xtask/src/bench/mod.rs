@@ -10,7 +10,8 @@
 //! `libembree-dev` and `g++` are. A peer that is not installed is skipped,
 //! with a line saying so.
 //!
-//! - `scenes`: the bench scenes, the 1.1M-triangle bunny.
+//! - `scenes`: the bench scenes and their samples per pixel, the
+//!   1.1M-triangle bunny.
 //! - `measure`: timing the tracer (the only file that calls tracer-core).
 //! - `pov_scene`: a scene file as POV-Ray SDL.
 //! - `povray`: timing POV-Ray.

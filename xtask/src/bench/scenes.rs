@@ -13,6 +13,9 @@ pub struct BenchScene {
     pub name: &'static str,
     /// The scene, its meshes loaded.
     pub file: SceneFile,
+    /// Samples per pixel, for us and for POV-Ray (1: one ray through each
+    /// pixel centre, as the peers' benchmark).
+    pub samples: u32,
     /// For a scene Embree can run (the bunny): its `--subdiv`.
     pub embree_subdiv: Option<u32>,
 }
@@ -30,16 +33,19 @@ pub fn scenes(root: &Path) -> Result<Vec<BenchScene>> {
         BenchScene {
             name: "bunny",
             file: bunny,
+            samples: 1,
             embree_subdiv: Some(0),
         },
         BenchScene {
             name: "bunny-1.1m",
             file: big,
+            samples: 1,
             embree_subdiv: Some(2),
         },
         BenchScene {
             name: "reflectance2",
             file: load(&root.join("scenes/reflectance2.toml"))?,
+            samples: 1,
             embree_subdiv: None,
         },
     ])
