@@ -94,9 +94,14 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     for (scene, ours) in scenes.iter().zip(ours) {
         let povray = if povray {
             eprintln!("bench: POV-Ray on {} ...", scene.name);
-            let figures =
-                povray::measure(&scene.file, scene.name, args.reps, args.keep_pov.as_deref())
-                    .with_context(|| format!("POV-Ray on {}", scene.name))?;
+            let figures = povray::measure(
+                &scene.file,
+                scene.name,
+                scene.samples,
+                args.reps,
+                args.keep_pov.as_deref(),
+            )
+            .with_context(|| format!("POV-Ray on {}", scene.name))?;
             Some(figures)
         } else {
             None
