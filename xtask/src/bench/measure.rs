@@ -39,6 +39,8 @@ impl From<RayStats> for Rays {
 pub struct Ours {
     /// Objects of the prepared scene (every mesh triangle is one).
     pub objects: usize,
+    /// Pixels of the image: rays per pixel are taken over them.
+    pub pixels: u64,
     pub build_s: [f64; 2],
     pub render_s: [f64; 2],
     /// Process CPU time of the 1-thread build and render: what the work
@@ -97,7 +99,11 @@ pub fn measure(scenes: &[BenchScene], reps: usize) -> Result<Vec<Ours>> {
     Ok(prepared
         .iter()
         .zip(runs)
-        .map(|(p, runs)| summarise(p.objects().len(), &runs))
+        .map(|(p, runs)| {
+            let camera = p.camera();
+            let pixels = u64::from(camera.width) * u64::from(camera.height);
+            summarise(p.objects().len(), pixels, &runs)
+        })
         .collect())
 }
 
@@ -138,11 +144,12 @@ fn measure_run(scene: &Scene, samples: u32, pools: &[rayon::ThreadPool; 2]) -> R
 }
 
 /// Medians of the runs, and each run's own speed-up and cost per ray.
-fn summarise(objects: usize, runs: &[Run]) -> Ours {
+fn summarise(objects: usize, pixels: u64, runs: &[Run]) -> Ours {
     let med = |f: &dyn Fn(&Run) -> f64| median(runs.iter().map(f).collect());
     let rays = runs[0].rays;
     Ours {
         objects,
+        pixels,
         build_s: [med(&|r| r.build_s[0]), med(&|r| r.build_s[1])],
         render_s: [med(&|r| r.render_s[0]), med(&|r| r.render_s[1])],
         build_cpu_s: med(&|r| r.build_cpu_s),
