@@ -7,12 +7,13 @@ use super::THREADS;
 use anyhow::Result;
 use std::time::Instant;
 use tracer_core::accel::Bvh;
-use tracer_core::{prepare, render, RayStats, RenderJob, Scene};
+use tracer_core::{prepare, render, Output, RayStats, Region, RenderJob, Scene};
 
 /// The rays one render traced.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Rays {
-    /// Primary and reflected rays: they look for the nearest hit.
+    /// Primary (every sample's) and reflected rays: they look for the nearest
+    /// hit.
     pub nearest: u64,
     /// Shadow rays.
     pub shadow: u64,
@@ -38,6 +39,8 @@ impl From<RayStats> for Rays {
 pub struct Ours {
     /// Objects of the prepared scene (every mesh triangle is one).
     pub objects: usize,
+    /// Pixels of the image: rays per pixel are taken over them.
+    pub pixels: u64,
     pub build_s: [f64; 2],
     pub render_s: [f64; 2],
     /// Process CPU time of the 1-thread build and render: what the work
@@ -89,14 +92,18 @@ pub fn measure(scenes: &[BenchScene], reps: usize) -> Result<Vec<Ours>> {
     let mut runs = vec![Vec::new(); scenes.len()];
     for rep in 0..reps {
         eprintln!("bench: run {} of {reps} ...", rep + 1);
-        for (scene, runs) in prepared.iter().zip(&mut runs) {
-            runs.push(measure_run(scene, &pools));
+        for ((scene, bench), runs) in prepared.iter().zip(scenes).zip(&mut runs) {
+            runs.push(measure_run(scene, bench.samples, &pools));
         }
     }
     Ok(prepared
         .iter()
         .zip(runs)
-        .map(|(p, runs)| summarise(p.objects().len(), &runs))
+        .map(|(p, runs)| {
+            let camera = p.camera();
+            let pixels = u64::from(camera.width) * u64::from(camera.height);
+            summarise(p.objects().len(), pixels, &runs)
+        })
         .collect())
 }
 
@@ -106,7 +113,15 @@ fn pool(threads: usize) -> Result<rayon::ThreadPool> {
         .build()?)
 }
 
-fn measure_run(scene: &Scene, pools: &[rayon::ThreadPool; 2]) -> Run {
+fn measure_run(scene: &Scene, samples: u32, pools: &[rayon::ThreadPool; 2]) -> Run {
+    // Spelt out rather than `RenderJob::full`, so that the bench keeps its
+    // sample counts whatever that default becomes.
+    let camera = scene.camera();
+    let job = RenderJob {
+        region: Region::full(camera.width, camera.height),
+        samples,
+        output: Output::Shading,
+    };
     let mut run = Run::default();
     for (t, pool) in pools.iter().enumerate() {
         let (start, cpu) = (Instant::now(), cpu_time());
@@ -115,7 +130,6 @@ fn measure_run(scene: &Scene, pools: &[rayon::ThreadPool; 2]) -> Run {
         let build_cpu = cpu_time() - cpu;
         drop(bvh);
         let (start, cpu) = (Instant::now(), cpu_time());
-        let job = RenderJob::full(scene);
         let rendered = pool.install(|| render(scene, &job, &|_| {}));
         let (image, rays) = (rendered.image, rendered.rays);
         run.render_s[t] = start.elapsed().as_secs_f64();
@@ -130,11 +144,12 @@ fn measure_run(scene: &Scene, pools: &[rayon::ThreadPool; 2]) -> Run {
 }
 
 /// Medians of the runs, and each run's own speed-up and cost per ray.
-fn summarise(objects: usize, runs: &[Run]) -> Ours {
+fn summarise(objects: usize, pixels: u64, runs: &[Run]) -> Ours {
     let med = |f: &dyn Fn(&Run) -> f64| median(runs.iter().map(f).collect());
     let rays = runs[0].rays;
     Ours {
         objects,
+        pixels,
         build_s: [med(&|r| r.build_s[0]), med(&|r| r.build_s[1])],
         render_s: [med(&|r| r.render_s[0]), med(&|r| r.render_s[1])],
         build_cpu_s: med(&|r| r.build_cpu_s),

@@ -2,15 +2,17 @@
 //! scenes, all in one run (the machines are noisy: only figures of the same
 //! run compare). See `docs/performance.md`.
 //!
-//! For each scene (the bunny, its 1.1M-triangle variant, the lab's
-//! reflectance2): BVH build time, render time and Mrays/s (primary,
-//! shadow and reflected rays) on 1 and 2 threads, medians of `--reps` runs; POV-Ray 3.7's
-//! render-only time for the same scene, written from the same scene data,
-//! when `povray` is installed; Embree 3's figures on the bunnies when
-//! `libembree-dev` and `g++` are. A peer that is not installed is skipped,
-//! with a line saying so.
+//! For each scene (the bunny, at 1 and at 16 samples per pixel, its
+//! 1.1M-triangle variant, the lab's reflectance2): BVH build time, render
+//! time and Mrays/s (primary, shadow and reflected rays) on 1 and 2 threads,
+//! medians of `--reps` runs; POV-Ray 3.7's render-only time for the same
+//! scene at the same samples per pixel, written from the same scene data,
+//! when `povray` is installed; Embree 3's figures on the 1-sample bunnies
+//! when `libembree-dev` and `g++` are. A peer that is not installed is
+//! skipped, with a line saying so.
 //!
-//! - `scenes`: the bench scenes, the 1.1M-triangle bunny.
+//! - `scenes`: the bench scenes and their samples per pixel, the
+//!   1.1M-triangle bunny.
 //! - `measure`: timing the tracer (the only file that calls tracer-core).
 //! - `pov_scene`: a scene file as POV-Ray SDL.
 //! - `povray`: timing POV-Ray.
@@ -45,7 +47,7 @@ pub struct BenchArgs {
     /// Keep the .pov files written for POV-Ray, and its images, in DIR
     #[arg(long, value_name = "DIR")]
     pub keep_pov: Option<std::path::PathBuf>,
-    /// Only these scenes (bunny, bunny-1.1m, reflectance2)
+    /// Only these scenes (bunny, bunny-16spp, bunny-1.1m, reflectance2)
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
 }
@@ -93,9 +95,14 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     for (scene, ours) in scenes.iter().zip(ours) {
         let povray = if povray {
             eprintln!("bench: POV-Ray on {} ...", scene.name);
-            let figures =
-                povray::measure(&scene.file, scene.name, args.reps, args.keep_pov.as_deref())
-                    .with_context(|| format!("POV-Ray on {}", scene.name))?;
+            let figures = povray::measure(
+                &scene.file,
+                scene.name,
+                scene.samples,
+                args.reps,
+                args.keep_pov.as_deref(),
+            )
+            .with_context(|| format!("POV-Ray on {}", scene.name))?;
             Some(figures)
         } else {
             None

@@ -1,5 +1,6 @@
 //! The bench scenes: the benchmark scene of the peers (the Stanford bunny),
-//! the same bunny at 1.1M triangles, and the lab's final scene.
+//! the same bunny at 16 samples per pixel and at 1.1M triangles, and the
+//! lab's final scene.
 
 use anyhow::{Context, Result};
 use scene_format::{MeshData, SceneFile};
@@ -13,6 +14,9 @@ pub struct BenchScene {
     pub name: &'static str,
     /// The scene, its meshes loaded.
     pub file: SceneFile,
+    /// Samples per pixel, for us and for POV-Ray (1: one ray through each
+    /// pixel centre, as the peers' benchmark).
+    pub samples: u32,
     /// For a scene Embree can run (the bunny): its `--subdiv`.
     pub embree_subdiv: Option<u32>,
 }
@@ -29,17 +33,28 @@ pub fn scenes(root: &Path) -> Result<Vec<BenchScene>> {
     Ok(vec![
         BenchScene {
             name: "bunny",
-            file: bunny,
+            file: bunny.clone(),
+            samples: 1,
             embree_subdiv: Some(0),
+        },
+        // Anti-aliased: POV-Ray's supersampling against ours. Embree's
+        // harness casts one ray per pixel only.
+        BenchScene {
+            name: "bunny-16spp",
+            file: bunny,
+            samples: 16,
+            embree_subdiv: None,
         },
         BenchScene {
             name: "bunny-1.1m",
             file: big,
+            samples: 1,
             embree_subdiv: Some(2),
         },
         BenchScene {
             name: "reflectance2",
             file: load(&root.join("scenes/reflectance2.toml"))?,
+            samples: 1,
             embree_subdiv: None,
         },
     ])
