@@ -72,8 +72,7 @@ impl Options {
             (None, Some(height)) => (scaled(w, height, h), u64::from(height)),
         };
         let side = 1..=u64::from(MAX_IMAGE_SIDE);
-        if !side.contains(&width) || !side.contains(&height) || width * height > MAX_IMAGE_PIXELS
-        {
+        if !side.contains(&width) || !side.contains(&height) || width * height > MAX_IMAGE_PIXELS {
             return Err(Error::ImageSize { width, height });
         }
         Ok((width as u32, height as u32))

@@ -111,7 +111,13 @@ mod tests {
             ..Options::default()
         };
         let err = render(&loaded, &options, &|_| {}).unwrap_err();
-        assert!(matches!(err, Error::CanvasOption { option: "--aov", .. }));
+        assert!(matches!(
+            err,
+            Error::CanvasOption {
+                option: "--aov",
+                ..
+            }
+        ));
         assert!(err.is_bad_input());
     }
 
@@ -134,6 +140,7 @@ mod tests {
             assert_eq!(stats.forced_white_warning(), None, "{}", path.display());
             checked += 1;
         }
-        assert_eq!(checked, 12);
+        // The lab's 12 and the scenes beyond the lab.
+        assert!(checked >= 15, "{checked}");
     }
 }
