@@ -930,3 +930,85 @@ fn a_folder_or_an_unreadable_file_as_the_scene_is_bad_input() {
     assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("ok: "), "{stderr}");
 }
+
+#[test]
+fn width_or_height_alone_keeps_the_view_and_its_shape() {
+    let dir = tempfile::tempdir().unwrap();
+    for (flag, value) in [("--width", "250"), ("--height", "200")] {
+        let out = tracer(
+            dir.path(),
+            &[
+                "render",
+                &scene("sphere-intersection.toml"),
+                flag,
+                value,
+                "-o",
+                "half.png",
+            ],
+        );
+        assert!(out.status.success(), "{flag}");
+        let half = rgb(&dir.path().join("half.png"));
+        assert_eq!(half.dimensions(), (250, 200), "{flag}");
+        // The small sphere projects to (353, 146) of the 500x400 image (the
+        // goldens' hand-worked value): (176, 73) at half the size; its
+        // mirror place stays black.
+        assert_eq!(half.get_pixel(176, 73).0, [0, 186, 0], "{flag}");
+        assert_eq!(half.get_pixel(73, 73).0, [0, 0, 0], "{flag}");
+    }
+}
+
+#[test]
+fn samples_smooth_the_edges_and_keep_flat_colours() {
+    let dir = tempfile::tempdir().unwrap();
+    let render = |samples: &str| {
+        let out = tracer(
+            dir.path(),
+            &[
+                "render",
+                &scene("sphere-intersection.toml"),
+                "--samples",
+                samples,
+                "-o",
+                "s.png",
+            ],
+        );
+        assert!(out.status.success());
+        rgb(&dir.path().join("s.png"))
+    };
+    let greens = |image: &image::RgbImage| {
+        let mut values: Vec<u8> = image.pixels().map(|p| p.0[1]).collect();
+        values.sort();
+        values.dedup();
+        values
+    };
+    // One ray per pixel: a hit is (0, 0.5, 0) -> 186, a miss 0, nothing between.
+    assert_eq!(greens(&render("1")), [0, 186]);
+    let smooth = render("16");
+    assert!(greens(&smooth).len() > 10, "edges take partial values");
+    // Inside the sphere every sample hits: the same flat colour.
+    assert_eq!(smooth.get_pixel(250, 200).0, [0, 186, 0]);
+}
+
+#[test]
+fn options_of_3d_renders_are_refused_for_a_canvas_and_sizes_are_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let robot = scene("robot.toml");
+    let out = tracer(dir.path(), &["render", &robot, "--samples", "4"]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("--samples needs a 3D scene"), "{stderr}");
+
+    let lab = scene("sphere-intersection.toml");
+    // 500x400 at a height of 16384 keeps its shape at 20480 wide: too wide.
+    let out = tracer(dir.path(), &["render", &lab, "--height", "16384"]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("20480x16384 pixels"), "{stderr}");
+
+    for bad in [["--samples", "0"], ["--samples", "5000"], ["--width", "0"]] {
+        let out = tracer(dir.path(), &["render", &lab, bad[0], bad[1]]);
+        assert_eq!(out.status.code(), Some(2), "{bad:?}");
+    }
+    assert!(!dir.path().join("sphere-intersection.png").exists());
+    assert!(!dir.path().join("robot.png").exists());
+}
