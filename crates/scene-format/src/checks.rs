@@ -65,6 +65,7 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
             ));
         }
     }
+    open_glass(&mut warnings, scene);
     let transparent = materials.iter().any(|(_, m)| m.transmittance > 0.0);
     if transparent && scene.render.max_depth < 2 {
         warnings.push(Diagnostic::new(
@@ -85,6 +86,24 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
         ));
     }
     warnings
+}
+
+/// Glass on a lone triangle: a ray enters it and never leaves, so
+/// everything behind is seen bent as from inside glass.
+fn open_glass(warnings: &mut Vec<Diagnostic>, scene: &SceneFile) {
+    for (i, o) in scene.objects.iter().enumerate() {
+        let material = match &o.material {
+            Some(crate::MaterialRef::Inline(m)) => Some(m),
+            Some(crate::MaterialRef::Named(name)) => scene.materials.get(name),
+            None => None,
+        };
+        if o.triangle.is_some() && material.is_some_and(|m| m.transmittance > 0.0) {
+            warnings.push(Diagnostic::new(
+                KeyPath::root().key("objects").index(i).key("material"),
+                "a transparent material on a single triangle: a ray enters it and never leaves; glass needs a closed shape (a sphere, a closed mesh)",
+            ));
+        }
+    }
 }
 
 /// Colour channels above 1: 0-255 habits (`diffuse = [200, 0, 0]`).

@@ -536,6 +536,24 @@ fn likely_mistakes_are_warnings_not_errors() {
         bytes.contains("`materials.red.diffuse`: a channel above 1 in [200, 0, 0]"),
         "{bytes}"
     );
+    let glass = "[materials.glass]\ntransmittance = 0.9\nreflectance = 0.1\nfresnel = true\n";
+    let pane = check_stderr(&format!(
+        "{camera}{light}{glass}[[objects]]\ntriangle = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]\nmaterial = \"glass\"\n"
+    ));
+    for expected in [
+        "`objects[0].material`: a transparent material on a single triangle",
+        "`materials.glass.reflectance`: ignored with `fresnel = true`",
+        "`render.max_depth`: 1: a ray can enter a transparent object but not leave it",
+    ] {
+        assert!(pane.contains(expected), "{expected}\n{pane}");
+    }
+    let blur = check_stderr(&format!(
+        "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\naperture = 0.1\n{light}{sphere}"
+    ));
+    assert!(
+        blur.contains("`render.samples`: 1: with an aperture"),
+        "{blur}"
+    );
     let fine = check_stderr(&format!("{camera}{light}{sphere}"));
     assert!(!fine.contains("warning"), "{fine}");
 }
