@@ -97,10 +97,17 @@ fn open_glass(warnings: &mut Vec<Diagnostic>, scene: &SceneFile) {
             Some(crate::MaterialRef::Named(name)) => scene.materials.get(name),
             None => None,
         };
-        if o.triangle.is_some() && material.is_some_and(|m| m.transmittance > 0.0) {
+        // A plane or a quad is as open as a triangle.
+        let open = match o.shapes().as_slice() {
+            [ShapeRef::Triangle(_)] => "a single triangle",
+            [ShapeRef::Quad(_)] => "a quad",
+            [ShapeRef::Plane(_)] => "a plane",
+            _ => continue,
+        };
+        if material.is_some_and(|m| m.transmittance > 0.0) {
             warnings.push(Diagnostic::new(
                 KeyPath::root().key("objects").index(i).key("material"),
-                "a transparent material on a single triangle: a ray enters it and never leaves; glass needs a closed shape (a sphere, a closed mesh)",
+                format!("a transparent material on {open}: a ray enters it and never leaves; glass needs a closed shape (a sphere, a box, a closed mesh)"),
             ));
         }
     }
@@ -134,6 +141,23 @@ fn in_front(scene: &SceneFile, o: &crate::Object) -> bool {
     match o.shapes().as_slice() {
         [ShapeRef::Sphere(s)] => depth(s.center) + s.radius * length(view) > 0.0,
         [ShapeRef::Triangle(t)] => t.iter().any(|&p| depth(p) > 0.0),
+        [ShapeRef::Quad(q)] => {
+            let (u, v) = (q.edge_u, q.edge_v);
+            let far = add(add(q.corner, u), v);
+            [q.corner, add(q.corner, u), add(q.corner, v), far]
+                .into_iter()
+                .any(|p| depth(p) > 0.0)
+        }
+        [ShapeRef::Box(b)] => (0..8).any(|k| {
+            let pick = |a: usize| if k >> a & 1 == 0 { b.min[a] } else { b.max[a] };
+            depth([pick(0), pick(1), pick(2)]) > 0.0
+        }),
+        // A plane reaches every depth unless it faces along the view (it
+        // is then at one depth, that of its point).
+        [ShapeRef::Plane(p)] => {
+            let (n, across) = (p.normal, cross(p.normal, view));
+            length(across) > 1e-6 * length(n) * length(view) || depth(p.point) > 0.0
+        }
         // A mesh is placed by the core; its extent is not known here.
         _ => true,
     }
@@ -143,10 +167,94 @@ fn sub(a: Vec3, b: Vec3) -> Vec3 {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
+fn add(a: Vec3, b: Vec3) -> Vec3 {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+fn cross(a: Vec3, b: Vec3) -> Vec3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
 fn dot(a: Vec3, b: Vec3) -> f32 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 fn length(v: Vec3) -> f32 {
     dot(v, v).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{load_str, Format};
+
+    /// The warnings' messages for a scene with a camera at z = 10 looking
+    /// down -z, one light and `objects`.
+    fn messages(objects: &str) -> Vec<String> {
+        let text = format!(
+            "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n[render]\nmax_depth = 4\n[[lights]]\nposition = [0, 5, 5]\n{objects}"
+        );
+        let scene = load_str(&text, Format::Toml, Path::new("t.toml")).expect("loads");
+        warnings(&scene).into_iter().map(|d| d.message).collect()
+    }
+
+    const BEHIND: &str = "nothing is in front of the camera";
+
+    #[test]
+    fn planes_boxes_and_quads_behind_the_eye_are_found() {
+        let behind = [
+            // Facing along the view, at z = 11: behind the eye everywhere.
+            "plane = { point = [0, 0, 11], normal = [0, 0, 1] }",
+            "box = { min = [-1, -1, 11], max = [1, 1, 12] }",
+            "quad = { corner = [0, 0, 11], edge_u = [1, 0, 0], edge_v = [0, 1, 0.5] }",
+        ];
+        for shape in behind {
+            let found = messages(&format!("[[objects]]\n{shape}\n"));
+            assert!(
+                found.iter().any(|m| m.contains(BEHIND)),
+                "{shape}: {found:?}"
+            );
+        }
+        let seen = [
+            // A floor reaches in front of the eye whatever its height.
+            "plane = { point = [0, -1, 50], normal = [0, 1, 0] }",
+            "plane = { point = [0, 0, -5], normal = [0, 0, 1] }",
+            "box = { min = [-1, -1, 9], max = [1, 1, 12] }",
+            "quad = { corner = [0, 0, 11], edge_u = [1, 0, 0], edge_v = [0, 1, -2] }",
+        ];
+        for shape in seen {
+            let found = messages(&format!("[[objects]]\n{shape}\n"));
+            assert!(
+                !found.iter().any(|m| m.contains(BEHIND)),
+                "{shape}: {found:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn glass_on_a_quad_or_plane_is_open_and_on_a_box_closed() {
+        let glass = "material = { transmittance = 1 }";
+        for (shape, open) in [
+            (
+                "quad = { corner = [0, 0, 0], edge_u = [1, 0, 0], edge_v = [0, 1, 0] }",
+                Some("a quad"),
+            ),
+            (
+                "plane = { point = [0, 0, 0], normal = [0, 0, 1] }",
+                Some("a plane"),
+            ),
+            ("box = { min = [0, 0, 0], max = [1, 1, 1] }", None),
+        ] {
+            let found = messages(&format!("[[objects]]\n{shape}\n{glass}\n"));
+            let warned = found.iter().find(|m| m.contains("never leaves"));
+            match open {
+                Some(what) => assert!(warned.is_some_and(|m| m.contains(what)), "{found:?}"),
+                None => assert!(warned.is_none(), "{found:?}"),
+            }
+        }
+    }
 }

@@ -247,7 +247,8 @@ impl<'de> Deserialize<'de> for MaterialRef {
     }
 }
 
-/// One object: exactly one shape key (`sphere`, `triangle`) and its material.
+/// One object: exactly one shape key (`sphere`, `triangle`, `mesh`,
+/// `plane`, `box`, `quad`) and its material.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Object {
@@ -259,6 +260,15 @@ pub struct Object {
     /// A triangle mesh read from a Wavefront OBJ file.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mesh: Option<Mesh>,
+    /// An infinite plane.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plane: Option<Plane>,
+    /// An axis-aligned box, closed (glass works on it).
+    #[serde(default, skip_serializing_if = "Option::is_none", rename = "box")]
+    pub box_: Option<BoxShape>,
+    /// A parallelogram: `corner + s * edge_u + t * edge_v`, s and t in 0..1.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub quad: Option<Quad>,
     /// Scale, rotation and translation of a mesh.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub transform: Option<Transform>,
@@ -277,6 +287,42 @@ pub struct Sphere {
     /// From 1e-4 (the lab's epsilon) to 1e6: what single-precision tracing handles.
     #[schemars(extend("minimum" = 1e-4, "maximum" = 1e6))]
     pub radius: f32,
+}
+
+/// An infinite plane; its uv are coordinates in the plane (unit scale)
+/// from `point`, along world x projected into it (y when the plane faces
+/// nearly along x) and along `normal` x that.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Plane {
+    /// A point of the plane; coordinates from -1e6 to 1e6.
+    pub point: Vec3,
+    /// The side the plane faces (the one it is lit from); any non-zero length.
+    pub normal: Vec3,
+}
+
+/// An axis-aligned box from `min` to `max`, normals outward; each face has
+/// uv from 0 to 1.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BoxShape {
+    /// The corner of the smallest coordinates; coordinates from -1e6 to 1e6.
+    pub min: Vec3,
+    /// The opposite corner: above `min` on every axis.
+    pub max: Vec3,
+}
+
+/// A parallelogram `corner + s * edge_u + t * edge_v` (s, t from 0 to 1),
+/// with uv = (s, t); it faces `edge_u x edge_v`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Quad {
+    /// Coordinates from -1e6 to 1e6.
+    pub corner: Vec3,
+    /// Where s runs: non-zero, not parallel to `edge_v`.
+    pub edge_u: Vec3,
+    /// Where t runs.
+    pub edge_v: Vec3,
 }
 
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -347,6 +393,9 @@ pub enum ShapeRef<'a> {
     Sphere(&'a Sphere),
     Triangle(&'a [Vec3; 3]),
     Mesh(&'a Mesh),
+    Plane(&'a Plane),
+    Box(&'a BoxShape),
+    Quad(&'a Quad),
 }
 
 impl Object {
@@ -361,6 +410,15 @@ impl Object {
         }
         if let Some(m) = &self.mesh {
             shapes.push(ShapeRef::Mesh(m));
+        }
+        if let Some(p) = &self.plane {
+            shapes.push(ShapeRef::Plane(p));
+        }
+        if let Some(b) = &self.box_ {
+            shapes.push(ShapeRef::Box(b));
+        }
+        if let Some(q) = &self.quad {
+            shapes.push(ShapeRef::Quad(q));
         }
         shapes
     }

@@ -340,12 +340,12 @@ impl Validator {
         match o.shapes().as_slice() {
             [] => self.error(
                 path,
-                "expected a shape: one of `sphere`, `triangle`, `mesh`; found none",
+                "expected a shape: one of `sphere`, `triangle`, `mesh`, `plane`, `box`, `quad`; found none",
             ),
             [shape] => self.shape(path, shape),
             _ => self.error(
                 path,
-                "expected exactly one shape per object; found several of `sphere`, `triangle`, `mesh`",
+                "expected exactly one shape per object; found several of `sphere`, `triangle`, `mesh`, `plane`, `box`, `quad`",
             ),
         }
         if let Some(t) = &o.transform {
@@ -433,6 +433,36 @@ impl Validator {
                     );
                 }
             }
+            ShapeRef::Plane(plane) => {
+                let p = path.key("plane");
+                self.point(p.key("point"), plane.point);
+                // Bounded like a point, so its length neither overflows
+                // nor (when non-zero here) normalises to NaN.
+                if self.point(p.key("normal"), plane.normal) && length(plane.normal) == 0.0 {
+                    self.error(
+                        p.key("normal"),
+                        format!(
+                            "expected a non-zero vector, found {}; a plane needs the side it faces",
+                            show(plane.normal)
+                        ),
+                    );
+                }
+            }
+            ShapeRef::Box(b) => {
+                let p = path.key("box");
+                let ok = self.point(p.key("min"), b.min) & self.point(p.key("max"), b.max);
+                if ok && (0..3).any(|a| b.min[a] >= b.max[a]) {
+                    self.error(
+                        p.key("max"),
+                        format!(
+                            "expected `max` above `min` on every axis, found min {} and max {}; the box would be flat or inside out",
+                            show(b.min),
+                            show(b.max)
+                        ),
+                    );
+                }
+            }
+            ShapeRef::Quad(q) => self.quad(&path.key("quad"), q),
             ShapeRef::Triangle(t) => {
                 let p = path.key("triangle");
                 if t.iter().all(|v| self.point(&p, *v)) {
@@ -452,6 +482,57 @@ impl Validator {
             }
         }
     }
+}
+
+impl Validator {
+    /// A quad: its corner and edges within `MAX_COORDINATE`, each edge
+    /// non-zero, the two not parallel, and every corner it reaches within
+    /// `MAX_COORDINATE` too (they become triangle vertices).
+    fn quad(&mut self, p: &KeyPath, q: &Quad) {
+        let ok = self.point(p.key("corner"), q.corner)
+            & self.point(p.key("edge_u"), q.edge_u)
+            & self.point(p.key("edge_v"), q.edge_v);
+        if !ok {
+            return;
+        }
+        for (key, edge) in [("edge_u", q.edge_u), ("edge_v", q.edge_v)] {
+            if length(edge) == 0.0 {
+                self.error(
+                    p.key(key),
+                    format!("expected a non-zero edge, found {}", show(edge)),
+                );
+                return;
+            }
+        }
+        if length(cross(q.edge_u, q.edge_v)) == 0.0 {
+            self.error(
+                p.key("edge_v"),
+                format!(
+                    "expected an edge not parallel to `edge_u` ({}), found {}; the quad is degenerate (zero area)",
+                    show(q.edge_u),
+                    show(q.edge_v)
+                ),
+            );
+            return;
+        }
+        let far = add(add(q.corner, q.edge_u), q.edge_v);
+        for corner in [add(q.corner, q.edge_u), add(q.corner, q.edge_v), far] {
+            if corner.iter().any(|x| x.abs() > MAX_COORDINATE) {
+                self.error(
+                    p.clone(),
+                    format!(
+                        "expected corners with coordinates from -{MAX_COORDINATE:e} to {MAX_COORDINATE:e}, found {}; single-precision tracing cannot handle larger ones",
+                        show(corner)
+                    ),
+                );
+                return;
+            }
+        }
+    }
+}
+
+fn add(a: Vec3, b: Vec3) -> Vec3 {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
 }
 
 /// A vector as it is written in a scene file: `[0, 1.5, -2]`.

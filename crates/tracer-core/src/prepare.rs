@@ -2,13 +2,13 @@
 //! where the core reads the file format's types.
 
 use crate::camera::Camera;
-use crate::geometry::{Object, Placement, Shape, Sphere, Triangle};
+use crate::geometry::{Object, Placement, Plane, Shape, Sphere, Triangle, UvMap};
 use crate::image::{Encoding, Saturation};
 use crate::light::Light;
 use crate::material::{Glass, Material, Phong};
 use crate::scene::{Scene, SceneParts, TraceSettings};
 use crate::texture::{Builtin, Texture};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use scene_format as fmt;
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -37,7 +37,11 @@ pub fn prepare(file: &fmt::SceneFile) -> Result<Scene, PrepareError> {
         let path = format!("objects[{i}]");
         let material = materials.resolve(&path, o)?;
         let shapes = shapes(&path, o)?;
-        objects.extend(shapes.into_iter().map(|shape| Object { shape, material }));
+        objects.extend(shapes.into_iter().map(|(shape, uv)| Object {
+            shape,
+            material,
+            uv,
+        }));
     }
     Ok(Scene::new(SceneParts {
         camera: camera(&file.camera),
@@ -90,22 +94,29 @@ fn saturation(s: fmt::Saturation) -> Saturation {
     }
 }
 
-/// The shapes of object `o`: one, or a mesh's triangles.
-fn shapes(path: &str, o: &fmt::Object) -> Result<Vec<Shape>, PrepareError> {
+/// The shapes of object `o`: one, or a mesh's, quad's or box's triangles,
+/// each with the map of its barycentrics to the object's uv.
+fn shapes(path: &str, o: &fmt::Object) -> Result<Vec<(Shape, UvMap)>, PrepareError> {
+    let one = |shape| vec![(shape, UvMap::IDENTITY)];
     Ok(match o.shapes().as_slice() {
-        [fmt::ShapeRef::Sphere(s)] => vec![Shape::Sphere(Sphere::new(s.center.into(), s.radius))],
-        [fmt::ShapeRef::Triangle([a, b, c])] => vec![Shape::Triangle(Triangle::new(
+        [fmt::ShapeRef::Sphere(s)] => one(Shape::Sphere(Sphere::new(s.center.into(), s.radius))),
+        [fmt::ShapeRef::Triangle([a, b, c])] => one(Shape::Triangle(Triangle::new(
             (*a).into(),
             (*b).into(),
             (*c).into(),
-        ))],
+        ))),
+        [fmt::ShapeRef::Plane(p)] => one(Shape::Plane(Plane::new(p.point.into(), p.normal.into()))),
+        [fmt::ShapeRef::Quad(q)] => {
+            quad_triangles(q.corner.into(), q.edge_u.into(), q.edge_v.into()).to_vec()
+        }
+        [fmt::ShapeRef::Box(b)] => box_triangles(b.min.into(), b.max.into()),
         [fmt::ShapeRef::Mesh(m)] => {
             let data = m.data.as_ref().ok_or_else(|| PrepareError::MeshNotLoaded {
                 path: format!("{path}.mesh.obj"),
             })?;
             mesh_triangles(data, &placement(o.transform.as_ref()))
                 .into_iter()
-                .map(Shape::Triangle)
+                .map(|t| (Shape::Triangle(t), UvMap::IDENTITY))
                 .collect()
         }
         _ => {
@@ -114,6 +125,53 @@ fn shapes(path: &str, o: &fmt::Object) -> Result<Vec<Shape>, PrepareError> {
             })
         }
     })
+}
+
+/// A quad `corner + s edge_u + t edge_v` as two triangles facing
+/// `edge_u x edge_v`, their uv the quad's (s, t).
+///
+/// Triangles rather than a shape of their own: the BVH's four-wide
+/// triangle test, shadows, glass and the brute-force reference then serve
+/// quads and boxes as they are, and a box of 12 triangles is the same
+/// surface (its normals outward by the vertex order). Only the uv needs
+/// more than a triangle carries: the second half's barycentrics run from
+/// the far corner, so its map turns them back into (s, t).
+fn quad_triangles(corner: Vec3, edge_u: Vec3, edge_v: Vec3) -> [(Shape, UvMap); 2] {
+    let (near_u, near_v) = (corner + edge_u, corner + edge_v);
+    let far = near_u + edge_v;
+    // (corner, +u, +v): barycentric (a, b) is (s, t); its normal u x v.
+    let first = Triangle::new(corner, near_u, near_v);
+    // (far, +v, +u): edges -u and -v, so the normal is (-u) x (-v) = u x v
+    // and the point far - a u - b v has s = 1 - a, t = 1 - b.
+    let second = Triangle::new(far, near_v, near_u);
+    let flipped = UvMap {
+        origin: Vec2::ONE,
+        du: -Vec2::X,
+        dv: -Vec2::Y,
+    };
+    [
+        (Shape::Triangle(first), UvMap::IDENTITY),
+        (Shape::Triangle(second), flipped),
+    ]
+}
+
+/// The six faces of the box from `min` to `max` as quads facing outward
+/// (`edge_u x edge_v` along the face's outward axis), each with uv 0..1.
+fn box_triangles(min: Vec3, max: Vec3) -> Vec<(Shape, UvMap)> {
+    let d = max - min;
+    let (x, y, z) = (Vec3::X * d.x, Vec3::Y * d.y, Vec3::Z * d.z);
+    let faces = [
+        (min, z, y),                            // -x: z x y = -x
+        (Vec3::new(max.x, min.y, min.z), y, z), // +x: y x z = +x
+        (min, x, z),                            // -y: x x z = -y
+        (Vec3::new(min.x, max.y, min.z), z, x), // +y: z x x = +y
+        (min, y, x),                            // -z: y x x = -z
+        (Vec3::new(min.x, min.y, max.z), x, y), // +z: x x y = +z
+    ];
+    faces
+        .into_iter()
+        .flat_map(|(corner, u, v)| quad_triangles(corner, u, v))
+        .collect()
 }
 
 /// The placement of an object's `transform`.

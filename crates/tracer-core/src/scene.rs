@@ -143,11 +143,12 @@ impl Scene {
         &self.encoding
     }
 
-    /// The smallest box holding every object, or None for an empty scene.
+    /// The smallest box holding every bounded object (planes are left out),
+    /// or None for a scene without one.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
         self.objects
             .iter()
-            .map(|o| o.shape.bounds())
+            .filter_map(|o| o.shape.bounds())
             .reduce(|(lo, hi), (l, h)| (lo.min(l), hi.max(h)))
     }
 

@@ -1,7 +1,8 @@
 //! A scene file as POV-Ray 3.7 SDL: the scene the tracer renders, for
 //! timing POV-Ray on the same work. Covers what the bench scenes use: the
-//! camera, point lights, spheres, triangles, meshes (as `mesh2`) and the
-//! lab's Blinn-Phong materials with mirror reflection.
+//! camera, point lights, spheres, triangles, meshes (as `mesh2`), planes,
+//! boxes, quads (as the tracer's two triangles) and the lab's Blinn-Phong
+//! materials with mirror reflection.
 //!
 //! The lab's shading, term by term, in POV-Ray's words (`tracer-core`'s
 //! `integrate/whitted.rs` is the reference):
@@ -118,6 +119,28 @@ fn write_object(pov: &mut String, scene: &SceneFile, object: &Object) {
                     vec3(*b),
                     vec3(*c)
                 );
+            }
+            ShapeRef::Plane(p) => {
+                // POV-Ray's plane is `n . P = d` with n taken as given:
+                // the unit normal, and d the point's distance along it.
+                let n = normalize(p.normal.map(f64::from));
+                let d: f64 = (0..3).map(|a| n[a] * f64::from(p.point[a])).sum();
+                let n = vec3(n.map(|x| x as f32));
+                let _ = writeln!(pov, "plane {{ {n}, {} {look} }}", num(d as f32));
+            }
+            ShapeRef::Box(b) => {
+                let _ = writeln!(pov, "box {{ {}, {} {look} }}", vec3(b.min), vec3(b.max));
+            }
+            ShapeRef::Quad(q) => {
+                // The tracer's two triangles (`prepare.rs`), the same surface.
+                let at = |s: f32, t: f32| {
+                    let p: [f32; 3] =
+                        std::array::from_fn(|a| q.corner[a] + s * q.edge_u[a] + t * q.edge_v[a]);
+                    vec3(p)
+                };
+                let (c, u, v, far) = (at(0.0, 0.0), at(1.0, 0.0), at(0.0, 1.0), at(1.0, 1.0));
+                let _ = writeln!(pov, "triangle {{ {c}, {u}, {v} {look} }}");
+                let _ = writeln!(pov, "triangle {{ {far}, {v}, {u} {look} }}");
             }
             ShapeRef::Mesh(m) => match &m.data {
                 Some(data) => write_mesh2(pov, data, &look, object.transform.as_ref()),
@@ -292,12 +315,34 @@ mod tests {
 
         [[objects]]
         triangle = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
+
+        [[objects]]
+        plane = { point = [0, -1, 0], normal = [0, 2, 0] }
+
+        [[objects]]
+        box = { min = [-1, -1, -1], max = [1, 0.5, 2] }
+
+        [[objects]]
+        quad = { corner = [0, 0, -3], edge_u = [2, 0, 0], edge_v = [0, 1, 0] }
     "#;
 
     fn tiny() -> String {
         let scene = scene_format::load_str(TINY, scene_format::Format::Toml, Path::new("tiny"))
             .expect("the tiny scene loads");
         pov_scene(&scene)
+    }
+
+    #[test]
+    fn plane_box_and_quad_as_pov_ray_shapes() {
+        let pov = tiny();
+        // y = -1 facing +y: unit normal, distance -1 along it.
+        assert!(pov.contains("plane { <0, 1, 0>, -1 pigment"), "{pov}");
+        assert!(
+            pov.contains("box { <-1, -1, -1>, <1, 0.5, 2> pigment"),
+            "{pov}"
+        );
+        assert!(pov.contains("triangle { <0, 0, -3>, <2, 0, -3>, <0, 1, -3> pigment"));
+        assert!(pov.contains("triangle { <2, 1, -3>, <0, 1, -3>, <2, 0, -3> pigment"));
     }
 
     #[test]

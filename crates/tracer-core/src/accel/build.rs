@@ -62,7 +62,8 @@ pub(super) struct BuildPrim {
 }
 
 impl BuildPrim {
-    pub(super) fn new(shape: &Shape, id: u32) -> BuildPrim {
+    /// None for a plane: it has no finite box (the BVH tests planes apart).
+    pub(super) fn new(shape: &Shape, id: u32) -> Option<BuildPrim> {
         let bounds = match shape {
             Shape::Triangle(t) => {
                 let (a, b, c) = (Vec3A::from(t.v0), Vec3A::from(t.v1), Vec3A::from(t.v2));
@@ -84,9 +85,10 @@ impl BuildPrim {
                     max: c + r,
                 }
             }
+            Shape::Plane(_) => return None,
         };
         let sphere = matches!(shape, Shape::Sphere(_));
-        BuildPrim { bounds, id, sphere }
+        Some(BuildPrim { bounds, id, sphere })
     }
 
     /// Twice the box centre: only compared, never used as a point.

@@ -2,7 +2,9 @@
 //! with the binned surface area heuristic (`build.rs`) into 8-wide nodes
 //! (`wide.rs`) whose boxes a ray tests in SIMD lanes; leaves of triangles
 //! in blocks of four tested at once (`tri4.rs`), or of spheres; traversed
-//! nearest child first; shadow rays stop at the first hit.
+//! nearest child first; shadow rays stop at the first hit. Planes are
+//! infinite, so no box holds them: they are kept in a list tested beside
+//! the tree, first (a floor's hit then prunes what lies beyond it).
 //!
 //! It finds exactly the hits of the brute-force loop over all objects: the
 //! same intersection arithmetic on the same (precomputed) numbers, box tests
@@ -16,7 +18,7 @@ mod traverse;
 mod tri4;
 mod wide;
 
-use crate::geometry::{Object, SurfaceHit};
+use crate::geometry::{Object, Plane, Shape, SurfaceHit, UvMap};
 use crate::ray::Ray;
 use build::BuildPrim;
 use leaves::{pack_leaves, SpherePrim, SPHERE_LEAF};
@@ -33,6 +35,19 @@ pub struct Bvh {
     nodes: Vec<Node>,
     tris: Vec<Tri4>,
     spheres: Vec<SpherePrim>,
+    /// The unbounded objects, in list order.
+    planes: Vec<PlanePrim>,
+    /// The triangles whose barycentrics map to another uv (quads' and
+    /// boxes' halves), by object index, sorted: looked up once per hit.
+    uv_maps: Vec<(u32, UvMap)>,
+}
+
+/// A plane with its object index and material.
+#[derive(Debug, Clone, PartialEq)]
+struct PlanePrim {
+    plane: Plane,
+    id: u32,
+    material: u32,
 }
 
 impl Bvh {
@@ -42,10 +57,32 @@ impl Bvh {
         let mut items: Vec<BuildPrim> = objects
             .par_iter()
             .enumerate()
-            .map(|(i, o)| BuildPrim::new(&o.shape, i as u32))
+            .filter_map(|(i, o)| BuildPrim::new(&o.shape, i as u32))
+            .collect();
+        let planes = objects
+            .iter()
+            .enumerate()
+            .filter_map(|(i, o)| match &o.shape {
+                Shape::Plane(plane) => Some(PlanePrim {
+                    plane: plane.clone(),
+                    id: i as u32,
+                    material: o.material as u32,
+                }),
+                _ => None,
+            })
+            .collect();
+        let uv_maps = objects
+            .iter()
+            .enumerate()
+            .filter(|(_, o)| o.uv != UvMap::IDENTITY)
+            .map(|(i, o)| (i as u32, o.uv))
             .collect();
         if items.is_empty() {
-            return Bvh::default();
+            return Bvh {
+                planes,
+                uv_maps,
+                ..Bvh::default()
+            };
         }
         let mut nodes = wide::build(&mut items);
         let (tris, spheres) = pack_leaves(&mut nodes, &items, objects);
@@ -53,6 +90,16 @@ impl Bvh {
             nodes,
             tris,
             spheres,
+            planes,
+            uv_maps,
+        }
+    }
+
+    /// The uv of a hit on triangle `id` at barycentric `uv`.
+    fn map_uv(&self, id: u32, uv: glam::Vec2) -> glam::Vec2 {
+        match self.uv_maps.binary_search_by_key(&id, |&(i, _)| i) {
+            Ok(k) => self.uv_maps[k].1.apply(uv),
+            Err(_) => uv,
         }
     }
 
@@ -64,11 +111,32 @@ impl Bvh {
     /// The nearest hit in (t_min, t_max); of hits at the same distance, the
     /// one of the lowest object index (as the brute-force loop finds it).
     pub fn closest_hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
-        if self.nodes.is_empty() {
-            return None;
-        }
-        let r = RayData::new(ray);
         let mut best = Best::none(t_max);
+        for (k, p) in self.planes.iter().enumerate() {
+            if let Some(t) = p.plane.intersect(ray, t_min, best.limit(t_max)) {
+                best.offer(t, p.id, t_max, HitAt::Plane(k));
+            }
+        }
+        if !self.nodes.is_empty() {
+            self.nearest_in_tree(ray, t_min, t_max, &mut best);
+        }
+        best.found().then(|| match best.at {
+            HitAt::Triangle { block, lane, uv } => {
+                let uv = self.map_uv(self.tris[block].id[lane], uv);
+                self.tris[block].hit(lane, ray, best.t, uv)
+            }
+            HitAt::Sphere(k) => self.spheres[k].hit(ray, best.t),
+            HitAt::Plane(k) => {
+                let p = &self.planes[k];
+                let (id, material) = (p.id as usize, p.material as usize);
+                SurfaceHit::on_plane(&p.plane, ray, best.t, id, material)
+            }
+        })
+    }
+
+    /// Offers `best` the nearest hits of the tree.
+    fn nearest_in_tree(&self, ray: &Ray, t_min: f32, t_max: f32, best: &mut Best) {
+        let r = RayData::new(ray);
         with_stack(|stack| {
             stack[0] = Entry::ROOT;
             let mut sp = 1;
@@ -79,7 +147,7 @@ impl Bvh {
                     continue;
                 }
                 let Some(halves) = node_halves(entry.count) else {
-                    self.nearest_in_leaf(&r, entry, t_min, t_max, &mut best);
+                    self.nearest_in_leaf(&r, entry, t_min, t_max, best);
                     continue;
                 };
                 let node = &self.nodes[entry.child as usize];
@@ -87,10 +155,6 @@ impl Bvh {
                 sp = push_nearest_last(stack, sp, node, mask, near);
             }
         });
-        best.found().then(|| match best.at {
-            HitAt::Triangle { block, lane, uv } => self.tris[block].hit(lane, ray, best.t, uv),
-            HitAt::Sphere(k) => self.spheres[k].hit(ray, best.t),
-        })
     }
 
     /// Offers `best` every hit in the leaf `entry`.
@@ -130,6 +194,10 @@ impl Bvh {
 
     /// Whether any primitive lies on the ray in (t_min, t_max).
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        let on_plane = |p: &PlanePrim| p.plane.intersect(ray, t_min, t_max).is_some();
+        if self.planes.iter().any(on_plane) {
+            return true;
+        }
         if self.nodes.is_empty() {
             return false;
         }
@@ -177,7 +245,7 @@ impl Bvh {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Shape, Sphere, Triangle};
+    use crate::geometry::{Sphere, Triangle};
     use glam::Vec3;
     use wide::{GROUPS, WIDTH};
 
@@ -196,7 +264,7 @@ mod tests {
     }
 
     fn object(shape: Shape) -> Object {
-        Object { shape, material: 0 }
+        Object::new(shape, 0)
     }
 
     /// Small triangles and spheres scattered in a cube, some coinciding.
@@ -210,10 +278,7 @@ mod tests {
                 Shape::Triangle(Triangle::new(c, c + rng.vec(0.6), c + rng.vec(0.6)))
             };
             // Materials vary, so a hit's material is checked too.
-            objects.push(Object {
-                shape,
-                material: i % 3,
-            });
+            objects.push(Object::new(shape, i % 3));
         }
         // Exact duplicates: the lower index must win the tie.
         let copies: Vec<Object> = objects.iter().step_by(7).cloned().collect();
@@ -249,6 +314,65 @@ mod tests {
             hits += expected.is_some() as u32;
         }
         assert!(hits > 2000, "only {hits} hits: the test would prove little");
+    }
+
+    #[test]
+    fn planes_beside_the_tree_find_exactly_the_brute_force_hits() {
+        let mut rng = Rng(0x5EED);
+        let mut objects = soup(&mut rng, 1500);
+        // Planes cutting through the soup and bounding it, among the other
+        // objects; and mapped uv (a quad's second half) on some triangles.
+        let planes = [
+            (0, Vec3::new(0.0, -4.0, 0.0), Vec3::Y),
+            (200, Vec3::new(0.5, 0.0, 0.0), Vec3::new(1.0, 0.3, -0.2)),
+            (901, Vec3::new(0.0, 0.0, 6.0), -Vec3::Z),
+        ];
+        for (at, point, normal) in planes {
+            objects.insert(at, Object::new(Shape::Plane(Plane::new(point, normal)), 1));
+        }
+        for o in objects.iter_mut().step_by(5) {
+            o.uv = UvMap {
+                origin: glam::Vec2::ONE,
+                du: -glam::Vec2::X,
+                dv: -glam::Vec2::Y,
+            };
+        }
+        let bvh = Bvh::build(&objects);
+        let mut plane_hits = 0;
+        for k in 0..20_000 {
+            let origin = rng.vec(if k % 2 == 0 { 8.0 } else { 4.0 });
+            let ray = Ray::new(origin, rng.vec(1.0));
+            let t_max = if k % 3 == 0 { 2.0 } else { f32::INFINITY };
+            let expected = brute_closest(&objects, &ray, t_max);
+            assert_eq!(bvh.closest_hit(&ray, 1e-4, t_max), expected, "ray {k}");
+            let any = brute_force::occluded(&objects, &ray, 1e-4, t_max);
+            assert_eq!(bvh.occluded(&ray, 1e-4, t_max), any, "ray {k}");
+            plane_hits += expected.is_some_and(|h| [0, 200, 901].contains(&h.object)) as u32;
+        }
+        assert!(plane_hits > 2000, "only {plane_hits} plane hits");
+    }
+
+    #[test]
+    fn a_plane_and_a_triangle_at_the_same_distance_tie_to_the_one_listed_first() {
+        let t = object(Shape::Triangle(Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y)));
+        let plane = object(Shape::Plane(Plane::new(Vec3::ZERO, Vec3::Z)));
+        let ray = Ray::new(Vec3::new(0.2, 0.2, 5.0), -Vec3::Z);
+        for (objects, winner) in [
+            (vec![plane.clone(), t.clone()], 0),
+            (vec![t.clone(), plane.clone()], 0),
+            (vec![t.clone(), plane.clone(), t], 0),
+            (vec![plane.clone(), plane], 0),
+        ] {
+            let hit = Bvh::build(&objects).closest_hit(&ray, 1e-4, f32::INFINITY);
+            assert_eq!(hit.map(|h| (h.t, h.object)), Some((5.0, winner)));
+            assert_eq!(hit, brute_closest(&objects, &ray, f32::INFINITY));
+        }
+        // Only planes: no tree at all, still hit and still in shadow.
+        let only = [object(Shape::Plane(Plane::new(Vec3::ZERO, Vec3::Z)))];
+        let bvh = Bvh::build(&only);
+        assert_eq!(bvh.node_count(), 0);
+        assert!(bvh.occluded(&ray, 1e-4, 6.0));
+        assert!(!bvh.occluded(&ray, 1e-4, 4.0));
     }
 
     #[test]
@@ -333,10 +457,10 @@ mod tests {
 
     #[test]
     fn a_single_object_is_found() {
-        let objects = [Object {
-            shape: Shape::Sphere(Sphere::new(Vec3::new(0.0, 0.0, -5.0), 1.0)),
-            material: 2,
-        }];
+        let objects = [Object::new(
+            Shape::Sphere(Sphere::new(Vec3::new(0.0, 0.0, -5.0), 1.0)),
+            2,
+        )];
         let bvh = Bvh::build(&objects);
         let ray = Ray::new(Vec3::ZERO, -Vec3::Z);
         let expected = brute_closest(&objects, &ray, f32::INFINITY);

@@ -53,6 +53,8 @@ pub(super) enum HitAt {
         uv: Vec2,
     },
     Sphere(usize),
+    /// Plane `k` of the list tested beside the tree.
+    Plane(usize),
 }
 
 impl Best {

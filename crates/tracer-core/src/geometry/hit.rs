@@ -1,7 +1,7 @@
 //! The record of a ray meeting a surface: what shading, textures and the
 //! next features (glass, smooth normals) read of a hit.
 
-use super::{Sphere, TriangleHit};
+use super::{Plane, Sphere, TriangleHit};
 use crate::ray::Ray;
 use glam::{Vec2, Vec3};
 
@@ -21,7 +21,9 @@ pub struct SurfaceHit {
     /// vertex normals.
     pub shading_normal: Vec3,
     /// Surface coordinates: barycentric (u, v) on a triangle (v0 -> (0, 0),
-    /// v1 -> (1, 0), v2 -> (0, 1)); the lab's spherical mapping on a sphere.
+    /// v1 -> (1, 0), v2 -> (0, 1)) unless its object maps them (a quad's or
+    /// box face's half: (s, t) over the whole face); the lab's spherical
+    /// mapping on a sphere; coordinates along the plane's axes on a plane.
     pub uv: Vec2,
     /// Whether the ray met the side the geometric normal points to.
     pub front_face: bool,
@@ -68,6 +70,25 @@ impl SurfaceHit {
             shading_normal: normal,
             uv: hit.uv,
             front_face: ray.dir.dot(normal) < 0.0,
+        }
+    }
+
+    /// The hit on a plane at distance `t` along `ray`.
+    pub fn on_plane(
+        plane: &Plane,
+        ray: &Ray,
+        t: f32,
+        object: usize,
+        material: usize,
+    ) -> SurfaceHit {
+        SurfaceHit {
+            t,
+            object,
+            material,
+            geometric_normal: plane.normal,
+            shading_normal: plane.normal,
+            uv: plane.uv(ray.at(t)),
+            front_face: ray.dir.dot(plane.normal) < 0.0,
         }
     }
 }

@@ -3,12 +3,14 @@
 
 mod hit;
 mod placement;
+mod plane;
 mod shape;
 mod sphere;
 mod triangle;
 
 pub use hit::SurfaceHit;
 pub use placement::Placement;
-pub use shape::{Object, Shape};
+pub use plane::Plane;
+pub use shape::{Object, Shape, UvMap};
 pub use sphere::Sphere;
 pub use triangle::{Triangle, TriangleHit};

@@ -1,21 +1,54 @@
 //! The shapes a ray can hit, and an object: a shape with its material.
 
-use super::{Sphere, SurfaceHit, Triangle};
+use super::{Plane, Sphere, SurfaceHit, Triangle};
 use crate::ray::Ray;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
-/// One primitive of the scene. A mesh is many triangles, each its own shape.
+/// One primitive of the scene. A mesh is many triangles, each its own
+/// shape; so are quads and boxes (two triangles per face, see `prepare`).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Shape {
     Sphere(Sphere),
     Triangle(Triangle),
+    /// Infinite: it has no bounds, so the BVH tests it beside its tree.
+    Plane(Plane),
 }
 
-/// A shape and the index of its material (`Scene::material(index)`).
+/// What a triangle's barycentric (u, v) becomes as the hit's uv:
+/// `origin + u * du + v * dv`. The identity for a plain triangle; a quad's
+/// second half maps its barycentrics back onto the quad's (s, t).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UvMap {
+    pub origin: Vec2,
+    pub du: Vec2,
+    pub dv: Vec2,
+}
+
+impl UvMap {
+    pub const IDENTITY: UvMap = UvMap {
+        origin: Vec2::ZERO,
+        du: Vec2::X,
+        dv: Vec2::Y,
+    };
+
+    pub fn apply(&self, uv: Vec2) -> Vec2 {
+        self.origin + uv.x * self.du + uv.y * self.dv
+    }
+}
+
+impl Default for UvMap {
+    fn default() -> Self {
+        UvMap::IDENTITY
+    }
+}
+
+/// A shape, the index of its material (`Scene::material(index)`), and the
+/// map of a triangle's barycentrics to its uv (ignored by other shapes).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Object {
     pub shape: Shape,
     pub material: usize,
+    pub uv: UvMap,
 }
 
 impl Shape {
@@ -24,6 +57,7 @@ impl Shape {
         match self {
             Shape::Sphere(s) => s.intersect(ray, t_min, t_max),
             Shape::Triangle(t) => t.intersect(ray, t_min, t_max).map(|hit| hit.t),
+            Shape::Plane(p) => p.intersect(ray, t_min, t_max),
         }
     }
 
@@ -32,19 +66,30 @@ impl Shape {
         match self {
             Shape::Sphere(s) => s.normal(p),
             Shape::Triangle(t) => t.normal(),
+            Shape::Plane(plane) => plane.normal,
         }
     }
 
-    /// The smallest box holding the shape: (min, max).
-    pub fn bounds(&self) -> (Vec3, Vec3) {
+    /// The smallest box holding the shape: (min, max); None for a plane.
+    pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
         match self {
-            Shape::Sphere(s) => (s.center - s.radius, s.center + s.radius),
-            Shape::Triangle(t) => (t.v0.min(t.v1).min(t.v2), t.v0.max(t.v1).max(t.v2)),
+            Shape::Sphere(s) => Some((s.center - s.radius, s.center + s.radius)),
+            Shape::Triangle(t) => Some((t.v0.min(t.v1).min(t.v2), t.v0.max(t.v1).max(t.v2))),
+            Shape::Plane(_) => None,
         }
     }
 }
 
 impl Object {
+    /// A shape with its material and the identity uv map.
+    pub fn new(shape: Shape, material: usize) -> Object {
+        Object {
+            shape,
+            material,
+            uv: UvMap::IDENTITY,
+        }
+    }
+
     /// The nearest hit on this object in (t_min, t_max), as a full record;
     /// `index` is the object's place in the scene.
     pub fn surface_hit(
@@ -60,7 +105,8 @@ impl Object {
                 Some(SurfaceHit::on_sphere(s, ray, t, index, self.material))
             }
             Shape::Triangle(tri) => {
-                let hit = tri.intersect(ray, t_min, t_max)?;
+                let mut hit = tri.intersect(ray, t_min, t_max)?;
+                hit.uv = self.uv.apply(hit.uv);
                 let (e1, e2, _) = tri.edges();
                 Some(SurfaceHit::on_triangle(
                     e1,
@@ -70,6 +116,10 @@ impl Object {
                     index,
                     self.material,
                 ))
+            }
+            Shape::Plane(p) => {
+                let t = p.intersect(ray, t_min, t_max)?;
+                Some(SurfaceHit::on_plane(p, ray, t, index, self.material))
             }
         }
     }

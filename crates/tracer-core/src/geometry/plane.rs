@@ -1,0 +1,104 @@
+//! An infinite plane: a point and a unit normal, with uv measured along two
+//! axes in the plane (unit scale), so textures tile it.
+
+use crate::ray::Ray;
+use glam::{Vec2, Vec3};
+
+/// A plane through `point` with unit normal `normal`; `u_axis`, `v_axis`
+/// are unit vectors in the plane with `u_axis x v_axis = normal`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plane {
+    pub point: Vec3,
+    pub normal: Vec3,
+    pub u_axis: Vec3,
+    pub v_axis: Vec3,
+}
+
+impl Plane {
+    /// The plane through `point` facing `normal` (any non-zero length).
+    /// u runs along world x projected into the plane (along y when the
+    /// plane is nearly perpendicular to x), v = normal x u: a floor
+    /// (normal +y) gets u = +x, v = -z; a wall facing +z gets u = +x, v = +y.
+    pub fn new(point: Vec3, normal: Vec3) -> Plane {
+        let normal = normal.normalize();
+        let reference = if normal.x.abs() < 0.9 {
+            Vec3::X
+        } else {
+            Vec3::Y
+        };
+        let u_axis = (reference - normal * normal.dot(reference)).normalize();
+        let v_axis = normal.cross(u_axis);
+        Plane {
+            point,
+            normal,
+            u_axis,
+            v_axis,
+        }
+    }
+
+    /// The distance in (t_min, t_max) where the ray crosses the plane; a
+    /// ray in the plane or parallel to it misses (as a triangle's edge-on
+    /// ray does).
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        let denom = self.normal.dot(ray.dir);
+        if denom.abs() <= f32::EPSILON * ray.dir.length() {
+            return None;
+        }
+        let t = self.normal.dot(self.point - ray.origin) / denom;
+        (t > t_min && t < t_max).then_some(t)
+    }
+
+    /// Coordinates of `p` (a point on the plane) along `u_axis` and `v_axis`
+    /// from `point`.
+    pub fn uv(&self, p: Vec3) -> Vec2 {
+        let d = p - self.point;
+        Vec2::new(d.dot(self.u_axis), d.dot(self.v_axis))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_floor_is_hit_at_the_analytic_distance_and_uv() {
+        let floor = Plane::new(Vec3::new(0.0, -1.0, 0.0), Vec3::new(0.0, 3.0, 0.0));
+        assert_eq!(floor.normal, Vec3::Y);
+        // From (2, 3, 5) toward (0, -1, 0) direction (-1, -2, -2.5): y falls by
+        // 4 at t = 2, the point (0, -1, 0).
+        let ray = Ray::new(Vec3::new(2.0, 3.0, 5.0), Vec3::new(-1.0, -2.0, -2.5));
+        let t = floor.intersect(&ray, 0.0, f32::INFINITY).expect("a hit");
+        assert!((t - 2.0).abs() < 1e-6, "{t}");
+        // u = +x, v = -z from the plane's point.
+        let p = Vec3::new(1.5, -1.0, -0.25);
+        assert!((floor.uv(p) - Vec2::new(1.5, 0.25)).length() < 1e-6);
+        assert_eq!(floor.u_axis.cross(floor.v_axis), floor.normal);
+    }
+
+    #[test]
+    fn parallel_and_behind_are_misses() {
+        let wall = Plane::new(Vec3::ZERO, Vec3::Z);
+        let along = Ray::new(Vec3::new(0.0, 0.0, 1.0), Vec3::X);
+        let away = Ray::new(Vec3::new(0.0, 0.0, 1.0), Vec3::Z);
+        assert_eq!(wall.intersect(&along, 0.0, f32::INFINITY), None);
+        assert_eq!(wall.intersect(&away, 0.0, f32::INFINITY), None);
+        let toward = Ray::new(Vec3::new(0.0, 0.0, 1.0), -Vec3::Z);
+        assert_eq!(wall.intersect(&toward, 0.0, 0.5), None);
+        assert_eq!(wall.intersect(&toward, 0.0, 2.0), Some(1.0));
+    }
+
+    #[test]
+    fn axes_are_orthonormal_for_any_normal() {
+        for n in [
+            Vec3::X,
+            -Vec3::X,
+            Vec3::new(1.0, 2.0, 3.0),
+            Vec3::new(0.95, 0.1, 0.0),
+        ] {
+            let p = Plane::new(Vec3::ZERO, n);
+            assert!(p.u_axis.dot(p.normal).abs() < 1e-6);
+            assert!((p.u_axis.length() - 1.0).abs() < 1e-6);
+            assert!((p.u_axis.cross(p.v_axis) - p.normal).length() < 1e-6);
+        }
+    }
+}
