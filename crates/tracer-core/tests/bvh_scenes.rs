@@ -39,6 +39,18 @@ fn lab_scenes_are_identical_with_and_without_the_bvh() {
 }
 
 #[test]
+fn boxes_planes_and_quads_are_identical_with_and_without_the_bvh() {
+    // The floor plane is tested beside the tree; glass sends rays through
+    // the boxes' insides, so back faces and ties at edges are compared too.
+    let mut file = load(&scenes_dir().join("boxes.toml"));
+    (file.camera.width, file.camera.height) = (160, 100);
+    let scene = prepare(&file).expect("prepare");
+    let fast = render_image(&scene);
+    let slow = render_image(&scene.brute_force());
+    assert!(fast == slow, "the BVH changed the image");
+}
+
+#[test]
 fn the_bunny_is_identical_with_and_without_the_bvh() {
     let scene = small_bunny();
     assert_eq!(scene.objects().len(), 69_666);
