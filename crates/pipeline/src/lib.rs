@@ -3,8 +3,8 @@
 //! goldens check exactly what `tracer` writes.
 //!
 //! [`load`] reads a scene (a file or the built-in one) and says which files
-//! it read; [`render`] makes the 8-bit image; [`output`] writes it whole or
-//! not at all. [`lab`] makes the lab's calibration chart and gamma fit.
+//! it read; [`render`] makes the linear image and its encoding; [`output`]
+//! writes it in the format of its extension, whole or not at all. [`lab`] makes the lab's calibration chart and gamma fit.
 
 mod error;
 pub mod lab;
@@ -21,4 +21,4 @@ pub use limits::{BYTES_PER_PRIMITIVE, MAX_PRIMITIVES};
 pub use load::{load, Input, Loaded, DEFAULT_SCENE_NAME};
 pub use options::{Aov, Gamma, Options};
 pub use render::{default_output, image_size, render};
-pub use rendered::{Rendered, ShadedStats, Summary, FORCED_WHITE_WARNING};
+pub use rendered::{Picture, Rendered, ShadedStats, Summary, FORCED_WHITE_WARNING};

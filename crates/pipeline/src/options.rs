@@ -42,6 +42,9 @@ pub struct Options {
     pub width: Option<u32>,
     /// Overrides the camera's height; alone, the width follows.
     pub height: Option<u32>,
+    /// With `aov: Some(Aov::Depth)`, the distances from the eye (0 for no
+    /// hit) instead of the greys: what a float file (EXR, HDR) holds.
+    pub raw_depth: bool,
 }
 
 impl Options {

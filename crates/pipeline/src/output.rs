@@ -1,6 +1,7 @@
 //! Writing output files whole or not at all, in the format their
 //! extension names.
 
+use crate::rendered::Picture;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard};
@@ -43,6 +44,15 @@ pub enum OutputError {
     /// The output is an existing folder, device or other non-file.
     #[error("{}: cannot write an image over a folder or a device", path.display())]
     NotAFile { path: PathBuf },
+    /// An image with no linear values (a chart, a plot) cannot be a float file.
+    #[error("{}: only the 8-bit formats (.png, .jpg) are written for this image, not {}", path.display(), format.name())]
+    EightBitOnly { path: PathBuf, format: ImageFormat },
+    /// `--bit-depth 16` for another format than PNG.
+    #[error("{}: --bit-depth 16 is for .png outputs; {} files are written at {}", path.display(), format.name(), match format { ImageFormat::Jpeg => "8 bits", _ => "32-bit float (linear)" })]
+    BitDepthOfFormat { path: PathBuf, format: ImageFormat },
+    /// `--gamma` for a file of linear values, which takes no gamma.
+    #[error("{}: --gamma encodes for a display; {} files hold the renderer's linear values, without gamma", path.display(), format.name())]
+    GammaOfLinear { path: PathBuf, format: ImageFormat },
     /// The output is one of the files read (same file, however named).
     #[error("{}: the output is the input {}; refusing to overwrite it", path.display(), input.display())]
     IsAnInput { path: PathBuf, input: PathBuf },
@@ -54,7 +64,11 @@ impl OutputError {
     pub fn is_bad_input(&self) -> bool {
         matches!(
             self,
-            OutputError::UnknownFormat { .. } | OutputError::IsAnInput { .. }
+            OutputError::UnknownFormat { .. }
+                | OutputError::IsAnInput { .. }
+                | OutputError::EightBitOnly { .. }
+                | OutputError::BitDepthOfFormat { .. }
+                | OutputError::GammaOfLinear { .. }
         )
     }
 }
@@ -62,23 +76,49 @@ impl OutputError {
 /// The image file formats written.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ImageFormat {
+    /// 8 bits per channel, or 16 with [`BitDepth::Sixteen`].
     Png,
+    /// 8 bits, encoded as the PNG, at [`JPEG_QUALITY`].
+    Jpeg,
+    /// OpenEXR, 32-bit floats: the renderer's linear values.
+    Exr,
+    /// Radiance RGBE: the linear values, 8-bit mantissas sharing an exponent.
+    Hdr,
+}
+
+/// JPEG's quality (1 to 100): high enough that the lab's flat colours and
+/// sharp edges keep within a few levels of the PNG.
+pub const JPEG_QUALITY: u8 = 90;
+
+/// Bits per channel of a PNG.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum BitDepth {
+    #[default]
+    Eight,
+    Sixteen,
 }
 
 impl ImageFormat {
-    pub const ALL: [ImageFormat; 1] = [ImageFormat::Png];
+    pub const ALL: [ImageFormat; 4] = [
+        ImageFormat::Png,
+        ImageFormat::Jpeg,
+        ImageFormat::Exr,
+        ImageFormat::Hdr,
+    ];
 
     /// The format an output path's extension names (any case), or
-    /// [`OutputError::UnknownFormat`]: writing PNG bytes to `x.jpg` would
+    /// [`OutputError::UnknownFormat`]: writing PNG bytes to `x.tif` would
     /// give a file that lies about its contents.
     pub fn for_path(path: &Path) -> Result<ImageFormat, OutputError> {
         let extension = path.extension().map(|e| e.to_string_lossy().into_owned());
         ImageFormat::ALL
             .into_iter()
             .find(|f| {
-                extension
-                    .as_deref()
-                    .is_some_and(|e| e.eq_ignore_ascii_case(f.extension()))
+                extension.as_deref().is_some_and(|e| {
+                    f.extensions()
+                        .iter()
+                        .any(|known| e.eq_ignore_ascii_case(known))
+                })
             })
             .ok_or(OutputError::UnknownFormat {
                 path: path.to_path_buf(),
@@ -86,23 +126,41 @@ impl ImageFormat {
             })
     }
 
-    pub fn extension(self) -> &'static str {
+    /// The extensions that name the format, the usual one first.
+    pub fn extensions(self) -> &'static [&'static str] {
         match self {
-            ImageFormat::Png => "png",
+            ImageFormat::Png => &["png"],
+            ImageFormat::Jpeg => &["jpg", "jpeg"],
+            ImageFormat::Exr => &["exr"],
+            ImageFormat::Hdr => &["hdr"],
         }
     }
 
-    fn name(self) -> &'static str {
+    pub fn extension(self) -> &'static str {
+        self.extensions()[0]
+    }
+
+    pub fn name(self) -> &'static str {
         match self {
             ImageFormat::Png => "PNG",
+            ImageFormat::Jpeg => "JPEG",
+            ImageFormat::Exr => "OpenEXR",
+            ImageFormat::Hdr => "Radiance HDR",
         }
     }
 
-    /// ".png", or ".png, .jpg" as more formats come.
+    /// Whether the file holds the linear values (floats) rather than the
+    /// display encoding (gamma, saturation rule, integers).
+    pub fn is_linear(self) -> bool {
+        matches!(self, ImageFormat::Exr | ImageFormat::Hdr)
+    }
+
+    /// ".png, .jpg, .jpeg, .exr, .hdr".
     fn list() -> String {
         let names: Vec<String> = ImageFormat::ALL
             .iter()
-            .map(|f| format!(".{}", f.extension()))
+            .flat_map(|f| f.extensions())
+            .map(|e| format!(".{e}"))
             .collect();
         names.join(", ")
     }
@@ -222,13 +280,73 @@ impl PendingOutput {
         })
     }
 
+    /// As [`create`](Self::create), for an image that has only 8-bit
+    /// values (a chart, a plot): a float format is refused here, before
+    /// the work, rather than when written.
+    pub fn create_8bit(path: &Path) -> Result<PendingOutput, OutputError> {
+        match ImageFormat::for_path(path)? {
+            format if format.is_linear() => Err(OutputError::EightBitOnly {
+                path: path.to_path_buf(),
+                format,
+            }),
+            _ => PendingOutput::create(path),
+        }
+    }
+
     pub fn path(&self) -> &Path {
         &self.path
     }
 
-    /// Encodes `image` in the output's format and writes it into place.
+    pub fn format(&self) -> ImageFormat {
+        self.format
+    }
+
+    /// Refuses, before a render, what the output's format cannot hold: 16
+    /// bits outside PNG, a display gamma (`gamma_given`) in a float file.
+    pub fn check_render_options(
+        &self,
+        depth: BitDepth,
+        gamma_given: bool,
+    ) -> Result<(), OutputError> {
+        let (path, format) = (self.path.clone(), self.format);
+        if depth == BitDepth::Sixteen && format != ImageFormat::Png {
+            return Err(OutputError::BitDepthOfFormat { path, format });
+        }
+        if gamma_given && format.is_linear() {
+            return Err(OutputError::GammaOfLinear { path, format });
+        }
+        Ok(())
+    }
+
+    /// Encodes an 8-bit `image` (PNG or JPEG) and writes it into place; a
+    /// float format is [`OutputError::EightBitOnly`].
     pub fn write_image(self, image: &image::RgbImage) -> Result<(), OutputError> {
+        if self.format.is_linear() {
+            return Err(OutputError::EightBitOnly {
+                path: self.path.clone(),
+                format: self.format,
+            });
+        }
         let bytes = encode(image, self.format)?;
+        self.write_bytes(&bytes)
+    }
+
+    /// Encodes a render in the output's format and writes it into place:
+    /// PNG at `depth` bits, JPEG at 8, EXR and HDR the linear values. The
+    /// caller has refused 16 bits for other formats than PNG (it is
+    /// ignored here).
+    pub fn write_picture(self, picture: &Picture, depth: BitDepth) -> Result<(), OutputError> {
+        let bytes = match (self.format, depth) {
+            (ImageFormat::Png, BitDepth::Sixteen) => encode_dynamic(
+                image::DynamicImage::ImageRgb16(picture.to_rgb16()),
+                self.format,
+            )?,
+            (ImageFormat::Exr | ImageFormat::Hdr, _) => encode_dynamic(
+                image::DynamicImage::ImageRgb32F(picture.to_rgb32f()),
+                self.format,
+            )?,
+            _ => encode(&picture.to_rgb8(), self.format)?,
+        };
         self.write_bytes(&bytes)
     }
 
@@ -267,19 +385,47 @@ pub fn write_image(image: &image::RgbImage, path: &Path) -> Result<(), OutputErr
     PendingOutput::create(path)?.write_image(image)
 }
 
-/// The bytes of an image file in `format`.
+/// The bytes of an 8-bit image file in `format` (PNG's are those of
+/// every release so far: the goldens check them).
 pub fn encode(image: &image::RgbImage, format: ImageFormat) -> Result<Vec<u8>, OutputError> {
-    let encoder = match format {
-        ImageFormat::Png => image::ImageFormat::Png,
+    let error = |source| OutputError::Encode {
+        format: format.name(),
+        source,
     };
+    if format == ImageFormat::Jpeg {
+        // `write_to` would take the encoder's default quality (75).
+        let mut bytes = Vec::new();
+        image::codecs::jpeg::JpegEncoder::new_with_quality(&mut bytes, JPEG_QUALITY)
+            .encode_image(image)
+            .map_err(error)?;
+        return Ok(bytes);
+    }
     let mut bytes = Vec::new();
     image
-        .write_to(&mut std::io::Cursor::new(&mut bytes), encoder)
+        .write_to(&mut std::io::Cursor::new(&mut bytes), image_format(format))
+        .map_err(error)?;
+    Ok(bytes)
+}
+
+/// The bytes of a 16-bit or float image file in `format`.
+fn encode_dynamic(image: image::DynamicImage, format: ImageFormat) -> Result<Vec<u8>, OutputError> {
+    let mut bytes = Vec::new();
+    image
+        .write_to(&mut std::io::Cursor::new(&mut bytes), image_format(format))
         .map_err(|source| OutputError::Encode {
             format: format.name(),
             source,
         })?;
     Ok(bytes)
+}
+
+fn image_format(format: ImageFormat) -> image::ImageFormat {
+    match format {
+        ImageFormat::Png => image::ImageFormat::Png,
+        ImageFormat::Jpeg => image::ImageFormat::Jpeg,
+        ImageFormat::Exr => image::ImageFormat::OpenExr,
+        ImageFormat::Hdr => image::ImageFormat::Hdr,
+    }
 }
 
 /// Writes `bytes` to `path` whole or not at all (see `write_image`).
@@ -367,17 +513,41 @@ mod tests {
     fn the_extension_decides_the_format_and_others_are_refused_up_front() {
         let dir = tempfile::tempdir().unwrap();
         let image = image::RgbImage::from_pixel(3, 2, image::Rgb([10, 20, 30]));
-        for name in ["a.png", "b.PNG"] {
+        for (name, magic) in [
+            ("a.png", &b"\x89PNG"[..]),
+            ("b.PNG", b"\x89PNG"),
+            ("c.jpg", b"\xff\xd8\xff"),
+            ("c2.JPEG", b"\xff\xd8\xff"),
+        ] {
             let path = dir.path().join(name);
             write_image(&image, &path).unwrap();
-            assert!(
-                std::fs::read(&path).unwrap().starts_with(b"\x89PNG"),
-                "{name}"
-            );
+            assert!(std::fs::read(&path).unwrap().starts_with(magic), "{name}");
         }
+        let picture = Picture {
+            linear: tracer_core::image::LinearImage::new(3, 2),
+            encoding: tracer_core::image::Encoding::default(),
+        };
+        for (name, magic) in [
+            ("e.exr", &b"\x76\x2f\x31\x01"[..]),
+            ("f.hdr", b"#?RADIANCE"),
+            ("g.png", b"\x89PNG"),
+        ] {
+            let path = dir.path().join(name);
+            let pending = PendingOutput::create(&path).unwrap();
+            pending.write_picture(&picture, BitDepth::Eight).unwrap();
+            assert!(std::fs::read(&path).unwrap().starts_with(magic), "{name}");
+        }
+        // A chart or a plot has no linear values to put in a float file.
+        let err = write_image(&image, &dir.path().join("h.exr")).unwrap_err();
+        assert!(err.is_bad_input(), "{err}");
+        assert!(!dir.path().join("h.exr").exists());
+        let err = PendingOutput::create_8bit(&dir.path().join("h.hdr"))
+            .err()
+            .unwrap();
+        assert!(matches!(err, OutputError::EightBitOnly { .. }), "{err}");
         for (name, found) in [
-            ("c.jpg", "`.jpg` files"),
-            ("d.exr", "`.exr` files"),
+            ("c.tif", "`.tif` files"),
+            ("d.webp", "`.webp` files"),
             ("noext", "a file without an extension"),
             ("scene.toml", "`.toml` files"),
         ] {
@@ -387,7 +557,7 @@ mod tests {
             let message = err.to_string();
             assert!(message.contains(found), "{message}");
             assert!(
-                message.ends_with("the image formats written are: .png"),
+                message.ends_with("the image formats written are: .png, .jpg, .jpeg, .exr, .hdr"),
                 "{message}"
             );
             assert!(!path.exists());

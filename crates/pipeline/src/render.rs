@@ -1,11 +1,11 @@
-//! A loaded scene and the options of a render in, the 8-bit image out: the
-//! shaded 3D image, an AOV of a 3D scene, or a 2D canvas drawing.
+//! A loaded scene and the options of a render in, the linear image and its
+//! encoding out: the shaded 3D image, an AOV of a 3D scene, or a 2D canvas
+//! drawing.
 
 use crate::load::Loaded;
 use crate::options::{Aov, Gamma, Options};
-use crate::rendered::{Rendered, Summary};
+use crate::rendered::{Picture, Rendered, Summary};
 use crate::{scene3d, Error};
-use image::RgbImage;
 use scene_format::{CanvasFile, SceneKind};
 use std::path::{Path, PathBuf};
 
@@ -41,7 +41,7 @@ pub fn render(
             })
         }
         Some(aov) => Ok(Rendered {
-            image: scene3d::aov(&file, &loaded.name, aov, options.gamma, rows_done)?,
+            image: scene3d::aov(&file, &loaded.name, aov, options, rows_done)?,
             summary: Summary::Aov(aov),
         }),
     }
@@ -55,13 +55,16 @@ pub fn image_size(loaded: &Loaded, options: &Options) -> Result<(u32, u32), Erro
     }
 }
 
-/// A canvas scene drawn and encoded with its own gamma (or `gamma`).
-fn draw_canvas(file: &CanvasFile, gamma: Option<Gamma>) -> RgbImage {
+/// A canvas scene drawn, with its own gamma (or `gamma`).
+fn draw_canvas(file: &CanvasFile, gamma: Option<Gamma>) -> Picture {
     let mut encoding = lab_tools::canvas::encoding(file);
     if let Some(gamma) = gamma {
         encoding.gamma = gamma.get();
     }
-    lab_tools::canvas::draw(file).encode(&encoding)
+    Picture {
+        linear: lab_tools::canvas::draw(file),
+        encoding,
+    }
 }
 
 /// Where a render goes when no output is named: the scene's file stem

@@ -1,13 +1,52 @@
 //! What a render gives back: the image and the numbers for its summary.
 
 use crate::options::Aov;
-use image::RgbImage;
+use image::{ImageBuffer, Rgb, Rgb32FImage, RgbImage};
+use tracer_core::image::{Encoding, LinearImage};
 
 /// An image made, and what went into it.
 #[derive(Debug, Clone)]
 pub struct Rendered {
-    pub image: RgbImage,
+    pub image: Picture,
     pub summary: Summary,
+}
+
+/// A rendered image before its file format: the renderer's linear values
+/// and how a display encodes them. Carried to the output step so float
+/// files get the values themselves and 8- and 16-bit files the same rule.
+#[derive(Debug, Clone)]
+pub struct Picture {
+    pub linear: LinearImage,
+    /// The gamma and saturation rule of 8- and 16-bit files.
+    pub encoding: Encoding,
+}
+
+impl Picture {
+    pub fn dimensions(&self) -> (u32, u32) {
+        (self.linear.width, self.linear.height)
+    }
+
+    /// The 8-bit image (PNG, JPEG): the lab's encoding.
+    pub fn to_rgb8(&self) -> RgbImage {
+        self.linear.encode(&self.encoding)
+    }
+
+    /// The 16-bit image: the same rule truncated to 16 bits.
+    pub fn to_rgb16(&self) -> ImageBuffer<Rgb<u16>, Vec<u16>> {
+        self.linear.encode16(&self.encoding)
+    }
+
+    /// The linear values as they are: no gamma, no saturation rule.
+    pub fn to_rgb32f(&self) -> Rgb32FImage {
+        let values = self
+            .linear
+            .pixels
+            .iter()
+            .flat_map(|c| c.to_array())
+            .collect();
+        Rgb32FImage::from_raw(self.linear.width, self.linear.height, values)
+            .expect("the buffer holds exactly width * height pixels")
+    }
 }
 
 /// What was rendered, for a summary line.

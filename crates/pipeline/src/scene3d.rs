@@ -3,25 +3,24 @@
 //! the core through here (and names the core's `Aov` list), so a change of
 //! that API stays in this file.
 
-use crate::options::{Aov, Gamma};
-use crate::rendered::ShadedStats;
+use crate::options::{Aov, Gamma, Options};
+use crate::rendered::{Picture, ShadedStats};
 use crate::Error;
-use image::RgbImage;
 use scene_format::SceneFile;
 use std::path::Path;
 use std::time::Instant;
 use tracer_core::image::Saturation;
 use tracer_core::{Output, RenderJob, Scene};
 
-/// The shaded image, encoded with the scene's gamma (or `gamma`) and
-/// saturation rule; `rows_done(0)` once the scene is prepared, then
+/// The shaded image, with the scene's gamma (or `gamma`) and saturation
+/// rule for its encoding; `rows_done(0)` once the scene is prepared, then
 /// `rows_done(n)` from the render threads as `n` more rows are done.
 pub(crate) fn shade(
     file: &SceneFile,
     name: &Path,
     gamma: Option<Gamma>,
     rows_done: &(dyn Fn(u32) + Sync),
-) -> Result<(RgbImage, ShadedStats), Error> {
+) -> Result<(Picture, ShadedStats), Error> {
     let start = Instant::now();
     let scene = prepare(file, name)?;
     let prepare_seconds = start.elapsed().as_secs_f64();
@@ -52,27 +51,36 @@ pub(crate) fn shade(
         forced_white,
         pixels: image.pixels.len() as u64,
     };
-    Ok((image.encode(&encoding), stats))
+    let picture = Picture {
+        linear: image,
+        encoding,
+    };
+    Ok((picture, stats))
 }
 
-/// The image of one AOV, written linearly unless `gamma` is given; progress
-/// is reported as for `shade`.
+/// The image of one AOV, encoded linearly unless `options.gamma` is given
+/// (the depth AOV as distances with `options.raw_depth`); progress is
+/// reported as for `shade`.
 pub(crate) fn aov(
     file: &SceneFile,
     name: &Path,
     aov: Aov,
-    gamma: Option<Gamma>,
+    options: &Options,
     rows_done: &(dyn Fn(u32) + Sync),
-) -> Result<RgbImage, Error> {
+) -> Result<Picture, Error> {
     let scene = prepare(file, name)?;
     let mut encoding = tracer_core::aov::AOV_ENCODING;
-    if let Some(gamma) = gamma {
+    if let Some(gamma) = options.gamma {
         encoding.gamma = gamma.get();
     }
-    let job = RenderJob::full(&scene).with_output(Output::Aov(aov));
+    let output = match aov {
+        Aov::Depth if options.raw_depth => Output::Distance,
+        _ => Output::Aov(aov),
+    };
+    let job = RenderJob::full(&scene).with_output(output);
     rows_done(0);
-    let image = tracer_core::render(&scene, &job, rows_done).image;
-    Ok(image.encode(&encoding))
+    let linear = tracer_core::render(&scene, &job, rows_done).image;
+    Ok(Picture { linear, encoding })
 }
 
 fn prepare(file: &SceneFile, name: &Path) -> Result<Scene, Error> {

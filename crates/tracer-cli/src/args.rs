@@ -5,17 +5,24 @@
 use clap::{Args, Subcommand, ValueEnum};
 use std::path::PathBuf;
 use tracer_pipeline::lab::DEFAULT_CHART_SIZE;
+use tracer_pipeline::output::BitDepth;
 use tracer_pipeline::{Aov, Gamma, Input, Options};
 
-/// Render a scene file to a PNG image.
+/// Render a scene file to an image: PNG, JPEG, OpenEXR or Radiance HDR.
 #[derive(Args)]
 pub struct RenderArgs {
     /// Scene file (.toml or .json). Without one, the lab's final scene
     /// (table 1.10, reflectance2) is rendered.
     pub scene: Option<PathBuf>,
-    /// Output PNG [default: the scene's file name with .png, in the current folder]
+    /// Output image, its format by its extension: .png, .jpg/.jpeg (8-bit,
+    /// gamma-encoded), .exr, .hdr (linear floats, no gamma, no saturation
+    /// rule) [default: the scene's file name with .png, in the current folder]
     #[arg(short, long, value_name = "OUT.png")]
     pub output: Option<PathBuf>,
+    /// Bits per channel of a PNG output: 16 keeps the gamma-encoded values
+    /// at 16-bit precision (truncated, as the 8-bit ones)
+    #[arg(long, value_name = "BITS", default_value = "8")]
+    pub bit_depth: BitDepthArg,
     /// Display gamma for encoding, overriding the scene's `[render] gamma`
     /// (1 writes linear values)
     #[arg(long, value_name = "G", allow_negative_numbers = true)]
@@ -45,6 +52,24 @@ pub struct RenderArgs {
     pub quiet: bool,
 }
 
+/// `--bit-depth`'s values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum BitDepthArg {
+    #[value(name = "8")]
+    Eight,
+    #[value(name = "16")]
+    Sixteen,
+}
+
+impl From<BitDepthArg> for BitDepth {
+    fn from(b: BitDepthArg) -> BitDepth {
+        match b {
+            BitDepthArg::Eight => BitDepth::Eight,
+            BitDepthArg::Sixteen => BitDepth::Sixteen,
+        }
+    }
+}
+
 /// The AOV names on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum AovArg {
@@ -56,7 +81,8 @@ pub enum AovArg {
     RayDirZ,
     /// (n + 1) / 2 of the surface normal at the nearest hit
     Normal,
-    /// Distance to the nearest hit: near bright, far dark, no hit black
+    /// Distance to the nearest hit: near bright, far dark, no hit black (in
+    /// .exr and .hdr the distances themselves, 0 for no hit)
     Depth,
 }
 
@@ -125,6 +151,7 @@ pub struct Render {
     /// `None`: named after the scene (`tracer_pipeline::default_output`).
     pub output: Option<PathBuf>,
     pub options: Options,
+    pub bit_depth: BitDepth,
     /// The one pool every path renders on, so `--threads` holds for all.
     pub pool: rayon::ThreadPool,
     pub quiet: bool,
@@ -145,7 +172,10 @@ impl RenderArgs {
                 samples: self.samples,
                 width: self.width,
                 height: self.height,
+                // Set from the output's format once it is known.
+                raw_depth: false,
             },
+            bit_depth: self.bit_depth.into(),
             pool: pool.build()?,
             quiet: self.quiet,
         })

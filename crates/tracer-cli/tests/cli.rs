@@ -744,7 +744,7 @@ fn an_output_extension_the_tracer_cannot_write_is_refused_with_the_list() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let s = scene("sphere-intersection.toml");
-    for name in ["x.jpg", "x.exr", "noext"] {
+    for name in ["x.tif", "x.webp", "noext"] {
         for args in [
             &["render", &s, "-o", name][..],
             &["calib-chart", "-o", name],
@@ -760,13 +760,31 @@ fn an_output_extension_the_tracer_cannot_write_is_refused_with_the_list() {
             let stderr = stderr_of(&out);
             assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
             assert!(
-                stderr.contains("the image formats written are: .png"),
+                stderr.contains("the image formats written are: .png, .jpg, .jpeg, .exr, .hdr"),
                 "{stderr}"
             );
             assert!(out.stdout.is_empty(), "{args:?}: the fit was not made");
         }
         assert!(!d.join(name).exists());
     }
+    // A chart or a plot has no linear values: refused before the work.
+    for args in [
+        &["calib-chart", "-o", "x.exr"][..],
+        &[
+            "gamma",
+            "fit",
+            &scene("gamma/sample-measurements.csv"),
+            "--plot",
+            "x.hdr",
+        ],
+    ] {
+        let out = tracer(d, args);
+        let stderr = stderr_of(&out);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains("only the 8-bit formats"), "{stderr}");
+        assert!(out.stdout.is_empty(), "{args:?}: the fit was not made");
+    }
+    assert!(leftovers(d).is_empty());
     let out = tracer(d, &["render", &s, "-o", "upper.PNG"]);
     assert!(out.status.success(), "{}", stderr_of(&out));
     assert!(std::fs::read(d.join("upper.PNG"))
@@ -1029,4 +1047,59 @@ fn options_of_3d_renders_are_refused_for_a_canvas_and_sizes_are_checked() {
     }
     assert!(!dir.path().join("sphere-intersection.png").exists());
     assert!(!dir.path().join("robot.png").exists());
+}
+
+#[test]
+fn bit_depth_16_and_gamma_are_refused_where_the_format_cannot_hold_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // The scene is bad too: the option's error shows it came before the
+    // scene was read, so before any render.
+    std::fs::write(d.join("bad.toml"), "[camera]\nfvo = 1\n").unwrap();
+    for (args, expected) in [
+        (
+            &["render", "bad.toml", "-o", "x.jpg", "--bit-depth", "16"][..],
+            "--bit-depth 16 is for .png outputs; JPEG files are written at 8 bits",
+        ),
+        (
+            &["render", "bad.toml", "-o", "x.exr", "--bit-depth", "16"],
+            "--bit-depth 16 is for .png outputs; OpenEXR files",
+        ),
+        (
+            &["render", "bad.toml", "-o", "x.hdr", "--gamma", "2.2"],
+            "--gamma encodes for a display; Radiance HDR files hold",
+        ),
+    ] {
+        let out = tracer(d, args);
+        let stderr = stderr_of(&out);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(expected), "{stderr}");
+        assert!(!stderr.contains("fvo"), "{stderr}");
+    }
+    let out = tracer(d, &["render", "bad.toml", "--bit-depth", "12"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(leftovers(d).is_empty());
+}
+
+#[test]
+fn a_canvas_scene_writes_16_bit_png_and_exr() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let robot = scene("robot.toml");
+    for args in [
+        &["render", &robot, "-o", "r8.png"][..],
+        &["render", &robot, "-o", "r16.png", "--bit-depth", "16"],
+        &["render", &robot, "-o", "r.exr"],
+    ] {
+        let out = tracer(d, args);
+        assert!(out.status.success(), "{args:?}: {}", stderr_of(&out));
+    }
+    let r8 = image::open(d.join("r8.png")).unwrap().into_rgb8();
+    let r16 = image::open(d.join("r16.png")).unwrap();
+    let r16 = r16.as_rgb16().expect("a 16-bit PNG");
+    for (a, b) in r8.pixels().zip(r16.pixels()) {
+        assert_eq!(a.0, b.0.map(|v| (v / 257) as u8));
+    }
+    let exr = image::open(d.join("r.exr")).unwrap().into_rgb32f();
+    assert_eq!(exr.dimensions(), r8.dimensions());
 }

@@ -91,6 +91,14 @@ impl AovContext {
         }
     }
 
+    /// The distance from the ray's origin (the eye, or its point on the
+    /// lens) to the nearest hit, in every channel; 0 for no hit.
+    pub(crate) fn distance(&self, scene: &Scene, ray: &Ray) -> Vec3 {
+        scene
+            .closest_hit(ray, EPSILON, f32::INFINITY)
+            .map_or(Vec3::ZERO, |hit| Vec3::splat(hit.t * ray.dir.length()))
+    }
+
     /// The depth grey of a hit at `distance` from the eye.
     fn grey(&self, distance: f32) -> f32 {
         let span = self.far - self.near;
@@ -205,6 +213,21 @@ mod tests {
             darkest >= silhouette - 1e-3 && darkest < silhouette + 0.05,
             "{darkest} vs {silhouette}"
         );
+    }
+
+    #[test]
+    fn the_distance_output_is_the_distance_to_the_hit_and_0_for_a_miss() {
+        let scene = lab_scene();
+        let job = RenderJob::full(&scene).with_output(Output::Distance);
+        let d = render(&scene, &job, &|_| {}).image;
+        // Pixel (249, 199)'s ray is off the axis by (0.5, 0.5) pixels of a
+        // focal length 250 / tan(25 deg) = 536.13: it meets the sphere at
+        // 10 cos - sqrt(100 cos^2 - (100 - 1.6^2)) = 8.40000... (cos ~ 1).
+        let f = 250.0 / 25f32.to_radians().tan();
+        let cos = f / (0.5f32 + f * f).sqrt();
+        let expected = 10.0 * cos - (100.0 * cos * cos - (100.0 - 1.6 * 1.6)).sqrt();
+        assert_near(d.get(249, 199), [expected; 3], 1e-4);
+        assert_eq!(d.get(0, 0), Vec3::ZERO);
     }
 
     #[test]

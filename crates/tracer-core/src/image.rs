@@ -1,5 +1,6 @@
 //! The linear image and its encoding for a display: the over-saturation
-//! rule, gamma, 8-bit truncation (lab sections 5.3, 6 and 7).
+//! rule, gamma, 8-bit truncation (lab sections 5.3, 6 and 7), and the same
+//! rule at 16 bits.
 
 use glam::Vec3;
 
@@ -61,22 +62,47 @@ impl LinearImage {
         image::RgbImage::from_raw(self.width, self.height, bytes)
             .expect("the buffer holds exactly width * height pixels")
     }
+
+    /// The 16-bit RGB image: the same saturation rule and gamma as
+    /// [`encode`](Self::encode), truncated to 16 bits ([`quantize16`]).
+    pub fn encode16(&self, encoding: &Encoding) -> image::ImageBuffer<image::Rgb<u16>, Vec<u16>> {
+        let values = self
+            .pixels
+            .iter()
+            .flat_map(|&c| display_values(c, encoding).map(quantize16))
+            .collect();
+        image::ImageBuffer::from_raw(self.width, self.height, values)
+            .expect("the buffer holds exactly width * height pixels")
+    }
 }
 
 /// The saturation rule, then gamma `c^(1/gamma)` on floats, then `(int)(c * 255)`.
 pub fn encode_pixel(colour: Vec3, encoding: &Encoding) -> [u8; 3] {
+    display_values(colour, encoding).map(quantize)
+}
+
+/// The saturation rule and gamma: what a display gets, in 0..=1, before
+/// quantisation to 8 or 16 bits.
+fn display_values(colour: Vec3, encoding: &Encoding) -> [f32; 3] {
     let saturated = match encoding.saturation {
         Saturation::White if colour.max_element() > 1.0 => Vec3::ONE,
         _ => colour,
     };
     let c = saturated.clamp(Vec3::ZERO, Vec3::ONE);
     let inv = 1.0 / encoding.gamma;
-    c.to_array().map(|x| quantize(x.powf(inv)))
+    c.to_array().map(|x| x.powf(inv))
 }
 
 /// The lab's truncation to 8 bits; `as` maps NaN to 0.
 pub fn quantize(c: f32) -> u8 {
     (c.clamp(0.0, 1.0) * 255.0) as u8
+}
+
+/// The lab's rule at 16 bits: `(int)(c * 65535)`, truncated. As
+/// 65535 = 255 * 257, a 16-bit value divided by 257 (truncated) is the
+/// 8-bit value of the same colour, up to f32 rounding of the two products.
+pub fn quantize16(c: f32) -> u16 {
+    (c.clamp(0.0, 1.0) * 65535.0) as u16
 }
 
 #[cfg(test)]
@@ -95,6 +121,17 @@ mod tests {
         assert_eq!(quantize(0.999), 254);
         assert_eq!(quantize(-0.2), 0);
         assert_eq!(quantize(f32::NAN), 0);
+    }
+
+    #[test]
+    fn quantisation_at_16_bits_truncates_and_divides_by_257_to_8_bits() {
+        assert_eq!(quantize16(1.0), 65535);
+        assert_eq!(quantize16(0.5), 32767); // 32767.5 truncated
+        assert_eq!(quantize16(-0.2), 0);
+        assert_eq!(quantize16(f32::NAN), 0);
+        for c in [0.0, 0.1, 0.25, 0.5, 0.7297, 0.999, 1.0] {
+            assert_eq!(quantize16(c) / 257, u16::from(quantize(c)), "{c}");
+        }
     }
 
     #[test]

@@ -57,6 +57,11 @@ pub enum Output {
     Shading,
     /// One quantity per pixel instead of the colour.
     Aov(Aov),
+    /// The distance from the eye to the nearest hit, in every channel; 0
+    /// for no hit (the grey depth AOV's black): the depth AOV's own
+    /// numbers, for files that hold floats. Averaged over a pixel's
+    /// samples like any output, misses counting 0.
+    Distance,
 }
 
 /// One render: which pixels, how many samples each, of what.
@@ -219,6 +224,7 @@ impl<'a> PixelRenderer<'a> {
                 tracer.trace(&ray, 1.0, 0)
             }
             Output::Aov(aov) => self.aov.value(self.scene, aov, &ray),
+            Output::Distance => self.aov.distance(self.scene, &ray),
         }
     }
 }

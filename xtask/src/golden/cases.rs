@@ -36,7 +36,9 @@ pub fn render_scene_file(path: &Path) -> Result<RgbImage> {
 /// A scene file through the pipeline, as the `tracer` command runs it.
 fn render(path: &Path, options: Options) -> Result<RgbImage> {
     let loaded = tracer_pipeline::load(&Input::File(path.to_path_buf()))?;
-    Ok(tracer_pipeline::render(&loaded, &options, &|_| {})?.image)
+    Ok(tracer_pipeline::render(&loaded, &options, &|_| {})?
+        .image
+        .to_rgb8())
 }
 
 /// The calibration chart, as `tracer calib-chart [--gamma G]` writes it.

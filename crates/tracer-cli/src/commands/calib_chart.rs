@@ -9,7 +9,7 @@ use tracer_pipeline::{lab, Error, Gamma};
 
 pub fn run(args: &CalibChart) -> Result<()> {
     // An output that is not an image (`-o scene.toml`) is refused here.
-    let output = PendingOutput::create(&args.output).map_err(Error::from)?;
+    let output = PendingOutput::create_8bit(&args.output).map_err(Error::from)?;
     let image = lab::chart(args.width, args.height, args.gamma)?;
     output.write_image(&image).map_err(Error::from)?;
     note!(

@@ -18,7 +18,7 @@ fn fit(args: &FitArgs) -> Result<()> {
     let plot = match &args.plot {
         Some(plot) => {
             check_not_an_input(plot, &[&args.measurements]).map_err(Error::from)?;
-            Some(PendingOutput::create(plot).map_err(Error::from)?)
+            Some(PendingOutput::create_8bit(plot).map_err(Error::from)?)
         }
         None => None,
     };

@@ -1,5 +1,5 @@
-//! `tracer render`: scene file in, PNG out; a 3D scene shaded or as an
-//! AOV, or a 2D canvas scene drawn. Every path loads, warns, renders on the
+//! `tracer render`: scene file in, image out (its format by extension); a
+//! 3D scene shaded or as an AOV, or a 2D canvas scene drawn. Every path loads, warns, renders on the
 //! one thread pool, writes and (unless quiet) sums up the same way.
 
 use crate::args::Render;
@@ -22,23 +22,34 @@ pub fn run(args: &Render) -> Result<()> {
         check_not_an_input(&output, &[scene]).map_err(Error::from)?;
     }
     let pending = PendingOutput::create(&output).map_err(Error::from)?;
+    pending
+        .check_render_options(args.bit_depth, args.options.gamma.is_some())
+        .map_err(Error::from)?;
+    let linear = pending.format().is_linear();
+    let options = tracer_pipeline::Options {
+        raw_depth: linear,
+        ..args.options
+    };
     let loaded = tracer_pipeline::load(&args.input)?;
     // The scene's meshes are known only now.
     check_not_an_input(&output, &loaded.files_read).map_err(Error::from)?;
     report::warnings(&loaded);
-    let (_, rows) = tracer_pipeline::image_size(&loaded, &args.options)?;
+    let (_, rows) = tracer_pipeline::image_size(&loaded, &options)?;
     let progress = Progress::new(rows.into(), args.quiet);
     let rendered = args
         .pool
-        .install(|| tracer_pipeline::render(&loaded, &args.options, &|n| progress.rows_done(n)));
+        .install(|| tracer_pipeline::render(&loaded, &options, &|n| progress.rows_done(n)));
     progress.finish();
     let rendered = rendered?;
-    if let Summary::Shaded(stats) = &rendered.summary {
+    // A float file keeps the values over 1: nothing is made white.
+    if let (Summary::Shaded(stats), false) = (&rendered.summary, linear) {
         if let Some(warning) = stats.forced_white_warning() {
             note!("warning: {}: {warning}", loaded.name.display());
         }
     }
-    pending.write_image(&rendered.image).map_err(Error::from)?;
+    pending
+        .write_picture(&rendered.image, args.bit_depth)
+        .map_err(Error::from)?;
     if !args.quiet {
         let threads = args.pool.current_num_threads();
         note!("{}", summary(&loaded.name, &rendered, threads, &output));
