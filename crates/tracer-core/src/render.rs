@@ -172,6 +172,9 @@ struct PixelRenderer<'a> {
     /// pixel's, drawn afresh for each pixel, so that blur and
     /// anti-aliasing do not move together.
     lens_order: Shuffle,
+    /// Whether the camera has a lens: a pinhole ignores the lens point, so
+    /// its order and its disk mapping (a sine and cosine) are skipped.
+    thin_lens: bool,
     output: Output,
     aov: AovContext,
 }
@@ -184,6 +187,7 @@ impl<'a> PixelRenderer<'a> {
             samples,
             strata: Strata::new(samples),
             lens_order: Shuffle::new(samples),
+            thin_lens: scene.camera().lens.is_some(),
             output: job.output,
             aov: AovContext::new(scene),
         }
@@ -195,22 +199,39 @@ impl<'a> PixelRenderer<'a> {
         if self.samples == 1 {
             let centre = Vec2::new(i as f32 + 0.5, j as f32 + 0.5);
             let mut rng = Rng::for_sample(i, j, 0);
-            let lens = concentric_disk(rng.square());
+            let lens = self.lens_point(rng.square(), |p| p);
             return self.sample(centre, lens, rng, tracer);
         }
         let pixel = Vec2::new(i as f32, j as f32);
         // The pixel's lens order, from a stream none of its samples uses.
-        let order = Rng::for_sample(i, j, self.samples).next_u64() as u32;
+        let order = if self.thin_lens {
+            Rng::for_sample(i, j, self.samples).next_u64() as u32
+        } else {
+            0
+        };
         let sum: Vec3 = (0..self.samples)
             .map(|s| {
                 let mut rng = Rng::for_sample(i, j, s);
                 let at = pixel + self.strata.point(s, rng.square());
-                let lens_stratum = self.lens_order.apply(s, order);
-                let lens = concentric_disk(self.strata.point(lens_stratum, rng.square()));
+                let lens = self.lens_point(rng.square(), |jitter| {
+                    self.strata.point(self.lens_order.apply(s, order), jitter)
+                });
                 self.sample(at, lens, rng, tracer)
             })
             .sum();
         sum / self.samples as f32
+    }
+
+    /// The lens point of a sample whose lens jitter is `jitter` (drawn
+    /// anyway, so that the tracer's random numbers stay the same), placed in
+    /// the unit square by `in_square`; the centre for a pinhole.
+    #[inline(always)]
+    fn lens_point(&self, jitter: Vec2, in_square: impl FnOnce(Vec2) -> Vec2) -> Vec2 {
+        if self.thin_lens {
+            concentric_disk(in_square(jitter))
+        } else {
+            Vec2::ZERO
+        }
     }
 
     /// The value of one sample at image point `at` through `lens` (a point

@@ -214,11 +214,21 @@ impl Bvh {
                     }
                     continue;
                 };
-                // Nearer children on top: an occluder near the ray's start is
-                // found before the far side of the scene is searched.
+                // Any order finds an occluder; sorting by distance cost more
+                // than it saved.
                 let node = &self.nodes[entry.child as usize];
-                let (mask, near) = r.enter(node, halves, t_min, t_max);
-                sp = push_nearest_last(stack, sp, node, mask, near);
+                let (mut mask, _) = r.enter(node, halves, t_min, t_max);
+                while mask != 0 {
+                    let lane = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    let (child, count) = node.child(lane);
+                    stack[sp] = Entry {
+                        child,
+                        count,
+                        t: 0.0,
+                    };
+                    sp += 1;
+                }
             }
             false
         })
