@@ -168,18 +168,7 @@ ior = 1
 /// with `air`, an invisible sphere in front of the mirror, over the floor
 /// and in the way of a light (it would cast a shadow).
 fn invisible_scene(air: bool) -> Scene {
-    let floor = [
-        [
-            Vec3::new(-20.0, 0.0, -20.0),
-            Vec3::new(-20.0, 0.0, 20.0),
-            Vec3::new(20.0, 0.0, 20.0),
-        ],
-        [
-            Vec3::new(-20.0, 0.0, -20.0),
-            Vec3::new(20.0, 0.0, 20.0),
-            Vec3::new(20.0, 0.0, -20.0),
-        ],
-    ];
+    let floor = floor_square(20.0);
     // The floor is seen from above: its normals must point up.
     for [a, b, c] in floor {
         assert!((b - a).cross(c - a).y > 0.0);
@@ -753,18 +742,7 @@ fn floor_behind_a_ball(materials: &str, h: Option<f32>) -> Vec3 {
     // Halfway to the light, and h across it along z (square to the
     // segment, which lies in z = 0).
     let centre = Vec3::new(2.0, 3.0, h.unwrap_or(0.0));
-    let floor = [
-        [
-            Vec3::new(-10.0, 0.0, -10.0),
-            Vec3::new(-10.0, 0.0, 10.0),
-            Vec3::new(10.0, 0.0, 10.0),
-        ],
-        [
-            Vec3::new(-10.0, 0.0, -10.0),
-            Vec3::new(10.0, 0.0, 10.0),
-            Vec3::new(10.0, 0.0, -10.0),
-        ],
-    ];
+    let floor = floor_square(10.0);
     let mut objects = String::new();
     for [a, b, c] in floor {
         // Normals up, toward the light and the camera.
@@ -866,4 +844,13 @@ fn a_glass_ball_lets_transmittance_squared_of_the_light_through_its_shadow() {
             );
         }
     }
+}
+
+/// The square floor y = 0 from -half to half on x and z, as two triangles.
+fn floor_square(half: f32) -> [[Vec3; 3]; 2] {
+    let corner = |x: f32, z: f32| Vec3::new(x * half, 0.0, z * half);
+    [
+        [corner(-1.0, -1.0), corner(-1.0, 1.0), corner(1.0, 1.0)],
+        [corner(-1.0, -1.0), corner(1.0, 1.0), corner(1.0, -1.0)],
+    ]
 }
