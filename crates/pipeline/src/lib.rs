@@ -4,7 +4,8 @@
 //!
 //! [`load`] reads a scene (a file or the built-in one) and says which files
 //! it read; [`render`] makes the linear image and its encoding; [`output`]
-//! writes it in the format of its extension, whole or not at all. [`lab`] makes the lab's calibration chart and gamma fit.
+//! writes it in the format of its extension, whole or not at all. [`lab`]
+//! makes the lab's calibration chart and gamma fit.
 
 mod error;
 pub mod lab;

@@ -388,34 +388,35 @@ pub fn write_image(image: &image::RgbImage, path: &Path) -> Result<(), OutputErr
 /// The bytes of an 8-bit image file in `format` (PNG's are those of
 /// every release so far: the goldens check them).
 pub fn encode(image: &image::RgbImage, format: ImageFormat) -> Result<Vec<u8>, OutputError> {
-    let error = |source| OutputError::Encode {
-        format: format.name(),
-        source,
-    };
     if format == ImageFormat::Jpeg {
         // `write_to` would take the encoder's default quality (75).
-        let mut bytes = Vec::new();
-        image::codecs::jpeg::JpegEncoder::new_with_quality(&mut bytes, JPEG_QUALITY)
-            .encode_image(image)
-            .map_err(error)?;
-        return Ok(bytes);
+        return encoded_with(format, |bytes| {
+            image::codecs::jpeg::JpegEncoder::new_with_quality(bytes, JPEG_QUALITY)
+                .encode_image(image)
+        });
     }
-    let mut bytes = Vec::new();
-    image
-        .write_to(&mut std::io::Cursor::new(&mut bytes), image_format(format))
-        .map_err(error)?;
-    Ok(bytes)
+    encoded_with(format, |bytes| {
+        image.write_to(&mut std::io::Cursor::new(bytes), image_format(format))
+    })
 }
 
 /// The bytes of a 16-bit or float image file in `format`.
 fn encode_dynamic(image: image::DynamicImage, format: ImageFormat) -> Result<Vec<u8>, OutputError> {
+    encoded_with(format, |bytes| {
+        image.write_to(&mut std::io::Cursor::new(bytes), image_format(format))
+    })
+}
+
+/// The bytes `write` encodes, its failure named as `format`'s.
+fn encoded_with(
+    format: ImageFormat,
+    write: impl FnOnce(&mut Vec<u8>) -> image::ImageResult<()>,
+) -> Result<Vec<u8>, OutputError> {
     let mut bytes = Vec::new();
-    image
-        .write_to(&mut std::io::Cursor::new(&mut bytes), image_format(format))
-        .map_err(|source| OutputError::Encode {
-            format: format.name(),
-            source,
-        })?;
+    write(&mut bytes).map_err(|source| OutputError::Encode {
+        format: format.name(),
+        source,
+    })?;
     Ok(bytes)
 }
 
