@@ -103,7 +103,23 @@ struct Setup<'a> {
     materials: &'a str,
 }
 
-impl Setup<'_> {
+impl<'a> Setup<'a> {
+    /// One ray, from `eye` toward `look_at`, deep enough for glass, over a
+    /// black background, lit from above.
+    fn one_ray(eye: Vec3, look_at: Vec3, materials: &'a str) -> Self {
+        Setup {
+            eye,
+            look_at,
+            up: Vec3::Y,
+            size: (1, 1),
+            max_depth: 8,
+            min_energy: 0.01,
+            background: Vec3::ZERO,
+            light: (Vec3::new(0.0, 20.0, 0.0), Vec3::ONE),
+            materials,
+        }
+    }
+
     fn toml(&self, objects: &str) -> String {
         format!(
             "[camera]\neye = {}\nlook_at = {}\nup = {}\nfov = 40\nwidth = {}\nheight = {}\n\
@@ -276,18 +292,12 @@ fn slab_normal() -> Vec3 {
 fn slab_scene(ior: f32, thickness: f32) -> Scene {
     let materials = format!("[materials.glass]\ntransmittance = 1\nior = {ior:?}\n");
     scene_from(
-        &Setup {
-            eye: Vec3::new(0.0, 0.0, 20.0),
-            look_at: Vec3::ZERO,
-            up: Vec3::Y,
-            size: (1, 1),
-            max_depth: 8,
-            min_energy: 0.01,
-            background: Vec3::ZERO,
-            light: (Vec3::new(0.0, 20.0, 0.0), Vec3::ONE),
-            materials: &materials,
-        }
-        .toml(&slab(Vec3::ZERO, slab_normal(), thickness, "glass")),
+        &Setup::one_ray(Vec3::new(0.0, 0.0, 20.0), Vec3::ZERO, &materials).toml(&slab(
+            Vec3::ZERO,
+            slab_normal(),
+            thickness,
+            "glass",
+        )),
     )
 }
 
@@ -442,17 +452,11 @@ fn prism_scene(ior: f32) -> Scene {
     let inside = (a + b + c) / 3.0;
     let materials = format!("[materials.glass]\ntransmittance = 1\nior = {ior:?}\n");
     scene_from(
-        &Setup {
-            eye: Vec3::new(0.3, 0.3, 20.0),
-            look_at: Vec3::new(0.3, 0.3, 0.0),
-            up: Vec3::Y,
-            size: (1, 1),
-            max_depth: 8,
-            min_energy: 0.01,
-            background: Vec3::ZERO,
-            light: (Vec3::new(0.0, 20.0, 0.0), Vec3::ONE),
-            materials: &materials,
-        }
+        &Setup::one_ray(
+            Vec3::new(0.3, 0.3, 20.0),
+            Vec3::new(0.3, 0.3, 0.0),
+            &materials,
+        )
         .toml(&solid(&triangles, inside, "glass")),
     )
 }
@@ -491,17 +495,7 @@ fn a_prism_reflects_totally_above_index_sqrt_2_and_lets_light_out_below() {
 fn ball_lens_focus(ior: f32, radius: f32, h: f32) -> f32 {
     let materials = format!("[materials.glass]\ntransmittance = 1\nior = {ior:?}\n");
     let scene = scene_from(
-        &Setup {
-            eye: Vec3::new(0.0, 0.0, -20.0),
-            look_at: Vec3::ZERO,
-            up: Vec3::Y,
-            size: (1, 1),
-            max_depth: 8,
-            min_energy: 0.01,
-            background: Vec3::ZERO,
-            light: (Vec3::new(0.0, 20.0, 0.0), Vec3::ONE),
-            materials: &materials,
-        }
+        &Setup::one_ray(Vec3::new(0.0, 0.0, -20.0), Vec3::ZERO, &materials)
         .toml(&format!(
             "[[objects]]\nsphere = {{ center = [0, 0, 0], radius = {radius:?} }}\nmaterial = \"glass\"\n"
         )),
