@@ -46,13 +46,34 @@ fn default_gamma() -> f32 {
 }
 
 /// One step of a transform list: `{ translate = [tx, ty] }`,
-/// `{ rotate = degrees }` (about (0, 0)) or `{ scale = [sx, sy] }`.
+/// `{ rotate = degrees }` (about (0, 0)) or `{ scale = [sx, sy] }` (or
+/// `{ scale = s }`): the 3D list's syntax in two dimensions.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase", deny_unknown_fields)]
 pub enum Transform {
     Translate(Vec2),
     Rotate(f32),
-    Scale(Vec2),
+    Scale(Scale2),
+}
+
+/// A 2D scale: one factor for both axes, or one per axis.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(
+    untagged,
+    expecting = "a number (one factor for both axes) or [x, y] (one per axis)"
+)]
+pub enum Scale2 {
+    Uniform(f32),
+    PerAxis(Vec2),
+}
+
+impl Scale2 {
+    pub fn per_axis(self) -> Vec2 {
+        match self {
+            Scale2::Uniform(s) => [s; 2],
+            Scale2::PerAxis(v) => v,
+        }
+    }
 }
 
 /// A circle given by its centre and radius in canvas units.
@@ -172,7 +193,8 @@ fn check_shape(out: &mut Vec<Diagnostic>, path: &str, s: &CanvasShape, depth: us
     for (k, t) in s.transform.iter().enumerate() {
         let p = format!("{path}.transform[{k}]");
         let finite = match t {
-            Transform::Translate(v) | Transform::Scale(v) => v.iter().all(|x| x.is_finite()),
+            Transform::Translate(v) => v.iter().all(|x| x.is_finite()),
+            Transform::Scale(s) => s.per_axis().iter().all(|x| x.is_finite()),
             Transform::Rotate(a) => a.is_finite(),
         };
         if !finite {
@@ -299,7 +321,7 @@ mod tests {
             [[shapes]]
             polygon = [[0, 0], [1, 0], [0, 1]]
             [[shapes]]
-            transform = [{ rotate = 90 }]
+            transform = [{ rotate = 90 }, { scale = 0.5 }]
             [[shapes.group]]
             square = {}
             "#,
@@ -312,10 +334,17 @@ mod tests {
             vec![
                 Transform::Translate([0.2, 0.1]),
                 Transform::Rotate(30.0),
-                Transform::Scale([2.0, 1.0])
+                Transform::Scale(Scale2::PerAxis([2.0, 1.0]))
             ]
         );
         assert!(f.shapes[1].fill);
+        // One number scales both axes, as in 3D.
+        let half = f.shapes[4].transform[1];
+        assert_eq!(half, Transform::Scale(Scale2::Uniform(0.5)));
+        let Transform::Scale(s) = half else {
+            unreachable!()
+        };
+        assert_eq!(s.per_axis(), [0.5, 0.5]);
         assert_eq!(f.shapes[4].group.as_ref().unwrap().len(), 1);
         assert!(validate(&f).is_empty(), "{:?}", validate(&f));
     }

@@ -269,7 +269,11 @@ pub struct Object {
     /// A parallelogram: `corner + s * edge_u + t * edge_v`, s and t in 0..1.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub quad: Option<Quad>,
-    /// Scale, rotation and translation of a mesh.
+    /// Where the shape goes: a list of steps `[{ translate = [..] },
+    /// { rotate = [..] }, { scale = .. }]` (the lab's matrix product: the
+    /// last step acts first), or the table `{ translate, rotate, scale }`
+    /// (scale, then rotate, then translate). A sphere's steps scale all axes
+    /// alike. Left out: the shape as written.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub transform: Option<Transform>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -346,10 +350,86 @@ pub struct MeshData {
     pub first_degenerate_line: Option<usize>,
 }
 
-/// Applied to a mesh's vertices in this order: scale, rotate, translate.
+/// An object's transform: a list of steps, or the table shorthand.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+#[serde(untagged)]
+pub enum Transform {
+    /// `[A, B, C]` is the lab's `M = A * B * C`: C acts on a point first.
+    Steps(Vec<TransformStep>),
+    /// Scale, then rotate, then translate: `[translate, rotate, scale]`.
+    Table(TransformTable),
+}
+
+impl Transform {
+    /// The steps in the list's order (the table's as `[translate, rotate,
+    /// scale]`), the last acting first.
+    pub fn steps(&self) -> Vec<TransformStep> {
+        match self {
+            Transform::Steps(steps) => steps.clone(),
+            Transform::Table(t) => vec![
+                TransformStep::Translate(t.translate),
+                TransformStep::Rotate(t.rotate),
+                TransformStep::Scale(t.scale),
+            ],
+        }
+    }
+}
+
+impl From<TransformTable> for Transform {
+    fn from(t: TransformTable) -> Transform {
+        Transform::Table(t)
+    }
+}
+
+/// By hand rather than `untagged`, as `MaterialRef`: a mistake inside
+/// either form is reported as such, with its path.
+impl<'de> Deserialize<'de> for Transform {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = Transform;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str(
+                    "a list of steps like [{ translate = [x, y, z] }, { rotate = [x, y, z] }, { scale = s }], \
+                     or a table { translate, rotate, scale }",
+                )
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                seq: A,
+            ) -> Result<Transform, A::Error> {
+                let de = serde::de::value::SeqAccessDeserializer::new(seq);
+                Vec::deserialize(de).map(Transform::Steps)
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> Result<Transform, A::Error> {
+                let de = serde::de::value::MapAccessDeserializer::new(map);
+                TransformTable::deserialize(de).map(Transform::Table)
+            }
+        }
+        deserializer.deserialize_any(Visitor)
+    }
+}
+
+/// One step of a transform list.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase", deny_unknown_fields)]
+pub enum TransformStep {
+    /// Move by [x, y, z].
+    Translate(Vec3),
+    /// Degrees about the x axis, then y, then z.
+    Rotate(Vec3),
+    /// One factor for all axes, or one per axis; each non-zero, its size
+    /// from 1e-6 to 1e6.
+    Scale(Scale),
+}
+
+/// The table form of a transform: scale, then rotate, then translate.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
-pub struct Transform {
+pub struct TransformTable {
     pub translate: Vec3,
     /// Degrees about the x axis, then y, then z.
     pub rotate: Vec3,
@@ -358,9 +438,9 @@ pub struct Transform {
     pub scale: Scale,
 }
 
-impl Default for Transform {
+impl Default for TransformTable {
     fn default() -> Self {
-        Transform {
+        TransformTable {
             translate: [0.0; 3],
             rotate: [0.0; 3],
             scale: Scale::Uniform(1.0),

@@ -349,7 +349,7 @@ impl Validator {
             ),
         }
         if let Some(t) = &o.transform {
-            self.transform(&path.key("transform"), t, o.mesh.is_some());
+            self.transform(&path.key("transform"), t, o.sphere.is_some());
         }
         match &o.material {
             Some(MaterialRef::Named(name)) if !scene.materials.contains_key(name) => {
@@ -380,25 +380,50 @@ impl Validator {
         }
     }
 
-    fn transform(&mut self, path: &KeyPath, t: &Transform, on_mesh: bool) {
-        if !on_mesh {
-            self.error(path, "expected `transform` only on a `mesh` object");
+    fn transform(&mut self, path: &KeyPath, t: &Transform, on_sphere: bool) {
+        match t {
+            Transform::Table(t) => {
+                self.point(path.key("translate"), t.translate);
+                self.finite_vec(path.key("rotate"), t.rotate);
+                self.scale(&path.key("scale"), t.scale, on_sphere);
+            }
+            Transform::Steps(steps) => {
+                for (k, step) in steps.iter().enumerate() {
+                    let path = path.index(k);
+                    match *step {
+                        TransformStep::Translate(v) => _ = self.point(path.key("translate"), v),
+                        TransformStep::Rotate(v) => _ = self.finite_vec(path.key("rotate"), v),
+                        TransformStep::Scale(s) => self.scale(&path.key("scale"), s, on_sphere),
+                    }
+                }
+            }
         }
-        self.point(path.key("translate"), t.translate);
-        self.finite_vec(path.key("rotate"), t.rotate);
-        let scale = path.key("scale");
-        let s = t.scale.per_axis();
+    }
+
+    /// A transform's scale: finite, non-zero, within `SCALE_RANGE`; on a
+    /// sphere the same size on every axis (rotations, translations and
+    /// such scales keep a sphere a sphere; any other would make an ellipsoid).
+    fn scale(&mut self, path: &KeyPath, scale: Scale, on_sphere: bool) {
+        let s = scale.per_axis();
         let (lo, hi) = SCALE_RANGE;
-        if !self.finite_vec(&scale, s) {
+        if !self.finite_vec(path, s) {
             return;
         }
         if s.contains(&0.0) {
-            self.error(&scale, format!("expected non-zero factors, found {s:?}"));
+            self.error(path, format!("expected non-zero factors, found {s:?}"));
         } else if s.iter().any(|x| !(lo..=hi).contains(&x.abs())) {
             self.error(
-                &scale,
+                path,
                 format!(
-                    "expected factors from {lo:e} to {hi:e} (or their negatives), found {}; single-precision tracing would flatten or overflow the mesh",
+                    "expected factors from {lo:e} to {hi:e} (or their negatives), found {}; single-precision tracing would flatten or overflow the shape",
+                    show(s)
+                ),
+            );
+        } else if on_sphere && s.iter().any(|x| x.abs() != s[0].abs()) {
+            self.error(
+                path,
+                format!(
+                    "expected one factor for all axes on a sphere (it would not stay a sphere), found {}",
                     show(s)
                 ),
             );

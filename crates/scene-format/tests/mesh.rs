@@ -73,7 +73,7 @@ fn a_missing_obj_is_located() {
 }
 
 #[test]
-fn transform_belongs_to_meshes_and_needs_non_zero_scale() {
+fn every_shape_takes_a_transform_but_a_sphere_only_an_even_scale() {
     let dir = tempfile::tempdir().unwrap();
     write(
         dir.path(),
@@ -82,17 +82,46 @@ fn transform_belongs_to_meshes_and_needs_non_zero_scale() {
     );
     let scene = format!(
         "{HEAD}[[objects]]\nsphere = {{ center = [0, 0, 0], radius = 1 }}\n\
-         transform = {{ translate = [1, 0, 0] }}\n\
+         transform = [{{ translate = [1, 0, 0] }}, {{ scale = -2 }}, {{ rotate = [0, 90, 0] }}]\n\
+         [[objects]]\nsphere = {{ center = [0, 0, 0], radius = 1 }}\n\
+         transform = [{{ rotate = [0, 90, 0] }}, {{ scale = [1, 2, 1] }}]\n\
          [[objects]]\nmesh = {{ obj = \"tri.obj\" }}\n\
-         transform = {{ scale = [1, 0, 1] }}\n"
+         transform = {{ scale = [1, 0, 1] }}\n\
+         [[objects]]\nplane = {{ point = [0, 0, 0], normal = [0, 1, 0] }}\n\
+         transform = [{{ scale = [1, 3, 1] }}, {{ translate = [0, 1e9, 0] }}]\n\
+         [[objects]]\nbox = {{ min = [0, 0, 0], max = [1, 1, 1] }}\n\
+         transform = {{ rotate = [0, 45, 0], scale = [1, 2, 3] }}\n"
     );
     let path = write(dir.path(), "scene.toml", &scene);
     let found = diagnostics(load_path(&path).unwrap_err());
     let paths: Vec<&str> = found.iter().map(|(p, _)| p.as_str()).collect();
     assert_eq!(
         paths,
-        ["objects[0].transform", "objects[1].transform.scale"]
+        [
+            "objects[1].transform[1].scale",
+            "objects[2].transform.scale",
+            "objects[3].transform[1].translate"
+        ]
     );
+    assert!(
+        found[0].1.contains("one factor for all axes on a sphere"),
+        "{}",
+        found[0].1
+    );
+}
+
+#[test]
+fn a_transform_step_of_the_wrong_kind_says_what_is_expected() {
+    let scene = format!(
+        "{HEAD}[[objects]]\nsphere = {{ center = [0, 0, 0], radius = 1 }}\n\
+         transform = [{{ shear = 1 }}]\n"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(dir.path(), "scene.toml", &scene);
+    let found = diagnostics(load_path(&path).unwrap_err());
+    assert_eq!(found.len(), 1);
+    assert!(found[0].0.starts_with("objects[0].transform"), "{found:?}");
+    assert!(found[0].1.contains("translate"), "{found:?}");
 }
 
 #[test]

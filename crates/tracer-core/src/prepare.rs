@@ -95,27 +95,41 @@ fn saturation(s: fmt::Saturation) -> Saturation {
 }
 
 /// The shapes of object `o`: one, or a mesh's, quad's or box's triangles,
-/// each with the map of its barycentrics to the object's uv.
+/// each with the map of its barycentrics to the object's uv; placed by the
+/// object's transform.
 fn shapes(path: &str, o: &fmt::Object) -> Result<Vec<(Shape, UvMap)>, PrepareError> {
+    let placement = placement(o.transform.as_ref());
     let one = |shape| vec![(shape, UvMap::IDENTITY)];
+    let triangle = |[a, b, c]: [Vec3; 3], uv| place_triangle([a, b, c], uv, &placement);
     Ok(match o.shapes().as_slice() {
-        [fmt::ShapeRef::Sphere(s)] => one(Shape::Sphere(Sphere::new(s.center.into(), s.radius))),
-        [fmt::ShapeRef::Triangle([a, b, c])] => one(Shape::Triangle(Triangle::new(
-            (*a).into(),
-            (*b).into(),
-            (*c).into(),
-        ))),
-        [fmt::ShapeRef::Plane(p)] => one(Shape::Plane(Plane::new(p.point.into(), p.normal.into()))),
-        [fmt::ShapeRef::Quad(q)] => {
-            quad_triangles(q.corner.into(), q.edge_u.into(), q.edge_v.into()).to_vec()
+        [fmt::ShapeRef::Sphere(s)] => {
+            let sphere = Sphere::new(s.center.into(), s.radius);
+            one(Shape::Sphere(place_sphere(&sphere, &placement)))
         }
-        [fmt::ShapeRef::Box(b)] => box_triangles(b.min.into(), b.max.into()),
+        [fmt::ShapeRef::Triangle([a, b, c])] => {
+            let vertices = [(*a).into(), (*b).into(), (*c).into()];
+            triangle(vertices, UvMap::IDENTITY).into_iter().collect()
+        }
+        [fmt::ShapeRef::Plane(p)] => {
+            let plane = Plane::new(p.point.into(), p.normal.into());
+            one(Shape::Plane(plane.placed(&placement)))
+        }
+        [fmt::ShapeRef::Quad(q)] => {
+            let halves = quad_triangles(q.corner.into(), q.edge_u.into(), q.edge_v.into());
+            halves
+                .into_iter()
+                .filter_map(|(t, uv)| triangle(t, uv))
+                .collect()
+        }
+        [fmt::ShapeRef::Box(b)] => box_triangles(b.min.into(), b.max.into())
+            .into_iter()
+            .filter_map(|(t, uv)| triangle(t, uv))
+            .collect(),
         [fmt::ShapeRef::Mesh(m)] => {
             let data = m.data.as_ref().ok_or_else(|| PrepareError::MeshNotLoaded {
                 path: format!("{path}.mesh.obj"),
             })?;
-            mesh_triangles(data, &placement(o.transform.as_ref()))
-                .into_iter()
+            placed(data, &placement)
                 .map(|t| (Shape::Triangle(t), UvMap::IDENTITY))
                 .collect()
         }
@@ -127,6 +141,44 @@ fn shapes(path: &str, o: &fmt::Object) -> Result<Vec<(Shape, UvMap)>, PrepareErr
     })
 }
 
+/// The triangle `vertices` carried by `placement`, with its uv map; None
+/// when the placement leaves it no area in f32. A mirroring placement
+/// would turn the vertex order, so the normal, inward: the last two
+/// vertices swap to keep the front outward, and their barycentrics with them.
+fn place_triangle(vertices: [Vec3; 3], uv: UvMap, placement: &Placement) -> Option<(Shape, UvMap)> {
+    let [a, b, c] = vertices.map(|v| placement.apply(v));
+    let (triangle, uv) = if placement.mirrors() {
+        let swapped = UvMap {
+            du: uv.dv,
+            dv: uv.du,
+            ..uv
+        };
+        (Triangle::new(a, c, b), swapped)
+    } else {
+        (Triangle::new(a, b, c), uv)
+    };
+    let area = (triangle.v1 - triangle.v0).cross(triangle.v2 - triangle.v0);
+    (area != Vec3::ZERO).then_some((Shape::Triangle(triangle), uv))
+}
+
+/// A sphere carried by `placement`, which validation keeps to rotations,
+/// translations and scales alike on every axis: its centre moves, its
+/// radius scales, and its texture turns with it.
+fn place_sphere(sphere: &Sphere, placement: &Placement) -> Sphere {
+    let linear = placement.linear();
+    if linear == glam::Mat3::IDENTITY {
+        return Sphere::new(placement.apply(sphere.center), sphere.radius);
+    }
+    let scale = linear.x_axis.length();
+    let turn = linear * (1.0 / scale);
+    Sphere {
+        center: placement.apply(sphere.center),
+        radius: sphere.radius * scale,
+        // Orthonormal: its inverse, world to texture, is its transpose.
+        texture_frame: Some(turn.transpose()),
+    }
+}
+
 /// A quad `corner + s edge_u + t edge_v` as two triangles facing
 /// `edge_u x edge_v`, their uv the quad's (s, t).
 ///
@@ -136,28 +188,25 @@ fn shapes(path: &str, o: &fmt::Object) -> Result<Vec<(Shape, UvMap)>, PrepareErr
 /// surface (its normals outward by the vertex order). Only the uv needs
 /// more than a triangle carries: the second half's barycentrics run from
 /// the far corner, so its map turns them back into (s, t).
-fn quad_triangles(corner: Vec3, edge_u: Vec3, edge_v: Vec3) -> [(Shape, UvMap); 2] {
+fn quad_triangles(corner: Vec3, edge_u: Vec3, edge_v: Vec3) -> [([Vec3; 3], UvMap); 2] {
     let (near_u, near_v) = (corner + edge_u, corner + edge_v);
     let far = near_u + edge_v;
     // (corner, +u, +v): barycentric (a, b) is (s, t); its normal u x v.
-    let first = Triangle::new(corner, near_u, near_v);
+    let first = [corner, near_u, near_v];
     // (far, +v, +u): edges -u and -v, so the normal is (-u) x (-v) = u x v
     // and the point far - a u - b v has s = 1 - a, t = 1 - b.
-    let second = Triangle::new(far, near_v, near_u);
+    let second = [far, near_v, near_u];
     let flipped = UvMap {
         origin: Vec2::ONE,
         du: -Vec2::X,
         dv: -Vec2::Y,
     };
-    [
-        (Shape::Triangle(first), UvMap::IDENTITY),
-        (Shape::Triangle(second), flipped),
-    ]
+    [(first, UvMap::IDENTITY), (second, flipped)]
 }
 
 /// The six faces of the box from `min` to `max` as quads facing outward
 /// (`edge_u x edge_v` along the face's outward axis), each with uv 0..1.
-fn box_triangles(min: Vec3, max: Vec3) -> Vec<(Shape, UvMap)> {
+fn box_triangles(min: Vec3, max: Vec3) -> Vec<([Vec3; 3], UvMap)> {
     let d = max - min;
     let (x, y, z) = (Vec3::X * d.x, Vec3::Y * d.y, Vec3::Z * d.z);
     let faces = [
@@ -174,19 +223,34 @@ fn box_triangles(min: Vec3, max: Vec3) -> Vec<(Shape, UvMap)> {
         .collect()
 }
 
-/// The placement of an object's `transform`.
+/// The placement of an object's `transform`: the table form exactly as
+/// meshes always had it (scale, rotate, translate in one step), the list
+/// form as the product of its steps, the last acting first.
 fn placement(t: Option<&fmt::Transform>) -> Placement {
-    t.map_or(Placement::IDENTITY, |t| {
-        Placement::new(
+    match t {
+        None => Placement::IDENTITY,
+        Some(fmt::Transform::Table(t)) => Placement::new(
             t.scale.per_axis().into(),
             t.rotate.into(),
             t.translate.into(),
-        )
-    })
+        ),
+        Some(fmt::Transform::Steps(steps)) => steps.iter().fold(Placement::IDENTITY, |m, step| {
+            m.compose(&step_placement(step))
+        }),
+    }
+}
+
+fn step_placement(step: &fmt::TransformStep) -> Placement {
+    match *step {
+        fmt::TransformStep::Translate(v) => Placement::translation(v.into()),
+        fmt::TransformStep::Rotate(r) => Placement::new(Vec3::ONE, r.into(), Vec3::ZERO),
+        fmt::TransformStep::Scale(s) => Placement::new(s.per_axis().into(), Vec3::ZERO, Vec3::ZERO),
+    }
 }
 
 /// The mesh's triangles in world space; triangles that the placement makes
 /// degenerate (zero area in f32) are left out.
+#[cfg(test)]
 fn mesh_triangles(data: &fmt::MeshData, placement: &Placement) -> Vec<Triangle> {
     placed(data, placement).collect()
 }
@@ -195,13 +259,13 @@ fn placed<'a>(
     data: &'a fmt::MeshData,
     placement: &'a Placement,
 ) -> impl Iterator<Item = Triangle> + 'a {
-    data.triangles
-        .iter()
-        .map(|[a, b, c]| {
-            let [a, b, c] = [*a, *b, *c].map(|v| placement.apply(v.into()));
-            Triangle::new(a, b, c)
-        })
-        .filter(|t| (t.v1 - t.v0).cross(t.v2 - t.v0) != Vec3::ZERO)
+    data.triangles.iter().filter_map(|t| {
+        let vertices = t.map(Vec3::from);
+        match place_triangle(vertices, UvMap::IDENTITY, placement)? {
+            (Shape::Triangle(t), _) => Some(t),
+            _ => None,
+        }
+    })
 }
 
 /// What `prepare` will make of a mesh object, found without building it.
@@ -369,11 +433,11 @@ mod tests {
         };
         // Tiny triangles far from the origin: whatever f32 keeps of them,
         // the count is prepare's.
-        let t = fmt::Transform {
+        let t = fmt::Transform::Table(fmt::TransformTable {
             scale: fmt::Scale::Uniform(1e-18),
             translate: [0.0, 0.0, 5.0],
-            ..fmt::Transform::default()
-        };
+            ..fmt::TransformTable::default()
+        });
         let kept = mesh_triangles(&data, &placement(Some(&t))).len();
         let extent = mesh_extent(&data, Some(&t));
         assert_eq!(extent.triangles, kept);
@@ -382,11 +446,11 @@ mod tests {
 
     #[test]
     fn a_transform_is_scale_then_rotate_then_translate() {
-        let t = fmt::Transform {
+        let t = fmt::Transform::Table(fmt::TransformTable {
             translate: [1.0, 2.0, 3.0],
             rotate: [0.0, 0.0, 90.0],
             scale: fmt::Scale::PerAxis([2.0, 1.0, 1.0]),
-        };
+        });
         // (1,0,0) -> scale (2,0,0) -> 90 deg about z (0,2,0) -> (1,4,3).
         let p = placement(Some(&t)).apply(Vec3::X);
         assert!((p - Vec3::new(1.0, 4.0, 3.0)).length() < 1e-5, "{p}");

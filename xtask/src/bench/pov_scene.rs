@@ -24,7 +24,9 @@
 //! mirror image of the lab's: the lab's camera puts world +x on the
 //! image's left, POV-Ray's here on its right. The rays are the same.
 
-use scene_format::{Material, MaterialRef, MeshData, Object, SceneFile, ShapeRef, Transform};
+use scene_format::{
+    Material, MaterialRef, MeshData, Object, SceneFile, ShapeRef, Transform, TransformStep,
+};
 use std::collections::HashMap;
 use std::fmt::Write;
 
@@ -97,7 +99,10 @@ fn camera(c: &scene_format::Camera) -> String {
 }
 
 fn write_object(pov: &mut String, scene: &SceneFile, object: &Object) {
-    let look = appearance(&material(scene, object));
+    let mut look = appearance(&material(scene, object));
+    if let Some(t) = &object.transform {
+        look += &pov_transform(t);
+    }
     if let Some(texture) = object.texture.as_ref() {
         let _ = writeln!(pov, "// texture {texture:?} left out");
     }
@@ -143,7 +148,7 @@ fn write_object(pov: &mut String, scene: &SceneFile, object: &Object) {
                 let _ = writeln!(pov, "triangle {{ {far}, {v}, {u} {look} }}");
             }
             ShapeRef::Mesh(m) => match &m.data {
-                Some(data) => write_mesh2(pov, data, &look, object.transform.as_ref()),
+                Some(data) => write_mesh2(pov, data, &look),
                 None => {
                     let _ = writeln!(pov, "// mesh {:?} not loaded: left out", m.obj);
                 }
@@ -153,9 +158,8 @@ fn write_object(pov: &mut String, scene: &SceneFile, object: &Object) {
 }
 
 /// A mesh as `mesh2`: each distinct vertex once, faces by index, in the
-/// file's vertex order; the object's transform as POV-Ray's (scale, then
-/// rotate about x, y, z, then translate: the same matrices as the tracer's).
-fn write_mesh2(pov: &mut String, data: &MeshData, look: &str, transform: Option<&Transform>) {
+/// file's vertex order; `look` ends with the object's transform.
+fn write_mesh2(pov: &mut String, data: &MeshData, look: &str) {
     let mut index: HashMap<[u32; 3], usize> = HashMap::new();
     let mut vertices = Vec::new();
     let faces: Vec<[usize; 3]> = data
@@ -181,16 +185,22 @@ fn write_mesh2(pov: &mut String, data: &MeshData, look: &str, transform: Option<
         let _ = writeln!(pov, "    <{a}, {b}, {c}>{comma}");
     }
     let _ = writeln!(pov, "  }}\n  {look}");
-    if let Some(t) = transform {
-        let _ = writeln!(
-            pov,
-            "  scale {} rotate {} translate {}",
-            vec3(t.scale.per_axis()),
-            vec3(t.rotate),
-            vec3(t.translate)
-        );
-    }
     pov.push_str("}\n");
+}
+
+/// An object's transform as POV-Ray's statements, which act in the order
+/// written: the list's steps from the last (the one acting first). POV-Ray's
+/// `rotate <x, y, z>` turns about x, then y, then z, as the tracer's does.
+fn pov_transform(t: &Transform) -> String {
+    let mut out = String::new();
+    for step in t.steps().iter().rev() {
+        let _ = match *step {
+            TransformStep::Translate(v) => write!(out, " translate {}", vec3(v)),
+            TransformStep::Rotate(v) => write!(out, " rotate {}", vec3(v)),
+            TransformStep::Scale(s) => write!(out, " scale {}", vec3(s.per_axis())),
+        };
+    }
+    out
 }
 
 /// The object's material, as the tracer resolves it (validation has made
@@ -402,7 +412,7 @@ mod tests {
             first_degenerate_line: None,
         };
         let mut pov = String::new();
-        write_mesh2(&mut pov, &data, "LOOK", None);
+        write_mesh2(&mut pov, &data, "LOOK");
         assert_eq!(
             pov,
             "mesh2 {\n  vertex_vectors { 4,\n    <0, 0, 0>,\n    <1, 0, 0>,\n    <0, 1, 0>,\n    \

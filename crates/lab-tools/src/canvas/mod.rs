@@ -215,7 +215,10 @@ mod tests {
             square: Some(Default::default()),
             fill: true,
             color: Some([1.0, 0.0, 0.0]),
-            transform: vec![Translate([0.5, 0.5]), Scale([0.2, 0.2])],
+            transform: vec![
+                Translate([0.5, 0.5]),
+                Scale(scene_format::canvas::Scale2::Uniform(0.2)),
+            ],
             ..Default::default()
         }]);
         let image = draw(&file);

@@ -29,7 +29,10 @@ pub fn matrix(t: &Transform) -> Mat3 {
     match *t {
         Transform::Translate([tx, ty]) => translation(tx, ty),
         Transform::Rotate(degrees) => rotation(degrees),
-        Transform::Scale([sx, sy]) => scale(sx, sy),
+        Transform::Scale(s) => {
+            let [sx, sy] = s.per_axis();
+            scale(sx, sy)
+        }
     }
 }
 

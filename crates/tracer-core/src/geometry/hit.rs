@@ -45,7 +45,7 @@ impl SurfaceHit {
             material,
             geometric_normal: normal,
             shading_normal: normal,
-            uv: Sphere::texture_uv(normal),
+            uv: sphere.uv(normal),
             front_face: ray.dir.dot(normal) < 0.0,
         }
     }

@@ -28,8 +28,46 @@ impl Placement {
         }
     }
 
+    /// A move by `v`.
+    pub fn translation(v: Vec3) -> Placement {
+        Placement {
+            linear: Mat3::IDENTITY,
+            translate: v,
+        }
+    }
+
+    /// `self * inner`, as the lab multiplies matrices: `inner` acts first.
+    pub fn compose(&self, inner: &Placement) -> Placement {
+        Placement {
+            linear: self.linear * inner.linear,
+            translate: self.linear * inner.translate + self.translate,
+        }
+    }
+
     pub fn apply(&self, p: Vec3) -> Vec3 {
         self.linear * p + self.translate
+    }
+
+    /// A direction (a difference of points): moved by the linear part only.
+    pub fn apply_vector(&self, v: Vec3) -> Vec3 {
+        self.linear * v
+    }
+
+    /// A surface normal, unit length: the inverse transpose keeps it
+    /// perpendicular to the surface when the scale differs per axis.
+    pub fn apply_normal(&self, n: Vec3) -> Vec3 {
+        (self.linear.inverse().transpose() * n).normalize()
+    }
+
+    /// Whether the placement mirrors (a negative determinant): a vertex
+    /// order then turns the other way round.
+    pub fn mirrors(&self) -> bool {
+        self.linear.determinant() < 0.0
+    }
+
+    /// The linear part.
+    pub fn linear(&self) -> Mat3 {
+        self.linear
     }
 }
 
@@ -51,6 +89,34 @@ mod tests {
         // x first: y -> z; then z about z stays z.
         let q = rx.apply(Vec3::Y);
         assert!((q - Vec3::Z).length() < 1e-5, "{q}");
+    }
+
+    #[test]
+    fn composition_applies_the_inner_placement_first() {
+        let move_x = Placement::translation(Vec3::X);
+        let double = Placement::new(Vec3::splat(2.0), Vec3::ZERO, Vec3::ZERO);
+        // Scale, then move: (1,0,0) -> (2,0,0) -> (3,0,0); the other way (4,0,0).
+        assert_eq!(
+            move_x.compose(&double).apply(Vec3::X),
+            Vec3::new(3.0, 0.0, 0.0)
+        );
+        assert_eq!(
+            double.compose(&move_x).apply(Vec3::X),
+            Vec3::new(4.0, 0.0, 0.0)
+        );
+    }
+
+    #[test]
+    fn normals_stay_perpendicular_under_an_uneven_scale() {
+        // The plane x + y = 0 (normal (1,1,0)/sqrt 2) stretched 3x along x
+        // holds (3,-1,0): its normal must be perpendicular to that.
+        let stretch = Placement::new(Vec3::new(3.0, 1.0, 1.0), Vec3::ZERO, Vec3::ZERO);
+        let n = stretch.apply_normal(Vec3::new(1.0, 1.0, 0.0));
+        let along = stretch.apply_vector(Vec3::new(1.0, -1.0, 0.0));
+        assert!(n.dot(along).abs() < 1e-6, "{n} . {along}");
+        assert!((n.length() - 1.0).abs() < 1e-6);
+        assert!(!stretch.mirrors());
+        assert!(Placement::new(Vec3::new(-1.0, 1.0, 1.0), Vec3::ZERO, Vec3::ZERO).mirrors());
     }
 
     #[test]

@@ -1,11 +1,14 @@
 //! An infinite plane: a point and a unit normal, with uv measured along two
 //! axes in the plane (unit scale), so textures tile it.
 
+use super::Placement;
 use crate::ray::Ray;
 use glam::{Vec2, Vec3};
 
-/// A plane through `point` with unit normal `normal`; `u_axis`, `v_axis`
-/// are unit vectors in the plane with `u_axis x v_axis = normal`.
+/// A plane through `point` with unit normal `normal`; a point's uv is its
+/// offset from `point` dotted with `u_axis` and `v_axis`. Those are unit
+/// vectors in the plane with `u_axis x v_axis = normal`, unless the plane
+/// was placed by a transform: then they are what keeps each point's uv.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Plane {
     pub point: Vec3,
@@ -33,6 +36,23 @@ impl Plane {
             normal,
             u_axis,
             v_axis,
+        }
+    }
+
+    /// The plane carried by `placement`, its uv carried along: a placed
+    /// point has the uv it had (textures stretch and turn with the plane).
+    pub fn placed(&self, placement: &Placement) -> Plane {
+        let u = placement.apply_vector(self.u_axis);
+        let v = placement.apply_vector(self.v_axis);
+        // The dual basis of (u, v) in the placed plane: u* . u = 1,
+        // u* . v = 0 and the other way round.
+        let n = u.cross(v);
+        let n2 = n.length_squared();
+        Plane {
+            point: placement.apply(self.point),
+            normal: placement.apply_normal(self.normal),
+            u_axis: v.cross(n) / n2,
+            v_axis: n.cross(u) / n2,
         }
     }
 
@@ -73,6 +93,31 @@ mod tests {
         let p = Vec3::new(1.5, -1.0, -0.25);
         assert!((floor.uv(p) - Vec2::new(1.5, 0.25)).length() < 1e-6);
         assert_eq!(floor.u_axis.cross(floor.v_axis), floor.normal);
+    }
+
+    #[test]
+    fn a_placed_plane_keeps_each_points_uv() {
+        let floor = Plane::new(Vec3::ZERO, Vec3::Y);
+        // Stretched along x, sheared by a turn about z, moved.
+        let stretch = Placement::new(Vec3::new(3.0, 1.0, 0.5), Vec3::ZERO, Vec3::ZERO);
+        let turn = Placement::new(
+            Vec3::ONE,
+            Vec3::new(10.0, 0.0, 30.0),
+            Vec3::new(1.0, 2.0, 3.0),
+        );
+        let placement = turn.compose(&stretch);
+        let placed = floor.placed(&placement);
+        for p in [
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(-2.0, 0.0, 0.7),
+            Vec3::ZERO,
+        ] {
+            let q = placement.apply(p);
+            let ray = Ray::new(q + placed.normal * 2.0, -placed.normal);
+            let t = placed.intersect(&ray, 0.0, f32::INFINITY).expect("a hit");
+            assert!((t - 2.0).abs() < 1e-5, "{t}");
+            assert!((placed.uv(q) - floor.uv(p)).length() < 1e-5, "{p}");
+        }
     }
 
     #[test]

@@ -2,19 +2,35 @@
 //! spherical texture mapping (section 4.5).
 
 use crate::ray::Ray;
-use glam::{Vec2, Vec3};
+use glam::{Mat3, Vec2, Vec3};
 use std::f32::consts::PI;
 
-/// A sphere: centre and radius.
+/// A sphere: centre and radius, and the turn its texture was given.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sphere {
     pub center: Vec3,
     pub radius: f32,
+    /// From world directions to the texture's own (a rotated sphere's
+    /// texture turns with it); None: the lab's, world axes.
+    pub texture_frame: Option<Mat3>,
 }
 
 impl Sphere {
     pub fn new(center: Vec3, radius: f32) -> Self {
-        Sphere { center, radius }
+        Sphere {
+            center,
+            radius,
+            texture_frame: None,
+        }
+    }
+
+    /// The texture coordinates at unit normal `n`: the lab's mapping, in
+    /// the sphere's own frame when it was turned.
+    pub fn uv(&self, n: Vec3) -> Vec2 {
+        match &self.texture_frame {
+            None => Sphere::texture_uv(n),
+            Some(frame) => Sphere::texture_uv(*frame * n),
+        }
     }
 
     /// The lab's quadratic (section 3): `A t^2 + B t + C = 0` with
