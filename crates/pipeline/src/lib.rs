@@ -21,5 +21,5 @@ pub use error::{scene_error_is_bad_input, Error};
 pub use limits::{BYTES_PER_PRIMITIVE, MAX_PRIMITIVES};
 pub use load::{load, Input, Loaded, DEFAULT_SCENE_NAME};
 pub use options::{Aov, Gamma, Options};
-pub use render::{default_output, image_size, render};
+pub use render::{default_output, image_size, render, render_cancellable};
 pub use rendered::{Picture, Rendered, ShadedStats, Summary, FORCED_WHITE_WARNING};

@@ -8,6 +8,7 @@ use crate::rendered::{Picture, Rendered, Summary};
 use crate::{scene3d, Error};
 use scene_format::{CanvasFile, SceneKind};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 
 /// Renders a loaded scene on the current rayon pool. A shaded 3D render
 /// calls `rows_done(0)` when its rows begin (after preparing the scene),
@@ -17,6 +18,18 @@ pub fn render(
     options: &Options,
     rows_done: &(dyn Fn(u32) + Sync),
 ) -> Result<Rendered, Error> {
+    let never = AtomicBool::new(false);
+    let rendered = render_cancellable(loaded, options, rows_done, &never)?;
+    Ok(rendered.expect("never cancelled"))
+}
+
+/// `render`, given up (`Ok(None)`) soon after `cancel` becomes true.
+pub fn render_cancellable(
+    loaded: &Loaded,
+    options: &Options,
+    rows_done: &(dyn Fn(u32) + Sync),
+    cancel: &AtomicBool,
+) -> Result<Option<Rendered>, Error> {
     let file = match &loaded.kind {
         SceneKind::Scene3d(file) => options.apply(file)?,
         SceneKind::Canvas(file) => {
@@ -26,24 +39,24 @@ pub fn render(
                     option,
                 });
             }
-            return Ok(Rendered {
+            return Ok(Some(Rendered {
                 image: draw_canvas(file, options.gamma),
                 summary: Summary::Canvas,
-            });
+            }));
         }
     };
     match options.aov {
         None => {
-            let (image, stats) = scene3d::shade(&file, &loaded.name, options.gamma, rows_done)?;
-            Ok(Rendered {
+            let shaded = scene3d::shade(&file, &loaded.name, options.gamma, rows_done, cancel)?;
+            Ok(shaded.map(|(image, stats)| Rendered {
                 image,
                 summary: Summary::Shaded(stats),
-            })
+            }))
         }
-        Some(aov) => Ok(Rendered {
+        Some(aov) => Ok(Some(Rendered {
             image: scene3d::aov(&file, &loaded.name, aov, options, rows_done)?,
             summary: Summary::Aov(aov),
-        }),
+        })),
     }
 }
 

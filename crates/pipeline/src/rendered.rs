@@ -26,6 +26,25 @@ impl Picture {
         (self.linear.width, self.linear.height)
     }
 
+    /// The picture blown up to `(width, height)` by repeating pixels (a
+    /// preview shown at the size of the image it stands for).
+    pub fn enlarged(&self, (width, height): (u32, u32)) -> Picture {
+        let small = &self.linear;
+        let mut linear = LinearImage::new(width, height);
+        for y in 0..height {
+            let sy = (u64::from(y) * u64::from(small.height) / u64::from(height)) as u32;
+            for x in 0..width {
+                let sx = (u64::from(x) * u64::from(small.width) / u64::from(width)) as u32;
+                linear.pixels[(y * width + x) as usize] =
+                    small.pixels[(sy * small.width + sx) as usize];
+            }
+        }
+        Picture {
+            linear,
+            encoding: self.encoding,
+        }
+    }
+
     /// The 8-bit image (PNG, JPEG): the lab's encoding.
     pub fn to_rgb8(&self) -> RgbImage {
         self.linear.encode(&self.encoding)

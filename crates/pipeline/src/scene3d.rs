@@ -8,6 +8,7 @@ use crate::rendered::{Picture, ShadedStats};
 use crate::Error;
 use scene_format::SceneFile;
 use std::path::Path;
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 use tracer_core::image::Saturation;
 use tracer_core::{Output, RenderJob, Scene};
@@ -20,13 +21,17 @@ pub(crate) fn shade(
     name: &Path,
     gamma: Option<Gamma>,
     rows_done: &(dyn Fn(u32) + Sync),
-) -> Result<(Picture, ShadedStats), Error> {
+    cancel: &AtomicBool,
+) -> Result<Option<(Picture, ShadedStats)>, Error> {
     let start = Instant::now();
     let scene = prepare(file, name)?;
     let prepare_seconds = start.elapsed().as_secs_f64();
     rows_done(0);
     let start = Instant::now();
-    let rendered = tracer_core::render(&scene, &RenderJob::full(&scene), rows_done);
+    let job = RenderJob::full(&scene);
+    let Some(rendered) = tracer_core::render_cancellable(&scene, &job, rows_done, cancel) else {
+        return Ok(None);
+    };
     let (image, rays) = (rendered.image, rendered.rays);
     let render_seconds = start.elapsed().as_secs_f64();
     let mut encoding = *scene.encoding();
@@ -55,7 +60,7 @@ pub(crate) fn shade(
         linear: image,
         encoding,
     };
-    Ok((picture, stats))
+    Ok(Some((picture, stats)))
 }
 
 /// The image of one AOV, encoded linearly unless `options.gamma` is given

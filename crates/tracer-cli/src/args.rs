@@ -145,6 +145,72 @@ pub struct CheckArgs {
     pub scenes: Vec<PathBuf>,
 }
 
+/// Render a scene, then again whenever the scene file or a file it reads
+/// (meshes) changes: a quick preview first, then the full image
+///
+/// The output is rewritten whole each time, so an image viewer that
+/// reloads changed files shows every render. A bad edit prints its error
+/// and keeps the last good image. Ctrl-C stops watching.
+#[derive(Args)]
+pub struct WatchArgs {
+    /// Scene file (.toml or .json)
+    pub scene: PathBuf,
+    /// Output image, its format by its extension (.png, .jpg, .exr, .hdr)
+    /// [default: the scene's file name with .png, in the current folder]
+    #[arg(short, long, value_name = "OUT.png")]
+    pub output: Option<PathBuf>,
+    /// Samples per pixel of the full render, overriding the scene's
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub samples: Option<u32>,
+    /// Image width in pixels, overriding the camera's
+    #[arg(long, value_name = "PIXELS", value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub width: Option<u32>,
+    /// Image height in pixels, overriding the camera's
+    #[arg(long, value_name = "PIXELS", value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub height: Option<u32>,
+    /// Threads to render with [default: one per core]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+}
+
+/// `tracer watch`, resolved.
+pub struct Watch {
+    pub scene: PathBuf,
+    pub output: PathBuf,
+    pub options: Options,
+    pub pool: rayon::ThreadPool,
+}
+
+impl WatchArgs {
+    pub fn resolve(self) -> anyhow::Result<Watch> {
+        let output = self
+            .output
+            .unwrap_or_else(|| tracer_pipeline::default_output(&self.scene, None));
+        Ok(Watch {
+            scene: self.scene,
+            output,
+            options: Options {
+                gamma: None,
+                aov: None,
+                samples: self.samples,
+                width: self.width,
+                height: self.height,
+                raw_depth: false,
+            },
+            pool: pool(self.threads)?,
+        })
+    }
+}
+
+/// The render pool: `threads` threads, or one per core.
+fn pool(threads: Option<u32>) -> anyhow::Result<rayon::ThreadPool> {
+    let mut pool = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = threads {
+        pool = pool.num_threads(n as usize);
+    }
+    Ok(pool.build()?)
+}
+
 /// `tracer render`, resolved.
 pub struct Render {
     pub input: Input,
@@ -159,10 +225,6 @@ pub struct Render {
 
 impl RenderArgs {
     pub fn resolve(self) -> anyhow::Result<Render> {
-        let mut pool = rayon::ThreadPoolBuilder::new();
-        if let Some(n) = self.threads {
-            pool = pool.num_threads(n as usize);
-        }
         Ok(Render {
             input: Input::from_arg(self.scene),
             output: self.output,
@@ -176,7 +238,7 @@ impl RenderArgs {
                 raw_depth: false,
             },
             bit_depth: self.bit_depth.into(),
-            pool: pool.build()?,
+            pool: pool(self.threads)?,
             quiet: self.quiet,
         })
     }

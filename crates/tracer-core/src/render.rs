@@ -10,6 +10,7 @@ use crate::sampling::{concentric_disk, Rng, Shuffle, Strata};
 use crate::scene::Scene;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// A rectangle of pixels: columns `x0..x1`, rows `y0..y1` (ends exclusive).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -112,17 +113,30 @@ pub struct Rendered {
 /// (a region's pixels are those of the whole image). The part of the
 /// region outside the camera's image is left out.
 pub fn render(scene: &Scene, job: &RenderJob, rows_done: &(dyn Fn(u32) + Sync)) -> Rendered {
+    let never = AtomicBool::new(false);
+    render_cancellable(scene, job, rows_done, &never).expect("never cancelled")
+}
+
+/// `render`, given up (None) soon after `cancel` becomes true: it is read
+/// before each row of a tile and each sample of a pixel of several, so an
+/// edit in watch mode stops even a costly render at once.
+pub fn render_cancellable(
+    scene: &Scene,
+    job: &RenderJob,
+    rows_done: &(dyn Fn(u32) + Sync),
+    cancel: &AtomicBool,
+) -> Option<Rendered> {
     let camera = scene.camera();
     let region = job.region.within(camera.width, camera.height);
     let width = region.width();
     let mut image = LinearImage::new(width, region.height());
     if image.pixels.is_empty() {
-        return Rendered {
+        return Some(Rendered {
             image,
             rays: RayStats::default(),
-        };
+        });
     }
-    let pixel = PixelRenderer::new(scene, job);
+    let pixel = PixelRenderer::new(scene, job, cancel);
     let rays = image
         .pixels
         .par_chunks_mut((width * BAND_ROWS) as usize)
@@ -134,7 +148,7 @@ pub fn render(scene: &Scene, job: &RenderJob, rows_done: &(dyn Fn(u32) + Sync)) 
             stats
         })
         .reduce(RayStats::default, |a, b| a + b);
-    Rendered { image, rays }
+    (!cancel.load(Ordering::Relaxed)).then_some(Rendered { image, rays })
 }
 
 /// Rows in one band, the unit of parallel work: small enough that the two
@@ -153,6 +167,11 @@ fn render_band(pixel: &PixelRenderer, region: Region, top: u32, pixels: &mut [Ve
     let mut tracer = Whitted::new(pixel.scene);
     for left in (0..width).step_by(TILE_WIDTH as usize) {
         for y in 0..rows {
+            // Per row of a tile: a costly pixel (thousands of samples)
+            // still stops soon.
+            if pixel.cancel.load(Ordering::Relaxed) {
+                return tracer.stats;
+            }
             for x in left..(left + TILE_WIDTH).min(width) {
                 let colour = pixel.render(region.x0 + x, top + y, &mut tracer);
                 pixels[(y * width + x) as usize] = colour;
@@ -177,10 +196,13 @@ struct PixelRenderer<'a> {
     thin_lens: bool,
     output: Output,
     aov: AovContext,
+    /// Read before each sample of a pixel of several: a pixel of
+    /// thousands of samples stops too when the render is given up.
+    cancel: &'a AtomicBool,
 }
 
 impl<'a> PixelRenderer<'a> {
-    fn new(scene: &'a Scene, job: &RenderJob) -> Self {
+    fn new(scene: &'a Scene, job: &RenderJob, cancel: &'a AtomicBool) -> Self {
         let samples = job.samples.max(1);
         PixelRenderer {
             scene,
@@ -190,6 +212,7 @@ impl<'a> PixelRenderer<'a> {
             thin_lens: scene.camera().lens.is_some(),
             output: job.output,
             aov: AovContext::new(scene),
+            cancel,
         }
     }
 
@@ -210,6 +233,7 @@ impl<'a> PixelRenderer<'a> {
             0
         };
         let sum: Vec3 = (0..self.samples)
+            .take_while(|_| !self.cancel.load(Ordering::Relaxed))
             .map(|s| {
                 let mut rng = Rng::for_sample(i, j, s);
                 let at = pixel + self.strata.point(s, rng.square());

@@ -5,3 +5,4 @@ pub mod check;
 pub mod gamma_fit;
 pub mod render;
 pub mod schema;
+pub mod watch;

@@ -58,7 +58,7 @@ pub fn run(args: &Render) -> Result<()> {
 }
 
 /// The line that says what was written.
-fn summary(scene: &Path, rendered: &Rendered, threads: usize, output: &Path) -> String {
+pub(crate) fn summary(scene: &Path, rendered: &Rendered, threads: usize, output: &Path) -> String {
     let (scene, output) = (scene.display(), output.display());
     let (width, height) = rendered.image.dimensions();
     match &rendered.summary {

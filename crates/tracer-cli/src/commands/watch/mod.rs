@@ -1,0 +1,126 @@
+//! `tracer watch`: render a scene, then render it again whenever the scene
+//! file or a file it reads changes. A preview (a quarter of the resolution,
+//! one sample) comes first, then the full render; an edit cancels the
+//! render in progress. A bad edit prints its located error and keeps the
+//! last good image; the command never stops on a bad scene.
+
+mod changes;
+
+use crate::args::Watch;
+use crate::commands::render::summary;
+use crate::console::{self, note};
+use crate::report;
+use anyhow::Result;
+use changes::Changes;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use tracer_pipeline::output::{check_not_an_input, BitDepth, ImageFormat, PendingOutput};
+use tracer_pipeline::{Error, Input, Loaded, Options, Rendered};
+
+/// The preview's size: this fraction of the image's width and height.
+const PREVIEW_DIVISOR: u32 = 4;
+
+pub fn run(args: &Watch) -> Result<()> {
+    ImageFormat::for_path(&args.output).map_err(Error::from)?;
+    check_not_an_input(&args.output, &[&args.scene]).map_err(Error::from)?;
+    let mut changes = Changes::new()?;
+    loop {
+        let input = Input::File(args.scene.clone());
+        match tracer_pipeline::load(&input) {
+            Ok(loaded) => {
+                changes.watch(&loaded.files_read)?;
+                report::warnings(&loaded);
+                render_passes(args, &loaded, &changes);
+            }
+            Err(e) => {
+                // Still watched: the fix is an edit of the same file(s).
+                changes.watch(&files_of_failed_load(&args.scene))?;
+                console::stderr(format_args!(
+                    "{}",
+                    report::render(&e, report::color_wanted())
+                ));
+                note!("keeping the last good image; waiting for the next edit");
+            }
+        }
+        changes.wait();
+    }
+}
+
+/// What to watch when the scene did not load: the scene file itself (its
+/// OBJ files are known only from a scene that parses).
+fn files_of_failed_load(scene: &Path) -> Vec<PathBuf> {
+    vec![scene.to_path_buf()]
+}
+
+/// The preview, then the full render, each written whole to the output;
+/// stops as soon as a watched file changes.
+fn render_passes(args: &Watch, loaded: &Loaded, changes: &Changes) {
+    let full = args.options;
+    let passes = match preview_options(loaded, &full) {
+        Some(preview) => vec![(preview, true), (full, false)],
+        None => vec![(full, false)],
+    };
+    for (options, is_preview) in passes {
+        let start = Instant::now();
+        let cancel = changes.pending();
+        let rendered = args
+            .pool
+            .install(|| tracer_pipeline::render_cancellable(loaded, &options, &|_| {}, cancel));
+        match rendered {
+            Ok(Some(rendered)) => {
+                if let Err(e) = write(args, loaded, rendered, is_preview, start) {
+                    note!("error: {e:#}");
+                    return;
+                }
+            }
+            // A watched file changed: the next loop reads it.
+            Ok(None) => return,
+            Err(e) => {
+                note!("error: {e:#}");
+                return;
+            }
+        }
+    }
+}
+
+/// The options of the preview pass, or None when the scene is a canvas
+/// (drawn at once) or already small.
+fn preview_options(loaded: &Loaded, full: &Options) -> Option<Options> {
+    let (width, height) = tracer_pipeline::image_size(loaded, full).ok()?;
+    if matches!(loaded.kind, scene_format::SceneKind::Canvas(_)) || width < 2 * PREVIEW_DIVISOR {
+        return None;
+    }
+    Some(Options {
+        samples: Some(1),
+        width: Some(width.div_ceil(PREVIEW_DIVISOR)),
+        height: Some(height.div_ceil(PREVIEW_DIVISOR)),
+        ..*full
+    })
+}
+
+/// Writes a pass to the output (a preview blown up to the full size, so a
+/// viewer keeps its zoom) and prints its summary line.
+fn write(
+    args: &Watch,
+    loaded: &Loaded,
+    mut rendered: Rendered,
+    is_preview: bool,
+    start: Instant,
+) -> Result<()> {
+    if is_preview {
+        let size = tracer_pipeline::image_size(loaded, &args.options)?;
+        rendered.image = rendered.image.enlarged(size);
+    }
+    let pending = PendingOutput::create(&args.output).map_err(Error::from)?;
+    pending
+        .write_picture(&rendered.image, BitDepth::Eight)
+        .map_err(Error::from)?;
+    let threads = args.pool.current_num_threads();
+    let line = summary(&loaded.name, &rendered, threads, &args.output);
+    if is_preview {
+        note!("preview in {:.3} s", start.elapsed().as_secs_f64());
+    } else {
+        note!("{line}");
+    }
+    Ok(())
+}
