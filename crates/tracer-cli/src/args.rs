@@ -3,6 +3,7 @@
 //! Every command then reads the resolved form only.
 
 use clap::{Args, Subcommand, ValueEnum};
+use std::net::SocketAddr;
 use std::path::PathBuf;
 use tracer_pipeline::lab::DEFAULT_CHART_SIZE;
 use tracer_pipeline::output::BitDepth;
@@ -171,6 +172,11 @@ pub struct WatchArgs {
     /// Threads to render with [default: one per core]
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
+    /// Also serve a live page at ADDR (a browser shows each render as it
+    /// comes, and the scene's errors): loopback only unless ADDR says
+    /// otherwise; port 0 picks a free one
+    #[arg(long, value_name = "ADDR", num_args = 0..=1, default_missing_value = "127.0.0.1:7878")]
+    pub serve: Option<SocketAddr>,
 }
 
 /// `tracer watch`, resolved.
@@ -179,6 +185,7 @@ pub struct Watch {
     pub output: PathBuf,
     pub options: Options,
     pub pool: rayon::ThreadPool,
+    pub serve: Option<SocketAddr>,
 }
 
 impl WatchArgs {
@@ -198,6 +205,7 @@ impl WatchArgs {
                 raw_depth: false,
             },
             pool: pool(self.threads)?,
+            serve: self.serve,
         })
     }
 }

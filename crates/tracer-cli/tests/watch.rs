@@ -38,8 +38,13 @@ struct Watching {
 
 impl Watching {
     fn start(dir: &Path) -> Watching {
+        Watching::start_with(dir, &[])
+    }
+
+    fn start_with(dir: &Path, more: &[&str]) -> Watching {
         let mut child = Command::new(env!("CARGO_BIN_EXE_tracer"))
             .args(["watch", "scene.toml", "-o", "out.png", "--threads", "1"])
+            .args(more)
             .current_dir(dir)
             .stderr(Stdio::piped())
             .spawn()
@@ -186,4 +191,321 @@ fn ctrl_c_ends_it_without_a_temporary_file() {
         .collect();
     names.sort();
     assert_eq!(names, ["out.png", "scene.toml", "tri.obj"]);
+}
+
+/// `tracer watch --serve` on a free port; the port it took.
+fn serving(dir: &Path) -> (Watching, u16) {
+    let mut watching = Watching::start_with(dir, &["--serve", "127.0.0.1:0"]);
+    watching.expect_line("the live page: http://127.0.0.1:", START);
+    let line = watching.seen.last().expect("the line").clone();
+    let port = line
+        .rsplit(':')
+        .next()
+        .and_then(|p| p.trim_end_matches('/').parse().ok())
+        .unwrap_or_else(|| panic!("no port in {line:?}"));
+    (watching, port)
+}
+
+/// The status line of the answer to `request`, sent raw (as a client that
+/// does not clean its path up would).
+fn status_of(port: u16, request: &[u8]) -> String {
+    use std::io::{Read, Write};
+    let mut stream = std::net::TcpStream::connect(("127.0.0.1", port)).expect("connect");
+    stream
+        .set_read_timeout(Some(Duration::from_secs(10)))
+        .unwrap();
+    // The server may close as soon as it has refused the head.
+    let _ = stream.write_all(request);
+    let mut answer = Vec::new();
+    let _ = stream.read_to_end(&mut answer);
+    let answer = String::from_utf8_lossy(&answer);
+    answer.lines().next().unwrap_or("").to_string()
+}
+
+fn get(path: &str) -> Vec<u8> {
+    format!("GET {path} HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n").into_bytes()
+}
+
+#[test]
+fn the_server_serves_the_page_image_and_events_and_nothing_else() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path().join("tri.obj"), &obj(0.0));
+    write(dir.path().join("scene.toml"), &scene([1.0, 0.0, 0.0], 1));
+    std::fs::write(dir.path().join("secret.txt"), "not to be served").unwrap();
+    let (mut watching, port) = serving(dir.path());
+    watching.expect_line("rendered", START);
+    assert_eq!(status_of(port, &get("/")), "HTTP/1.1 200 OK");
+    assert_eq!(status_of(port, &get("/image.png")), "HTTP/1.1 200 OK");
+    for path in [
+        "/../../etc/passwd",
+        "/%2e%2e/%2e%2e/etc/passwd",
+        "/%2E%2E%2F%2E%2E%2Fetc%2Fpasswd",
+        "/image.png/../../etc/passwd",
+        "/..%5c..%5cetc%5cpasswd",
+        "/secret.txt",
+        "/scene.toml",
+        "//etc/passwd",
+    ] {
+        assert_eq!(
+            status_of(port, &get(path)),
+            "HTTP/1.1 404 Not Found",
+            "{path}"
+        );
+    }
+    let post = b"POST / HTTP/1.1\r\nHost: x\r\nContent-Length: 3\r\nConnection: close\r\n\r\nabc";
+    assert_eq!(status_of(port, post), "HTTP/1.1 405 Method Not Allowed");
+    let body = b"GET / HTTP/1.1\r\nHost: x\r\nContent-Length: 3\r\nConnection: close\r\n\r\nabc";
+    assert_eq!(status_of(port, body), "HTTP/1.1 413 Payload Too Large");
+    let huge = format!(
+        "GET / HTTP/1.1\r\nHost: x\r\nX-Big: {}\r\nConnection: close\r\n\r\n",
+        "a".repeat(100_000)
+    );
+    let refused = status_of(port, huge.as_bytes());
+    assert!(
+        !refused.contains("200"),
+        "an oversized head was served: {refused}"
+    );
+    // Still serving after the refusals.
+    assert_eq!(status_of(port, &get("/")), "HTTP/1.1 200 OK");
+}
+
+#[test]
+fn a_vanished_or_silent_client_does_not_stall_rendering() {
+    use std::io::Write;
+    let dir = tempfile::tempdir().unwrap();
+    let scene_path = dir.path().join("scene.toml");
+    write(dir.path().join("tri.obj"), &obj(0.0));
+    write(scene_path.clone(), &scene([1.0, 0.0, 0.0], 1));
+    let (mut watching, port) = serving(dir.path());
+    watching.expect_line("rendered", START);
+    // Event streams never read, and connections that never finish their
+    // request: more than the server serves at once.
+    let mut idle = Vec::new();
+    for k in 0..40 {
+        let mut stream = std::net::TcpStream::connect(("127.0.0.1", port)).expect("connect");
+        if k % 2 == 0 {
+            let _ = stream.write_all(&get("/events"));
+        } else {
+            let _ = stream.write_all(b"GET / HTTP/1.1\r\n");
+        }
+        idle.push(stream);
+    }
+    for colour in [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 1.0]] {
+        write(scene_path.clone(), &scene(colour, 1));
+        watching.expect_line("rendered", WITHIN);
+    }
+    assert_eq!(
+        centre_pixel(&dir.path().join("out.png")),
+        [true, true, true]
+    );
+}
+
+/// Headless Chromium showing a page, driven over its DevTools socket: the
+/// test reads the live page's DOM while the page stays open.
+struct Browser {
+    child: Child,
+    socket: tungstenite::WebSocket<std::net::TcpStream>,
+    /// The DevTools session attached to the page.
+    session: String,
+    next_id: u64,
+    _profile: tempfile::TempDir,
+}
+
+impl Browser {
+    /// Chromium showing `url`; None when there is no Chromium (an error on CI).
+    fn open(url: &str) -> Option<Browser> {
+        let names = ["chromium", "chromium-browser", "google-chrome"];
+        let chromium = std::env::var("CHROMIUM")
+            .ok()
+            .into_iter()
+            .chain(names.into_iter().map(String::from))
+            .find(|c| Command::new(c).arg("--version").output().is_ok());
+        let Some(chromium) = chromium else {
+            assert!(
+                std::env::var_os("CI").is_none(),
+                "Chromium is missing (Debian: apt-get install chromium)"
+            );
+            eprintln!("skipped: no Chromium");
+            return None;
+        };
+        let profile = tempfile::tempdir().unwrap();
+        let mut child = Command::new(chromium)
+            .args([
+                "--headless",
+                "--no-sandbox",
+                "--disable-gpu",
+                "--disable-dev-shm-usage",
+                "--no-first-run",
+                "--disable-background-networking",
+                "--remote-debugging-port=0",
+            ])
+            .arg(format!("--user-data-dir={}", profile.path().display()))
+            .arg(url)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("start chromium");
+        let socket_url = devtools_url(child.stderr.take().expect("stderr"));
+        let port: u16 = socket_url
+            .trim_start_matches("ws://127.0.0.1:")
+            .split('/')
+            .next()
+            .and_then(|p| p.parse().ok())
+            .expect("a port");
+        let stream = std::net::TcpStream::connect(("127.0.0.1", port)).expect("devtools");
+        stream.set_read_timeout(Some(START)).unwrap();
+        let (socket, _) = tungstenite::client(socket_url.as_str(), stream).expect("devtools");
+        let mut browser = Browser {
+            child,
+            socket,
+            session: String::new(),
+            next_id: 1,
+            _profile: profile,
+        };
+        browser.session = browser.attach(url);
+        Some(browser)
+    }
+
+    /// Attaches to the page showing `url`, once it is there.
+    fn attach(&mut self, url: &str) -> String {
+        let end = Instant::now() + START;
+        while Instant::now() < end {
+            let targets = self.call("Target.getTargets", serde_json::json!({}));
+            let page = targets["targetInfos"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .find(|t| t["type"] == "page" && t["url"].as_str() == Some(url));
+            if let Some(id) = page.map(|p| p["targetId"].clone()) {
+                let params = serde_json::json!({ "targetId": id, "flatten": true });
+                let attached = self.call("Target.attachToTarget", params);
+                return attached["sessionId"]
+                    .as_str()
+                    .expect("a session")
+                    .to_string();
+            }
+            std::thread::sleep(Duration::from_millis(100));
+        }
+        panic!("Chromium opened no page at {url}");
+    }
+
+    /// Calls DevTools' `method` (in the page's session once attached) and
+    /// returns its result.
+    fn call(&mut self, method: &str, params: serde_json::Value) -> serde_json::Value {
+        let id = self.next_id;
+        self.next_id += 1;
+        let mut call = serde_json::json!({ "id": id, "method": method, "params": params });
+        if !self.session.is_empty() {
+            call["sessionId"] = self.session.clone().into();
+        }
+        self.socket.send(call.to_string().into()).expect("send");
+        loop {
+            let message = self.socket.read().expect("devtools answer");
+            let Ok(text) = message.to_text() else {
+                continue;
+            };
+            let answer: serde_json::Value = serde_json::from_str(text).expect("json");
+            if answer["id"] == id {
+                return answer["result"].clone();
+            }
+        }
+    }
+
+    /// The value of the JavaScript `expression` in the page.
+    fn eval(&mut self, expression: &str) -> serde_json::Value {
+        let params = serde_json::json!({ "expression": expression, "returnByValue": true });
+        self.call("Runtime.evaluate", params)["result"]["value"].clone()
+    }
+
+    /// Waits up to `limit` for `expression` to be true in the page.
+    fn wait_for(&mut self, expression: &str, limit: Duration) {
+        let end = Instant::now() + limit;
+        while Instant::now() < end {
+            if self.eval(expression) == serde_json::Value::Bool(true) {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        let body = self.eval("document.body.outerHTML");
+        panic!("{expression} not true within {limit:?}; the page:\n{body}");
+    }
+}
+
+impl Drop for Browser {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// The browser's socket in "DevTools listening on ws://..." on Chromium's
+/// stderr, which is drained afterwards.
+fn devtools_url(stderr: std::process::ChildStderr) -> String {
+    let mut lines = BufReader::new(stderr).lines();
+    for line in lines.by_ref().map_while(Result::ok) {
+        if let Some(at) = line.find("ws://") {
+            let url = line[at..].trim().to_string();
+            std::thread::spawn(move || lines.for_each(drop));
+            return url;
+        }
+    }
+    panic!("Chromium did not open its DevTools socket");
+}
+
+#[test]
+fn the_page_shows_each_render_and_the_error_without_a_reload() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_path = dir.path().join("scene.toml");
+    write(dir.path().join("tri.obj"), &obj(0.0));
+    write(scene_path.clone(), &scene([1.0, 0.0, 0.0], 1));
+    let (mut watching, port) = serving(dir.path());
+    watching.expect_line("rendered", START);
+    let Some(mut page) = Browser::open(&format!("http://127.0.0.1:{port}/")) else {
+        return;
+    };
+    page.wait_for("document.body.dataset.renders === '1'", START);
+    let red = "(() => { const c = document.createElement('canvas'); const i = byId('image'); \
+               c.width = i.naturalWidth; c.height = i.naturalHeight; \
+               const g = c.getContext('2d'); g.drawImage(i, 0, 0); \
+               return Array.from(g.getImageData(32, 24, 1, 1).data.slice(0, 3)); })()";
+    page.wait_for(
+        "byId('image').complete && byId('image').naturalWidth === 64",
+        WITHIN,
+    );
+    let lit = |v: serde_json::Value| -> Vec<bool> {
+        v.as_array()
+            .expect("rgb")
+            .iter()
+            .map(|c| c.as_u64().unwrap() > 200)
+            .collect()
+    };
+    assert_eq!(lit(page.eval(red)), [true, false, false]);
+
+    // An edit: the page gets the preview and the full render, no reload.
+    write(scene_path.clone(), &scene([0.0, 1.0, 0.0], 1));
+    page.wait_for("document.body.dataset.renders === '3'", WITHIN);
+    page.wait_for(
+        "byId('image').complete && byId('image').src.endsWith('render=3')",
+        WITHIN,
+    );
+    assert_eq!(lit(page.eval(red)), [false, true, false]);
+    assert_eq!(page.eval("document.body.dataset.error"), "hidden");
+
+    // A bad edit: the error as `tracer check` prints it, the image kept.
+    write(
+        scene_path.clone(),
+        "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 500\n",
+    );
+    page.wait_for("document.body.dataset.error === 'shown'", WITHIN);
+    let error = page.eval("byId('error').textContent");
+    let error = error.as_str().expect("text");
+    assert!(error.contains("scene.toml:4:7"), "{error}");
+    assert!(error.contains("fov = 500"), "{error}");
+    assert_eq!(page.eval("document.body.dataset.renders"), "3");
+    assert_eq!(lit(page.eval(red)), [false, true, false]);
+
+    // Fixed: the panel goes, the new image comes.
+    write(scene_path, &scene([0.0, 0.0, 1.0], 1));
+    page.wait_for("document.body.dataset.renders === '5'", WITHIN);
+    assert_eq!(page.eval("document.body.dataset.error"), "hidden");
 }

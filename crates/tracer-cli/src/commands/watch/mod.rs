@@ -5,6 +5,7 @@
 //! last good image; the command never stops on a bad scene.
 
 mod changes;
+mod server;
 
 use crate::args::Watch;
 use crate::commands::render::summary;
@@ -12,10 +13,11 @@ use crate::console::{self, note};
 use crate::report;
 use anyhow::Result;
 use changes::Changes;
+use server::Server;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use tracer_pipeline::output::{check_not_an_input, BitDepth, ImageFormat, PendingOutput};
-use tracer_pipeline::{Error, Input, Loaded, Options, Rendered};
+use tracer_pipeline::output::{check_not_an_input, encode, BitDepth, ImageFormat, PendingOutput};
+use tracer_pipeline::{Error, Input, Loaded, Options, Rendered, Summary};
 
 /// The preview's size: this fraction of the image's width and height.
 const PREVIEW_DIVISOR: u32 = 4;
@@ -24,13 +26,17 @@ pub fn run(args: &Watch) -> Result<()> {
     ImageFormat::for_path(&args.output).map_err(Error::from)?;
     check_not_an_input(&args.output, &[&args.scene]).map_err(Error::from)?;
     let mut changes = Changes::new()?;
+    let server = args.serve.map(Server::start).transpose()?;
+    if let Some(server) = &server {
+        note!("the live page: http://{}/", server.addr);
+    }
     loop {
         let input = Input::File(args.scene.clone());
         match tracer_pipeline::load(&input) {
             Ok(loaded) => {
                 changes.watch(&loaded.files_read)?;
                 report::warnings(&loaded);
-                render_passes(args, &loaded, &changes);
+                render_passes(args, &loaded, &changes, server.as_ref());
             }
             Err(e) => {
                 // Still watched: the fix is an edit of the same file(s).
@@ -40,6 +46,9 @@ pub fn run(args: &Watch) -> Result<()> {
                     report::render(&e, report::color_wanted())
                 ));
                 note!("keeping the last good image; waiting for the next edit");
+                if let Some(server) = &server {
+                    server.error(&report::render(&e, false));
+                }
             }
         }
         changes.wait();
@@ -54,7 +63,7 @@ fn files_of_failed_load(scene: &Path) -> Vec<PathBuf> {
 
 /// The preview, then the full render, each written whole to the output;
 /// stops as soon as a watched file changes.
-fn render_passes(args: &Watch, loaded: &Loaded, changes: &Changes) {
+fn render_passes(args: &Watch, loaded: &Loaded, changes: &Changes, server: Option<&Server>) {
     let full = args.options;
     let passes = match preview_options(loaded, &full) {
         Some(preview) => vec![(preview, true), (full, false)],
@@ -68,7 +77,8 @@ fn render_passes(args: &Watch, loaded: &Loaded, changes: &Changes) {
             .install(|| tracer_pipeline::render_cancellable(loaded, &options, &|_| {}, cancel));
         match rendered {
             Ok(Some(rendered)) => {
-                if let Err(e) = write(args, loaded, rendered, is_preview, start) {
+                let pass = Pass { is_preview, start };
+                if let Err(e) = write(args, loaded, rendered, pass, server) {
                     note!("error: {e:#}");
                     return;
                 }
@@ -98,16 +108,24 @@ fn preview_options(loaded: &Loaded, full: &Options) -> Option<Options> {
     })
 }
 
+/// Which pass a render was, and when it began.
+struct Pass {
+    is_preview: bool,
+    start: Instant,
+}
+
 /// Writes a pass to the output (a preview blown up to the full size, so a
-/// viewer keeps its zoom) and prints its summary line.
+/// viewer keeps its zoom), prints its summary line and shows it on the page.
 fn write(
     args: &Watch,
     loaded: &Loaded,
     mut rendered: Rendered,
-    is_preview: bool,
-    start: Instant,
+    pass: Pass,
+    server: Option<&Server>,
 ) -> Result<()> {
-    if is_preview {
+    let seconds = pass.start.elapsed().as_secs_f64();
+    let (width, height) = rendered.image.dimensions();
+    if pass.is_preview {
         let size = tracer_pipeline::image_size(loaded, &args.options)?;
         rendered.image = rendered.image.enlarged(size);
     }
@@ -115,12 +133,32 @@ fn write(
     pending
         .write_picture(&rendered.image, BitDepth::Eight)
         .map_err(Error::from)?;
-    let threads = args.pool.current_num_threads();
-    let line = summary(&loaded.name, &rendered, threads, &args.output);
-    if is_preview {
-        note!("preview in {:.3} s", start.elapsed().as_secs_f64());
+    if pass.is_preview {
+        note!("preview in {seconds:.3} s");
     } else {
-        note!("{line}");
+        let threads = args.pool.current_num_threads();
+        note!(
+            "{}",
+            summary(&loaded.name, &rendered, threads, &args.output)
+        );
+    }
+    if let Some(server) = server {
+        let png = encode(&rendered.image.to_rgb8(), ImageFormat::Png).map_err(Error::from)?;
+        let mrays = match &rendered.summary {
+            Summary::Shaded(stats) => {
+                Some(stats.rays as f64 / stats.render_seconds.max(1e-9) / 1e6)
+            }
+            _ => None,
+        };
+        let info = serde_json::json!({
+            "scene": loaded.name.display().to_string(),
+            "pass": if pass.is_preview { "preview" } else { "full" },
+            "width": width,
+            "height": height,
+            "seconds": seconds,
+            "mrays": mrays,
+        });
+        server.image(png, info);
     }
     Ok(())
 }

@@ -1,0 +1,211 @@
+//! The live page of `tracer watch --serve`: the page, the latest image and
+//! a stream of events (server-sent events), nothing else. No path reaches
+//! the file system; a request's head is bounded in size and time, the
+//! connections in number; a slow or vanished client is dropped rather than
+//! waited for, so rendering never stalls on it.
+
+use crate::console::note;
+use anyhow::{Context, Result};
+use bytes::Bytes;
+use http_body_util::{combinators::BoxBody, BodyExt, Full};
+use hyper::body::{Body, Frame, Incoming};
+use hyper::{Method, Request, Response, StatusCode};
+use hyper_util::rt::{TokioIo, TokioTimer};
+use std::convert::Infallible;
+use std::net::SocketAddr;
+use std::pin::Pin;
+use std::sync::{Arc, Mutex};
+use std::task::{Context as TaskContext, Poll};
+use std::time::Duration;
+use tokio::sync::{mpsc, Semaphore};
+
+/// The page: one file, no external resources.
+const PAGE: &str = include_str!("page.html");
+/// Connections served at once; more wait to be accepted.
+const MAX_CONNECTIONS: usize = 32;
+/// Bytes of a request's head (request line and headers).
+const MAX_HEAD_BYTES: usize = 8 * 1024;
+/// Time a client has to send its request's head.
+const HEAD_TIMEOUT: Duration = Duration::from_secs(5);
+/// Events queued for one client before it counts as too slow and is dropped.
+const CLIENT_QUEUE: usize = 16;
+/// How often an idle event stream gets a comment, which finds vanished clients.
+const KEEP_ALIVE: Duration = Duration::from_secs(15);
+
+/// What the page shows: the latest image and the events that describe it.
+#[derive(Default)]
+struct State {
+    png: Option<Bytes>,
+    /// The last render's event and the last error's (None once fixed):
+    /// sent to a page as soon as it connects.
+    render_event: Option<Bytes>,
+    error_event: Option<Bytes>,
+    clients: Vec<mpsc::Sender<Bytes>>,
+}
+
+impl State {
+    /// Queues `event` for every client; a full queue (a slow client) or a
+    /// closed one (a vanished client) drops that client.
+    fn broadcast(&mut self, event: &Bytes) {
+        self.clients.retain(|c| c.try_send(event.clone()).is_ok());
+    }
+}
+
+/// A running server; the watch loop publishes to it.
+pub struct Server {
+    state: Arc<Mutex<State>>,
+    pub addr: SocketAddr,
+}
+
+impl Server {
+    /// Binds `addr` and serves on a thread of its own.
+    pub fn start(addr: SocketAddr) -> Result<Server> {
+        let runtime = tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()
+            .context("cannot start the page's server")?;
+        let listener = runtime
+            .block_on(tokio::net::TcpListener::bind(addr))
+            .with_context(|| format!("cannot serve the page on {addr}"))?;
+        let addr = listener.local_addr()?;
+        let state = Arc::new(Mutex::new(State::default()));
+        let served = state.clone();
+        std::thread::spawn(move || runtime.block_on(serve(listener, served)));
+        Ok(Server { state, addr })
+    }
+
+    /// A new image (PNG bytes) and its numbers, for the page.
+    pub fn image(&self, png: Vec<u8>, info: serde_json::Value) {
+        let mut state = self.state.lock().expect("the page's state");
+        state.png = Some(Bytes::from(png));
+        let render = event("render", &info);
+        state.broadcast(&render);
+        state.render_event = Some(render);
+        if state.error_event.take().is_some() {
+            state.broadcast(&event("fixed", &serde_json::json!({})));
+        }
+    }
+
+    /// A scene error, as `tracer check` prints it (without colours).
+    pub fn error(&self, text: &str) {
+        let mut state = self.state.lock().expect("the page's state");
+        let error = event("error", &serde_json::json!({ "text": text }));
+        state.broadcast(&error);
+        state.error_event = Some(error);
+    }
+}
+
+/// A server-sent event: its name and one line of JSON.
+fn event(name: &str, data: &serde_json::Value) -> Bytes {
+    Bytes::from(format!("event: {name}\ndata: {data}\n\n"))
+}
+
+async fn serve(listener: tokio::net::TcpListener, state: Arc<Mutex<State>>) {
+    let slots = Arc::new(Semaphore::new(MAX_CONNECTIONS));
+    tokio::spawn(keep_alive(state.clone()));
+    loop {
+        let Ok(slot) = slots.clone().acquire_owned().await else {
+            return;
+        };
+        let Ok((stream, _)) = listener.accept().await else {
+            continue;
+        };
+        let state = state.clone();
+        tokio::spawn(async move {
+            let service = hyper::service::service_fn(move |r| respond(r, state.clone()));
+            let _ = hyper::server::conn::http1::Builder::new()
+                .timer(TokioTimer::new())
+                .header_read_timeout(HEAD_TIMEOUT)
+                .max_buf_size(MAX_HEAD_BYTES)
+                .serve_connection(TokioIo::new(stream), service)
+                .await;
+            drop(slot);
+        });
+    }
+}
+
+async fn keep_alive(state: Arc<Mutex<State>>) {
+    let mut ticks = tokio::time::interval(KEEP_ALIVE);
+    loop {
+        ticks.tick().await;
+        let ping = Bytes::from_static(b": keep-alive\n\n");
+        state.lock().expect("the page's state").broadcast(&ping);
+    }
+}
+
+type Reply = Response<BoxBody<Bytes, Infallible>>;
+
+async fn respond(
+    request: Request<Incoming>,
+    state: Arc<Mutex<State>>,
+) -> Result<Reply, Infallible> {
+    if request.method() != Method::GET && request.method() != Method::HEAD {
+        return Ok(plain(StatusCode::METHOD_NOT_ALLOWED, "only GET"));
+    }
+    if request.body().size_hint().lower() > 0 {
+        return Ok(plain(StatusCode::PAYLOAD_TOO_LARGE, "no request body"));
+    }
+    Ok(match request.uri().path() {
+        "/" => bytes(
+            "text/html; charset=utf-8",
+            Bytes::from_static(PAGE.as_bytes()),
+        ),
+        "/image.png" => match state.lock().expect("the page's state").png.clone() {
+            Some(png) => bytes("image/png", png),
+            None => plain(StatusCode::NOT_FOUND, "no image yet"),
+        },
+        "/events" => events(&state),
+        _ => plain(StatusCode::NOT_FOUND, "not found"),
+    })
+}
+
+fn bytes(content_type: &str, body: Bytes) -> Reply {
+    Response::builder()
+        .header("content-type", content_type)
+        .header("cache-control", "no-store")
+        .body(Full::new(body).boxed())
+        .expect("a valid response")
+}
+
+fn plain(status: StatusCode, text: &'static str) -> Reply {
+    let mut reply = bytes(
+        "text/plain; charset=utf-8",
+        Bytes::from_static(text.as_bytes()),
+    );
+    *reply.status_mut() = status;
+    reply
+}
+
+/// A new event stream: what the page shows now, then every change.
+fn events(state: &Mutex<State>) -> Reply {
+    let (send, receive) = mpsc::channel(CLIENT_QUEUE);
+    let mut state = state.lock().expect("the page's state");
+    for current in [&state.render_event, &state.error_event]
+        .into_iter()
+        .flatten()
+    {
+        let _ = send.try_send(current.clone());
+    }
+    state.clients.push(send);
+    note!("a live page connected ({} open)", state.clients.len());
+    Response::builder()
+        .header("content-type", "text/event-stream")
+        .header("cache-control", "no-store")
+        .body(EventStream(receive).boxed())
+        .expect("a valid response")
+}
+
+/// The body of an event stream: the events queued for this client.
+struct EventStream(mpsc::Receiver<Bytes>);
+
+impl Body for EventStream {
+    type Data = Bytes;
+    type Error = Infallible;
+
+    fn poll_frame(
+        mut self: Pin<&mut Self>,
+        cx: &mut TaskContext<'_>,
+    ) -> Poll<Option<Result<Frame<Bytes>, Infallible>>> {
+        self.0.poll_recv(cx).map(|e| e.map(|b| Ok(Frame::data(b))))
+    }
+}
