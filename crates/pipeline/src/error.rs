@@ -74,7 +74,11 @@ pub fn scene_error_is_bad_input(error: &SceneError) -> bool {
                 | ErrorKind::NotADirectory
                 // What `scene_format::read` refuses: folders, devices, size.
                 | ErrorKind::InvalidInput
+                // A zip archive that is not one, or holds unsafe entries.
+                | ErrorKind::InvalidData
         ),
-        SceneError::UnknownFormat { .. } | SceneError::Invalid { .. } => true,
+        SceneError::UnknownFormat { .. } | SceneError::Invalid { .. } | SceneError::Several(_) => {
+            true
+        }
     }
 }

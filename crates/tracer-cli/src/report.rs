@@ -116,6 +116,15 @@ fn excerpted(
 /// The report of a scene error, ready for the terminal: one block per
 /// diagnostic (the first `MAX_SHOWN`), with colours when `color` is set.
 pub fn render(error: &SceneError, color: bool) -> String {
+    error
+        .files()
+        .into_iter()
+        .map(|e| render_file(e, color))
+        .collect()
+}
+
+/// [`render`] of one file's error.
+fn render_file(error: &SceneError, color: bool) -> String {
     let SceneError::Invalid {
         file,
         text,
