@@ -41,6 +41,9 @@ pub enum Error {
     /// An output file could not be written.
     #[error(transparent)]
     Output(#[from] OutputError),
+    /// A scene could not be packed into an archive.
+    #[error(transparent)]
+    Pack(#[from] crate::pack::PackError),
 }
 
 impl Error {
@@ -55,6 +58,7 @@ impl Error {
             | Error::Prepare { .. }
             | Error::Measurements { .. } => true,
             Error::Output(e) => e.is_bad_input(),
+            Error::Pack(e) => e.is_bad_input(),
             Error::Plot(_) => false,
         }
     }

@@ -28,6 +28,7 @@ enum Command {
     #[command(subcommand)]
     Gamma(args::GammaCommand),
     Check(args::CheckArgs),
+    Pack(args::PackArgs),
     /// Print the JSON Schema of scene files, for editor completion and
     /// checking (e.g. `tracer schema > schema.json`)
     Schema,
@@ -47,6 +48,7 @@ fn main() -> ExitCode {
         }
         Command::Gamma(command) => error::finish(commands::gamma_fit::run(&command)),
         Command::Check(args) => commands::check::run(&args),
+        Command::Pack(args) => error::finish(commands::pack::run(&args)),
         Command::Schema => error::finish(commands::schema::run()),
     };
     outcome.into()
