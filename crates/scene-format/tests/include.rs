@@ -144,19 +144,30 @@ fn the_files_read_are_the_scene_its_includes_and_their_meshes() {
     let names: Vec<String> = loaded
         .files_read
         .iter()
-        .map(|f| f.strip_prefix(dir().join("good")).unwrap().display().to_string())
+        .map(|f| {
+            f.strip_prefix(dir().join("good"))
+                .unwrap()
+                .display()
+                .to_string()
+        })
         .collect();
     assert_eq!(
         names,
-        ["scene.toml", "lib/common.toml", "lib/nested.toml", "lib/tri.obj", "lib/more.json"]
+        [
+            "scene.toml",
+            "lib/common.toml",
+            "lib/nested.toml",
+            "lib/tri.obj",
+            "lib/more.json"
+        ]
     );
 }
 
 #[test]
 fn a_scene_given_as_text_cannot_include() {
     let text = "include = [\"m.toml\"]\n[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n";
-    let error = scene_format::load_str(text, scene_format::Format::Toml, Path::new("s.toml"))
-        .unwrap_err();
+    let error =
+        scene_format::load_str(text, scene_format::Format::Toml, Path::new("s.toml")).unwrap_err();
     let d = &error.diagnostics()[0];
     assert_eq!(d.path.to_string(), "include");
     assert_eq!(d.location.map(|l| (l.line, l.column)), Some((1, 11)));
