@@ -47,8 +47,11 @@ pub struct Loaded {
     /// for a zip archive the archive. Empty for the built-in scene.
     pub files_read: Vec<PathBuf>,
     /// Likely mistakes (mesh faces of zero area, no lights, ...; see
-    /// `scene_format::warnings`); worth showing, not errors.
+    /// `scene_format::warnings`); worth showing, not errors. Their key
+    /// paths are the merged scene's: `origins` tells the file of each.
     pub warnings: Vec<Diagnostic>,
+    /// The files the scene was merged from (it and the files it includes).
+    pub origins: Origins,
 }
 
 impl Loaded {
@@ -90,6 +93,7 @@ pub fn load(input: &Input) -> Result<Loaded, SceneError> {
         kind: loaded.kind,
         files_read: loaded.files_read,
         warnings,
+        origins: loaded.origins,
     })
 }
 

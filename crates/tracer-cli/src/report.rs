@@ -176,11 +176,12 @@ pub fn color_wanted() -> bool {
 /// The loaded scene's warnings, one line each; shown even when quiet.
 pub fn warnings(loaded: &tracer_pipeline::Loaded) {
     for w in &loaded.warnings {
-        crate::console::note!(
-            "warning: {}: `{}`: {}",
-            loaded.name.display(),
-            w.path,
-            w.message
-        );
+        // An object of an included file is named in that file.
+        let (file, path) = loaded.origins.origin(&w.path);
+        let name = match loaded.origins.files.get(file) {
+            Some(f) if file > 0 => f.name.display().to_string(),
+            _ => loaded.name.display().to_string(),
+        };
+        crate::console::note!("warning: {name}: `{path}`: {}", w.message);
     }
 }
