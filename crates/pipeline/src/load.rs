@@ -217,6 +217,35 @@ mod tests {
     }
 
     #[test]
+    fn a_limit_broken_by_an_included_object_is_shown_in_its_file() {
+        let obj = "v 0 0 0\nv 0.001 0 0\nv 0 0.001 0\nf 1 2 3\n";
+        let scene = format!("include = [\"first.toml\", \"parts.toml\"]\n{HEAD}");
+        let (dir, path) = scene_with_obj(obj, &scene);
+        // Merged, the mesh is objects[2] (after first.toml's sphere and
+        // parts.toml's); in parts.toml it is objects[1], on line 5.
+        let sphere = "[[objects]]\nsphere = { center = [0, 0, 0], radius = 1 }\n";
+        std::fs::write(dir.path().join("first.toml"), sphere).unwrap();
+        std::fs::write(
+            dir.path().join("parts.toml"),
+            "[[objects]]\nsphere = { center = [0, 0, 0], radius = 1 }\n\n\
+             [[objects]]\nmesh = { obj = \"m.obj\" }\n\
+             transform = { scale = 1e-6, translate = [1000, 0, 0] }\n",
+        )
+        .unwrap();
+        let err = load(&Input::File(path)).unwrap_err();
+        let SceneError::Invalid {
+            file, diagnostics, ..
+        } = &err
+        else {
+            panic!("{err}");
+        };
+        assert_eq!(*file, dir.path().join("parts.toml"));
+        let d = &diagnostics[0];
+        assert_eq!(d.path.to_string(), "objects[1].mesh");
+        assert_eq!(d.location.map(|l| (l.line, l.column)), Some((5, 8)));
+    }
+
+    #[test]
     fn a_mesh_placed_beyond_the_coordinate_bound_is_an_error() {
         let obj = "v 0 0 0\nv 1e5 0 0\nv 0 1 0\nf 1 2 3\n";
         let scene = format!(

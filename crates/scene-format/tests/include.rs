@@ -32,6 +32,9 @@ const CASES: &[(&str, &[Expected])] = &[
     ]),
 ];
 
+/// What a file's first problem is: file, key path, line and column, message.
+type Found = (String, String, Option<(usize, usize)>, String);
+
 fn load_case(case: &str) -> Result<SceneKind, SceneError> {
     load_file(&dir().join(case).join("scene.toml")).map(|l| l.kind)
 }
@@ -57,7 +60,7 @@ fn each_problem_is_shown_in_the_file_that_holds_it() {
             Err(e) => e,
         };
         let files = error.files();
-        let found: Vec<(String, String, Option<(usize, usize)>, String)> = files
+        let found: Vec<Found> = files
             .iter()
             .map(|e| match e {
                 SceneError::Invalid {
