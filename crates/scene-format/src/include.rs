@@ -14,6 +14,10 @@ use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 
+/// How deep includes may nest (a scene includes a file that includes ...):
+/// far more than a library needs, and each level is a frame of recursion.
+pub const MAX_INCLUDE_DEPTH: usize = 32;
+
 /// What an included file may hold: materials, lights, objects and its own
 /// includes. The camera and the render settings are the scene file's.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
@@ -272,6 +276,14 @@ impl Loader<'_> {
                 self.problem(file, at, "expected a file path, found an empty text".into());
                 continue;
             }
+            if self.stack.len() > MAX_INCLUDE_DEPTH {
+                let m = format!(
+                    "cannot include `{entry}`: includes are nested more than \
+                     {MAX_INCLUDE_DEPTH} deep; expected a shallower chain"
+                );
+                self.problem(file, at, m);
+                continue;
+            }
             let path = base.join(entry);
             let identity = self.source.identity(&path);
             if let Some(message) = self.repeated(&identity, entry) {
@@ -296,15 +308,17 @@ impl Loader<'_> {
                 .map(|s| file_name(s))
                 .chain([file_name(identity)])
                 .collect();
-            let first = if pos == 0 {
-                "the scene file".to_string()
-            } else {
-                let (including, k) = self.seen[identity];
-                self.origins
-                    .place(including, &KeyPath::root().key("include").index(k))
+            let first = match self.seen.get(identity) {
+                Some(&(including, k)) => format!(
+                    "it is first included at {}",
+                    self.origins
+                        .place(including, &KeyPath::root().key("include").index(k))
+                ),
+                // Only the scene file is on the stack without being included.
+                None => "it is the scene file".to_string(),
             };
             return Some(format!(
-                "`{entry}` includes itself ({}); it is first included at {first}",
+                "`{entry}` includes itself ({}); {first}",
                 chain.join(" -> ")
             ));
         }
@@ -466,4 +480,81 @@ fn file_name(path: &Path) -> String {
         || path.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::load::load_file;
+
+    const CAMERA: &str = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n";
+
+    fn first(error: &SceneError) -> (String, String, String) {
+        let SceneError::Invalid {
+            file, diagnostics, ..
+        } = error
+        else {
+            panic!("{error}");
+        };
+        let d = &diagnostics[0];
+        let name = file.file_name().unwrap().to_string_lossy().into_owned();
+        (name, d.path.to_string(), d.message.clone())
+    }
+
+    #[test]
+    fn a_file_including_the_scene_is_a_cycle_through_the_scene() {
+        let dir = tempfile::tempdir().unwrap();
+        let scene = dir.path().join("s.toml");
+        std::fs::write(&scene, format!("include = [\"a.toml\"]\n{CAMERA}")).unwrap();
+        std::fs::write(dir.path().join("a.toml"), "include = [\"./s.toml\"]\n").unwrap();
+        let (file, path, message) = first(&load_file(&scene).unwrap_err());
+        assert_eq!((file.as_str(), path.as_str()), ("a.toml", "include[0]"));
+        assert_eq!(
+            message,
+            "`./s.toml` includes itself (s.toml -> a.toml -> s.toml); it is the scene file"
+        );
+    }
+
+    #[test]
+    fn includes_nest_at_most_the_limit() {
+        let dir = tempfile::tempdir().unwrap();
+        // f0 includes f1 includes ... f40: the scene is level 0, f0 level
+        // 1, f31 level 32, the deepest allowed: its include of f32 is refused.
+        for i in 0..40 {
+            let text = format!("include = [\"f{}.toml\"]\n", i + 1);
+            std::fs::write(dir.path().join(format!("f{i}.toml")), text).unwrap();
+        }
+        let scene = dir.path().join("s.toml");
+        std::fs::write(&scene, format!("include = [\"f0.toml\"]\n{CAMERA}")).unwrap();
+        let (file, path, message) = first(&load_file(&scene).unwrap_err());
+        assert_eq!((file.as_str(), path.as_str()), ("f31.toml", "include[0]"));
+        assert!(message.contains("more than 32 deep"), "{message}");
+    }
+
+    #[test]
+    fn merged_paths_map_back_to_their_file_and_index() {
+        let origins = Origins {
+            files: Vec::new(),
+            materials: HashMap::from([("red".to_string(), 2)]),
+            lights: vec![(1, 0), (0, 0)],
+            objects: vec![(2, 0), (2, 1), (0, 0)],
+        };
+        let at = |p: &str| {
+            let (file, local) = origins.origin(&KeyPath::from(p));
+            (file, local.to_string())
+        };
+        assert_eq!(
+            at("objects[1].sphere.radius"),
+            (2, "objects[1].sphere.radius".into())
+        );
+        assert_eq!(at("objects[2].material"), (0, "objects[0].material".into()));
+        assert_eq!(at("lights[0].color"), (1, "lights[0].color".into()));
+        assert_eq!(
+            at("materials.red.diffuse"),
+            (2, "materials.red.diffuse".into())
+        );
+        assert_eq!(at("camera.fov"), (0, "camera.fov".into()));
+        // A whole list (a warning about it) is the scene file's.
+        assert_eq!(at("lights"), (0, "lights".into()));
+    }
 }
