@@ -12,7 +12,7 @@ use crate::load::{load, Input};
 use crate::output::{check_not_an_input, OutputError, PendingFile};
 use crate::Error;
 use scene_format::read::{read_capped, MAX_OBJ_BYTES};
-use scene_format::source::{Manifest, MANIFEST};
+use scene_format::source::{Archive, Manifest, MANIFEST};
 use std::io::{Cursor, Write};
 use std::path::{Component, Path, PathBuf};
 use zip::write::SimpleFileOptions;
@@ -38,6 +38,8 @@ pub enum PackError {
         file: PathBuf,
         source: std::io::Error,
     },
+    #[error("{}: the packed scene would not load (an absolute path in it?):\n{message}", file.display())]
+    Unreadable { file: PathBuf, message: String },
     #[error("{}: cannot make the archive: {source}", file.display())]
     Zip {
         file: PathBuf,
@@ -49,7 +51,9 @@ impl PackError {
     /// Whether the user's input is at fault rather than the machine.
     pub fn is_bad_input(&self) -> bool {
         match self {
-            PackError::NotZip(_) | PackError::AlreadyPacked(_) => true,
+            PackError::NotZip(_) | PackError::AlreadyPacked(_) | PackError::Unreadable { .. } => {
+                true
+            }
             PackError::Read { source, .. } => source.kind() != std::io::ErrorKind::Other,
             PackError::Zip { .. } => false,
         }
@@ -75,13 +79,38 @@ pub fn pack(scene: &Path, output: &Path) -> Result<Packed, Error> {
         path: output.to_path_buf(),
         source,
     })?;
-    let bytes = archive(output, &loaded.files_read, &names)?;
+    // One file reached by two paths (`a.obj`, `./a.obj`) is stored once.
+    let mut files = Vec::new();
+    let mut stored: Vec<String> = Vec::new();
+    for (file, name) in loaded.files_read.iter().zip(names) {
+        if !stored.contains(&name) {
+            files.push(file.clone());
+            stored.push(name);
+        }
+    }
+    let bytes = archive(output, &files, &stored)?;
+    check_archive(output, &bytes, &stored[0])?;
     let size = bytes.len();
     pending.write_bytes(&bytes)?;
     Ok(Packed {
-        entries: names,
+        entries: stored,
         bytes: size,
     })
+}
+
+/// Loads the scene from the archive's bytes, as `tracer render` will: a
+/// scene whose paths do not resolve inside (an absolute path to a mesh) is
+/// refused rather than packed broken.
+fn check_archive(output: &Path, bytes: &[u8], scene: &str) -> Result<(), PackError> {
+    let unreadable = |message: String| PackError::Unreadable {
+        file: output.to_path_buf(),
+        message,
+    };
+    let archive =
+        Archive::from_bytes(output, bytes.to_vec()).map_err(|e| unreadable(e.to_string()))?;
+    scene_format::load_from(&archive, Path::new(scene))
+        .map(drop)
+        .map_err(|e| unreadable(e.to_string()))
 }
 
 /// The zip archive's bytes: the manifest naming the scene (the first

@@ -174,3 +174,28 @@ fn an_output_that_is_not_a_zip_is_refused_before_loading() {
         .contains("expected an output ending in .zip"));
     assert!(error.is_bad_input());
 }
+
+#[test]
+fn a_scene_naming_a_mesh_by_its_absolute_path_is_not_packed_broken() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("tri.obj");
+    std::fs::write(&obj, TRIANGLE).unwrap();
+    let scene = dir.path().join("s.toml");
+    std::fs::write(
+        &scene,
+        format!(
+            "[camera]\neye = [0, 0, 6]\nlook_at = [0, 0, 0]\n\
+             [[objects]]\nmesh = {{ obj = {:?} }}\n",
+            obj.display().to_string()
+        ),
+    )
+    .unwrap();
+    let archive = dir.path().join("s.zip");
+    let error = pack(&scene, &archive).unwrap_err();
+    // Inside the archive the absolute path leaves it: the check load says so.
+    let message = error.to_string();
+    assert!(message.contains("would not load"), "{message}");
+    assert!(message.contains("leaves the archive"), "{message}");
+    assert!(error.is_bad_input());
+    assert!(!archive.exists());
+}

@@ -6,8 +6,7 @@
 
 use crate::read::{open_capped, open_regular};
 use std::cell::RefCell;
-use std::fs::File;
-use std::io::{self, BufRead, BufReader, Cursor, Read};
+use std::io::{self, BufRead, BufReader, Cursor, Read, Seek};
 use std::path::{Component, Path, PathBuf};
 use std::sync::Mutex;
 
@@ -99,12 +98,17 @@ impl Source for Folder {
 /// folder (`../x`, `/x`, `C:\x`) is refused whole when opened.
 pub struct Archive {
     file: PathBuf,
-    zip: Mutex<zip::ZipArchive<File>>,
+    zip: Mutex<zip::ZipArchive<Box<dyn ReadSeek>>>,
     /// The scene file inside: named by the manifest, or the only top-level
     /// `.toml`/`.json` entry.
     scene: PathBuf,
     read: Record,
 }
+
+/// What a zip archive is read from: a file, or bytes in memory.
+pub trait ReadSeek: Read + Seek + Send {}
+
+impl<T: Read + Seek + Send> ReadSeek for T {}
 
 /// The entry naming the scene file of an archive made by `tracer pack`.
 pub const MANIFEST: &str = "tracer-pack.toml";
@@ -121,7 +125,17 @@ impl Archive {
     /// Opens the archive at `file` and finds its scene file. The errors are
     /// `InvalidData` with a message for a reader.
     pub fn open(file: &Path) -> io::Result<Archive> {
-        let zip = zip::ZipArchive::new(open_regular(file, MAX_ARCHIVE_BYTES)?).map_err(bad)?;
+        Archive::read_from(file, Box::new(open_regular(file, MAX_ARCHIVE_BYTES)?))
+    }
+
+    /// The archive of `bytes`, named `file` in messages: an archive checked
+    /// before it is written.
+    pub fn from_bytes(file: &Path, bytes: Vec<u8>) -> io::Result<Archive> {
+        Archive::read_from(file, Box::new(Cursor::new(bytes)))
+    }
+
+    fn read_from(file: &Path, reader: Box<dyn ReadSeek>) -> io::Result<Archive> {
+        let zip = zip::ZipArchive::new(reader).map_err(bad)?;
         let mut archive = Archive {
             file: file.to_path_buf(),
             zip: Mutex::new(zip),
