@@ -1169,3 +1169,22 @@ fn an_error_in_an_included_file_names_it_in_the_report() {
     assert!(stderr.contains("lib/look.json:1:26"), "{stderr}");
     assert!(stderr.contains("lights[0].position"), "{stderr}");
 }
+
+#[test]
+fn check_shows_the_problems_of_each_file_of_a_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = from_crate("../scene-format/tests/include/several-files/scene.toml");
+    let out = tracer(dir.path(), &["check", &scene]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = stderr_of(&out);
+    // One block in the scene file, one in the file it includes.
+    assert!(stderr.contains("several-files/scene.toml:6:7"), "{stderr}");
+    assert!(
+        stderr.contains("several-files/objects.toml:2:41"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("1 of 1 scene file failed the check"),
+        "{stderr}"
+    );
+}
