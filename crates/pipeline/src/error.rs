@@ -41,6 +41,9 @@ pub enum Error {
     /// An output file could not be written.
     #[error(transparent)]
     Output(#[from] OutputError),
+    /// A scene could not be packed into an archive.
+    #[error(transparent)]
+    Pack(#[from] crate::pack::PackError),
 }
 
 impl Error {
@@ -55,6 +58,7 @@ impl Error {
             | Error::Prepare { .. }
             | Error::Measurements { .. } => true,
             Error::Output(e) => e.is_bad_input(),
+            Error::Pack(e) => e.is_bad_input(),
             Error::Plot(_) => false,
         }
     }
@@ -74,7 +78,11 @@ pub fn scene_error_is_bad_input(error: &SceneError) -> bool {
                 | ErrorKind::NotADirectory
                 // What `scene_format::read` refuses: folders, devices, size.
                 | ErrorKind::InvalidInput
+                // A zip archive that is not one, or holds unsafe entries.
+                | ErrorKind::InvalidData
         ),
-        SceneError::UnknownFormat { .. } | SceneError::Invalid { .. } => true,
+        SceneError::UnknownFormat { .. } | SceneError::Invalid { .. } | SceneError::Several(_) => {
+            true
+        }
     }
 }

@@ -13,6 +13,7 @@ mod limits;
 mod load;
 mod options;
 pub mod output;
+pub mod pack;
 mod render;
 mod rendered;
 mod scene3d;

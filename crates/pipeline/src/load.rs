@@ -2,9 +2,8 @@
 //! without one; with the files it read and the warnings it gave.
 
 use crate::limits;
-use scene_format::read::{read_capped, MAX_SCENE_BYTES};
-use scene_format::{Diagnostic, Format, SceneError, SceneFile, SceneKind};
-use std::path::{Path, PathBuf};
+use scene_format::{Diagnostic, Format, Origins, SceneError, SceneKind};
+use std::path::PathBuf;
 
 /// The scene rendered when none is given: the lab's final scene (table
 /// 1.10). A copy of `scenes/reflectance2.toml` (a test keeps them equal):
@@ -43,12 +42,16 @@ pub struct Loaded {
     /// The scene's name for messages: its path, or the built-in scene's name.
     pub name: PathBuf,
     pub kind: SceneKind,
-    /// Every file the scene was read from: the scene file, then the OBJ
-    /// files of its meshes, each once. Empty for the built-in scene.
+    /// Every file the scene was read from, each once, in the order read: the
+    /// scene file, the files it includes, the OBJ files of their meshes;
+    /// for a zip archive the archive. Empty for the built-in scene.
     pub files_read: Vec<PathBuf>,
     /// Likely mistakes (mesh faces of zero area, no lights, ...; see
-    /// `scene_format::warnings`); worth showing, not errors.
+    /// `scene_format::warnings`); worth showing, not errors. Their key
+    /// paths are the merged scene's: `origins` tells the file of each.
     pub warnings: Vec<Diagnostic>,
+    /// The files the scene was merged from (it and the files it includes).
+    pub origins: Origins,
 }
 
 impl Loaded {
@@ -61,69 +64,43 @@ impl Loaded {
     }
 }
 
-/// Reads and validates the scene, a 3D scene (with its meshes) or a 2D canvas.
+/// Reads and validates the scene, a 3D scene (with its included files and
+/// meshes) or a 2D canvas; from a scene file or a zip archive made by
+/// `tracer pack`.
 pub fn load(input: &Input) -> Result<Loaded, SceneError> {
     let name = input.name();
-    let kind = match input {
-        Input::File(path) => scene_format::load_any(path)?,
-        Input::DefaultScene => scene_format::load_any_str(DEFAULT_SCENE, Format::Toml, &name)?,
+    let loaded = match input {
+        Input::File(path) => scene_format::load_file(path)?,
+        Input::DefaultScene => scene_format::LoadedScene {
+            kind: scene_format::load_any_str(DEFAULT_SCENE, Format::Toml, &name)?,
+            origins: Origins::single(&name, DEFAULT_SCENE, Format::Toml),
+            files_read: Vec::new(),
+        },
     };
-    if let SceneKind::Scene3d(file) = &kind {
+    if let SceneKind::Scene3d(file) = &loaded.kind {
         let diagnostics = limits::check(file);
         if !diagnostics.is_empty() {
-            return Err(located(input, &name, diagnostics));
+            // Located in the file that holds each object.
+            return Err(loaded.origins.invalid(diagnostics));
         }
     }
-    let (files_read, warnings) = match (&kind, input) {
-        (SceneKind::Scene3d(file), Input::File(path)) => {
-            (files_read(path, file), scene_format::warnings(file))
-        }
-        (SceneKind::Scene3d(file), Input::DefaultScene) => {
-            (Vec::new(), scene_format::warnings(file))
-        }
-        (SceneKind::Canvas(_), Input::File(path)) => (vec![path.clone()], Vec::new()),
-        (SceneKind::Canvas(_), Input::DefaultScene) => (Vec::new(), Vec::new()),
+    let warnings = match &loaded.kind {
+        SceneKind::Scene3d(file) => scene_format::warnings(file),
+        SceneKind::Canvas(_) => Vec::new(),
     };
     Ok(Loaded {
         name,
-        kind,
-        files_read,
+        kind: loaded.kind,
+        files_read: loaded.files_read,
         warnings,
+        origins: loaded.origins,
     })
-}
-
-/// The limits' diagnostics located in the scene's text. The file is read
-/// again, through the same capped reader: it was read and parsed moments
-/// ago, and it is small (what is large is its meshes).
-fn located(input: &Input, name: &Path, diagnostics: Vec<Diagnostic>) -> SceneError {
-    let (text, format) = match input {
-        Input::File(path) => match read_capped(path, MAX_SCENE_BYTES).map(String::from_utf8) {
-            Ok(Ok(text)) => (text, Format::from_path(path).unwrap_or(Format::Toml)),
-            // Changed under our feet: the messages without their lines.
-            _ => (String::new(), Format::Toml),
-        },
-        Input::DefaultScene => (DEFAULT_SCENE.to_string(), Format::Toml),
-    };
-    scene_format::checks::invalid(name, &text, format, diagnostics)
-}
-
-/// The scene file and its meshes' OBJ files, relative to the scene file's
-/// folder as the loader reads them.
-fn files_read(path: &Path, file: &SceneFile) -> Vec<PathBuf> {
-    let base = path.parent().unwrap_or(Path::new(""));
-    let mut files = vec![path.to_path_buf()];
-    for mesh in file.objects.iter().filter_map(|o| o.mesh.as_ref()) {
-        let obj = base.join(&mesh.obj);
-        if !files.contains(&obj) {
-            files.push(obj);
-        }
-    }
-    files
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::path::Path;
 
     fn repository_scene(name: &str) -> PathBuf {
         Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -237,6 +214,35 @@ mod tests {
             message.starts_with("no triangle of `m.obj` is left once placed"),
             "{message}"
         );
+    }
+
+    #[test]
+    fn a_limit_broken_by_an_included_object_is_shown_in_its_file() {
+        let obj = "v 0 0 0\nv 0.001 0 0\nv 0 0.001 0\nf 1 2 3\n";
+        let scene = format!("include = [\"first.toml\", \"parts.toml\"]\n{HEAD}");
+        let (dir, path) = scene_with_obj(obj, &scene);
+        // Merged, the mesh is objects[2] (after first.toml's sphere and
+        // parts.toml's); in parts.toml it is objects[1], on line 5.
+        let sphere = "[[objects]]\nsphere = { center = [0, 0, 0], radius = 1 }\n";
+        std::fs::write(dir.path().join("first.toml"), sphere).unwrap();
+        std::fs::write(
+            dir.path().join("parts.toml"),
+            "[[objects]]\nsphere = { center = [0, 0, 0], radius = 1 }\n\n\
+             [[objects]]\nmesh = { obj = \"m.obj\" }\n\
+             transform = { scale = 1e-6, translate = [1000, 0, 0] }\n",
+        )
+        .unwrap();
+        let err = load(&Input::File(path)).unwrap_err();
+        let SceneError::Invalid {
+            file, diagnostics, ..
+        } = &err
+        else {
+            panic!("{err}");
+        };
+        assert_eq!(*file, dir.path().join("parts.toml"));
+        let d = &diagnostics[0];
+        assert_eq!(d.path.to_string(), "objects[1].mesh");
+        assert_eq!(d.location.map(|l| (l.line, l.column)), Some((5, 8)));
     }
 
     #[test]

@@ -231,17 +231,22 @@ fn remove_pending_files_where(which: impl Fn(&Path) -> bool) -> PendingFilesRemo
 /// work (a render) rather than after it. Dropped unwritten, it leaves
 /// nothing behind.
 pub struct PendingOutput {
-    path: PathBuf,
+    file: PendingFile,
     format: ImageFormat,
+}
+
+/// A file about to be written whole or not at all, of any kind (an image,
+/// an archive): its temporary file made in the target folder.
+pub struct PendingFile {
+    path: PathBuf,
     tmp: Option<tempfile::NamedTempFile>,
     tmp_path: PathBuf,
 }
 
-impl PendingOutput {
-    /// Checks `path` (a writable image format, not a folder or a device,
-    /// a folder that takes new files) and makes the temporary file.
-    pub fn create(path: &Path) -> Result<PendingOutput, OutputError> {
-        let format = ImageFormat::for_path(path)?;
+impl PendingFile {
+    /// Checks `path` (not a folder or a device, in a folder that takes new
+    /// files) and makes the temporary file.
+    pub fn create(path: &Path) -> Result<PendingFile, OutputError> {
         if std::fs::metadata(path).is_ok_and(|m| !m.is_file()) {
             // A rename would replace a device node, or fail on a folder.
             return Err(OutputError::NotAFile {
@@ -272,11 +277,53 @@ impl PendingOutput {
             })?;
         let tmp_path = tmp.path().to_path_buf();
         list.push(tmp_path.clone());
-        Ok(PendingOutput {
+        Ok(PendingFile {
             path: path.to_path_buf(),
-            format,
             tmp: Some(tmp),
             tmp_path,
+        })
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Writes `bytes` and renames the file into place, whole or not at all.
+    pub fn write_bytes(mut self, bytes: &[u8]) -> Result<(), OutputError> {
+        let write_error = |source| OutputError::Write {
+            path: self.path.clone(),
+            source,
+        };
+        let tmp = self.tmp.as_mut().expect("written once");
+        tmp.write_all(bytes)
+            .and_then(|()| tmp.as_file().sync_all())
+            .map_err(write_error)?;
+        let mut list = pending();
+        let tmp = self.tmp.take().expect("written once");
+        // On failure the temporary file is in the error and dropped: removed.
+        let persisted = tmp.persist(&self.path).map(drop).map_err(|e| e.error);
+        list.retain(|p| *p != self.tmp_path);
+        persisted.map_err(write_error)
+    }
+}
+
+impl Drop for PendingFile {
+    fn drop(&mut self) {
+        let mut list = pending();
+        // Removed (by NamedTempFile's drop) before it leaves the list.
+        drop(self.tmp.take());
+        list.retain(|p| *p != self.tmp_path);
+    }
+}
+
+impl PendingOutput {
+    /// Checks `path` (a writable image format, not a folder or a device,
+    /// a folder that takes new files) and makes the temporary file.
+    pub fn create(path: &Path) -> Result<PendingOutput, OutputError> {
+        let format = ImageFormat::for_path(path)?;
+        Ok(PendingOutput {
+            file: PendingFile::create(path)?,
+            format,
         })
     }
 
@@ -294,7 +341,7 @@ impl PendingOutput {
     }
 
     pub fn path(&self) -> &Path {
-        &self.path
+        &self.file.path
     }
 
     pub fn format(&self) -> ImageFormat {
@@ -308,7 +355,7 @@ impl PendingOutput {
         depth: BitDepth,
         gamma_given: bool,
     ) -> Result<(), OutputError> {
-        let (path, format) = (self.path.clone(), self.format);
+        let (path, format) = (self.file.path.clone(), self.format);
         if depth == BitDepth::Sixteen && format != ImageFormat::Png {
             return Err(OutputError::BitDepthOfFormat { path, format });
         }
@@ -323,7 +370,7 @@ impl PendingOutput {
     pub fn write_image(self, image: &image::RgbImage) -> Result<(), OutputError> {
         if self.format.is_linear() {
             return Err(OutputError::EightBitOnly {
-                path: self.path.clone(),
+                path: self.file.path.clone(),
                 format: self.format,
             });
         }
@@ -351,30 +398,8 @@ impl PendingOutput {
     }
 
     /// Writes `bytes` and renames the file into place, whole or not at all.
-    pub fn write_bytes(mut self, bytes: &[u8]) -> Result<(), OutputError> {
-        let write_error = |source| OutputError::Write {
-            path: self.path.clone(),
-            source,
-        };
-        let tmp = self.tmp.as_mut().expect("written once");
-        tmp.write_all(bytes)
-            .and_then(|()| tmp.as_file().sync_all())
-            .map_err(write_error)?;
-        let mut list = pending();
-        let tmp = self.tmp.take().expect("written once");
-        // On failure the temporary file is in the error and dropped: removed.
-        let persisted = tmp.persist(&self.path).map(drop).map_err(|e| e.error);
-        list.retain(|p| *p != self.tmp_path);
-        persisted.map_err(write_error)
-    }
-}
-
-impl Drop for PendingOutput {
-    fn drop(&mut self) {
-        let mut list = pending();
-        // Removed (by NamedTempFile's drop) before it leaves the list.
-        drop(self.tmp.take());
-        list.retain(|p| *p != self.tmp_path);
+    pub fn write_bytes(self, bytes: &[u8]) -> Result<(), OutputError> {
+        self.file.write_bytes(bytes)
     }
 }
 

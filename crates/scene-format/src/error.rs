@@ -31,14 +31,37 @@ pub enum SceneError {
         text: String,
         diagnostics: Vec<Diagnostic>,
     },
+    /// Problems in several files: a scene and files it includes, one error
+    /// (`Invalid`) per file, in the order the files were read.
+    #[error("{}", .0.iter().map(|e| e.to_string()).collect::<Vec<_>>().join("\n\n"))]
+    Several(Vec<SceneError>),
 }
 
 impl SceneError {
-    /// The problems found in the file; empty unless `Invalid`.
+    /// The problems found in the file; empty unless `Invalid`. For
+    /// `Several`, those of the first file (see [`SceneError::files`]).
     pub fn diagnostics(&self) -> &[Diagnostic] {
         match self {
             SceneError::Invalid { diagnostics, .. } => diagnostics,
+            SceneError::Several(errors) => errors.first().map_or(&[], |e| e.diagnostics()),
             _ => &[],
+        }
+    }
+
+    /// Each file's error: this one, or each of `Several`.
+    pub fn files(&self) -> Vec<&SceneError> {
+        match self {
+            SceneError::Several(errors) => errors.iter().flat_map(|e| e.files()).collect(),
+            _ => vec![self],
+        }
+    }
+
+    /// One error of the errors of several files: the one, or `Several`.
+    pub fn of_files(mut errors: Vec<SceneError>) -> SceneError {
+        if errors.len() == 1 {
+            errors.remove(0)
+        } else {
+            SceneError::Several(errors)
         }
     }
 }

@@ -6,6 +6,7 @@ pub mod checks;
 pub mod diagnostic;
 pub mod error;
 pub mod excerpt;
+pub mod include;
 pub mod json_spans;
 pub mod key_path;
 mod load;
@@ -15,6 +16,7 @@ pub mod obj;
 mod parse;
 pub mod read;
 pub mod schema;
+pub mod source;
 pub mod span_node;
 pub mod span_tree;
 mod suggest;
@@ -24,8 +26,12 @@ pub use canvas::CanvasFile;
 pub use checks::warnings;
 pub use diagnostic::{Diagnostic, Location};
 pub use error::SceneError;
+pub use include::Origins;
 pub use key_path::{KeyPath, Segment};
-pub use load::{load_any, load_any_str, load_bytes, load_path, load_str, SceneKind};
+pub use load::{
+    load_any, load_any_str, load_bytes, load_file, load_from, load_path, load_str, LoadedScene,
+    SceneKind,
+};
 pub use model::*;
 pub use obj::mesh_warnings;
 pub use suggest::suggestion;

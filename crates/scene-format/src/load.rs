@@ -2,9 +2,11 @@
 //! `CanvasFile`), every problem located in the text.
 
 use crate::error::SceneError;
+use crate::include::{self, Origins};
 use crate::locate::locate_all;
-use crate::{canvas, obj, parse, validate, CanvasFile, Diagnostic, Format, SceneFile};
-use std::path::Path;
+use crate::source::{Archive, Folder, Source};
+use crate::{canvas, parse, validate, CanvasFile, Diagnostic, Format, SceneFile};
+use std::path::{Path, PathBuf};
 
 /// Reads, parses and validates the 3D scene file at `path`, and reads the
 /// OBJ files of its meshes (relative to the scene file's folder).
@@ -50,8 +52,15 @@ pub fn load_str(text: &str, format: Format, file: &Path) -> Result<SceneFile, Sc
         text: text.to_string(),
         diagnostics,
     };
-    let scene = parse::parse(text, format).map_err(invalid)?;
-    let diagnostics = validate::validate(&scene);
+    let scene: SceneFile = parse::parse(text, format).map_err(invalid)?;
+    let mut diagnostics = validate::validate(&scene);
+    if !scene.include.is_empty() {
+        diagnostics.push(Diagnostic::new(
+            "include",
+            "included files are read only with a scene read from a file; \
+             expected no `include` in scene text",
+        ));
+    }
     if diagnostics.is_empty() {
         Ok(scene)
     } else {
@@ -62,7 +71,7 @@ pub fn load_str(text: &str, format: Format, file: &Path) -> Result<SceneFile, Sc
 /// `text` without a leading UTF-8 byte order mark: Windows editors write
 /// one, TOML allows it and serde_json does not, so JSON would fail on it.
 /// Columns on the first line then count as an editor shows them.
-fn without_bom(text: &str) -> &str {
+pub(crate) fn without_bom(text: &str) -> &str {
     text.strip_prefix('\u{feff}').unwrap_or(text)
 }
 
@@ -75,42 +84,72 @@ pub enum SceneKind {
 
 /// Reads, parses and validates the file at `path`, a 3D scene or, when it
 /// has a top-level `[canvas]` table, a 2D canvas scene.
-/// A 3D scene's meshes are read too.
+/// A 3D scene's included files and meshes are read too.
 pub fn load_any(path: &Path) -> Result<SceneKind, SceneError> {
-    let format = Format::from_path(path).ok_or_else(|| SceneError::UnknownFormat {
-        file: path.to_path_buf(),
-    })?;
-    let bytes = crate::read::read_capped(path, crate::read::MAX_SCENE_BYTES).map_err(|source| {
-        SceneError::Io {
-            file: path.to_path_buf(),
-            source,
-        }
-    })?;
-    let text = without_bom(utf8_text(&bytes, path)?);
-    if has_canvas_table(text, format) {
-        return load_any_str(text, format, path);
+    load_file(path).map(|loaded| loaded.kind)
+}
+
+/// A scene read from its files.
+#[derive(Debug, Clone)]
+pub struct LoadedScene {
+    pub kind: SceneKind,
+    /// The files it was merged from, to locate problems found later (the
+    /// tracer's limits) in the file that holds them.
+    pub origins: Origins,
+    /// Every file read on the file system, each once: the scene file, the
+    /// files it includes, their meshes; for a zip archive, the archive.
+    pub files_read: Vec<PathBuf>,
+}
+
+/// [`load_any`], with where the scene came from: a scene file (`.toml`,
+/// `.json`) and the files it names, or a zip archive made by `tracer pack`.
+pub fn load_file(path: &Path) -> Result<LoadedScene, SceneError> {
+    let is_zip = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("zip"));
+    if !is_zip {
+        return load_from(&Folder::new(), path);
     }
-    let invalid = |diagnostics| SceneError::Invalid {
+    let archive = Archive::open(path).map_err(|source| SceneError::Io {
         file: path.to_path_buf(),
-        text: text.to_string(),
-        diagnostics,
-    };
-    let mut scene: SceneFile = parse::parse(text, format).map_err(invalid)?;
-    // The OBJ files are read even when values fail, so a missing OBJ is
-    // reported with them rather than after they are fixed.
-    let mut diagnostics = validate::validate(&scene);
-    let base = path.parent().unwrap_or(Path::new(""));
-    for d in obj::load_meshes(&mut scene, base) {
-        // An empty `obj` is already reported by validation.
-        if !diagnostics.iter().any(|v| v.path == d.path) {
-            diagnostics.push(d);
-        }
-    }
-    if diagnostics.is_empty() {
-        Ok(SceneKind::Scene3d(scene))
+        source,
+    })?;
+    let mut loaded = load_from(&archive, archive.scene())?;
+    loaded.files_read = vec![path.to_path_buf()];
+    Ok(loaded)
+}
+
+/// Reads the scene file at `path` of `source`, a 3D scene with its
+/// included files and meshes, or a 2D canvas.
+pub fn load_from(source: &dyn Source, path: &Path) -> Result<LoadedScene, SceneError> {
+    let name = source.name(path);
+    let format =
+        Format::from_path(path).ok_or_else(|| SceneError::UnknownFormat { file: name.clone() })?;
+    let bytes = source
+        .read(path, crate::read::MAX_SCENE_BYTES)
+        .map_err(|e| SceneError::Io {
+            file: name.clone(),
+            source: e,
+        })?;
+    let text = without_bom(utf8_text(&bytes, &name)?);
+    let origins = Origins::single(&name, text, format);
+    let (kind, origins) = if has_canvas_table(text, format) {
+        (load_any_str(text, format, &name)?, origins)
     } else {
-        Err(invalid(locate_all(text, format, diagnostics)))
-    }
+        let scene: SceneFile =
+            parse::parse(text, format).map_err(|diagnostics| SceneError::Invalid {
+                file: name.clone(),
+                text: text.to_string(),
+                diagnostics,
+            })?;
+        let (scene, origins) = include::resolve(source, path, scene, origins)?;
+        (SceneKind::Scene3d(scene), origins)
+    };
+    Ok(LoadedScene {
+        kind,
+        origins,
+        files_read: source.files_read(),
+    })
 }
 
 /// `load_any` on text; `file` names it in errors.

@@ -22,6 +22,13 @@ pub struct SceneFile {
     pub materials: BTreeMap<String, Material>,
     #[serde(default)]
     pub objects: Vec<Object>,
+    /// Files whose materials, lights and objects join the scene's (before
+    /// its own, in list order), each a path relative to this file, TOML or
+    /// JSON by its extension. An included file holds only `materials`,
+    /// `lights`, `objects` and `include`; material names are shared, so a
+    /// name may be defined once. Default: none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub include: Vec<String>,
     /// The JSON Schema an editor checks a JSON scene against (TOML scenes
     /// use a `#:schema` comment instead). The tracer ignores it.
     #[serde(rename = "$schema", default, skip_serializing_if = "Option::is_none")]

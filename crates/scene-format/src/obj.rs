@@ -2,9 +2,11 @@
 //! left out and counted.
 
 use crate::diagnostic::Diagnostic;
-use crate::model::{MeshData, SceneFile, Vec3};
+use crate::model::{MeshData, Object, SceneFile, Vec3};
+use crate::read::MAX_OBJ_BYTES;
+use crate::source::{Folder, Source};
 use std::collections::HashMap;
-use std::io::{BufRead, BufReader};
+use std::io::BufRead;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -12,10 +14,22 @@ use std::sync::Arc;
 /// file's folder). Every file that cannot be read gives a diagnostic at
 /// `objects[i].mesh.obj`.
 pub fn load_meshes(scene: &mut SceneFile, base: &Path) -> Vec<Diagnostic> {
+    load_object_meshes(&mut scene.objects, base, &Folder::new())
+}
+
+/// Reads the OBJ file of every mesh of `objects` from `source`, relative
+/// to `base` (the folder of the file that lists them). Every file that
+/// cannot be read gives a diagnostic at `objects[i].mesh.obj`, `i` an index
+/// of `objects`.
+pub fn load_object_meshes(
+    objects: &mut [Object],
+    base: &Path,
+    source: &dyn Source,
+) -> Vec<Diagnostic> {
     let mut diagnostics = Vec::new();
     // A file used by several objects is read once and shared.
     let mut read: HashMap<PathBuf, Arc<MeshData>> = HashMap::new();
-    for (i, object) in scene.objects.iter_mut().enumerate() {
+    for (i, object) in objects.iter_mut().enumerate() {
         let Some(mesh) = object.mesh.as_mut() else {
             continue;
         };
@@ -24,7 +38,7 @@ pub fn load_meshes(scene: &mut SceneFile, base: &Path) -> Vec<Diagnostic> {
             mesh.data = Some(data.clone());
             continue;
         }
-        match read_obj(&path) {
+        match read_obj_from(source, &path) {
             Ok(data) => {
                 let data = Arc::new(data);
                 read.insert(path, data.clone());
@@ -64,7 +78,12 @@ pub fn mesh_warnings(scene: &SceneFile) -> Vec<Diagnostic> {
 /// The triangles of the OBJ file at `path`. When the file is not a valid
 /// OBJ, the message names the first offending line as `<file name>:<line>`.
 pub fn read_obj(path: &Path) -> Result<MeshData, String> {
-    read_obj_lines(path).map_err(|message| match bad_line_in(path) {
+    read_obj_from(&Folder::new(), path)
+}
+
+/// [`read_obj`] from `source`.
+pub fn read_obj_from(source: &dyn Source, path: &Path) -> Result<MeshData, String> {
+    read_obj_lines(source, path).map_err(|message| match bad_line_in(source, path) {
         Some((line, what)) => {
             let name = path.file_name().unwrap_or(path.as_os_str());
             format!("{message}; `{}:{line}`: {what}", name.to_string_lossy())
@@ -73,9 +92,10 @@ pub fn read_obj(path: &Path) -> Result<MeshData, String> {
     })
 }
 
-fn read_obj_lines(path: &Path) -> Result<MeshData, String> {
-    let file =
-        crate::read::open_capped(path, crate::read::MAX_OBJ_BYTES).map_err(|e| e.to_string())?;
+fn read_obj_lines(source: &dyn Source, path: &Path) -> Result<MeshData, String> {
+    let mut file = source
+        .open(path, MAX_OBJ_BYTES)
+        .map_err(|e| e.to_string())?;
     let options = tobj::LoadOptions {
         triangulate: true,
         ignore_points: true,
@@ -83,7 +103,7 @@ fn read_obj_lines(path: &Path) -> Result<MeshData, String> {
         ..Default::default()
     };
     // Materials of the OBJ are not used: the scene file gives the material.
-    let (models, _) = tobj::load_obj_buf(&mut BufReader::new(file), &options, |_| {
+    let (models, _) = tobj::load_obj_buf(&mut file, &options, |_| {
         Err(tobj::LoadError::GenericFailure)
     })
     .map_err(|e| format!("not a valid OBJ file: {e}"))?;
@@ -94,9 +114,10 @@ fn read_obj_lines(path: &Path) -> Result<MeshData, String> {
         add_model(&model.mesh, &mut data, &mut first_degenerate)?;
     }
     if let Some(k) = first_degenerate {
-        data.first_degenerate_line = crate::read::open_capped(path, crate::read::MAX_OBJ_BYTES)
+        data.first_degenerate_line = source
+            .open(path, MAX_OBJ_BYTES)
             .ok()
-            .and_then(|file| line_of_triangle(BufReader::new(file), k));
+            .and_then(|file| line_of_triangle(file, k));
     }
     if data.triangles.is_empty() {
         return Err("expected at least one face of non-zero area".to_string());
@@ -139,9 +160,8 @@ fn add_model(
 const MAX_SCAN_LINES: usize = 20_000_000;
 
 /// The first offending line of the OBJ file at `path`, if a scan finds one.
-fn bad_line_in(path: &Path) -> Option<(usize, String)> {
-    let file = crate::read::open_capped(path, crate::read::MAX_OBJ_BYTES).ok()?;
-    first_bad_line(BufReader::new(file))
+fn bad_line_in(source: &dyn Source, path: &Path) -> Option<(usize, String)> {
+    first_bad_line(source.open(path, MAX_OBJ_BYTES).ok()?)
 }
 
 /// The first line (counted from 1) of OBJ text that tobj rejects, or whose

@@ -19,13 +19,19 @@ pub const MAX_CSV_BYTES: u64 = 64 * MIB;
 /// `InvalidInput` that says why not: a folder, not a regular file (a device,
 /// a FIFO, a socket), or larger than `cap`. Symbolic links are followed.
 pub fn open_capped(path: &Path, cap: u64) -> io::Result<io::Take<File>> {
+    // The file may grow while it is read: never past the cap (+1 to tell).
+    Ok(open_regular(path, cap)?.take(cap + 1))
+}
+
+/// Opens `path`, a regular file of at most `cap` bytes as it is opened
+/// (see [`open_capped`]), for a reader that seeks (a zip archive).
+pub fn open_regular(path: &Path, cap: u64) -> io::Result<File> {
     // Checked before opening (opening a FIFO waits for a writer), and again
     // on the opened file, in case it was swapped in between.
     check(&std::fs::metadata(path)?, cap)?;
     let file = File::open(path)?;
     check(&file.metadata()?, cap)?;
-    // The file may grow while it is read: never past the cap (+1 to tell).
-    Ok(file.take(cap + 1))
+    Ok(file)
 }
 
 fn check(meta: &std::fs::Metadata, cap: u64) -> io::Result<()> {

@@ -12,8 +12,9 @@ use tracer_pipeline::{Aov, Gamma, Input, Options};
 /// Render a scene file to an image: PNG, JPEG, OpenEXR or Radiance HDR.
 #[derive(Args)]
 pub struct RenderArgs {
-    /// Scene file (.toml or .json). Without one, the lab's final scene
-    /// (table 1.10, reflectance2) is rendered.
+    /// Scene file (.toml or .json, or a .zip archive made by `tracer
+    /// pack`). Without one, the lab's final scene (table 1.10, reflectance2)
+    /// is rendered.
     pub scene: Option<PathBuf>,
     /// Output image, its format by its extension: .png, .jpg/.jpeg (8-bit,
     /// gamma-encoded), .exr, .hdr (linear floats, no gamma, no saturation
@@ -141,7 +142,8 @@ pub struct FitArgs {
 /// found is reported, with its file, line, column and key.
 #[derive(Args)]
 pub struct CheckArgs {
-    /// Scene files (.toml or .json): 3D scenes or 2D canvas scenes
+    /// Scene files (.toml or .json, or .zip archives made by `tracer
+    /// pack`): 3D scenes or 2D canvas scenes
     #[arg(required = true, value_name = "SCENE")]
     pub scenes: Vec<PathBuf>,
 }
@@ -217,6 +219,23 @@ fn pool(threads: Option<u32>) -> anyhow::Result<rayon::ThreadPool> {
         pool = pool.num_threads(n as usize);
     }
     Ok(pool.build()?)
+}
+
+/// Pack a scene file and every file it reads (included files, meshes) into
+/// one zip archive, which `tracer render` and `tracer check` read as they
+/// read the scene. A scene with errors is not packed.
+#[derive(Args)]
+pub struct PackArgs {
+    /// Scene file (.toml or .json)
+    #[arg(value_name = "SCENE")]
+    pub scene: PathBuf,
+    /// The archive to write [default: the scene's file name with .zip, in
+    /// the current folder]
+    #[arg(short, long, value_name = "OUT.zip")]
+    pub output: Option<PathBuf>,
+    /// Print no summary, only warnings and errors
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 /// `tracer render`, resolved.

@@ -29,6 +29,7 @@ enum Command {
     Gamma(args::GammaCommand),
     Check(args::CheckArgs),
     Watch(args::WatchArgs),
+    Pack(args::PackArgs),
     /// Print the JSON Schema of scene files, for editor completion and
     /// checking (e.g. `tracer schema > schema.json`)
     Schema,
@@ -51,6 +52,7 @@ fn main() -> ExitCode {
         Command::Watch(args) => {
             error::finish(args.resolve().and_then(|a| commands::watch::run(&a)))
         }
+        Command::Pack(args) => error::finish(commands::pack::run(&args)),
         Command::Schema => error::finish(commands::schema::run()),
     };
     outcome.into()

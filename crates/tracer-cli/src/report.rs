@@ -116,6 +116,15 @@ fn excerpted(
 /// The report of a scene error, ready for the terminal: one block per
 /// diagnostic (the first `MAX_SHOWN`), with colours when `color` is set.
 pub fn render(error: &SceneError, color: bool) -> String {
+    error
+        .files()
+        .into_iter()
+        .map(|e| render_file(e, color))
+        .collect()
+}
+
+/// [`render`] of one file's error.
+fn render_file(error: &SceneError, color: bool) -> String {
     let SceneError::Invalid {
         file,
         text,
@@ -167,11 +176,12 @@ pub fn color_wanted() -> bool {
 /// The loaded scene's warnings, one line each; shown even when quiet.
 pub fn warnings(loaded: &tracer_pipeline::Loaded) {
     for w in &loaded.warnings {
-        crate::console::note!(
-            "warning: {}: `{}`: {}",
-            loaded.name.display(),
-            w.path,
-            w.message
-        );
+        // An object of an included file is named in that file.
+        let (file, path) = loaded.origins.origin(&w.path);
+        let name = match loaded.origins.files.get(file) {
+            Some(f) if file > 0 => f.name.display().to_string(),
+            _ => loaded.name.display().to_string(),
+        };
+        crate::console::note!("warning: {name}: `{path}`: {}", w.message);
     }
 }

@@ -1103,3 +1103,88 @@ fn a_canvas_scene_writes_16_bit_png_and_exr() {
     let exr = image::open(d.join("r.exr")).unwrap().into_rgb32f();
     assert_eq!(exr.dimensions(), r8.dimensions());
 }
+
+#[test]
+fn a_packed_scene_checks_and_renders_as_the_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    scene_with_a_mesh(d);
+    std::fs::write(d.join("look.toml"), "[[lights]]\nposition = [0, 0, 10]\n").unwrap();
+    let text = std::fs::read_to_string(d.join("m.toml")).unwrap();
+    std::fs::write(
+        d.join("m.toml"),
+        format!("include = [\"look.toml\"]\n{text}"),
+    )
+    .unwrap();
+    let out = tracer(d, &["pack", "m.toml"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr_of(&out));
+    assert!(stderr_of(&out).contains("(3 files,"), "{}", stderr_of(&out));
+    let out = tracer(d, &["check", "m.zip"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr_of(&out));
+    let out = tracer(d, &["render", "m.zip", "-o", "zip.png", "-q"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr_of(&out));
+    let out = tracer(d, &["render", "m.toml", "-o", "toml.png", "-q"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr_of(&out));
+    let (zip, toml) = (rgb(&d.join("zip.png")), rgb(&d.join("toml.png")));
+    assert_eq!(zip.as_raw(), toml.as_raw());
+    // The lit triangle shows: not all of the image is black.
+    assert!(toml.as_raw().iter().any(|&b| b > 0));
+}
+
+#[test]
+fn pack_of_a_scene_with_a_missing_mesh_exits_2_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    scene_with_a_mesh(d);
+    std::fs::remove_file(d.join("m.obj")).unwrap();
+    let out = tracer(d, &["pack", "m.toml", "-o", "m.zip"]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = stderr_of(&out);
+    // `mesh = { obj = "m.obj" }` is line 7; the value starts at column 16.
+    assert!(stderr.contains("m.toml:7:16"), "{stderr}");
+    assert!(stderr.contains("objects[0].mesh.obj"), "{stderr}");
+    assert!(!d.join("m.zip").exists());
+    assert!(leftovers(d).is_empty());
+}
+
+#[test]
+fn an_error_in_an_included_file_names_it_in_the_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::create_dir(d.join("lib")).unwrap();
+    std::fs::write(
+        d.join("lib/look.json"),
+        "{\"lights\": [{\"position\": [0, 0]}]}\n",
+    )
+    .unwrap();
+    std::fs::write(
+        d.join("s.toml"),
+        "include = [\"lib/look.json\"]\n[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n",
+    )
+    .unwrap();
+    let out = tracer(d, &["check", "s.toml"]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = stderr_of(&out);
+    // `[0, 0]` starts at column 26 of lib/look.json's first line.
+    assert!(stderr.contains("lib/look.json:1:26"), "{stderr}");
+    assert!(stderr.contains("lights[0].position"), "{stderr}");
+}
+
+#[test]
+fn check_shows_the_problems_of_each_file_of_a_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = from_crate("../scene-format/tests/include/several-files/scene.toml");
+    let out = tracer(dir.path(), &["check", &scene]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = stderr_of(&out);
+    // One block in the scene file, one in the file it includes.
+    assert!(stderr.contains("several-files/scene.toml:6:7"), "{stderr}");
+    assert!(
+        stderr.contains("several-files/objects.toml:2:41"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("1 of 1 scene file failed the check"),
+        "{stderr}"
+    );
+}

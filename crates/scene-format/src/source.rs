@@ -1,0 +1,339 @@
+//! Where a scene's files are read from: a folder of the file system, or a
+//! zip archive made by `tracer pack`. The loaders read every file (scene,
+//! included files, meshes) through a `Source`, so one loader serves both,
+//! and the source records what was read (the files `tracer pack` stores and
+//! the pipeline refuses to overwrite).
+
+use crate::read::{open_capped, open_regular};
+use std::cell::RefCell;
+use std::io::{self, BufRead, BufReader, Cursor, Read, Seek};
+use std::path::{Component, Path, PathBuf};
+use std::sync::Mutex;
+
+/// Largest zip archive opened (a packed scene with its meshes).
+pub const MAX_ARCHIVE_BYTES: u64 = 4 * 1024 * 1024 * 1024;
+
+/// The files of a scene, by path: a path names a file as the loader found
+/// it (a scene's folder joined with a relative path from the scene).
+pub trait Source {
+    /// The file at `path`, read up to `cap` bytes (an `InvalidInput` error
+    /// beyond). The path is recorded as read.
+    fn open(&self, path: &Path, cap: u64) -> io::Result<Box<dyn BufRead + '_>>;
+
+    /// How messages name the file at `path`.
+    fn name(&self, path: &Path) -> PathBuf;
+
+    /// The one identity of a file reached by several paths (`a/../b.toml`
+    /// and `b.toml`), to tell a file included twice.
+    fn identity(&self, path: &Path) -> PathBuf;
+
+    /// Every file opened so far, each once, in the order first opened.
+    fn files_read(&self) -> Vec<PathBuf>;
+
+    /// The whole file at `path`, at most `cap` bytes.
+    fn read(&self, path: &Path, cap: u64) -> io::Result<Vec<u8>> {
+        let mut bytes = Vec::new();
+        self.open(path, cap)?
+            .take(cap + 1)
+            .read_to_end(&mut bytes)?;
+        if bytes.len() as u64 > cap {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!("grew past {} bytes while it was read", cap),
+            ));
+        }
+        Ok(bytes)
+    }
+}
+
+/// The list of files read, each once.
+#[derive(Debug, Default)]
+struct Record(RefCell<Vec<PathBuf>>);
+
+impl Record {
+    fn add(&self, path: &Path) {
+        let mut files = self.0.borrow_mut();
+        if !files.iter().any(|f| f == path) {
+            files.push(path.to_path_buf());
+        }
+    }
+}
+
+/// Files of the file system, paths as given (relative to the current folder
+/// or absolute).
+#[derive(Debug, Default)]
+pub struct Folder {
+    read: Record,
+}
+
+impl Folder {
+    pub fn new() -> Self {
+        Folder::default()
+    }
+}
+
+impl Source for Folder {
+    fn open(&self, path: &Path, cap: u64) -> io::Result<Box<dyn BufRead + '_>> {
+        let file = open_capped(path, cap)?;
+        self.read.add(path);
+        Ok(Box::new(BufReader::new(file)))
+    }
+
+    fn name(&self, path: &Path) -> PathBuf {
+        path.to_path_buf()
+    }
+
+    fn identity(&self, path: &Path) -> PathBuf {
+        std::fs::canonicalize(path).unwrap_or_else(|_| normalize(path).unwrap_or_default())
+    }
+
+    fn files_read(&self) -> Vec<PathBuf> {
+        self.read.0.borrow().clone()
+    }
+}
+
+/// The files of a zip archive, by their paths inside it. Entries are read
+/// into memory, each up to the cap the loader asks for; nothing is
+/// extracted to disk, and an archive with an entry that would leave its
+/// folder (`../x`, `/x`, `C:\x`) is refused whole when opened.
+pub struct Archive {
+    file: PathBuf,
+    zip: Mutex<zip::ZipArchive<Box<dyn ReadSeek>>>,
+    /// The scene file inside: named by the manifest, or the only top-level
+    /// `.toml`/`.json` entry.
+    scene: PathBuf,
+    read: Record,
+}
+
+/// What a zip archive is read from: a file, or bytes in memory.
+pub trait ReadSeek: Read + Seek + Send {}
+
+impl<T: Read + Seek + Send> ReadSeek for T {}
+
+/// The entry naming the scene file of an archive made by `tracer pack`.
+pub const MANIFEST: &str = "tracer-pack.toml";
+
+/// What the manifest holds.
+#[derive(serde::Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Manifest {
+    /// The scene file inside the archive.
+    pub scene: String,
+}
+
+impl Archive {
+    /// Opens the archive at `file` and finds its scene file. The errors are
+    /// `InvalidData` with a message for a reader.
+    pub fn open(file: &Path) -> io::Result<Archive> {
+        Archive::read_from(file, Box::new(open_regular(file, MAX_ARCHIVE_BYTES)?))
+    }
+
+    /// The archive of `bytes`, named `file` in messages: an archive checked
+    /// before it is written.
+    pub fn from_bytes(file: &Path, bytes: Vec<u8>) -> io::Result<Archive> {
+        Archive::read_from(file, Box::new(Cursor::new(bytes)))
+    }
+
+    fn read_from(file: &Path, reader: Box<dyn ReadSeek>) -> io::Result<Archive> {
+        let zip = zip::ZipArchive::new(reader).map_err(bad)?;
+        let mut archive = Archive {
+            file: file.to_path_buf(),
+            zip: Mutex::new(zip),
+            scene: PathBuf::new(),
+            read: Record::default(),
+        };
+        let names = archive.entry_names()?;
+        archive.scene = archive.scene_entry(&names)?;
+        Ok(archive)
+    }
+
+    /// The path of the scene file inside the archive.
+    pub fn scene(&self) -> &Path {
+        &self.scene
+    }
+
+    /// Every entry's name, checked to stay inside the archive's folder.
+    fn entry_names(&self) -> io::Result<Vec<PathBuf>> {
+        let zip = self
+            .zip
+            .lock()
+            .map_err(|_| bad("the archive's reader failed"))?;
+        let mut names = Vec::new();
+        for name in zip.file_names() {
+            match safe_entry(name) {
+                Some(path) => names.push(path),
+                None => {
+                    return Err(bad(format!(
+                        "entry `{}` would be read from outside the archive's folder; \
+                         expected relative paths without `..`",
+                        name.escape_debug()
+                    )))
+                }
+            }
+        }
+        Ok(names)
+    }
+
+    fn scene_entry(&self, names: &[PathBuf]) -> io::Result<PathBuf> {
+        if names.iter().any(|n| n == Path::new(MANIFEST)) {
+            let bytes = self.entry(Path::new(MANIFEST), 64 * 1024)?;
+            let text = String::from_utf8(bytes).map_err(bad)?;
+            let manifest: Manifest =
+                toml::from_str(&text).map_err(|e| bad(format!("{MANIFEST}: {}", e.message())))?;
+            return normalize(Path::new(&manifest.scene)).ok_or_else(|| {
+                bad(format!(
+                    "{MANIFEST}: `scene` leaves the archive: {}",
+                    manifest.scene
+                ))
+            });
+        }
+        let top: Vec<&PathBuf> = names
+            .iter()
+            .filter(|n| n.components().count() == 1 && crate::Format::from_path(n).is_some())
+            .collect();
+        match top[..] {
+            [one] => Ok(one.clone()),
+            _ => Err(bad(format!(
+                "found {} top-level .toml/.json files and no {MANIFEST}; expected one scene file",
+                top.len()
+            ))),
+        }
+    }
+
+    /// The bytes of the entry at `path` (normalized), at most `cap`.
+    fn entry(&self, path: &Path, cap: u64) -> io::Result<Vec<u8>> {
+        let name = entry_name(path).ok_or_else(|| not_found("leaves the archive"))?;
+        let mut zip = self
+            .zip
+            .lock()
+            .map_err(|_| bad("the archive's reader failed"))?;
+        let entry = match zip.by_name(&name) {
+            Ok(entry) => entry,
+            Err(zip::result::ZipError::FileNotFound) => {
+                return Err(not_found("no such file in the archive"))
+            }
+            Err(e) => return Err(bad(e)),
+        };
+        if entry.is_dir() {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                "is a folder, not a file",
+            ));
+        }
+        if entry.size() > cap {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!(
+                    "is {} bytes; files of this kind are read up to {cap}",
+                    entry.size()
+                ),
+            ));
+        }
+        // The declared size may lie (a zip bomb): never read past the cap.
+        let mut bytes = Vec::new();
+        entry.take(cap + 1).read_to_end(&mut bytes)?;
+        if bytes.len() as u64 > cap {
+            return Err(bad("an entry holds more than its declared size"));
+        }
+        Ok(bytes)
+    }
+}
+
+impl Source for Archive {
+    fn open(&self, path: &Path, cap: u64) -> io::Result<Box<dyn BufRead + '_>> {
+        let bytes = self.entry(path, cap)?;
+        self.read.add(path);
+        Ok(Box::new(Cursor::new(bytes)))
+    }
+
+    fn name(&self, path: &Path) -> PathBuf {
+        let inside = entry_name(path).unwrap_or_else(|| path.display().to_string());
+        PathBuf::from(format!("{}:{inside}", self.file.display()))
+    }
+
+    fn identity(&self, path: &Path) -> PathBuf {
+        normalize(path).unwrap_or_else(|| path.to_path_buf())
+    }
+
+    fn files_read(&self) -> Vec<PathBuf> {
+        self.read.0.borrow().clone()
+    }
+}
+
+/// `path` with `.` and `a/..` taken out, or `None` when it is absolute or
+/// climbs above its start.
+pub fn normalize(path: &Path) -> Option<PathBuf> {
+    let mut out = PathBuf::new();
+    for c in path.components() {
+        match c {
+            Component::Normal(part) => out.push(part),
+            Component::CurDir => {}
+            Component::ParentDir => {
+                if !out.pop() {
+                    return None;
+                }
+            }
+            Component::RootDir | Component::Prefix(_) => return None,
+        }
+    }
+    Some(out)
+}
+
+/// An entry's name as a relative path, or `None` if it would leave the
+/// archive's folder (zip-slip) once extracted: `..`, absolute, a drive.
+fn safe_entry(name: &str) -> Option<PathBuf> {
+    if name.contains('\\') || name.contains('\0') {
+        return None;
+    }
+    let path = Path::new(name);
+    let clean = path
+        .components()
+        .all(|c| matches!(c, Component::Normal(_) | Component::CurDir));
+    clean.then(|| path.components().collect())
+}
+
+/// The zip entry name of a path inside the archive: `/`-separated.
+fn entry_name(path: &Path) -> Option<String> {
+    let parts: Vec<String> = normalize(path)?
+        .components()
+        .map(|c| c.as_os_str().to_string_lossy().into_owned())
+        .collect();
+    (!parts.is_empty()).then(|| parts.join("/"))
+}
+
+fn bad(e: impl ToString) -> io::Error {
+    io::Error::new(io::ErrorKind::InvalidData, e.to_string())
+}
+
+fn not_found(message: &str) -> io::Error {
+    io::Error::new(io::ErrorKind::NotFound, message.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn paths_climbing_out_are_not_normalized() {
+        assert_eq!(
+            normalize(Path::new("scenes/../meshes/./x.obj")),
+            Some(PathBuf::from("meshes/x.obj"))
+        );
+        assert_eq!(normalize(Path::new("a/../../x")), None);
+        assert_eq!(normalize(Path::new("/etc/passwd")), None);
+    }
+
+    #[test]
+    fn unsafe_entry_names_are_told() {
+        assert!(safe_entry("scenes/a.toml").is_some());
+        for name in [
+            "../a.toml",
+            "a/../../b",
+            "/etc/passwd",
+            "a\\..\\b",
+            "a/../b",
+        ] {
+            assert_eq!(safe_entry(name), None, "{name}");
+        }
+    }
+}
