@@ -3,7 +3,7 @@
 
 use crate::limits;
 use scene_format::read::{read_capped, MAX_SCENE_BYTES};
-use scene_format::{Diagnostic, Format, SceneError, SceneFile, SceneKind};
+use scene_format::{Diagnostic, Format, MaterialRef, SceneError, SceneFile, SceneKind, TextureRef};
 use std::path::{Path, PathBuf};
 
 /// The scene rendered when none is given: the lab's final scene (table
@@ -107,18 +107,45 @@ fn located(input: &Input, name: &Path, diagnostics: Vec<Diagnostic>) -> SceneErr
     scene_format::checks::invalid(name, &text, format, diagnostics)
 }
 
-/// The scene file and its meshes' OBJ files, relative to the scene file's
-/// folder as the loader reads them.
+/// The scene file, its meshes' OBJ files (with their MTL files and the
+/// images those name) and its textures' images, relative to the scene
+/// file's folder as the loader reads them.
 fn files_read(path: &Path, file: &SceneFile) -> Vec<PathBuf> {
     let base = path.parent().unwrap_or(Path::new(""));
     let mut files = vec![path.to_path_buf()];
+    let mut add = |f: PathBuf| {
+        if !files.contains(&f) {
+            files.push(f);
+        }
+    };
     for mesh in file.objects.iter().filter_map(|o| o.mesh.as_ref()) {
-        let obj = base.join(&mesh.obj);
-        if !files.contains(&obj) {
-            files.push(obj);
+        add(base.join(&mesh.obj));
+        for f in mesh.data.iter().flat_map(|d| &d.material_files) {
+            add(f.clone());
         }
     }
+    for image in texture_images(file) {
+        add(base.join(image));
+    }
     files
+}
+
+/// The image files named by the scene's textures (materials, inline
+/// materials, objects).
+fn texture_images(file: &SceneFile) -> impl Iterator<Item = &str> {
+    let inline = file.objects.iter().filter_map(|o| match &o.material {
+        Some(MaterialRef::Inline(m)) => m.texture.as_ref(),
+        _ => None,
+    });
+    let textures = file.materials.values().filter_map(|m| m.texture.as_ref());
+    let objects = file.objects.iter().filter_map(|o| o.texture.as_ref());
+    textures
+        .chain(inline)
+        .chain(objects)
+        .filter_map(|t| match t {
+            TextureRef::Image(image) => Some(image.image.as_str()),
+            _ => None,
+        })
 }
 
 #[cfg(test)]

@@ -3,11 +3,12 @@
 
 use crate::error::SceneError;
 use crate::locate::locate_all;
-use crate::{canvas, obj, parse, validate, CanvasFile, Diagnostic, Format, SceneFile};
+use crate::{canvas, images, obj, parse, validate, CanvasFile, Diagnostic, Format, SceneFile};
 use std::path::Path;
 
 /// Reads, parses and validates the 3D scene file at `path`, and reads the
-/// OBJ files of its meshes (relative to the scene file's folder).
+/// OBJ files of its meshes and the images of its textures (relative to the
+/// scene file's folder).
 pub fn load_path(path: &Path) -> Result<SceneFile, SceneError> {
     match load_any(path)? {
         SceneKind::Scene3d(scene) => Ok(scene),
@@ -100,8 +101,11 @@ pub fn load_any(path: &Path) -> Result<SceneKind, SceneError> {
     // reported with them rather than after they are fixed.
     let mut diagnostics = validate::validate(&scene);
     let base = path.parent().unwrap_or(Path::new(""));
-    for d in obj::load_meshes(&mut scene, base) {
-        // An empty `obj` is already reported by validation.
+    let mut images = images::ImageCache::default();
+    let read = obj::load_meshes(&mut scene, base, &mut images);
+    let read = read.into_iter().chain(images::load_images(&mut scene, base, &mut images));
+    for d in read.collect::<Vec<_>>() {
+        // An empty `obj` or `image` is already reported by validation.
         if !diagnostics.iter().any(|v| v.path == d.path) {
             diagnostics.push(d);
         }

@@ -2,7 +2,9 @@
 //! left out and counted.
 
 use crate::diagnostic::Diagnostic;
+use crate::images::ImageCache;
 use crate::model::{MeshData, SceneFile, Vec3};
+use crate::mtl::Libraries;
 use std::collections::HashMap;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
@@ -10,8 +12,9 @@ use std::sync::Arc;
 
 /// Reads the OBJ file of every mesh object, relative to `base` (the scene
 /// file's folder). Every file that cannot be read gives a diagnostic at
-/// `objects[i].mesh.obj`.
-pub fn load_meshes(scene: &mut SceneFile, base: &Path) -> Vec<Diagnostic> {
+/// `objects[i].mesh.obj`. The images of their MTL files are read through
+/// `images`.
+pub fn load_meshes(scene: &mut SceneFile, base: &Path, images: &mut ImageCache) -> Vec<Diagnostic> {
     let mut diagnostics = Vec::new();
     // A file used by several objects is read once and shared.
     let mut read: HashMap<PathBuf, Arc<MeshData>> = HashMap::new();
@@ -24,7 +27,7 @@ pub fn load_meshes(scene: &mut SceneFile, base: &Path) -> Vec<Diagnostic> {
             mesh.data = Some(data.clone());
             continue;
         }
-        match read_obj(&path) {
+        match read_obj_with(&path, images) {
             Ok(data) => {
                 let data = Arc::new(data);
                 read.insert(path, data.clone());
@@ -39,13 +42,19 @@ pub fn load_meshes(scene: &mut SceneFile, base: &Path) -> Vec<Diagnostic> {
     diagnostics
 }
 
-/// Warnings of a loaded scene: meshes with faces left out.
+/// Warnings of a loaded scene: meshes with faces left out, and the MTL
+/// problems of meshes that take their materials from it (no `material`).
 pub fn mesh_warnings(scene: &SceneFile) -> Vec<Diagnostic> {
     let mut warnings = Vec::new();
     for (i, object) in scene.objects.iter().enumerate() {
         let Some(data) = object.mesh.as_ref().and_then(|m| m.data.as_ref()) else {
             continue;
         };
+        if object.material.is_none() {
+            for message in &data.material_warnings {
+                warnings.push(Diagnostic::new(format!("objects[{i}].mesh.obj"), message));
+            }
+        }
         if data.skipped_degenerate > 0 {
             let mut message = format!(
                 "{} degenerate (zero-area) faces left out",
@@ -64,7 +73,12 @@ pub fn mesh_warnings(scene: &SceneFile) -> Vec<Diagnostic> {
 /// The triangles of the OBJ file at `path`. When the file is not a valid
 /// OBJ, the message names the first offending line as `<file name>:<line>`.
 pub fn read_obj(path: &Path) -> Result<MeshData, String> {
-    read_obj_lines(path).map_err(|message| match bad_line_in(path) {
+    read_obj_with(path, &mut ImageCache::default())
+}
+
+/// `read_obj`, the images of its MTL files read through `images`.
+pub fn read_obj_with(path: &Path, images: &mut ImageCache) -> Result<MeshData, String> {
+    read_obj_lines(path, images).map_err(|message| match bad_line_in(path) {
         Some((line, what)) => {
             let name = path.file_name().unwrap_or(path.as_os_str());
             format!("{message}; `{}:{line}`: {what}", name.to_string_lossy())
@@ -73,7 +87,7 @@ pub fn read_obj(path: &Path) -> Result<MeshData, String> {
     })
 }
 
-fn read_obj_lines(path: &Path) -> Result<MeshData, String> {
+fn read_obj_lines(path: &Path, images: &mut ImageCache) -> Result<MeshData, String> {
     let file =
         crate::read::open_capped(path, crate::read::MAX_OBJ_BYTES).map_err(|e| e.to_string())?;
     let options = tobj::LoadOptions {
@@ -82,12 +96,18 @@ fn read_obj_lines(path: &Path) -> Result<MeshData, String> {
         ignore_lines: true,
         ..Default::default()
     };
-    // Materials of the OBJ are not used: the scene file gives the material.
-    let (models, _) = tobj::load_obj_buf(&mut BufReader::new(file), &options, |_| {
-        Err(tobj::LoadError::GenericFailure)
-    })
-    .map_err(|e| format!("not a valid OBJ file: {e}"))?;
-    let mut data = MeshData::default();
+    let libraries = Libraries::new(path.parent().unwrap_or(Path::new("")));
+    let (models, found) =
+        tobj::load_obj_buf(&mut BufReader::new(file), &options, |p| libraries.load(p))
+            .map_err(|e| format!("not a valid OBJ file: {e}"))?;
+    // The libraries' own failures are kept by `libraries`.
+    let found = libraries.finish(&found.unwrap_or_default(), images);
+    let mut data = MeshData {
+        materials: found.materials,
+        material_warnings: found.warnings,
+        material_files: found.files,
+        ..MeshData::default()
+    };
     // The index among all triangles of the first degenerate one.
     let mut first_degenerate = None;
     for model in &models {
@@ -122,6 +142,13 @@ fn add_model(
             Err(format!("vertex {} is not finite: {v:?}", index + 1))
         }
     };
+    // A face's material, when the OBJ has materials at all (a material
+    // named by `usemtl` but not defined is none).
+    let track = !data.materials.is_empty();
+    let material = mesh
+        .material_id
+        .filter(|&m| m < data.materials.len())
+        .map(|m| m as u32);
     for face in mesh.indices.chunks_exact(3) {
         let triangle = [vertex(face[0])?, vertex(face[1])?, vertex(face[2])?];
         if is_degenerate(&triangle) {
@@ -129,6 +156,9 @@ fn add_model(
             data.skipped_degenerate += 1;
         } else {
             data.triangles.push(triangle);
+            if track {
+                data.triangle_materials.push(material);
+            }
         }
     }
     Ok(())

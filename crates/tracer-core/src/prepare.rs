@@ -7,7 +7,7 @@ use crate::image::{Encoding, Saturation};
 use crate::light::Light;
 use crate::material::{Glass, Material, Phong};
 use crate::scene::{Scene, SceneParts, TraceSettings};
-use crate::texture::{Builtin, Texture};
+use crate::texture::{Builtin, ColorTexture, ImageTexels, Texture, Wrap};
 use glam::{Vec2, Vec3};
 use scene_format as fmt;
 use std::collections::HashMap;
@@ -26,6 +26,8 @@ pub enum PrepareError {
     NotOneShape { path: String },
     #[error("`{path}`: the mesh's OBJ file was not read (load the scene with `load_path`)")]
     MeshNotLoaded { path: String },
+    #[error("`{path}`: the texture's image was not read (load the scene with `load_path`)")]
+    ImageNotLoaded { path: String },
 }
 
 /// Builds the renderable scene from a validated scene file; the BVH is
@@ -37,11 +39,19 @@ pub fn prepare(file: &fmt::SceneFile) -> Result<Scene, PrepareError> {
         let path = format!("objects[{i}]");
         let material = materials.resolve(&path, o)?;
         let shapes = shapes(&path, o)?;
-        objects.extend(shapes.into_iter().map(|(shape, uv)| Object {
-            shape,
-            material,
-            uv,
-        }));
+        let mtl = materials.mtl_materials(&path, o)?;
+        objects.extend(
+            shapes
+                .into_iter()
+                .map(|(shape, uv, mtl_index)| Object {
+                    shape,
+                    // The face's MTL material, when the object takes them.
+                    material: mtl_index
+                        .and_then(|k| mtl.get(k as usize).copied())
+                        .unwrap_or(material),
+                    uv,
+                }),
+        );
     }
     Ok(Scene::new(SceneParts {
         camera: camera(&file.camera),
@@ -95,9 +105,13 @@ fn saturation(s: fmt::Saturation) -> Saturation {
 }
 
 /// The shapes of object `o`: one, or a mesh's, quad's or box's triangles,
-/// each with the map of its barycentrics to the object's uv.
-fn shapes(path: &str, o: &fmt::Object) -> Result<Vec<(Shape, UvMap)>, PrepareError> {
-    let one = |shape| vec![(shape, UvMap::IDENTITY)];
+/// each with the map of its barycentrics to the object's uv and, for a
+/// mesh's triangle, its index among the OBJ's MTL materials.
+type Shapes = Vec<(Shape, UvMap, Option<u32>)>;
+
+fn shapes(path: &str, o: &fmt::Object) -> Result<Shapes, PrepareError> {
+    let one = |shape| vec![(shape, UvMap::IDENTITY, None)];
+    let no_mtl = |shapes: Vec<(Shape, UvMap)>| shapes.into_iter().map(|(s, uv)| (s, uv, None)).collect();
     Ok(match o.shapes().as_slice() {
         [fmt::ShapeRef::Sphere(s)] => one(Shape::Sphere(Sphere::new(s.center.into(), s.radius))),
         [fmt::ShapeRef::Triangle([a, b, c])] => one(Shape::Triangle(Triangle::new(
@@ -106,17 +120,16 @@ fn shapes(path: &str, o: &fmt::Object) -> Result<Vec<(Shape, UvMap)>, PrepareErr
             (*c).into(),
         ))),
         [fmt::ShapeRef::Plane(p)] => one(Shape::Plane(Plane::new(p.point.into(), p.normal.into()))),
-        [fmt::ShapeRef::Quad(q)] => {
-            quad_triangles(q.corner.into(), q.edge_u.into(), q.edge_v.into()).to_vec()
-        }
-        [fmt::ShapeRef::Box(b)] => box_triangles(b.min.into(), b.max.into()),
+        [fmt::ShapeRef::Quad(q)] => no_mtl(
+            quad_triangles(q.corner.into(), q.edge_u.into(), q.edge_v.into()).to_vec(),
+        ),
+        [fmt::ShapeRef::Box(b)] => no_mtl(box_triangles(b.min.into(), b.max.into())),
         [fmt::ShapeRef::Mesh(m)] => {
             let data = m.data.as_ref().ok_or_else(|| PrepareError::MeshNotLoaded {
                 path: format!("{path}.mesh.obj"),
             })?;
-            mesh_triangles(data, &placement(o.transform.as_ref()))
-                .into_iter()
-                .map(|t| (Shape::Triangle(t), UvMap::IDENTITY))
+            placed(data, &placement(o.transform.as_ref()))
+                .map(|(k, t)| (Shape::Triangle(t), UvMap::IDENTITY, data.triangle_material(k)))
                 .collect()
         }
         _ => {
@@ -187,21 +200,24 @@ fn placement(t: Option<&fmt::Transform>) -> Placement {
 
 /// The mesh's triangles in world space; triangles that the placement makes
 /// degenerate (zero area in f32) are left out.
+#[cfg(test)]
 fn mesh_triangles(data: &fmt::MeshData, placement: &Placement) -> Vec<Triangle> {
-    placed(data, placement).collect()
+    placed(data, placement).map(|(_, t)| t).collect()
 }
 
+/// The placed triangles, each with its index in `data.triangles`.
 fn placed<'a>(
     data: &'a fmt::MeshData,
     placement: &'a Placement,
-) -> impl Iterator<Item = Triangle> + 'a {
+) -> impl Iterator<Item = (usize, Triangle)> + 'a {
     data.triangles
         .iter()
         .map(|[a, b, c]| {
             let [a, b, c] = [*a, *b, *c].map(|v| placement.apply(v.into()));
             Triangle::new(a, b, c)
         })
-        .filter(|t| (t.v1 - t.v0).cross(t.v2 - t.v0) != Vec3::ZERO)
+        .enumerate()
+        .filter(|(_, t)| (t.v1 - t.v0).cross(t.v2 - t.v0) != Vec3::ZERO)
 }
 
 /// What `prepare` will make of a mesh object, found without building it.
@@ -222,7 +238,7 @@ pub fn mesh_extent(data: &fmt::MeshData, transform: Option<&fmt::Transform>) -> 
         triangles: 0,
         max_abs: 0.0,
     };
-    for t in placed(data, &placement) {
+    for (_, t) in placed(data, &placement) {
         extent.triangles += 1;
         let m = t.v0.abs().max(t.v1.abs()).max(t.v2.abs()).max_element();
         extent.max_abs = extent.max_abs.max(m);
@@ -231,13 +247,26 @@ pub fn mesh_extent(data: &fmt::MeshData, transform: Option<&fmt::Transform>) -> 
 }
 
 /// Materials of the prepared scene: the named ones once each, inline ones
-/// per object, and textures shared by name.
+/// per object, and textures shared: built-in ones by name, images by the
+/// file's data.
 struct MaterialTable<'a> {
     file: &'a fmt::SceneFile,
     materials: Vec<Material>,
-    /// Named material and object texture -> index, so objects share materials.
+    /// Named material and object texture name -> index, so objects share
+    /// materials (an object's texture table makes a material of its own).
     by_key: HashMap<(String, Option<String>), usize>,
     textures: HashMap<Builtin, Arc<Texture>>,
+    /// Decoded images by the address of the file's data: each file is
+    /// decoded to linear once.
+    images: HashMap<usize, Arc<ImageTexels>>,
+}
+
+/// What a texture does to a material.
+enum Texturing {
+    /// The lab's: multiplies the whole local colour.
+    Lab(Arc<Texture>),
+    /// Multiplies ambient and diffuse.
+    Color(ColorTexture),
 }
 
 impl<'a> MaterialTable<'a> {
@@ -247,10 +276,38 @@ impl<'a> MaterialTable<'a> {
             materials: Vec::new(),
             by_key: HashMap::new(),
             textures: HashMap::new(),
+            images: HashMap::new(),
         }
     }
 
-    fn texture(&mut self, path: &str, name: &str) -> Result<Arc<Texture>, PrepareError> {
+    fn texture(&mut self, path: &str, t: &fmt::TextureRef) -> Result<Texturing, PrepareError> {
+        match t {
+            fmt::TextureRef::Named(name) => self.builtin(path, name).map(Texturing::Lab),
+            fmt::TextureRef::Image(image) => {
+                let data = image.data.as_ref().ok_or_else(|| PrepareError::ImageNotLoaded {
+                    path: format!("{path}.image"),
+                })?;
+                let texels = self
+                    .images
+                    .entry(Arc::as_ptr(data) as usize)
+                    .or_insert_with(|| {
+                        Arc::new(ImageTexels::from_srgb(data.width, data.height, &data.texels))
+                    })
+                    .clone();
+                Ok(Texturing::Color(ColorTexture::Image {
+                    texels,
+                    scale: image.scale.per_axis().into(),
+                    wrap: wrap(image.wrap),
+                }))
+            }
+            fmt::TextureRef::Checker(c) => Ok(Texturing::Color(ColorTexture::Checker {
+                colors: c.checker.map(Vec3::from),
+                scale: c.scale.per_axis().into(),
+            })),
+        }
+    }
+
+    fn builtin(&mut self, path: &str, name: &str) -> Result<Arc<Texture>, PrepareError> {
         let builtin = match fmt::BuiltinTexture::from_name(name) {
             Some(fmt::BuiltinTexture::LabStripes) => Builtin::LabStripes,
             None => {
@@ -266,6 +323,21 @@ impl<'a> MaterialTable<'a> {
             .clone())
     }
 
+    /// `surface` with texture `t` (if any) applied.
+    fn textured(
+        &mut self,
+        path: &str,
+        mut surface: Phong,
+        t: Option<&fmt::TextureRef>,
+    ) -> Result<Phong, PrepareError> {
+        match t.map(|t| self.texture(path, t)).transpose()? {
+            Some(Texturing::Lab(t)) => surface.texture = Some(t),
+            Some(Texturing::Color(t)) => surface.color_texture = Some(t),
+            None => {}
+        }
+        Ok(surface)
+    }
+
     fn push(&mut self, material: Material) -> usize {
         self.materials.push(material);
         self.materials.len() - 1
@@ -278,20 +350,18 @@ impl<'a> MaterialTable<'a> {
         &mut self,
         path: &str,
         m: &fmt::Material,
-        texture: Option<&String>,
+        texture: Option<&fmt::TextureRef>,
     ) -> Result<Material, PrepareError> {
-        let texture = match texture.or(m.texture.as_ref()) {
-            Some(name) => Some(self.texture(path, name)?),
-            None => None,
-        };
         let surface = Phong {
             ambient: m.ambient.into(),
             diffuse: m.diffuse.into(),
             specular: m.specular.into(),
             shininess: m.shininess,
             reflectance: m.reflectance,
-            texture,
+            texture: None,
+            color_texture: None,
         };
+        let surface = self.textured(path, surface, texture.or(m.texture.as_ref()))?;
         if m.transmittance == 0.0 && !m.fresnel {
             return Ok(Material::Phong(surface));
         }
@@ -309,10 +379,7 @@ impl<'a> MaterialTable<'a> {
         let texture_path = format!("{path}.texture");
         match &o.material {
             None => {
-                let mut grey = Phong::default_grey();
-                if let Some(name) = &o.texture {
-                    grey.texture = Some(self.texture(&texture_path, name)?);
-                }
+                let grey = self.textured(&texture_path, Phong::default_grey(), o.texture.as_ref())?;
                 Ok(self.push(Material::Phong(grey)))
             }
             Some(fmt::MaterialRef::Inline(m)) => {
@@ -320,24 +387,66 @@ impl<'a> MaterialTable<'a> {
                 Ok(self.push(material))
             }
             Some(fmt::MaterialRef::Named(name)) => {
-                let key = (name.clone(), o.texture.clone());
+                let texture_name = match &o.texture {
+                    None => None,
+                    Some(fmt::TextureRef::Named(t)) => Some(t.clone()),
+                    // A table of the object's own: a material of its own.
+                    Some(_) => {
+                        let m = self.named(path, name)?;
+                        let material = self.material(&texture_path, m, o.texture.as_ref())?;
+                        return Ok(self.push(material));
+                    }
+                };
+                let key = (name.clone(), texture_name);
                 if let Some(&index) = self.by_key.get(&key) {
                     return Ok(index);
                 }
-                let file = self.file;
-                let m = file
-                    .materials
-                    .get(name)
-                    .ok_or_else(|| PrepareError::UnknownMaterial {
-                        path: format!("{path}.material"),
-                        name: name.clone(),
-                    })?;
+                let m = self.named(path, name)?;
                 let material = self.material(&texture_path, m, o.texture.as_ref())?;
                 let index = self.push(material);
                 self.by_key.insert(key, index);
                 Ok(index)
             }
         }
+    }
+
+    /// The material called `name` in `[materials]`.
+    fn named(&self, path: &str, name: &str) -> Result<&'a fmt::Material, PrepareError> {
+        let file = self.file;
+        file.materials
+            .get(name)
+            .ok_or_else(|| PrepareError::UnknownMaterial {
+                path: format!("{path}.material"),
+                name: name.to_string(),
+            })
+    }
+
+    /// The indices of a mesh object's MTL materials, in the OBJ's order,
+    /// each with the object's texture if it has one; none when the object
+    /// names its own material (which overrides the MTL) or is no mesh.
+    fn mtl_materials(&mut self, path: &str, o: &fmt::Object) -> Result<Vec<usize>, PrepareError> {
+        let Some(data) = o.mesh.as_ref().and_then(|m| m.data.as_ref()) else {
+            return Ok(Vec::new());
+        };
+        if o.material.is_some() {
+            return Ok(Vec::new());
+        }
+        let texture_path = format!("{path}.texture");
+        let mut indices = Vec::with_capacity(data.materials.len());
+        for m in &data.materials {
+            let material = self.material(&texture_path, m, o.texture.as_ref())?;
+            indices.push(self.push(material));
+        }
+        Ok(indices)
+    }
+}
+
+/// The file's wrap mode in the core's terms.
+fn wrap(w: fmt::Wrap) -> Wrap {
+    match w {
+        fmt::Wrap::Repeat => Wrap::Repeat,
+        fmt::Wrap::Clamp => Wrap::Clamp,
+        fmt::Wrap::Mirror => Wrap::Mirror,
     }
 }
 
@@ -349,8 +458,7 @@ mod tests {
     fn without_a_transform_mesh_vertices_are_kept_exactly() {
         let data = fmt::MeshData {
             triangles: vec![[[0.1, 0.2, 0.3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]],
-            skipped_degenerate: 0,
-            first_degenerate_line: None,
+            ..fmt::MeshData::default()
         };
         let tris = mesh_triangles(&data, &placement(None));
         assert_eq!(tris.len(), 1);
@@ -364,8 +472,7 @@ mod tests {
                 [[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
                 [[0.0; 3], [1e-3, 0.0, 0.0], [0.0, 1e-3, 0.0]],
             ],
-            skipped_degenerate: 0,
-            first_degenerate_line: None,
+            ..fmt::MeshData::default()
         };
         // Tiny triangles far from the origin: whatever f32 keeps of them,
         // the count is prepare's.
@@ -399,8 +506,8 @@ mod tests {
             .expect("a minimal scene");
         let mut table = MaterialTable::new(&file);
         for builtin in fmt::BuiltinTexture::ALL {
-            assert!(table.texture("t", builtin.name()).is_ok(), "{builtin:?}");
+            assert!(table.builtin("t", builtin.name()).is_ok(), "{builtin:?}");
         }
-        assert!(table.texture("t", "wood").is_err());
+        assert!(table.builtin("t", "wood").is_err());
     }
 }

@@ -1,6 +1,9 @@
-//! Textures and the lab's procedural stripes (lab 4.5 and 7).
+//! Textures and the lab's procedural stripes (lab 4.5 and 7); beyond the
+//! lab, colour textures (an image, a checkerboard) that colour the ambient
+//! and diffuse terms.
 
 use glam::{Vec2, Vec3};
+use std::sync::Arc;
 
 /// An RGB texture, row 0 at the top (v = 0).
 #[derive(Debug, Clone, PartialEq)]
@@ -78,6 +81,132 @@ pub fn lab_stripe_grey(row: u32) -> u8 {
         STRIPE_DARK
     } else {
         STRIPE_LIGHT
+    }
+}
+
+/// The linear value of an sRGB-encoded one (0 to 1): the inverse of the
+/// sRGB transfer curve of IEC 61966-2-1, linear near black, a 2.4 power
+/// above.
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// How an image is read outside its 0..1 square.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Wrap {
+    /// Tiles the image.
+    Repeat,
+    /// Extends the edge texels.
+    Clamp,
+    /// Tiles the image, every other copy flipped.
+    Mirror,
+}
+
+impl Wrap {
+    /// The texel index that index `i` reads, of `n` texels across.
+    fn index(self, i: i64, n: i64) -> i64 {
+        match self {
+            Wrap::Repeat => i.rem_euclid(n),
+            Wrap::Clamp => i.clamp(0, n - 1),
+            Wrap::Mirror => {
+                let m = i.rem_euclid(2 * n);
+                if m < n {
+                    m
+                } else {
+                    2 * n - 1 - m
+                }
+            }
+        }
+    }
+}
+
+/// An image of linear colours, row 0 at the top, shared by every texture
+/// that reads the same file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImageTexels {
+    width: u32,
+    height: u32,
+    texels: Vec<Vec3>,
+}
+
+impl ImageTexels {
+    /// The image of sRGB-encoded texels (0 to 1, row by row from the top),
+    /// decoded to linear. Panics unless there are `width * height` (> 0).
+    pub fn from_srgb(width: u32, height: u32, srgb: &[[f32; 3]]) -> Self {
+        assert!(width > 0 && height > 0, "an empty image");
+        assert_eq!(srgb.len(), width as usize * height as usize, "texel count");
+        let texels = srgb
+            .iter()
+            .map(|c| Vec3::from(c.map(srgb_to_linear)))
+            .collect();
+        ImageTexels {
+            width,
+            height,
+            texels,
+        }
+    }
+
+    /// The texel at column `x`, row `y`, wrapped into the image.
+    fn texel(&self, x: i64, y: i64, wrap: Wrap) -> Vec3 {
+        let x = wrap.index(x, i64::from(self.width));
+        let y = wrap.index(y, i64::from(self.height));
+        self.texels[(y * i64::from(self.width) + x) as usize]
+    }
+
+    /// The bilinear interpolation of the four texels around `uv`, u from
+    /// the left edge, v from the bottom edge; at a texel's centre
+    /// ((i + 0.5) / width, 1 - (j + 0.5) / height) it is that texel.
+    pub fn bilinear(&self, uv: Vec2, wrap: Wrap) -> Vec3 {
+        let x = uv.x * self.width as f32 - 0.5;
+        let y = (1.0 - uv.y) * self.height as f32 - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        // `as` saturates (NaN gives 0): no index overflows.
+        let (i, j) = (x0 as i64, y0 as i64);
+        let top = self
+            .texel(i, j, wrap)
+            .lerp(self.texel(i.saturating_add(1), j, wrap), fx);
+        let bottom = self.texel(i, j.saturating_add(1), wrap).lerp(
+            self.texel(i.saturating_add(1), j.saturating_add(1), wrap),
+            fx,
+        );
+        top.lerp(bottom, fy)
+    }
+}
+
+/// A colour over a surface's uv that multiplies the ambient and diffuse
+/// colours of its material (not the specular, not the reflection).
+#[derive(Debug, Clone, PartialEq)]
+pub enum ColorTexture {
+    /// An image, sampled at (u * scale.x, v * scale.y).
+    Image {
+        texels: Arc<ImageTexels>,
+        scale: Vec2,
+        wrap: Wrap,
+    },
+    /// Squares 1 / scale wide in uv, `colors[0]` on the square at the origin.
+    Checker { colors: [Vec3; 2], scale: Vec2 },
+}
+
+impl ColorTexture {
+    /// The texture's colour at `uv`.
+    pub fn color(&self, uv: Vec2) -> Vec3 {
+        match self {
+            ColorTexture::Image {
+                texels,
+                scale,
+                wrap,
+            } => texels.bilinear(uv * *scale, *wrap),
+            ColorTexture::Checker { colors, scale } => {
+                let cell = (uv * *scale).floor();
+                let parity = (cell.x as i64).wrapping_add(cell.y as i64).rem_euclid(2);
+                colors[parity as usize]
+            }
+        }
     }
 }
 
