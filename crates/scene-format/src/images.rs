@@ -134,7 +134,9 @@ mod tests {
         assert!(bad.contains("expected a PNG or JPEG"), "{bad}");
         // A PNG signature followed by garbage.
         let truncated = png(2, 2, &[0; 12])[..20].to_vec();
-        assert!(decode(&truncated).unwrap_err().contains("not a readable image"));
+        assert!(decode(&truncated)
+            .unwrap_err()
+            .contains("not a readable image"));
         let dir = tempfile::tempdir().unwrap();
         let missing = read_image(&dir.path().join("none.png")).unwrap_err();
         assert!(missing.contains("No such file"), "{missing}");

@@ -103,7 +103,9 @@ pub fn load_any(path: &Path) -> Result<SceneKind, SceneError> {
     let base = path.parent().unwrap_or(Path::new(""));
     let mut images = images::ImageCache::default();
     let read = obj::load_meshes(&mut scene, base, &mut images);
-    let read = read.into_iter().chain(images::load_images(&mut scene, base, &mut images));
+    let read = read
+        .into_iter()
+        .chain(images::load_images(&mut scene, base, &mut images));
     for d in read.collect::<Vec<_>>() {
         // An empty `obj` or `image` is already reported by validation.
         if !diagnostics.iter().any(|v| v.path == d.path) {

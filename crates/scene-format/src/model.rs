@@ -587,9 +587,7 @@ impl<'de> Deserialize<'de> for TextureRef {
         impl<'de> serde::de::Visitor<'de> for Visitor {
             type Value = TextureRef;
             fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str(
-                    "a texture name (a string) or a texture table (`image` or `checker`)",
-                )
+                f.write_str("a texture name (a string) or a texture table (`image` or `checker`)")
             }
             fn visit_str<E: serde::de::Error>(self, name: &str) -> Result<TextureRef, E> {
                 Ok(TextureRef::Named(name.to_string()))

@@ -40,18 +40,16 @@ pub fn prepare(file: &fmt::SceneFile) -> Result<Scene, PrepareError> {
         let material = materials.resolve(&path, o)?;
         let shapes = shapes(&path, o)?;
         let mtl = materials.mtl_materials(&path, o)?;
-        objects.extend(
-            shapes
-                .into_iter()
-                .map(|(shape, uv, mtl_index)| Object {
-                    shape,
-                    // The face's MTL material, when the object takes them.
-                    material: mtl_index
-                        .and_then(|k| mtl.get(k as usize).copied())
-                        .unwrap_or(material),
-                    uv,
-                }),
-        );
+        objects.extend(shapes.into_iter().map(|(shape, uv, mtl_index)| {
+            Object {
+                shape,
+                // The face's MTL material, when the object takes them.
+                material: mtl_index
+                    .and_then(|k| mtl.get(k as usize).copied())
+                    .unwrap_or(material),
+                uv,
+            }
+        }));
     }
     Ok(Scene::new(SceneParts {
         camera: camera(&file.camera),
@@ -111,7 +109,8 @@ type Shapes = Vec<(Shape, UvMap, Option<u32>)>;
 
 fn shapes(path: &str, o: &fmt::Object) -> Result<Shapes, PrepareError> {
     let one = |shape| vec![(shape, UvMap::IDENTITY, None)];
-    let no_mtl = |shapes: Vec<(Shape, UvMap)>| shapes.into_iter().map(|(s, uv)| (s, uv, None)).collect();
+    let no_mtl =
+        |shapes: Vec<(Shape, UvMap)>| shapes.into_iter().map(|(s, uv)| (s, uv, None)).collect();
     Ok(match o.shapes().as_slice() {
         [fmt::ShapeRef::Sphere(s)] => one(Shape::Sphere(Sphere::new(s.center.into(), s.radius))),
         [fmt::ShapeRef::Triangle([a, b, c])] => one(Shape::Triangle(Triangle::new(
@@ -120,16 +119,22 @@ fn shapes(path: &str, o: &fmt::Object) -> Result<Shapes, PrepareError> {
             (*c).into(),
         ))),
         [fmt::ShapeRef::Plane(p)] => one(Shape::Plane(Plane::new(p.point.into(), p.normal.into()))),
-        [fmt::ShapeRef::Quad(q)] => no_mtl(
-            quad_triangles(q.corner.into(), q.edge_u.into(), q.edge_v.into()).to_vec(),
-        ),
+        [fmt::ShapeRef::Quad(q)] => {
+            no_mtl(quad_triangles(q.corner.into(), q.edge_u.into(), q.edge_v.into()).to_vec())
+        }
         [fmt::ShapeRef::Box(b)] => no_mtl(box_triangles(b.min.into(), b.max.into())),
         [fmt::ShapeRef::Mesh(m)] => {
             let data = m.data.as_ref().ok_or_else(|| PrepareError::MeshNotLoaded {
                 path: format!("{path}.mesh.obj"),
             })?;
             placed(data, &placement(o.transform.as_ref()))
-                .map(|(k, t)| (Shape::Triangle(t), UvMap::IDENTITY, data.triangle_material(k)))
+                .map(|(k, t)| {
+                    (
+                        Shape::Triangle(t),
+                        UvMap::IDENTITY,
+                        data.triangle_material(k),
+                    )
+                })
                 .collect()
         }
         _ => {
@@ -284,14 +289,21 @@ impl<'a> MaterialTable<'a> {
         match t {
             fmt::TextureRef::Named(name) => self.builtin(path, name).map(Texturing::Lab),
             fmt::TextureRef::Image(image) => {
-                let data = image.data.as_ref().ok_or_else(|| PrepareError::ImageNotLoaded {
-                    path: format!("{path}.image"),
-                })?;
+                let data = image
+                    .data
+                    .as_ref()
+                    .ok_or_else(|| PrepareError::ImageNotLoaded {
+                        path: format!("{path}.image"),
+                    })?;
                 let texels = self
                     .images
                     .entry(Arc::as_ptr(data) as usize)
                     .or_insert_with(|| {
-                        Arc::new(ImageTexels::from_srgb(data.width, data.height, &data.texels))
+                        Arc::new(ImageTexels::from_srgb(
+                            data.width,
+                            data.height,
+                            &data.texels,
+                        ))
                     })
                     .clone();
                 Ok(Texturing::Color(ColorTexture::Image {
@@ -379,7 +391,8 @@ impl<'a> MaterialTable<'a> {
         let texture_path = format!("{path}.texture");
         match &o.material {
             None => {
-                let grey = self.textured(&texture_path, Phong::default_grey(), o.texture.as_ref())?;
+                let grey =
+                    self.textured(&texture_path, Phong::default_grey(), o.texture.as_ref())?;
                 Ok(self.push(Material::Phong(grey)))
             }
             Some(fmt::MaterialRef::Inline(m)) => {
