@@ -66,9 +66,13 @@ impl Libraries {
             };
             out.files.push(path.clone());
             let folder = path.parent().unwrap_or(Path::new(""));
+            let first_warning = out.warnings.len();
             for m in found.by_ref().take(count) {
                 let material = scene_material(m, folder, images, &mut out);
                 out.materials.push(material);
+            }
+            for warning in &mut out.warnings[first_warning..] {
+                *warning = format!("`{name}`: {warning}");
             }
         }
         out
@@ -171,14 +175,18 @@ fn keep_valid(name: &str, material: &mut Material, out: &mut ObjMaterials) {
             "diffuse" => ("Kd", |m| m.diffuse = [0.0; 3]),
             "specular" => ("Ks", |m| m.specular = [0.0; 3]),
             "shininess" => ("Ns", |m| m.shininess = 0.0),
-            "transmittance" => ("d", |m| m.transmittance = 0.0),
+            "transmittance" => ("d` or `Tr", |m| m.transmittance = 0.0),
             "ior" => ("Ni", |m| m.ior = crate::model::DEFAULT_IOR),
             _ => ("", |_| {}),
         };
         reset(material);
+        let message = match mtl_key {
+            // The message is about the transmittance it makes.
+            "d` or `Tr" => format!("as transmittance (1 - d, or Tr) {}", d.message),
+            _ => d.message,
+        };
         out.warnings.push(format!(
-            "material `{name}`, `{mtl_key}`: {}; its default used",
-            d.message
+            "material `{name}`, `{mtl_key}`: {message}; its default used"
         ));
     }
     // Only the keys above can fail for a material made here.
