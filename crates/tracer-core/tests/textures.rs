@@ -172,7 +172,10 @@ fn a_colour_texture_leaves_specular_and_reflection_alone() {
             lit += usize::from(a.get(i, j) != Vec3::ZERO);
         }
     }
-    assert!(lit > 50, "the highlight and the reflection show: {lit} pixels");
+    assert!(
+        lit > 50,
+        "the highlight and the reflection show: {lit} pixels"
+    );
 }
 
 const FACE_OBJ: &str = "mtllib face.mtl\n\
@@ -214,7 +217,10 @@ fn mtl_values_land_in_the_faces_materials() {
         .collect();
     assert_eq!(materials.len(), 3);
     let red = phong(materials[0]);
-    assert!(matches!(materials[0], Material::Phong(_)), "d absent: opaque");
+    assert!(
+        matches!(materials[0], Material::Phong(_)),
+        "d absent: opaque"
+    );
     assert_eq!(red.ambient, Vec3::new(0.1, 0.2, 0.3));
     assert_eq!(red.diffuse, Vec3::new(0.2, 0.4, 0.6));
     assert_eq!(red.specular, Vec3::splat(0.5));
@@ -249,7 +255,10 @@ fn a_face_lit_head_on_shows_its_mtl_colours() {
     );
     let got = render_linear(&scene).get(5, 5);
     let expected = Vec3::new(0.1 + 0.2 + 0.5, 0.2 + 0.4 + 0.5, 0.3 + 0.6 + 0.5);
-    assert!((got - expected).length() < 1e-5, "{got}, expected {expected}");
+    assert!(
+        (got - expected).length() < 1e-5,
+        "{got}, expected {expected}"
+    );
 }
 
 #[test]
@@ -273,7 +282,8 @@ fn an_object_material_overrides_the_mtl() {
 fn a_missing_mtl_or_map_is_a_warning_and_the_faces_stay_grey_or_plain() {
     let dir = tempfile::tempdir().unwrap();
     write(dir.path(), "face.obj", FACE_OBJ.as_bytes());
-    let text = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n[[lights]]\nposition = [0, 0, 5]\n\
+    let text =
+        "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n[[lights]]\nposition = [0, 0, 5]\n\
                 [[objects]]\nmesh = { obj = \"face.obj\" }\n";
     let file = load(dir.path(), text);
     let warnings = scene_format::warnings(&file);
@@ -288,7 +298,10 @@ fn a_missing_mtl_or_map_is_a_warning_and_the_faces_stay_grey_or_plain() {
     );
     let scene = prepare(&file).unwrap();
     for o in scene.objects() {
-        assert_eq!(scene.material(o.material), &Material::Phong(Phong::default_grey()));
+        assert_eq!(
+            scene.material(o.material),
+            &Material::Phong(Phong::default_grey())
+        );
     }
     // With the MTL but not its image: the material without its texture.
     write(dir.path(), "face.mtl", FACE_MTL.as_bytes());
@@ -328,7 +341,8 @@ fn bad_mtl_values_are_replaced_by_their_defaults_with_a_warning() {
         .collect();
     assert_eq!(messages.len(), 2, "{messages:?}");
     assert!(
-        messages[0].starts_with("`face.mtl`: material `red`, `Kd`: expected a colour with channels >= 0"),
+        messages[0]
+            .starts_with("`face.mtl`: material `red`, `Kd`: expected a colour with channels >= 0"),
         "{}",
         messages[0]
     );
