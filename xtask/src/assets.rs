@@ -86,13 +86,16 @@ fn bullseye() -> RgbImage {
     RgbImage::from_fn(64, 64, |x, y| {
         let (dx, dy) = (x as f32 - 31.5, y as f32 - 31.5);
         let ring = (dx.hypot(dy) / 6.0) as u32;
-        if ring % 2 == 0 {
+        if ring.is_multiple_of(2) {
             Rgb([235, 225, 190])
         } else {
             Rgb([200, 40, 40])
         }
     })
 }
+
+/// A face of the box: its corner a, the directions of u and v, its material.
+type Face = ([f32; 3], [f32; 3], [f32; 3], &'static str);
 
 /// The unit cube, each face with its own four corners and texture
 /// coordinates (0, 0) to (1, 1), cut into the triangles (a, b, d) and
@@ -101,7 +104,7 @@ fn bullseye() -> RgbImage {
 /// turned half a turn. The front (+z) and the top carry the label.
 fn box_obj() -> String {
     // Corner a, then the directions of u and v: u x v points outward.
-    let faces: [([f32; 3], [f32; 3], [f32; 3], &str); 6] = [
+    let faces: [Face; 6] = [
         ([0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], "label"), // +z
         ([1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], "paint"), // -z
         ([1.0, 0.0, 1.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0], "paint"), // +x
