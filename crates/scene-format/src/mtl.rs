@@ -192,3 +192,44 @@ fn keep_valid(name: &str, material: &mut Material, out: &mut ObjMaterials) {
     // Only the keys above can fail for a material made here.
     debug_assert!(crate::validate::material(material).is_empty());
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::obj::read_obj;
+
+    #[test]
+    fn faces_keep_their_material_across_libraries_one_of_them_missing() {
+        let dir = tempfile::tempdir().unwrap();
+        let obj = "mtllib none.mtl\nmtllib b.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n\
+                   f 1 2 3\nusemtl second\nf 1 2 3\nusemtl first\nf 1 3 2\nusemtl nowhere\nf 2 1 3\n";
+        std::fs::write(dir.path().join("m.obj"), obj).unwrap();
+        let mtl = "newmtl first\nKd 1 0 0\nnewmtl second\nKd 0 1 0\nmap_Kd -s 2 2 1 missing.png\n";
+        std::fs::write(dir.path().join("b.mtl"), mtl).unwrap();
+        let data = read_obj(&dir.path().join("m.obj")).unwrap();
+        assert_eq!(data.materials.len(), 2);
+        assert_eq!(data.materials[0].diffuse, [1.0, 0.0, 0.0]);
+        assert_eq!(data.materials[1].diffuse, [0.0, 1.0, 0.0]);
+        // No usemtl yet, `second`, `first`, an undefined name.
+        assert_eq!(data.triangle_materials, [None, Some(1), Some(0), None]);
+        assert_eq!(data.material_files, [dir.path().join("b.mtl")]);
+        let w = &data.material_warnings;
+        assert_eq!(w.len(), 3, "{w:?}");
+        assert!(
+            w[0].starts_with("material library `none.mtl` cannot be read"),
+            "{}",
+            w[0]
+        );
+        assert!(
+            w[1].contains("the options of `map_Kd -s 2 2 1 missing.png` are not read"),
+            "{}",
+            w[1]
+        );
+        assert!(
+            w[2].starts_with(
+                "`b.mtl`: material `second`: cannot load `map_Kd` image `missing.png`"
+            ),
+            "{}",
+            w[2]
+        );
+    }
+}
