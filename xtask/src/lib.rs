@@ -1,6 +1,7 @@
 //! Project chores, the cargo-xtask way: `cargo xtask <task>`. The tasks live
 //! here as a library so that tests run them in-process.
 
+pub mod assets;
 pub mod bench;
 pub mod golden;
 

@@ -17,6 +17,8 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     Golden(GoldenArgs),
+    /// Write the generated files the texture scenes read (images, an OBJ and its MTL)
+    Assets,
     /// Benchmark the tracer against POV-Ray and Embree on the bench scenes (docs/performance.md)
     Bench(xtask::bench::BenchArgs),
 }
@@ -40,6 +42,9 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Golden(args) => golden(&args),
+        Command::Assets => {
+            xtask::assets::write_all(&xtask::workspace_root()).map(|()| ExitCode::SUCCESS)
+        }
         Command::Bench(args) => xtask::bench::run(&args).map(|()| ExitCode::SUCCESS),
     };
     match result {

@@ -104,13 +104,14 @@ fn the_goldens_hold_the_labs_hand_worked_values() {
     assert_eq!(px("shadows", 100, 150), [70, 70, 70]);
     // The lab's scenes are all 500x400; the scenes beyond the lab (checked
     // by the physics tests of tracer-core) are not.
-    const BEYOND_LAB: [&str; 6] = [
+    const BEYOND_LAB: [&str; 7] = [
         "antialiasing",
         "boxes",
         "depth-of-field",
         "glass",
         "showcase",
         "soft-shadows",
+        "textures",
     ];
     let cases = golden::scene_cases(&root().join("scenes")).unwrap();
     let lab = cases
@@ -122,6 +123,24 @@ fn the_goldens_hold_the_labs_hand_worked_values() {
     for name in lab {
         assert_eq!(real_golden(name).dimensions(), (500, 400), "{name}");
     }
+}
+
+/// The floor of `textures.toml`, worked out from its camera: eye (0, 3, 9)
+/// looking at (0, 1, 0), fov 55 over 480 columns (focal length 240 /
+/// tan 27.5 = 461.0), +x to the right. The floor point (x, 0, 3.5) lies
+/// 55.5 / sqrt(85) = 6.020 along the view, so it lands in column
+/// 240 + 461.0 x / 6.020 = 240 + 76.6 x, row 292.9: the square edges x = 0
+/// and x = 1 fall on columns 240.0 and 316.6. Squares are 1 wide (scale 1);
+/// [0, 1] x [3, 4] in (x, z) has floor(x) + floor(-z) = -4, even: the first
+/// (light) colour; its neighbours are dark.
+#[test]
+fn the_textures_golden_puts_the_checker_squares_where_the_camera_does() {
+    let image = real_golden("textures");
+    let light = |i| image.get_pixel(i, 292).0[0] > 180;
+    let dark = |i| image.get_pixel(i, 292).0[0] < 120;
+    assert!(dark(238) && dark(239), "left of x = 0");
+    assert!(light(240) && light(241) && light(315), "from x = 0 to 1");
+    assert!(dark(318) && dark(319), "right of x = 1");
 }
 
 #[test]

@@ -149,6 +149,23 @@ mod tests {
         );
     }
 
+    #[test]
+    fn the_files_read_include_texture_images_and_the_mtl_files_with_their_maps() {
+        let path = repository_scene("textures.toml");
+        let loaded = load(&Input::File(path.clone())).unwrap();
+        let scenes = path.parent().unwrap();
+        let expected = [
+            path.clone(),
+            scenes.join("meshes/labelled-box.obj"),
+            scenes.join("meshes/labelled-box.mtl"),
+            scenes.join("meshes/bullseye.png"),
+            // Named by a material and by an object: once.
+            scenes.join("textures/grid.png"),
+        ];
+        assert_eq!(loaded.files_read, expected);
+        assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    }
+
     /// A scene in a temporary folder: `obj` as `m.obj`, `scene` as `s.toml`.
     fn scene_with_obj(obj: &str, scene: &str) -> (tempfile::TempDir, PathBuf) {
         let dir = tempfile::tempdir().unwrap();

@@ -58,6 +58,7 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
     }
     for (path, m) in &materials {
         over_one(&mut warnings, path, m);
+        unseen_texture(&mut warnings, path, m);
         if m.fresnel && m.reflectance > 0.0 {
             warnings.push(Diagnostic::new(
                 path.key("reflectance"),
@@ -110,6 +111,21 @@ fn open_glass(warnings: &mut Vec<Diagnostic>, scene: &SceneFile) {
                 format!("a transparent material on {open}: a ray enters it and never leaves; glass needs a closed shape (a sphere, a box, a closed mesh)"),
             ));
         }
+    }
+}
+
+/// A colour texture on a material with neither ambient nor diffuse: it
+/// multiplies them, so it shows nothing (keys left out are 0).
+fn unseen_texture(warnings: &mut Vec<Diagnostic>, path: &KeyPath, m: &crate::Material) {
+    let colour_texture = matches!(
+        m.texture,
+        Some(crate::TextureRef::Image(_) | crate::TextureRef::Checker(_))
+    );
+    if colour_texture && m.ambient == [0.0; 3] && m.diffuse == [0.0; 3] {
+        warnings.push(Diagnostic::new(
+            path.key("texture"),
+            "shows nothing: a texture table multiplies `ambient` and `diffuse`, and both are 0; try diffuse = [1, 1, 1]",
+        ));
     }
 }
 
@@ -256,5 +272,21 @@ mod tests {
                 None => assert!(warned.is_none(), "{found:?}"),
             }
         }
+    }
+
+    #[test]
+    fn a_texture_table_without_ambient_or_diffuse_shows_nothing() {
+        let sphere = "[[objects]]\nsphere = { center = [0, 0, 0], radius = 1 }\n";
+        let checker = "texture = { checker = [[1, 1, 1], [0, 0, 0]] }";
+        let unseen = |material: &str| {
+            messages(&format!("{sphere}material = {{ {material} }}\n"))
+                .iter()
+                .any(|m| m.starts_with("shows nothing"))
+        };
+        assert!(unseen(&format!("specular = [1, 1, 1], {checker}")));
+        assert!(!unseen(&format!("diffuse = [1, 1, 1], {checker}")));
+        assert!(!unseen(&format!("ambient = [0.1, 0, 0], {checker}")));
+        // The lab's stripes multiply the specular too.
+        assert!(!unseen("specular = [1, 1, 1], texture = \"lab-stripes\""));
     }
 }

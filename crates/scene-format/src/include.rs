@@ -5,6 +5,7 @@
 
 use crate::diagnostic::Diagnostic;
 use crate::error::SceneError;
+use crate::images::{self, ImageCache};
 use crate::key_path::{KeyPath, Segment};
 use crate::locate::{locate, locate_all};
 use crate::model::{Light, Material, Object, SceneFile};
@@ -166,7 +167,8 @@ struct Part {
 struct Problems {
     located: Vec<Diagnostic>,
     paths: Vec<Diagnostic>,
-    /// OBJ files that could not be read, at `objects[i].mesh.obj`.
+    /// OBJ files and images that could not be read, at
+    /// `objects[i].mesh.obj` or a texture's `image`.
     meshes: Vec<Diagnostic>,
 }
 
@@ -203,6 +205,7 @@ pub(crate) fn resolve(
         stack: vec![source.identity(path)],
         seen: HashMap::new(),
         parts: Vec::new(),
+        images: ImageCache::default(),
     };
     let include = std::mem::take(&mut scene.include);
     loader.includes(0, base(path), &include);
@@ -236,6 +239,8 @@ struct Loader<'s> {
     /// Files included so far: identity -> (including file, include index).
     seen: HashMap<PathBuf, (usize, usize)>,
     parts: Vec<Part>,
+    /// Texture images read so far, each file once.
+    images: ImageCache,
 }
 
 impl Loader<'_> {
@@ -386,17 +391,28 @@ impl Loader<'_> {
     }
 
     /// Adds an included file's includes, then its own part, with its meshes
-    /// read relative to its folder.
-    fn include(&mut self, (index, mut included): (usize, IncludedFile), path: &Path) {
+    /// and images read relative to its folder.
+    fn include(&mut self, (index, included): (usize, IncludedFile), path: &Path) {
         self.includes(index, base(path), &included.include);
-        let mesh_problems = obj::load_object_meshes(&mut included.objects, base(path), self.source);
-        self.problems[index].meshes.extend(mesh_problems);
-        self.parts.push(Part {
+        let mut part = Part {
             file: index,
             lights: included.lights,
             materials: included.materials,
             objects: included.objects,
-        });
+        };
+        self.read_files(&mut part, base(path));
+        self.parts.push(part);
+    }
+
+    /// Reads the meshes and texture images of `part`, relative to `base`.
+    fn read_files(&mut self, part: &mut Part, base: &Path) {
+        let images = &mut self.images;
+        let meshes = obj::load_object_meshes(&mut part.objects, base, self.source, images);
+        let items = (&mut part.materials, part.objects.as_mut_slice());
+        let textures = images::load_part_images(items, base, self.source, images);
+        let problems = &mut self.problems[part.file].meshes;
+        problems.extend(meshes);
+        problems.extend(textures);
     }
 
     /// The scene's own part read (its meshes) and added last, everything
@@ -407,11 +423,10 @@ impl Loader<'_> {
         base: &Path,
         mut scene: SceneFile,
     ) -> Result<(SceneFile, Origins), SceneError> {
-        let mesh_problems = obj::load_object_meshes(&mut own.objects, base, self.source);
+        self.read_files(&mut own, base);
         self.parts.push(own);
         self.merge(&mut scene);
         let merged = crate::validate::validate(&scene);
-        self.problems[0].meshes.extend(mesh_problems);
         for d in merged {
             let (i, local) = self.origins.origin(&d.path);
             self.problems[i].paths.push(Diagnostic { path: local, ..d });

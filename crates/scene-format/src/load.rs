@@ -9,7 +9,8 @@ use crate::{canvas, parse, validate, CanvasFile, Diagnostic, Format, SceneFile};
 use std::path::{Path, PathBuf};
 
 /// Reads, parses and validates the 3D scene file at `path`, and reads the
-/// OBJ files of its meshes (relative to the scene file's folder).
+/// OBJ files of its meshes and the images of its textures (relative to the
+/// scene file's folder).
 pub fn load_path(path: &Path) -> Result<SceneFile, SceneError> {
     match load_any(path)? {
         SceneKind::Scene3d(scene) => Ok(scene),

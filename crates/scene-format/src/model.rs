@@ -182,9 +182,13 @@ pub struct Material {
     /// 0 = no mirror reflection, 1 = perfect mirror.
     #[schemars(range(min = 0, max = 1))]
     pub reflectance: f32,
-    /// A texture name, e.g. "lab-stripes".
+    /// A built-in texture's name ("lab-stripes": multiplies the whole
+    /// local colour, as the lab), or a table: an image
+    /// (`{ image = "wood.png" }`) or a checkerboard
+    /// (`{ checker = [[1, 1, 1], [0, 0, 0]] }`), whose colour multiplies
+    /// `ambient` and `diffuse` only.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub texture: Option<String>,
+    pub texture: Option<TextureRef>,
     /// 0 = opaque, 1 = all the light passes (refracted by `ior`).
     #[schemars(range(min = 0, max = 1))]
     pub transmittance: f32,
@@ -285,9 +289,10 @@ pub struct Object {
     pub transform: Option<Transform>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<MaterialRef>,
-    /// A texture on this object; overrides the material's.
+    /// A texture on this object (a name or a table, as a material's);
+    /// overrides the material's.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub texture: Option<String>,
+    pub texture: Option<TextureRef>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -355,6 +360,26 @@ pub struct MeshData {
     pub skipped_degenerate: usize,
     /// The OBJ line of the first face left out, when a scan found it.
     pub first_degenerate_line: Option<usize>,
+    /// The materials of the OBJ's MTL files (`mtllib`), as scene materials
+    /// (Kd diffuse, Ka ambient, Ks specular, Ns shininess, map_Kd an image
+    /// texture, 1 - d or Tr transmittance, Ni ior).
+    pub materials: Vec<Material>,
+    /// Each triangle's index in `materials` (its face's `usemtl`), in the
+    /// order of `triangles`; `None` for a face without a material known.
+    /// Empty when the OBJ has no materials.
+    pub triangle_materials: Vec<Option<u32>>,
+    /// What went wrong with the MTL files (missing, unreadable, bad values,
+    /// a missing map_Kd): warnings for the objects that use them.
+    pub material_warnings: Vec<String>,
+    /// The MTL files and the images they name that were read.
+    pub material_files: Vec<std::path::PathBuf>,
+}
+
+impl MeshData {
+    /// The material index of triangle `i` (`None`: the default grey).
+    pub fn triangle_material(&self, i: usize) -> Option<u32> {
+        self.triangle_materials.get(i).copied().flatten()
+    }
 }
 
 /// An object's transform: a list of steps, or the table shorthand.
@@ -532,5 +557,159 @@ impl BuiltinTexture {
     /// The built-in texture called `name`, if there is one.
     pub fn from_name(name: &str) -> Option<BuiltinTexture> {
         Self::ALL.into_iter().find(|t| t.name() == name)
+    }
+}
+
+/// A texture: a built-in one by name, or a table (an image or a checkerboard).
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+#[serde(untagged)]
+pub enum TextureRef {
+    /// A built-in texture: "lab-stripes".
+    Named(String),
+    Image(ImageTexture),
+    Checker(CheckerTexture),
+}
+
+/// An image read from a PNG or JPEG file, sRGB-encoded (decoded to linear
+/// colours), sampled bilinearly; u runs left to right across the image and
+/// v from its bottom row up (as OBJ texture coordinates do).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ImageTexture {
+    /// The image file (PNG or JPEG), relative to the scene file's folder.
+    pub image: String,
+    /// Repeats across the surface's uv: the image is sampled at
+    /// (u * sx, v * sy), so [4, 4] repeats it 4 times each way. One number
+    /// for both; default [1, 1].
+    #[serde(default)]
+    pub scale: TextureScale,
+    /// What lies beyond the image's 0..1: "repeat" (default) tiles it,
+    /// "clamp" extends its edge texels, "mirror" tiles it flipping every
+    /// other copy.
+    #[serde(default)]
+    pub wrap: Wrap,
+    /// The image's texels, filled in by `load_path`; not part of the file.
+    #[serde(skip)]
+    #[schemars(skip)]
+    pub data: Option<Arc<ImageData>>,
+}
+
+/// A checkerboard in the surface's uv: squares 1 / scale wide, starting
+/// with the first colour at uv (0, 0).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CheckerTexture {
+    /// The two colours (linear, like material colours).
+    #[schemars(inner(inner(range(min = 0))))]
+    pub checker: [Color; 2],
+    /// Squares per unit of uv: 4 gives squares 0.25 wide; one number for
+    /// both directions or [su, sv]; default 1.
+    #[serde(default)]
+    pub scale: TextureScale,
+}
+
+/// A texture's scale: one factor for u and v, or [su, sv].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(
+    untagged,
+    expecting = "a number (one factor for u and v) or [su, sv] (one each)"
+)]
+pub enum TextureScale {
+    Uniform(f32),
+    PerAxis([f32; 2]),
+}
+
+impl Default for TextureScale {
+    fn default() -> Self {
+        TextureScale::Uniform(1.0)
+    }
+}
+
+impl TextureScale {
+    pub fn per_axis(self) -> [f32; 2] {
+        match self {
+            TextureScale::Uniform(s) => [s; 2],
+            TextureScale::PerAxis(v) => v,
+        }
+    }
+}
+
+/// How an image texture is read outside its 0..1 square.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum Wrap {
+    /// Tiles the image.
+    #[default]
+    Repeat,
+    /// Extends the edge texels.
+    Clamp,
+    /// Tiles the image, every other copy flipped, so edges meet seamlessly.
+    Mirror,
+}
+
+/// An image's texels as stored in its file: sRGB-encoded values from 0 to
+/// 1, row by row from the top row; alpha is dropped.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImageData {
+    pub width: u32,
+    pub height: u32,
+    pub texels: Vec<[f32; 3]>,
+}
+
+/// The keys of a texture table, read before it is known which kind it is.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TextureTable {
+    image: Option<String>,
+    checker: Option<[Color; 2]>,
+    scale: Option<TextureScale>,
+    wrap: Option<Wrap>,
+}
+
+/// By hand, as `MaterialRef`: a misspelt key or a wrong type inside the
+/// table is reported as such, at its key.
+impl<'de> Deserialize<'de> for TextureRef {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = TextureRef;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a texture name (a string) or a texture table (`image` or `checker`)")
+            }
+            fn visit_str<E: serde::de::Error>(self, name: &str) -> Result<TextureRef, E> {
+                Ok(TextureRef::Named(name.to_string()))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> Result<TextureRef, A::Error> {
+                let de = serde::de::value::MapAccessDeserializer::new(map);
+                let table = TextureTable::deserialize(de)?;
+                table.into_texture().map_err(serde::de::Error::custom)
+            }
+        }
+        deserializer.deserialize_any(Visitor)
+    }
+}
+
+impl TextureTable {
+    fn into_texture(self) -> Result<TextureRef, &'static str> {
+        let scale = self.scale.unwrap_or_default();
+        match (self.image, self.checker) {
+            (Some(image), None) => Ok(TextureRef::Image(ImageTexture {
+                image,
+                scale,
+                wrap: self.wrap.unwrap_or_default(),
+                data: None,
+            })),
+            (None, Some(checker)) if self.wrap.is_none() => {
+                Ok(TextureRef::Checker(CheckerTexture { checker, scale }))
+            }
+            (None, Some(_)) => Err("expected `wrap` only with `image`; a checkerboard has no edge"),
+            (Some(_), Some(_)) => {
+                Err("expected one of `image` or `checker` in a texture table, found both")
+            }
+            (None, None) => Err("expected `image` or `checker` in a texture table, found neither"),
+        }
     }
 }

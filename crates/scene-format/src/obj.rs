@@ -2,7 +2,9 @@
 //! left out and counted.
 
 use crate::diagnostic::Diagnostic;
+use crate::images::ImageCache;
 use crate::model::{MeshData, Object, SceneFile, Vec3};
+use crate::mtl::Libraries;
 use crate::read::MAX_OBJ_BYTES;
 use crate::source::{Folder, Source};
 use std::collections::HashMap;
@@ -14,17 +16,19 @@ use std::sync::Arc;
 /// file's folder). Every file that cannot be read gives a diagnostic at
 /// `objects[i].mesh.obj`.
 pub fn load_meshes(scene: &mut SceneFile, base: &Path) -> Vec<Diagnostic> {
-    load_object_meshes(&mut scene.objects, base, &Folder::new())
+    let mut images = ImageCache::default();
+    load_object_meshes(&mut scene.objects, base, &Folder::new(), &mut images)
 }
 
 /// Reads the OBJ file of every mesh of `objects` from `source`, relative
 /// to `base` (the folder of the file that lists them). Every file that
 /// cannot be read gives a diagnostic at `objects[i].mesh.obj`, `i` an index
-/// of `objects`.
+/// of `objects`. The images of their MTL files are read through `images`.
 pub fn load_object_meshes(
     objects: &mut [Object],
     base: &Path,
     source: &dyn Source,
+    images: &mut ImageCache,
 ) -> Vec<Diagnostic> {
     let mut diagnostics = Vec::new();
     // A file used by several objects is read once and shared.
@@ -38,7 +42,7 @@ pub fn load_object_meshes(
             mesh.data = Some(data.clone());
             continue;
         }
-        match read_obj_from(source, &path) {
+        match read_obj_from(source, &path, images) {
             Ok(data) => {
                 let data = Arc::new(data);
                 read.insert(path, data.clone());
@@ -53,13 +57,19 @@ pub fn load_object_meshes(
     diagnostics
 }
 
-/// Warnings of a loaded scene: meshes with faces left out.
+/// Warnings of a loaded scene: meshes with faces left out, and the MTL
+/// problems of meshes that take their materials from it (no `material`).
 pub fn mesh_warnings(scene: &SceneFile) -> Vec<Diagnostic> {
     let mut warnings = Vec::new();
     for (i, object) in scene.objects.iter().enumerate() {
         let Some(data) = object.mesh.as_ref().and_then(|m| m.data.as_ref()) else {
             continue;
         };
+        if object.material.is_none() {
+            for message in &data.material_warnings {
+                warnings.push(Diagnostic::new(format!("objects[{i}].mesh.obj"), message));
+            }
+        }
         if data.skipped_degenerate > 0 {
             let mut message = format!(
                 "{} degenerate (zero-area) faces left out",
@@ -78,12 +88,17 @@ pub fn mesh_warnings(scene: &SceneFile) -> Vec<Diagnostic> {
 /// The triangles of the OBJ file at `path`. When the file is not a valid
 /// OBJ, the message names the first offending line as `<file name>:<line>`.
 pub fn read_obj(path: &Path) -> Result<MeshData, String> {
-    read_obj_from(&Folder::new(), path)
+    read_obj_from(&Folder::new(), path, &mut ImageCache::default())
 }
 
-/// [`read_obj`] from `source`.
-pub fn read_obj_from(source: &dyn Source, path: &Path) -> Result<MeshData, String> {
-    read_obj_lines(source, path).map_err(|message| match bad_line_in(source, path) {
+/// [`read_obj`] from `source`, the images of its MTL files read through
+/// `images`.
+pub fn read_obj_from(
+    source: &dyn Source,
+    path: &Path,
+    images: &mut ImageCache,
+) -> Result<MeshData, String> {
+    read_obj_lines(source, path, images).map_err(|message| match bad_line_in(source, path) {
         Some((line, what)) => {
             let name = path.file_name().unwrap_or(path.as_os_str());
             format!("{message}; `{}:{line}`: {what}", name.to_string_lossy())
@@ -92,7 +107,11 @@ pub fn read_obj_from(source: &dyn Source, path: &Path) -> Result<MeshData, Strin
     })
 }
 
-fn read_obj_lines(source: &dyn Source, path: &Path) -> Result<MeshData, String> {
+fn read_obj_lines(
+    source: &dyn Source,
+    path: &Path,
+    images: &mut ImageCache,
+) -> Result<MeshData, String> {
     let mut file = source
         .open(path, MAX_OBJ_BYTES)
         .map_err(|e| e.to_string())?;
@@ -102,12 +121,17 @@ fn read_obj_lines(source: &dyn Source, path: &Path) -> Result<MeshData, String> 
         ignore_lines: true,
         ..Default::default()
     };
-    // Materials of the OBJ are not used: the scene file gives the material.
-    let (models, _) = tobj::load_obj_buf(&mut file, &options, |_| {
-        Err(tobj::LoadError::GenericFailure)
-    })
-    .map_err(|e| format!("not a valid OBJ file: {e}"))?;
-    let mut data = MeshData::default();
+    let libraries = Libraries::new(path.parent().unwrap_or(Path::new("")), source);
+    let (models, found) = tobj::load_obj_buf(&mut file, &options, |p| libraries.load(p))
+        .map_err(|e| format!("not a valid OBJ file: {e}"))?;
+    // The libraries' own failures are kept by `libraries`.
+    let found = libraries.finish(&found.unwrap_or_default(), images);
+    let mut data = MeshData {
+        materials: found.materials,
+        material_warnings: found.warnings,
+        material_files: found.files,
+        ..MeshData::default()
+    };
     // The index among all triangles of the first degenerate one.
     let mut first_degenerate = None;
     for model in &models {
@@ -143,6 +167,13 @@ fn add_model(
             Err(format!("vertex {} is not finite: {v:?}", index + 1))
         }
     };
+    // A face's material, when the OBJ has materials at all (a material
+    // named by `usemtl` but not defined is none).
+    let track = !data.materials.is_empty();
+    let material = mesh
+        .material_id
+        .filter(|&m| m < data.materials.len())
+        .map(|m| m as u32);
     for face in mesh.indices.chunks_exact(3) {
         let triangle = [vertex(face[0])?, vertex(face[1])?, vertex(face[2])?];
         if is_degenerate(&triangle) {
@@ -150,6 +181,9 @@ fn add_model(
             data.skipped_degenerate += 1;
         } else {
             data.triangles.push(triangle);
+            if track {
+                data.triangle_materials.push(material);
+            }
         }
     }
     Ok(())

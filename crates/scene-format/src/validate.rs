@@ -70,6 +70,14 @@ pub fn validate(scene: &SceneFile) -> Vec<Diagnostic> {
     v.diagnostics
 }
 
+/// The problems of one material on its own (an OBJ's, from its MTL), with
+/// key paths from the material (`diffuse`).
+pub(crate) fn material(m: &Material) -> Vec<Diagnostic> {
+    let mut v = Validator::default();
+    v.material(&KeyPath::root(), m);
+    v.diagnostics
+}
+
 /// How many unknown names get a "did you mean" (each compares the name
 /// with every known one): as many as diagnostics are shown.
 const MAX_HINTS: usize = crate::excerpt::MAX_SHOWN;
@@ -282,7 +290,7 @@ impl Validator {
             );
         }
         if let Some(t) = &m.texture {
-            self.texture_name(path.key("texture"), t);
+            self.texture(&path.key("texture"), t);
         }
         self.transmission(path, m);
     }
@@ -324,6 +332,43 @@ impl Validator {
             );
         }
         self.color(path.key("absorption"), m.absorption);
+    }
+
+    fn texture(&mut self, path: &KeyPath, t: &TextureRef) {
+        match t {
+            TextureRef::Named(name) => self.texture_name(path.clone(), name),
+            TextureRef::Image(image) => {
+                if image.image.trim().is_empty() {
+                    self.error(path.key("image"), "expected the path of a PNG or JPEG file");
+                }
+                self.texture_scale(path.key("scale"), image.scale);
+            }
+            TextureRef::Checker(checker) => {
+                for (i, c) in checker.checker.iter().enumerate() {
+                    self.color(path.key("checker").index(i), *c);
+                }
+                self.texture_scale(path.key("scale"), checker.scale);
+            }
+        }
+    }
+
+    /// A texture's scale: finite factors, non-zero (a negative one flips
+    /// the texture), their size within `SCALE_RANGE`.
+    fn texture_scale(&mut self, path: KeyPath, scale: TextureScale) {
+        let s = scale.per_axis();
+        let (lo, hi) = SCALE_RANGE;
+        if !s.iter().all(|x| x.is_finite()) {
+            self.error(path, format!("expected finite numbers, found {s:?}"));
+        } else if s.iter().any(|x| !(lo..=hi).contains(&x.abs())) {
+            self.error(
+                path,
+                format!(
+                    "expected factors from {lo:e} to {hi:e} (or their negatives), found [{}, {}]",
+                    num(s[0]),
+                    num(s[1])
+                ),
+            );
+        }
     }
 
     fn texture_name(&mut self, path: impl Into<KeyPath>, name: &str) {
@@ -376,7 +421,7 @@ impl Validator {
             _ => {}
         }
         if let Some(t) = &o.texture {
-            self.texture_name(path.key("texture"), t);
+            self.texture(&path.key("texture"), t);
         }
     }
 

@@ -139,6 +139,11 @@ const CASES: &[Case] = &[
     case("aperture-negative.toml", "camera.aperture", 4, 12, "expected a lens radius >= 0, found -0.1"),
     case("focus-distance-zero.toml", "camera.focus_distance", 4, 18, "expected a distance > 0, found 0"),
     case("focus-distance-negative.json", "camera.focus_distance", 2, 73, "expected a distance > 0, found -4"),
+    case("image-missing.toml", "materials.wood.texture.image", 7, 21, "cannot load `textures/wood.png`: No such file or directory"),
+    case("texture-unknown-key.toml", "objects[0].texture.wrapp", 7, 33, "unknown key `wrapp` in `objects[0].texture`; did you mean `wrap`?"),
+    case("texture-wrong-type.toml", "objects[0].texture", 7, 11, "expected a texture name (a string) or a texture table (`image` or `checker`), found 5"),
+    case("checker-negative.toml", "objects[0].texture.checker[1]", 7, 35, "expected a colour with channels >= 0, found [0, -0.5, 0]"),
+    case("checker-wrap.toml", "objects[0].texture", 7, 11, "expected `wrap` only with `image`"),
     case("wrong-type.json", "camera.width", 2, 64, "expected a whole number >= 0, found the string \"640\""),
 ];
 
@@ -148,10 +153,13 @@ fn bad_dir() -> PathBuf {
 
 /// Loads `tests/bad/<name>`, naming it `bad/<name>` so reports do not
 /// depend on where the checkout is. A scene with an OBJ of its own name
-/// beside it is loaded from its path, so its meshes are read too.
+/// beside it, or with an image texture, is loaded from its path, so its
+/// meshes and images are read too.
 fn load_bad(name: &str) -> SceneError {
     let path = bad_dir().join(name);
-    if path.with_extension("obj").exists() {
+    let reads_files = path.with_extension("obj").exists()
+        || std::fs::read_to_string(&path).is_ok_and(|t| t.contains("image ="));
+    if reads_files {
         return match scene_format::load_any(&path) {
             Ok(_) => panic!("{name}: accepted, expected an error"),
             Err(e) => e,

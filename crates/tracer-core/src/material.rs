@@ -4,7 +4,7 @@
 
 use crate::geometry::SurfaceHit;
 use crate::optics::{fresnel_reflectance, refract};
-use crate::texture::Texture;
+use crate::texture::{ColorTexture, Texture};
 use glam::Vec3;
 use std::sync::Arc;
 
@@ -36,6 +36,9 @@ pub struct Phong {
     pub reflectance: f32,
     /// Multiplies the whole local colour of a hit (lab 4.5 and 7).
     pub texture: Option<Arc<Texture>>,
+    /// Multiplies `ambient` and `diffuse` at each hit (an image or a
+    /// checkerboard); specular and reflection are left as they are.
+    pub color_texture: Option<ColorTexture>,
 }
 
 impl Phong {
@@ -49,6 +52,7 @@ impl Phong {
             shininess: 0.0,
             reflectance: 0.0,
             texture: None,
+            color_texture: None,
         }
     }
 }

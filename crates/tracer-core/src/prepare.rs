@@ -7,7 +7,7 @@ use crate::image::{Encoding, Saturation};
 use crate::light::Light;
 use crate::material::{Glass, Material, Phong};
 use crate::scene::{Scene, SceneParts, TraceSettings};
-use crate::texture::{Builtin, Texture};
+use crate::texture::{Builtin, ColorTexture, ImageTexels, Texture, Wrap};
 use glam::{Vec2, Vec3};
 use scene_format as fmt;
 use std::collections::HashMap;
@@ -26,6 +26,8 @@ pub enum PrepareError {
     NotOneShape { path: String },
     #[error("`{path}`: the mesh's OBJ file was not read (load the scene with `load_path`)")]
     MeshNotLoaded { path: String },
+    #[error("`{path}`: the texture's image was not read (load the scene with `load_path`)")]
+    ImageNotLoaded { path: String },
 }
 
 /// Builds the renderable scene from a validated scene file; the BVH is
@@ -37,10 +39,16 @@ pub fn prepare(file: &fmt::SceneFile) -> Result<Scene, PrepareError> {
         let path = format!("objects[{i}]");
         let material = materials.resolve(&path, o)?;
         let shapes = shapes(&path, o)?;
-        objects.extend(shapes.into_iter().map(|(shape, uv)| Object {
-            shape,
-            material,
-            uv,
+        let mtl = materials.mtl_materials(&path, o)?;
+        objects.extend(shapes.into_iter().map(|(shape, uv, mtl_index)| {
+            Object {
+                shape,
+                // The face's MTL material, when the object takes them.
+                material: mtl_index
+                    .and_then(|k| mtl.get(k as usize).copied())
+                    .unwrap_or(material),
+                uv,
+            }
         }));
     }
     Ok(Scene::new(SceneParts {
@@ -95,12 +103,18 @@ fn saturation(s: fmt::Saturation) -> Saturation {
 }
 
 /// The shapes of object `o`: one, or a mesh's, quad's or box's triangles,
-/// each with the map of its barycentrics to the object's uv; placed by the
+/// each with the map of its barycentrics to the object's uv and, for a
+/// mesh's triangle, its index among the OBJ's MTL materials; placed by the
 /// object's transform.
-fn shapes(path: &str, o: &fmt::Object) -> Result<Vec<(Shape, UvMap)>, PrepareError> {
+type Shapes = Vec<(Shape, UvMap, Option<u32>)>;
+
+fn shapes(path: &str, o: &fmt::Object) -> Result<Shapes, PrepareError> {
     let placement = placement(o.transform.as_ref());
-    let one = |shape| vec![(shape, UvMap::IDENTITY)];
-    let triangle = |[a, b, c]: [Vec3; 3], uv| place_triangle([a, b, c], uv, &placement);
+    let one = |shape| vec![(shape, UvMap::IDENTITY, None)];
+    let triangle = |[a, b, c]: [Vec3; 3], uv| {
+        let (shape, uv) = place_triangle([a, b, c], uv, &placement)?;
+        Some((shape, uv, None))
+    };
     Ok(match o.shapes().as_slice() {
         [fmt::ShapeRef::Sphere(s)] => {
             let sphere = Sphere::new(s.center.into(), s.radius);
@@ -130,7 +144,13 @@ fn shapes(path: &str, o: &fmt::Object) -> Result<Vec<(Shape, UvMap)>, PrepareErr
                 path: format!("{path}.mesh.obj"),
             })?;
             placed(data, &placement)
-                .map(|t| (Shape::Triangle(t), UvMap::IDENTITY))
+                .map(|(k, t)| {
+                    (
+                        Shape::Triangle(t),
+                        UvMap::IDENTITY,
+                        data.triangle_material(k),
+                    )
+                })
                 .collect()
         }
         _ => {
@@ -252,17 +272,18 @@ fn step_placement(step: &fmt::TransformStep) -> Placement {
 /// degenerate (zero area in f32) are left out.
 #[cfg(test)]
 fn mesh_triangles(data: &fmt::MeshData, placement: &Placement) -> Vec<Triangle> {
-    placed(data, placement).collect()
+    placed(data, placement).map(|(_, t)| t).collect()
 }
 
+/// The placed triangles, each with its index in `data.triangles`.
 fn placed<'a>(
     data: &'a fmt::MeshData,
     placement: &'a Placement,
-) -> impl Iterator<Item = Triangle> + 'a {
-    data.triangles.iter().filter_map(|t| {
+) -> impl Iterator<Item = (usize, Triangle)> + 'a {
+    data.triangles.iter().enumerate().filter_map(|(k, t)| {
         let vertices = t.map(Vec3::from);
         match place_triangle(vertices, UvMap::IDENTITY, placement)? {
-            (Shape::Triangle(t), _) => Some(t),
+            (Shape::Triangle(t), _) => Some((k, t)),
             _ => None,
         }
     })
@@ -286,7 +307,7 @@ pub fn mesh_extent(data: &fmt::MeshData, transform: Option<&fmt::Transform>) -> 
         triangles: 0,
         max_abs: 0.0,
     };
-    for t in placed(data, &placement) {
+    for (_, t) in placed(data, &placement) {
         extent.triangles += 1;
         let m = t.v0.abs().max(t.v1.abs()).max(t.v2.abs()).max_element();
         extent.max_abs = extent.max_abs.max(m);
@@ -295,13 +316,26 @@ pub fn mesh_extent(data: &fmt::MeshData, transform: Option<&fmt::Transform>) -> 
 }
 
 /// Materials of the prepared scene: the named ones once each, inline ones
-/// per object, and textures shared by name.
+/// per object, and textures shared: built-in ones by name, images by the
+/// file's data.
 struct MaterialTable<'a> {
     file: &'a fmt::SceneFile,
     materials: Vec<Material>,
-    /// Named material and object texture -> index, so objects share materials.
+    /// Named material and object texture name -> index, so objects share
+    /// materials (an object's texture table makes a material of its own).
     by_key: HashMap<(String, Option<String>), usize>,
     textures: HashMap<Builtin, Arc<Texture>>,
+    /// Decoded images by the address of the file's data: each file is
+    /// decoded to linear once.
+    images: HashMap<usize, Arc<ImageTexels>>,
+}
+
+/// What a texture does to a material.
+enum Texturing {
+    /// The lab's: multiplies the whole local colour.
+    Lab(Arc<Texture>),
+    /// Multiplies ambient and diffuse.
+    Color(ColorTexture),
 }
 
 impl<'a> MaterialTable<'a> {
@@ -311,10 +345,45 @@ impl<'a> MaterialTable<'a> {
             materials: Vec::new(),
             by_key: HashMap::new(),
             textures: HashMap::new(),
+            images: HashMap::new(),
         }
     }
 
-    fn texture(&mut self, path: &str, name: &str) -> Result<Arc<Texture>, PrepareError> {
+    fn texture(&mut self, path: &str, t: &fmt::TextureRef) -> Result<Texturing, PrepareError> {
+        match t {
+            fmt::TextureRef::Named(name) => self.builtin(path, name).map(Texturing::Lab),
+            fmt::TextureRef::Image(image) => {
+                let data = image
+                    .data
+                    .as_ref()
+                    .ok_or_else(|| PrepareError::ImageNotLoaded {
+                        path: format!("{path}.image"),
+                    })?;
+                let texels = self
+                    .images
+                    .entry(Arc::as_ptr(data) as usize)
+                    .or_insert_with(|| {
+                        Arc::new(ImageTexels::from_srgb(
+                            data.width,
+                            data.height,
+                            &data.texels,
+                        ))
+                    })
+                    .clone();
+                Ok(Texturing::Color(ColorTexture::Image {
+                    texels,
+                    scale: image.scale.per_axis().into(),
+                    wrap: wrap(image.wrap),
+                }))
+            }
+            fmt::TextureRef::Checker(c) => Ok(Texturing::Color(ColorTexture::Checker {
+                colors: c.checker.map(Vec3::from),
+                scale: c.scale.per_axis().into(),
+            })),
+        }
+    }
+
+    fn builtin(&mut self, path: &str, name: &str) -> Result<Arc<Texture>, PrepareError> {
         let builtin = match fmt::BuiltinTexture::from_name(name) {
             Some(fmt::BuiltinTexture::LabStripes) => Builtin::LabStripes,
             None => {
@@ -330,6 +399,21 @@ impl<'a> MaterialTable<'a> {
             .clone())
     }
 
+    /// `surface` with texture `t` (if any) applied.
+    fn textured(
+        &mut self,
+        path: &str,
+        mut surface: Phong,
+        t: Option<&fmt::TextureRef>,
+    ) -> Result<Phong, PrepareError> {
+        match t.map(|t| self.texture(path, t)).transpose()? {
+            Some(Texturing::Lab(t)) => surface.texture = Some(t),
+            Some(Texturing::Color(t)) => surface.color_texture = Some(t),
+            None => {}
+        }
+        Ok(surface)
+    }
+
     fn push(&mut self, material: Material) -> usize {
         self.materials.push(material);
         self.materials.len() - 1
@@ -342,20 +426,18 @@ impl<'a> MaterialTable<'a> {
         &mut self,
         path: &str,
         m: &fmt::Material,
-        texture: Option<&String>,
+        texture: Option<&fmt::TextureRef>,
     ) -> Result<Material, PrepareError> {
-        let texture = match texture.or(m.texture.as_ref()) {
-            Some(name) => Some(self.texture(path, name)?),
-            None => None,
-        };
         let surface = Phong {
             ambient: m.ambient.into(),
             diffuse: m.diffuse.into(),
             specular: m.specular.into(),
             shininess: m.shininess,
             reflectance: m.reflectance,
-            texture,
+            texture: None,
+            color_texture: None,
         };
+        let surface = self.textured(path, surface, texture.or(m.texture.as_ref()))?;
         if m.transmittance == 0.0 && !m.fresnel {
             return Ok(Material::Phong(surface));
         }
@@ -373,10 +455,8 @@ impl<'a> MaterialTable<'a> {
         let texture_path = format!("{path}.texture");
         match &o.material {
             None => {
-                let mut grey = Phong::default_grey();
-                if let Some(name) = &o.texture {
-                    grey.texture = Some(self.texture(&texture_path, name)?);
-                }
+                let grey =
+                    self.textured(&texture_path, Phong::default_grey(), o.texture.as_ref())?;
                 Ok(self.push(Material::Phong(grey)))
             }
             Some(fmt::MaterialRef::Inline(m)) => {
@@ -384,24 +464,66 @@ impl<'a> MaterialTable<'a> {
                 Ok(self.push(material))
             }
             Some(fmt::MaterialRef::Named(name)) => {
-                let key = (name.clone(), o.texture.clone());
+                let texture_name = match &o.texture {
+                    None => None,
+                    Some(fmt::TextureRef::Named(t)) => Some(t.clone()),
+                    // A table of the object's own: a material of its own.
+                    Some(_) => {
+                        let m = self.named(path, name)?;
+                        let material = self.material(&texture_path, m, o.texture.as_ref())?;
+                        return Ok(self.push(material));
+                    }
+                };
+                let key = (name.clone(), texture_name);
                 if let Some(&index) = self.by_key.get(&key) {
                     return Ok(index);
                 }
-                let file = self.file;
-                let m = file
-                    .materials
-                    .get(name)
-                    .ok_or_else(|| PrepareError::UnknownMaterial {
-                        path: format!("{path}.material"),
-                        name: name.clone(),
-                    })?;
+                let m = self.named(path, name)?;
                 let material = self.material(&texture_path, m, o.texture.as_ref())?;
                 let index = self.push(material);
                 self.by_key.insert(key, index);
                 Ok(index)
             }
         }
+    }
+
+    /// The material called `name` in `[materials]`.
+    fn named(&self, path: &str, name: &str) -> Result<&'a fmt::Material, PrepareError> {
+        let file = self.file;
+        file.materials
+            .get(name)
+            .ok_or_else(|| PrepareError::UnknownMaterial {
+                path: format!("{path}.material"),
+                name: name.to_string(),
+            })
+    }
+
+    /// The indices of a mesh object's MTL materials, in the OBJ's order,
+    /// each with the object's texture if it has one; none when the object
+    /// names its own material (which overrides the MTL) or is no mesh.
+    fn mtl_materials(&mut self, path: &str, o: &fmt::Object) -> Result<Vec<usize>, PrepareError> {
+        let Some(data) = o.mesh.as_ref().and_then(|m| m.data.as_ref()) else {
+            return Ok(Vec::new());
+        };
+        if o.material.is_some() {
+            return Ok(Vec::new());
+        }
+        let texture_path = format!("{path}.texture");
+        let mut indices = Vec::with_capacity(data.materials.len());
+        for m in &data.materials {
+            let material = self.material(&texture_path, m, o.texture.as_ref())?;
+            indices.push(self.push(material));
+        }
+        Ok(indices)
+    }
+}
+
+/// The file's wrap mode in the core's terms.
+fn wrap(w: fmt::Wrap) -> Wrap {
+    match w {
+        fmt::Wrap::Repeat => Wrap::Repeat,
+        fmt::Wrap::Clamp => Wrap::Clamp,
+        fmt::Wrap::Mirror => Wrap::Mirror,
     }
 }
 
@@ -413,8 +535,7 @@ mod tests {
     fn without_a_transform_mesh_vertices_are_kept_exactly() {
         let data = fmt::MeshData {
             triangles: vec![[[0.1, 0.2, 0.3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]],
-            skipped_degenerate: 0,
-            first_degenerate_line: None,
+            ..fmt::MeshData::default()
         };
         let tris = mesh_triangles(&data, &placement(None));
         assert_eq!(tris.len(), 1);
@@ -428,8 +549,7 @@ mod tests {
                 [[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
                 [[0.0; 3], [1e-3, 0.0, 0.0], [0.0, 1e-3, 0.0]],
             ],
-            skipped_degenerate: 0,
-            first_degenerate_line: None,
+            ..fmt::MeshData::default()
         };
         // Tiny triangles far from the origin: whatever f32 keeps of them,
         // the count is prepare's.
@@ -463,8 +583,8 @@ mod tests {
             .expect("a minimal scene");
         let mut table = MaterialTable::new(&file);
         for builtin in fmt::BuiltinTexture::ALL {
-            assert!(table.texture("t", builtin.name()).is_ok(), "{builtin:?}");
+            assert!(table.builtin("t", builtin.name()).is_ok(), "{builtin:?}");
         }
-        assert!(table.texture("t", "wood").is_err());
+        assert!(table.builtin("t", "wood").is_err());
     }
 }

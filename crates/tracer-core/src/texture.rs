@@ -1,6 +1,9 @@
-//! Textures and the lab's procedural stripes (lab 4.5 and 7).
+//! Textures and the lab's procedural stripes (lab 4.5 and 7); beyond the
+//! lab, colour textures (an image, a checkerboard) that colour the ambient
+//! and diffuse terms.
 
 use glam::{Vec2, Vec3};
+use std::sync::Arc;
 
 /// An RGB texture, row 0 at the top (v = 0).
 #[derive(Debug, Clone, PartialEq)]
@@ -81,6 +84,132 @@ pub fn lab_stripe_grey(row: u32) -> u8 {
     }
 }
 
+/// The linear value of an sRGB-encoded one (0 to 1): the inverse of the
+/// sRGB transfer curve of IEC 61966-2-1, linear near black, a 2.4 power
+/// above.
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// How an image is read outside its 0..1 square.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Wrap {
+    /// Tiles the image.
+    Repeat,
+    /// Extends the edge texels.
+    Clamp,
+    /// Tiles the image, every other copy flipped.
+    Mirror,
+}
+
+impl Wrap {
+    /// The texel index that index `i` reads, of `n` texels across.
+    fn index(self, i: i64, n: i64) -> i64 {
+        match self {
+            Wrap::Repeat => i.rem_euclid(n),
+            Wrap::Clamp => i.clamp(0, n - 1),
+            Wrap::Mirror => {
+                let m = i.rem_euclid(2 * n);
+                if m < n {
+                    m
+                } else {
+                    2 * n - 1 - m
+                }
+            }
+        }
+    }
+}
+
+/// An image of linear colours, row 0 at the top, shared by every texture
+/// that reads the same file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImageTexels {
+    width: u32,
+    height: u32,
+    texels: Vec<Vec3>,
+}
+
+impl ImageTexels {
+    /// The image of sRGB-encoded texels (0 to 1, row by row from the top),
+    /// decoded to linear. Panics unless there are `width * height` (> 0).
+    pub fn from_srgb(width: u32, height: u32, srgb: &[[f32; 3]]) -> Self {
+        assert!(width > 0 && height > 0, "an empty image");
+        assert_eq!(srgb.len(), width as usize * height as usize, "texel count");
+        let texels = srgb
+            .iter()
+            .map(|c| Vec3::from(c.map(srgb_to_linear)))
+            .collect();
+        ImageTexels {
+            width,
+            height,
+            texels,
+        }
+    }
+
+    /// The texel at column `x`, row `y`, wrapped into the image.
+    fn texel(&self, x: i64, y: i64, wrap: Wrap) -> Vec3 {
+        let x = wrap.index(x, i64::from(self.width));
+        let y = wrap.index(y, i64::from(self.height));
+        self.texels[(y * i64::from(self.width) + x) as usize]
+    }
+
+    /// The bilinear interpolation of the four texels around `uv`, u from
+    /// the left edge, v from the bottom edge; at a texel's centre
+    /// ((i + 0.5) / width, 1 - (j + 0.5) / height) it is that texel.
+    pub fn bilinear(&self, uv: Vec2, wrap: Wrap) -> Vec3 {
+        let x = uv.x * self.width as f32 - 0.5;
+        let y = (1.0 - uv.y) * self.height as f32 - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        // `as` saturates (NaN gives 0): no index overflows.
+        let (i, j) = (x0 as i64, y0 as i64);
+        let top = self
+            .texel(i, j, wrap)
+            .lerp(self.texel(i.saturating_add(1), j, wrap), fx);
+        let bottom = self.texel(i, j.saturating_add(1), wrap).lerp(
+            self.texel(i.saturating_add(1), j.saturating_add(1), wrap),
+            fx,
+        );
+        top.lerp(bottom, fy)
+    }
+}
+
+/// A colour over a surface's uv that multiplies the ambient and diffuse
+/// colours of its material (not the specular, not the reflection).
+#[derive(Debug, Clone, PartialEq)]
+pub enum ColorTexture {
+    /// An image, sampled at (u * scale.x, v * scale.y).
+    Image {
+        texels: Arc<ImageTexels>,
+        scale: Vec2,
+        wrap: Wrap,
+    },
+    /// Squares 1 / scale wide in uv, `colors[0]` on the square at the origin.
+    Checker { colors: [Vec3; 2], scale: Vec2 },
+}
+
+impl ColorTexture {
+    /// The texture's colour at `uv`.
+    pub fn color(&self, uv: Vec2) -> Vec3 {
+        match self {
+            ColorTexture::Image {
+                texels,
+                scale,
+                wrap,
+            } => texels.bilinear(uv * *scale, *wrap),
+            ColorTexture::Checker { colors, scale } => {
+                let cell = (uv * *scale).floor();
+                let parity = (cell.x as i64).wrapping_add(cell.y as i64).rem_euclid(2);
+                colors[parity as usize]
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -131,5 +260,131 @@ mod tests {
             tex.texel(Vec2::new(f32::NAN, 0.0)),
             Vec3::splat(10.0 / 255.0)
         );
+    }
+
+    #[test]
+    fn srgb_decodes_by_the_standard_curve() {
+        // Reference values of IEC 61966-2-1: black, the linear segment's
+        // end, mid grey 0.5 and 128/255 (0.2140, 0.2159 in published
+        // tables), white.
+        let cases = [
+            (0.0, 0.0),
+            (0.04045, 0.003_130_805),
+            (0.5, 0.214_041_14),
+            (128.0 / 255.0, 0.215_860_5),
+            (1.0, 1.0),
+        ];
+        for (encoded, linear) in cases {
+            let got = srgb_to_linear(encoded);
+            assert!(
+                (got - linear).abs() < 1e-6,
+                "{encoded}: {got}, expected {linear}"
+            );
+        }
+    }
+
+    /// Four texels in a row, greys 0.1 to 0.4 (linear: `from_srgb` decodes,
+    /// so the texels are given encoded).
+    fn four_in_a_row() -> ImageTexels {
+        let encoded: Vec<[f32; 3]> = [0.1, 0.2, 0.3, 0.4]
+            .iter()
+            .map(|&g| [linear_to_srgb(g); 3])
+            .collect();
+        ImageTexels::from_srgb(4, 1, &encoded)
+    }
+
+    /// The sRGB curve itself, written from the standard for the tests.
+    fn linear_to_srgb(l: f32) -> f32 {
+        if l <= 0.003_130_8 {
+            l * 12.92
+        } else {
+            1.055 * l.powf(1.0 / 2.4) - 0.055
+        }
+    }
+
+    fn grey_at(image: &ImageTexels, u: f32, wrap: Wrap) -> f32 {
+        image.bilinear(Vec2::new(u, 0.5), wrap).x
+    }
+
+    #[test]
+    fn bilinear_returns_texels_at_their_centres_and_blends_between() {
+        let image = four_in_a_row();
+        for (i, grey) in [0.1, 0.2, 0.3, 0.4].into_iter().enumerate() {
+            let u = (i as f32 + 0.5) / 4.0;
+            assert!(
+                (grey_at(&image, u, Wrap::Clamp) - grey).abs() < 1e-5,
+                "texel {i}"
+            );
+        }
+        // Halfway between the centres of texels 1 and 2 (u = 0.5).
+        assert!((grey_at(&image, 0.5, Wrap::Clamp) - 0.25).abs() < 1e-5);
+        // A quarter of the way from texel 0's centre to texel 1's.
+        assert!((grey_at(&image, 0.125 + 0.0625, Wrap::Clamp) - 0.125).abs() < 1e-5);
+    }
+
+    #[test]
+    fn wrap_modes_beyond_the_edges() {
+        let image = four_in_a_row();
+        let at = |u, wrap| grey_at(&image, u, wrap);
+        // Texel i's centre is at x = u * 4 - 0.5 = i. u = -0.25 is x = -1.5,
+        // halfway between texels -2 and -1.
+        // Repeat: they are texels 2 and 3 of the copy to the left.
+        assert!((at(-0.25, Wrap::Repeat) - 0.35).abs() < 1e-5);
+        // Clamp: everything left of the first centre is texel 0.
+        assert!((at(-0.25, Wrap::Clamp) - 0.1).abs() < 1e-5);
+        // Mirror: flipped over the left edge, -1 is texel 0 and -2 texel 1.
+        assert!((at(-0.25, Wrap::Mirror) - 0.15).abs() < 1e-5);
+        // u = 1.25 is x = 4.5, between texels 4 and 5: repeat 0 and 1;
+        // clamp 3; mirror 3 and 2.
+        assert!((at(1.25, Wrap::Repeat) - 0.15).abs() < 1e-5);
+        assert!((at(1.25, Wrap::Clamp) - 0.4).abs() < 1e-5);
+        assert!((at(1.25, Wrap::Mirror) - 0.35).abs() < 1e-5);
+        // Across the seam: repeat blends the last texel with the first.
+        assert!((at(1.0, Wrap::Repeat) - 0.25).abs() < 1e-5);
+        assert!((at(1.0, Wrap::Mirror) - 0.4).abs() < 1e-5);
+    }
+
+    #[test]
+    fn v_runs_up_the_image() {
+        // Two rows: top (row 0) white, bottom black.
+        let image = ImageTexels::from_srgb(1, 2, &[[1.0; 3], [0.0; 3]]);
+        assert_eq!(image.bilinear(Vec2::new(0.5, 0.75), Wrap::Clamp), Vec3::ONE);
+        assert_eq!(
+            image.bilinear(Vec2::new(0.5, 0.25), Wrap::Clamp),
+            Vec3::ZERO
+        );
+    }
+
+    #[test]
+    fn far_and_nan_coordinates_read_a_texel_without_panicking() {
+        let image = four_in_a_row();
+        for u in [1e30, -1e30, f32::NAN, f32::INFINITY] {
+            for wrap in [Wrap::Repeat, Wrap::Clamp, Wrap::Mirror] {
+                let _ = grey_at(&image, u, wrap);
+            }
+        }
+        let checker = ColorTexture::Checker {
+            colors: [Vec3::ZERO, Vec3::ONE],
+            scale: Vec2::ONE,
+        };
+        let _ = checker.color(Vec2::new(f32::NAN, 1e30));
+    }
+
+    #[test]
+    fn checker_squares_are_one_over_scale_wide() {
+        let (a, b) = (Vec3::X, Vec3::Z);
+        let checker = ColorTexture::Checker {
+            colors: [a, b],
+            scale: Vec2::splat(4.0),
+        };
+        let at = |u, v| checker.color(Vec2::new(u, v));
+        // Squares 0.25 wide: [0, 0.25) x [0, 0.25) is the first colour.
+        assert_eq!(at(0.1, 0.1), a);
+        assert_eq!(at(0.3, 0.1), b);
+        assert_eq!(at(0.3, 0.3), a);
+        assert_eq!(at(0.1, 0.26), b);
+        // Below zero the pattern goes on: [-0.25, 0) x [0, 0.25) is the second.
+        assert_eq!(at(-0.1, 0.1), b);
+        assert_eq!(at(-0.1, -0.1), a);
     }
 }

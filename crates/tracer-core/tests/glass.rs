@@ -364,6 +364,7 @@ fn glass(ior: f32, reflectance: f32, transmittance: f32, fresnel: bool) -> Glass
             shininess: 0.0,
             reflectance,
             texture: None,
+            color_texture: None,
         },
         transmittance,
         ior,

@@ -408,8 +408,7 @@ mod tests {
                 [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
                 [[1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
             ],
-            skipped_degenerate: 0,
-            first_degenerate_line: None,
+            ..MeshData::default()
         };
         let mut pov = String::new();
         write_mesh2(&mut pov, &data, "LOOK");

@@ -19,6 +19,34 @@ const COS_THRESHOLD: f32 = 0.001;
 /// bound on the walk through a stack of glass.
 const MAX_SHADOW_CROSSINGS: u32 = 64;
 
+/// The colours of Blinn-Phong at one hit: the material's, with its colour
+/// texture (if any) applied to ambient and diffuse.
+struct Terms {
+    ambient: Vec3,
+    diffuse: Vec3,
+    specular: Vec3,
+    shininess: f32,
+}
+
+impl Terms {
+    fn at(m: &Phong, hit: &SurfaceHit) -> Terms {
+        let (mut ambient, mut diffuse) = (m.ambient, m.diffuse);
+        // Without a colour texture the material's colours are used as
+        // they are: the lab's arithmetic, bit for bit.
+        if let Some(texture) = &m.color_texture {
+            let c = texture.color(hit.uv);
+            ambient *= c;
+            diffuse *= c;
+        }
+        Terms {
+            ambient,
+            diffuse,
+            specular: m.specular,
+            shininess: m.shininess,
+        }
+    }
+}
+
 /// A point being shaded: where, its unit normal, and the unit direction
 /// back to the viewer.
 struct Shaded {
@@ -112,9 +140,11 @@ impl<'a> Whitted<'a> {
         colour
     }
 
-    /// The local colour of material `m` at `p`, times its texture.
+    /// The local colour of material `m` at `p` (its colour texture on
+    /// ambient and diffuse), times its lab texture.
     fn textured_local(&mut self, m: &Phong, ray: &Ray, hit: &SurfaceHit, p: Vec3) -> Vec3 {
-        let local = self.local_colour(m, ray, p, hit.shading_normal);
+        let terms = Terms::at(m, hit);
+        let local = self.local_colour(&terms, ray, p, hit.shading_normal);
         match &m.texture {
             Some(texture) => local * texture.texel(hit.uv),
             None => local,
@@ -124,7 +154,7 @@ impl<'a> Whitted<'a> {
     /// Ambient, diffuse and specular of every light at `p`, in the lab's
     /// order: ambient once per light and always; diffuse and specular only
     /// where the light is not shadowed.
-    fn local_colour(&mut self, m: &Phong, ray: &Ray, p: Vec3, n: Vec3) -> Vec3 {
+    fn local_colour(&mut self, m: &Terms, ray: &Ray, p: Vec3, n: Vec3) -> Vec3 {
         let at = Shaded {
             p,
             n,
@@ -146,7 +176,7 @@ impl<'a> Whitted<'a> {
     /// Diffuse and specular of a sphere light: the mean over
     /// `light_samples` points of its disk, stratified, each with its own
     /// shadow ray.
-    fn sphere_light(&mut self, m: &Phong, at: &Shaded, light: &SphereLight) -> Vec3 {
+    fn sphere_light(&mut self, m: &Terms, at: &Shaded, light: &SphereLight) -> Vec3 {
         let samples = self.scene.trace_settings().light_samples.max(1);
         let strata = Strata::new(samples);
         let mut sum = Vec3::ZERO;
@@ -161,7 +191,7 @@ impl<'a> Whitted<'a> {
     /// Adds to `colour` the diffuse and specular of light `color` from
     /// point `from` (lab 4.4), dimmed by what lies between; term by term,
     /// in the lab's order of additions.
-    fn direct(&mut self, m: &Phong, at: &Shaded, from: Vec3, color: Vec3, colour: &mut Vec3) {
+    fn direct(&mut self, m: &Terms, at: &Shaded, from: Vec3, color: Vec3, colour: &mut Vec3) {
         let to_light = from - at.p;
         let distance = to_light.length();
         let l = to_light / distance;

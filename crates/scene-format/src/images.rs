@@ -1,0 +1,184 @@
+//! Image textures: PNG and JPEG files read at load time, like OBJ files,
+//! each file once however many textures name it.
+
+use crate::diagnostic::Diagnostic;
+use crate::key_path::KeyPath;
+use crate::model::{ImageData, Material, Object, SceneFile, TextureRef};
+use crate::source::{Folder, Source};
+use std::collections::{BTreeMap, HashMap};
+use std::io::Cursor;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// Largest image file read.
+pub const MAX_IMAGE_BYTES: u64 = crate::read::MAX_OBJ_BYTES / 4;
+/// Largest image side decoded: four times the largest image rendered.
+const MAX_IMAGE_SIDE: u32 = 4 * crate::validate::MAX_IMAGE_SIDE;
+/// Most memory the decoder may take for one image.
+const MAX_DECODE_BYTES: u64 = 2 << 30;
+
+/// Images read so far, by path (as joined to the folder of the file that
+/// names it), or why they could not be.
+#[derive(Debug, Default)]
+pub struct ImageCache {
+    read: HashMap<PathBuf, Result<Arc<ImageData>, String>>,
+}
+
+impl ImageCache {
+    /// The image at `path` of `source`, read on first use.
+    pub fn get(&mut self, source: &dyn Source, path: &Path) -> Result<Arc<ImageData>, String> {
+        self.read
+            .entry(path.to_path_buf())
+            .or_insert_with(|| read_image_from(source, path).map(Arc::new))
+            .clone()
+    }
+}
+
+/// Reads the image of every image texture of the scene (materials,
+/// inline materials and objects), relative to `base` (the scene file's
+/// folder). Every image that cannot be read gives a diagnostic at its
+/// `texture.image` key.
+pub fn load_images(scene: &mut SceneFile, base: &Path, cache: &mut ImageCache) -> Vec<Diagnostic> {
+    let folder = Folder::new();
+    let part = (&mut scene.materials, scene.objects.as_mut_slice());
+    load_part_images(part, base, &folder, cache)
+}
+
+/// [`load_images`] for the materials and objects of one file, read from
+/// `source`: diagnostics at key paths within that file.
+pub fn load_part_images(
+    (materials, objects): (&mut BTreeMap<String, Material>, &mut [Object]),
+    base: &Path,
+    source: &dyn Source,
+    cache: &mut ImageCache,
+) -> Vec<Diagnostic> {
+    let mut diagnostics = Vec::new();
+    let root = KeyPath::root();
+    let mut images = (source, cache);
+    for (name, m) in materials.iter_mut() {
+        let path = root.key("materials").key(name).key("texture");
+        load(
+            m.texture.as_mut(),
+            path,
+            base,
+            &mut images,
+            &mut diagnostics,
+        );
+    }
+    for (i, o) in objects.iter_mut().enumerate() {
+        let object = root.key("objects").index(i);
+        if let Some(crate::MaterialRef::Inline(m)) = o.material.as_mut() {
+            let path = object.key("material").key("texture");
+            load(
+                m.texture.as_mut(),
+                path,
+                base,
+                &mut images,
+                &mut diagnostics,
+            );
+        }
+        let path = object.key("texture");
+        load(
+            o.texture.as_mut(),
+            path,
+            base,
+            &mut images,
+            &mut diagnostics,
+        );
+    }
+    diagnostics
+}
+
+fn load(
+    texture: Option<&mut TextureRef>,
+    path: KeyPath,
+    base: &Path,
+    (source, cache): &mut (&dyn Source, &mut ImageCache),
+    diagnostics: &mut Vec<Diagnostic>,
+) {
+    let Some(TextureRef::Image(image)) = texture else {
+        return;
+    };
+    match cache.get(*source, &base.join(&image.image)) {
+        Ok(data) => image.data = Some(data),
+        Err(message) => diagnostics.push(Diagnostic::new(
+            path.key("image"),
+            format!("cannot load `{}`: {message}", image.image),
+        )),
+    }
+}
+
+/// The texels of the PNG or JPEG file at `path`.
+pub fn read_image(path: &Path) -> Result<ImageData, String> {
+    read_image_from(&Folder::new(), path)
+}
+
+/// [`read_image`] from `source`.
+pub fn read_image_from(source: &dyn Source, path: &Path) -> Result<ImageData, String> {
+    let bytes = source
+        .read(path, MAX_IMAGE_BYTES)
+        .map_err(|e| e.to_string())?;
+    decode(&bytes)
+}
+
+/// PNG or JPEG bytes as texels, told apart by their content.
+fn decode(bytes: &[u8]) -> Result<ImageData, String> {
+    use image::ImageFormat;
+    let format = image::guess_format(bytes).ok();
+    if !matches!(format, Some(ImageFormat::Png | ImageFormat::Jpeg)) {
+        return Err("expected a PNG or JPEG image; the file is neither".to_string());
+    }
+    let mut reader = image::ImageReader::new(Cursor::new(bytes));
+    reader.set_format(format.expect("matched above"));
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(MAX_IMAGE_SIDE);
+    limits.max_image_height = Some(MAX_IMAGE_SIDE);
+    limits.max_alloc = Some(MAX_DECODE_BYTES);
+    reader.limits(limits);
+    let image = reader
+        .decode()
+        .map_err(|e| format!("not a readable image: {e}"))?;
+    let rgb = image.to_rgb32f();
+    Ok(ImageData {
+        width: rgb.width(),
+        height: rgb.height(),
+        texels: rgb.pixels().map(|p| p.0).collect(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn png(width: u32, height: u32, pixels: &[u8]) -> Vec<u8> {
+        let img = image::RgbImage::from_raw(width, height, pixels.to_vec()).unwrap();
+        let mut bytes = Vec::new();
+        img.write_to(&mut Cursor::new(&mut bytes), image::ImageFormat::Png)
+            .unwrap();
+        bytes
+    }
+
+    #[test]
+    fn png_texels_are_read_row_by_row_from_the_top_as_stored() {
+        let bytes = png(2, 2, &[0, 51, 255, 255, 0, 0, 1, 2, 3, 102, 204, 153]);
+        let data = decode(&bytes).unwrap();
+        assert_eq!((data.width, data.height), (2, 2));
+        assert_eq!(data.texels[0], [0.0, 0.2, 1.0]);
+        assert_eq!(data.texels[1], [1.0, 0.0, 0.0]);
+        assert_eq!(data.texels[3], [0.4, 0.8, 0.6]);
+    }
+
+    #[test]
+    fn other_files_are_refused_with_a_reason() {
+        let bad = decode(b"P6 1 1 255 abc").unwrap_err();
+        assert!(bad.contains("expected a PNG or JPEG"), "{bad}");
+        // A PNG signature followed by garbage.
+        let truncated = png(2, 2, &[0; 12])[..20].to_vec();
+        assert!(decode(&truncated)
+            .unwrap_err()
+            .contains("not a readable image"));
+        let dir = tempfile::tempdir().unwrap();
+        let missing = read_image(&dir.path().join("none.png")).unwrap_err();
+        assert!(missing.contains("No such file"), "{missing}");
+    }
+}

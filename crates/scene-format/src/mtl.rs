@@ -1,0 +1,237 @@
+//! An OBJ's materials: its MTL files (`mtllib`) read through `tobj`, each
+//! material made a scene material. Problems with them are warnings, as in
+//! other renderers: a missing MTL or image leaves the faces grey or
+//! untextured, a bad value is replaced by its default.
+
+use crate::images::ImageCache;
+use crate::model::{ImageTexture, Material, TextureRef, TextureScale, Wrap};
+use crate::source::Source;
+use std::cell::RefCell;
+use std::path::{Path, PathBuf};
+
+/// The MTL files an OBJ asked for, as `tobj` asks for them: each with its
+/// path and how many materials it gave, or why it could not be read.
+pub struct Libraries<'a> {
+    folder: PathBuf,
+    source: &'a dyn Source,
+    read: RefCell<Vec<(PathBuf, Result<usize, String>)>>,
+}
+
+/// The MTL files an OBJ read, and what they gave.
+#[derive(Debug, Default)]
+pub struct ObjMaterials {
+    pub materials: Vec<Material>,
+    pub warnings: Vec<String>,
+    pub files: Vec<PathBuf>,
+}
+
+impl<'a> Libraries<'a> {
+    /// MTL files named relative to `folder` (the OBJ file's), read from `source`.
+    pub fn new(folder: &Path, source: &'a dyn Source) -> Self {
+        Libraries {
+            folder: folder.to_path_buf(),
+            source,
+            read: RefCell::default(),
+        }
+    }
+
+    /// `tobj`'s material loader: reads the MTL file `name` and notes it.
+    pub fn load(&self, name: &Path) -> tobj::MTLLoadResult {
+        let path = self.folder.join(name);
+        let result = self
+            .source
+            .open(&path, crate::read::MAX_OBJ_BYTES)
+            .map_err(|e| e.to_string())
+            .and_then(|mut file| {
+                tobj::load_mtl_buf(&mut file).map_err(|e| format!("not a valid MTL file: {e}"))
+            });
+        let count = result.as_ref().map(|(m, _)| m.len()).map_err(Clone::clone);
+        self.read.borrow_mut().push((path, count));
+        result.map_err(|_| tobj::LoadError::MaterialParseError)
+    }
+
+    /// The materials `tobj` collected (in the order of the files read),
+    /// made scene materials, with their images read through `images`.
+    pub fn finish(self, found: &[tobj::Material], images: &mut ImageCache) -> ObjMaterials {
+        let mut out = ObjMaterials::default();
+        let mut found = found.iter();
+        for (path, count) in self.read.into_inner() {
+            let name = file_name(&path);
+            let count = match count {
+                Ok(count) => count,
+                Err(e) => {
+                    out.warnings.push(format!(
+                        "material library `{name}` cannot be read ({e}); its faces are drawn in the default grey"
+                    ));
+                    continue;
+                }
+            };
+            out.files.push(path.clone());
+            let folder = path.parent().unwrap_or(Path::new(""));
+            let first_warning = out.warnings.len();
+            for m in found.by_ref().take(count) {
+                let material = scene_material(m, folder, (self.source, images), &mut out);
+                out.materials.push(material);
+            }
+            for warning in &mut out.warnings[first_warning..] {
+                *warning = format!("`{name}`: {warning}");
+            }
+        }
+        out
+    }
+}
+
+fn file_name(path: &Path) -> String {
+    path.file_name()
+        .unwrap_or(path.as_os_str())
+        .to_string_lossy()
+        .into_owned()
+}
+
+/// An MTL material as a scene material: keys left out are 0, as in a
+/// scene file; `map_Kd` is read relative to `folder` (the MTL file's).
+fn scene_material(
+    m: &tobj::Material,
+    folder: &Path,
+    images: (&dyn Source, &mut ImageCache),
+    out: &mut ObjMaterials,
+) -> Material {
+    let mut material = Material {
+        ambient: m.ambient.unwrap_or_default(),
+        diffuse: m.diffuse.unwrap_or_default(),
+        specular: m.specular.unwrap_or_default(),
+        shininess: m.shininess.unwrap_or_default(),
+        transmittance: transmittance(m, out),
+        ..Material::default()
+    };
+    if let Some(ior) = m.optical_density.filter(|&n| n > 0.0) {
+        material.ior = ior;
+    }
+    if let Some(name) = &m.diffuse_texture {
+        material.texture = diffuse_map(&m.name, name, folder, images, out);
+    }
+    keep_valid(&m.name, &mut material, out);
+    material
+}
+
+/// `1 - d` (d is opacity), else `Tr` (transparency), else 0.
+fn transmittance(m: &tobj::Material, out: &mut ObjMaterials) -> f32 {
+    if let Some(d) = m.dissolve {
+        return 1.0 - d;
+    }
+    let Some(tr) = m.unknown_param.get("Tr") else {
+        return 0.0;
+    };
+    tr.parse().unwrap_or_else(|_| {
+        out.warnings.push(format!(
+            "material `{}`: expected a number for `Tr`, found `{tr}`; 0 used",
+            m.name
+        ));
+        0.0
+    })
+}
+
+/// The image texture of `map_Kd name`; options before the file name
+/// (`-s 2 2 2 wood.png`) are not read, with a warning.
+fn diffuse_map(
+    material: &str,
+    name: &str,
+    folder: &Path,
+    (source, images): (&dyn Source, &mut ImageCache),
+    out: &mut ObjMaterials,
+) -> Option<TextureRef> {
+    let mut file = name;
+    if name.starts_with('-') {
+        file = name.split_whitespace().last().unwrap_or(name);
+        out.warnings.push(format!(
+            "material `{material}`: the options of `map_Kd {name}` are not read; the image `{file}` is used as it is"
+        ));
+    }
+    let path = folder.join(file);
+    match images.get(source, &path) {
+        Ok(data) => {
+            out.files.push(path);
+            Some(TextureRef::Image(ImageTexture {
+                image: file.to_string(),
+                scale: TextureScale::default(),
+                wrap: Wrap::Repeat,
+                data: Some(data),
+            }))
+        }
+        Err(e) => {
+            out.warnings.push(format!(
+                "material `{material}`: cannot load `map_Kd` image `{file}` ({e}); drawn without it"
+            ));
+            None
+        }
+    }
+}
+
+/// Every value validation refuses is put back to its default, with a
+/// warning in the MTL's own key names.
+fn keep_valid(name: &str, material: &mut Material, out: &mut ObjMaterials) {
+    for d in crate::validate::material(material) {
+        let key = d.path.to_string();
+        let (mtl_key, reset): (&str, fn(&mut Material)) = match key.as_str() {
+            "ambient" => ("Ka", |m| m.ambient = [0.0; 3]),
+            "diffuse" => ("Kd", |m| m.diffuse = [0.0; 3]),
+            "specular" => ("Ks", |m| m.specular = [0.0; 3]),
+            "shininess" => ("Ns", |m| m.shininess = 0.0),
+            "transmittance" => ("d` or `Tr", |m| m.transmittance = 0.0),
+            "ior" => ("Ni", |m| m.ior = crate::model::DEFAULT_IOR),
+            _ => ("", |_| {}),
+        };
+        reset(material);
+        let message = match mtl_key {
+            // The message is about the transmittance it makes.
+            "d` or `Tr" => format!("as transmittance (1 - d, or Tr) {}", d.message),
+            _ => d.message,
+        };
+        out.warnings.push(format!(
+            "material `{name}`, `{mtl_key}`: {message}; its default used"
+        ));
+    }
+    // Only the keys above can fail for a material made here.
+    debug_assert!(crate::validate::material(material).is_empty());
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::obj::read_obj;
+
+    #[test]
+    fn faces_keep_their_material_across_libraries_one_of_them_missing() {
+        let dir = tempfile::tempdir().unwrap();
+        let obj = "mtllib none.mtl\nmtllib b.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n\
+                   f 1 2 3\nusemtl second\nf 1 2 3\nusemtl first\nf 1 3 2\nusemtl nowhere\nf 2 1 3\n";
+        std::fs::write(dir.path().join("m.obj"), obj).unwrap();
+        let mtl = "newmtl first\nKd 1 0 0\nnewmtl second\nKd 0 1 0\nmap_Kd -s 2 2 1 missing.png\n";
+        std::fs::write(dir.path().join("b.mtl"), mtl).unwrap();
+        let data = read_obj(&dir.path().join("m.obj")).unwrap();
+        assert_eq!(data.materials.len(), 2);
+        assert_eq!(data.materials[0].diffuse, [1.0, 0.0, 0.0]);
+        assert_eq!(data.materials[1].diffuse, [0.0, 1.0, 0.0]);
+        // No usemtl yet, `second`, `first`, an undefined name.
+        assert_eq!(data.triangle_materials, [None, Some(1), Some(0), None]);
+        assert_eq!(data.material_files, [dir.path().join("b.mtl")]);
+        let w = &data.material_warnings;
+        assert_eq!(w.len(), 3, "{w:?}");
+        assert!(
+            w[0].starts_with("material library `none.mtl` cannot be read"),
+            "{}",
+            w[0]
+        );
+        assert!(
+            w[1].contains("the options of `map_Kd -s 2 2 1 missing.png` are not read"),
+            "{}",
+            w[1]
+        );
+        assert!(
+            w[2].starts_with(
+                "`b.mtl`: material `second`: cannot load `map_Kd` image `missing.png`"
+            ),
+            "{}",
+            w[2]
+        );
+    }
+}

@@ -1,0 +1,138 @@
+//! The files the texture scenes read, made here rather than downloaded:
+//! `cargo xtask assets` writes them, and a test checks that the committed
+//! ones are what this code makes.
+
+use anyhow::{Context, Result};
+use image::{Rgb, RgbImage};
+use std::fmt::Write;
+use std::path::Path;
+
+/// A generated file's contents.
+pub enum Asset {
+    /// Compared by its pixels: a PNG's bytes may change with the encoder.
+    Image(RgbImage),
+    Text(String),
+}
+
+/// Every generated file, by its path from the workspace root.
+pub fn all() -> Vec<(&'static str, Asset)> {
+    vec![
+        ("scenes/textures/grid.png", Asset::Image(grid())),
+        ("scenes/meshes/bullseye.png", Asset::Image(bullseye())),
+        ("scenes/meshes/labelled-box.obj", Asset::Text(box_obj())),
+        (
+            "scenes/meshes/labelled-box.mtl",
+            Asset::Text(BOX_MTL.to_string()),
+        ),
+    ]
+}
+
+/// Writes every asset under `root`.
+pub fn write_all(root: &Path) -> Result<()> {
+    for (path, asset) in all() {
+        let path = root.join(path);
+        match asset {
+            Asset::Image(image) => image.save(&path),
+            Asset::Text(text) => std::fs::write(&path, text).map_err(Into::into),
+        }
+        .with_context(|| format!("writing {}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// The assets whose file under `root` is missing or differs.
+pub fn stale(root: &Path) -> Vec<&'static str> {
+    all()
+        .into_iter()
+        .filter(|(path, asset)| {
+            let path = root.join(path);
+            match asset {
+                Asset::Image(image) => {
+                    image::open(&path).map(|i| i.to_rgb8()).ok().as_ref() != Some(image)
+                }
+                Asset::Text(text) => std::fs::read_to_string(&path).ok().as_ref() != Some(text),
+            }
+        })
+        .map(|(path, _)| path)
+        .collect()
+}
+
+/// A 64 x 48 picture that shows its orientation: red grows to the right,
+/// green to the top, lines every 8 texels, and a white "F" in the top
+/// left corner (an F read the right way round means the image is neither
+/// flipped nor mirrored).
+fn grid() -> RgbImage {
+    let (w, h) = (64u32, 48u32);
+    RgbImage::from_fn(w, h, |x, y| {
+        let f_stem = (4..8).contains(&x) && (4..24).contains(&y);
+        let f_top = (4..20).contains(&x) && (4..8).contains(&y);
+        let f_bar = (4..15).contains(&x) && (12..16).contains(&y);
+        if f_stem || f_top || f_bar {
+            return Rgb([255, 255, 255]);
+        }
+        if x % 8 == 0 || y % 8 == 0 {
+            return Rgb([20, 20, 40]);
+        }
+        let red = 60 + x * 190 / (w - 1);
+        let green = 60 + (h - 1 - y) * 190 / (h - 1);
+        Rgb([red as u8, green as u8, 110])
+    })
+}
+
+/// Rings around the centre of a 64 x 64 image: the same when turned half a
+/// turn, so a face's two triangles show it alike whether their uv are the
+/// OBJ's texture coordinates or their own barycentrics turned round.
+fn bullseye() -> RgbImage {
+    RgbImage::from_fn(64, 64, |x, y| {
+        let (dx, dy) = (x as f32 - 31.5, y as f32 - 31.5);
+        let ring = (dx.hypot(dy) / 6.0) as u32;
+        if ring.is_multiple_of(2) {
+            Rgb([235, 225, 190])
+        } else {
+            Rgb([200, 40, 40])
+        }
+    })
+}
+
+/// A face of the box: its corner a, the directions of u and v, its material.
+type Face = ([f32; 3], [f32; 3], [f32; 3], &'static str);
+
+/// The unit cube, each face with its own four corners and texture
+/// coordinates (0, 0) to (1, 1), cut into the triangles (a, b, d) and
+/// (c, d, b) of its corners a, b, c, d (counter-clockwise from the
+/// outside): each triangle's barycentrics are then its uv, or the uv
+/// turned half a turn. The front (+z) and the top carry the label.
+fn box_obj() -> String {
+    // Corner a, then the directions of u and v: u x v points outward.
+    let faces: [Face; 6] = [
+        ([0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], "label"), // +z
+        ([1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], "paint"), // -z
+        ([1.0, 0.0, 1.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0], "paint"), // +x
+        ([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0], "paint"), // -x
+        ([0.0, 1.0, 1.0], [1.0, 0.0, 0.0], [0.0, 0.0, -1.0], "label"), // +y
+        ([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0], "paint"), // -y
+    ];
+    let mut obj = String::from(
+        "# A unit cube with two materials; made by `cargo xtask assets`.\nmtllib labelled-box.mtl\n\
+         vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n",
+    );
+    for (a, u, v, _) in &faces {
+        for (su, sv) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
+            let p: Vec<String> = (0..3)
+                .map(|k| format!("{}", a[k] + su * u[k] + sv * v[k]))
+                .collect();
+            writeln!(obj, "v {}", p.join(" ")).unwrap();
+        }
+    }
+    for (i, (_, _, _, material)) in faces.iter().enumerate() {
+        let [a, b, c, d] = [1, 2, 3, 4].map(|k| 4 * i + k);
+        writeln!(obj, "usemtl {material}").unwrap();
+        writeln!(obj, "f {a}/1 {b}/2 {d}/4").unwrap();
+        writeln!(obj, "f {c}/3 {d}/4 {b}/2").unwrap();
+    }
+    obj
+}
+
+const BOX_MTL: &str = "# Made by `cargo xtask assets`.\n\
+newmtl paint\nKa 0.05 0.08 0.15\nKd 0.15 0.3 0.7\nKs 0.6 0.6 0.6\nNs 60\n\n\
+newmtl label\nKa 0.12 0.12 0.12\nKd 0.9 0.9 0.9\nKs 0.2 0.2 0.2\nNs 20\nmap_Kd bullseye.png\n";
