@@ -113,7 +113,7 @@ fn files_read(path: &Path, file: &SceneFile) -> Vec<PathBuf> {
     let base = path.parent().unwrap_or(Path::new(""));
     let mut files = vec![path.to_path_buf()];
     for mesh in file.objects.iter().filter_map(|o| o.mesh.as_ref()) {
-        let obj = base.join(&mesh.obj);
+        let obj = base.join(mesh.path());
         if !files.contains(&obj) {
             files.push(obj);
         }

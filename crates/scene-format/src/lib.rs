@@ -13,6 +13,7 @@ pub mod locate;
 pub mod model;
 pub mod obj;
 mod parse;
+pub mod ply;
 pub mod read;
 pub mod schema;
 pub mod span_node;

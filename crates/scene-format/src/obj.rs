@@ -2,15 +2,15 @@
 //! left out and counted.
 
 use crate::diagnostic::Diagnostic;
-use crate::model::{MeshData, SceneFile, Vec3};
+use crate::model::{MeshData, MeshFormat, SceneFile, Vec3};
 use std::collections::HashMap;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-/// Reads the OBJ file of every mesh object, relative to `base` (the scene
-/// file's folder). Every file that cannot be read gives a diagnostic at
-/// `objects[i].mesh.obj`.
+/// Reads the mesh file (OBJ or PLY) of every mesh object, relative to
+/// `base` (the scene file's folder). Every file that cannot be read gives a
+/// diagnostic at `objects[i].mesh.obj` (or `.ply`).
 pub fn load_meshes(scene: &mut SceneFile, base: &Path) -> Vec<Diagnostic> {
     let mut diagnostics = Vec::new();
     // A file used by several objects is read once and shared.
@@ -19,20 +19,28 @@ pub fn load_meshes(scene: &mut SceneFile, base: &Path) -> Vec<Diagnostic> {
         let Some(mesh) = object.mesh.as_mut() else {
             continue;
         };
-        let path = base.join(&mesh.obj);
+        // Neither or both files: validation says so.
+        let Some((format, file)) = mesh.file() else {
+            continue;
+        };
+        let path = base.join(file);
         if let Some(data) = read.get(&path) {
             mesh.data = Some(data.clone());
             continue;
         }
-        match read_obj(&path) {
+        let loaded = match format {
+            MeshFormat::Obj => read_obj(&path),
+            MeshFormat::Ply => crate::ply::read_ply(&path),
+        };
+        match loaded {
             Ok(data) => {
                 let data = Arc::new(data);
                 read.insert(path, data.clone());
                 mesh.data = Some(data);
             }
             Err(message) => diagnostics.push(Diagnostic::new(
-                format!("objects[{i}].mesh.obj"),
-                format!("cannot load `{}`: {message}", mesh.obj),
+                format!("objects[{i}].mesh.{}", format.key()),
+                format!("cannot load `{file}`: {message}"),
             )),
         }
     }
@@ -52,10 +60,11 @@ pub fn mesh_warnings(scene: &SceneFile) -> Vec<Diagnostic> {
                 data.skipped_degenerate
             );
             if let (Some(line), Some(mesh)) = (data.first_degenerate_line, &object.mesh) {
-                let name = Path::new(&mesh.obj).file_name().unwrap_or_default();
+                let name = Path::new(mesh.path()).file_name().unwrap_or_default();
                 message += &format!("; the first at `{}:{line}`", name.to_string_lossy());
             }
-            warnings.push(Diagnostic::new(format!("objects[{i}].mesh.obj"), message));
+            let key = object.mesh.as_ref().map_or("obj", |m| m.key());
+            warnings.push(Diagnostic::new(format!("objects[{i}].mesh.{key}"), message));
         }
     }
     warnings
@@ -90,8 +99,10 @@ fn read_obj_lines(path: &Path) -> Result<MeshData, String> {
     let mut data = MeshData::default();
     // The index among all triangles of the first degenerate one.
     let mut first_degenerate = None;
+    let mut base = 0u32;
     for model in &models {
-        add_model(&model.mesh, &mut data, &mut first_degenerate)?;
+        add_model(&model.mesh, base, &mut data, &mut first_degenerate)?;
+        base = base.saturating_add((model.mesh.positions.len() / 3) as u32);
     }
     if let Some(k) = first_degenerate {
         data.first_degenerate_line = crate::read::open_capped(path, crate::read::MAX_OBJ_BYTES)
@@ -104,8 +115,11 @@ fn read_obj_lines(path: &Path) -> Result<MeshData, String> {
     Ok(data)
 }
 
+/// Adds the triangles of one model (`o` or `g`) of the file; `base` numbers
+/// its first vertex, as tobj numbers each model's vertices from 0.
 fn add_model(
     mesh: &tobj::Mesh,
+    base: u32,
     data: &mut MeshData,
     first_degenerate: &mut Option<usize>,
 ) -> Result<(), String> {
@@ -122,16 +136,60 @@ fn add_model(
             Err(format!("vertex {} is not finite: {v:?}", index + 1))
         }
     };
-    for face in mesh.indices.chunks_exact(3) {
+    // tobj gives every corner a normal (and uv) index once the file has
+    // any; a face without one borrows the one before it.
+    let normals = mesh.normal_indices.len() == mesh.indices.len();
+    let uvs = mesh.texcoord_indices.len() == mesh.indices.len();
+    for (k, face) in mesh.indices.chunks_exact(3).enumerate() {
         let triangle = [vertex(face[0])?, vertex(face[1])?, vertex(face[2])?];
         if is_degenerate(&triangle) {
             first_degenerate.get_or_insert(data.triangles.len());
             data.skipped_degenerate += 1;
-        } else {
-            data.triangles.push(triangle);
+            continue;
         }
+        let corners = 3 * k..3 * k + 3;
+        let normal = normals
+            .then(|| corner_values::<3>(&mesh.normals, &mesh.normal_indices[corners.clone()]));
+        let uv = uvs.then(|| corner_values::<2>(&mesh.texcoords, &mesh.texcoord_indices[corners]));
+        let ids = [face[0], face[1], face[2]].map(|i| base + i);
+        push_triangle(data, triangle, ids, normal.flatten(), uv.flatten());
     }
     Ok(())
+}
+
+/// The values of `N` numbers at three corners' indices, if all exist.
+fn corner_values<const N: usize>(values: &[f32], indices: &[u32]) -> Option<[[f32; N]; 3]> {
+    let at = |i: u32| -> Option<[f32; N]> {
+        let start = i as usize * N;
+        values.get(start..start + N)?.try_into().ok()
+    };
+    Some([at(indices[0])?, at(indices[1])?, at(indices[2])?])
+}
+
+/// Adds a triangle and what its file says of its corners, keeping the
+/// normal and uv lists empty until some triangle has one.
+pub(crate) fn push_triangle(
+    data: &mut MeshData,
+    triangle: [Vec3; 3],
+    indices: [u32; 3],
+    normals: Option<[Vec3; 3]>,
+    uvs: Option<[crate::model::Uv; 3]>,
+) {
+    let before = data.triangles.len();
+    if normals.is_some() && data.normals.is_empty() {
+        data.normals.resize(before, None);
+    }
+    if !data.normals.is_empty() {
+        data.normals.push(normals);
+    }
+    if uvs.is_some() && data.uvs.is_empty() {
+        data.uvs.resize(before, None);
+    }
+    if !data.uvs.is_empty() {
+        data.uvs.push(uvs);
+    }
+    data.triangles.push(triangle);
+    data.indices.push(indices);
 }
 
 /// Lines scanned for the offending line of a file tobj rejected; the scan
@@ -291,7 +349,7 @@ fn check_face_vertex(value: &str, counts: &[usize; 3], in_face: bool) -> Result<
     Ok(())
 }
 
-fn is_degenerate([a, b, c]: &[Vec3; 3]) -> bool {
+pub(crate) fn is_degenerate([a, b, c]: &[Vec3; 3]) -> bool {
     let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
     let e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
     let n = [

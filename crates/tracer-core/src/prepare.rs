@@ -36,12 +36,7 @@ pub fn prepare(file: &fmt::SceneFile) -> Result<Scene, PrepareError> {
     for (i, o) in file.objects.iter().enumerate() {
         let path = format!("objects[{i}]");
         let material = materials.resolve(&path, o)?;
-        let shapes = shapes(&path, o)?;
-        objects.extend(shapes.into_iter().map(|(shape, uv)| Object {
-            shape,
-            material,
-            uv,
-        }));
+        objects.extend(shapes(&path, o, material)?);
     }
     Ok(Scene::new(SceneParts {
         camera: camera(&file.camera),
@@ -94,30 +89,38 @@ fn saturation(s: fmt::Saturation) -> Saturation {
     }
 }
 
-/// The shapes of object `o`: one, or a mesh's, quad's or box's triangles,
-/// each with the map of its barycentrics to the object's uv.
-fn shapes(path: &str, o: &fmt::Object) -> Result<Vec<(Shape, UvMap)>, PrepareError> {
-    let one = |shape| vec![(shape, UvMap::IDENTITY)];
+/// The objects of scene object `o` with material `material`: one shape, or
+/// a mesh's, quad's or box's triangles, each with the map of its
+/// barycentrics to the object's uv and a smooth triangle's vertex normals.
+fn shapes(path: &str, o: &fmt::Object, material: usize) -> Result<Vec<Object>, PrepareError> {
+    let one = |shape| vec![Object::new(shape, material)];
+    let mapped = |(shape, uv)| Object {
+        uv,
+        ..Object::new(shape, material)
+    };
     Ok(match o.shapes().as_slice() {
         [fmt::ShapeRef::Sphere(s)] => one(Shape::Sphere(Sphere::new(s.center.into(), s.radius))),
-        [fmt::ShapeRef::Triangle([a, b, c])] => one(Shape::Triangle(Triangle::new(
-            (*a).into(),
-            (*b).into(),
-            (*c).into(),
-        ))),
+        [fmt::ShapeRef::Triangle([a, b, c])] => {
+            let shape = Shape::Triangle(Triangle::new((*a).into(), (*b).into(), (*c).into()));
+            let uv = o.uv.map_or(UvMap::IDENTITY, |uv| corner_uv_map(&uv));
+            vec![mapped((shape, uv))]
+        }
         [fmt::ShapeRef::Plane(p)] => one(Shape::Plane(Plane::new(p.point.into(), p.normal.into()))),
         [fmt::ShapeRef::Quad(q)] => {
-            quad_triangles(q.corner.into(), q.edge_u.into(), q.edge_v.into()).to_vec()
+            quad_triangles(q.corner.into(), q.edge_u.into(), q.edge_v.into())
+                .into_iter()
+                .map(mapped)
+                .collect()
         }
-        [fmt::ShapeRef::Box(b)] => box_triangles(b.min.into(), b.max.into()),
+        [fmt::ShapeRef::Box(b)] => box_triangles(b.min.into(), b.max.into())
+            .into_iter()
+            .map(mapped)
+            .collect(),
         [fmt::ShapeRef::Mesh(m)] => {
             let data = m.data.as_ref().ok_or_else(|| PrepareError::MeshNotLoaded {
-                path: format!("{path}.mesh.obj"),
+                path: format!("{path}.mesh.{}", m.key()),
             })?;
-            mesh_triangles(data, &placement(o.transform.as_ref()))
-                .into_iter()
-                .map(|t| (Shape::Triangle(t), UvMap::IDENTITY))
-                .collect()
+            mesh_objects(data, &placement(o.transform.as_ref()), m.smooth, material)
         }
         _ => {
             return Err(PrepareError::NotOneShape {
@@ -125,6 +128,17 @@ fn shapes(path: &str, o: &fmt::Object) -> Result<Vec<(Shape, UvMap)>, PrepareErr
             })
         }
     })
+}
+
+/// The uv map of a triangle whose corners have texture coordinates `uv`:
+/// barycentric (u, v) is the point `uv0 + u (uv1 - uv0) + v (uv2 - uv0)`.
+fn corner_uv_map(uv: &[fmt::Uv; 3]) -> UvMap {
+    let [a, b, c] = uv.map(Vec2::from);
+    UvMap {
+        origin: a,
+        du: b - a,
+        dv: c - a,
+    }
 }
 
 /// A quad `corner + s edge_u + t edge_v` as two triangles facing
@@ -185,23 +199,101 @@ fn placement(t: Option<&fmt::Transform>) -> Placement {
     })
 }
 
-/// The mesh's triangles in world space; triangles that the placement makes
-/// degenerate (zero area in f32) are left out.
-fn mesh_triangles(data: &fmt::MeshData, placement: &Placement) -> Vec<Triangle> {
-    placed(data, placement).collect()
+/// The mesh's triangles in world space, with the file's uv and, unless
+/// `smooth` is false, vertex normals: the file's, or with `smooth` true made
+/// from the faces where the file has none. Triangles that the placement
+/// makes degenerate (zero area in f32) are left out.
+fn mesh_objects(
+    data: &fmt::MeshData,
+    placement: &Placement,
+    smooth: Option<bool>,
+    material: usize,
+) -> Vec<Object> {
+    let made = (smooth == Some(true)).then(|| face_weighted_normals(data));
+    let to_world = placement.normal_matrix();
+    placed(data, placement)
+        .map(|(k, triangle)| {
+            let file_normals = match smooth {
+                Some(false) => None,
+                _ => data.normals.get(k).copied().flatten(),
+            };
+            let normals = file_normals.map(|n| n.map(Vec3::from)).or_else(|| {
+                let made = made.as_ref()?;
+                let ids = data.indices.get(k)?;
+                Some(ids.map(|i| made[i as usize]))
+            });
+            let vertex_normals = normals
+                .and_then(|n| oriented(&triangle, n.map(|n| to_world * n)))
+                .map(Box::new);
+            let uv = data.uvs.get(k).copied().flatten();
+            Object {
+                uv: uv.map_or(UvMap::IDENTITY, |uv| corner_uv_map(&uv)),
+                vertex_normals,
+                ..Object::new(Shape::Triangle(triangle), material)
+            }
+        })
+        .collect()
 }
 
+/// The normal at each vertex of the file: the sum of the faces' normals
+/// around it weighted by their areas (the cross product of two edges is
+/// twice the area along the normal), in the file's space. Placed, these are
+/// the area-weighted normals of the placed mesh: the normal matrix takes a
+/// face's cross product to the placed face's, divided by the determinant.
+/// Empty when the file's vertex indices are not known.
+fn face_weighted_normals(data: &fmt::MeshData) -> Vec<Vec3> {
+    if data.indices.len() != data.triangles.len() {
+        return Vec::new();
+    }
+    let count = data
+        .indices
+        .iter()
+        .flatten()
+        .max()
+        .map_or(0, |&i| i as usize + 1);
+    let mut normals = vec![Vec3::ZERO; count];
+    for (t, ids) in data.triangles.iter().zip(&data.indices) {
+        let [a, b, c] = t.map(Vec3::from);
+        let n = (b - a).cross(c - a);
+        for &i in ids {
+            normals[i as usize] += n;
+        }
+    }
+    normals
+}
+
+/// Unit vertex normals `n` of `triangle` on its own normal's side (files
+/// wind their faces either way; the lab's normal comes from the vertex
+/// order, and shading keeps to its side), or None when one has no
+/// direction: then the triangle is shaded flat.
+fn oriented(triangle: &Triangle, n: [Vec3; 3]) -> Option<[Vec3; 3]> {
+    let [a, b, c] = [
+        n[0].try_normalize()?,
+        n[1].try_normalize()?,
+        n[2].try_normalize()?,
+    ];
+    let geometric = (triangle.v1 - triangle.v0).cross(triangle.v2 - triangle.v0);
+    if (a + b + c).dot(geometric) < 0.0 {
+        Some([-a, -b, -c])
+    } else {
+        Some([a, b, c])
+    }
+}
+
+/// The mesh's triangles placed, each with its index in `data`; those of
+/// zero area in f32 left out.
 fn placed<'a>(
     data: &'a fmt::MeshData,
     placement: &'a Placement,
-) -> impl Iterator<Item = Triangle> + 'a {
+) -> impl Iterator<Item = (usize, Triangle)> + 'a {
     data.triangles
         .iter()
         .map(|[a, b, c]| {
             let [a, b, c] = [*a, *b, *c].map(|v| placement.apply(v.into()));
             Triangle::new(a, b, c)
         })
-        .filter(|t| (t.v1 - t.v0).cross(t.v2 - t.v0) != Vec3::ZERO)
+        .enumerate()
+        .filter(|(_, t)| (t.v1 - t.v0).cross(t.v2 - t.v0) != Vec3::ZERO)
 }
 
 /// What `prepare` will make of a mesh object, found without building it.
@@ -222,7 +314,7 @@ pub fn mesh_extent(data: &fmt::MeshData, transform: Option<&fmt::Transform>) -> 
         triangles: 0,
         max_abs: 0.0,
     };
-    for t in placed(data, &placement) {
+    for (_, t) in placed(data, &placement) {
         extent.triangles += 1;
         let m = t.v0.abs().max(t.v1.abs()).max(t.v2.abs()).max_element();
         extent.max_abs = extent.max_abs.max(m);
@@ -351,10 +443,14 @@ mod tests {
             triangles: vec![[[0.1, 0.2, 0.3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]],
             skipped_degenerate: 0,
             first_degenerate_line: None,
+            ..fmt::MeshData::default()
         };
-        let tris = mesh_triangles(&data, &placement(None));
+        let tris = mesh_objects(&data, &placement(None), None, 0);
         assert_eq!(tris.len(), 1);
-        assert_eq!(tris[0].v0, Vec3::new(0.1, 0.2, 0.3));
+        let Shape::Triangle(t) = &tris[0].shape else {
+            panic!("a triangle")
+        };
+        assert_eq!(t.v0, Vec3::new(0.1, 0.2, 0.3));
     }
 
     #[test]
@@ -366,6 +462,7 @@ mod tests {
             ],
             skipped_degenerate: 0,
             first_degenerate_line: None,
+            ..fmt::MeshData::default()
         };
         // Tiny triangles far from the origin: whatever f32 keeps of them,
         // the count is prepare's.
@@ -374,7 +471,7 @@ mod tests {
             translate: [0.0, 0.0, 5.0],
             ..fmt::Transform::default()
         };
-        let kept = mesh_triangles(&data, &placement(Some(&t))).len();
+        let kept = mesh_objects(&data, &placement(Some(&t)), None, 0).len();
         let extent = mesh_extent(&data, Some(&t));
         assert_eq!(extent.triangles, kept);
         assert_eq!(extent.max_abs, 5.0);

@@ -400,6 +400,7 @@ mod tests {
             ],
             skipped_degenerate: 0,
             first_degenerate_line: None,
+            ..MeshData::default()
         };
         let mut pov = String::new();
         write_mesh2(&mut pov, &data, "LOOK", None);

@@ -83,6 +83,7 @@ pub fn subdivide(data: &MeshData) -> MeshData {
         triangles,
         skipped_degenerate: data.skipped_degenerate,
         first_degenerate_line: data.first_degenerate_line,
+        ..MeshData::default()
     }
 }
 
@@ -96,6 +97,7 @@ mod tests {
             triangles: vec![[[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]]],
             skipped_degenerate: 0,
             first_degenerate_line: None,
+            ..MeshData::default()
         };
         let twice = subdivide(&subdivide(&data));
         assert_eq!(twice.triangles.len(), 16);

@@ -21,6 +21,7 @@ mod wide;
 use crate::geometry::{Object, Plane, Shape, SurfaceHit, UvMap};
 use crate::ray::Ray;
 use build::BuildPrim;
+use glam::Vec3;
 use leaves::{pack_leaves, SpherePrim, SPHERE_LEAF};
 use rayon::prelude::*;
 use traverse::{push_nearest_last, with_stack, Best, Entry, HitAt, RayData, PAD};
@@ -40,6 +41,9 @@ pub struct Bvh {
     /// The triangles whose barycentrics map to another uv (quads' and
     /// boxes' halves), by object index, sorted: looked up once per hit.
     uv_maps: Vec<(u32, UvMap)>,
+    /// The smooth triangles' unit vertex normals, by object index, sorted:
+    /// looked up once per closest hit, so the traversal never reads them.
+    vertex_normals: Vec<(u32, [Vec3; 3])>,
 }
 
 /// A plane with its object index and material.
@@ -77,10 +81,16 @@ impl Bvh {
             .filter(|(_, o)| o.uv != UvMap::IDENTITY)
             .map(|(i, o)| (i as u32, o.uv))
             .collect();
+        let vertex_normals = objects
+            .iter()
+            .enumerate()
+            .filter_map(|(i, o)| Some((i as u32, *o.vertex_normals.as_deref()?)))
+            .collect();
         if items.is_empty() {
             return Bvh {
                 planes,
                 uv_maps,
+                vertex_normals,
                 ..Bvh::default()
             };
         }
@@ -92,6 +102,7 @@ impl Bvh {
             spheres,
             planes,
             uv_maps,
+            vertex_normals,
         }
     }
 
@@ -100,6 +111,15 @@ impl Bvh {
         match self.uv_maps.binary_search_by_key(&id, |&(i, _)| i) {
             Ok(k) => self.uv_maps[k].1.apply(uv),
             Err(_) => uv,
+        }
+    }
+
+    /// `hit` on triangle `id` at `barycentric`, with its shading normal
+    /// interpolated when the triangle has vertex normals.
+    fn smooth(&self, id: u32, hit: SurfaceHit, barycentric: glam::Vec2) -> SurfaceHit {
+        match self.vertex_normals.binary_search_by_key(&id, |&(i, _)| i) {
+            Ok(k) => hit.with_vertex_normals(&self.vertex_normals[k].1, barycentric),
+            Err(_) => hit,
         }
     }
 
@@ -122,8 +142,9 @@ impl Bvh {
         }
         best.found().then(|| match best.at {
             HitAt::Triangle { block, lane, uv } => {
-                let uv = self.map_uv(self.tris[block].id[lane], uv);
-                self.tris[block].hit(lane, ray, best.t, uv)
+                let id = self.tris[block].id[lane];
+                let hit = self.tris[block].hit(lane, ray, best.t, self.map_uv(id, uv));
+                self.smooth(id, hit, uv)
             }
             HitAt::Sphere(k) => self.spheres[k].hit(ray, best.t),
             HitAt::Plane(k) => {
@@ -256,7 +277,6 @@ impl Bvh {
 mod tests {
     use super::*;
     use crate::geometry::{Sphere, Triangle};
-    use glam::Vec3;
     use wide::{GROUPS, WIDTH};
 
     /// xorshift: reproducible numbers in [-1, 1) without a dependency.

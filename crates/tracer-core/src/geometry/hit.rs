@@ -17,8 +17,9 @@ pub struct SurfaceHit {
     /// The unit normal of the surface as the lab defines it: a triangle's
     /// from its vertex order, a sphere's outward; never flipped toward the ray.
     pub geometric_normal: Vec3,
-    /// The normal shading uses; the geometric one until meshes carry
-    /// vertex normals.
+    /// The unit normal shading uses: the geometric one, or on a smooth
+    /// triangle its vertex normals interpolated (always on the geometric
+    /// normal's side: the vertex normals are oriented so when prepared).
     pub shading_normal: Vec3,
     /// Surface coordinates: barycentric (u, v) on a triangle (v0 -> (0, 0),
     /// v1 -> (1, 0), v2 -> (0, 1)) unless its object maps them (a quad's or
@@ -71,6 +72,17 @@ impl SurfaceHit {
             uv: hit.uv,
             front_face: ray.dir.dot(normal) < 0.0,
         }
+    }
+
+    /// This hit on a triangle with unit vertex `normals`, at barycentric
+    /// `b` (before any uv map): the shading normal interpolated from them.
+    /// Where they cancel out (no direction left) the geometric one stays.
+    pub fn with_vertex_normals(mut self, normals: &[Vec3; 3], b: Vec2) -> SurfaceHit {
+        let n = (1.0 - b.x - b.y) * normals[0] + b.x * normals[1] + b.y * normals[2];
+        if let Some(n) = n.try_normalize() {
+            self.shading_normal = n;
+        }
+        self
     }
 
     /// The hit on a plane at distance `t` along `ray`.

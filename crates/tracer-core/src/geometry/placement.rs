@@ -31,6 +31,14 @@ impl Placement {
     pub fn apply(&self, p: Vec3) -> Vec3 {
         self.linear * p + self.translate
     }
+
+    /// The matrix that takes normals where the placement takes the surface:
+    /// the inverse transpose of its linear part (a normal stays
+    /// perpendicular to the tangents, which the linear part takes). Its
+    /// results are not unit: normalise them.
+    pub fn normal_matrix(&self) -> Mat3 {
+        self.linear.inverse().transpose()
+    }
 }
 
 #[cfg(test)]
@@ -51,6 +59,20 @@ mod tests {
         // x first: y -> z; then z about z stays z.
         let q = rx.apply(Vec3::Y);
         assert!((q - Vec3::Z).length() < 1e-5, "{q}");
+    }
+
+    #[test]
+    fn normals_stay_perpendicular_to_a_stretched_surface() {
+        // The plane x + y = 0 (normal (1, 1, 0)) stretched 3 times along x
+        // is the plane x / 3 + y = 0, whose normal is (1/3, 1, 0).
+        let placement = Placement::new(Vec3::new(3.0, 1.0, 1.0), Vec3::ZERO, Vec3::ONE);
+        let n = (placement.normal_matrix() * Vec3::new(1.0, 1.0, 0.0)).normalize();
+        let expected = Vec3::new(1.0 / 3.0, 1.0, 0.0).normalize();
+        assert!((n - expected).length() < 1e-6, "{n}");
+        // Under a rotation a normal turns with the surface.
+        let turn = Placement::new(Vec3::splat(2.0), Vec3::new(0.0, 0.0, 90.0), Vec3::ZERO);
+        let n = (turn.normal_matrix() * Vec3::X).normalize();
+        assert!((n - Vec3::Y).length() < 1e-6, "{n}");
     }
 
     #[test]

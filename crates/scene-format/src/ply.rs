@@ -1,0 +1,180 @@
+//! PLY meshes (the Stanford format scanners write, ASCII or binary), read
+//! with `ply-rs-bw`: vertices with optional normals (`nx ny nz`) and texture
+//! coordinates (`u v`, `s t` or `texture_u texture_v`), faces made fans of
+//! triangles, degenerate ones left out and counted.
+
+use crate::model::{MeshData, Uv, Vec3};
+use crate::obj::{is_degenerate, push_triangle};
+use ply_rs_bw::parser::{Parser, Reader};
+use ply_rs_bw::ply::{Header, Property, PropertyAccess, PropertyAccessResult};
+use std::io::BufReader;
+use std::path::Path;
+
+/// The triangles of the PLY file at `path`, or what is wrong with it.
+pub fn read_ply(path: &Path) -> Result<MeshData, String> {
+    let file =
+        crate::read::open_capped(path, crate::read::MAX_OBJ_BYTES).map_err(|e| e.to_string())?;
+    let mut reader = Reader::new(BufReader::new(file));
+    let (vertices, faces) = read_elements(&mut reader).map_err(|e| {
+        if e.kind() == std::io::ErrorKind::UnexpectedEof {
+            format!("not a valid PLY file: it ends before the data its header declares ({e})")
+        } else {
+            format!("not a valid PLY file: {e}")
+        }
+    })?;
+    let vertices = vertices.ok_or("expected a `vertex` element with x, y, z")?;
+    let faces = faces.ok_or("expected a `face` element with `vertex_indices`")?;
+    triangles(&vertices, &faces)
+}
+
+type Elements = (Option<Vec<PlyVertex>>, Option<Vec<PlyFace>>);
+
+/// The `vertex` and `face` elements of the file; other elements (edges,
+/// materials) are read past.
+fn read_elements<R: std::io::BufRead>(
+    reader: &mut Reader<R>,
+) -> Result<Elements, ply_rs_bw::parser::ParseError> {
+    let header: Header = Parser::<Skipped>::new().read_header(reader)?;
+    let (mut vertices, mut faces) = (None, None);
+    for (name, element) in &header.elements {
+        match name.as_str() {
+            "vertex" => {
+                let parser = Parser::<PlyVertex>::new();
+                let read = parser.read_payload_for_element(reader, element, &header)?;
+                let has = |p: &str| element.properties.contains_key(p);
+                if ["x", "y", "z"].iter().all(|p| has(p)) {
+                    vertices = Some(read);
+                }
+            }
+            "face" => {
+                let parser = Parser::<PlyFace>::new();
+                faces = Some(parser.read_payload_for_element(reader, element, &header)?);
+            }
+            _ => {
+                Parser::<Skipped>::new().read_payload_for_element(reader, element, &header)?;
+            }
+        }
+    }
+    Ok((vertices, faces))
+}
+
+/// The mesh of the file's vertices and faces, each face a fan from its
+/// first vertex (a convex polygon's triangulation).
+fn triangles(vertices: &[PlyVertex], faces: &[PlyFace]) -> Result<MeshData, String> {
+    let position = |i: u32| -> Result<&PlyVertex, String> {
+        let v = vertices.get(i as usize).ok_or_else(|| {
+            format!(
+                "vertex index {i} in a face, but only {} vertices",
+                vertices.len()
+            )
+        })?;
+        if v.position.iter().all(|x| x.is_finite()) {
+            Ok(v)
+        } else {
+            Err(format!("vertex {i} is not finite: {:?}", v.position))
+        }
+    };
+    let mut data = MeshData::default();
+    for (f, face) in faces.iter().enumerate() {
+        if face.indices.len() < 3 {
+            return Err(format!(
+                "face {f}: expected at least 3 vertices, found {}",
+                face.indices.len()
+            ));
+        }
+        for k in 1..face.indices.len() - 1 {
+            let ids = [face.indices[0], face.indices[k], face.indices[k + 1]];
+            let corners = [position(ids[0])?, position(ids[1])?, position(ids[2])?];
+            let triangle = corners.map(|v| v.position);
+            if is_degenerate(&triangle) {
+                data.skipped_degenerate += 1;
+                continue;
+            }
+            let normals = corners.iter().all(|v| v.normal.is_some());
+            let uvs = corners.iter().all(|v| v.uv.is_some());
+            push_triangle(
+                &mut data,
+                triangle,
+                ids,
+                normals.then(|| corners.map(|v| v.normal.unwrap_or_default())),
+                uvs.then(|| corners.map(|v| v.uv.unwrap_or_default())),
+            );
+        }
+    }
+    if data.triangles.is_empty() {
+        return Err("expected at least one face of non-zero area".to_string());
+    }
+    Ok(data)
+}
+
+/// One vertex: its position, and its normal and uv when it has all of them.
+#[derive(Debug, Default)]
+struct PlyVertex {
+    position: Vec3,
+    normal: Option<Vec3>,
+    uv: Option<Uv>,
+}
+
+impl PropertyAccess for PlyVertex {
+    fn new() -> Self {
+        PlyVertex::default()
+    }
+
+    fn set_property(&mut self, name: &str, property: Property) -> PropertyAccessResult {
+        let Some(x) = property.to_f32_lossy() else {
+            return PropertyAccessResult::Ignored;
+        };
+        let (normal, uv) = (&mut self.normal, &mut self.uv);
+        match name {
+            "x" => self.position[0] = x,
+            "y" => self.position[1] = x,
+            "z" => self.position[2] = x,
+            "nx" => normal.get_or_insert_with(Default::default)[0] = x,
+            "ny" => normal.get_or_insert_with(Default::default)[1] = x,
+            "nz" => normal.get_or_insert_with(Default::default)[2] = x,
+            "u" | "s" | "texture_u" => uv.get_or_insert_with(Default::default)[0] = x,
+            "v" | "t" | "texture_v" => uv.get_or_insert_with(Default::default)[1] = x,
+            _ => return PropertyAccessResult::Ignored,
+        }
+        PropertyAccessResult::Set
+    }
+}
+
+/// One face: its vertex indices.
+#[derive(Debug, Default)]
+struct PlyFace {
+    indices: Vec<u32>,
+}
+
+impl PropertyAccess for PlyFace {
+    fn new() -> Self {
+        PlyFace::default()
+    }
+
+    fn set_property(&mut self, name: &str, property: Property) -> PropertyAccessResult {
+        if name != "vertex_indices" && name != "vertex_index" {
+            return PropertyAccessResult::Ignored;
+        }
+        // A negative index is no vertex: made out of range, so reported.
+        let index = |i: i64| u32::try_from(i).unwrap_or(u32::MAX);
+        self.indices = match property {
+            Property::ListChar(v) => v.into_iter().map(|i| index(i.into())).collect(),
+            Property::ListUChar(v) => v.into_iter().map(u32::from).collect(),
+            Property::ListShort(v) => v.into_iter().map(|i| index(i.into())).collect(),
+            Property::ListUShort(v) => v.into_iter().map(u32::from).collect(),
+            Property::ListInt(v) => v.into_iter().map(|i| index(i.into())).collect(),
+            Property::ListUInt(v) => v,
+            _ => return PropertyAccessResult::Ignored,
+        };
+        PropertyAccessResult::Set
+    }
+}
+
+/// An element read past.
+struct Skipped;
+
+impl PropertyAccess for Skipped {
+    fn new() -> Self {
+        Skipped
+    }
+}
