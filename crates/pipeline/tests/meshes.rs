@@ -256,3 +256,21 @@ fn normals_made_from_the_faces_point_along_the_radius() {
         "the mesh is too coarse to tell"
     );
 }
+
+/// `scenes/meshes/icosphere.obj` (used by `scenes/smooth-mesh.toml`) is
+/// what the generator makes: a level-2 icosphere (320 faces) with its exact
+/// normals. `UPDATE_MESHES=1 cargo test` writes it anew.
+#[test]
+fn the_scene_icosphere_is_current() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/meshes/icosphere.obj");
+    let text = Icosphere::new(2).obj(true);
+    if std::env::var_os("UPDATE_MESHES").is_some() {
+        std::fs::write(&path, &text).unwrap();
+    }
+    let current = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(
+        current == text,
+        "{} is not what its generator makes: run UPDATE_MESHES=1 cargo test -p tracer-pipeline --test meshes",
+        path.display()
+    );
+}

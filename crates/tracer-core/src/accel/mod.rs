@@ -114,13 +114,13 @@ impl Bvh {
         }
     }
 
-    /// `hit` on triangle `id` at `barycentric`, with its shading normal
-    /// interpolated when the triangle has vertex normals.
-    fn smooth(&self, id: u32, hit: SurfaceHit, barycentric: glam::Vec2) -> SurfaceHit {
-        match self.vertex_normals.binary_search_by_key(&id, |&(i, _)| i) {
-            Ok(k) => hit.with_vertex_normals(&self.vertex_normals[k].1, barycentric),
-            Err(_) => hit,
-        }
+    /// The vertex normals of triangle `id`, if it is smooth.
+    fn vertex_normals(&self, id: u32) -> Option<&[Vec3; 3]> {
+        let k = self
+            .vertex_normals
+            .binary_search_by_key(&id, |&(i, _)| i)
+            .ok()?;
+        Some(&self.vertex_normals[k].1)
     }
 
     /// How many 8-wide nodes the tree has.
@@ -142,9 +142,13 @@ impl Bvh {
         }
         best.found().then(|| match best.at {
             HitAt::Triangle { block, lane, uv } => {
-                let id = self.tris[block].id[lane];
-                let hit = self.tris[block].hit(lane, ray, best.t, self.map_uv(id, uv));
-                self.smooth(id, hit, uv)
+                let tris = &self.tris[block];
+                let id = tris.id[lane];
+                let hit = tris.hit(lane, ray, best.t, self.map_uv(id, uv));
+                match self.vertex_normals(id) {
+                    Some(normals) => hit.with_vertex_normals(ray, tris.corners(lane), normals, uv),
+                    None => hit,
+                }
             }
             HitAt::Sphere(k) => self.spheres[k].hit(ray, best.t),
             HitAt::Plane(k) => {
@@ -367,8 +371,16 @@ mod tests {
                 dv: -glam::Vec2::Y,
             };
         }
+        // Vertex normals on every third triangle (some with mapped uv too):
+        // the shading normal and the shadow offset must be the same.
+        for o in objects.iter_mut().step_by(3) {
+            if matches!(o.shape, Shape::Triangle(_)) {
+                let n = [0; 3].map(|_| (rng.vec(1.0) + Vec3::Z).normalize());
+                o.vertex_normals = Some(Box::new(n));
+            }
+        }
         let bvh = Bvh::build(&objects);
-        let mut plane_hits = 0;
+        let (mut plane_hits, mut smooth_hits) = (0, 0);
         for k in 0..20_000 {
             let origin = rng.vec(if k % 2 == 0 { 8.0 } else { 4.0 });
             let ray = Ray::new(origin, rng.vec(1.0));
@@ -378,8 +390,10 @@ mod tests {
             let any = brute_force::occluded(&objects, &ray, 1e-4, t_max);
             assert_eq!(bvh.occluded(&ray, 1e-4, t_max), any, "ray {k}");
             plane_hits += expected.is_some_and(|h| [0, 200, 901].contains(&h.object)) as u32;
+            smooth_hits += expected.is_some_and(|h| h.shading_normal != h.geometric_normal) as u32;
         }
         assert!(plane_hits > 2000, "only {plane_hits} plane hits");
+        assert!(smooth_hits > 500, "only {smooth_hits} smooth hits");
     }
 
     #[test]

@@ -28,6 +28,14 @@ pub struct SurfaceHit {
     pub uv: Vec2,
     /// Whether the ray met the side the geometric normal points to.
     pub front_face: bool,
+    /// Where shadow rays start, from the hit point: zero, except on a
+    /// smooth triangle, where the flat face lies below the curved surface
+    /// its vertex normals describe, so rays leaving it toward a light just
+    /// above the shading horizon would meet the neighbouring faces (blocky
+    /// black shadows along the terminator). Shadow rays start on that
+    /// curved surface instead (Hanika, "Hacking the shadow terminator",
+    /// Ray Tracing Gems II, 2021).
+    pub shadow_offset: Vec3,
 }
 
 impl SurfaceHit {
@@ -48,6 +56,7 @@ impl SurfaceHit {
             shading_normal: normal,
             uv: Sphere::texture_uv(normal),
             front_face: ray.dir.dot(normal) < 0.0,
+            shadow_offset: Vec3::ZERO,
         }
     }
 
@@ -71,17 +80,36 @@ impl SurfaceHit {
             shading_normal: normal,
             uv: hit.uv,
             front_face: ray.dir.dot(normal) < 0.0,
+            shadow_offset: Vec3::ZERO,
         }
     }
 
-    /// This hit on a triangle with unit vertex `normals`, at barycentric
-    /// `b` (before any uv map): the shading normal interpolated from them.
-    /// Where they cancel out (no direction left) the geometric one stays.
-    pub fn with_vertex_normals(mut self, normals: &[Vec3; 3], b: Vec2) -> SurfaceHit {
-        let n = (1.0 - b.x - b.y) * normals[0] + b.x * normals[1] + b.y * normals[2];
+    /// This hit of `ray` on the triangle `v0`, `v0 + e1`, `v0 + e2` with
+    /// unit vertex `normals`, at barycentric `b` (before any uv map): the
+    /// shading normal interpolated from them (where they cancel out, the
+    /// geometric one stays), and shadow rays moved onto the curved surface.
+    pub fn with_vertex_normals(
+        mut self,
+        ray: &Ray,
+        [v0, e1, e2]: [Vec3; 3],
+        normals: &[Vec3; 3],
+        b: Vec2,
+    ) -> SurfaceHit {
+        let weights = [1.0 - b.x - b.y, b.x, b.y];
+        let n = weights[0] * normals[0] + weights[1] * normals[1] + weights[2] * normals[2];
         if let Some(n) = n.try_normalize() {
             self.shading_normal = n;
         }
+        // Hanika's offset: the point projected onto each vertex's tangent
+        // plane where it lies below it, blended by the barycentrics.
+        let p = ray.at(self.t);
+        let corners = [v0, v0 + e1, v0 + e2];
+        let mut offset = Vec3::ZERO;
+        for k in 0..3 {
+            let below = (p - corners[k]).dot(normals[k]).min(0.0);
+            offset -= weights[k] * below * normals[k];
+        }
+        self.shadow_offset = offset;
         self
     }
 
@@ -101,6 +129,7 @@ impl SurfaceHit {
             shading_normal: plane.normal,
             uv: plane.uv(ray.at(t)),
             front_face: ray.dir.dot(plane.normal) < 0.0,
+            shadow_offset: Vec3::ZERO,
         }
     }
 }

@@ -116,7 +116,9 @@ impl Object {
                 let (e1, e2, _) = tri.edges();
                 let surface = SurfaceHit::on_triangle(e1, e2, ray, hit, index, self.material);
                 Some(match &self.vertex_normals {
-                    Some(normals) => surface.with_vertex_normals(normals, barycentric),
+                    Some(normals) => {
+                        surface.with_vertex_normals(ray, [tri.v0, e1, e2], normals, barycentric)
+                    }
                     None => surface,
                 })
             }
