@@ -274,3 +274,178 @@ fn the_scene_icosphere_is_current() {
         path.display()
     );
 }
+
+/// Vertices and faces (a quad among triangles, with normals) written as an
+/// OBJ, an ASCII PLY and a binary PLY, every number the same f32.
+struct SmallMesh {
+    vertices: Vec<[f32; 3]>,
+    normals: Vec<[f32; 3]>,
+    faces: Vec<Vec<u32>>,
+}
+
+impl SmallMesh {
+    fn new() -> SmallMesh {
+        let ico = Icosphere::new(1);
+        let mut vertices: Vec<[f32; 3]> =
+            ico.vertices.iter().map(|v| v.map(|x| x as f32)).collect();
+        let normals = vertices.clone();
+        let mut faces: Vec<Vec<u32>> = ico
+            .faces
+            .iter()
+            .map(|f| f.iter().map(|&i| i as u32).collect())
+            .collect();
+        // A quad below the ball, wound to face up (its fan's first triangle
+        // (0, 1, 2) has normal (1, 0, 0) x (1, 0, -1) = (0, 1, 0)).
+        let base = vertices.len() as u32;
+        vertices.extend([
+            [-1.5, -1.2, 1.5],
+            [1.5, -1.2, 1.5],
+            [1.5, -1.2, -1.5],
+            [-1.5, -1.2, -1.5],
+        ]);
+        let mut normals = normals;
+        normals.extend([[0.0, 1.0, 0.0]; 4]);
+        faces.push((base..base + 4).collect());
+        SmallMesh {
+            vertices,
+            normals,
+            faces,
+        }
+    }
+
+    fn obj(&self) -> String {
+        let mut text = String::new();
+        for v in &self.vertices {
+            let _ = writeln!(text, "v {} {} {}", v[0], v[1], v[2]);
+        }
+        for n in &self.normals {
+            let _ = writeln!(text, "vn {} {} {}", n[0], n[1], n[2]);
+        }
+        for f in &self.faces {
+            let corners: Vec<String> = f.iter().map(|i| format!("{0}//{0}", i + 1)).collect();
+            let _ = writeln!(text, "f {}", corners.join(" "));
+        }
+        text
+    }
+
+    fn ply_header(&self, format: &str) -> String {
+        format!(
+            "ply\nformat {format} 1.0\nelement vertex {}\nproperty float x\nproperty float y\n\
+             property float z\nproperty float nx\nproperty float ny\nproperty float nz\n\
+             element face {}\nproperty list uchar int vertex_indices\nend_header\n",
+            self.vertices.len(),
+            self.faces.len()
+        )
+    }
+
+    fn ascii_ply(&self) -> String {
+        let mut text = self.ply_header("ascii");
+        for (v, n) in self.vertices.iter().zip(&self.normals) {
+            let _ = writeln!(
+                text,
+                "{} {} {} {} {} {}",
+                v[0], v[1], v[2], n[0], n[1], n[2]
+            );
+        }
+        for f in &self.faces {
+            let indices: Vec<String> = f.iter().map(u32::to_string).collect();
+            let _ = writeln!(text, "{} {}", f.len(), indices.join(" "));
+        }
+        text
+    }
+
+    fn binary_ply(&self) -> Vec<u8> {
+        let mut bytes = self.ply_header("binary_little_endian").into_bytes();
+        for (v, n) in self.vertices.iter().zip(&self.normals) {
+            for x in v.iter().chain(n) {
+                bytes.extend(x.to_le_bytes());
+            }
+        }
+        for f in &self.faces {
+            bytes.push(f.len() as u8);
+            for &i in f {
+                bytes.extend((i as i32).to_le_bytes());
+            }
+        }
+        bytes
+    }
+}
+
+#[test]
+fn ascii_and_binary_ply_render_exactly_as_the_obj() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = SmallMesh::new();
+    write(dir.path(), "m.obj", mesh.obj());
+    write(dir.path(), "a.ply", mesh.ascii_ply());
+    write(dir.path(), "b.ply", mesh.binary_ply());
+    let render_of = |key: &str, file: &str| {
+        let scene = write(
+            dir.path(),
+            &format!("{file}.toml"),
+            scene_with(&format!("mesh = {{ {key} = \"{file}\" }}")),
+        );
+        render_8bit(&scene)
+    };
+    let obj = render_of("obj", "m.obj");
+    // The mesh is there, smooth (not one flat grey per face) and lit.
+    let covered = obj.pixels().filter(|p| p.0 != [0, 0, 0]).count();
+    assert!(covered > 240 * 240 / 3, "{covered} pixels");
+    assert!(
+        obj == render_of("ply", "a.ply"),
+        "the ASCII PLY renders otherwise"
+    );
+    assert!(
+        obj == render_of("ply", "b.ply"),
+        "the binary PLY renders otherwise"
+    );
+}
+
+#[test]
+fn corner_uv_are_the_uv_at_the_corners_and_their_mean_at_the_centroid() {
+    let dir = tempfile::tempdir().unwrap();
+    let corners = [[-1.0f32, -1.0, 0.0], [1.0, -1.0, 0.0], [0.0, 1.0, 0.0]];
+    let uv = [[0.25f32, 0.5], [1.0, 0.75], [0.5, 0.0]];
+    write(
+        dir.path(),
+        "t.obj",
+        "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nvt 0.25 0.5\nvt 1 0.75\nvt 0.5 0\nf 1/1 2/2 3/3\n",
+    );
+    let triangle =
+        "triangle = [[-1, -1, 0], [1, -1, 0], [0, 1, 0]]\nuv = [[0.25, 0.5], [1, 0.75], [0.5, 0]]";
+    for object in [triangle, "mesh = { obj = \"t.obj\" }"] {
+        let scene = write(dir.path(), "s.toml", scene_with(object));
+        let loaded = load(&Input::File(scene)).unwrap();
+        let scene_format::SceneKind::Scene3d(file) = &loaded.kind else {
+            panic!("a 3D scene")
+        };
+        let prepared = tracer_core::prepare::prepare(file).unwrap();
+        let uv_at = |p: glam::Vec3| {
+            // A ray down the z axis onto the point.
+            let ray = tracer_core::Ray::new(p + glam::Vec3::Z * 5.0, -glam::Vec3::Z);
+            let hit = prepared
+                .closest_hit(&ray, 1e-4, f32::INFINITY)
+                .expect("a hit");
+            hit.uv
+        };
+        let centroid = corners
+            .iter()
+            .fold(glam::Vec3::ZERO, |s, &c| s + glam::Vec3::from(c))
+            / 3.0;
+        let mean = uv
+            .iter()
+            .fold(glam::Vec2::ZERO, |s, &t| s + glam::Vec2::from(t))
+            / 3.0;
+        assert!(
+            (uv_at(centroid) - mean).length() < 1e-5,
+            "{object}: {}",
+            uv_at(centroid)
+        );
+        for (c, t) in corners.iter().zip(uv) {
+            let got = uv_at(glam::Vec3::from(*c));
+            assert!(
+                (got - glam::Vec2::from(t)).length() < 1e-5,
+                "{object}: {got} at {c:?}"
+            );
+        }
+    }
+}

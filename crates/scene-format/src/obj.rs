@@ -176,16 +176,12 @@ pub(crate) fn push_triangle(
     uvs: Option<[crate::model::Uv; 3]>,
 ) {
     let before = data.triangles.len();
-    if normals.is_some() && data.normals.is_empty() {
+    if normals.is_some() || !data.normals.is_empty() {
         data.normals.resize(before, None);
-    }
-    if !data.normals.is_empty() {
         data.normals.push(normals);
     }
-    if uvs.is_some() && data.uvs.is_empty() {
+    if uvs.is_some() || !data.uvs.is_empty() {
         data.uvs.resize(before, None);
-    }
-    if !data.uvs.is_empty() {
         data.uvs.push(uvs);
     }
     data.triangles.push(triangle);
@@ -368,6 +364,33 @@ mod tests {
         let path = dir.join(name);
         std::fs::write(&path, text).unwrap();
         path
+    }
+
+    #[test]
+    fn normals_and_uv_are_kept_per_corner_from_the_first_face_on() {
+        let dir = tempfile::tempdir().unwrap();
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvn 0 0 2\nvn 0 1 0\nvt 0.5 0.25\nvt 1 1\n\
+                    f 1/1/1 2/2/1 3/1/2\nf 2 4 3\n";
+        let data = read_obj(&write(dir.path(), "n.obj", text)).unwrap();
+        assert_eq!(data.indices, [[0, 1, 2], [1, 3, 2]]);
+        let n = [[0.0, 0.0, 2.0], [0.0, 0.0, 2.0], [0.0, 1.0, 0.0]];
+        assert_eq!(data.normals[0], Some(n));
+        assert_eq!(data.uvs[0], Some([[0.5, 0.25], [1.0, 1.0], [0.5, 0.25]]));
+        // tobj gives a face without them in such a file its neighbour's.
+        assert_eq!(data.normals.len(), 2);
+    }
+
+    #[test]
+    fn a_file_without_normals_or_uv_has_none() {
+        let dir = tempfile::tempdir().unwrap();
+        let data = read_obj(&write(
+            dir.path(),
+            "p.obj",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+        ))
+        .unwrap();
+        assert!(data.normals.is_empty() && data.uvs.is_empty());
+        assert_eq!(data.indices, [[0, 1, 2]]);
     }
 
     #[test]

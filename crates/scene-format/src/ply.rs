@@ -16,10 +16,18 @@ pub fn read_ply(path: &Path) -> Result<MeshData, String> {
         crate::read::open_capped(path, crate::read::MAX_OBJ_BYTES).map_err(|e| e.to_string())?;
     let mut reader = Reader::new(BufReader::new(file));
     let (vertices, faces) = read_elements(&mut reader).map_err(|e| {
+        // The parser's first line says what and where; the rest repeats
+        // the I/O error beneath it.
+        let text = e.to_string();
+        let what = text
+            .lines()
+            .next()
+            .unwrap_or_default()
+            .trim_end_matches('.');
         if e.kind() == std::io::ErrorKind::UnexpectedEof {
-            format!("not a valid PLY file: it ends before the data its header declares ({e})")
+            format!("not a valid PLY file: it ends before the data its header declares ({what})")
         } else {
-            format!("not a valid PLY file: {e}")
+            format!("not a valid PLY file: {what}")
         }
     })?;
     let vertices = vertices.ok_or("expected a `vertex` element with x, y, z")?;
