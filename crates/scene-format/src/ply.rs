@@ -186,3 +186,117 @@ impl PropertyAccess for Skipped {
         Skipped
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(text: &[u8]) -> Result<MeshData, String> {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("m.ply");
+        std::fs::write(&path, text).unwrap();
+        read_ply(&path)
+    }
+
+    const HEADER: &str = "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\n\
+                          property float y\nproperty float z\nelement face 2\n\
+                          property list uchar int vertex_indices\nend_header\n";
+
+    #[test]
+    fn a_quad_becomes_a_fan_and_degenerate_triangles_are_counted() {
+        let text = format!("{HEADER}0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 0 0\n4 0 1 2 3\n3 0 1 4\n");
+        let data = read(text.as_bytes()).unwrap();
+        let v = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        assert_eq!(data.triangles, [[v[0], v[1], v[2]], [v[0], v[2], v[3]]]);
+        assert_eq!(data.indices, [[0, 1, 2], [0, 2, 3]]);
+        assert_eq!(data.skipped_degenerate, 1);
+        assert!(data.normals.is_empty() && data.uvs.is_empty());
+    }
+
+    #[test]
+    fn normals_and_uv_are_read_with_the_vertices() {
+        let text = "ply\nformat ascii 1.0\ncomment made by hand\nelement vertex 3\n\
+                    property double x\nproperty double y\nproperty double z\n\
+                    property float nx\nproperty float ny\nproperty float nz\n\
+                    property float s\nproperty float t\nproperty uchar red\n\
+                    element face 1\nproperty list uchar uint vertex_index\n\
+                    element edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n\
+                    0 0 0 0 0 1 0 0 255\n1 0 0 0 0.6 0.8 1 0 0\n0 1 0 0 0 1 0 1 7\n3 0 1 2\n0 1\n";
+        let data = read(text.as_bytes()).unwrap();
+        let n = [[0.0, 0.0, 1.0], [0.0, 0.6, 0.8], [0.0, 0.0, 1.0]];
+        assert_eq!(data.normals, [Some(n)]);
+        assert_eq!(data.uvs, [Some([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])]);
+    }
+
+    #[test]
+    fn malformed_files_say_what_is_wrong() {
+        let error = |text: &str| read(text.as_bytes()).unwrap_err();
+        let out_of_range = format!("{HEADER}0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 0 0\n3 0 1 2\n3 0 1 9\n");
+        assert!(
+            error(&out_of_range).contains("vertex index 9 in a face, but only 5 vertices"),
+            "{}",
+            error(&out_of_range)
+        );
+        let negative = format!("{HEADER}0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 0 0\n3 0 1 2\n3 0 1 -1\n");
+        assert!(
+            error(&negative).contains("vertex index"),
+            "{}",
+            error(&negative)
+        );
+        let two = format!("{HEADER}0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 0 0\n3 0 1 2\n2 0 1\n");
+        assert!(error(&two).contains("face 1: expected at least 3 vertices, found 2"));
+        let word = format!("{HEADER}0 0 zero\n");
+        assert!(
+            error(&word).starts_with("not a valid PLY file: "),
+            "{}",
+            error(&word)
+        );
+        assert!(error("solid cube\n").starts_with("not a valid PLY file"));
+        let no_faces = "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n\
+                        property float y\nproperty float z\nend_header\n0 0 0\n";
+        assert!(error(no_faces).contains("expected a `face` element"));
+        let infinite = format!("{HEADER}0 0 inf\n1 0 0\n1 1 0\n0 1 0\n2 0 0\n3 0 1 2\n3 0 1 3\n");
+        assert!(read(infinite.as_bytes()).is_err());
+    }
+
+    #[test]
+    fn binary_big_endian_reads_as_little_endian() {
+        let header = |format: &str| {
+            format!(
+                "ply\nformat {format} 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+                 property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+            )
+        };
+        let vertices = [0.5f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.25];
+        let (mut little, mut big) = (
+            header("binary_little_endian").into_bytes(),
+            header("binary_big_endian").into_bytes(),
+        );
+        for x in vertices {
+            little.extend(x.to_le_bytes());
+            big.extend(x.to_be_bytes());
+        }
+        little.push(3);
+        big.push(3);
+        for i in [0i32, 1, 2] {
+            little.extend(i.to_le_bytes());
+            big.extend(i.to_be_bytes());
+        }
+        let data = read(&little).unwrap();
+        assert_eq!(
+            data.triangles,
+            [[[0.5, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.25]]]
+        );
+        assert_eq!(read(&big).unwrap(), data);
+        let truncated = read(&little[..little.len() - 2]).unwrap_err();
+        assert!(
+            truncated.contains("ends before the data its header declares"),
+            "{truncated}"
+        );
+    }
+}
