@@ -453,6 +453,73 @@ mod tests {
         assert_eq!(t.v0, Vec3::new(0.1, 0.2, 0.3));
     }
 
+    /// One triangle facing +z by its vertex order, with file normals `n`.
+    fn one_smooth_triangle(n: [fmt::Vec3; 3]) -> fmt::MeshData {
+        fmt::MeshData {
+            triangles: vec![[[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]],
+            indices: vec![[0, 1, 2]],
+            normals: vec![Some(n)],
+            ..fmt::MeshData::default()
+        }
+    }
+
+    fn vertex_normals(objects: &[Object]) -> Option<[Vec3; 3]> {
+        objects[0].vertex_normals.as_deref().copied()
+    }
+
+    #[test]
+    fn file_normals_turn_with_the_placement_and_keep_to_the_face_side() {
+        let slanted = [1.0, 1.0, 1.0];
+        let data = one_smooth_triangle([slanted, [0.0, 0.0, 2.0], [0.0, 0.0, 1.0]]);
+        let none = placement(None);
+        let n = vertex_normals(&mesh_objects(&data, &none, None, 0)).expect("smooth");
+        assert!((n[0] - Vec3::ONE.normalize()).length() < 1e-6);
+        assert_eq!(n[1], Vec3::Z, "normalised");
+        // Stretched 3 times along x: the slanted normal leans by 1/3 there.
+        let t = fmt::Transform {
+            scale: fmt::Scale::PerAxis([3.0, 1.0, 1.0]),
+            ..fmt::Transform::default()
+        };
+        let n = vertex_normals(&mesh_objects(&data, &placement(Some(&t)), None, 0)).unwrap();
+        let expected = Vec3::new(1.0 / 3.0, 1.0, 1.0).normalize();
+        assert!((n[0] - expected).length() < 1e-6, "{}", n[0]);
+        // A file wound the other way round (normals against the face's):
+        // they are turned to the face's side, all three.
+        let inward = one_smooth_triangle([[0.0, 0.0, -1.0], [0.1, 0.0, -1.0], [0.0, 0.0, -1.0]]);
+        let n = vertex_normals(&mesh_objects(&inward, &none, None, 0)).unwrap();
+        assert!(n.iter().all(|n| n.z > 0.0), "{n:?}");
+        // `smooth = false` ignores them; a normal of no length makes it flat.
+        assert_eq!(
+            vertex_normals(&mesh_objects(&data, &none, Some(false), 0)),
+            None
+        );
+        let zero = one_smooth_triangle([[0.0; 3], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0]]);
+        assert_eq!(vertex_normals(&mesh_objects(&zero, &none, None, 0)), None);
+    }
+
+    #[test]
+    fn smooth_normals_weigh_the_faces_by_area() {
+        // Two faces around vertex 0: one in z = 0 of area 2, one in x = 0
+        // of area 0.5; the vertex normal is (2 z + 0.5 x) normalised.
+        let data = fmt::MeshData {
+            triangles: vec![
+                [[0.0; 3], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]],
+                [[0.0; 3], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            ],
+            indices: vec![[0, 1, 2], [0, 3, 4]],
+            ..fmt::MeshData::default()
+        };
+        let objects = mesh_objects(&data, &placement(None), Some(true), 0);
+        let n = vertex_normals(&objects).expect("made from the faces");
+        assert!((n[0] - Vec3::new(0.5, 0.0, 2.0).normalize()).length() < 1e-6);
+        assert_eq!(n[1], Vec3::Z, "a vertex of one face has its normal");
+        // Without `smooth = true` a file without normals stays flat.
+        assert_eq!(
+            vertex_normals(&mesh_objects(&data, &placement(None), None, 0)),
+            None
+        );
+    }
+
     #[test]
     fn a_mesh_extent_counts_the_triangles_prepare_keeps() {
         let data = fmt::MeshData {

@@ -133,3 +133,55 @@ impl SurfaceHit {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Triangle;
+
+    fn hit_at_centroid(normals: &[Vec3; 3]) -> SurfaceHit {
+        let t = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y);
+        let ray = Ray::new(Vec3::new(1.0 / 3.0, 1.0 / 3.0, 2.0), -Vec3::Z);
+        let hit = t.intersect(&ray, 0.0, f32::INFINITY).expect("a hit");
+        let (e1, e2, _) = t.edges();
+        let flat = SurfaceHit::on_triangle(e1, e2, &ray, hit, 0, 0);
+        flat.with_vertex_normals(&ray, [t.v0, e1, e2], normals, hit.uv)
+    }
+
+    #[test]
+    fn flat_vertex_normals_change_nothing() {
+        let hit = hit_at_centroid(&[Vec3::Z; 3]);
+        assert_eq!(hit.shading_normal, Vec3::Z);
+        assert_eq!(hit.shadow_offset, Vec3::ZERO);
+    }
+
+    #[test]
+    fn a_dome_lifts_the_shadow_rays_above_the_face() {
+        // Normals of a sphere of radius r around c = centroid - h z through
+        // the three corners: at the centroid the interpolated normal is
+        // about +z, and the shadow origin rises above the flat face to at
+        // least the sphere's height there (its sagitta r - h), and less
+        // than twice it (the tangent planes, as in Phong tessellation,
+        // bulge beyond the sphere).
+        let centroid = Vec3::new(1.0 / 3.0, 1.0 / 3.0, 0.0);
+        let d = (Vec3::X - centroid).length();
+        let r = 2.0f32;
+        let h = (r * r - d * d).sqrt();
+        let c = centroid - Vec3::Z * h;
+        let normals = [Vec3::ZERO, Vec3::X, Vec3::Y].map(|v| (v - c).normalize());
+        let hit = hit_at_centroid(&normals);
+        assert!(
+            (hit.shading_normal - Vec3::Z).length() < 0.02,
+            "{}",
+            hit.shading_normal
+        );
+        let (lift, sagitta) = (hit.shadow_offset.z, r - h);
+        assert!(
+            lift > sagitta && lift < 2.0 * sagitta,
+            "{lift} vs {sagitta}"
+        );
+        // Mostly up: the right triangle is not symmetric about its centroid.
+        let sideways = hit.shadow_offset.truncate().length();
+        assert!(sideways < 0.1 * lift, "{sideways}");
+    }
+}
