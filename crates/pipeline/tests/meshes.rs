@@ -449,3 +449,45 @@ fn corner_uv_are_the_uv_at_the_corners_and_their_mean_at_the_centroid() {
         }
     }
 }
+
+/// Lit from the side, a coarse smooth sphere's shading fades to dark
+/// across its faces as the sphere's does: the shadow rays of points whose
+/// face turns away from the light (while their shading normal still sees
+/// it) are not stopped by the neighbouring faces, which would cut the
+/// fading off in black facets (the "shadow terminator").
+#[test]
+fn a_coarse_smooth_sphere_has_no_black_facets_at_its_terminator() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "ico.obj", Icosphere::new(2).obj(true));
+    let side_lit = |object: &str| {
+        scene_with(object).replace("position = [-4, 3, 5]", "position = [-6, 1, 0.5]")
+    };
+    let sphere = write(
+        dir.path(),
+        "sphere.toml",
+        side_lit("sphere = { center = [0, 0, 0], radius = 1 }"),
+    );
+    let mesh = write(
+        dir.path(),
+        "mesh.toml",
+        side_lit("mesh = { obj = \"ico.obj\" }"),
+    );
+    let (sphere, mesh) = (render_8bit(&sphere), render_8bit(&mesh));
+    // Ambient alone: 0.05 x 0.9 = 0.045 -> 0.045^(1/2.2) x 255 = 62.
+    let ambient = (0.045f32.powf(1.0 / 2.2) * 255.0) as u8;
+    // Pixels the sphere lights (more than 10 levels above ambient) where
+    // the mesh is hit (not outside its outline, which lies inside the
+    // sphere's) but left at ambient: its shading normals face the light
+    // there too (they are off the sphere's by a few degrees), so only a
+    // shadow ray stopped by its own faces leaves them dark.
+    let cut_off = sphere
+        .pixels()
+        .zip(mesh.pixels())
+        .filter(|(s, m)| s.0[0] > ambient + 10 && m.0[0] > 0 && m.0[0] <= ambient)
+        .count();
+    let lit = sphere.pixels().filter(|s| s.0[0] > ambient + 10).count();
+    eprintln!("{cut_off} of {lit} lit pixels left dark");
+    assert!(lit > 10_000, "{lit}");
+    // Without the offset of the shadow rays, 182 pixels here.
+    assert_eq!(cut_off, 0);
+}
