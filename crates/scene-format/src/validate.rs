@@ -436,10 +436,11 @@ impl Validator {
                 path,
                 "expected `uv` only on a `triangle` object (a mesh's come from its file; other shapes have their own)",
             );
-        } else if let Some(bad) = uv.iter().find(|p| !p.iter().all(|x| x.is_finite())) {
+        } else if let Some(k) = uv.iter().position(|p| !p.iter().all(|x| x.is_finite())) {
+            let [u, v] = uv[k];
             self.error(
-                path,
-                format!("expected finite numbers, found [{}, {}]", bad[0], bad[1]),
+                path.index(k),
+                format!("expected finite numbers, found [{u}, {v}]"),
             );
         }
     }
