@@ -55,7 +55,7 @@ pub(crate) fn check(file: &SceneFile) -> Vec<Diagnostic> {
                 format!("objects[{i}].mesh"),
                 format!(
                     "no triangle of `{}` is left once placed: its {} triangles all have zero area in single precision (check `transform.scale`)",
-                    mesh.obj,
+                    mesh.path(),
                     data.triangles.len()
                 ),
             ));
@@ -64,7 +64,7 @@ pub(crate) fn check(file: &SceneFile) -> Vec<Diagnostic> {
                 format!("objects[{i}].mesh"),
                 format!(
                     "once placed, `{}` reaches a coordinate of {:e}; expected coordinates from -{MAX_COORDINATE:e} to {MAX_COORDINATE:e}, which single-precision tracing can handle",
-                    mesh.obj, extent.max_abs
+                    mesh.path(), extent.max_abs
                 ),
             ));
         }

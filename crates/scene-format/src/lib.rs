@@ -16,6 +16,7 @@ pub mod model;
 pub mod mtl;
 pub mod obj;
 mod parse;
+pub mod ply;
 pub mod read;
 pub mod schema;
 pub mod source;

@@ -215,6 +215,33 @@ mod tests {
     }
 
     #[test]
+    fn a_mesh_needs_one_file_and_uv_belong_to_triangles() {
+        let text = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
+                    [[objects]]\nmesh = { smooth = true }\n\
+                    [[objects]]\nmesh = { ply = \" \" }\n\
+                    [[objects]]\nmesh = { obj = \"a.obj\", ply = \"a.ply\" }\n\
+                    [[objects]]\nsphere = { center = [0, 0, 0], radius = 1 }\nuv = [[0, 0], [1, 0], [0, 1]]\n\
+                    [[objects]]\ntriangle = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]\nuv = [[0, 0], [1, nan], [0, 1]]\n\
+                    [[objects]]\ntriangle = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]\nuv = [[0, 0], [1, 0], [0, 1]]\n";
+        let err = load_str(text, Format::Toml, Path::new("s.toml")).unwrap_err();
+        let found: Vec<(String, usize)> = err
+            .diagnostics()
+            .iter()
+            .map(|d| (d.path.to_string(), d.location.unwrap().line))
+            .collect();
+        let expected = [
+            ("objects[0].mesh", 5),
+            ("objects[1].mesh.ply", 7),
+            ("objects[2].mesh.ply", 9),
+            ("objects[3].uv", 12),
+            ("objects[4].uv[1]", 15),
+        ];
+        let expected: Vec<(String, usize)> =
+            expected.iter().map(|(p, l)| (p.to_string(), *l)).collect();
+        assert_eq!(found, expected);
+    }
+
+    #[test]
     fn other_extensions_are_refused() {
         let err = load_path(Path::new("scene.yaml")).unwrap_err();
         assert!(matches!(err, SceneError::UnknownFormat { .. }));

@@ -9,6 +9,8 @@ use std::sync::Arc;
 
 pub type Vec3 = [f32; 3];
 pub type Color = [f32; 3];
+/// Texture coordinates (u, v).
+pub type Uv = [f32; 2];
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
@@ -268,7 +270,12 @@ pub struct Object {
     /// Three vertices, clockwise as seen from the front (the lab's order).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub triangle: Option<[Vec3; 3]>,
-    /// A triangle mesh read from a Wavefront OBJ file.
+    /// Texture coordinates [u, v] of a `triangle`'s three vertices, in its
+    /// vertex order; only with `triangle`. Left out, a triangle's uv are its
+    /// barycentrics: [[0, 0], [1, 0], [0, 1]].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uv: Option<[Uv; 3]>,
+    /// A triangle mesh read from a Wavefront OBJ or a PLY file.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mesh: Option<Mesh>,
     /// An infinite plane.
@@ -341,24 +348,84 @@ pub struct Quad {
     pub edge_v: Vec3,
 }
 
+/// A mesh from a file: exactly one of `obj` and `ply`.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Mesh {
-    /// The OBJ file, relative to the scene file's folder.
-    pub obj: String,
-    /// The triangles of `obj`, filled in by `load_path`; not part of the file.
+    /// A Wavefront OBJ file, relative to the scene file's folder.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub obj: Option<String>,
+    /// A PLY file (ASCII or binary, as scanners write them), relative to the
+    /// scene file's folder; faces of more than 3 vertices become fans.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ply: Option<String>,
+    /// Shading normals. Left out: the file's vertex normals (OBJ `vn`, PLY
+    /// `nx ny nz`) where it has them, flat elsewhere. true: vertex normals,
+    /// made from the faces (area-weighted) where the file has none. false:
+    /// flat, every triangle shaded with its own normal.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub smooth: Option<bool>,
+    /// The triangles of the file, filled in by `load_path`; not part of the file.
     #[serde(skip)]
     #[schemars(skip)]
     pub data: Option<Arc<MeshData>>,
 }
 
-/// The triangles read from an OBJ file, in the file's vertex order.
+/// The kinds of mesh file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum MeshFormat {
+    Obj,
+    Ply,
+}
+
+impl MeshFormat {
+    /// The key that names a file of this kind in `mesh`.
+    pub fn key(self) -> &'static str {
+        match self {
+            MeshFormat::Obj => "obj",
+            MeshFormat::Ply => "ply",
+        }
+    }
+}
+
+impl Mesh {
+    /// The file and its kind, when exactly one of `obj` and `ply` is given.
+    pub fn file(&self) -> Option<(MeshFormat, &str)> {
+        match (&self.obj, &self.ply) {
+            (Some(path), None) => Some((MeshFormat::Obj, path)),
+            (None, Some(path)) => Some((MeshFormat::Ply, path)),
+            _ => None,
+        }
+    }
+
+    /// The file's path as written (the first given), or "" for none.
+    pub fn path(&self) -> &str {
+        self.obj.as_deref().or(self.ply.as_deref()).unwrap_or("")
+    }
+
+    /// The key of the file (`obj` or `ply`; `obj` when neither is given).
+    pub fn key(&self) -> &'static str {
+        self.file().map_or("obj", |(format, _)| format.key())
+    }
+}
+
+/// The triangles read from a mesh file, in the file's vertex order, with
+/// what the file says of their corners.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct MeshData {
     pub triangles: Vec<[Vec3; 3]>,
+    /// The file's vertex index of each corner (counted from 0 over the whole
+    /// file), so corners that share a vertex are known: parallel to `triangles`.
+    pub indices: Vec<[u32; 3]>,
+    /// The file's normals at each corner (not normalised), where the face has
+    /// them; empty when no face has any, else parallel to `triangles`.
+    pub normals: Vec<Option<[Vec3; 3]>>,
+    /// The file's texture coordinates at each corner, where the face has
+    /// them; empty when no face has any, else parallel to `triangles`.
+    pub uvs: Vec<Option<[Uv; 3]>>,
     /// Faces of zero area, left out.
     pub skipped_degenerate: usize,
-    /// The OBJ line of the first face left out, when a scan found it.
+    /// The file's line (OBJ) of the first face left out, when a scan found it.
     pub first_degenerate_line: Option<usize>,
     /// The materials of the OBJ's MTL files (`mtllib`), as scene materials
     /// (Kd diffuse, Ka ambient, Ks specular, Ns shininess, map_Kd an image

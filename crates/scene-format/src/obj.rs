@@ -3,7 +3,7 @@
 
 use crate::diagnostic::Diagnostic;
 use crate::images::ImageCache;
-use crate::model::{MeshData, Object, SceneFile, Vec3};
+use crate::model::{MeshData, MeshFormat, Object, SceneFile, Vec3};
 use crate::mtl::Libraries;
 use crate::read::MAX_OBJ_BYTES;
 use crate::source::{Folder, Source};
@@ -12,9 +12,9 @@ use std::io::BufRead;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-/// Reads the OBJ file of every mesh object, relative to `base` (the scene
-/// file's folder). Every file that cannot be read gives a diagnostic at
-/// `objects[i].mesh.obj`.
+/// Reads the mesh file (OBJ or PLY) of every mesh object, relative to
+/// `base` (the scene file's folder). Every file that cannot be read gives a
+/// diagnostic at `objects[i].mesh.obj` (or `.ply`).
 pub fn load_meshes(scene: &mut SceneFile, base: &Path) -> Vec<Diagnostic> {
     let mut images = ImageCache::default();
     load_object_meshes(&mut scene.objects, base, &Folder::new(), &mut images)
@@ -37,20 +37,28 @@ pub fn load_object_meshes(
         let Some(mesh) = object.mesh.as_mut() else {
             continue;
         };
-        let path = base.join(&mesh.obj);
+        // Neither or both files: validation says so.
+        let Some((format, file)) = mesh.file() else {
+            continue;
+        };
+        let path = base.join(file);
         if let Some(data) = read.get(&path) {
             mesh.data = Some(data.clone());
             continue;
         }
-        match read_obj_from(source, &path, images) {
+        let loaded = match format {
+            MeshFormat::Obj => read_obj_from(source, &path, images),
+            MeshFormat::Ply => crate::ply::read_ply_from(source, &path),
+        };
+        match loaded {
             Ok(data) => {
                 let data = Arc::new(data);
                 read.insert(path, data.clone());
                 mesh.data = Some(data);
             }
             Err(message) => diagnostics.push(Diagnostic::new(
-                format!("objects[{i}].mesh.obj"),
-                format!("cannot load `{}`: {message}", mesh.obj),
+                format!("objects[{i}].mesh.{}", format.key()),
+                format!("cannot load `{file}`: {message}"),
             )),
         }
     }
@@ -66,8 +74,9 @@ pub fn mesh_warnings(scene: &SceneFile) -> Vec<Diagnostic> {
             continue;
         };
         if object.material.is_none() {
+            let key = object.mesh.as_ref().map_or("obj", |m| m.key());
             for message in &data.material_warnings {
-                warnings.push(Diagnostic::new(format!("objects[{i}].mesh.obj"), message));
+                warnings.push(Diagnostic::new(format!("objects[{i}].mesh.{key}"), message));
             }
         }
         if data.skipped_degenerate > 0 {
@@ -76,10 +85,11 @@ pub fn mesh_warnings(scene: &SceneFile) -> Vec<Diagnostic> {
                 data.skipped_degenerate
             );
             if let (Some(line), Some(mesh)) = (data.first_degenerate_line, &object.mesh) {
-                let name = Path::new(&mesh.obj).file_name().unwrap_or_default();
+                let name = Path::new(mesh.path()).file_name().unwrap_or_default();
                 message += &format!("; the first at `{}:{line}`", name.to_string_lossy());
             }
-            warnings.push(Diagnostic::new(format!("objects[{i}].mesh.obj"), message));
+            let key = object.mesh.as_ref().map_or("obj", |m| m.key());
+            warnings.push(Diagnostic::new(format!("objects[{i}].mesh.{key}"), message));
         }
     }
     warnings
@@ -134,8 +144,10 @@ fn read_obj_lines(
     };
     // The index among all triangles of the first degenerate one.
     let mut first_degenerate = None;
+    let mut base = 0u32;
     for model in &models {
-        add_model(&model.mesh, &mut data, &mut first_degenerate)?;
+        add_model(&model.mesh, base, &mut data, &mut first_degenerate)?;
+        base = base.saturating_add((model.mesh.positions.len() / 3) as u32);
     }
     if let Some(k) = first_degenerate {
         data.first_degenerate_line = source
@@ -149,8 +161,11 @@ fn read_obj_lines(
     Ok(data)
 }
 
+/// Adds the triangles of one model (`o` or `g`) of the file; `base` numbers
+/// its first vertex, as tobj numbers each model's vertices from 0.
 fn add_model(
     mesh: &tobj::Mesh,
+    base: u32,
     data: &mut MeshData,
     first_degenerate: &mut Option<usize>,
 ) -> Result<(), String> {
@@ -174,19 +189,59 @@ fn add_model(
         .material_id
         .filter(|&m| m < data.materials.len())
         .map(|m| m as u32);
-    for face in mesh.indices.chunks_exact(3) {
+    // tobj gives every corner a normal (and uv) index once the file has
+    // any; a face without one borrows the one before it.
+    let normals = mesh.normal_indices.len() == mesh.indices.len();
+    let uvs = mesh.texcoord_indices.len() == mesh.indices.len();
+    for (k, face) in mesh.indices.chunks_exact(3).enumerate() {
         let triangle = [vertex(face[0])?, vertex(face[1])?, vertex(face[2])?];
         if is_degenerate(&triangle) {
             first_degenerate.get_or_insert(data.triangles.len());
             data.skipped_degenerate += 1;
-        } else {
-            data.triangles.push(triangle);
-            if track {
-                data.triangle_materials.push(material);
-            }
+            continue;
+        }
+        let corners = 3 * k..3 * k + 3;
+        let normal = normals
+            .then(|| corner_values::<3>(&mesh.normals, &mesh.normal_indices[corners.clone()]));
+        let uv = uvs.then(|| corner_values::<2>(&mesh.texcoords, &mesh.texcoord_indices[corners]));
+        let ids = [face[0], face[1], face[2]].map(|i| base + i);
+        push_triangle(data, triangle, ids, normal.flatten(), uv.flatten());
+        if track {
+            data.triangle_materials.push(material);
         }
     }
     Ok(())
+}
+
+/// The values of `N` numbers at three corners' indices, if all exist.
+fn corner_values<const N: usize>(values: &[f32], indices: &[u32]) -> Option<[[f32; N]; 3]> {
+    let at = |i: u32| -> Option<[f32; N]> {
+        let start = i as usize * N;
+        values.get(start..start + N)?.try_into().ok()
+    };
+    Some([at(indices[0])?, at(indices[1])?, at(indices[2])?])
+}
+
+/// Adds a triangle and what its file says of its corners, keeping the
+/// normal and uv lists empty until some triangle has one.
+pub(crate) fn push_triangle(
+    data: &mut MeshData,
+    triangle: [Vec3; 3],
+    indices: [u32; 3],
+    normals: Option<[Vec3; 3]>,
+    uvs: Option<[crate::model::Uv; 3]>,
+) {
+    let before = data.triangles.len();
+    if normals.is_some() || !data.normals.is_empty() {
+        data.normals.resize(before, None);
+        data.normals.push(normals);
+    }
+    if uvs.is_some() || !data.uvs.is_empty() {
+        data.uvs.resize(before, None);
+        data.uvs.push(uvs);
+    }
+    data.triangles.push(triangle);
+    data.indices.push(indices);
 }
 
 /// Lines scanned for the offending line of a file tobj rejected; the scan
@@ -345,7 +400,7 @@ fn check_face_vertex(value: &str, counts: &[usize; 3], in_face: bool) -> Result<
     Ok(())
 }
 
-fn is_degenerate([a, b, c]: &[Vec3; 3]) -> bool {
+pub(crate) fn is_degenerate([a, b, c]: &[Vec3; 3]) -> bool {
     let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
     let e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
     let n = [
@@ -364,6 +419,33 @@ mod tests {
         let path = dir.join(name);
         std::fs::write(&path, text).unwrap();
         path
+    }
+
+    #[test]
+    fn normals_and_uv_are_kept_per_corner_from_the_first_face_on() {
+        let dir = tempfile::tempdir().unwrap();
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvn 0 0 2\nvn 0 1 0\nvt 0.5 0.25\nvt 1 1\n\
+                    f 1/1/1 2/2/1 3/1/2\nf 2 4 3\n";
+        let data = read_obj(&write(dir.path(), "n.obj", text)).unwrap();
+        assert_eq!(data.indices, [[0, 1, 2], [1, 3, 2]]);
+        let n = [[0.0, 0.0, 2.0], [0.0, 0.0, 2.0], [0.0, 1.0, 0.0]];
+        assert_eq!(data.normals[0], Some(n));
+        assert_eq!(data.uvs[0], Some([[0.5, 0.25], [1.0, 1.0], [0.5, 0.25]]));
+        // tobj gives a face without them in such a file its neighbour's.
+        assert_eq!(data.normals.len(), 2);
+    }
+
+    #[test]
+    fn a_file_without_normals_or_uv_has_none() {
+        let dir = tempfile::tempdir().unwrap();
+        let data = read_obj(&write(
+            dir.path(),
+            "p.obj",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+        ))
+        .unwrap();
+        assert!(data.normals.is_empty() && data.uvs.is_empty());
+        assert_eq!(data.indices, [[0, 1, 2]]);
     }
 
     #[test]

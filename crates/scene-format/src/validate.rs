@@ -396,6 +396,9 @@ impl Validator {
         if let Some(t) = &o.transform {
             self.transform(&path.key("transform"), t, o.sphere.is_some());
         }
+        if let Some(uv) = &o.uv {
+            self.triangle_uv(&path.key("uv"), uv, o.triangle.is_some());
+        }
         match &o.material {
             Some(MaterialRef::Named(name)) if !scene.materials.contains_key(name) => {
                 let expected = if scene.materials.is_empty() {
@@ -475,16 +478,46 @@ impl Validator {
         }
     }
 
+    /// Exactly one file, `obj` or `ply`, with a path.
+    fn mesh(&mut self, path: &KeyPath, m: &Mesh) {
+        match (&m.obj, &m.ply) {
+            (None, None) => self.error(
+                path,
+                "expected a mesh file: `obj = \"file.obj\"` or `ply = \"file.ply\"`; found neither",
+            ),
+            (Some(_), Some(_)) => self.error(
+                path.key("ply"),
+                "expected one mesh file, `obj` or `ply`; found both",
+            ),
+            (Some(file), None) if file.trim().is_empty() => {
+                self.error(path.key("obj"), "expected the path of an OBJ file")
+            }
+            (None, Some(file)) if file.trim().is_empty() => {
+                self.error(path.key("ply"), "expected the path of a PLY file")
+            }
+            _ => {}
+        }
+    }
+
+    /// A triangle's `uv`: finite, and only on a triangle.
+    fn triangle_uv(&mut self, path: &KeyPath, uv: &[Uv; 3], on_triangle: bool) {
+        if !on_triangle {
+            self.error(
+                path,
+                "expected `uv` only on a `triangle` object (a mesh's come from its file; other shapes have their own)",
+            );
+        } else if let Some(k) = uv.iter().position(|p| !p.iter().all(|x| x.is_finite())) {
+            let [u, v] = uv[k];
+            self.error(
+                path.index(k),
+                format!("expected finite numbers, found [{u}, {v}]"),
+            );
+        }
+    }
+
     fn shape(&mut self, path: &KeyPath, shape: &ShapeRef) {
         match shape {
-            ShapeRef::Mesh(m) => {
-                if m.obj.trim().is_empty() {
-                    self.error(
-                        path.key("mesh").key("obj"),
-                        "expected the path of an OBJ file",
-                    );
-                }
-            }
+            ShapeRef::Mesh(m) => self.mesh(&path.key("mesh"), m),
             ShapeRef::Sphere(s) => {
                 self.point(path.key("sphere").key("center"), s.center);
                 let r = path.key("sphere").key("radius");

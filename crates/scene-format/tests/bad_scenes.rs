@@ -90,6 +90,9 @@ const CASES: &[Case] = &[
     case("quad-zero-edge.toml", "objects[0].quad.edge_u", 6, 39, "expected a non-zero edge, found [0, 0, 0]"),
     case("quad-corner-far.toml", "objects[0].quad", 6, 8, "expected corners with coordinates from -1e6 to 1e6, found [1100000, 0, 0]"),
     case("obj-bad-vertex.toml", "objects[0].mesh.obj", 6, 16, "`obj-bad-vertex.obj:3`: expected numbers in a `v` line, found `O`"),
+    case("ply-truncated.toml", "objects[0].mesh.ply", 6, 16, "`ply-truncated.ply`: not a valid PLY file: it ends before the data its header declares"),
+    case("mesh-obj-and-ply.toml", "objects[0].mesh.ply", 6, 34, "expected one mesh file, `obj` or `ply`; found both"),
+    case("uv-on-sphere.toml", "objects[0].uv", 7, 6, "expected `uv` only on a `triangle` object"),
     case("obj-index-out-of-range.toml", "objects[1].mesh.obj", 9, 16, "`obj-index-out-of-range.obj:5`: vertex index 4 in `4`, but only 3 defined before this line"),
     case("radius-huge.toml", "objects[0].sphere.radius", 6, 41, "expected a radius from 1e-4 to 1e6, found 1e19"),
     case("radius-negative.json", "objects[1].sphere.radius", 5, 48, "expected a radius > 0, found -2"),
@@ -152,12 +155,13 @@ fn bad_dir() -> PathBuf {
 }
 
 /// Loads `tests/bad/<name>`, naming it `bad/<name>` so reports do not
-/// depend on where the checkout is. A scene with an OBJ of its own name
-/// beside it, or with an image texture, is loaded from its path, so its
-/// meshes and images are read too.
+/// depend on where the checkout is. A scene with an OBJ or PLY of its own
+/// name beside it, or with an image texture, is loaded from its path, so
+/// its meshes and images are read too.
 fn load_bad(name: &str) -> SceneError {
     let path = bad_dir().join(name);
     let reads_files = path.with_extension("obj").exists()
+        || path.with_extension("ply").exists()
         || std::fs::read_to_string(&path).is_ok_and(|t| t.contains("image ="));
     if reads_files {
         return match scene_format::load_any(&path) {
@@ -212,7 +216,7 @@ fn every_bad_file_has_a_case_and_there_are_at_least_40() {
     let mut files: Vec<String> = std::fs::read_dir(bad_dir())
         .unwrap()
         .map(|e| e.unwrap().file_name().into_string().unwrap())
-        .filter(|f| !f.ends_with(".obj"))
+        .filter(|f| !f.ends_with(".obj") && !f.ends_with(".ply"))
         .collect();
     files.sort();
     let listed: Vec<&str> = CASES.iter().map(|c| c.file).collect();

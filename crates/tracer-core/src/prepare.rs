@@ -38,18 +38,8 @@ pub fn prepare(file: &fmt::SceneFile) -> Result<Scene, PrepareError> {
     for (i, o) in file.objects.iter().enumerate() {
         let path = format!("objects[{i}]");
         let material = materials.resolve(&path, o)?;
-        let shapes = shapes(&path, o)?;
         let mtl = materials.mtl_materials(&path, o)?;
-        objects.extend(shapes.into_iter().map(|(shape, uv, mtl_index)| {
-            Object {
-                shape,
-                // The face's MTL material, when the object takes them.
-                material: mtl_index
-                    .and_then(|k| mtl.get(k as usize).copied())
-                    .unwrap_or(material),
-                uv,
-            }
-        }));
+        objects.extend(shapes(&path, o, material, &mtl)?);
     }
     Ok(Scene::new(SceneParts {
         camera: camera(&file.camera),
@@ -102,18 +92,25 @@ fn saturation(s: fmt::Saturation) -> Saturation {
     }
 }
 
-/// The shapes of object `o`: one, or a mesh's, quad's or box's triangles,
-/// each with the map of its barycentrics to the object's uv and, for a
-/// mesh's triangle, its index among the OBJ's MTL materials; placed by the
-/// object's transform.
-type Shapes = Vec<(Shape, UvMap, Option<u32>)>;
-
-fn shapes(path: &str, o: &fmt::Object) -> Result<Shapes, PrepareError> {
+/// The objects of scene object `o` with material `material` (a mesh's
+/// faces with their MTL materials `mtl`, when it takes them): one shape,
+/// or a mesh's, quad's or box's triangles, each with the map of its
+/// barycentrics to the object's uv and a smooth triangle's vertex normals;
+/// placed by the object's transform.
+fn shapes(
+    path: &str,
+    o: &fmt::Object,
+    material: usize,
+    mtl: &[usize],
+) -> Result<Vec<Object>, PrepareError> {
     let placement = placement(o.transform.as_ref());
-    let one = |shape| vec![(shape, UvMap::IDENTITY, None)];
-    let triangle = |[a, b, c]: [Vec3; 3], uv| {
-        let (shape, uv) = place_triangle([a, b, c], uv, &placement)?;
-        Some((shape, uv, None))
+    let one = |shape| vec![Object::new(shape, material)];
+    let triangle = |vertices: [Vec3; 3], uv| {
+        let (shape, uv) = place_triangle(vertices, uv, &placement)?;
+        Some(Object {
+            uv,
+            ..Object::new(shape, material)
+        })
     };
     Ok(match o.shapes().as_slice() {
         [fmt::ShapeRef::Sphere(s)] => {
@@ -122,7 +119,8 @@ fn shapes(path: &str, o: &fmt::Object) -> Result<Shapes, PrepareError> {
         }
         [fmt::ShapeRef::Triangle([a, b, c])] => {
             let vertices = [(*a).into(), (*b).into(), (*c).into()];
-            triangle(vertices, UvMap::IDENTITY).into_iter().collect()
+            let uv = o.uv.map_or(UvMap::IDENTITY, |uv| corner_uv_map(&uv));
+            triangle(vertices, uv).into_iter().collect()
         }
         [fmt::ShapeRef::Plane(p)] => {
             let plane = Plane::new(p.point.into(), p.normal.into());
@@ -141,17 +139,10 @@ fn shapes(path: &str, o: &fmt::Object) -> Result<Shapes, PrepareError> {
             .collect(),
         [fmt::ShapeRef::Mesh(m)] => {
             let data = m.data.as_ref().ok_or_else(|| PrepareError::MeshNotLoaded {
-                path: format!("{path}.mesh.obj"),
+                path: format!("{path}.mesh.{}", m.key()),
             })?;
-            placed(data, &placement)
-                .map(|(k, t)| {
-                    (
-                        Shape::Triangle(t),
-                        UvMap::IDENTITY,
-                        data.triangle_material(k),
-                    )
-                })
-                .collect()
+            let materials = FaceMaterials { material, mtl };
+            mesh_objects(data, &placement, m.smooth, materials)
         }
         _ => {
             return Err(PrepareError::NotOneShape {
@@ -196,6 +187,17 @@ fn place_sphere(sphere: &Sphere, placement: &Placement) -> Sphere {
         radius: sphere.radius * scale,
         // Orthonormal: its inverse, world to texture, is its transpose.
         texture_frame: Some(turn.transpose()),
+    }
+}
+
+/// The uv map of a triangle whose corners have texture coordinates `uv`:
+/// barycentric (u, v) is the point `uv0 + u (uv1 - uv0) + v (uv2 - uv0)`.
+fn corner_uv_map(uv: &[fmt::Uv; 3]) -> UvMap {
+    let [a, b, c] = uv.map(Vec2::from);
+    UvMap {
+        origin: a,
+        du: b - a,
+        dv: c - a,
     }
 }
 
@@ -268,14 +270,119 @@ fn step_placement(step: &fmt::TransformStep) -> Placement {
     }
 }
 
-/// The mesh's triangles in world space; triangles that the placement makes
-/// degenerate (zero area in f32) are left out.
-#[cfg(test)]
-fn mesh_triangles(data: &fmt::MeshData, placement: &Placement) -> Vec<Triangle> {
-    placed(data, placement).map(|(_, t)| t).collect()
+/// A mesh object's material, and its faces' MTL materials (indices into the
+/// prepared scene's) when it takes them.
+#[derive(Clone, Copy)]
+struct FaceMaterials<'a> {
+    material: usize,
+    mtl: &'a [usize],
 }
 
-/// The placed triangles, each with its index in `data.triangles`.
+impl FaceMaterials<'_> {
+    /// The material of triangle `k` of `data`.
+    fn of(&self, data: &fmt::MeshData, k: usize) -> usize {
+        data.triangle_material(k)
+            .and_then(|m| self.mtl.get(m as usize).copied())
+            .unwrap_or(self.material)
+    }
+}
+
+/// The triangles of a mesh placed by `placement`, with their uv and, when
+/// smooth, their vertex normals. A mirroring placement swaps the last two
+/// vertices (`place_triangle`): their normals and uv swap with them.
+fn mesh_objects(
+    data: &fmt::MeshData,
+    placement: &Placement,
+    smooth: Option<bool>,
+    materials: FaceMaterials,
+) -> Vec<Object> {
+    let made = (smooth == Some(true)).then(|| face_weighted_normals(data));
+    let to_world = placement.normal_matrix();
+    let mirrors = placement.mirrors();
+    placed(data, placement)
+        .map(|(k, triangle)| {
+            let file_normals = match smooth {
+                Some(false) => None,
+                _ => data.normals.get(k).copied().flatten(),
+            };
+            let normals = file_normals.map(|n| n.map(Vec3::from)).or_else(|| {
+                let made = made.as_ref()?;
+                let ids = data.indices.get(k)?;
+                Some(ids.map(|i| made[i as usize]))
+            });
+            let vertex_normals = normals
+                .map(|n| in_placed_order(n, mirrors))
+                .and_then(|n| oriented(&triangle, n.map(|n| to_world * n)))
+                .map(Box::new);
+            let uv = data.uvs.get(k).copied().flatten();
+            Object {
+                uv: uv.map_or(UvMap::IDENTITY, |uv| {
+                    corner_uv_map(&in_placed_order(uv, mirrors))
+                }),
+                vertex_normals,
+                ..Object::new(Shape::Triangle(triangle), materials.of(data, k))
+            }
+        })
+        .collect()
+}
+
+/// A triangle's corner values in the order `place_triangle` puts its
+/// vertices: the last two swapped under a mirroring placement.
+fn in_placed_order<T>([a, b, c]: [T; 3], mirrors: bool) -> [T; 3] {
+    if mirrors {
+        [a, c, b]
+    } else {
+        [a, b, c]
+    }
+}
+
+/// The normal at each vertex of the file: the sum of the faces' normals
+/// around it weighted by their areas (the cross product of two edges is
+/// twice the area along the normal), in the file's space. Placed, these are
+/// the area-weighted normals of the placed mesh: the normal matrix takes a
+/// face's cross product to the placed face's, divided by the determinant.
+/// Empty when the file's vertex indices are not known.
+fn face_weighted_normals(data: &fmt::MeshData) -> Vec<Vec3> {
+    if data.indices.len() != data.triangles.len() {
+        return Vec::new();
+    }
+    let count = data
+        .indices
+        .iter()
+        .flatten()
+        .max()
+        .map_or(0, |&i| i as usize + 1);
+    let mut normals = vec![Vec3::ZERO; count];
+    for (t, ids) in data.triangles.iter().zip(&data.indices) {
+        let [a, b, c] = t.map(Vec3::from);
+        let n = (b - a).cross(c - a);
+        for &i in ids {
+            normals[i as usize] += n;
+        }
+    }
+    normals
+}
+
+/// Unit vertex normals `n` of `triangle` on its own normal's side (files
+/// wind their faces either way; the lab's normal comes from the vertex
+/// order, and shading keeps to its side), or None when one has no
+/// direction: then the triangle is shaded flat.
+fn oriented(triangle: &Triangle, n: [Vec3; 3]) -> Option<[Vec3; 3]> {
+    let [a, b, c] = [
+        n[0].try_normalize()?,
+        n[1].try_normalize()?,
+        n[2].try_normalize()?,
+    ];
+    let geometric = (triangle.v1 - triangle.v0).cross(triangle.v2 - triangle.v0);
+    if (a + b + c).dot(geometric) < 0.0 {
+        Some([-a, -b, -c])
+    } else {
+        Some([a, b, c])
+    }
+}
+
+/// The mesh's triangles placed, each with its index in `data`; those of
+/// zero area in f32 left out.
 fn placed<'a>(
     data: &'a fmt::MeshData,
     placement: &'a Placement,
@@ -531,15 +638,94 @@ fn wrap(w: fmt::Wrap) -> Wrap {
 mod tests {
     use super::*;
 
+    /// One material for every face.
+    const GREY: FaceMaterials = FaceMaterials {
+        material: 0,
+        mtl: &[],
+    };
+
     #[test]
     fn without_a_transform_mesh_vertices_are_kept_exactly() {
         let data = fmt::MeshData {
             triangles: vec![[[0.1, 0.2, 0.3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]],
             ..fmt::MeshData::default()
         };
-        let tris = mesh_triangles(&data, &placement(None));
+        let tris = mesh_objects(&data, &placement(None), None, GREY);
         assert_eq!(tris.len(), 1);
-        assert_eq!(tris[0].v0, Vec3::new(0.1, 0.2, 0.3));
+        let Shape::Triangle(t) = &tris[0].shape else {
+            panic!("a triangle")
+        };
+        assert_eq!(t.v0, Vec3::new(0.1, 0.2, 0.3));
+    }
+
+    /// One triangle facing +z by its vertex order, with file normals `n`.
+    fn one_smooth_triangle(n: [fmt::Vec3; 3]) -> fmt::MeshData {
+        fmt::MeshData {
+            triangles: vec![[[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]],
+            indices: vec![[0, 1, 2]],
+            normals: vec![Some(n)],
+            ..fmt::MeshData::default()
+        }
+    }
+
+    fn vertex_normals(objects: &[Object]) -> Option<[Vec3; 3]> {
+        objects[0].vertex_normals.as_deref().copied()
+    }
+
+    #[test]
+    fn file_normals_turn_with_the_placement_and_keep_to_the_face_side() {
+        let slanted = [1.0, 1.0, 1.0];
+        let data = one_smooth_triangle([slanted, [0.0, 0.0, 2.0], [0.0, 0.0, 1.0]]);
+        let none = placement(None);
+        let n = vertex_normals(&mesh_objects(&data, &none, None, GREY)).expect("smooth");
+        assert!((n[0] - Vec3::ONE.normalize()).length() < 1e-6);
+        assert_eq!(n[1], Vec3::Z, "normalised");
+        // Stretched 3 times along x: the slanted normal leans by 1/3 there.
+        let t = fmt::Transform::Table(fmt::TransformTable {
+            scale: fmt::Scale::PerAxis([3.0, 1.0, 1.0]),
+            ..fmt::TransformTable::default()
+        });
+        let n = vertex_normals(&mesh_objects(&data, &placement(Some(&t)), None, GREY)).unwrap();
+        let expected = Vec3::new(1.0 / 3.0, 1.0, 1.0).normalize();
+        assert!((n[0] - expected).length() < 1e-6, "{}", n[0]);
+        // A file wound the other way round (normals against the face's):
+        // they are turned to the face's side, all three.
+        let inward = one_smooth_triangle([[0.0, 0.0, -1.0], [0.1, 0.0, -1.0], [0.0, 0.0, -1.0]]);
+        let n = vertex_normals(&mesh_objects(&inward, &none, None, GREY)).unwrap();
+        assert!(n.iter().all(|n| n.z > 0.0), "{n:?}");
+        // `smooth = false` ignores them; a normal of no length makes it flat.
+        assert_eq!(
+            vertex_normals(&mesh_objects(&data, &none, Some(false), GREY)),
+            None
+        );
+        let zero = one_smooth_triangle([[0.0; 3], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0]]);
+        assert_eq!(
+            vertex_normals(&mesh_objects(&zero, &none, None, GREY)),
+            None
+        );
+    }
+
+    #[test]
+    fn smooth_normals_weigh_the_faces_by_area() {
+        // Two faces around vertex 0: one in z = 0 of area 2, one in x = 0
+        // of area 0.5; the vertex normal is (2 z + 0.5 x) normalised.
+        let data = fmt::MeshData {
+            triangles: vec![
+                [[0.0; 3], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]],
+                [[0.0; 3], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            ],
+            indices: vec![[0, 1, 2], [0, 3, 4]],
+            ..fmt::MeshData::default()
+        };
+        let objects = mesh_objects(&data, &placement(None), Some(true), GREY);
+        let n = vertex_normals(&objects).expect("made from the faces");
+        assert!((n[0] - Vec3::new(0.5, 0.0, 2.0).normalize()).length() < 1e-6);
+        assert_eq!(n[1], Vec3::Z, "a vertex of one face has its normal");
+        // Without `smooth = true` a file without normals stays flat.
+        assert_eq!(
+            vertex_normals(&mesh_objects(&data, &placement(None), None, GREY)),
+            None
+        );
     }
 
     #[test]
@@ -558,7 +744,7 @@ mod tests {
             translate: [0.0, 0.0, 5.0],
             ..fmt::TransformTable::default()
         });
-        let kept = mesh_triangles(&data, &placement(Some(&t))).len();
+        let kept = mesh_objects(&data, &placement(Some(&t)), None, GREY).len();
         let extent = mesh_extent(&data, Some(&t));
         assert_eq!(extent.triangles, kept);
         assert_eq!(extent.max_abs, 5.0);

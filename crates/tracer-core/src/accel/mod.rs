@@ -21,6 +21,7 @@ mod wide;
 use crate::geometry::{Object, Plane, Shape, SurfaceHit, UvMap};
 use crate::ray::Ray;
 use build::BuildPrim;
+use glam::Vec3;
 use leaves::{pack_leaves, SpherePrim, SPHERE_LEAF};
 use rayon::prelude::*;
 use traverse::{push_nearest_last, with_stack, Best, Entry, HitAt, RayData, PAD};
@@ -40,6 +41,9 @@ pub struct Bvh {
     /// The triangles whose barycentrics map to another uv (quads' and
     /// boxes' halves), by object index, sorted: looked up once per hit.
     uv_maps: Vec<(u32, UvMap)>,
+    /// The smooth triangles' unit vertex normals, by object index, sorted:
+    /// looked up once per closest hit, so the traversal never reads them.
+    vertex_normals: Vec<(u32, [Vec3; 3])>,
 }
 
 /// A plane with its object index and material.
@@ -77,10 +81,16 @@ impl Bvh {
             .filter(|(_, o)| o.uv != UvMap::IDENTITY)
             .map(|(i, o)| (i as u32, o.uv))
             .collect();
+        let vertex_normals = objects
+            .iter()
+            .enumerate()
+            .filter_map(|(i, o)| Some((i as u32, *o.vertex_normals.as_deref()?)))
+            .collect();
         if items.is_empty() {
             return Bvh {
                 planes,
                 uv_maps,
+                vertex_normals,
                 ..Bvh::default()
             };
         }
@@ -92,6 +102,7 @@ impl Bvh {
             spheres,
             planes,
             uv_maps,
+            vertex_normals,
         }
     }
 
@@ -101,6 +112,15 @@ impl Bvh {
             Ok(k) => self.uv_maps[k].1.apply(uv),
             Err(_) => uv,
         }
+    }
+
+    /// The vertex normals of triangle `id`, if it is smooth.
+    fn vertex_normals(&self, id: u32) -> Option<&[Vec3; 3]> {
+        let k = self
+            .vertex_normals
+            .binary_search_by_key(&id, |&(i, _)| i)
+            .ok()?;
+        Some(&self.vertex_normals[k].1)
     }
 
     /// How many 8-wide nodes the tree has.
@@ -122,8 +142,13 @@ impl Bvh {
         }
         best.found().then(|| match best.at {
             HitAt::Triangle { block, lane, uv } => {
-                let uv = self.map_uv(self.tris[block].id[lane], uv);
-                self.tris[block].hit(lane, ray, best.t, uv)
+                let tris = &self.tris[block];
+                let id = tris.id[lane];
+                let hit = tris.hit(lane, ray, best.t, self.map_uv(id, uv));
+                match self.vertex_normals(id) {
+                    Some(normals) => hit.with_vertex_normals(ray, tris.corners(lane), normals, uv),
+                    None => hit,
+                }
             }
             HitAt::Sphere(k) => self.spheres[k].hit(ray, best.t),
             HitAt::Plane(k) => {
@@ -256,7 +281,6 @@ impl Bvh {
 mod tests {
     use super::*;
     use crate::geometry::{Sphere, Triangle};
-    use glam::Vec3;
     use wide::{GROUPS, WIDTH};
 
     /// xorshift: reproducible numbers in [-1, 1) without a dependency.
@@ -347,8 +371,16 @@ mod tests {
                 dv: -glam::Vec2::Y,
             };
         }
+        // Vertex normals on every third triangle (some with mapped uv too):
+        // the shading normal and the shadow offset must be the same.
+        for o in objects.iter_mut().step_by(3) {
+            if matches!(o.shape, Shape::Triangle(_)) {
+                let n = [0; 3].map(|_| (rng.vec(1.0) + Vec3::Z).normalize());
+                o.vertex_normals = Some(Box::new(n));
+            }
+        }
         let bvh = Bvh::build(&objects);
-        let mut plane_hits = 0;
+        let (mut plane_hits, mut smooth_hits) = (0, 0);
         for k in 0..20_000 {
             let origin = rng.vec(if k % 2 == 0 { 8.0 } else { 4.0 });
             let ray = Ray::new(origin, rng.vec(1.0));
@@ -358,8 +390,10 @@ mod tests {
             let any = brute_force::occluded(&objects, &ray, 1e-4, t_max);
             assert_eq!(bvh.occluded(&ray, 1e-4, t_max), any, "ray {k}");
             plane_hits += expected.is_some_and(|h| [0, 200, 901].contains(&h.object)) as u32;
+            smooth_hits += expected.is_some_and(|h| h.shading_normal != h.geometric_normal) as u32;
         }
         assert!(plane_hits > 2000, "only {plane_hits} plane hits");
+        assert!(smooth_hits > 500, "only {smooth_hits} smooth hits");
     }
 
     #[test]

@@ -99,6 +99,12 @@ impl Tri4 {
 
     /// The hit on `lane` at distance `t` and barycentric `uv`, as
     /// `Object::surface_hit` gives it.
+    /// Lane `lane`'s `v0`, `e1` and `e2`, as its `TriRecord` gave them.
+    pub(super) fn corners(&self, lane: usize) -> [Vec3; 3] {
+        let at = |v: &[Vec4; 3]| Vec3::new(v[0][lane], v[1][lane], v[2][lane]);
+        [at(&self.v0), at(&self.e1), at(&self.e2)]
+    }
+
     pub(super) fn hit(&self, lane: usize, ray: &Ray, t: f32, uv: Vec2) -> SurfaceHit {
         let at = |v: &[Vec4; 3]| Vec3::new(v[0][lane], v[1][lane], v[2][lane]);
         SurfaceHit::on_triangle(

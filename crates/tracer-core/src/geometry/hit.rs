@@ -17,8 +17,9 @@ pub struct SurfaceHit {
     /// The unit normal of the surface as the lab defines it: a triangle's
     /// from its vertex order, a sphere's outward; never flipped toward the ray.
     pub geometric_normal: Vec3,
-    /// The normal shading uses; the geometric one until meshes carry
-    /// vertex normals.
+    /// The unit normal shading uses: the geometric one, or on a smooth
+    /// triangle its vertex normals interpolated (always on the geometric
+    /// normal's side: the vertex normals are oriented so when prepared).
     pub shading_normal: Vec3,
     /// Surface coordinates: barycentric (u, v) on a triangle (v0 -> (0, 0),
     /// v1 -> (1, 0), v2 -> (0, 1)) unless its object maps them (a quad's or
@@ -27,6 +28,14 @@ pub struct SurfaceHit {
     pub uv: Vec2,
     /// Whether the ray met the side the geometric normal points to.
     pub front_face: bool,
+    /// Where shadow rays start, from the hit point: zero, except on a
+    /// smooth triangle, where the flat face lies below the curved surface
+    /// its vertex normals describe, so rays leaving it toward a light just
+    /// above the shading horizon would meet the neighbouring faces (blocky
+    /// black shadows along the terminator). Shadow rays start on that
+    /// curved surface instead (Hanika, "Hacking the shadow terminator",
+    /// Ray Tracing Gems II, 2021).
+    pub shadow_offset: Vec3,
 }
 
 impl SurfaceHit {
@@ -47,6 +56,7 @@ impl SurfaceHit {
             shading_normal: normal,
             uv: sphere.uv(normal),
             front_face: ray.dir.dot(normal) < 0.0,
+            shadow_offset: Vec3::ZERO,
         }
     }
 
@@ -70,7 +80,37 @@ impl SurfaceHit {
             shading_normal: normal,
             uv: hit.uv,
             front_face: ray.dir.dot(normal) < 0.0,
+            shadow_offset: Vec3::ZERO,
         }
+    }
+
+    /// This hit of `ray` on the triangle `v0`, `v0 + e1`, `v0 + e2` with
+    /// unit vertex `normals`, at barycentric `b` (before any uv map): the
+    /// shading normal interpolated from them (where they cancel out, the
+    /// geometric one stays), and shadow rays moved onto the curved surface.
+    pub fn with_vertex_normals(
+        mut self,
+        ray: &Ray,
+        [v0, e1, e2]: [Vec3; 3],
+        normals: &[Vec3; 3],
+        b: Vec2,
+    ) -> SurfaceHit {
+        let weights = [1.0 - b.x - b.y, b.x, b.y];
+        let n = weights[0] * normals[0] + weights[1] * normals[1] + weights[2] * normals[2];
+        if let Some(n) = n.try_normalize() {
+            self.shading_normal = n;
+        }
+        // Hanika's offset: the point projected onto each vertex's tangent
+        // plane where it lies below it, blended by the barycentrics.
+        let p = ray.at(self.t);
+        let corners = [v0, v0 + e1, v0 + e2];
+        let mut offset = Vec3::ZERO;
+        for k in 0..3 {
+            let below = (p - corners[k]).dot(normals[k]).min(0.0);
+            offset -= weights[k] * below * normals[k];
+        }
+        self.shadow_offset = offset;
+        self
     }
 
     /// The hit on a plane at distance `t` along `ray`.
@@ -89,6 +129,59 @@ impl SurfaceHit {
             shading_normal: plane.normal,
             uv: plane.uv(ray.at(t)),
             front_face: ray.dir.dot(plane.normal) < 0.0,
+            shadow_offset: Vec3::ZERO,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Triangle;
+
+    fn hit_at_centroid(normals: &[Vec3; 3]) -> SurfaceHit {
+        let t = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y);
+        let ray = Ray::new(Vec3::new(1.0 / 3.0, 1.0 / 3.0, 2.0), -Vec3::Z);
+        let hit = t.intersect(&ray, 0.0, f32::INFINITY).expect("a hit");
+        let (e1, e2, _) = t.edges();
+        let flat = SurfaceHit::on_triangle(e1, e2, &ray, hit, 0, 0);
+        flat.with_vertex_normals(&ray, [t.v0, e1, e2], normals, hit.uv)
+    }
+
+    #[test]
+    fn flat_vertex_normals_change_nothing() {
+        let hit = hit_at_centroid(&[Vec3::Z; 3]);
+        assert_eq!(hit.shading_normal, Vec3::Z);
+        assert_eq!(hit.shadow_offset, Vec3::ZERO);
+    }
+
+    #[test]
+    fn a_dome_lifts_the_shadow_rays_above_the_face() {
+        // Normals of a sphere of radius r around c = centroid - h z through
+        // the three corners: at the centroid the interpolated normal is
+        // about +z, and the shadow origin rises above the flat face to at
+        // least the sphere's height there (its sagitta r - h), and less
+        // than twice it (the tangent planes, as in Phong tessellation,
+        // bulge beyond the sphere).
+        let centroid = Vec3::new(1.0 / 3.0, 1.0 / 3.0, 0.0);
+        let d = (Vec3::X - centroid).length();
+        let r = 2.0f32;
+        let h = (r * r - d * d).sqrt();
+        let c = centroid - Vec3::Z * h;
+        let normals = [Vec3::ZERO, Vec3::X, Vec3::Y].map(|v| (v - c).normalize());
+        let hit = hit_at_centroid(&normals);
+        assert!(
+            (hit.shading_normal - Vec3::Z).length() < 0.02,
+            "{}",
+            hit.shading_normal
+        );
+        let (lift, sagitta) = (hit.shadow_offset.z, r - h);
+        assert!(
+            lift > sagitta && lift < 2.0 * sagitta,
+            "{lift} vs {sagitta}"
+        );
+        // Mostly up: the right triangle is not symmetric about its centroid.
+        let sideways = hit.shadow_offset.truncate().length();
+        assert!(sideways < 0.1 * lift, "{sideways}");
     }
 }

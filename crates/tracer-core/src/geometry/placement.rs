@@ -56,7 +56,7 @@ impl Placement {
     /// A surface normal, unit length: the inverse transpose keeps it
     /// perpendicular to the surface when the scale differs per axis.
     pub fn apply_normal(&self, n: Vec3) -> Vec3 {
-        (self.linear.inverse().transpose() * n).normalize()
+        (self.normal_matrix() * n).normalize()
     }
 
     /// Whether the placement mirrors (a negative determinant): a vertex
@@ -68,6 +68,14 @@ impl Placement {
     /// The linear part.
     pub fn linear(&self) -> Mat3 {
         self.linear
+    }
+
+    /// The matrix that takes normals where the placement takes the surface:
+    /// the inverse transpose of its linear part (a normal stays
+    /// perpendicular to the tangents, which the linear part takes). Its
+    /// results are not unit: normalise them.
+    pub fn normal_matrix(&self) -> Mat3 {
+        self.linear.inverse().transpose()
     }
 }
 
@@ -117,6 +125,20 @@ mod tests {
         assert!((n.length() - 1.0).abs() < 1e-6);
         assert!(!stretch.mirrors());
         assert!(Placement::new(Vec3::new(-1.0, 1.0, 1.0), Vec3::ZERO, Vec3::ZERO).mirrors());
+    }
+
+    #[test]
+    fn normals_stay_perpendicular_to_a_stretched_surface() {
+        // The plane x + y = 0 (normal (1, 1, 0)) stretched 3 times along x
+        // is the plane x / 3 + y = 0, whose normal is (1/3, 1, 0).
+        let placement = Placement::new(Vec3::new(3.0, 1.0, 1.0), Vec3::ZERO, Vec3::ONE);
+        let n = (placement.normal_matrix() * Vec3::new(1.0, 1.0, 0.0)).normalize();
+        let expected = Vec3::new(1.0 / 3.0, 1.0, 0.0).normalize();
+        assert!((n - expected).length() < 1e-6, "{n}");
+        // Under a rotation a normal turns with the surface.
+        let turn = Placement::new(Vec3::splat(2.0), Vec3::new(0.0, 0.0, 90.0), Vec3::ZERO);
+        let n = (turn.normal_matrix() * Vec3::X).normalize();
+        assert!((n - Vec3::Y).length() < 1e-6, "{n}");
     }
 
     #[test]

@@ -42,13 +42,17 @@ impl Default for UvMap {
     }
 }
 
-/// A shape, the index of its material (`Scene::material(index)`), and the
-/// map of a triangle's barycentrics to its uv (ignored by other shapes).
+/// A shape, the index of its material (`Scene::material(index)`), the
+/// map of a triangle's barycentrics to its uv, and a triangle's unit vertex
+/// normals for smooth shading (the last two ignored by other shapes).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Object {
     pub shape: Shape,
     pub material: usize,
     pub uv: UvMap,
+    /// Unit normals at `v0`, `v1`, `v2`, on the side of the triangle's own
+    /// normal; None shades the triangle flat. Boxed: most objects have none.
+    pub vertex_normals: Option<Box<[Vec3; 3]>>,
 }
 
 impl Shape {
@@ -87,6 +91,7 @@ impl Object {
             shape,
             material,
             uv: UvMap::IDENTITY,
+            vertex_normals: None,
         }
     }
 
@@ -106,16 +111,16 @@ impl Object {
             }
             Shape::Triangle(tri) => {
                 let mut hit = tri.intersect(ray, t_min, t_max)?;
+                let barycentric = hit.uv;
                 hit.uv = self.uv.apply(hit.uv);
                 let (e1, e2, _) = tri.edges();
-                Some(SurfaceHit::on_triangle(
-                    e1,
-                    e2,
-                    ray,
-                    hit,
-                    index,
-                    self.material,
-                ))
+                let surface = SurfaceHit::on_triangle(e1, e2, ray, hit, index, self.material);
+                Some(match &self.vertex_normals {
+                    Some(normals) => {
+                        surface.with_vertex_normals(ray, [tri.v0, e1, e2], normals, barycentric)
+                    }
+                    None => surface,
+                })
             }
             Shape::Plane(p) => {
                 let t = p.intersect(ray, t_min, t_max)?;

@@ -47,12 +47,14 @@ impl Terms {
     }
 }
 
-/// A point being shaded: where, its unit normal, and the unit direction
-/// back to the viewer.
+/// A point being shaded: where, its unit normal, the unit direction
+/// back to the viewer, and where its shadow rays start (`p` but on a
+/// smooth triangle; see `SurfaceHit::shadow_offset`).
 struct Shaded {
     p: Vec3,
     n: Vec3,
     view: Vec3,
+    shadow_origin: Vec3,
 }
 
 /// Traces rays through one scene, counting them; one per thread, reseeded
@@ -144,7 +146,7 @@ impl<'a> Whitted<'a> {
     /// ambient and diffuse), times its lab texture.
     fn textured_local(&mut self, m: &Phong, ray: &Ray, hit: &SurfaceHit, p: Vec3) -> Vec3 {
         let terms = Terms::at(m, hit);
-        let local = self.local_colour(&terms, ray, p, hit.shading_normal);
+        let local = self.local_colour(&terms, ray, p, hit);
         match &m.texture {
             Some(texture) => local * texture.texel(hit.uv),
             None => local,
@@ -154,11 +156,12 @@ impl<'a> Whitted<'a> {
     /// Ambient, diffuse and specular of every light at `p`, in the lab's
     /// order: ambient once per light and always; diffuse and specular only
     /// where the light is not shadowed.
-    fn local_colour(&mut self, m: &Terms, ray: &Ray, p: Vec3, n: Vec3) -> Vec3 {
+    fn local_colour(&mut self, m: &Terms, ray: &Ray, p: Vec3, hit: &SurfaceHit) -> Vec3 {
         let at = Shaded {
             p,
-            n,
+            n: hit.shading_normal,
             view: -ray.dir,
+            shadow_origin: p + hit.shadow_offset,
         };
         let mut colour = Vec3::ZERO;
         for light in self.scene.lights() {
@@ -199,7 +202,8 @@ impl<'a> Whitted<'a> {
         if cos_a <= COS_THRESHOLD {
             return;
         }
-        let Some(through) = self.shadow(&Ray::new(at.p, l), distance) else {
+        let (shadow_ray, distance) = shadow_ray(at, from, l, distance);
+        let Some(through) = self.shadow(&shadow_ray, distance) else {
             return;
         };
         // 1 exactly unless glass is in the way: the lab's arithmetic stays.
@@ -247,6 +251,18 @@ impl<'a> Whitted<'a> {
         }
         None
     }
+}
+
+/// The shadow ray from `at` to the light point `from` (unit direction `l`
+/// and `distance` from `at.p`), and its length: from `at.p` itself unless
+/// the shadow rays start elsewhere.
+fn shadow_ray(at: &Shaded, from: Vec3, l: Vec3, distance: f32) -> (Ray, f32) {
+    if at.shadow_origin == at.p {
+        return (Ray::new(at.p, l), distance);
+    }
+    let to_light = from - at.shadow_origin;
+    let length = to_light.length();
+    (Ray::new(at.shadow_origin, to_light / length), length)
 }
 
 /// One transmitted path: from `ray`, the rays that glass refracts it into,
