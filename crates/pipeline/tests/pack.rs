@@ -47,6 +47,30 @@ fn the_showcase_and_its_archive_render_the_same_bits() {
     assert_eq!(render_bits(&archive, 125), render_bits(&scene, 125));
 }
 
+#[test]
+fn a_textured_scene_and_its_archive_render_the_same_bits() {
+    // Its images and the MTL file (with its own image) come from the
+    // archive too: the render reads nothing else.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = repository_scene("textures.toml");
+    let archive = dir.path().join("textures.zip");
+    let packed = pack(&scene, &archive).unwrap();
+    for file in [
+        "meshes/labelled-box.mtl",
+        "meshes/bullseye.png",
+        "textures/grid.png",
+    ] {
+        assert!(
+            packed.entries.iter().any(|e| e == file),
+            "{file}: {:?}",
+            packed.entries
+        );
+    }
+    let loaded = load(&Input::File(archive.clone())).unwrap();
+    assert_eq!(loaded.files_read, [archive.clone()]);
+    assert_eq!(render_bits(&archive, 120), render_bits(&scene, 120));
+}
+
 const TRIANGLE: &str = "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n";
 
 /// The materials, light and objects of the split scene below, in one file.

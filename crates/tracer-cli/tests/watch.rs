@@ -509,3 +509,29 @@ fn the_page_shows_each_render_and_the_error_without_a_reload() {
     page.wait_for("document.body.dataset.renders === '5'", WITHIN);
     assert_eq!(page.eval("document.body.dataset.error"), "hidden");
 }
+
+#[test]
+fn fixing_a_bad_included_file_renders_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.png");
+    let lib = dir.path().join("lib.toml");
+    let material = |colour: &str| format!("[materials.paint]\ndiffuse = {colour}\n");
+    write(dir.path().join("tri.obj"), &obj(0.0));
+    write(lib.clone(), &material("[1, 0, 0]"));
+    let scene = "include = [\"lib.toml\"]\n\
+                 [camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nwidth = 64\nheight = 48\n\
+                 [[lights]]\nposition = [0, 0, 5]\n\
+                 [[objects]]\nmesh = { obj = \"tri.obj\" }\nmaterial = \"paint\"\n";
+    write(dir.path().join("scene.toml"), scene);
+    let mut watching = Watching::start(dir.path());
+    watching.expect_line("rendered", START);
+    assert_eq!(centre_pixel(&out), [true, false, false]);
+    // A mistake in the included file: located there, the image kept.
+    write(lib.clone(), &material("[1, 0]"));
+    watching.expect_line("lib.toml:2:11", WITHIN);
+    watching.expect_line("keeping the last good image", WITHIN);
+    // Fixed in the included file: rendered again.
+    write(lib, &material("[0, 0, 1]"));
+    watching.expect_line("rendered", WITHIN);
+    assert_eq!(centre_pixel(&out), [false, false, true]);
+}

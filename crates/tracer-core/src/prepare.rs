@@ -706,6 +706,51 @@ mod tests {
     }
 
     #[test]
+    fn a_mirror_keeps_each_vertex_its_own_normal_and_uv() {
+        // Normals leaning toward +x at vertex 1 (at x = 1) and +y at vertex
+        // 2; mirrored in x, vertex 1 is at x = -1 and its normal must lean
+        // toward -x, whichever order the placed triangle lists it in.
+        let mut data = one_smooth_triangle([[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]]);
+        data.uvs = vec![Some([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])];
+        let t = fmt::Transform::Table(fmt::TransformTable {
+            scale: fmt::Scale::PerAxis([-1.0, 1.0, 1.0]),
+            ..fmt::TransformTable::default()
+        });
+        let objects = mesh_objects(&data, &placement(Some(&t)), None, GREY);
+        let Shape::Triangle(tri) = &objects[0].shape else {
+            panic!("a triangle")
+        };
+        let normals = vertex_normals(&objects).expect("smooth");
+        let corners = [tri.v0, tri.v1, tri.v2];
+        for (corner, n) in corners.iter().zip(normals) {
+            let expected = if corner.x < -0.5 {
+                Vec3::new(-1.0, 0.0, 1.0)
+            } else if corner.y > 0.5 {
+                Vec3::new(0.0, 1.0, 1.0)
+            } else {
+                Vec3::Z
+            };
+            // On the face's side: +z or -z, as its vertex order says.
+            let side = tri.normal().z.signum();
+            let expected = Vec3::new(expected.x, expected.y, expected.z * side).normalize();
+            assert!(
+                (n - expected).length() < 1e-6,
+                "{corner}: {n} vs {expected}"
+            );
+        }
+        // The uv of each corner is the one the file gave its vertex.
+        let uv = objects[0].uv;
+        let at = |b: Vec2| uv.apply(b);
+        for (corner, bary) in corners.iter().zip([Vec2::ZERO, Vec2::X, Vec2::Y]) {
+            let expected = Vec2::new(
+                (corner.x < -0.5) as u8 as f32,
+                (corner.y > 0.5) as u8 as f32,
+            );
+            assert_eq!(at(bary), expected, "{corner}");
+        }
+    }
+
+    #[test]
     fn smooth_normals_weigh_the_faces_by_area() {
         // Two faces around vertex 0: one in z = 0 of area 2, one in x = 0
         // of area 0.5; the vertex normal is (2 z + 0.5 x) normalised.

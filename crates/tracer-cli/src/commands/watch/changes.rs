@@ -55,7 +55,9 @@ impl Changes {
     /// Watches `files` (and stops watching the others). Their folders are
     /// watched rather than the files themselves: editors save by writing a
     /// new file and renaming it over the old one, which ends a watch on it.
-    pub fn watch(&mut self, files: &[PathBuf]) -> Result<()> {
+    /// A folder that cannot be watched (gone, or inside an archive's name)
+    /// is left out: it cannot change what renders.
+    pub fn watch(&mut self, files: &[PathBuf]) {
         let absolute: HashSet<PathBuf> = files.iter().map(|f| absolute(f)).collect();
         let folders: HashSet<PathBuf> = absolute
             .iter()
@@ -64,14 +66,19 @@ impl Changes {
         for gone in self.folders.difference(&folders) {
             let _ = self.watcher.unwatch(gone);
         }
-        for new in folders.difference(&self.folders) {
-            self.watcher
-                .watch(new, RecursiveMode::NonRecursive)
-                .with_context(|| format!("cannot watch {} for changes", new.display()))?;
+        let mut watched = HashSet::new();
+        for folder in folders {
+            let ok = self.folders.contains(&folder)
+                || self
+                    .watcher
+                    .watch(&folder, RecursiveMode::NonRecursive)
+                    .is_ok();
+            if ok {
+                watched.insert(folder);
+            }
         }
-        self.folders = folders;
+        self.folders = watched;
         *self.files.lock().expect("the watch list") = absolute;
-        Ok(())
     }
 
     /// The flag that says a watched file changed: a render reads it to stop.

@@ -13,8 +13,9 @@ use crate::console::{self, note};
 use crate::report;
 use anyhow::Result;
 use changes::Changes;
+use scene_format::SceneError;
 use server::Server;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 use tracer_pipeline::output::{check_not_an_input, encode, BitDepth, ImageFormat, PendingOutput};
 use tracer_pipeline::{Error, Input, Loaded, Options, Rendered, Summary};
@@ -26,6 +27,9 @@ pub fn run(args: &Watch) -> Result<()> {
     ImageFormat::for_path(&args.output).map_err(Error::from)?;
     check_not_an_input(&args.output, &[&args.scene]).map_err(Error::from)?;
     let mut changes = Changes::new()?;
+    // What the last good load read: still watched after a bad edit, so
+    // that fixing an included file or a mesh renders again.
+    let mut last_read = vec![args.scene.clone()];
     let server = args.serve.map(Server::start).transpose()?;
     if let Some(server) = &server {
         note!("the live page: http://{}/", server.addr);
@@ -34,13 +38,14 @@ pub fn run(args: &Watch) -> Result<()> {
         let input = Input::File(args.scene.clone());
         match tracer_pipeline::load(&input) {
             Ok(loaded) => {
-                changes.watch(&loaded.files_read)?;
+                last_read.clone_from(&loaded.files_read);
+                changes.watch(&loaded.files_read);
                 report::warnings(&loaded);
                 render_passes(args, &loaded, &changes, server.as_ref());
             }
             Err(e) => {
                 // Still watched: the fix is an edit of the same file(s).
-                changes.watch(&files_of_failed_load(&args.scene))?;
+                changes.watch(&files_of_failed_load(&last_read, &e));
                 console::stderr(format_args!(
                     "{}",
                     report::render(&e, report::color_wanted())
@@ -55,10 +60,22 @@ pub fn run(args: &Watch) -> Result<()> {
     }
 }
 
-/// What to watch when the scene did not load: the scene file itself (its
-/// OBJ files are known only from a scene that parses).
-fn files_of_failed_load(scene: &Path) -> Vec<PathBuf> {
-    vec![scene.to_path_buf()]
+/// What to watch when the scene did not load: what the last good load
+/// read (the scene file first), and the files the error is in.
+fn files_of_failed_load(last_read: &[PathBuf], error: &SceneError) -> Vec<PathBuf> {
+    let mut files = last_read.to_vec();
+    for e in error.files() {
+        let file = match e {
+            SceneError::Io { file, .. }
+            | SceneError::UnknownFormat { file }
+            | SceneError::Invalid { file, .. } => file,
+            SceneError::Several(_) => continue,
+        };
+        if !files.contains(file) {
+            files.push(file.clone());
+        }
+    }
+    files
 }
 
 /// The preview, then the full render, each written whole to the output;
