@@ -67,7 +67,7 @@ fn a_textured_scene_and_its_archive_render_the_same_bits() {
         );
     }
     let loaded = load(&Input::File(archive.clone())).unwrap();
-    assert_eq!(loaded.files_read, [archive.clone()]);
+    assert_eq!(loaded.files_read, std::slice::from_ref(&archive));
     assert_eq!(render_bits(&archive, 120), render_bits(&scene, 120));
 }
 
