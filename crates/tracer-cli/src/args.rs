@@ -33,6 +33,17 @@ pub struct RenderArgs {
     /// unless --gamma is given)
     #[arg(long, value_name = "NAME")]
     pub aov: Option<AovArg>,
+    #[command(flatten)]
+    pub view: ViewArgs,
+    /// Print no progress bar and no summary, only warnings and errors
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// What `render` and `watch` share: how many samples, how large, on how
+/// many threads.
+#[derive(Args)]
+pub struct ViewArgs {
     /// Samples per pixel, overriding the scene's `[render] samples`: 1 is one
     /// ray through each pixel's centre (the lab); more smooth the edges
     /// (anti-aliasing) and the blur of depth of field
@@ -49,9 +60,21 @@ pub struct RenderArgs {
     /// Threads to render with [default: one per core]
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
-    /// Print no progress bar and no summary, only warnings and errors
-    #[arg(short, long)]
-    pub quiet: bool,
+}
+
+impl ViewArgs {
+    /// The render options these give (no gamma, no AOV).
+    fn options(&self) -> Options {
+        Options {
+            gamma: None,
+            aov: None,
+            samples: self.samples,
+            width: self.width,
+            height: self.height,
+            // Set from the output's format once it is known.
+            raw_depth: false,
+        }
+    }
 }
 
 /// `--bit-depth`'s values.
@@ -149,7 +172,8 @@ pub struct CheckArgs {
 }
 
 /// Render a scene, then again whenever the scene file or a file it reads
-/// (meshes) changes: a quick preview first, then the full image
+/// (included files, meshes, textures) changes: a quick preview first, then
+/// the full image
 ///
 /// The output is rewritten whole each time, so an image viewer that
 /// reloads changed files shows every render. A bad edit prints its error
@@ -162,18 +186,8 @@ pub struct WatchArgs {
     /// [default: the scene's file name with .png, in the current folder]
     #[arg(short, long, value_name = "OUT.png")]
     pub output: Option<PathBuf>,
-    /// Samples per pixel of the full render, overriding the scene's
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
-    pub samples: Option<u32>,
-    /// Image width in pixels, overriding the camera's
-    #[arg(long, value_name = "PIXELS", value_parser = clap::value_parser!(u32).range(1..=16384))]
-    pub width: Option<u32>,
-    /// Image height in pixels, overriding the camera's
-    #[arg(long, value_name = "PIXELS", value_parser = clap::value_parser!(u32).range(1..=16384))]
-    pub height: Option<u32>,
-    /// Threads to render with [default: one per core]
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
-    pub threads: Option<u32>,
+    #[command(flatten)]
+    pub view: ViewArgs,
     /// Also serve a live page at ADDR (a browser shows each render as it
     /// comes, and the scene's errors): loopback only unless ADDR says
     /// otherwise; port 0 picks a free one
@@ -198,15 +212,8 @@ impl WatchArgs {
         Ok(Watch {
             scene: self.scene,
             output,
-            options: Options {
-                gamma: None,
-                aov: None,
-                samples: self.samples,
-                width: self.width,
-                height: self.height,
-                raw_depth: false,
-            },
-            pool: pool(self.threads)?,
+            options: self.view.options(),
+            pool: pool(self.view.threads)?,
             serve: self.serve,
         })
     }
@@ -258,14 +265,10 @@ impl RenderArgs {
             options: Options {
                 gamma: checked(self.gamma)?,
                 aov: self.aov.map(Aov::from),
-                samples: self.samples,
-                width: self.width,
-                height: self.height,
-                // Set from the output's format once it is known.
-                raw_depth: false,
+                ..self.view.options()
             },
             bit_depth: self.bit_depth.into(),
-            pool: pool(self.threads)?,
+            pool: pool(self.view.threads)?,
             quiet: self.quiet,
         })
     }

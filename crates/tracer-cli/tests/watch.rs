@@ -158,15 +158,21 @@ fn an_edit_of_the_obj_alone_renders_again() {
     assert_eq!(centre_pixel(&out), [false, false, false]);
 }
 
-#[test]
-fn an_edit_cancels_a_long_render() {
+/// `tracer watch` in a new folder, its preview done and its full render
+/// begun: 4096 samples per pixel on 1 thread, far longer than a test waits.
+fn watching_a_long_render() -> (tempfile::TempDir, Watching) {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out.png");
     write(dir.path().join("tri.obj"), &obj(0.0));
-    // 4096 samples per pixel at 1 thread: far longer than the test waits.
     write(dir.path().join("scene.toml"), &scene([1.0, 0.0, 0.0], 4096));
     let mut watching = Watching::start(dir.path());
     watching.expect_line("preview", START);
+    (dir, watching)
+}
+
+#[test]
+fn an_edit_cancels_a_long_render() {
+    let (dir, mut watching) = watching_a_long_render();
+    let out = dir.path().join("out.png");
     write(dir.path().join("scene.toml"), &scene([0.0, 1.0, 0.0], 1));
     watching.expect_line("rendered", WITHIN);
     assert_eq!(centre_pixel(&out), [false, true, false]);
@@ -175,11 +181,7 @@ fn an_edit_cancels_a_long_render() {
 #[cfg(unix)]
 #[test]
 fn ctrl_c_ends_it_without_a_temporary_file() {
-    let dir = tempfile::tempdir().unwrap();
-    write(dir.path().join("tri.obj"), &obj(0.0));
-    write(dir.path().join("scene.toml"), &scene([1.0, 0.0, 0.0], 4096));
-    let mut watching = Watching::start(dir.path());
-    watching.expect_line("preview", START);
+    let (dir, mut watching) = watching_a_long_render();
     let pid = watching.child.id().to_string();
     let killed = Command::new("kill").args(["-INT", &pid]).status().unwrap();
     assert!(killed.success());
