@@ -42,9 +42,14 @@ impl Watching {
     }
 
     fn start_with(dir: &Path, more: &[&str]) -> Watching {
+        let args = ["watch", "scene.toml", "-o", "out.png", "--threads", "1"];
+        Watching::spawn(dir, &[&args[..], more].concat())
+    }
+
+    /// `tracer` with `args` in `dir`.
+    fn spawn(dir: &Path, args: &[&str]) -> Watching {
         let mut child = Command::new(env!("CARGO_BIN_EXE_tracer"))
-            .args(["watch", "scene.toml", "-o", "out.png", "--threads", "1"])
-            .args(more)
+            .args(args)
             .current_dir(dir)
             .stderr(Stdio::piped())
             .spawn()
@@ -536,4 +541,24 @@ fn fixing_a_bad_included_file_renders_again() {
     write(lib, &material("[0, 0, 1]"));
     watching.expect_line("rendered", WITHIN);
     assert_eq!(centre_pixel(&out), [false, false, true]);
+}
+
+#[test]
+fn an_output_that_is_a_texture_the_scene_reads_is_not_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let texture = dir.path().join("wood.png");
+    image::RgbImage::from_pixel(2, 2, image::Rgb([90, 60, 30]))
+        .save(&texture)
+        .unwrap();
+    let before = std::fs::read(&texture).unwrap();
+    write(dir.path().join("tri.obj"), &obj(0.0));
+    let scene = scene([1.0, 1.0, 1.0], 1).replace(
+        "material = { diffuse = [1, 1, 1] }",
+        "material = { diffuse = [1, 1, 1], texture = { image = \"wood.png\" } }",
+    );
+    assert!(scene.contains("wood.png"), "{scene}");
+    write(dir.path().join("scene.toml"), &scene);
+    let mut watching = Watching::spawn(dir.path(), &["watch", "scene.toml", "-o", "wood.png"]);
+    watching.expect_line("refusing to overwrite", START);
+    assert_eq!(std::fs::read(&texture).unwrap(), before);
 }

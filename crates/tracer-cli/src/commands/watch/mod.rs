@@ -41,7 +41,12 @@ pub fn run(args: &Watch) -> Result<()> {
                 last_read.clone_from(&loaded.files_read);
                 changes.watch(&loaded.files_read);
                 report::warnings(&loaded);
-                render_passes(args, &loaded, &changes, server.as_ref());
+                // Writing over a texture the scene reads would render
+                // again and again.
+                match check_not_an_input(&args.output, &loaded.files_read) {
+                    Ok(()) => render_passes(args, &loaded, &changes, server.as_ref()),
+                    Err(e) => note!("error: {e}; not rendering until that changes"),
+                }
             }
             Err(e) => {
                 // Still watched: the fix is an edit of the same file(s).
