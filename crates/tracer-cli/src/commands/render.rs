@@ -22,8 +22,11 @@ pub fn run(args: &Render) -> Result<()> {
         check_not_an_input(&output, &[scene]).map_err(Error::from)?;
     }
     let pending = PendingOutput::create(&output).map_err(Error::from)?;
+    // A tile keeps --gamma in its header, for the 8-bit file of the merge.
+    let is_tile = args.options.part.is_some() && pending.format() == ImageFormat::Exr;
+    let gamma_given = args.options.gamma.is_some() && !is_tile;
     pending
-        .check_render_options(args.bit_depth, args.options.gamma.is_some())
+        .check_render_options(args.bit_depth, gamma_given)
         .map_err(Error::from)?;
     let linear = pending.format().is_linear();
     let options = tracer_pipeline::Options {
