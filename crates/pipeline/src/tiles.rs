@@ -141,8 +141,10 @@ pub fn encode(
 ) -> Result<Vec<u8>, TileError> {
     let linear = &picture.linear;
     let width = linear.width as usize;
-    let mut attributes = LayerAttributes::default();
-    attributes.layer_position = Vec2(region.x0 as i32, region.y0 as i32);
+    let mut attributes = LayerAttributes {
+        layer_position: Vec2(region.x0 as i32, region.y0 as i32),
+        ..LayerAttributes::default()
+    };
     let mut put =
         |key: &str, value: AttributeValue| attributes.other.insert(Text::from(key), value);
     put(DIGEST, AttributeValue::Text(Text::from(digest)));
@@ -210,7 +212,7 @@ pub fn read(path: &Path) -> Result<Tile, TileError> {
     };
     let digest = text(DIGEST).ok_or_else(|| not_a_tile(format!("no `{DIGEST}` attribute")))?;
     let gamma = match other.get(&Text::from(GAMMA)) {
-        Some(AttributeValue::F32(g)) => *g as f32,
+        Some(AttributeValue::F32(g)) => *g,
         _ => return Err(not_a_tile(format!("no `{GAMMA}` attribute"))),
     };
     let saturation = match text(SATURATION).as_deref() {
