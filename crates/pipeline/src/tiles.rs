@@ -83,14 +83,16 @@ impl TileError {
 /// bytes of every file the scene read (the scene file, included files,
 /// meshes, textures; the archive of a packed scene; the built-in scene's
 /// text), and of the render options (samples, size, gamma, AOV) but not the
-/// part. Paths are left out, so tasks may see the scene at other paths.
+/// part; and of the tracer's version. Paths are left out, so tasks may
+/// see the scene at other paths.
 pub fn digest(input: &Input, loaded: &Loaded, options: &Options) -> Result<String, TileError> {
     let mut hash = Sha256::new();
     let mut add = |bytes: &[u8]| {
         hash.update((bytes.len() as u64).to_le_bytes());
         hash.update(bytes);
     };
-    add(b"tracer tile 1");
+    // Another release may render other values: its tiles do not mix.
+    add(concat!("tracer tile 1, version ", env!("CARGO_PKG_VERSION")).as_bytes());
     if *input == Input::DefaultScene {
         add(crate::load::DEFAULT_SCENE.as_bytes());
     }
