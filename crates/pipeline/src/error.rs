@@ -29,6 +29,12 @@ pub enum Error {
     /// `--width`/`--height` that make an image too large (or empty).
     #[error("--width/--height: the image would be {width}x{height} pixels; expected 1 to {side} a side and at most {pixels} (2^28) in all", side = scene_format::validate::MAX_IMAGE_SIDE, pixels = scene_format::validate::MAX_IMAGE_PIXELS)]
     ImageSize { width: u64, height: u64 },
+    /// A `--region` or `--tile` that is empty or leaves the image.
+    #[error("{0}")]
+    Part(String),
+    /// A render-farm tile that cannot be written, read or merged.
+    #[error(transparent)]
+    Tile(#[from] crate::tiles::TileError),
     /// A valid scene file the tracer still cannot build.
     #[error("{}: {message}", scene.display())]
     Prepare { scene: PathBuf, message: String },
@@ -55,10 +61,12 @@ impl Error {
             | Error::ChartSize { .. }
             | Error::CanvasOption { .. }
             | Error::ImageSize { .. }
+            | Error::Part(_)
             | Error::Prepare { .. }
             | Error::Measurements { .. } => true,
             Error::Output(e) => e.is_bad_input(),
             Error::Pack(e) => e.is_bad_input(),
+            Error::Tile(e) => e.is_bad_input(),
             Error::Plot(_) => false,
         }
     }

@@ -17,10 +17,11 @@ pub mod pack;
 mod render;
 mod rendered;
 mod scene3d;
+pub mod tiles;
 
 pub use error::{scene_error_is_bad_input, Error};
 pub use limits::{BYTES_PER_PRIMITIVE, MAX_PRIMITIVES};
 pub use load::{load, Input, Loaded, DEFAULT_SCENE_NAME};
-pub use options::{Aov, Gamma, Options};
+pub use options::{tile_region, Aov, Gamma, Options, Part, Region};
 pub use render::{default_output, image_size, render, render_cancellable};
 pub use rendered::{Picture, Rendered, ShadedStats, Summary, FORCED_WHITE_WARNING};

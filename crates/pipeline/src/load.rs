@@ -8,7 +8,7 @@ use std::path::PathBuf;
 /// The scene rendered when none is given: the lab's final scene (table
 /// 1.10). A copy of `scenes/reflectance2.toml` (a test keeps them equal):
 /// a crate reads nothing from outside its folder.
-const DEFAULT_SCENE: &str = include_str!("../scenes/reflectance2.toml");
+pub(crate) const DEFAULT_SCENE: &str = include_str!("../scenes/reflectance2.toml");
 
 /// The built-in scene's name, as if it were a file in the current folder.
 pub const DEFAULT_SCENE_NAME: &str = "reflectance2.toml";

@@ -5,6 +5,7 @@ use crate::Error;
 use scene_format::validate::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE};
 use scene_format::SceneFile;
 use std::borrow::Cow;
+pub use tracer_core::Region;
 
 /// One quantity per pixel instead of the shaded colour: the core's list.
 pub use tracer_core::aov::Aov;
@@ -45,6 +46,83 @@ pub struct Options {
     /// With `aov: Some(Aov::Depth)`, the distances from the eye (0 for no
     /// hit) instead of the greys: what a float file (EXR, HDR) holds.
     pub raw_depth: bool,
+    /// Only a part of the image (`--region`, `--tile`): its pixels are
+    /// those of the whole image, bit for bit.
+    pub part: Option<Part>,
+}
+
+/// A part of the image to render, checked against the image's size.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Part {
+    /// Pixels `x0..x1` by `y0..y1` (end exclusive).
+    Region(Region),
+    /// The `index`-th (0-based) of `count` tiles: see [`tile_region`].
+    Tile { index: u32, count: u32 },
+}
+
+impl Part {
+    /// The pixels of this part of an image of `width` x `height`, or
+    /// [`Error::Part`] when they are empty or leave the image.
+    pub fn region(self, (width, height): (u32, u32)) -> Result<Region, Error> {
+        let bad = |message: String| Err(Error::Part(message));
+        match self {
+            Part::Region(r) => {
+                if r.x0 >= r.x1 || r.y0 >= r.y1 {
+                    return bad(format!(
+                        "--region {}: empty; expected X0,Y0,X1,Y1 with X0 < X1 and Y0 < Y1 (ends exclusive)",
+                        show(r)
+                    ));
+                }
+                if r.x1 > width || r.y1 > height {
+                    return bad(format!(
+                        "--region {}: outside the {width}x{height} image; expected X1 <= {width} and Y1 <= {height} (ends exclusive)",
+                        show(r)
+                    ));
+                }
+                Ok(r)
+            }
+            Part::Tile { index, count } => {
+                if count == 0 || index >= count {
+                    return bad(format!(
+                        "--tile {index}/{count}: expected I/N with 0 <= I < N"
+                    ));
+                }
+                if count > height {
+                    return bad(format!(
+                        "--tile {index}/{count}: the image has {height} rows; expected at most {height} tiles"
+                    ));
+                }
+                Ok(tile_region(index, count, (width, height)))
+            }
+        }
+    }
+}
+
+fn show(r: Region) -> String {
+    format!("{},{},{},{}", r.x0, r.y0, r.x1, r.y1)
+}
+
+/// Tile `index` of `count` (`count` <= `height`): a band of whole rows,
+/// bands of near-equal height (they differ by one row at most), top to
+/// bottom.
+///
+/// Why bands of rows: a tile is one EXR data window, so it must be a
+/// rectangle, and full-width bands are the rectangles whose pixel counts
+/// are equal for any N (a grid of N cells needs N to factor). Interleaved
+/// rows would balance better still (a costly mesh in one band of the
+/// image is shared by all tasks) but are no rectangle. Within a band the
+/// render spreads rows over threads as a full render does; across tasks,
+/// a scene whose cost sits in a few rows gives the tasks unequal times:
+/// choose N a few times the number of machines so a scheduler can even
+/// them out.
+pub fn tile_region(index: u32, count: u32, (width, height): (u32, u32)) -> Region {
+    let row = |i: u32| (u64::from(i) * u64::from(height) / u64::from(count)) as u32;
+    Region {
+        x0: 0,
+        y0: row(index),
+        x1: width,
+        y1: row(index + 1),
+    }
 }
 
 impl Options {
@@ -55,6 +133,7 @@ impl Options {
             ("--samples", self.samples.is_some()),
             ("--width", self.width.is_some()),
             ("--height", self.height.is_some()),
+            ("--region/--tile", self.part.is_some()),
         ]
         .into_iter()
         .find_map(|(name, set)| set.then_some(name))

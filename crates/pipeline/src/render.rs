@@ -45,16 +45,25 @@ pub fn render_cancellable(
             }));
         }
     };
+    let size = (file.camera.width, file.camera.height);
+    let region = options.part.map(|p| p.region(size)).transpose()?;
     match options.aov {
         None => {
-            let shaded = scene3d::shade(&file, &loaded.name, options.gamma, rows_done, cancel)?;
+            let shaded = scene3d::shade(
+                &file,
+                &loaded.name,
+                options.gamma,
+                region,
+                rows_done,
+                cancel,
+            )?;
             Ok(shaded.map(|(image, stats)| Rendered {
                 image,
                 summary: Summary::Shaded(stats),
             }))
         }
         Some(aov) => Ok(Some(Rendered {
-            image: scene3d::aov(&file, &loaded.name, aov, options, rows_done)?,
+            image: scene3d::aov(&file, &loaded.name, aov, options, region, rows_done)?,
             summary: Summary::Aov(aov),
         })),
     }

@@ -11,7 +11,7 @@ use std::path::Path;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 use tracer_core::image::Saturation;
-use tracer_core::{Output, RenderJob, Scene};
+use tracer_core::{Output, Region, RenderJob, Scene};
 
 /// The shaded image, with the scene's gamma (or `gamma`) and saturation
 /// rule for its encoding; `rows_done(0)` once the scene is prepared, then
@@ -20,6 +20,7 @@ pub(crate) fn shade(
     file: &SceneFile,
     name: &Path,
     gamma: Option<Gamma>,
+    region: Option<Region>,
     rows_done: &(dyn Fn(u32) + Sync),
     cancel: &AtomicBool,
 ) -> Result<Option<(Picture, ShadedStats)>, Error> {
@@ -28,7 +29,7 @@ pub(crate) fn shade(
     let prepare_seconds = start.elapsed().as_secs_f64();
     rows_done(0);
     let start = Instant::now();
-    let job = RenderJob::full(&scene);
+    let job = job(&scene, region);
     let Some(rendered) = tracer_core::render_cancellable(&scene, &job, rows_done, cancel) else {
         return Ok(None);
     };
@@ -71,6 +72,7 @@ pub(crate) fn aov(
     name: &Path,
     aov: Aov,
     options: &Options,
+    region: Option<Region>,
     rows_done: &(dyn Fn(u32) + Sync),
 ) -> Result<Picture, Error> {
     let scene = prepare(file, name)?;
@@ -82,10 +84,19 @@ pub(crate) fn aov(
         Aov::Depth if options.raw_depth => Output::Distance,
         _ => Output::Aov(aov),
     };
-    let job = RenderJob::full(&scene).with_output(output);
+    let job = job(&scene, region).with_output(output);
     rows_done(0);
     let linear = tracer_core::render(&scene, &job, rows_done).image;
     Ok(Picture { linear, encoding })
+}
+
+/// The whole image, or only `region` of it (checked by the caller).
+fn job(scene: &Scene, region: Option<Region>) -> RenderJob {
+    let full = RenderJob::full(scene);
+    RenderJob {
+        region: region.unwrap_or(full.region),
+        ..full
+    }
 }
 
 fn prepare(file: &SceneFile, name: &Path) -> Result<Scene, Error> {

@@ -7,7 +7,7 @@ use std::net::SocketAddr;
 use std::path::PathBuf;
 use tracer_pipeline::lab::DEFAULT_CHART_SIZE;
 use tracer_pipeline::output::BitDepth;
-use tracer_pipeline::{Aov, Gamma, Input, Options};
+use tracer_pipeline::{Aov, Gamma, Input, Options, Part, Region};
 
 /// Render a scene file to an image: PNG, JPEG, OpenEXR or Radiance HDR.
 #[derive(Args)]
@@ -35,9 +35,59 @@ pub struct RenderArgs {
     pub aov: Option<AovArg>,
     #[command(flatten)]
     pub view: ViewArgs,
+    /// Render only the pixels X0..X1 by Y0..Y1 (ends exclusive); to an .exr
+    /// output a tile for `tracer merge`
+    #[arg(long, value_name = "X0,Y0,X1,Y1", value_parser = parse_region, conflicts_with = "tile")]
+    pub region: Option<Region>,
+    /// Render only tile I of N (0-based): bands of near-equal row counts,
+    /// top to bottom; to an .exr output a tile for `tracer merge`
+    #[arg(long, value_name = "I/N", value_parser = parse_tile)]
+    pub tile: Option<(u32, u32)>,
+    /// Do nothing when the output already is this tile (same scene digest,
+    /// same region): for schedulers that retry tasks
+    #[arg(long)]
+    pub skip_existing: bool,
     /// Print no progress bar and no summary, only warnings and errors
     #[arg(short, long)]
     pub quiet: bool,
+}
+
+fn parse_region(s: &str) -> Result<Region, String> {
+    let n: Vec<u32> = s
+        .split(',')
+        .map(|v| v.trim().parse::<u32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| "expected X0,Y0,X1,Y1: four whole numbers of pixels".to_string())?;
+    match n[..] {
+        [x0, y0, x1, y1] => Ok(Region { x0, y0, x1, y1 }),
+        _ => Err("expected X0,Y0,X1,Y1: four whole numbers of pixels".to_string()),
+    }
+}
+
+fn parse_tile(s: &str) -> Result<(u32, u32), String> {
+    let bad = || "expected I/N: tile I of N, 0 <= I < N".to_string();
+    let (i, n) = s.split_once('/').ok_or_else(bad)?;
+    let (i, n): (u32, u32) = (i.parse().map_err(|_| bad())?, n.parse().map_err(|_| bad())?);
+    if i >= n {
+        return Err(bad());
+    }
+    Ok((i, n))
+}
+
+/// Merge render-farm tiles (.exr files of `tracer render --tile` or
+/// `--region`) into the whole image; they must come from one scene and
+/// options and cover the image exactly once.
+#[derive(Args)]
+pub struct MergeArgs {
+    /// The tiles (.exr)
+    #[arg(required = true, value_name = "TILE")]
+    pub tiles: Vec<PathBuf>,
+    /// The whole image, its format by its extension (.png, .jpg, .exr, .hdr)
+    #[arg(short, long, value_name = "OUT.png")]
+    pub output: PathBuf,
+    /// Bits per channel of a PNG output
+    #[arg(long, value_name = "BITS", default_value = "8")]
+    pub bit_depth: BitDepthArg,
 }
 
 /// What `render` and `watch` share: how many samples, how large, on how
@@ -71,6 +121,7 @@ impl ViewArgs {
             samples: self.samples,
             width: self.width,
             height: self.height,
+            part: None,
             // Set from the output's format once it is known.
             raw_depth: false,
         }
@@ -254,6 +305,7 @@ pub struct Render {
     pub bit_depth: BitDepth,
     /// The one pool every path renders on, so `--threads` holds for all.
     pub pool: rayon::ThreadPool,
+    pub skip_existing: bool,
     pub quiet: bool,
 }
 
@@ -265,10 +317,16 @@ impl RenderArgs {
             options: Options {
                 gamma: checked(self.gamma)?,
                 aov: self.aov.map(Aov::from),
+                part: match (self.region, self.tile) {
+                    (Some(region), _) => Some(Part::Region(region)),
+                    (None, Some((index, count))) => Some(Part::Tile { index, count }),
+                    (None, None) => None,
+                },
                 ..self.view.options()
             },
             bit_depth: self.bit_depth.into(),
             pool: pool(self.view.threads)?,
+            skip_existing: self.skip_existing,
             quiet: self.quiet,
         })
     }

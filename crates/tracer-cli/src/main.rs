@@ -30,6 +30,7 @@ enum Command {
     Check(args::CheckArgs),
     Watch(args::WatchArgs),
     Pack(args::PackArgs),
+    Merge(args::MergeArgs),
     /// Print the JSON Schema of scene files, for editor completion and
     /// checking (e.g. `tracer schema > schema.json`)
     Schema,
@@ -53,6 +54,7 @@ fn main() -> ExitCode {
             error::finish(args.resolve().and_then(|a| commands::watch::run(&a)))
         }
         Command::Pack(args) => error::finish(commands::pack::run(&args)),
+        Command::Merge(args) => error::finish(commands::merge::run(&args)),
         Command::Schema => error::finish(commands::schema::run()),
     };
     outcome.into()

@@ -3,6 +3,7 @@
 pub mod calib_chart;
 pub mod check;
 pub mod gamma_fit;
+pub mod merge;
 pub mod pack;
 pub mod render;
 pub mod schema;

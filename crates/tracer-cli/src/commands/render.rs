@@ -8,8 +8,8 @@ use crate::progress::Progress;
 use crate::report;
 use anyhow::Result;
 use std::path::Path;
-use tracer_pipeline::output::{check_not_an_input, PendingOutput};
-use tracer_pipeline::{default_output, Error, Input, Rendered, ShadedStats, Summary};
+use tracer_pipeline::output::{check_not_an_input, ImageFormat, PendingOutput};
+use tracer_pipeline::{default_output, tiles, Error, Input, Part, Rendered, ShadedStats, Summary};
 
 pub fn run(args: &Render) -> Result<()> {
     let output = args
@@ -22,8 +22,11 @@ pub fn run(args: &Render) -> Result<()> {
         check_not_an_input(&output, &[scene]).map_err(Error::from)?;
     }
     let pending = PendingOutput::create(&output).map_err(Error::from)?;
+    // A tile keeps --gamma in its header, for the 8-bit file of the merge.
+    let is_tile = args.options.part.is_some() && pending.format() == ImageFormat::Exr;
+    let gamma_given = args.options.gamma.is_some() && !is_tile;
     pending
-        .check_render_options(args.bit_depth, args.options.gamma.is_some())
+        .check_render_options(args.bit_depth, gamma_given)
         .map_err(Error::from)?;
     let linear = pending.format().is_linear();
     let options = tracer_pipeline::Options {
@@ -34,7 +37,28 @@ pub fn run(args: &Render) -> Result<()> {
     // The scene's meshes are known only now.
     check_not_an_input(&output, &loaded.files_read).map_err(Error::from)?;
     report::warnings(&loaded);
-    let (_, rows) = tracer_pipeline::image_size(&loaded, &options)?;
+    let size = tracer_pipeline::image_size(&loaded, &options)?;
+    // Checked before the work, as the output is.
+    let region = options.part.map(|p| p.region(size)).transpose()?;
+    let tile = match (region, pending.format()) {
+        (Some(region), ImageFormat::Exr) => Some((
+            region,
+            tiles::digest(&args.input, &loaded, &options).map_err(Error::from)?,
+        )),
+        _ => None,
+    };
+    if args.skip_existing {
+        let Some((region, digest)) = &tile else {
+            return Err(Error::from(tiles::TileError::SkipWithoutTile).into());
+        };
+        if tiles::is_done(&output, digest, *region) {
+            if !args.quiet {
+                note!("skipped: {} already holds this tile", output.display());
+            }
+            return Ok(());
+        }
+    }
+    let rows = region.map_or(size.1, |r| r.height());
     let progress = Progress::new(rows.into(), args.quiet);
     let rendered = args
         .pool
@@ -47,9 +71,20 @@ pub fn run(args: &Render) -> Result<()> {
             note!("warning: {}: {warning}", loaded.name.display());
         }
     }
-    pending
-        .write_picture(&rendered.image, args.bit_depth)
-        .map_err(Error::from)?;
+    match &tile {
+        Some((region, digest)) => {
+            let index = match options.part {
+                Some(Part::Tile { index, count }) => Some((index, count)),
+                _ => None,
+            };
+            let bytes = tiles::encode(&rendered.image, *region, size, digest, index)
+                .map_err(Error::from)?;
+            pending.write_bytes(&bytes).map_err(Error::from)?;
+        }
+        None => pending
+            .write_picture(&rendered.image, args.bit_depth)
+            .map_err(Error::from)?,
+    }
     if !args.quiet {
         let threads = args.pool.current_num_threads();
         note!("{}", summary(&loaded.name, &rendered, threads, &output));

@@ -1,0 +1,359 @@
+//! Render-farm tiles: a part of an image rendered by one task, written as
+//! an OpenEXR file whose data window is the part and whose display window
+//! is the whole image, with the scene's digest and the display encoding in
+//! its header; and the merge of such tiles into the whole image.
+//!
+//! Only EXR tiles are merged: a PNG of a region holds encoded 8-bit
+//! values, from which neither the float file nor (after a gamma) the exact
+//! PNG of the whole render could be remade.
+
+use crate::load::{Input, Loaded};
+use crate::options::{tile_region, Options, Region};
+use crate::rendered::Picture;
+use exr::prelude::traits::{ReadChannels, ReadLayers, WritableImage};
+use exr::prelude::{
+    AttributeValue, Encoding as ExrEncoding, Image, IntegerBounds, Layer, LayerAttributes,
+    SpecificChannels, Text, Vec2,
+};
+use sha2::{Digest, Sha256};
+use std::path::{Path, PathBuf};
+use tracer_core::image::{Encoding, LinearImage, Saturation};
+
+/// Header attributes of a tile (`tracer:` keeps them apart from others').
+const DIGEST: &str = "tracer:digest";
+const GAMMA: &str = "tracer:gamma";
+const SATURATION: &str = "tracer:saturation";
+/// "I/N" for a tile made with `--tile`, to name a missing one.
+const TILE: &str = "tracer:tile";
+
+/// Why tiles could not be read or merged; each names the file at fault.
+#[derive(Debug, thiserror::Error)]
+pub enum TileError {
+    #[error("{}: cannot read it: {source}", path.display())]
+    Read {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{}: not a tile of `tracer render --tile/--region -o TILE.exr`: {reason}", path.display())]
+    NotATile { path: PathBuf, reason: String },
+    #[error("{}: a tile of another scene or other render options (digest {}...), not of the {others} other tile{} (digest {}...)", path.display(), &digest[..12], if *others == 1 { "" } else { "s" }, &expected[..12])]
+    Foreign {
+        path: PathBuf,
+        digest: String,
+        expected: String,
+        others: usize,
+    },
+    #[error("{}: overlaps {} (both hold pixel ({x}, {y})); every pixel must be in exactly one tile", path.display(), other.display())]
+    Overlap {
+        path: PathBuf,
+        other: PathBuf,
+        x: u32,
+        y: u32,
+    },
+    #[error("missing {what}: no tile given holds pixel ({x}, {y}) of the {width}x{height} image")]
+    Missing {
+        what: String,
+        x: u32,
+        y: u32,
+        width: u32,
+        height: u32,
+    },
+    #[error("cannot encode the tile as OpenEXR: {0}")]
+    Encode(String),
+    /// `--skip-existing` without an EXR tile to compare with.
+    #[error("--skip-existing: only for tiles (--tile or --region with an .exr output), which carry the scene's digest")]
+    SkipWithoutTile,
+}
+
+impl TileError {
+    /// Whether the user gave a wrong tile (exit 2) rather than the machine failing.
+    pub fn is_bad_input(&self) -> bool {
+        match self {
+            TileError::Read { source, .. } => {
+                source.kind() == std::io::ErrorKind::NotFound
+                    || source.kind() == std::io::ErrorKind::PermissionDenied
+            }
+            TileError::Encode(_) => false,
+            _ => true,
+        }
+    }
+}
+
+/// What makes two tiles parts of one image: SHA-256, in hex, of the
+/// bytes of every file the scene read (the scene file, included files,
+/// meshes, textures; the archive of a packed scene; the built-in scene's
+/// text), and of the render options (samples, size, gamma, AOV) but not the
+/// part; and of the tracer's version. Paths are left out, so tasks may
+/// see the scene at other paths.
+pub fn digest(input: &Input, loaded: &Loaded, options: &Options) -> Result<String, TileError> {
+    let mut hash = Sha256::new();
+    let mut add = |bytes: &[u8]| {
+        hash.update((bytes.len() as u64).to_le_bytes());
+        hash.update(bytes);
+    };
+    // Another release may render other values: its tiles do not mix.
+    add(concat!("tracer tile 1, version ", env!("CARGO_PKG_VERSION")).as_bytes());
+    if *input == Input::DefaultScene {
+        add(crate::load::DEFAULT_SCENE.as_bytes());
+    }
+    for path in &loaded.files_read {
+        let bytes = std::fs::read(path).map_err(|source| TileError::Read {
+            path: path.clone(),
+            source,
+        })?;
+        add(&bytes);
+    }
+    let options = Options {
+        part: None,
+        ..*options
+    };
+    add(format!("{options:?}").as_bytes());
+    let size = crate::image_size(loaded, &options).unwrap_or_default();
+    add(format!("{size:?}").as_bytes());
+    Ok(hex(&hash.finalize()))
+}
+
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// A tile as read from its file.
+#[derive(Debug, Clone)]
+pub struct Tile {
+    pub digest: String,
+    /// The whole image's size.
+    pub size: (u32, u32),
+    pub region: Region,
+    /// The region's linear values, row by row.
+    pub linear: LinearImage,
+    /// How 8-bit outputs of the merged image are encoded.
+    pub encoding: Encoding,
+    /// `(index, count)` of `--tile`.
+    pub tile: Option<(u32, u32)>,
+}
+
+/// The bytes of the EXR file of `picture`, the `region` of an image of
+/// `size`: linear f32 values, lossless.
+pub fn encode(
+    picture: &Picture,
+    region: Region,
+    size: (u32, u32),
+    digest: &str,
+    tile: Option<(u32, u32)>,
+) -> Result<Vec<u8>, TileError> {
+    let linear = &picture.linear;
+    let width = linear.width as usize;
+    let mut attributes = LayerAttributes {
+        layer_position: Vec2(region.x0 as i32, region.y0 as i32),
+        ..LayerAttributes::default()
+    };
+    let mut put =
+        |key: &str, value: AttributeValue| attributes.other.insert(Text::from(key), value);
+    put(DIGEST, AttributeValue::Text(Text::from(digest)));
+    put(GAMMA, AttributeValue::F32(picture.encoding.gamma));
+    let saturation = match picture.encoding.saturation {
+        Saturation::White => "white",
+        Saturation::Clamp => "clamp",
+    };
+    put(SATURATION, AttributeValue::Text(Text::from(saturation)));
+    if let Some((index, count)) = tile {
+        put(
+            TILE,
+            AttributeValue::Text(Text::from(format!("{index}/{count}").as_str())),
+        );
+    }
+    let layer = Layer::new(
+        (width, linear.height as usize),
+        attributes,
+        ExrEncoding::FAST_LOSSLESS,
+        SpecificChannels::rgb(|p: Vec2<usize>| {
+            let c = linear.pixels[p.y() * width + p.x()];
+            (c.x, c.y, c.z)
+        }),
+    );
+    let mut image = Image::from_layer(layer);
+    image.attributes.display_window =
+        IntegerBounds::from_dimensions((size.0 as usize, size.1 as usize));
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    image
+        .write()
+        .non_parallel()
+        .to_buffered(&mut bytes)
+        .map_err(|e| TileError::Encode(e.to_string()))?;
+    Ok(bytes.into_inner())
+}
+
+/// Reads the tile at `path`.
+pub fn read(path: &Path) -> Result<Tile, TileError> {
+    let bytes = std::fs::read(path).map_err(|source| TileError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let not_a_tile = |reason: String| TileError::NotATile {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let image = exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .rgb_channels(
+            |size: Vec2<usize>, _: &_| LinearImage::new(size.width() as u32, size.height() as u32),
+            |image: &mut LinearImage, p: Vec2<usize>, (r, g, b): (f32, f32, f32)| {
+                let i = p.y() * image.width as usize + p.x();
+                image.pixels[i] = glam::Vec3::new(r, g, b);
+            },
+        )
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(std::io::Cursor::new(bytes))
+        .map_err(|e| not_a_tile(format!("not an RGB OpenEXR file ({e})")))?;
+    let other = &image.layer_data.attributes.other;
+    let text = |key: &str| match other.get(&Text::from(key)) {
+        Some(AttributeValue::Text(t)) => Some(t.to_string()),
+        _ => None,
+    };
+    let digest = text(DIGEST).ok_or_else(|| not_a_tile(format!("no `{DIGEST}` attribute")))?;
+    let gamma = match other.get(&Text::from(GAMMA)) {
+        Some(AttributeValue::F32(g)) => *g,
+        _ => return Err(not_a_tile(format!("no `{GAMMA}` attribute"))),
+    };
+    let saturation = match text(SATURATION).as_deref() {
+        Some("white") => Saturation::White,
+        Some("clamp") => Saturation::Clamp,
+        _ => return Err(not_a_tile(format!("no `{SATURATION}` attribute"))),
+    };
+    let tile = text(TILE).and_then(|t| {
+        let (i, n) = t.split_once('/')?;
+        Some((i.parse().ok()?, n.parse().ok()?))
+    });
+    let display = image.attributes.display_window;
+    let position = image.layer_data.attributes.layer_position;
+    let linear = image.layer_data.channel_data.pixels;
+    let size = (display.size.width() as u32, display.size.height() as u32);
+    let region = Region {
+        x0: position.x().max(0) as u32,
+        y0: position.y().max(0) as u32,
+        x1: position.x().max(0) as u32 + linear.width,
+        y1: position.y().max(0) as u32 + linear.height,
+    };
+    let inside = display.position == Vec2(0, 0)
+        && position.x() >= 0
+        && position.y() >= 0
+        && region.x1 <= size.0
+        && region.y1 <= size.1;
+    if !inside {
+        return Err(not_a_tile(
+            "its data window leaves its display window".to_string(),
+        ));
+    }
+    Ok(Tile {
+        digest,
+        size,
+        region,
+        linear,
+        encoding: Encoding { gamma, saturation },
+        tile,
+    })
+}
+
+/// Whether the file at `path` is already the tile of `region` with
+/// `digest` (a task retried or preempted has nothing to do).
+pub fn is_done(path: &Path, digest: &str, region: Region) -> bool {
+    read(path).is_ok_and(|t| t.digest == digest && t.region == region)
+}
+
+/// The whole image the `tiles` (each with its file's path) make, or the
+/// first fault found: a foreign tile (its digest not the one most tiles
+/// have), an overlap, a missing part.
+pub fn merge(tiles: &[(PathBuf, Tile)]) -> Result<Picture, TileError> {
+    let Some((_, first)) = tiles.first() else {
+        return Err(TileError::Missing {
+            what: "every tile".to_string(),
+            x: 0,
+            y: 0,
+            width: 0,
+            height: 0,
+        });
+    };
+    let expected = majority_digest(tiles);
+    let same = tiles.iter().filter(|(_, t)| t.digest == expected).count();
+    if let Some((path, tile)) = tiles.iter().find(|(_, t)| t.digest != expected) {
+        return Err(TileError::Foreign {
+            path: path.clone(),
+            digest: tile.digest.clone(),
+            expected,
+            others: same,
+        });
+    }
+    let (width, height) = first.size;
+    let mut owner = vec![usize::MAX; width as usize * height as usize];
+    let mut linear = LinearImage::new(width, height);
+    for (n, (path, tile)) in tiles.iter().enumerate() {
+        let r = tile.region;
+        for y in r.y0..r.y1 {
+            for x in r.x0..r.x1 {
+                let at = (y * width + x) as usize;
+                if owner[at] != usize::MAX {
+                    return Err(TileError::Overlap {
+                        path: path.clone(),
+                        other: tiles[owner[at]].0.clone(),
+                        x,
+                        y,
+                    });
+                }
+                owner[at] = n;
+                let from = ((y - r.y0) * tile.linear.width + (x - r.x0)) as usize;
+                linear.pixels[at] = tile.linear.pixels[from];
+            }
+        }
+    }
+    if let Some(at) = owner.iter().position(|&o| o == usize::MAX) {
+        let (x, y) = (at as u32 % width, at as u32 / width);
+        return Err(TileError::Missing {
+            what: missing_tile(tiles, (x, y)),
+            x,
+            y,
+            width,
+            height,
+        });
+    }
+    Ok(Picture {
+        linear,
+        encoding: first.encoding,
+    })
+}
+
+/// The digest most tiles carry (the first tile's on a tie): the odd one
+/// out is the foreign tile.
+fn majority_digest(tiles: &[(PathBuf, Tile)]) -> String {
+    let count = |d: &str| tiles.iter().filter(|(_, t)| t.digest == d).count();
+    let mut best = tiles[0].1.digest.clone();
+    for (_, tile) in tiles {
+        if count(&tile.digest) > count(&best) {
+            best = tile.digest.clone();
+        }
+    }
+    best
+}
+
+/// "tile 3/7 (rows 120..160)" when the tiles were made with `--tile` of one
+/// N, else "a part".
+fn missing_tile(tiles: &[(PathBuf, Tile)], (x, y): (u32, u32)) -> String {
+    let count = match tiles[0].1.tile {
+        Some((_, n))
+            if tiles
+                .iter()
+                .all(|(_, t)| t.tile.is_some_and(|(_, m)| m == n)) =>
+        {
+            n
+        }
+        _ => return "a part".to_string(),
+    };
+    let size = tiles[0].1.size;
+    (0..count)
+        .map(|i| (i, tile_region(i, count, size)))
+        .find(|(_, r)| (r.y0..r.y1).contains(&y) && (r.x0..r.x1).contains(&x))
+        .map_or("a part".to_string(), |(i, r)| {
+            format!("tile {i}/{count} (rows {}..{})", r.y0, r.y1)
+        })
+}
