@@ -3,6 +3,7 @@
 
 pub mod assets;
 pub mod bench;
+pub mod farm;
 pub mod golden;
 
 use std::path::{Path, PathBuf};

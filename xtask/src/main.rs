@@ -21,6 +21,9 @@ enum Command {
     Assets,
     /// Benchmark the tracer against POV-Ray and Embree on the bench scenes (docs/performance.md)
     Bench(xtask::bench::BenchArgs),
+    /// Render a scene as N tiles in separate processes, merge them and
+    /// compare with a single render, bit for bit (docs/farm.md)
+    FarmTest(xtask::farm::FarmArgs),
 }
 
 /// Check every scene's render against its golden image in golden/
@@ -46,6 +49,7 @@ fn main() -> ExitCode {
             xtask::assets::write_all(&xtask::workspace_root()).map(|()| ExitCode::SUCCESS)
         }
         Command::Bench(args) => xtask::bench::run(&args).map(|()| ExitCode::SUCCESS),
+        Command::FarmTest(args) => xtask::farm::run(&args).map(|()| ExitCode::SUCCESS),
     };
     match result {
         Ok(code) => code,
