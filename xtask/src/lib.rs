@@ -4,6 +4,7 @@
 pub mod assets;
 pub mod bench;
 pub mod golden;
+pub mod man;
 
 use std::path::{Path, PathBuf};
 

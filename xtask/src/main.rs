@@ -21,6 +21,15 @@ enum Command {
     Assets,
     /// Benchmark the tracer against POV-Ray and Embree on the bench scenes (docs/performance.md)
     Bench(xtask::bench::BenchArgs),
+    Man(ManArgs),
+}
+
+/// Write a man page per `tracer` command (tracer.1, tracer-render.1, ...)
+#[derive(Args)]
+struct ManArgs {
+    /// The folder to write them in [default: target/man]
+    #[arg(long, value_name = "DIR")]
+    out: Option<std::path::PathBuf>,
 }
 
 /// Check every scene's render against its golden image in golden/
@@ -46,6 +55,7 @@ fn main() -> ExitCode {
             xtask::assets::write_all(&xtask::workspace_root()).map(|()| ExitCode::SUCCESS)
         }
         Command::Bench(args) => xtask::bench::run(&args).map(|()| ExitCode::SUCCESS),
+        Command::Man(args) => man(&args),
     };
     match result {
         Ok(code) => code,
@@ -73,4 +83,14 @@ fn golden(args: &GoldenArgs) -> anyhow::Result<ExitCode> {
     } else {
         ExitCode::FAILURE
     })
+}
+
+fn man(args: &ManArgs) -> anyhow::Result<ExitCode> {
+    let dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| xtask::target_dir().join("man"));
+    let pages = xtask::man::write_pages(&dir)?;
+    println!("{} man pages in {}", pages.len(), dir.display());
+    Ok(ExitCode::SUCCESS)
 }

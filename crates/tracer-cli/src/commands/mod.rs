@@ -2,6 +2,7 @@
 
 pub mod calib_chart;
 pub mod check;
+pub mod completions;
 pub mod gamma_fit;
 pub mod pack;
 pub mod render;
