@@ -3,7 +3,9 @@
 use std::path::Path;
 
 /// Every command of `tracer`, as the README lists them (help excluded).
-const PAGES: [&str; 10] = [
+const PAGES: [&str; 12] = [
+    "tracer-new",
+    "tracer-convert",
     "tracer",
     "tracer-render",
     "tracer-calib-chart",

@@ -26,6 +26,8 @@ pub enum Command {
     /// Print the JSON Schema of scene files, for editor completion and
     /// checking (e.g. `tracer schema > schema.json`)
     Schema,
+    New(tool_args::NewArgs),
+    Convert(tool_args::ConvertArgs),
     Completions(tool_args::CompletionsArgs),
 }
 

@@ -29,6 +29,8 @@ fn main() -> ExitCode {
         }
         Command::Pack(args) => error::finish(commands::pack::run(&args)),
         Command::Schema => error::finish(commands::schema::run()),
+        Command::New(args) => commands::new::run(&args),
+        Command::Convert(args) => error::finish(commands::convert::run(&args)),
         Command::Completions(args) => error::finish(commands::completions::run(&args)),
     };
     outcome.into()

@@ -3,7 +3,9 @@
 pub mod calib_chart;
 pub mod check;
 pub mod completions;
+pub mod convert;
 pub mod gamma_fit;
+pub mod new;
 pub mod pack;
 pub mod render;
 pub mod schema;
