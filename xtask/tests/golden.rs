@@ -438,7 +438,7 @@ fn cargo_xtask_golden_prints_the_table_and_exits_by_the_result() {
     let ok = run(&["golden", "reflectance2", "texture"]);
     let stdout = String::from_utf8_lossy(&ok.stdout);
     assert!(ok.status.success(), "{stdout}");
-    assert!(stdout.contains("2 images: 2 passed, 0 not"), "{stdout}");
+    assert!(stdout.contains("2 images checked: 2 PASS"), "{stdout}");
     assert!(target.path().join("golden/index.html").is_file());
     assert!(target.path().join("golden/texture-diff.png").is_file());
 
