@@ -348,7 +348,7 @@ fn bless_writes_new_and_changed_goldens_and_says_what_changed() {
     );
     assert_eq!(
         blessed[0].to_string(),
-        "changed    img: 2 of 20 pixels (10.000 %), max diff 10, mean diff 0.1833"
+        "changed    img: 2 of 20 pixels not identical (10.000 %; the check counts only those beyond tolerance), max diff 10, mean diff 0.1833"
     );
     let on_disk = image::open(dir.path().join("img.png")).unwrap().to_rgb8();
     assert_eq!(on_disk, changed);
