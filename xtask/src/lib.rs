@@ -5,6 +5,7 @@ pub mod assets;
 pub mod bench;
 pub mod farm;
 pub mod golden;
+pub mod man;
 
 use std::path::{Path, PathBuf};
 

@@ -24,6 +24,15 @@ enum Command {
     /// Render a scene as N tiles in separate processes, merge them and
     /// compare with a single render, bit for bit (docs/farm.md)
     FarmTest(xtask::farm::FarmArgs),
+    Man(ManArgs),
+}
+
+/// Write a man page per `tracer` command (tracer.1, tracer-render.1, ...)
+#[derive(Args)]
+struct ManArgs {
+    /// The folder to write them in [default: target/man]
+    #[arg(long, value_name = "DIR")]
+    out: Option<std::path::PathBuf>,
 }
 
 /// Check every scene's render against its golden image in golden/
@@ -50,6 +59,7 @@ fn main() -> ExitCode {
         }
         Command::Bench(args) => xtask::bench::run(&args).map(|()| ExitCode::SUCCESS),
         Command::FarmTest(args) => xtask::farm::run(&args).map(|()| ExitCode::SUCCESS),
+        Command::Man(args) => man(&args),
     };
     match result {
         Ok(code) => code,
@@ -77,4 +87,14 @@ fn golden(args: &GoldenArgs) -> anyhow::Result<ExitCode> {
     } else {
         ExitCode::FAILURE
     })
+}
+
+fn man(args: &ManArgs) -> anyhow::Result<ExitCode> {
+    let dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| xtask::target_dir().join("man"));
+    let pages = xtask::man::write_pages(&dir)?;
+    println!("{} man pages in {}", pages.len(), dir.display());
+    Ok(ExitCode::SUCCESS)
 }

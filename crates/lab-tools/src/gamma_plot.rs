@@ -29,6 +29,10 @@ fn register_embedded_font() {
     });
 }
 
+/// The colour of the y = x line: dark grey, a touch of blue so that the
+/// anti-aliased text (pure greys) never has it.
+const LINEAR: RGBColor = RGBColor(80, 80, 100);
+
 /// Samples of `f` over [0, 1] for a smooth curve.
 fn curve(f: impl Fn(f64) -> f64) -> Vec<(f64, f64)> {
     const SAMPLES: usize = 200;
@@ -88,17 +92,6 @@ fn draw(
         .label_style((FONT, 15))
         .draw()?;
 
-    let grey = RGBColor(150, 150, 150);
-    chart
-        .draw_series(DashedLineSeries::new(
-            curve(|x| x),
-            6,
-            4,
-            grey.stroke_width(1),
-        ))?
-        .label("linear: y = x")
-        .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], grey));
-
     let red = RGBColor(210, 40, 40);
     chart
         .draw_series(LineSeries::new(curve(|x| x.powf(g)), red.stroke_width(2)))?
@@ -119,16 +112,19 @@ fn draw(
     chart.draw_series(LineSeries::new(by_level(&measured), blue.stroke_width(1)))?;
     chart
         .draw_series(measured.iter().map(|&p| Circle::new(p, 5, blue.filled())))?
-        .label("measured")
-        .legend(move |(x, y)| Circle::new((x + 10, y), 5, blue.filled()));
+        .label("measured, joined in order")
+        // The legend shows the joining line through the marker, as drawn.
+        .legend(move |(x, y)| {
+            EmptyElement::at((x + 10, y))
+                + PathElement::new([(-10, 0), (10, 0)], blue.stroke_width(1))
+                + Circle::new((0, 0), 5, blue.filled())
+        });
 
     let purple = RGBColor(140, 40, 170);
     let corrected = normalised_points(rows, |m| m.corrected);
     if !corrected.is_empty() {
-        chart.draw_series(LineSeries::new(
-            by_level(&corrected),
-            purple.stroke_width(1),
-        ))?;
+        // Markers only: the corrected points should lie on y = x, and a
+        // line joining them would hide it.
         chart
             .draw_series(
                 corrected
@@ -138,6 +134,18 @@ fn draw(
             .label("measured after correction")
             .legend(move |(x, y)| TriangleMarker::new((x + 10, y), 7, purple.filled()));
     }
+
+    // Drawn last, over the others: the line the corrected points should
+    // lie on, in a colour of its own (no curve or marker is grey).
+    chart
+        .draw_series(DashedLineSeries::new(
+            curve(|x| x),
+            6,
+            4,
+            LINEAR.stroke_width(2),
+        ))?
+        .label("linear: y = x")
+        .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], LINEAR.stroke_width(2)));
 
     chart
         .configure_series_labels()
@@ -180,6 +188,27 @@ mod tests {
             .filter(|p| p.0[0] == p.0[1] && p.0[1] == p.0[2] && (30..220).contains(&p.0[0]))
             .count();
         assert!(greys > 200, "{greys} grey pixels: no text?");
+    }
+
+    #[test]
+    fn the_linear_line_shows_in_its_own_colour_between_the_corrected_points() {
+        let rows = sample();
+        let fit = fit_measurements(&rows).unwrap();
+        let img = plot_gamma(&rows, &fit, 800, 600).unwrap();
+        // x = 0.375 lies halfway between the corrected points at 0.25 and
+        // 0.5; the plot area spans pixels 80 to 780 (margin 20, labels 60),
+        // so its columns are near 80 + 0.375 * 700 = 342.
+        let columns = 336..350;
+        let colour_in_columns = |rgb: [u8; 3]| {
+            columns
+                .clone()
+                .any(|x| (0..600).any(|y| img.get_pixel(x, y).0 == rgb))
+        };
+        assert!(colour_in_columns(LINEAR.rgb().into()), "y = x not drawn");
+        assert!(
+            !colour_in_columns([140, 40, 170]),
+            "a corrected-points line covers y = x"
+        );
     }
 
     #[test]

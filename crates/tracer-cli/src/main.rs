@@ -1,40 +1,14 @@
 //! `tracer`: renders scene files (TOML or JSON) to PNG images.
 
-mod args;
 mod commands;
 mod console;
 mod error;
 mod progress;
 mod report;
 
-use clap::{Parser, Subcommand};
+use clap::Parser;
 use std::process::ExitCode;
-
-#[derive(Parser)]
-#[command(
-    name = "tracer",
-    version,
-    about = "A data-driven ray tracer: scene file in, PNG out"
-)]
-struct Cli {
-    #[command(subcommand)]
-    command: Command,
-}
-
-#[derive(Subcommand)]
-enum Command {
-    Render(args::RenderArgs),
-    CalibChart(args::CalibChartArgs),
-    #[command(subcommand)]
-    Gamma(args::GammaCommand),
-    Check(args::CheckArgs),
-    Watch(args::WatchArgs),
-    Pack(args::PackArgs),
-    Merge(args::MergeArgs),
-    /// Print the JSON Schema of scene files, for editor completion and
-    /// checking (e.g. `tracer schema > schema.json`)
-    Schema,
-}
+use tracer_cli::{args, Cli, Command};
 
 fn main() -> ExitCode {
     // clap exits with 2 on bad arguments, 0 for --help.
@@ -56,6 +30,9 @@ fn main() -> ExitCode {
         Command::Pack(args) => error::finish(commands::pack::run(&args)),
         Command::Merge(args) => error::finish(commands::merge::run(&args)),
         Command::Schema => error::finish(commands::schema::run()),
+        Command::New(args) => commands::new::run(&args),
+        Command::Convert(args) => error::finish(commands::convert::run(&args)),
+        Command::Completions(args) => error::finish(commands::completions::run(&args)),
     };
     outcome.into()
 }

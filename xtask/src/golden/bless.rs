@@ -42,7 +42,7 @@ impl std::fmt::Display for Blessed {
             Blessed::New { name, size: (w, h) } => write!(f, "new        {name} ({w}x{h})"),
             Blessed::Changed { name, change: c } => write!(
                 f,
-                "changed    {name}: {} of {} pixels ({:.3} %), max diff {}, mean diff {:.4}",
+                "changed    {name}: {} of {} pixels not identical ({:.3} %; the check counts only those beyond tolerance), max diff {}, mean diff {:.4}",
                 c.differing,
                 c.pixels,
                 c.differing_percent(),

@@ -120,7 +120,31 @@ pub(super) fn read_golden(path: &Path) -> Result<Option<RgbImage>> {
     Ok(Some(image.to_rgb8()))
 }
 
-/// The table people read: one row per image.
+/// The order of the images wherever they are listed (this table, the HTML
+/// report): the ones that did not pass first, then the passes, each group
+/// in the order of the check (scenes by name, then the lab's other images).
+pub fn report_order(results: &[CaseResult]) -> Vec<&CaseResult> {
+    let mut order: Vec<&CaseResult> = results.iter().collect();
+    // Stable: each group keeps the check's order.
+    order.sort_by_key(|r| r.passed());
+    order
+}
+
+/// The one summary line, in the table's words: "28 images checked: 27 PASS,
+/// 1 FAIL" (the verdicts that occur, in the order PASS, FAIL, MISSING, ERROR).
+pub fn summary_line(results: &[CaseResult]) -> String {
+    let n = results.len();
+    let counts: Vec<String> = ["PASS", "FAIL", "MISSING", "ERROR"]
+        .iter()
+        .map(|v| (v, results.iter().filter(|r| r.verdict() == *v).count()))
+        .filter(|&(_, k)| k > 0)
+        .map(|(v, k)| format!("{k} {v}"))
+        .collect();
+    let image = if n == 1 { "image" } else { "images" };
+    format!("{n} {image} checked: {}", counts.join(", "))
+}
+
+/// The table people read: one row per image, in [`report_order`].
 pub fn table(results: &[CaseResult]) -> String {
     let width = results
         .iter()
@@ -132,7 +156,7 @@ pub fn table(results: &[CaseResult]) -> String {
         "{:<width$}  {:>18}  {:>8}  {:>9}  result\n",
         "image", "pixels differing", "max diff", "mean diff"
     );
-    for r in results {
+    for r in report_order(results) {
         let numbers = match &r.outcome {
             Outcome::Compared(c) => format!(
                 "{:>9} {:>7.3}%  {:>8}  {:>9.4}",
@@ -149,13 +173,7 @@ pub fn table(results: &[CaseResult]) -> String {
         }
         out.push('\n');
     }
-    let failed = results.iter().filter(|r| !r.passed()).count();
-    let _ = write!(
-        out,
-        "{} images: {} passed, {failed} not",
-        results.len(),
-        results.len() - failed
-    );
+    out.push_str(&summary_line(results));
     out
 }
 
@@ -169,5 +187,74 @@ pub struct Summary {
 impl Summary {
     pub fn all_passed(&self) -> bool {
         self.results.iter().all(CaseResult::passed)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::golden::compare::{Comparison, Tolerance};
+
+    fn case(name: &str, outcome: Outcome) -> CaseResult {
+        CaseResult {
+            name: name.to_string(),
+            tolerance: Tolerance::default(),
+            outcome,
+            golden: None,
+            actual: None,
+            diff: None,
+        }
+    }
+
+    fn identical() -> Outcome {
+        Outcome::Compared(Comparison {
+            pixels: 4,
+            differing: 0,
+            max_diff: 0,
+            mean_diff: 0.0,
+        })
+    }
+
+    #[test]
+    fn one_image_is_one_image() {
+        let results = [case("a", identical())];
+        assert_eq!(summary_line(&results), "1 image checked: 1 PASS");
+    }
+
+    #[test]
+    fn the_summary_counts_each_verdict_in_the_tables_words() {
+        let results = [
+            case("a", identical()),
+            case("b", Outcome::MissingGolden),
+            case("c", identical()),
+            case("d", Outcome::Error("no".into())),
+        ];
+        assert_eq!(
+            summary_line(&results),
+            "4 images checked: 2 PASS, 1 MISSING, 1 ERROR"
+        );
+    }
+
+    #[test]
+    fn the_table_lists_what_did_not_pass_first_in_the_checks_order() {
+        let results = [
+            case("z", identical()),
+            case("y", Outcome::MissingGolden),
+            case("b", identical()),
+            case("a", Outcome::Error("no".into())),
+        ];
+        let names: Vec<&str> = report_order(&results)
+            .iter()
+            .map(|r| r.name.as_str())
+            .collect();
+        assert_eq!(names, ["y", "a", "z", "b"]);
+        let table = table(&results);
+        let rows: Vec<&str> = table
+            .lines()
+            .skip(1)
+            .filter_map(|l| l.split_whitespace().next())
+            .take(4)
+            .collect();
+        assert_eq!(rows, ["y", "a", "z", "b"]);
     }
 }

@@ -2,7 +2,7 @@
 //! map of their difference, side by side in `index.html`, failures first. The
 //! page links only files beside it, so it opens from disk with no server.
 
-use super::check::{CaseResult, Outcome};
+use super::check::{self, CaseResult, Outcome};
 use super::compare::heat;
 use anyhow::{Context, Result};
 use image::RgbImage;
@@ -72,17 +72,14 @@ pub fn image_count(results: &[CaseResult]) -> usize {
         .sum()
 }
 
-/// The page: failures first, then the passes, each group in name order.
+/// The page, in the terminal table's order and with its summary line.
 pub fn html(results: &[CaseResult]) -> String {
-    let mut order: Vec<&CaseResult> = results.iter().collect();
-    order.sort_by_key(|r| (r.passed(), r.name.clone()));
-    let failed = results.iter().filter(|r| !r.passed()).count();
+    let order = check::report_order(results);
     let mut page = String::from(HEAD);
     let _ = write!(
         page,
-        "<h1>Golden images: {} of {} pass</h1>\n{}\n",
-        results.len() - failed,
-        results.len(),
+        "<h1>Golden images: {}</h1>\n{}\n",
+        check::summary_line(results),
         legend()
     );
     page.push_str(&summary_table(&order));

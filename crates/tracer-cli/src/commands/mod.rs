@@ -2,8 +2,11 @@
 
 pub mod calib_chart;
 pub mod check;
+pub mod completions;
+pub mod convert;
 pub mod gamma_fit;
 pub mod merge;
+pub mod new;
 pub mod pack;
 pub mod render;
 pub mod schema;

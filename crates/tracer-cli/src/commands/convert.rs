@@ -1,0 +1,191 @@
+//! `tracer convert`: a scene file from TOML to JSON or back, every value and
+//! the structure kept (comments are not).
+
+use anyhow::{bail, Context};
+use scene_format::Format;
+use std::path::{Path, PathBuf};
+use tracer_cli::tool_args::ConvertArgs;
+use tracer_pipeline::output::{self, PendingFile};
+
+pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
+    let to = match &args.output {
+        Some(path) => format_of(path)?,
+        None => other(format_of(&args.scene)?),
+    };
+    let output = args
+        .output
+        .clone()
+        .unwrap_or_else(|| default_output(&args.scene, to));
+    // A scene with mistakes is reported as `tracer check` does, not converted.
+    let loaded = scene_format::load_file(&args.scene).map_err(tracer_pipeline::Error::from)?;
+    output::check_not_an_input(&output, &loaded.files_read)
+        .map_err(tracer_pipeline::Error::from)?;
+    let text = std::fs::read_to_string(&args.scene)
+        .with_context(|| format!("cannot read {}", args.scene.display()))?;
+    // A 2D canvas has no `$schema` member to carry the directive.
+    let schema_member = matches!(loaded.kind, scene_format::SceneKind::Scene3d(_));
+    let converted = convert(&text, format_of(&args.scene)?, to, schema_member)?;
+    let pending = PendingFile::create(&output).map_err(tracer_pipeline::Error::from)?;
+    pending
+        .write_bytes(converted.as_bytes())
+        .map_err(tracer_pipeline::Error::from)?;
+    Ok(())
+}
+
+fn format_of(path: &Path) -> anyhow::Result<Format> {
+    Format::from_path(path).ok_or_else(|| {
+        tracer_pipeline::Error::from(scene_format::SceneError::UnknownFormat {
+            file: path.to_path_buf(),
+        })
+        .into()
+    })
+}
+
+fn other(format: Format) -> Format {
+    match format {
+        Format::Toml => Format::Json,
+        Format::Json => Format::Toml,
+    }
+}
+
+/// The scene's file name with the extension of `format`, in the current folder.
+fn default_output(scene: &Path, format: Format) -> PathBuf {
+    let stem = scene.file_stem().unwrap_or_default();
+    PathBuf::from(stem).with_extension(match format {
+        Format::Toml => "toml",
+        Format::Json => "json",
+    })
+}
+
+/// The TOML key and JSON member an editor reads the schema from.
+const SCHEMA_KEY: &str = "$schema";
+const SCHEMA_DIRECTIVE: &str = "#:schema ";
+
+/// Scene text in another format (or the same one, rewritten). Parsed into
+/// a tree of plain values, not into the scene model: defaults are not
+/// filled in, `include` stays a list of file names. With `schema_member`,
+/// a TOML `#:schema` directive becomes the JSON `$schema` member.
+pub fn convert(
+    text: &str,
+    from: Format,
+    to: Format,
+    schema_member: bool,
+) -> anyhow::Result<String> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut value: serde_json::Value = match from {
+        Format::Toml => toml::from_str(text)?,
+        Format::Json => serde_json::from_str(text)?,
+    };
+    let Some(table) = value.as_object_mut() else {
+        bail!("expected a table at the top of the scene file");
+    };
+    if schema_member && from == Format::Toml && !table.contains_key(SCHEMA_KEY) {
+        if let Some(schema) = toml_schema_directive(text) {
+            table.insert(SCHEMA_KEY.into(), schema.into());
+        }
+    }
+    match to {
+        Format::Json => {
+            let mut out = String::new();
+            write_json(&value, 0, &mut out);
+            Ok(out + "\n")
+        }
+        Format::Toml => to_toml(value),
+    }
+}
+
+/// The path of a `#:schema PATH` directive on the first line (taplo's).
+fn toml_schema_directive(text: &str) -> Option<&str> {
+    let first = text.lines().next()?;
+    let path = first.strip_prefix(SCHEMA_DIRECTIVE)?.trim();
+    (!path.is_empty()).then_some(path)
+}
+
+/// TOML text of a JSON tree: its `$schema` as a `#:schema` directive, and
+/// members that are `null` left out (TOML has no null; for a scene file a
+/// null member means the same as a missing one).
+fn to_toml(mut value: serde_json::Value) -> anyhow::Result<String> {
+    drop_nulls(&mut value);
+    let table = value.as_object_mut().expect("checked by the caller");
+    let directive = match table.get(SCHEMA_KEY) {
+        Some(serde_json::Value::String(path)) => {
+            let line = format!("{SCHEMA_DIRECTIVE}{path}\n");
+            table.remove(SCHEMA_KEY);
+            line
+        }
+        _ => String::new(),
+    };
+    Ok(directive + &toml::to_string(&value)?)
+}
+
+fn drop_nulls(value: &mut serde_json::Value) {
+    match value {
+        serde_json::Value::Object(map) => {
+            map.retain(|_, v| !v.is_null());
+            map.values_mut().for_each(drop_nulls);
+        }
+        serde_json::Value::Array(items) => items.iter_mut().for_each(drop_nulls),
+        _ => {}
+    }
+}
+
+/// The widest array written on one line, in characters.
+const INLINE_ARRAY: usize = 72;
+
+/// Pretty JSON as a person writes a scene: a vector, a colour or a
+/// triangle on one line (`[0, 1.5, 8]`), tables indented.
+fn write_json(value: &serde_json::Value, indent: usize, out: &mut String) {
+    use serde_json::Value;
+    let pad = |n: usize| "  ".repeat(n);
+    match value {
+        Value::Object(map) if !map.is_empty() => {
+            out.push_str("{\n");
+            for (i, (key, item)) in map.iter().enumerate() {
+                out.push_str(&pad(indent + 1));
+                out.push_str(&Value::from(key.as_str()).to_string());
+                out.push_str(": ");
+                write_json(item, indent + 1, out);
+                out.push_str(if i + 1 < map.len() { ",\n" } else { "\n" });
+            }
+            out.push_str(&pad(indent));
+            out.push('}');
+        }
+        Value::Array(items) if !fits_on_a_line(value) => {
+            out.push_str("[\n");
+            for (i, item) in items.iter().enumerate() {
+                out.push_str(&pad(indent + 1));
+                write_json(item, indent + 1, out);
+                out.push_str(if i + 1 < items.len() { ",\n" } else { "\n" });
+            }
+            out.push_str(&pad(indent));
+            out.push(']');
+        }
+        Value::Array(items) => {
+            let items: Vec<String> = items.iter().map(one_line).collect();
+            out.push_str(&format!("[{}]", items.join(", ")));
+        }
+        other => out.push_str(&other.to_string()),
+    }
+}
+
+/// An array of numbers, strings or such arrays, short enough for one line.
+fn fits_on_a_line(value: &serde_json::Value) -> bool {
+    fn no_tables(v: &serde_json::Value) -> bool {
+        match v {
+            serde_json::Value::Object(_) => false,
+            serde_json::Value::Array(items) => items.iter().all(no_tables),
+            _ => true,
+        }
+    }
+    no_tables(value) && one_line(value).len() <= INLINE_ARRAY
+}
+
+fn one_line(value: &serde_json::Value) -> String {
+    match value {
+        serde_json::Value::Array(items) => {
+            let items: Vec<String> = items.iter().map(one_line).collect();
+            format!("[{}]", items.join(", "))
+        }
+        other => other.to_string(),
+    }
+}

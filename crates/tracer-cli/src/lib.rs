@@ -1,0 +1,9 @@
+//! The `tracer` command line as clap defines it, as a library so that
+//! `cargo xtask man` makes the man pages from the very definition the
+//! binary parses.
+
+pub mod args;
+mod cli;
+pub mod tool_args;
+
+pub use cli::{command, Cli, Command};
