@@ -1,15 +1,10 @@
 //! The `tracer` binary as a user runs it.
 
+mod common;
+
+use common::tracer;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-
-fn tracer(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tracer"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run tracer")
-}
 
 /// `relative` to this crate's folder, as an argument for `tracer`.
 fn from_crate(relative: &str) -> String {

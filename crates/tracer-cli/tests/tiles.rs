@@ -1,16 +1,11 @@
 //! Render-farm tiles as a scheduler runs them: one `tracer render --tile`
 //! process per tile, then `tracer merge`.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn tracer(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tracer"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run tracer")
-}
+use common::tracer;
+use std::path::{Path, PathBuf};
+use std::process::Output;
 
 fn scenes() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenes")

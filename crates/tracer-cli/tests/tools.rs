@@ -1,16 +1,11 @@
 //! The commands around the renderer: completions, new, convert.
 
+mod common;
+
+use common::tracer;
 use scene_format::SceneKind;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn tracer(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tracer"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run tracer")
-}
+use std::process::Output;
 
 fn stdout_of(out: &Output) -> String {
     assert!(
