@@ -3,7 +3,7 @@
 
 use crate::diagnostic::Diagnostic;
 use crate::key_path::KeyPath;
-use crate::model::{ImageData, Material, Object, SceneFile, TextureRef};
+use crate::model::{ImageData, Material, Object, TextureRef};
 use crate::source::{Folder, Source};
 use std::collections::{BTreeMap, HashMap};
 use std::io::Cursor;
@@ -34,18 +34,10 @@ impl ImageCache {
     }
 }
 
-/// Reads the image of every image texture of the scene (materials,
-/// inline materials and objects), relative to `base` (the scene file's
+/// Reads the image of every image texture of one file's materials, inline
+/// materials and objects from `source`, relative to `base` (that file's
 /// folder). Every image that cannot be read gives a diagnostic at its
-/// `texture.image` key.
-pub fn load_images(scene: &mut SceneFile, base: &Path, cache: &mut ImageCache) -> Vec<Diagnostic> {
-    let folder = Folder::new();
-    let part = (&mut scene.materials, scene.objects.as_mut_slice());
-    load_part_images(part, base, &folder, cache)
-}
-
-/// [`load_images`] for the materials and objects of one file, read from
-/// `source`: diagnostics at key paths within that file.
+/// `texture.image` key, a path within that file.
 pub fn load_part_images(
     (materials, objects): (&mut BTreeMap<String, Material>, &mut [Object]),
     base: &Path,

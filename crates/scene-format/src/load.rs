@@ -45,7 +45,7 @@ fn utf8_text<'a>(bytes: &'a [u8], file: &Path) -> Result<&'a str, SceneError> {
 
 /// Parses and validates scene text; `file` names it in errors. A parse
 /// error stops at the first problem; validation reports all it finds.
-/// Meshes are not read: see `obj::load_meshes`.
+/// Meshes and images are not read: see `load_path`.
 pub fn load_str(text: &str, format: Format, file: &Path) -> Result<SceneFile, SceneError> {
     let text = without_bom(text);
     let invalid = |diagnostics| SceneError::Invalid {

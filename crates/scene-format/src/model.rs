@@ -438,8 +438,6 @@ pub struct MeshData {
     /// What went wrong with the MTL files (missing, unreadable, bad values,
     /// a missing map_Kd): warnings for the objects that use them.
     pub material_warnings: Vec<String>,
-    /// The MTL files and the images they name that were read.
-    pub material_files: Vec<std::path::PathBuf>,
 }
 
 impl MeshData {

@@ -17,12 +17,12 @@ pub struct Libraries<'a> {
     read: RefCell<Vec<(PathBuf, Result<usize, String>)>>,
 }
 
-/// The MTL files an OBJ read, and what they gave.
+/// What the MTL files an OBJ read gave (the files themselves are recorded
+/// by the source they were read from).
 #[derive(Debug, Default)]
 pub struct ObjMaterials {
     pub materials: Vec<Material>,
     pub warnings: Vec<String>,
-    pub files: Vec<PathBuf>,
 }
 
 impl<'a> Libraries<'a> {
@@ -66,7 +66,6 @@ impl<'a> Libraries<'a> {
                     continue;
                 }
             };
-            out.files.push(path.clone());
             let folder = path.parent().unwrap_or(Path::new(""));
             let first_warning = out.warnings.len();
             for m in found.by_ref().take(count) {
@@ -149,15 +148,12 @@ fn diffuse_map(
     }
     let path = folder.join(file);
     match images.get(source, &path) {
-        Ok(data) => {
-            out.files.push(path);
-            Some(TextureRef::Image(ImageTexture {
-                image: file.to_string(),
-                scale: TextureScale::default(),
-                wrap: Wrap::Repeat,
-                data: Some(data),
-            }))
-        }
+        Ok(data) => Some(TextureRef::Image(ImageTexture {
+            image: file.to_string(),
+            scale: TextureScale::default(),
+            wrap: Wrap::Repeat,
+            data: Some(data),
+        })),
         Err(e) => {
             out.warnings.push(format!(
                 "material `{material}`: cannot load `map_Kd` image `{file}` ({e}); drawn without it"
@@ -197,7 +193,9 @@ fn keep_valid(name: &str, material: &mut Material, out: &mut ObjMaterials) {
 
 #[cfg(test)]
 mod tests {
-    use crate::obj::read_obj;
+    use crate::images::ImageCache;
+    use crate::obj::read_obj_from;
+    use crate::source::{Folder, Source};
 
     #[test]
     fn faces_keep_their_material_across_libraries_one_of_them_missing() {
@@ -207,13 +205,17 @@ mod tests {
         std::fs::write(dir.path().join("m.obj"), obj).unwrap();
         let mtl = "newmtl first\nKd 1 0 0\nnewmtl second\nKd 0 1 0\nmap_Kd -s 2 2 1 missing.png\n";
         std::fs::write(dir.path().join("b.mtl"), mtl).unwrap();
-        let data = read_obj(&dir.path().join("m.obj")).unwrap();
+        let folder = Folder::new();
+        let obj = dir.path().join("m.obj");
+        let data = read_obj_from(&folder, &obj, &mut ImageCache::default()).unwrap();
         assert_eq!(data.materials.len(), 2);
         assert_eq!(data.materials[0].diffuse, [1.0, 0.0, 0.0]);
         assert_eq!(data.materials[1].diffuse, [0.0, 1.0, 0.0]);
         // No usemtl yet, `second`, `first`, an undefined name.
         assert_eq!(data.triangle_materials, [None, Some(1), Some(0), None]);
-        assert_eq!(data.material_files, [dir.path().join("b.mtl")]);
+        // Read: the OBJ and the one library there is (not `none.mtl`, not
+        // the missing image).
+        assert_eq!(folder.files_read(), [obj, dir.path().join("b.mtl")]);
         let w = &data.material_warnings;
         assert_eq!(w.len(), 3, "{w:?}");
         assert!(

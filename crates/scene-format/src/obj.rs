@@ -12,18 +12,10 @@ use std::io::BufRead;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-/// Reads the mesh file (OBJ or PLY) of every mesh object, relative to
-/// `base` (the scene file's folder). Every file that cannot be read gives a
-/// diagnostic at `objects[i].mesh.obj` (or `.ply`).
-pub fn load_meshes(scene: &mut SceneFile, base: &Path) -> Vec<Diagnostic> {
-    let mut images = ImageCache::default();
-    load_object_meshes(&mut scene.objects, base, &Folder::new(), &mut images)
-}
-
-/// Reads the OBJ file of every mesh of `objects` from `source`, relative
-/// to `base` (the folder of the file that lists them). Every file that
-/// cannot be read gives a diagnostic at `objects[i].mesh.obj`, `i` an index
-/// of `objects`. The images of their MTL files are read through `images`.
+/// Reads the mesh file (OBJ or PLY) of every mesh of `objects` from
+/// `source`, relative to `base` (the folder of the file that lists them).
+/// Every file that cannot be read gives a diagnostic at
+/// `objects[i].mesh.obj` (or `.ply`), `i` an index of `objects`. The images of their MTL files are read through `images`.
 pub fn load_object_meshes(
     objects: &mut [Object],
     base: &Path,
@@ -139,7 +131,6 @@ fn read_obj_lines(
     let mut data = MeshData {
         materials: found.materials,
         material_warnings: found.warnings,
-        material_files: found.files,
         ..MeshData::default()
     };
     // The index among all triangles of the first degenerate one.
