@@ -45,7 +45,7 @@ pub fn run(args: &FarmArgs) -> Result<()> {
     let start = Instant::now();
     tracer_run(
         &tracer,
-        &[&scene_arg(&scene), "-o", &path_arg(&single)],
+        &[&path_arg(&scene), "-o", &path_arg(&single)],
         &size,
     )?;
     let single_seconds = start.elapsed().as_secs_f64();
@@ -87,7 +87,7 @@ fn render_tiles(
     for i in 0..n {
         let tile = dir.join(format!("tile-{n}-{i}.exr"));
         let spec = format!("{i}/{n}");
-        let args = [&scene_arg(scene), "--tile", &spec, "-o", &path_arg(&tile)];
+        let args = [&path_arg(scene), "--tile", &spec, "-o", &path_arg(&tile)];
         let start = Instant::now();
         tracer_run(tracer, &args, size)?;
         seconds += start.elapsed().as_secs_f64();
@@ -143,10 +143,6 @@ fn build_tracer(root: &Path) -> Result<PathBuf> {
         "tracer",
     ]))?;
     Ok(crate::target_dir().join("release/tracer"))
-}
-
-fn scene_arg(scene: &Path) -> String {
-    path_arg(scene)
 }
 
 fn path_arg(path: &Path) -> String {

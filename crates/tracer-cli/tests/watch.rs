@@ -229,18 +229,26 @@ fn status_of(port: u16, request: &[u8]) -> String {
     answer.lines().next().unwrap_or("").to_string()
 }
 
+/// A red triangle's scene in a new folder, watched with `--serve`, its
+/// first render done; the scene file's path and the server's port.
+fn serving_a_scene() -> (tempfile::TempDir, PathBuf, Watching, u16) {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_path = dir.path().join("scene.toml");
+    write(dir.path().join("tri.obj"), &obj(0.0));
+    write(scene_path.clone(), &scene([1.0, 0.0, 0.0], 1));
+    let (mut watching, port) = serving(dir.path());
+    watching.expect_line("rendered", START);
+    (dir, scene_path, watching, port)
+}
+
 fn get(path: &str) -> Vec<u8> {
     format!("GET {path} HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n").into_bytes()
 }
 
 #[test]
 fn the_server_serves_the_page_image_and_events_and_nothing_else() {
-    let dir = tempfile::tempdir().unwrap();
-    write(dir.path().join("tri.obj"), &obj(0.0));
-    write(dir.path().join("scene.toml"), &scene([1.0, 0.0, 0.0], 1));
+    let (dir, _, _watching, port) = serving_a_scene();
     std::fs::write(dir.path().join("secret.txt"), "not to be served").unwrap();
-    let (mut watching, port) = serving(dir.path());
-    watching.expect_line("rendered", START);
     assert_eq!(status_of(port, &get("/")), "HTTP/1.1 200 OK");
     assert_eq!(status_of(port, &get("/image.png")), "HTTP/1.1 200 OK");
     for path in [
@@ -279,12 +287,7 @@ fn the_server_serves_the_page_image_and_events_and_nothing_else() {
 #[test]
 fn a_vanished_or_silent_client_does_not_stall_rendering() {
     use std::io::Write;
-    let dir = tempfile::tempdir().unwrap();
-    let scene_path = dir.path().join("scene.toml");
-    write(dir.path().join("tri.obj"), &obj(0.0));
-    write(scene_path.clone(), &scene([1.0, 0.0, 0.0], 1));
-    let (mut watching, port) = serving(dir.path());
-    watching.expect_line("rendered", START);
+    let (dir, scene_path, mut watching, port) = serving_a_scene();
     // Event streams never read, and connections that never finish their
     // request: more than the server serves at once.
     let mut idle = Vec::new();
@@ -461,12 +464,7 @@ fn devtools_url(stderr: std::process::ChildStderr) -> String {
 
 #[test]
 fn the_page_shows_each_render_and_the_error_without_a_reload() {
-    let dir = tempfile::tempdir().unwrap();
-    let scene_path = dir.path().join("scene.toml");
-    write(dir.path().join("tri.obj"), &obj(0.0));
-    write(scene_path.clone(), &scene([1.0, 0.0, 0.0], 1));
-    let (mut watching, port) = serving(dir.path());
-    watching.expect_line("rendered", START);
+    let (_dir, scene_path, _watching, port) = serving_a_scene();
     let Some(mut page) = Browser::open(&format!("http://127.0.0.1:{port}/")) else {
         return;
     };
