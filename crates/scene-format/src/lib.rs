@@ -15,6 +15,7 @@ pub mod locate;
 pub mod model;
 pub mod mtl;
 pub mod obj;
+mod obj_text;
 mod parse;
 pub mod ply;
 pub mod read;

@@ -1,14 +1,15 @@
-//! Wavefront OBJ meshes: read with `tobj`, triangulated, degenerate faces
-//! left out and counted.
+//! Wavefront OBJ meshes: read (`obj_text.rs`), triangulated, degenerate
+//! faces left out and counted.
 
 use crate::diagnostic::Diagnostic;
 use crate::images::ImageCache;
 use crate::model::{MeshData, MeshFormat, Object, SceneFile, Vec3};
 use crate::mtl::Libraries;
+use crate::obj_text::{self, Corner, ObjText};
 use crate::read::MAX_OBJ_BYTES;
 use crate::source::{Folder, Source};
 use std::collections::HashMap;
-use std::io::BufRead;
+use std::io::{BufRead, Read};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -100,46 +101,68 @@ pub fn read_obj_from(
     path: &Path,
     images: &mut ImageCache,
 ) -> Result<MeshData, String> {
-    read_obj_lines(source, path, images).map_err(|message| match bad_line_in(source, path) {
-        Some((line, what)) => {
-            let name = path.file_name().unwrap_or(path.as_os_str());
-            format!("{message}; `{}:{line}`: {what}", name.to_string_lossy())
+    read_obj_lines(source, path, images).map_err(|failure| {
+        let name = path.file_name().unwrap_or(path.as_os_str());
+        let name = name.to_string_lossy();
+        let scanned = bad_line_in(source, path);
+        match (failure.line, scanned) {
+            // The scan says what is wrong, on the line the parser stopped at.
+            (Some(line), Some((at, what))) if at == line => {
+                format!("{}; `{name}:{line}`: {what}", failure.message)
+            }
+            (Some(line), _) => format!("{}; `{name}:{line}`", failure.message),
+            (None, Some((line, what))) => format!("{}; `{name}:{line}`: {what}", failure.message),
+            (None, None) => failure.message,
         }
-        None => message,
     })
+}
+
+/// Why an OBJ file was not read, and the line the parser stopped at.
+struct ObjFailure {
+    message: String,
+    line: Option<usize>,
+}
+
+impl From<String> for ObjFailure {
+    fn from(message: String) -> Self {
+        ObjFailure {
+            message,
+            line: None,
+        }
+    }
 }
 
 fn read_obj_lines(
     source: &dyn Source,
     path: &Path,
     images: &mut ImageCache,
-) -> Result<MeshData, String> {
-    let mut file = source
+) -> Result<MeshData, ObjFailure> {
+    let mut bytes = Vec::new();
+    source
         .open(path, MAX_OBJ_BYTES)
+        .and_then(|mut file| file.read_to_end(&mut bytes))
         .map_err(|e| e.to_string())?;
-    let options = tobj::LoadOptions {
-        triangulate: true,
-        ignore_points: true,
-        ignore_lines: true,
-        ..Default::default()
-    };
     let libraries = Libraries::new(path.parent().unwrap_or(Path::new("")), source);
-    let (models, found) = tobj::load_obj_buf(&mut file, &options, |p| libraries.load(p))
-        .map_err(|e| format!("not a valid OBJ file: {e}"))?;
+    let mut collected = Collected {
+        libraries: &libraries,
+        found: Vec::new(),
+    };
+    let parsed = obj_text::parse(&bytes, &mut collected);
+    drop(bytes);
+    let text = parsed.map_err(|e| ObjFailure {
+        message: format!("not a valid OBJ file: {}", e.what),
+        line: Some(e.line),
+    })?;
+    let found = collected.found;
     // The libraries' own failures are kept by `libraries`.
-    let found = libraries.finish(&found.unwrap_or_default(), images);
+    let found = libraries.finish(&found, images);
     let mut data = MeshData {
         materials: found.materials,
         material_warnings: found.warnings,
         ..MeshData::default()
     };
-    // The index among all triangles of the first degenerate one.
-    let mut first_degenerate = None;
-    let mut base = 0u32;
-    for model in &models {
-        add_model(&model.mesh, base, &mut data, &mut first_degenerate)?;
-        base = base.saturating_add((model.mesh.positions.len() / 3) as u32);
-    }
+    let first_degenerate =
+        add_triangles(&text, &mut data).map_err(|what| format!("not a valid OBJ file: {what}"))?;
     if let Some(k) = first_degenerate {
         data.first_degenerate_line = source
             .open(path, MAX_OBJ_BYTES)
@@ -147,70 +170,80 @@ fn read_obj_lines(
             .and_then(|file| line_of_triangle(file, k));
     }
     if data.triangles.is_empty() {
-        return Err("expected at least one face of non-zero area".to_string());
+        return Err("expected at least one face of non-zero area"
+            .to_string()
+            .into());
     }
     Ok(data)
 }
 
-/// Adds the triangles of one model (`o` or `g`) of the file; `base` numbers
-/// its first vertex, as tobj numbers each model's vertices from 0.
-fn add_model(
-    mesh: &tobj::Mesh,
-    base: u32,
-    data: &mut MeshData,
-    first_degenerate: &mut Option<usize>,
-) -> Result<(), String> {
-    let vertex = |index: u32| -> Result<Vec3, String> {
-        let i = index as usize * 3;
-        let p = mesh
+/// The MTL files' materials, in the order read, for [`Libraries::finish`].
+struct Collected<'a, 'b> {
+    libraries: &'a Libraries<'b>,
+    found: Vec<tobj::Material>,
+}
+
+impl obj_text::MaterialLibraries for Collected<'_, '_> {
+    fn load(&mut self, name: &Path) -> Vec<String> {
+        let Ok((materials, _)) = self.libraries.load(name) else {
+            return Vec::new();
+        };
+        let names = materials.iter().map(|m| m.name.clone()).collect();
+        self.found.extend(materials);
+        names
+    }
+}
+
+/// Adds the file's triangles to `data`, but for degenerate ones, counted;
+/// gives the index among all triangles of the first degenerate one.
+fn add_triangles(text: &ObjText, data: &mut MeshData) -> Result<Option<usize>, String> {
+    let vertex = |c: Corner| -> Result<Vec3, String> {
+        let v = *text
             .positions
-            .get(i..i + 3)
-            .ok_or_else(|| format!("face vertex {} does not exist", index + 1))?;
-        let v = [p[0], p[1], p[2]];
+            .get(c.v as usize)
+            .ok_or("face vertex index out of bounds")?;
         if v.iter().all(|x| x.is_finite()) {
             Ok(v)
         } else {
-            Err(format!("vertex {} is not finite: {v:?}", index + 1))
+            Err(format!("vertex {} is not finite: {v:?}", c.v + 1))
         }
     };
-    // A face's material, when the OBJ has materials at all (a material
-    // named by `usemtl` but not defined is none).
-    let track = !data.materials.is_empty();
-    let material = mesh
-        .material_id
-        .filter(|&m| m < data.materials.len())
-        .map(|m| m as u32);
-    // tobj gives every corner a normal (and uv) index once the file has
-    // any; a face without one borrows the one before it.
-    let normals = mesh.normal_indices.len() == mesh.indices.len();
-    let uvs = mesh.texcoord_indices.len() == mesh.indices.len();
-    for (k, face) in mesh.indices.chunks_exact(3).enumerate() {
-        let triangle = [vertex(face[0])?, vertex(face[1])?, vertex(face[2])?];
+    let mut first_degenerate = None;
+    let mut kept_triangles = 0;
+    for (k, corners) in text.triangles.iter().enumerate() {
+        let triangle = [
+            vertex(corners[0])?,
+            vertex(corners[1])?,
+            vertex(corners[2])?,
+        ];
         if is_degenerate(&triangle) {
-            first_degenerate.get_or_insert(data.triangles.len());
+            first_degenerate.get_or_insert(k);
             data.skipped_degenerate += 1;
             continue;
         }
-        let corners = 3 * k..3 * k + 3;
-        let normal = normals
-            .then(|| corner_values::<3>(&mesh.normals, &mesh.normal_indices[corners.clone()]));
-        let uv = uvs.then(|| corner_values::<2>(&mesh.texcoords, &mesh.texcoord_indices[corners]));
-        let ids = [face[0], face[1], face[2]].map(|i| base + i);
-        push_triangle(data, triangle, ids, normal.flatten(), uv.flatten());
-        if track {
+        let normal = corner_values(&text.normals, corners.map(|c| c.vn))
+            .map_err(|()| "face normal index out of bounds")?;
+        let uv = corner_values(&text.texcoords, corners.map(|c| c.vt))
+            .map_err(|()| "face texcoord index out of bounds")?;
+        push_triangle(data, triangle, corners.map(|c| c.v), normal, uv);
+        if let Some(&material) = text.triangle_materials.get(k) {
             data.triangle_materials.push(material);
         }
+        kept_triangles += 1;
     }
-    Ok(())
+    debug_assert_eq!(kept_triangles, data.triangles.len());
+    Ok(first_degenerate)
 }
 
-/// The values of `N` numbers at three corners' indices, if all exist.
-fn corner_values<const N: usize>(values: &[f32], indices: &[u32]) -> Option<[[f32; N]; 3]> {
-    let at = |i: u32| -> Option<[f32; N]> {
-        let start = i as usize * N;
-        values.get(start..start + N)?.try_into().ok()
-    };
-    Some([at(indices[0])?, at(indices[1])?, at(indices[2])?])
+/// The values at a triangle's three corners: `None` unless every corner
+/// names one (a file without any values may name some); an error for an
+/// index past the list's end.
+fn corner_values<T: Copy>(values: &[T], indices: [u32; 3]) -> Result<Option<[T; 3]>, ()> {
+    if values.is_empty() || indices.contains(&obj_text::NONE) {
+        return Ok(None);
+    }
+    let at = |i: u32| values.get(i as usize).copied().ok_or(());
+    Ok(Some([at(indices[0])?, at(indices[1])?, at(indices[2])?]))
 }
 
 /// Adds a triangle and what its file says of its corners, keeping the
@@ -235,7 +268,7 @@ pub(crate) fn push_triangle(
     data.indices.push(indices);
 }
 
-/// Lines scanned for the offending line of a file tobj rejected; the scan
+/// Lines scanned for the offending line of a file not read; the scan
 /// runs only on failure, on a file already under `MAX_OBJ_BYTES`.
 const MAX_SCAN_LINES: usize = 20_000_000;
 
@@ -244,7 +277,7 @@ fn bad_line_in(source: &dyn Source, path: &Path) -> Option<(usize, String)> {
     first_bad_line(source.open(path, MAX_OBJ_BYTES).ok()?)
 }
 
-/// The first line (counted from 1) of OBJ text that tobj rejects, or whose
+/// The first line (counted from 1) of OBJ text that is not valid, or whose
 /// face cannot be made a triangle, with what is wrong on it. Indices are
 /// checked against the vertices defined so far, negative ones counted back
 /// from the last, as OBJ defines them.
@@ -266,9 +299,8 @@ fn first_bad_line(reader: impl BufRead) -> Option<(usize, String)> {
     None
 }
 
-/// The line (counted from 1) of the face that tobj triangulated into its
-/// triangle `k` (counted from 0): tobj keeps the file's face order and
-/// makes a face (`f`, or an `l` of 3 or more vertices) of n vertices into
+/// The line (counted from 1) of the face that holds triangle `k` (counted
+/// from 0): faces keep the file's order, and a face of n vertices makes
 /// n - 2 triangles.
 fn line_of_triangle(reader: impl BufRead, k: usize) -> Option<usize> {
     let mut triangles = 0;
@@ -277,7 +309,7 @@ fn line_of_triangle(reader: impl BufRead, k: usize) -> Option<usize> {
         let mut words = line
             .split(|b| b.is_ascii_whitespace())
             .filter(|w| !w.is_empty());
-        if matches!(words.next(), Some(b"f" | b"l")) {
+        if words.next() == Some(b"f") {
             triangles += words.count().saturating_sub(2);
             if triangles > k {
                 return Some(i + 1);
@@ -292,7 +324,7 @@ fn check_line(line: &str, counts: &mut [usize; 3]) -> Result<(), String> {
     let mut words = line.split_whitespace();
     let keyword = words.next().unwrap_or("");
     let values: Vec<&str> = words.collect();
-    // The first `n` values as numbers; tobj ignores what follows them.
+    // The first `n` values as numbers; what follows them is not read.
     let numbers = |what: &str, n: usize| -> Result<Vec<f32>, String> {
         values[..n]
             .iter()
@@ -311,7 +343,7 @@ fn check_line(line: &str, counts: &mut [usize; 3]) -> Result<(), String> {
                     values.len()
                 ));
             }
-            // A colour (6 values) is not read: tobj ignores one it cannot parse.
+            // A colour (6 values) is not read, nor checked.
             let v = numbers("v", if values.len() == 4 { 4 } else { 3 })?;
             if values.len() == 4 && v[3] == 0.0 {
                 return Err("expected a non-zero vertex weight, found 0".to_string());
@@ -332,17 +364,15 @@ fn check_line(line: &str, counts: &mut [usize; 3]) -> Result<(), String> {
             numbers(keyword, need)?;
             counts[if keyword == "vt" { 1 } else { 2 }] += 1;
         }
-        "f" | "l" => {
-            if keyword == "f" && values.len() < 3 {
+        "f" => {
+            if values.len() < 3 {
                 return Err(format!(
                     "expected a face of at least 3 vertices, found {}",
                     values.len()
                 ));
             }
-            // tobj makes an `l` of 3 or more vertices a face too.
-            let in_face = keyword == "f" || values.len() >= 3;
             for value in &values {
-                check_face_vertex(value, counts, in_face)?;
+                check_face_vertex(value, counts)?;
             }
         }
         _ => {}
@@ -350,10 +380,10 @@ fn check_line(line: &str, counts: &mut [usize; 3]) -> Result<(), String> {
     Ok(())
 }
 
-/// Checks a face vertex `v`, `v/vt`, `v//vn` or `v/vt/vn`; the ranges only
-/// in faces, not in lines of 2 vertices, which are left out. Texture coordinates
-/// and normals are checked only when the file has some, as tobj does.
-fn check_face_vertex(value: &str, counts: &[usize; 3], in_face: bool) -> Result<(), String> {
+/// Checks a face vertex `v`, `v/vt`, `v//vn` or `v/vt/vn`. Texture
+/// coordinates and normals are checked only when the file has some (a
+/// file without any may name them: they are not used).
+fn check_face_vertex(value: &str, counts: &[usize; 3]) -> Result<(), String> {
     const NAMES: [&str; 3] = ["vertex", "texture coordinate", "normal"];
     let parts: Vec<&str> = value.split('/').collect();
     if parts.len() > 3 {
@@ -378,7 +408,7 @@ fn check_face_vertex(value: &str, counts: &[usize; 3], in_face: bool) -> Result<
             ));
         }
         let count = counts[k] as i64;
-        if !in_face || (k > 0 && count == 0) {
+        if k > 0 && count == 0 {
             continue;
         }
         if index > count || -index > count {
@@ -422,8 +452,9 @@ mod tests {
         let n = [[0.0, 0.0, 2.0], [0.0, 0.0, 2.0], [0.0, 1.0, 0.0]];
         assert_eq!(data.normals[0], Some(n));
         assert_eq!(data.uvs[0], Some([[0.5, 0.25], [1.0, 1.0], [0.5, 0.25]]));
-        // tobj gives a face without them in such a file its neighbour's.
+        // A face without them has none, even in a file with some.
         assert_eq!(data.normals.len(), 2);
+        assert_eq!((data.normals[1], data.uvs[1]), (None, None));
     }
 
     #[test]
@@ -461,7 +492,7 @@ mod tests {
         let ok = "# a comment\nv 0 0 0\nv 1 0 0 1\nv 0 1 0 0.5 0.5 0.5\nvt 0 0\nvn 0 0 1\n\
                   o thing\nf 1/1/1 2//1 3\nf -3 -2 -1\nl 1 2\nusemtl x\n";
         assert_eq!(bad(ok), None);
-        // A vertex colour is not checked, as tobj does not check it.
+        // A vertex colour is not read, so not checked.
         assert_eq!(bad("v 0 1 0 x 0.5 0.5\n"), None);
         // A bad vertex.
         let (line, what) = bad("v 0 0 0\nv 0 0\n").unwrap();
@@ -513,12 +544,13 @@ mod tests {
         let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n\
                     f 1 2 3 4 1\nl 1 2\nf 1 2\n\
                     o other\nf 1 2 3\nl 1 3 4\nf 1 3 3\nf 1 1 2\n";
-        // Triangles: 3 from line 5, 1 from line 9, 1 from line 10, line 11...
+        // Triangles: 3 from line 5, 1 from line 9, then lines 11 and 12
+        // (lines are not faces).
         assert_eq!(line_of_triangle(text.as_bytes(), 0), Some(5));
         assert_eq!(line_of_triangle(text.as_bytes(), 3), Some(9));
-        assert_eq!(line_of_triangle(text.as_bytes(), 4), Some(10));
-        assert_eq!(line_of_triangle(text.as_bytes(), 5), Some(11));
-        assert_eq!(line_of_triangle(text.as_bytes(), 7), None);
+        assert_eq!(line_of_triangle(text.as_bytes(), 4), Some(11));
+        assert_eq!(line_of_triangle(text.as_bytes(), 5), Some(12));
+        assert_eq!(line_of_triangle(text.as_bytes(), 6), None);
         let dir = tempfile::tempdir().unwrap();
         let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4 1\nf 1 2 3\nf 1 3 3\n";
         let data = read_obj(&write(dir.path(), "fan.obj", text)).unwrap();
