@@ -52,8 +52,8 @@ pub(super) fn pack_leaves(
         let (_, count) = nodes[n].child(lane);
         let run = &items[first as usize..][..count as usize];
         // A leaf holds spheres or triangles (`build.rs` splits the two).
-        let records = || run.iter().map(|p| (&objects[p.id as usize], p.id));
-        if run[0].sphere {
+        let records = || run.iter().map(|p| (&objects[p.id() as usize], p.id()));
+        if run[0].sphere() {
             let start = spheres.len();
             spheres.extend(records().filter_map(|(o, id)| sphere_prim(o, id)));
             let count = (spheres.len() - start) as u32;
