@@ -43,6 +43,10 @@ pub struct Ours {
     pub pixels: u64,
     pub build_s: [f64; 2],
     pub render_s: [f64; 2],
+    /// Reading its mesh's OBJ file (on one thread), when the scene has one.
+    pub load_s: Option<f64>,
+    /// The tree's cost by the surface area heuristic (the same every run).
+    pub sah_cost: f64,
     /// Process CPU time of the 1-thread build and render: what the work
     /// costs when other processes take turns on the cores.
     pub build_cpu_s: f64,
@@ -72,6 +76,8 @@ impl Ours {
 /// One run of one scene: build and render on 1 thread, then on 2.
 #[derive(Debug, Clone, Copy, Default)]
 struct Run {
+    load_s: Option<f64>,
+    sah_cost: f64,
     build_s: [f64; 2],
     render_s: [f64; 2],
     build_cpu_s: f64,
@@ -93,7 +99,9 @@ pub fn measure(scenes: &[BenchScene], reps: usize) -> Result<Vec<Ours>> {
     for rep in 0..reps {
         eprintln!("bench: run {} of {reps} ...", rep + 1);
         for ((scene, bench), runs) in prepared.iter().zip(scenes).zip(&mut runs) {
-            runs.push(measure_run(scene, bench.samples, &pools));
+            let mut run = measure_run(scene, bench.samples, &pools);
+            run.load_s = bench.obj.as_deref().map(time_obj_read).transpose()?;
+            runs.push(run);
         }
     }
     Ok(prepared
@@ -105,6 +113,15 @@ pub fn measure(scenes: &[BenchScene], reps: usize) -> Result<Vec<Ours>> {
             summarise(p.objects().len(), pixels, &runs)
         })
         .collect())
+}
+
+/// Seconds to read the OBJ file at `path` into triangles.
+fn time_obj_read(path: &std::path::Path) -> Result<f64> {
+    let start = Instant::now();
+    let data = scene_format::obj::read_obj(path).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let seconds = start.elapsed().as_secs_f64();
+    drop(data);
+    Ok(seconds)
 }
 
 fn pool(threads: usize) -> Result<rayon::ThreadPool> {
@@ -128,6 +145,7 @@ fn measure_run(scene: &Scene, samples: u32, pools: &[rayon::ThreadPool; 2]) -> R
         let bvh = pool.install(|| Bvh::build(scene.objects()));
         run.build_s[t] = start.elapsed().as_secs_f64();
         let build_cpu = cpu_time() - cpu;
+        run.sah_cost = bvh.sah_cost();
         drop(bvh);
         let (start, cpu) = (Instant::now(), cpu_time());
         let rendered = pool.install(|| render(scene, &job, &|_| {}));
@@ -151,6 +169,10 @@ fn summarise(objects: usize, pixels: u64, runs: &[Run]) -> Ours {
         objects,
         pixels,
         build_s: [med(&|r| r.build_s[0]), med(&|r| r.build_s[1])],
+        load_s: runs[0]
+            .load_s
+            .map(|_| med(&|r| r.load_s.unwrap_or(f64::NAN))),
+        sah_cost: runs[0].sah_cost,
         render_s: [med(&|r| r.render_s[0]), med(&|r| r.render_s[1])],
         build_cpu_s: med(&|r| r.build_cpu_s),
         render_cpu_s: med(&|r| r.render_cpu_s),

@@ -4,7 +4,9 @@
 
 use anyhow::{Context, Result};
 use scene_format::{MeshData, SceneFile};
-use std::path::Path;
+use std::collections::HashMap;
+use std::io::Write;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// The bunny's mesh, relative to the workspace root (Embree reads it too).
@@ -19,6 +21,8 @@ pub struct BenchScene {
     pub samples: u32,
     /// For a scene Embree can run (the bunny): its `--subdiv`.
     pub embree_subdiv: Option<u32>,
+    /// The OBJ file of its mesh, whose reading is timed.
+    pub obj: Option<PathBuf>,
 }
 
 pub fn scenes(root: &Path) -> Result<Vec<BenchScene>> {
@@ -30,12 +34,21 @@ pub fn scenes(root: &Path) -> Result<Vec<BenchScene>> {
             mesh.data = Some(Arc::new(subdivide(&subdivide(data))));
         }
     }
+    let big_obj = crate::target_dir().join("bench/bunny-1.1m.obj");
+    if !big_obj.exists() {
+        let data = big
+            .objects
+            .iter()
+            .find_map(|o| o.mesh.as_ref()?.data.as_ref());
+        write_obj(data.context("bunny mesh not loaded")?, &big_obj)?;
+    }
     Ok(vec![
         BenchScene {
             name: "bunny",
             file: bunny.clone(),
             samples: 1,
             embree_subdiv: Some(0),
+            obj: Some(root.join(BUNNY_OBJ)),
         },
         // Anti-aliased: POV-Ray's supersampling against ours. Embree's
         // harness casts one ray per pixel only.
@@ -44,24 +57,54 @@ pub fn scenes(root: &Path) -> Result<Vec<BenchScene>> {
             file: bunny,
             samples: 16,
             embree_subdiv: None,
+            obj: None,
         },
         BenchScene {
             name: "bunny-1.1m",
             file: big,
             samples: 1,
             embree_subdiv: Some(2),
+            obj: Some(big_obj),
         },
         BenchScene {
             name: "reflectance2",
             file: load(&root.join("scenes/reflectance2.toml"))?,
             samples: 1,
             embree_subdiv: None,
+            obj: None,
         },
     ])
 }
 
 fn load(path: &Path) -> Result<SceneFile> {
     scene_format::load_path(path).map_err(|e| anyhow::anyhow!("{e}"))
+}
+
+/// Writes `data` as an OBJ file, each distinct vertex once (as the peers'
+/// `--subdiv` meshes share them), through a temporary file.
+fn write_obj(data: &MeshData, path: &Path) -> Result<()> {
+    let mut index: HashMap<[u32; 3], usize> = HashMap::new();
+    let mut vertices = Vec::new();
+    let mut faces = Vec::with_capacity(data.triangles.len());
+    for triangle in &data.triangles {
+        faces.push(triangle.map(|v| {
+            *index.entry(v.map(f32::to_bits)).or_insert_with(|| {
+                vertices.push(v);
+                vertices.len()
+            })
+        }));
+    }
+    let mut text = Vec::new();
+    for [x, y, z] in vertices {
+        writeln!(text, "v {x} {y} {z}")?;
+    }
+    for [a, b, c] in faces {
+        writeln!(text, "f {a} {b} {c}")?;
+    }
+    std::fs::create_dir_all(path.parent().context("no folder")?)?;
+    let temporary = path.with_extension("obj.part");
+    std::fs::write(&temporary, text)?;
+    std::fs::rename(&temporary, path).with_context(|| format!("writing {}", path.display()))
 }
 
 /// Splits every triangle 1 -> 4 at its edge midpoints: the same surface,

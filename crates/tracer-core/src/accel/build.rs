@@ -14,9 +14,9 @@ const MAX_LEAF: usize = 16;
 /// reads two to four cache lines and tests up to eight boxes. (Against 1,
 /// in one process: under half the nodes, the bunny 1 % slower, the 1.1M
 /// bunny 2 % faster.)
-const TRAVERSAL_COST: f32 = 2.0;
+pub(super) const TRAVERSAL_COST: f32 = 2.0;
 /// Cost of testing four triangles at once, relative to one.
-const BLOCK_COST: f32 = 1.5;
+pub(super) const BLOCK_COST: f32 = 1.5;
 /// Deeper nodes become leaves, so the traversal stack cannot overflow.
 pub(super) const MAX_DEPTH: usize = 60;
 /// Nodes with more primitives than this build their children in parallel.
@@ -31,7 +31,7 @@ pub(super) struct Aabb {
 }
 
 impl Aabb {
-    const EMPTY: Aabb = Aabb {
+    pub(super) const EMPTY: Aabb = Aabb {
         min: Vec3A::INFINITY,
         max: Vec3A::NEG_INFINITY,
     };
@@ -255,7 +255,7 @@ impl Part {
 }
 
 /// The cost of testing `count` primitives: triangles go four at a time.
-fn leaf_cost(count: usize) -> f32 {
+pub(super) fn leaf_cost(count: usize) -> f32 {
     count.div_ceil(4) as f32 * BLOCK_COST
 }
 

@@ -4,7 +4,8 @@
 //! parts the SAH's splits give, the largest split first (a binary tree
 //! collapsed as it is built, never stored).
 
-use super::build::{Aabb, BuildPrim, Part, PARALLEL_BUILD};
+use super::build::{leaf_cost, Aabb, BuildPrim, Part, BLOCK_COST, PARALLEL_BUILD, TRAVERSAL_COST};
+use super::leaves::SPHERE_LEAF;
 use glam::Vec4;
 use rayon::prelude::*;
 
@@ -212,4 +213,51 @@ fn lanes(items: &mut [BuildPrim], part: Part) -> ([Part; WIDTH], usize) {
         len += 1;
     }
     (lanes, len)
+}
+
+/// See `Bvh::sah_cost`.
+pub(super) fn sah_cost(nodes: &[Node]) -> f64 {
+    let Some(root) = nodes.first() else {
+        return 0.0;
+    };
+    let area = |node: &Node, lane: usize| -> f64 {
+        let half = &node.halves[lane / 4];
+        let d =
+            |axis: usize| (half.planes[axis + 3][lane % 4] - half.planes[axis][lane % 4]) as f64;
+        let (x, y, z) = (d(0), d(1), d(2));
+        x * y + y * z + z * x
+    };
+    let mut root_box = Aabb::EMPTY;
+    for lane in used_lanes(root) {
+        let half = &root.halves[lane / 4];
+        let p = |axis: usize| half.planes[axis][lane % 4];
+        root_box.min = root_box.min.min(glam::Vec3A::new(p(0), p(1), p(2)));
+        root_box.max = root_box.max.max(glam::Vec3A::new(p(3), p(4), p(5)));
+    }
+    let mut cost = TRAVERSAL_COST as f64 * root_box.half_area() as f64;
+    for node in nodes {
+        for lane in used_lanes(node) {
+            let (_, count) = node.child(lane);
+            cost += area(node, lane)
+                * match node_halves(count) {
+                    Some(_) => TRAVERSAL_COST as f64,
+                    None => packed_leaf_cost(count),
+                };
+        }
+    }
+    cost / root_box.half_area() as f64
+}
+
+/// The build's cost of a leaf lane as `pack_leaves` marked it: a run of
+/// spheres, or blocks of four triangles.
+fn packed_leaf_cost(count: u32) -> f64 {
+    if count & SPHERE_LEAF != 0 {
+        leaf_cost((count & !SPHERE_LEAF) as usize) as f64
+    } else {
+        (count as f32 * BLOCK_COST) as f64
+    }
+}
+
+fn used_lanes(node: &Node) -> impl Iterator<Item = usize> + '_ {
+    (0..WIDTH).filter(move |&k| node.child(k).1 != UNUSED)
 }
