@@ -208,6 +208,8 @@ fn add_triangles(text: &ObjText, data: &mut MeshData) -> Result<Option<usize>, S
             Err(format!("vertex {} is not finite: {v:?}", c.v + 1))
         }
     };
+    data.triangles.reserve(text.triangles.len());
+    data.indices.reserve(text.triangles.len());
     let mut first_degenerate = None;
     let mut kept_triangles = 0;
     for (k, corners) in text.triangles.iter().enumerate() {
