@@ -561,6 +561,59 @@ mod tests {
         assert_eq!(data.first_degenerate_line, Some(5));
     }
 
+    /// Every OBJ of `scenes/`, read by tobj (which read them before): the
+    /// same triangles, corner normals, uv and materials.
+    #[test]
+    fn the_scenes_meshes_read_as_tobj_reads_them() {
+        let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+        let files = ["meshes/cube.obj", "meshes/star.obj", "meshes/icosphere.obj"];
+        let files = files
+            .iter()
+            .chain(&["meshes/labelled-box.obj", "bench/bunny.obj"]);
+        for file in files {
+            let path = scenes.join(file);
+            let ours = read_obj(&path).unwrap();
+            let options = tobj::LoadOptions {
+                triangulate: true,
+                ..Default::default()
+            };
+            let (models, materials) = tobj::load_obj(&path, &options).unwrap();
+            let mut triangles = Vec::new();
+            for m in &models {
+                let mesh = &m.mesh;
+                let at = |values: &[f32], n: usize, i: u32| values[i as usize * n..][..n].to_vec();
+                for (k, face) in mesh.indices.chunks(3).enumerate() {
+                    let corner = |c: usize| {
+                        let normal = (!mesh.normals.is_empty())
+                            .then(|| at(&mesh.normals, 3, mesh.normal_indices[3 * k + c]));
+                        let uv = (!mesh.texcoords.is_empty())
+                            .then(|| at(&mesh.texcoords, 2, mesh.texcoord_indices[3 * k + c]));
+                        (at(&mesh.positions, 3, face[c]), normal, uv)
+                    };
+                    triangles.push(([corner(0), corner(1), corner(2)], mesh.material_id));
+                }
+            }
+            assert_eq!(ours.triangles.len(), triangles.len(), "{file}");
+            assert_eq!(ours.materials.len(), materials.unwrap().len(), "{file}");
+            for (k, (corners, material)) in triangles.iter().enumerate() {
+                for (c, (position, normal, uv)) in corners.iter().enumerate() {
+                    assert_eq!(ours.triangles[k][c].to_vec(), *position, "{file} {k}");
+                    let ours_normal = ours
+                        .normals
+                        .get(k)
+                        .copied()
+                        .flatten()
+                        .map(|n| n[c].to_vec());
+                    assert_eq!(ours_normal, *normal, "{file} {k}");
+                    let ours_uv = ours.uvs.get(k).copied().flatten().map(|n| n[c].to_vec());
+                    assert_eq!(ours_uv, *uv, "{file} {k}");
+                }
+                let ours_material = ours.triangle_material(k).map(|m| m as usize);
+                assert_eq!(ours_material, *material, "{file} {k}");
+            }
+        }
+    }
+
     #[test]
     fn errors_name_the_file_and_line() {
         let dir = tempfile::tempdir().unwrap();
