@@ -3,6 +3,7 @@
 //! one schema for both kinds of file, a 3D scene or a 2D canvas.
 
 use crate::canvas::CanvasFile;
+use crate::include::IncludedFile;
 use crate::model::SceneFile;
 use serde_json::{json, Value};
 
@@ -16,26 +17,33 @@ pub fn json_schema() -> String {
     serde_json::to_string_pretty(&value).expect("a schema is plain JSON")
 }
 
-/// A file with a top-level `canvas` key is a canvas scene, any other a 3D
-/// scene (as `load_any` decides). `if`/`then`/`else` rather than `oneOf`:
-/// an editor then reports a mistake against the one kind the file is,
-/// instead of "valid under none of the alternatives".
+/// A file with a top-level `canvas` key is a canvas scene, one with a
+/// `camera` a 3D scene (as `load_any` decides), one with neither a file a
+/// 3D scene includes. `if`/`then`/`else` rather than `oneOf`: an editor
+/// then reports a mistake against the one kind the file is, instead of
+/// "valid under none of the alternatives".
 fn schema_value() -> Value {
     let mut generator = schemars::generate::SchemaSettings::default().into_generator();
     let scene = generator.subschema_for::<SceneFile>();
     let canvas = generator.subschema_for::<CanvasFile>();
+    let included = generator.subschema_for::<IncludedFile>();
     let meta = generator.settings().meta_schema.clone();
     let definitions = generator.take_definitions(true);
     json!({
         "$schema": meta,
         "title": "tracer scene file",
         "description": "A 3D scene (`camera`, `render`, `lights`, `materials`, \
-            `objects`, `include`) or, when it has a top-level `canvas` table, \
-            a 2D canvas scene (`canvas`, `shapes`).",
+            `objects`, `include`); with a top-level `canvas` table, a 2D canvas \
+            scene (`canvas`, `shapes`); with neither `canvas` nor `camera`, a file \
+            a 3D scene includes (`include`, `materials`, `lights`, `objects`).",
         "type": "object",
         "if": { "required": ["canvas"] },
         "then": canvas,
-        "else": scene,
+        "else": {
+            "if": { "required": ["camera"] },
+            "then": scene,
+            "else": included,
+        },
         "$defs": definitions,
     })
 }
@@ -164,13 +172,24 @@ mod tests {
         assert_eq!(defs["Camera"]["properties"]["fov"]["default"], json!(50));
     }
 
-    /// The root picks the kind of file by its `canvas` key, as `load_any`.
+    /// The root picks the kind of file by its `canvas` key, as `load_any`,
+    /// then by its `camera`: a 3D scene or a file it includes.
     #[test]
     fn the_root_tells_a_canvas_from_a_3d_scene() {
         let schema: serde_json::Value = serde_json::from_str(&json_schema()).unwrap();
         assert_eq!(schema["if"], json!({ "required": ["canvas"] }));
         assert_eq!(schema["then"]["$ref"], "#/$defs/CanvasFile");
-        assert_eq!(schema["else"]["$ref"], "#/$defs/SceneFile");
+        let not_canvas = &schema["else"];
+        assert_eq!(not_canvas["if"], json!({ "required": ["camera"] }));
+        assert_eq!(not_canvas["then"]["$ref"], "#/$defs/SceneFile");
+        assert_eq!(not_canvas["else"]["$ref"], "#/$defs/IncludedFile");
+        let included = &schema["$defs"]["IncludedFile"]["properties"];
+        let mut keys: Vec<&String> = included.as_object().unwrap().keys().collect();
+        keys.sort();
+        assert_eq!(
+            keys,
+            ["$schema", "include", "lights", "materials", "objects"]
+        );
         let canvas = &schema["$defs"]["CanvasFile"];
         assert_eq!(canvas["required"], json!(["canvas"]));
         assert_eq!(canvas["additionalProperties"], false);

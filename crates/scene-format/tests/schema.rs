@@ -300,3 +300,59 @@ fn the_schema_rejects_wrong_scenes_at_the_wrong_value() {
     assert!(!validator.is_valid(&json!({ "shapes": [] })));
     assert!(validator.is_valid(&json!({ "canvas": {}, "$schema": "./schema.json" })));
 }
+
+/// A file of `tests/include/`, TOML or JSON by its extension.
+fn include_fixture(name: &str) -> Value {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/include")
+        .join(name);
+    let text = std::fs::read_to_string(&path).unwrap();
+    if name.ends_with(".json") {
+        serde_json::from_str(&text).unwrap()
+    } else {
+        toml::from_str(&text).unwrap()
+    }
+}
+
+/// A file a scene includes has neither `camera` nor `canvas`: the same
+/// schema (and directive) serves it, every key described.
+#[test]
+fn included_files_are_described_and_validate() {
+    let schema = schema();
+    let validator = validator();
+    for name in [
+        "good/scene.toml",
+        "good/lib/common.toml",
+        "good/lib/nested.toml",
+        "good/lib/more.json",
+    ] {
+        let file = include_fixture(name);
+        assert_eq!(
+            undescribed_keys(&schema, &file),
+            Vec::<String>::new(),
+            "{name}"
+        );
+        assert_eq!(errors(&validator, &file), Vec::<String>::new(), "{name}");
+    }
+}
+
+/// The included files with a mistake, each rejected at it: an included file
+/// is checked as one, not let through for lacking a camera.
+#[test]
+fn wrong_included_files_are_rejected_at_the_wrong_value() {
+    let validator = validator();
+    for (name, at) in [
+        (
+            "value-in-included/lib/materials.toml",
+            "/materials/shiny/shininess:",
+        ),
+        ("unknown-key-in-included/materials.toml", "/materials/red:"),
+        ("several-files/objects.toml", "/objects/0/sphere/radius:"),
+        ("json-included/lights.json", "/lights/1/color/1:"),
+    ] {
+        let found = errors(&validator, &include_fixture(name));
+        assert!(found.iter().any(|e| e.starts_with(at)), "{name}: {found:?}");
+    }
+    // Only the scene file sets the render settings.
+    assert!(!validator.is_valid(&json!({ "render": { "samples": 4 } })));
+}
