@@ -156,6 +156,17 @@ mod tests {
         let radius = &defs["Sphere"]["properties"]["radius"];
         assert_eq!(radius["minimum"], MIN_RADIUS);
         assert_eq!(radius["maximum"], MAX_COORDINATE);
+        // The canvas's, as canvas::validate checks them.
+        let canvas = &defs["Canvas"]["properties"];
+        assert_eq!(canvas["width"]["maximum"], MAX_IMAGE_SIDE);
+        assert_eq!(canvas["height"]["minimum"], 1);
+        assert_eq!(canvas["gamma"]["exclusiveMinimum"], 0);
+        assert_eq!(canvas["background"]["items"]["minimum"], 0);
+        let circle = &defs["Circle"]["properties"]["radius"];
+        assert_eq!(circle["exclusiveMinimum"], 0);
+        let shape = &defs["CanvasShape"]["properties"];
+        assert_eq!(shape["polygon"]["minItems"], 3);
+        assert_eq!(shape["color"]["items"]["minimum"], 0);
     }
 
     /// Defaults read as the model's constants, not as widened f32 values.
