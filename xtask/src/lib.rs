@@ -4,6 +4,7 @@
 pub mod assets;
 pub mod bench;
 pub mod farm;
+pub mod gallery;
 pub mod golden;
 pub mod man;
 

@@ -25,6 +25,9 @@ enum Command {
     /// compare with a single render, bit for bit (docs/farm.md)
     FarmTest(xtask::farm::FarmArgs),
     Man(ManArgs),
+    /// Write docs/gallery.md: every scene's golden image with its file name
+    /// and the command that renders it
+    Gallery,
 }
 
 /// Write a man page per `tracer` command (tracer.1, tracer-render.1, ...)
@@ -60,6 +63,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => xtask::bench::run(&args).map(|()| ExitCode::SUCCESS),
         Command::FarmTest(args) => xtask::farm::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Man(args) => man(&args),
+        Command::Gallery => gallery(),
     };
     match result {
         Ok(code) => code,
@@ -96,5 +100,11 @@ fn man(args: &ManArgs) -> anyhow::Result<ExitCode> {
         .unwrap_or_else(|| xtask::target_dir().join("man"));
     let pages = xtask::man::write_pages(&dir)?;
     println!("{} man pages in {}", pages.len(), dir.display());
+    Ok(ExitCode::SUCCESS)
+}
+
+fn gallery() -> anyhow::Result<ExitCode> {
+    let path = xtask::gallery::write(&xtask::workspace_root())?;
+    println!("wrote {}", path.display());
     Ok(ExitCode::SUCCESS)
 }

@@ -21,17 +21,19 @@ fn real_golden(name: &str) -> RgbImage {
         .to_rgb8()
 }
 
+/// The `*.toml` files in `scenes/` and its folders, counted by a walk of its own.
 fn scene_file_count() -> usize {
-    std::fs::read_dir(root().join("scenes"))
-        .unwrap()
-        .filter(|e| {
-            e.as_ref()
-                .unwrap()
-                .path()
-                .extension()
-                .is_some_and(|x| x == "toml")
-        })
-        .count()
+    fn count(dir: &Path) -> usize {
+        std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .map(|p| match p.is_dir() {
+                true => count(&p),
+                false => usize::from(p.extension().is_some_and(|x| x == "toml")),
+            })
+            .sum()
+    }
+    count(&root().join("scenes"))
 }
 
 /// Checks one case that returns `image` against the real golden `name`.
@@ -104,8 +106,9 @@ fn the_goldens_hold_the_labs_hand_worked_values() {
     assert_eq!(px("shadows", 100, 150), [70, 70, 70]);
     // The lab's scenes are all 500x400; the scenes beyond the lab (checked
     // by the physics tests of tracer-core) are not.
-    const BEYOND_LAB: [&str; 8] = [
+    const BEYOND_LAB: [&str; 9] = [
         "antialiasing",
+        "bench-bunny",
         "boxes",
         "depth-of-field",
         "glass",
@@ -180,6 +183,37 @@ fn the_other_lab_goldens_hold_hand_worked_values() {
     assert_ne!(px("triangle-2d", 250, 140), bg);
     assert_ne!(px("triangle-2d", 200, 120), bg);
     assert_eq!(px("triangle-2d", 250, 130), bg);
+}
+
+/// The bench bunny (`scenes/bench/bunny.toml`, golden `bench-bunny`),
+/// against numbers from outside the renderer: docs/performance.md's 24.6 %
+/// of primary rays hitting the bunny (counted by Embree too), and the
+/// colours the scene's values give under gamma 2.2, truncated to 8 bits.
+#[test]
+fn the_bench_bunny_golden_holds_the_bench_numbers() {
+    let image = real_golden("bench-bunny");
+    assert_eq!(image.dimensions(), (1920, 1080));
+    // Background (0.1, 0.1, 0.15): 0.1^(1/2.2) = 0.3511 -> 89.5 -> 89,
+    // 0.15^(1/2.2) = 0.4221 -> 107.6 -> 107.
+    let background = [89, 89, 107];
+    assert_eq!(image.get_pixel(0, 0).0, background);
+    assert_eq!(image.get_pixel(1919, 1079).0, background);
+    let pixels = image.pixels().count() as f64;
+    let hits = image.pixels().filter(|p| p.0 != background).count() as f64;
+    let share = 100.0 * hits / pixels;
+    assert!((share - 24.6).abs() < 0.05, "{share:.3} % of pixels hit");
+    // Shadowed or turned away from the light: ambient (0.09, 0.085, 0.075)
+    // alone, 0.3347 -> 85, 0.3261 -> 83, 0.3081 -> 78. The undersides and
+    // the shadow of the ear make about a tenth of the bunny.
+    let ambient = image.pixels().filter(|p| p.0 == [85, 83, 78]).count() as f64;
+    assert!(
+        (0.02..0.2).contains(&(ambient / hits)),
+        "{ambient} in shadow"
+    );
+    // Nothing brighter than ambient + full diffuse (0.9, 0.85, 0.75): 243, 236, 223.
+    assert!(image
+        .pixels()
+        .all(|p| p.0[0] <= 243 && p.0[1] <= 236 && p.0[2] <= 223));
 }
 
 #[test]
@@ -296,7 +330,18 @@ fn a_scene_that_cannot_be_loaded_is_an_error_naming_the_place() {
 #[test]
 fn every_toml_scene_file_is_a_case_in_name_order() {
     let dir = tempfile::tempdir().unwrap();
-    for file in ["b.toml", "a-x.toml", "a.toml", "c.json", "notes.txt"] {
+    std::fs::create_dir_all(dir.path().join("sub/deeper")).unwrap();
+    let files = [
+        "b.toml",
+        "a-x.toml",
+        "a.toml",
+        "c.json",
+        "notes.txt",
+        "sub/s.toml",
+        "sub/deeper/d.toml",
+        "sub/t.json",
+    ];
+    for file in files {
         std::fs::write(dir.path().join(file), "").unwrap();
     }
     let names: Vec<String> = golden::scene_cases(dir.path())
@@ -304,7 +349,19 @@ fn every_toml_scene_file_is_a_case_in_name_order() {
         .into_iter()
         .map(|c| c.name)
         .collect();
-    assert_eq!(names, ["a", "a-x", "b"]);
+    assert_eq!(names, ["a", "a-x", "b", "sub-deeper-d", "sub-s"]);
+}
+
+/// `scenes/x-y.toml` and `scenes/x/y.toml` would share a golden: refused.
+#[test]
+fn a_scene_in_a_folder_whose_name_clashes_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenes = dir.path().join("scenes");
+    std::fs::create_dir_all(scenes.join("x")).unwrap();
+    std::fs::write(scenes.join("x-y.toml"), "").unwrap();
+    std::fs::write(scenes.join("x/y.toml"), "").unwrap();
+    let err = golden::all_cases(dir.path()).err().unwrap().to_string();
+    assert!(err.contains("\"x-y\""), "{err}");
 }
 
 #[test]

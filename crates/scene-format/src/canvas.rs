@@ -5,30 +5,53 @@
 use crate::diagnostic::Diagnostic;
 use crate::model::Color;
 use crate::validate::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE};
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
+/// A point or a vector of the canvas, [x, y]: from -1 to 1 across the
+/// image, (0, 0) at its centre, +x to the left, +y up.
 pub type Vec2 = [f32; 2];
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// A 2D canvas scene (lab exercise 2): a `canvas` table and the shapes
+/// drawn on it, in list order (later shapes over earlier ones).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CanvasFile {
+    /// The image: its size, background and gamma. This table makes the file
+    /// a 2D canvas scene rather than a 3D one.
     pub canvas: Canvas,
+    /// The shapes, drawn in list order, each later one over the earlier.
+    /// Default: none (the background alone).
     #[serde(default)]
     pub shapes: Vec<CanvasShape>,
+    /// The JSON Schema an editor checks a JSON canvas against (TOML files
+    /// use a `#:schema` comment instead). The tracer ignores it.
+    #[serde(rename = "$schema", default, skip_serializing_if = "Option::is_none")]
+    pub schema: Option<String>,
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// The canvas image.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Canvas {
+    /// Image width in pixels; the canvas's x runs from 1 at the left edge to
+    /// -1 at the right.
     #[serde(default = "default_width")]
+    #[schemars(range(min = 1, max = 16384))]
     pub width: u32,
+    /// Image height in pixels; y runs from -1 at the bottom to 1 at the top.
     #[serde(default = "default_height")]
+    #[schemars(range(min = 1, max = 16384))]
     pub height: u32,
-    /// The lab's template starts the canvas grey 0.1.
+    /// The colour the canvas starts with (linear, channels from 0 to 1);
+    /// the lab's template starts it grey 0.1.
     #[serde(default = "default_background")]
+    #[schemars(inner(range(min = 0)))]
     pub background: Color,
-    /// Display gamma for saving; the lab saves the robot without gamma (1).
+    /// Display gamma for saving; 1 writes the colours as they are (the lab
+    /// saves the robot without gamma).
     #[serde(default = "default_gamma")]
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub gamma: f32,
 }
 
@@ -48,16 +71,21 @@ fn default_gamma() -> f32 {
 /// One step of a transform list: `{ translate = [tx, ty] }`,
 /// `{ rotate = degrees }` (about (0, 0)) or `{ scale = [sx, sy] }` (or
 /// `{ scale = s }`): the 3D list's syntax in two dimensions.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "lowercase", deny_unknown_fields)]
+#[schemars(rename = "CanvasTransformStep")]
 pub enum Transform {
+    /// Move by [x, y] (canvas units; +x is to the left).
     Translate(Vec2),
+    /// Turn by this many degrees about (0, 0); with +x on the left, a
+    /// positive angle turns clockwise on the screen.
     Rotate(f32),
+    /// One factor for both axes, or [x, y], one per axis.
     Scale(Scale2),
 }
 
 /// A 2D scale: one factor for both axes, or one per axis.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(
     untagged,
     expecting = "a number (one factor for both axes) or [x, y] (one per axis)"
@@ -77,16 +105,19 @@ impl Scale2 {
 }
 
 /// A circle given by its centre and radius in canvas units.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Circle {
+    /// The centre, [x, y]; default [0, 0], the canvas's centre.
     #[serde(default)]
     pub center: Vec2,
+    /// Above 0, in canvas units: a radius r is r / 2 * width pixels.
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub radius: f32,
 }
 
 /// The unit square, corners (+-1, +-1); it takes no parameters (`square = {}`).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct UnitSquare {}
 
@@ -94,28 +125,38 @@ pub struct UnitSquare {}
 /// `polygon`, `group`, with an optional colour, fill and transform list.
 /// The transform list composes like the lab's matrix product: `[A, B, C]` is
 /// `M = A * B * C`, so the last entry acts on the shape first.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CanvasShape {
+    /// A line segment between two points [[x1, y1], [x2, y2]], 2 pixels thick.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub line: Option<[Vec2; 2]>,
+    /// A circle: `{ center = [x, y], radius = r }`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub circle: Option<Circle>,
+    /// The unit square, corners (+-1, +-1): `square = {}`; its `transform`
+    /// gives it a size and place.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub square: Option<UnitSquare>,
-    /// A closed polygon through these points, in order.
+    /// A closed polygon through these points [x, y], in order (at least 3).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(length(min = 3))]
     pub polygon: Option<Vec<Vec2>>,
     /// Shapes drawn under this entry's transform (and colour, as their default).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub group: Option<Vec<CanvasShape>>,
-    /// Defaults to the enclosing group's colour, or white.
+    /// The shape's colour (linear, channels from 0 to 1). Default: the
+    /// enclosing group's colour, or white.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(inner(range(min = 0)))]
     pub color: Option<Color>,
     /// Fill the inside of a circle, square or polygon instead of drawing its
-    /// 2-pixel outline.
+    /// 2-pixel outline; not for a line or a group. Default false.
     #[serde(default)]
     pub fill: bool,
+    /// Where the shape goes: a list of steps `[{ translate = [x, y] },
+    /// { rotate = degrees }, { scale = [x, y] }]`, the lab's matrix
+    /// product (the last step acts first). Default: none, the shape as written.
     #[serde(default)]
     pub transform: Vec<Transform>,
 }

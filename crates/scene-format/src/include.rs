@@ -21,17 +21,25 @@ pub const MAX_INCLUDE_DEPTH: usize = 32;
 
 /// What an included file may hold: materials, lights, objects and its own
 /// includes. The camera and the render settings are the scene file's.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct IncludedFile {
+    /// Files included in turn, each a path relative to this file; their
+    /// items come before this file's. Default: none.
     #[serde(default)]
     pub include: Vec<String>,
+    /// Lights joining the scene's. Default: none.
     #[serde(default)]
     pub lights: Vec<Light>,
+    /// Materials joining the scene's, by name; a name may be defined once
+    /// in all the files of a scene. Default: none.
     #[serde(default)]
     pub materials: BTreeMap<String, Material>,
+    /// Objects joining the scene's. Default: none.
     #[serde(default)]
     pub objects: Vec<Object>,
+    /// The JSON Schema an editor checks a JSON file against (TOML files
+    /// use a `#:schema` comment instead). The tracer ignores it.
     #[serde(rename = "$schema", default, skip_serializing_if = "Option::is_none")]
     pub schema: Option<String>,
 }

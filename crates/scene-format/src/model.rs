@@ -12,16 +12,25 @@ pub type Color = [f32; 3];
 /// Texture coordinates (u, v).
 pub type Uv = [f32; 2];
 
+/// A 3D scene: a camera, lights, materials and objects.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SceneFile {
+    /// Where the scene is seen from, and the image's size.
     pub camera: Camera,
+    /// How rays are traced and the image encoded; every key has a default
+    /// (the lab's values).
     #[serde(default)]
     pub render: RenderSettings,
+    /// The lights; ambient is added once per light. Default: none (a
+    /// black image, with a warning).
     #[serde(default)]
     pub lights: Vec<Light>,
+    /// Materials by name, for objects to name in their `material`.
+    /// Default: none.
     #[serde(default)]
     pub materials: BTreeMap<String, Material>,
+    /// The objects, each with exactly one shape key. Default: none.
     #[serde(default)]
     pub objects: Vec<Object>,
     /// Files whose materials, lights and objects join the scene's (before
@@ -37,6 +46,7 @@ pub struct SceneFile {
     pub schema: Option<String>,
 }
 
+/// A pinhole camera (or a thin lens with `aperture`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Camera {
@@ -44,26 +54,30 @@ pub struct Camera {
     pub eye: Vec3,
     /// The point the camera looks at; not `eye`.
     pub look_at: Vec3,
-    /// Which way is up in the image; not parallel to `look_at - eye`.
+    /// Which way is up in the image; not zero, not parallel to
+    /// `look_at - eye`. Default [0, 1, 0].
     #[serde(default = "default_up")]
     pub up: Vec3,
     /// Horizontal field of view in degrees, at least 1 and below 180.
+    /// Default 50.
     #[serde(default = "default_fov")]
     #[schemars(extend("minimum" = 1, "exclusiveMaximum" = 180))]
     pub fov: f32,
-    /// Image width in pixels.
+    /// Image width in pixels, 1 to 16384. Default 500.
     #[serde(default = "default_width")]
     #[schemars(range(min = 1, max = 16384))]
     pub width: u32,
-    /// Image height in pixels.
+    /// Image height in pixels, 1 to 16384. Default 400.
     #[serde(default = "default_height")]
     #[schemars(range(min = 1, max = 16384))]
     pub height: u32,
     /// Which way world +x runs in the image: "lab" (to the left, as the
     /// lab) or "right" (to the right, as other renderers and modellers).
+    /// Default "lab".
     #[serde(default)]
     pub handedness: Handedness,
     /// Lens radius for depth of field; 0 is the lab's pinhole (all sharp).
+    /// Default 0.
     #[serde(default)]
     #[schemars(range(min = 0))]
     pub aperture: f32,
@@ -110,27 +124,35 @@ pub enum Saturation {
     Clamp,
 }
 
+/// How rays are traced and the image encoded; every key left out takes
+/// the lab's value.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct RenderSettings {
-    /// The lab's MAX_RAY_TREE: how many mirror bounces a ray may take.
+    /// The lab's MAX_RAY_TREE: how many mirror bounces (and glass
+    /// crossings) a ray may take, at most 64. Default 1.
     #[schemars(range(max = 64))]
     pub max_depth: u32,
     /// The lab's MIN_RAY_ENERGY: no bounce once the energy falls to this.
+    /// Default 0.01.
     #[schemars(range(min = 0))]
     pub min_energy: f32,
-    /// The colour of rays that leave the scene.
+    /// The colour of rays that leave the scene (linear, channels from 0 to
+    /// 1). Default [0, 0, 0].
     #[schemars(inner(range(min = 0)))]
     pub background: Color,
+    /// A pixel with a channel above 1: "white" (the lab's rule: the whole
+    /// pixel white) or "clamp" (each channel to 1 on its own). Default "white".
     pub saturation: Saturation,
-    /// Display gamma; 1.0 writes linear values.
+    /// Display gamma; 1.0 writes linear values. Default 2.2.
     #[schemars(extend("exclusiveMinimum" = 0))]
     pub gamma: f32,
     /// Samples per pixel: 1 is one ray through the pixel's centre (the
     /// lab); more are stratified and jittered over the pixel (anti-aliasing).
+    /// Default 1.
     #[schemars(range(min = 1, max = 4096))]
     pub samples: u32,
-    /// Shadow rays per light of `radius` > 0 at each shaded point.
+    /// Shadow rays per light of `radius` > 0 at each shaded point. Default 16.
     #[schemars(range(min = 1, max = 4096))]
     pub light_samples: u32,
 }
@@ -149,15 +171,20 @@ impl Default for RenderSettings {
     }
 }
 
+/// A light: a point, or a sphere with `radius`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Light {
+    /// Where the light is (a sphere light's centre); coordinates from -1e6
+    /// to 1e6.
     pub position: Vec3,
+    /// The light's colour and strength (linear, channels >= 0); it scales
+    /// diffuse, specular and ambient alike. Default [1, 1, 1], white.
     #[serde(default = "white")]
     #[schemars(inner(range(min = 0)))]
     pub color: Color,
     /// 0 is the lab's point light; above 0 a sphere light of this radius,
-    /// which casts soft shadows.
+    /// which casts soft shadows. Default 0.
     #[serde(default)]
     #[schemars(range(min = 0))]
     pub radius: f32,
@@ -172,36 +199,44 @@ fn white() -> Color {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Material {
+    /// Colour added once per light whatever the light's direction, never
+    /// shadowed (linear, channels from 0 to 1). Default [0, 0, 0].
     #[schemars(inner(range(min = 0)))]
     pub ambient: Color,
+    /// Lambert colour: times the cosine between the normal and the light
+    /// (linear, channels from 0 to 1). Default [0, 0, 0].
     #[schemars(inner(range(min = 0)))]
     pub diffuse: Color,
+    /// Blinn-Phong highlight colour (linear, channels from 0 to 1).
+    /// Default [0, 0, 0].
     #[schemars(inner(range(min = 0)))]
     pub specular: Color,
-    /// The Blinn-Phong exponent.
+    /// The Blinn-Phong exponent: higher is a smaller, sharper highlight.
+    /// Default 0.
     #[schemars(range(min = 0))]
     pub shininess: f32,
-    /// 0 = no mirror reflection, 1 = perfect mirror.
+    /// 0 = no mirror reflection, 1 = perfect mirror. Default 0.
     #[schemars(range(min = 0, max = 1))]
     pub reflectance: f32,
     /// A built-in texture's name ("lab-stripes": multiplies the whole
     /// local colour, as the lab), or a table: an image
     /// (`{ image = "wood.png" }`) or a checkerboard
     /// (`{ checker = [[1, 1, 1], [0, 0, 0]] }`), whose colour multiplies
-    /// `ambient` and `diffuse` only.
+    /// `ambient` and `diffuse` only. Default: none.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub texture: Option<TextureRef>,
-    /// 0 = opaque, 1 = all the light passes (refracted by `ior`).
+    /// 0 = opaque, 1 = all the light passes (refracted by `ior`). Default 0.
     #[schemars(range(min = 0, max = 1))]
     pub transmittance: f32,
     /// Index of refraction of the inside: 1.5 glass, 1.33 water, 1 air.
+    /// Default 1.5.
     #[schemars(extend("exclusiveMinimum" = 0))]
     pub ior: f32,
     /// Split reflection and transmission by the Fresnel equations instead
-    /// of `reflectance` and `transmittance` as given.
+    /// of `reflectance` and `transmittance` as given. Default false.
     pub fresnel: bool,
     /// Light absorbed per unit length travelled inside (Beer-Lambert),
-    /// per channel: [0, 0.5, 1] tints toward red.
+    /// per channel: [0, 0.5, 1] tints toward red. Default [0, 0, 0].
     #[schemars(inner(range(min = 0)))]
     pub absorption: Color,
 }
@@ -265,6 +300,7 @@ impl<'de> Deserialize<'de> for MaterialRef {
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Object {
+    /// A sphere: `{ center = [x, y, z], radius = r }`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sphere: Option<Sphere>,
     /// Three vertices, clockwise as seen from the front (the lab's order).
@@ -294,10 +330,12 @@ pub struct Object {
     /// alike. Left out: the shape as written.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub transform: Option<Transform>,
+    /// A material's name (a key of `materials`) or an inline material
+    /// table. Left out: matte grey (or a mesh's own MTL materials).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<MaterialRef>,
     /// A texture on this object (a name or a table, as a material's);
-    /// overrides the material's.
+    /// overrides the material's. Default: the material's texture, if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub texture: Option<TextureRef>,
 }
@@ -305,7 +343,7 @@ pub struct Object {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Sphere {
-    /// Coordinates from -1e6 to 1e6.
+    /// The centre; coordinates from -1e6 to 1e6.
     pub center: Vec3,
     /// From 1e-4 (the lab's epsilon) to 1e6: what single-precision tracing handles.
     #[schemars(extend("minimum" = 1e-4, "maximum" = 1e6))]
@@ -340,11 +378,11 @@ pub struct BoxShape {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Quad {
-    /// Coordinates from -1e6 to 1e6.
+    /// The corner where s = t = 0; coordinates from -1e6 to 1e6.
     pub corner: Vec3,
     /// Where s runs: non-zero, not parallel to `edge_v`.
     pub edge_u: Vec3,
-    /// Where t runs.
+    /// Where t runs: non-zero, not parallel to `edge_u`.
     pub edge_v: Vec3,
 }
 
@@ -527,11 +565,12 @@ pub enum TransformStep {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct TransformTable {
+    /// Move by [x, y, z], last. Default [0, 0, 0].
     pub translate: Vec3,
-    /// Degrees about the x axis, then y, then z.
+    /// Degrees about the x axis, then y, then z. Default [0, 0, 0].
     pub rotate: Vec3,
     /// One factor for all axes, or one per axis; each non-zero, its size
-    /// from 1e-6 to 1e6.
+    /// from 1e-6 to 1e6. Default 1.
     pub scale: Scale,
 }
 
@@ -645,12 +684,12 @@ pub struct ImageTexture {
     pub image: String,
     /// Repeats across the surface's uv: the image is sampled at
     /// (u * sx, v * sy), so [4, 4] repeats it 4 times each way. One number
-    /// for both; default [1, 1].
+    /// for both. Default 1 ([1, 1]).
     #[serde(default)]
     pub scale: TextureScale,
     /// What lies beyond the image's 0..1: "repeat" (default) tiles it,
     /// "clamp" extends its edge texels, "mirror" tiles it flipping every
-    /// other copy.
+    /// other copy. Default "repeat".
     #[serde(default)]
     pub wrap: Wrap,
     /// The image's texels, filled in by `load_path`; not part of the file.
@@ -668,7 +707,7 @@ pub struct CheckerTexture {
     #[schemars(inner(inner(range(min = 0))))]
     pub checker: [Color; 2],
     /// Squares per unit of uv: 4 gives squares 0.25 wide; one number for
-    /// both directions or [su, sv]; default 1.
+    /// both directions or [su, sv]. Default 1.
     #[serde(default)]
     pub scale: TextureScale,
 }

@@ -24,8 +24,8 @@ pub enum Command {
     Watch(args::WatchArgs),
     Pack(args::PackArgs),
     Merge(args::MergeArgs),
-    /// Print the JSON Schema of scene files, for editor completion and
-    /// checking (e.g. `tracer schema > schema.json`)
+    /// Print the JSON Schema of scene files (3D and 2D canvas), for editor
+    /// completion and checking (e.g. `tracer schema > schema.json`)
     Schema,
     New(tool_args::NewArgs),
     Convert(tool_args::ConvertArgs),

@@ -185,6 +185,20 @@ fn schema_directive_and_member_convert_into_each_other() {
     assert!(!back.contains("$schema"), "{back}");
 }
 
+/// A canvas names its schema as a 3D scene does: the JSON file keeps the
+/// member, and the tracer reads past it.
+#[test]
+fn a_canvas_keeps_its_schema_directive_in_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "#:schema ../schema.json\n[canvas]\nwidth = 20\nheight = 10\n";
+    std::fs::write(dir.path().join("c.toml"), text).unwrap();
+    succeeds(tracer(dir.path(), &["convert", "c.toml", "-o", "c.json"]));
+    let text = std::fs::read_to_string(dir.path().join("c.json")).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(json["$schema"], "../schema.json");
+    succeeds(tracer(dir.path(), &["check", "c.json"]));
+}
+
 #[test]
 fn a_bad_scene_is_reported_not_converted() {
     let dir = tempfile::tempdir().unwrap();

@@ -4,7 +4,7 @@
 use anyhow::{bail, Context, Result};
 use image::RgbImage;
 use std::collections::BTreeSet;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use tracer_pipeline::{lab, Aov, Gamma, Input, Options};
 
 pub type RenderFn = Box<dyn Fn() -> Result<RgbImage> + Send + Sync>;
@@ -90,31 +90,50 @@ pub fn all_cases(root: &Path) -> Result<Vec<Case>> {
     Ok(cases)
 }
 
-/// One case per `*.toml` scene file in `dir`, named by its file stem, in name order.
+/// One case per `*.toml` scene file in `dir` and its folders, in name
+/// order, named by its path below `dir` without the extension, `-` for each
+/// `/`: `bench/bunny.toml` is `bench-bunny` (`check_unique` catches a clash
+/// with a `bench-bunny.toml`).
 pub fn scene_cases(dir: &Path) -> Result<Vec<Case>> {
-    let mut paths = Vec::new();
-    for entry in std::fs::read_dir(dir).with_context(|| format!("cannot read {}", dir.display()))? {
-        let path = entry
-            .with_context(|| format!("cannot read {}", dir.display()))?
-            .path();
-        if path.extension().is_some_and(|e| e == "toml") {
-            paths.push(path);
-        }
-    }
-    let mut cases = paths
+    let cases = scene_files(dir)?
         .into_iter()
-        .map(|path| {
-            let name = file_stem(&path)?;
-            Ok(Case::new(name, move || render_scene_file(&path)))
-        })
-        .collect::<Result<Vec<_>>>()?;
-    cases.sort_by(|a, b| a.name.cmp(&b.name));
+        .map(|(name, path)| Case::new(name, move || render_scene_file(&path)))
+        .collect();
     Ok(cases)
 }
 
+/// Every `*.toml` file in `dir` and its folders with its case name, in name order.
+pub fn scene_files(dir: &Path) -> Result<Vec<(String, PathBuf)>> {
+    let mut files = Vec::new();
+    collect_scene_files(dir, "", &mut files)?;
+    files.sort();
+    Ok(files)
+}
+
+fn collect_scene_files(dir: &Path, prefix: &str, out: &mut Vec<(String, PathBuf)>) -> Result<()> {
+    let read_error = || format!("cannot read {}", dir.display());
+    for entry in std::fs::read_dir(dir).with_context(read_error)? {
+        let path = entry.with_context(read_error)?.path();
+        if path.is_dir() {
+            let sub = format!("{prefix}{}-", file_name(&path)?);
+            collect_scene_files(&path, &sub, out)?;
+        } else if path.extension().is_some_and(|e| e == "toml") {
+            out.push((format!("{prefix}{}", file_stem(&path)?), path));
+        }
+    }
+    Ok(())
+}
+
 fn file_stem(path: &Path) -> Result<String> {
-    path.file_stem()
-        .and_then(|s| s.to_str())
+    utf8(path, path.file_stem())
+}
+
+fn file_name(path: &Path) -> Result<String> {
+    utf8(path, path.file_name())
+}
+
+fn utf8(path: &Path, part: Option<&std::ffi::OsStr>) -> Result<String> {
+    part.and_then(|s| s.to_str())
         .map(str::to_string)
         .with_context(|| format!("{}: the file name is not UTF-8", path.display()))
 }

@@ -11,7 +11,9 @@ pub mod manifest;
 pub mod report;
 
 pub use bless::{bless, run_bless, Blessed};
-pub use cases::{all_cases, lab_image_cases, render_scene_file, scene_cases, select, Case};
+pub use cases::{
+    all_cases, lab_image_cases, render_scene_file, scene_cases, scene_files, select, Case,
+};
 pub use check::{check, golden_path, table, CaseResult, Outcome, Summary};
 
 use anyhow::Result;

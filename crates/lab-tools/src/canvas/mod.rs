@@ -98,6 +98,7 @@ mod tests {
                 gamma: 1.0,
             },
             shapes,
+            schema: None,
         }
     }
 

@@ -22,9 +22,7 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
         .map_err(tracer_pipeline::Error::from)?;
     let text = std::fs::read_to_string(&args.scene)
         .with_context(|| format!("cannot read {}", args.scene.display()))?;
-    // A 2D canvas has no `$schema` member to carry the directive.
-    let schema_member = matches!(loaded.kind, scene_format::SceneKind::Scene3d(_));
-    let converted = convert(&text, format_of(&args.scene)?, to, schema_member)?;
+    let converted = convert(&text, format_of(&args.scene)?, to)?;
     let pending = PendingFile::create(&output).map_err(tracer_pipeline::Error::from)?;
     pending
         .write_bytes(converted.as_bytes())
@@ -63,14 +61,9 @@ const SCHEMA_DIRECTIVE: &str = "#:schema ";
 
 /// Scene text in another format (or the same one, rewritten). Parsed into
 /// a tree of plain values, not into the scene model: defaults are not
-/// filled in, `include` stays a list of file names. With `schema_member`,
-/// a TOML `#:schema` directive becomes the JSON `$schema` member.
-pub fn convert(
-    text: &str,
-    from: Format,
-    to: Format,
-    schema_member: bool,
-) -> anyhow::Result<String> {
+/// filled in, `include` stays a list of file names. A TOML `#:schema`
+/// directive becomes the JSON `$schema` member (3D and canvas scenes alike).
+pub fn convert(text: &str, from: Format, to: Format) -> anyhow::Result<String> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut value: serde_json::Value = match from {
         Format::Toml => toml::from_str(text)?,
@@ -79,7 +72,7 @@ pub fn convert(
     let Some(table) = value.as_object_mut() else {
         bail!("expected a table at the top of the scene file");
     };
-    if schema_member && from == Format::Toml && !table.contains_key(SCHEMA_KEY) {
+    if from == Format::Toml && !table.contains_key(SCHEMA_KEY) {
         if let Some(schema) = toml_schema_directive(text) {
             table.insert(SCHEMA_KEY.into(), schema.into());
         }

@@ -21,7 +21,7 @@ pub fn run(args: &NewArgs) -> Outcome {
     };
     let text = match format {
         Format::Toml => STARTER.to_string(),
-        Format::Json => super::convert::convert(STARTER, Format::Toml, Format::Json, true)
+        Format::Json => super::convert::convert(STARTER, Format::Toml, Format::Json)
             .expect("the starter scene is valid TOML"),
     };
     match write_new(path, &text) {
