@@ -97,6 +97,10 @@ MailProg=/bin/true
 # (and `sbatch --wait` with it) forever; likewise a merge whose tiles failed.
 EnforcePartLimits=ALL
 SchedulerParameters=kill_invalid_depend
+# `sbatch --wait` polls after 2 s, then 8 s later, then every 32 s, unless
+# MinJobAge / 2 <= 8: then every 8 s. A finished job stays listed (for it
+# and for `scontrol show job`) for MinJobAge = 17 s, two polls' worth.
+MinJobAge=17
 ReturnToService=2
 NodeName={name} NodeAddr=127.0.0.1 CPUs={cpus} RealMemory={memory} State=UNKNOWN
 PartitionName=farm Nodes={name} Default=YES MaxTime=INFINITE State=UP
@@ -620,6 +624,7 @@ mod tests {
             "StateSaveLocation=/tmp/t/state",
             "SlurmdSpoolDir=/tmp/t/spool",
             "ProctrackType=proctrack/linuxproc",
+            "MinJobAge=17",
             "TaskPlugin=task/none",
             "NodeName=node7 NodeAddr=127.0.0.1 CPUs=12 RealMemory=64000 State=UNKNOWN",
             "PartitionName=farm Nodes=node7 Default=YES MaxTime=INFINITE State=UP",
