@@ -11,8 +11,10 @@ use std::fs;
 use std::io::Read;
 use std::net::TcpListener;
 use std::os::unix::fs::PermissionsExt;
+use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::thread::sleep;
 use std::time::{Duration, Instant};
 
@@ -217,6 +219,7 @@ struct Daemon {
 impl Cluster {
     /// Starts munged, slurmctld and slurmd, and waits until the node is idle.
     pub fn start() -> Result<Cluster> {
+        catch_interrupts();
         let dir = tempfile::Builder::new()
             .prefix("tracer-slurm-")
             .tempdir()
@@ -286,12 +289,15 @@ impl Cluster {
         })
     }
 
-    /// Starts a daemon in the foreground, as a child of this process (in
-    /// its process group: a Ctrl-C stops it too), its output in log/NAME.log.
+    /// Starts a daemon in the foreground, as a child of this process, its
+    /// output in log/NAME.log. It gets a process group of its own, so that
+    /// a Ctrl-C reaches only this process, which then stops the daemons in
+    /// order (jobs first).
     fn spawn(&mut self, name: &'static str, command: &mut Command) -> Result<()> {
         let log = self.dir.path().join(format!("log/{name}.log"));
         let file = fs::File::create(&log)?;
         let child = command
+            .process_group(0)
             .stdin(Stdio::null())
             .stdout(file.try_clone()?)
             .stderr(file)
@@ -319,6 +325,7 @@ impl Cluster {
     ) -> Result<()> {
         let start = Instant::now();
         loop {
+            check_interrupted()?;
             if ready(self)? {
                 return Ok(());
             }
@@ -380,12 +387,17 @@ impl Cluster {
     /// Runs `sbatch --parsable --wait ARGS` and returns the job's id and
     /// times; a failed job is an error quoting the logs its tasks wrote.
     pub fn sbatch_wait(&self, args: &[String]) -> Result<Job> {
-        let out = self
+        let sbatch = self
             .command("sbatch")
             .args(["--parsable", "--wait"])
             .args(args)
-            .output()
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
             .context("cannot run sbatch")?;
+        let out = wait_interruptibly(sbatch)?;
+        // A Ctrl-C reaches sbatch too, which may end first.
+        check_interrupted()?;
         let stdout = String::from_utf8_lossy(&out.stdout);
         let id = stdout
             .trim()
@@ -435,8 +447,17 @@ impl Cluster {
 
 impl Drop for Cluster {
     fn drop(&mut self) {
-        // A job left running (a failed or interrupted test) would outlive slurmd.
+        // A job left running (a failed or interrupted test) would outlive
+        // slurmd: cancel it, and let slurmd end its processes first.
         let _ = self.command("scancel").arg("--me").output();
+        let start = Instant::now();
+        while start.elapsed() < Duration::from_secs(15) {
+            let queue = self.output(Command::new("squeue").args(["-h", "--me"]));
+            if queue.map_or(true, |q| q.trim().is_empty()) {
+                break;
+            }
+            sleep(Duration::from_millis(200));
+        }
         while let Some(mut daemon) = self.daemons.pop() {
             stop(&mut daemon.child);
         }
@@ -504,6 +525,46 @@ pub fn job_states(show_job: &str) -> Vec<String> {
         .filter_map(|kv| kv.strip_prefix("JobState="))
         .map(str::to_string)
         .collect()
+}
+
+/// Set by SIGINT or SIGTERM while the cluster runs.
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+extern "C" fn on_interrupt(_: libc::c_int) {
+    INTERRUPTED.store(true, Ordering::SeqCst);
+}
+
+/// From now on a Ctrl-C or a `kill` ends the test through [`Cluster`]'s
+/// drop (which stops the daemons), not on the spot. Children get the
+/// default action back when they exec, so an `sbatch --wait` ends at once.
+fn catch_interrupts() {
+    let handler = on_interrupt as extern "C" fn(libc::c_int);
+    for signal in [libc::SIGINT, libc::SIGTERM] {
+        // SAFETY: the handler only stores to an atomic, which is
+        // async-signal-safe.
+        unsafe { libc::signal(signal, handler as libc::sighandler_t) };
+    }
+}
+
+fn check_interrupted() -> Result<()> {
+    ensure!(
+        !INTERRUPTED.load(Ordering::SeqCst),
+        "interrupted: stopping the Slurm daemons"
+    );
+    Ok(())
+}
+
+/// Waits for a child, killing it if this process is interrupted.
+fn wait_interruptibly(mut child: Child) -> Result<std::process::Output> {
+    while child.try_wait()?.is_none() {
+        if INTERRUPTED.load(Ordering::SeqCst) {
+            let _ = child.kill();
+            let _ = child.wait();
+            check_interrupted()?;
+        }
+        sleep(Duration::from_millis(100));
+    }
+    Ok(child.wait_with_output()?)
 }
 
 /// SIGTERM, then SIGKILL if the daemon is still there after 15 s.
