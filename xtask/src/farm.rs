@@ -15,7 +15,7 @@ use std::time::Instant;
 
 #[derive(Args)]
 pub struct FarmArgs {
-    /// The scene [default: scenes/depth-of-field.toml, lens blur and 4
+    /// The scene [default: scenes/depth-of-field.toml, lens blur and 64
     /// samples per pixel]
     #[arg(long, value_name = "SCENE")]
     pub scene: Option<PathBuf>,
@@ -37,6 +37,9 @@ pub struct FarmArgs {
 }
 
 pub fn run(args: &FarmArgs) -> Result<()> {
+    if args.slurm {
+        slurm::ensure_root()?;
+    }
     let root = crate::workspace_root();
     let scene = args
         .scene

@@ -119,12 +119,7 @@ PartitionName=farm Nodes={name} Default=YES MaxTime=INFINITE State=UP
 /// Installs [`PACKAGES`] unless every command is there already; returns
 /// what it did, for the report.
 pub fn install() -> Result<String> {
-    ensure!(
-        // SAFETY: geteuid has no preconditions and cannot fail.
-        unsafe { libc::geteuid() } == 0,
-        "--slurm must run as root: it installs Slurm and munge and starts slurmd, which runs \
-         jobs as their users (sudo -E cargo xtask farm-test --slurm)"
-    );
+    ensure_root()?;
     let missing: Vec<&str> = COMMANDS.into_iter().filter(|c| !on_path(c)).collect();
     if missing.is_empty() {
         return Ok("packages already installed".into());
@@ -145,6 +140,17 @@ pub fn install() -> Result<String> {
     let still: Vec<&str> = COMMANDS.into_iter().filter(|c| !on_path(c)).collect();
     ensure!(still.is_empty(), "installed, yet no {}", still.join(", "));
     Ok(format!("apt-get installed {}", PACKAGES.join(" ")))
+}
+
+/// Fails unless this process runs as root.
+pub fn ensure_root() -> Result<()> {
+    ensure!(
+        // SAFETY: geteuid has no preconditions and cannot fail.
+        unsafe { libc::geteuid() } == 0,
+        "--slurm must run as root: it installs Slurm and munge and starts slurmd, which runs \
+         jobs as their users (sudo -E cargo xtask farm-test --slurm)"
+    );
+    Ok(())
 }
 
 fn apt(args: &[&str]) -> Result<()> {
