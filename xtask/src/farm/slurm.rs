@@ -243,11 +243,12 @@ impl Cluster {
             dir,
         };
         cluster.start_munge()?;
+        let (ctld_port, slurmd_port) = free_ports()?;
         let layout = Layout {
             dir: cluster.dir.path().to_path_buf(),
             munge_socket: cluster.munge_socket(),
-            ctld_port: free_port()?,
-            slurmd_port: free_port()?,
+            ctld_port,
+            slurmd_port,
         };
         fs::write(&cluster.conf, slurm_conf(&cluster.node, &layout))?;
         let conf = cluster.conf.clone();
@@ -599,10 +600,12 @@ fn sbin(name: &str) -> PathBuf {
         .unwrap_or_else(|| name.into())
 }
 
-/// A TCP port nothing listens on now (a Slurm of the system's own may
-/// hold the usual 6817 and 6818).
-fn free_port() -> Result<u16> {
-    Ok(TcpListener::bind("127.0.0.1:0")?.local_addr()?.port())
+/// Two TCP ports nothing listens on now (a Slurm of the system's own may
+/// hold the usual 6817 and 6818); both are held at once, so they differ.
+fn free_ports() -> Result<(u16, u16)> {
+    let a = TcpListener::bind("127.0.0.1:0")?;
+    let b = TcpListener::bind("127.0.0.1:0")?;
+    Ok((a.local_addr()?.port(), b.local_addr()?.port()))
 }
 
 fn output(command: &mut Command) -> Result<String> {
