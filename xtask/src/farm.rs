@@ -1,7 +1,11 @@
 //! `cargo xtask farm-test`: a scene rendered as N tiles, each by a `tracer`
 //! process of its own (as a scheduler's tasks would), merged with `tracer
 //! merge`, and compared with a single render bit for bit; the tasks' summed
-//! time against the single render's is the split's cost.
+//! time against the single render's is the split's cost. With `--slurm`
+//! the tiles and the merge are `farm/slurm/*.sbatch` jobs of a real
+//! single-node Slurm started for the test ([`slurm`]).
+
+pub mod slurm;
 
 use anyhow::{bail, ensure, Context, Result};
 use clap::Args;
@@ -11,7 +15,7 @@ use std::time::Instant;
 
 #[derive(Args)]
 pub struct FarmArgs {
-    /// The scene [default: scenes/depth-of-field.toml, lens blur and 4
+    /// The scene [default: scenes/depth-of-field.toml, lens blur and 64
     /// samples per pixel]
     #[arg(long, value_name = "SCENE")]
     pub scene: Option<PathBuf>,
@@ -24,9 +28,18 @@ pub struct FarmArgs {
     /// Samples per pixel [default: the scene's]
     #[arg(long)]
     pub samples: Option<u32>,
+    /// Run the tiles and the merge as jobs of a real Slurm on this machine
+    /// (farm/slurm/*.sbatch with `sbatch --wait`): as root, installs
+    /// Debian's slurmctld, slurmd, slurm-client and munge if missing, starts
+    /// a private single-node cluster and stops it afterwards
+    #[arg(long)]
+    pub slurm: bool,
 }
 
 pub fn run(args: &FarmArgs) -> Result<()> {
+    if args.slurm {
+        slurm::ensure_root()?;
+    }
     let root = crate::workspace_root();
     let scene = args
         .scene
@@ -50,18 +63,30 @@ pub fn run(args: &FarmArgs) -> Result<()> {
     )?;
     let single_seconds = start.elapsed().as_secs_f64();
     println!("single render: {single_seconds:.3} s");
+    ensure!(
+        args.tiles.iter().all(|&n| n > 0),
+        "--tiles: expected counts of at least 1"
+    );
+    if args.slurm {
+        let scene = std::path::absolute(&scene).context("cannot find the scene")?;
+        let job = SlurmJob {
+            root: &root,
+            tracer: &tracer,
+            scene: &scene,
+            dir: dir.path(),
+            size: &size,
+            single: &single,
+        };
+        return run_slurm(&job, &args.tiles);
+    }
     for &n in &args.tiles {
-        ensure!(n > 0, "--tiles: expected counts of at least 1");
         let (tiles, seconds) = render_tiles(&tracer, &scene, n, dir.path(), &size)?;
         let merged = dir.path().join(format!("merged-{n}.exr"));
         let mut merge: Vec<String> = vec!["merge".into()];
         merge.extend(tiles.iter().map(|t| path_arg(t)));
         merge.extend(["-o".into(), path_arg(&merged)]);
         run_checked(Command::new(&tracer).args(&merge))?;
-        ensure!(
-            same_values(&single, &merged)?,
-            "{n} tiles merged differ from the single render"
-        );
+        same_as_single(&single, &merged, n)?;
         println!(
             "{n:>3} tiles: merged = single render, bit for bit; tasks {seconds:.3} s in all, \
              {:+.1} % against the single render",
@@ -94,6 +119,104 @@ fn render_tiles(
         tiles.push(tile);
     }
     Ok((tiles, seconds))
+}
+
+/// What the Slurm jobs are given.
+struct SlurmJob<'a> {
+    root: &'a Path,
+    tracer: &'a Path,
+    scene: &'a Path,
+    dir: &'a Path,
+    size: &'a [String],
+    single: &'a Path,
+}
+
+/// Installs and starts Slurm, runs the array and the merge for each tile
+/// count, compares; the cluster stops when dropped, on failure too.
+fn run_slurm(job: &SlurmJob, counts: &[u32]) -> Result<()> {
+    let start = Instant::now();
+    let installed = slurm::install()?;
+    println!("slurm install: {:.1} s ({installed})", seconds(start));
+    let start = Instant::now();
+    let cluster = slurm::Cluster::start()?;
+    let node = &cluster.node;
+    println!(
+        "slurm start: {:.1} s (munged, slurmctld, slurmd; node {} idle, {} CPUs, {} MB)",
+        seconds(start),
+        node.name,
+        node.cpus,
+        node.memory_mb
+    );
+    for &n in counts {
+        slurm_tiles(&cluster, job, n)?;
+    }
+    let start = Instant::now();
+    drop(cluster);
+    println!("slurm stop: {:.1} s", seconds(start));
+    Ok(())
+}
+
+/// One tile count: `sbatch --wait --array=0-(N-1) tiles.sbatch`, then
+/// `sbatch --wait --dependency=afterok:ID merge.sbatch`, as docs/farm.md
+/// has them.
+fn slurm_tiles(cluster: &slurm::Cluster, job: &SlurmJob, n: u32) -> Result<()> {
+    let scripts = job.root.join("farm/slurm");
+    let logs = cluster.jobs_dir();
+    let tiles = job.dir.join(format!("slurm-tiles-{n}"));
+    let merged = job.dir.join(format!("slurm-merged-{n}.exr"));
+    let mut array = vec![
+        format!("--array=0-{}", n - 1),
+        // The script asks for 4; this node may have fewer.
+        "--cpus-per-task=1".into(),
+        format!("--output={}/tiles-%A_%a.log", logs.display()),
+        format!("--export=ALL,TRACER={}", job.tracer.display()),
+        path_arg(&scripts.join("tiles.sbatch")),
+        path_arg(job.scene),
+        n.to_string(),
+        path_arg(&tiles),
+    ];
+    array.extend(job.size.iter().cloned());
+    let start = Instant::now();
+    let tiles_job = cluster.sbatch_wait(&array)?;
+    let array_seconds = seconds(start);
+    let merge = [
+        format!("--dependency=afterok:{}", tiles_job.id),
+        format!("--output={}/merge-%j.log", logs.display()),
+        format!("--export=ALL,TRACER={}", job.tracer.display()),
+        path_arg(&scripts.join("merge.sbatch")),
+        path_arg(&tiles),
+        path_arg(&merged),
+    ];
+    let start = Instant::now();
+    let merge_job = cluster.sbatch_wait(&merge)?;
+    let merge_seconds = seconds(start);
+    same_as_single(job.single, &merged, n)?;
+    println!("{n:>3} tiles: merged = single render, bit for bit");
+    let report = |what: &str, wall: f64, span: &slurm::Span| {
+        println!(
+            "      {what} sbatch --wait {wall:.1} s (queued {} s, ran {} s)",
+            span.queued, span.ran
+        );
+    };
+    report(
+        &format!("array 0-{}:", n - 1),
+        array_seconds,
+        &tiles_job.span,
+    );
+    report("merge:", merge_seconds, &merge_job.span);
+    Ok(())
+}
+
+fn seconds(start: Instant) -> f64 {
+    start.elapsed().as_secs_f64()
+}
+
+fn same_as_single(single: &Path, merged: &Path, n: u32) -> Result<()> {
+    ensure!(
+        same_values(single, merged)?,
+        "{n} tiles merged differ from the single render"
+    );
+    Ok(())
 }
 
 /// Whether two EXR files hold the same values to the bit.
