@@ -614,6 +614,80 @@ mod tests {
         }
     }
 
+    struct NoLibraries;
+    impl obj_text::MaterialLibraries for NoLibraries {
+        fn load(&mut self, _: &Path) -> Vec<String> {
+            Vec::new()
+        }
+    }
+
+    /// Lines put together from OBJ words, numbers and junk: each file is
+    /// read or refused, never a panic.
+    #[test]
+    fn any_jumble_of_obj_words_is_read_or_refused() {
+        let words = [
+            "v",
+            "vt",
+            "vn",
+            "f",
+            "l",
+            "o",
+            "g",
+            "usemtl",
+            "mtllib",
+            "#",
+            "1",
+            "-1",
+            "0",
+            "2/1",
+            "3//2",
+            "-2/-1/-1",
+            "1/2/3/4",
+            "/",
+            "//",
+            "1e38",
+            "-1e39",
+            "nan",
+            "inf",
+            "0.5",
+            "99999999999",
+            "-4294967296",
+            "4294967295",
+            "\u{e9}",
+            "\t",
+            "\r",
+        ];
+        let mut state = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = |n: usize| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % n as u64) as usize
+        };
+        let (mut read, mut refused) = (0, 0);
+        for _ in 0..4_000 {
+            let mut obj = String::from("v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+            for _ in 0..next(8) {
+                for _ in 0..next(6) {
+                    obj += words[next(words.len())];
+                    obj += " ";
+                }
+                obj += "\n";
+            }
+            // The faces' vertices are checked when the triangles are made.
+            let mut data = MeshData::default();
+            match obj_text::parse(obj.as_bytes(), &mut NoLibraries) {
+                Ok(text) if add_triangles(&text, &mut data).is_ok() => read += 1,
+                _ => refused += 1,
+            }
+        }
+        // Both kinds of file came up, so both paths ran.
+        assert!(
+            read > 100 && refused > 100,
+            "{read} read, {refused} refused"
+        );
+    }
+
     #[test]
     fn errors_name_the_file_and_line() {
         let dir = tempfile::tempdir().unwrap();
