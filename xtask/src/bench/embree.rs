@@ -24,15 +24,23 @@ pub struct Embree {
 pub fn build(root: &Path, out_dir: &Path) -> Option<PathBuf> {
     let source = root.join(SOURCE);
     let exe = out_dir.join("embree_bench");
+    let skipped = || {
+        eprintln!(
+            "Embree: skipped, needs g++ and libembree-dev (apt-get install g++ libembree-dev)"
+        );
+        None
+    };
+    // Checked first: a harness built before Embree was uninstalled cannot
+    // load its library.
+    if !Path::new(HEADER).is_file() {
+        return skipped();
+    }
     if is_newer(&exe, &source) {
         return Some(exe);
     }
     let gxx = Command::new("g++").arg("--version").output();
-    if !gxx.is_ok_and(|o| o.status.success()) || !Path::new(HEADER).is_file() {
-        eprintln!(
-            "Embree: skipped, needs g++ and libembree-dev (apt-get install g++ libembree-dev)"
-        );
-        return None;
+    if !gxx.is_ok_and(|o| o.status.success()) {
+        return skipped();
     }
     eprintln!("bench: compiling {} ...", source.display());
     let built = std::fs::create_dir_all(out_dir).and_then(|()| {
