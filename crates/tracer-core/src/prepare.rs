@@ -107,10 +107,7 @@ fn shapes(
     let one = |shape| vec![Object::new(shape, material)];
     let triangle = |vertices: [Vec3; 3], uv| {
         let (shape, uv) = place_triangle(vertices, uv, &placement)?;
-        Some(Object {
-            uv,
-            ..Object::new(shape, material)
-        })
+        Some(Object::new(shape, material).with_uv(uv))
     };
     Ok(match o.shapes().as_slice() {
         [fmt::ShapeRef::Sphere(s)] => {
@@ -124,7 +121,7 @@ fn shapes(
         }
         [fmt::ShapeRef::Plane(p)] => {
             let plane = Plane::new(p.point.into(), p.normal.into());
-            one(Shape::Plane(plane.placed(&placement)))
+            one(Shape::Plane(Box::new(plane.placed(&placement))))
         }
         [fmt::ShapeRef::Quad(q)] => {
             let halves = quad_triangles(q.corner.into(), q.edge_u.into(), q.edge_v.into());
@@ -186,7 +183,7 @@ fn place_sphere(sphere: &Sphere, placement: &Placement) -> Sphere {
         center: placement.apply(sphere.center),
         radius: sphere.radius * scale,
         // Orthonormal: its inverse, world to texture, is its transpose.
-        texture_frame: Some(turn.transpose()),
+        texture_frame: Some(Box::new(turn.transpose())),
     }
 }
 
@@ -315,13 +312,14 @@ fn mesh_objects(
                 .and_then(|n| oriented(&triangle, n.map(|n| to_world * n)))
                 .map(Box::new);
             let uv = data.uvs.get(k).copied().flatten();
+            let uv = uv.map_or(UvMap::IDENTITY, |uv| {
+                corner_uv_map(&in_placed_order(uv, mirrors))
+            });
             Object {
-                uv: uv.map_or(UvMap::IDENTITY, |uv| {
-                    corner_uv_map(&in_placed_order(uv, mirrors))
-                }),
                 vertex_normals,
                 ..Object::new(Shape::Triangle(triangle), materials.of(data, k))
             }
+            .with_uv(uv)
         })
         .collect()
 }
@@ -739,7 +737,7 @@ mod tests {
             );
         }
         // The uv of each corner is the one the file gave its vertex.
-        let uv = objects[0].uv;
+        let uv = objects[0].uv_map();
         let at = |b: Vec2| uv.apply(b);
         for (corner, bary) in corners.iter().zip([Vec2::ZERO, Vec2::X, Vec2::Y]) {
             let expected = Vec2::new(

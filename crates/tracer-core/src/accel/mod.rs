@@ -68,7 +68,7 @@ impl Bvh {
             .enumerate()
             .filter_map(|(i, o)| match &o.shape {
                 Shape::Plane(plane) => Some(PlanePrim {
-                    plane: plane.clone(),
+                    plane: Plane::clone(plane),
                     id: i as u32,
                     material: o.material as u32,
                 }),
@@ -78,8 +78,7 @@ impl Bvh {
         let uv_maps = objects
             .iter()
             .enumerate()
-            .filter(|(_, o)| o.uv != UvMap::IDENTITY)
-            .map(|(i, o)| (i as u32, o.uv))
+            .filter_map(|(i, o)| Some((i as u32, *o.uv.as_deref()?)))
             .collect();
         let vertex_normals = objects
             .iter()
@@ -370,14 +369,17 @@ mod tests {
             (901, Vec3::new(0.0, 0.0, 6.0), -Vec3::Z),
         ];
         for (at, point, normal) in planes {
-            objects.insert(at, Object::new(Shape::Plane(Plane::new(point, normal)), 1));
+            objects.insert(
+                at,
+                Object::new(Shape::Plane(Box::new(Plane::new(point, normal))), 1),
+            );
         }
         for o in objects.iter_mut().step_by(5) {
-            o.uv = UvMap {
+            o.uv = Some(Box::new(UvMap {
                 origin: glam::Vec2::ONE,
                 du: -glam::Vec2::X,
                 dv: -glam::Vec2::Y,
-            };
+            }));
         }
         // Vertex normals on every third triangle (some with mapped uv too):
         // the shading normal and the shadow offset must be the same.
@@ -407,7 +409,7 @@ mod tests {
     #[test]
     fn a_plane_and_a_triangle_at_the_same_distance_tie_to_the_one_listed_first() {
         let t = object(Shape::Triangle(Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y)));
-        let plane = object(Shape::Plane(Plane::new(Vec3::ZERO, Vec3::Z)));
+        let plane = object(Shape::Plane(Box::new(Plane::new(Vec3::ZERO, Vec3::Z))));
         let ray = Ray::new(Vec3::new(0.2, 0.2, 5.0), -Vec3::Z);
         for (objects, winner) in [
             (vec![plane.clone(), t.clone()], 0),
@@ -420,7 +422,10 @@ mod tests {
             assert_eq!(hit, brute_closest(&objects, &ray, f32::INFINITY));
         }
         // Only planes: no tree at all, still hit and still in shadow.
-        let only = [object(Shape::Plane(Plane::new(Vec3::ZERO, Vec3::Z)))];
+        let only = [object(Shape::Plane(Box::new(Plane::new(
+            Vec3::ZERO,
+            Vec3::Z,
+        ))))];
         let bvh = Bvh::build(&only);
         assert_eq!(bvh.node_count(), 0);
         assert!(bvh.occluded(&ray, 1e-4, 6.0));
@@ -504,6 +509,8 @@ mod tests {
     #[test]
     fn records_are_compact() {
         assert_eq!(std::mem::size_of::<Node>(), 32 * WIDTH);
+        // One of these a mesh triangle, while the tree is built.
+        assert_eq!(std::mem::size_of::<Object>(), 64);
         assert_eq!(std::mem::size_of::<Tri4>(), 192);
     }
 

@@ -11,7 +11,9 @@ pub enum Shape {
     Sphere(Sphere),
     Triangle(Triangle),
     /// Infinite: it has no bounds, so the BVH tests it beside its tree.
-    Plane(Plane),
+    /// Boxed, as the sphere's texture frame: a mesh's million triangles
+    /// would each pay the largest shape's size.
+    Plane(Box<Plane>),
 }
 
 /// What a triangle's barycentric (u, v) becomes as the hit's uv:
@@ -49,7 +51,9 @@ impl Default for UvMap {
 pub struct Object {
     pub shape: Shape,
     pub material: usize,
-    pub uv: UvMap,
+    /// None for the identity (most triangles): boxed, so that an object of
+    /// a million-triangle mesh takes 64 bytes, not 96.
+    pub uv: Option<Box<UvMap>>,
     /// Unit normals at `v0`, `v1`, `v2`, on the side of the triangle's own
     /// normal; None shades the triangle flat. Boxed: most objects have none.
     pub vertex_normals: Option<Box<[Vec3; 3]>>,
@@ -90,9 +94,22 @@ impl Object {
         Object {
             shape,
             material,
-            uv: UvMap::IDENTITY,
+            uv: None,
             vertex_normals: None,
         }
+    }
+
+    /// The same object with the uv map `uv`.
+    pub fn with_uv(self, uv: UvMap) -> Object {
+        Object {
+            uv: (uv != UvMap::IDENTITY).then(|| Box::new(uv)),
+            ..self
+        }
+    }
+
+    /// The map of a triangle's barycentrics to its uv.
+    pub fn uv_map(&self) -> UvMap {
+        self.uv.as_deref().copied().unwrap_or(UvMap::IDENTITY)
     }
 
     /// The nearest hit on this object in (t_min, t_max), as a full record;
@@ -112,7 +129,7 @@ impl Object {
             Shape::Triangle(tri) => {
                 let mut hit = tri.intersect(ray, t_min, t_max)?;
                 let barycentric = hit.uv;
-                hit.uv = self.uv.apply(hit.uv);
+                hit.uv = self.uv_map().apply(hit.uv);
                 let (e1, e2, _) = tri.edges();
                 let surface = SurfaceHit::on_triangle(e1, e2, ray, hit, index, self.material);
                 Some(match &self.vertex_normals {

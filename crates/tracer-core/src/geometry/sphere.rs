@@ -12,7 +12,7 @@ pub struct Sphere {
     pub radius: f32,
     /// From world directions to the texture's own (a rotated sphere's
     /// texture turns with it); None: the lab's, world axes.
-    pub texture_frame: Option<Mat3>,
+    pub texture_frame: Option<Box<Mat3>>,
 }
 
 impl Sphere {
@@ -29,7 +29,7 @@ impl Sphere {
     pub fn uv(&self, n: Vec3) -> Vec2 {
         match &self.texture_frame {
             None => Sphere::texture_uv(n),
-            Some(frame) => Sphere::texture_uv(*frame * n),
+            Some(frame) => Sphere::texture_uv(**frame * n),
         }
     }
 
