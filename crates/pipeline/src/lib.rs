@@ -23,5 +23,5 @@ pub use error::{scene_error_is_bad_input, Error};
 pub use limits::{BYTES_PER_PRIMITIVE, MAX_PRIMITIVES};
 pub use load::{load, Input, Loaded, DEFAULT_SCENE_NAME};
 pub use options::{tile_region, Aov, Gamma, Options, Part, Region};
-pub use render::{default_output, image_size, render, render_cancellable};
+pub use render::{default_output, image_size, render, render_cancellable, render_taking};
 pub use rendered::{Picture, Rendered, ShadedStats, Summary, FORCED_WHITE_WARNING};

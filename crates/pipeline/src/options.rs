@@ -174,4 +174,13 @@ impl Options {
         }
         Ok(Cow::Owned(file))
     }
+
+    /// `apply` to a file owned: the same file, or the changed copy alone.
+    pub(crate) fn apply_owned(&self, file: SceneFile) -> Result<SceneFile, Error> {
+        let changed = match self.apply(&file)? {
+            Cow::Owned(changed) => Some(changed),
+            Cow::Borrowed(_) => None,
+        };
+        Ok(changed.unwrap_or(file))
+    }
 }

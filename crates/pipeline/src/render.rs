@@ -6,7 +6,8 @@ use crate::load::Loaded;
 use crate::options::{Aov, Gamma, Options};
 use crate::rendered::{Picture, Rendered, Summary};
 use crate::{scene3d, Error};
-use scene_format::{CanvasFile, SceneKind};
+use scene_format::{CanvasFile, SceneFile, SceneKind};
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
@@ -30,40 +31,69 @@ pub fn render_cancellable(
     rows_done: &(dyn Fn(u32) + Sync),
     cancel: &AtomicBool,
 ) -> Result<Option<Rendered>, Error> {
-    let file = match &loaded.kind {
-        SceneKind::Scene3d(file) => options.apply(file)?,
-        SceneKind::Canvas(file) => {
-            if let Some(option) = options.option_of_3d() {
-                return Err(Error::CanvasOption {
-                    scene: loaded.name.clone(),
-                    option,
-                });
-            }
-            return Ok(Some(Rendered {
-                image: draw_canvas(file, options.gamma),
-                summary: Summary::Canvas,
-            }));
+    match &loaded.kind {
+        SceneKind::Scene3d(file) => {
+            let file = options.apply(file)?;
+            render_3d(file, &loaded.name, options, rows_done, cancel)
         }
+        SceneKind::Canvas(file) => draw(file, &loaded.name, options).map(Some),
+    }
+}
+
+/// `render`, taking the scene: its meshes' triangles are let go once the
+/// scene's objects are made of them, before the BVH is built (the peak
+/// memory of a large mesh, where the caller needs only the scene's name
+/// afterwards).
+pub fn render_taking(
+    loaded: Loaded,
+    options: &Options,
+    rows_done: &(dyn Fn(u32) + Sync),
+) -> Result<Rendered, Error> {
+    let never = AtomicBool::new(false);
+    let rendered = match loaded.kind {
+        SceneKind::Scene3d(file) => {
+            let file = Cow::Owned(options.apply_owned(file)?);
+            render_3d(file, &loaded.name, options, rows_done, &never)?
+        }
+        SceneKind::Canvas(ref file) => Some(draw(file, &loaded.name, options)?),
     };
+    Ok(rendered.expect("never cancelled"))
+}
+
+/// A canvas drawn, refusing options of 3D scenes.
+fn draw(file: &CanvasFile, name: &Path, options: &Options) -> Result<Rendered, Error> {
+    if let Some(option) = options.option_of_3d() {
+        return Err(Error::CanvasOption {
+            scene: name.to_path_buf(),
+            option,
+        });
+    }
+    Ok(Rendered {
+        image: draw_canvas(file, options.gamma),
+        summary: Summary::Canvas,
+    })
+}
+
+/// The shaded image or an AOV of `file`, its options applied.
+fn render_3d(
+    file: Cow<SceneFile>,
+    name: &Path,
+    options: &Options,
+    rows_done: &(dyn Fn(u32) + Sync),
+    cancel: &AtomicBool,
+) -> Result<Option<Rendered>, Error> {
     let size = (file.camera.width, file.camera.height);
     let region = options.part.map(|p| p.region(size)).transpose()?;
     match options.aov {
         None => {
-            let shaded = scene3d::shade(
-                &file,
-                &loaded.name,
-                options.gamma,
-                region,
-                rows_done,
-                cancel,
-            )?;
+            let shaded = scene3d::shade(file, name, options.gamma, region, rows_done, cancel)?;
             Ok(shaded.map(|(image, stats)| Rendered {
                 image,
                 summary: Summary::Shaded(stats),
             }))
         }
         Some(aov) => Ok(Some(Rendered {
-            image: scene3d::aov(&file, &loaded.name, aov, options, region, rows_done)?,
+            image: scene3d::aov(&file, name, aov, options, region, rows_done)?,
             summary: Summary::Aov(aov),
         })),
     }

@@ -7,6 +7,7 @@ use crate::options::{Aov, Gamma, Options};
 use crate::rendered::{Picture, ShadedStats};
 use crate::Error;
 use scene_format::SceneFile;
+use std::borrow::Cow;
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -17,7 +18,7 @@ use tracer_core::{Output, Region, RenderJob, Scene};
 /// rule for its encoding; `rows_done(0)` once the scene is prepared, then
 /// `rows_done(n)` from the render threads as `n` more rows are done.
 pub(crate) fn shade(
-    file: &SceneFile,
+    file: Cow<SceneFile>,
     name: &Path,
     gamma: Option<Gamma>,
     region: Option<Region>,
@@ -25,7 +26,8 @@ pub(crate) fn shade(
     cancel: &AtomicBool,
 ) -> Result<Option<(Picture, ShadedStats)>, Error> {
     let start = Instant::now();
-    let scene = prepare(file, name)?;
+    let objects = file.objects.len();
+    let scene = prepare_releasing(file, name)?;
     let prepare_seconds = start.elapsed().as_secs_f64();
     rows_done(0);
     let start = Instant::now();
@@ -49,7 +51,7 @@ pub(crate) fn shade(
         Saturation::Clamp => 0,
     };
     let stats = ShadedStats {
-        objects: file.objects.len(),
+        objects,
         primitives: scene.objects().len(),
         rays: rays.total(),
         prepare_seconds,
@@ -100,8 +102,20 @@ fn job(scene: &Scene, region: Option<Region>) -> RenderJob {
 }
 
 fn prepare(file: &SceneFile, name: &Path) -> Result<Scene, Error> {
-    tracer_core::prepare(file).map_err(|e| Error::Prepare {
+    tracer_core::prepare(file).map_err(|e| prepare_error(name, e))
+}
+
+/// `prepare`; a file owned here is dropped before the BVH is built, and
+/// with it the meshes' triangles when nothing else holds them.
+fn prepare_releasing(file: Cow<SceneFile>, name: &Path) -> Result<Scene, Error> {
+    let parts = tracer_core::prepare::parts(&file).map_err(|e| prepare_error(name, e))?;
+    drop(file);
+    Ok(Scene::new(parts))
+}
+
+fn prepare_error(name: &Path, e: tracer_core::PrepareError) -> Error {
+    Error::Prepare {
         scene: name.to_path_buf(),
         message: e.to_string(),
-    })
+    }
 }

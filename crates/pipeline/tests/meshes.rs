@@ -6,7 +6,7 @@
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use tracer_pipeline::{load, render, Input, Options};
+use tracer_pipeline::{load, render, render_taking, Input, Options};
 
 /// An icosphere of radius 1: the icosahedron's faces cut in 4 `levels`
 /// times, the vertices pushed onto the sphere. Each face winds so that
@@ -490,4 +490,30 @@ fn a_coarse_smooth_sphere_has_no_black_facets_at_its_terminator() {
     assert!(lit > 10_000, "{lit}");
     // Without the offset of the shadow rays, 182 pixels here.
     assert_eq!(cut_off, 0);
+}
+
+/// `render_taking` (the CLI's, which lets the meshes go before the BVH is
+/// built) gives the image `render` gives, with and without options that
+/// change the file.
+#[test]
+fn a_scene_taken_renders_as_the_scene_lent() {
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    for (scene, width) in [("textures.toml", None), ("smooth-mesh.toml", Some(96))] {
+        let input = Input::File(scenes.join(scene));
+        let options = Options {
+            width,
+            ..Options::default()
+        };
+        let loaded = load(&input).unwrap();
+        let lent = render(&loaded, &options, &|_| {}).unwrap().image;
+        let taken = render_taking(loaded, &options, &|_| {}).unwrap().image;
+        let bits = |p: &tracer_pipeline::Picture| -> Vec<u32> {
+            p.to_rgb32f()
+                .into_raw()
+                .iter()
+                .map(|x| x.to_bits())
+                .collect()
+        };
+        assert_eq!(bits(&lent), bits(&taken), "{scene}");
+    }
 }

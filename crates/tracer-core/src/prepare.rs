@@ -33,15 +33,29 @@ pub enum PrepareError {
 /// Builds the renderable scene from a validated scene file; the BVH is
 /// built on the current rayon pool.
 pub fn prepare(file: &fmt::SceneFile) -> Result<Scene, PrepareError> {
+    Ok(Scene::new(parts(file)?))
+}
+
+/// What `prepare` makes a scene of, before its BVH is built: a caller that
+/// owns the file can drop its meshes' triangles first (53 MB of a
+/// 1.1M-triangle mesh, beside the objects made of them).
+pub fn parts(file: &fmt::SceneFile) -> Result<SceneParts, PrepareError> {
     let mut materials = MaterialTable::new(file);
     let mut objects = Vec::new();
     for (i, o) in file.objects.iter().enumerate() {
         let path = format!("objects[{i}]");
         let material = materials.resolve(&path, o)?;
         let mtl = materials.mtl_materials(&path, o)?;
-        objects.extend(shapes(&path, o, material, &mtl)?);
+        let made = shapes(&path, o, material, &mtl)?;
+        // Taken whole when first: a large mesh's objects are not copied
+        // (twice their memory for a moment).
+        if objects.is_empty() {
+            objects = made;
+        } else {
+            objects.extend(made);
+        }
     }
-    Ok(Scene::new(SceneParts {
+    Ok(SceneParts {
         camera: camera(&file.camera),
         objects,
         materials: materials.materials,
@@ -49,7 +63,7 @@ pub fn prepare(file: &fmt::SceneFile) -> Result<Scene, PrepareError> {
         trace: trace_settings(&file.render),
         encoding: encoding(&file.render),
         samples: file.render.samples,
-    }))
+    })
 }
 
 /// The camera of the file's `[camera]` table.

@@ -60,15 +60,17 @@ pub fn run(args: &Render) -> Result<()> {
     }
     let rows = region.map_or(size.1, |r| r.height());
     let progress = Progress::new(rows.into(), args.quiet);
+    let name = loaded.name.clone();
+    // Taken: a large mesh's triangles are let go before its BVH is built.
     let rendered = args
         .pool
-        .install(|| tracer_pipeline::render(&loaded, &options, &|n| progress.rows_done(n)));
+        .install(|| tracer_pipeline::render_taking(loaded, &options, &|n| progress.rows_done(n)));
     progress.finish();
     let rendered = rendered?;
     // A float file keeps the values over 1: nothing is made white.
     if let (Summary::Shaded(stats), false) = (&rendered.summary, linear) {
         if let Some(warning) = stats.forced_white_warning() {
-            note!("warning: {}: {warning}", loaded.name.display());
+            note!("warning: {}: {warning}", name.display());
         }
     }
     match &tile {
@@ -87,7 +89,7 @@ pub fn run(args: &Render) -> Result<()> {
     }
     if !args.quiet {
         let threads = args.pool.current_num_threads();
-        note!("{}", summary(&loaded.name, &rendered, threads, &output));
+        note!("{}", summary(&name, &rendered, threads, &output));
     }
     Ok(())
 }
