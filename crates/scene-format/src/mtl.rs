@@ -1,4 +1,4 @@
-//! An OBJ's materials: its MTL files (`mtllib`) read through `tobj`, each
+//! An OBJ's materials: its MTL files (`mtllib`) read with `tobj`, each
 //! material made a scene material. Problems with them are warnings, as in
 //! other renderers: a missing MTL or image leaves the faces grey or
 //! untextured, a bad value is replaced by its default.
@@ -6,15 +6,14 @@
 use crate::images::ImageCache;
 use crate::model::{ImageTexture, Material, TextureRef, TextureScale, Wrap};
 use crate::source::Source;
-use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 
-/// The MTL files an OBJ asked for, as `tobj` asks for them: each with its
-/// path and how many materials it gave, or why it could not be read.
+/// The MTL files an OBJ asked for, in its order: each with its path and
+/// the materials it gave, or why it could not be read.
 pub struct Libraries<'a> {
     folder: PathBuf,
     source: &'a dyn Source,
-    read: RefCell<Vec<(PathBuf, Result<usize, String>)>>,
+    read: Vec<(PathBuf, Result<Vec<tobj::Material>, String>)>,
 }
 
 /// What the MTL files an OBJ read gave (the files themselves are recorded
@@ -31,34 +30,18 @@ impl<'a> Libraries<'a> {
         Libraries {
             folder: folder.to_path_buf(),
             source,
-            read: RefCell::default(),
+            read: Vec::new(),
         }
     }
 
-    /// `tobj`'s material loader: reads the MTL file `name` and notes it.
-    pub fn load(&self, name: &Path) -> tobj::MTLLoadResult {
-        let path = self.folder.join(name);
-        let result = self
-            .source
-            .open(&path, crate::read::MAX_OBJ_BYTES)
-            .map_err(|e| e.to_string())
-            .and_then(|mut file| {
-                tobj::load_mtl_buf(&mut file).map_err(|e| format!("not a valid MTL file: {e}"))
-            });
-        let count = result.as_ref().map(|(m, _)| m.len()).map_err(Clone::clone);
-        self.read.borrow_mut().push((path, count));
-        result.map_err(|_| tobj::LoadError::MaterialParseError)
-    }
-
-    /// The materials `tobj` collected (in the order of the files read),
-    /// made scene materials, with their images read through `images`.
-    pub fn finish(self, found: &[tobj::Material], images: &mut ImageCache) -> ObjMaterials {
+    /// The materials of every file read (in the order read), made scene
+    /// materials, with their images read through `images`.
+    pub fn finish(self, images: &mut ImageCache) -> ObjMaterials {
         let mut out = ObjMaterials::default();
-        let mut found = found.iter();
-        for (path, count) in self.read.into_inner() {
+        for (path, found) in self.read {
             let name = file_name(&path);
-            let count = match count {
-                Ok(count) => count,
+            let found = match found {
+                Ok(found) => found,
                 Err(e) => {
                     out.warnings.push(format!(
                         "material library `{name}` cannot be read ({e}); its faces are drawn in the default grey"
@@ -68,7 +51,7 @@ impl<'a> Libraries<'a> {
             };
             let folder = path.parent().unwrap_or(Path::new(""));
             let first_warning = out.warnings.len();
-            for m in found.by_ref().take(count) {
+            for m in &found {
                 let material = scene_material(m, folder, (self.source, images), &mut out);
                 out.materials.push(material);
             }
@@ -77,6 +60,24 @@ impl<'a> Libraries<'a> {
             }
         }
         out
+    }
+}
+
+impl crate::obj_text::MaterialLibraries for Libraries<'_> {
+    /// Reads the MTL file `name` and keeps what it gave.
+    fn load(&mut self, name: &Path) -> Vec<String> {
+        let path = self.folder.join(name);
+        let result = self
+            .source
+            .open(&path, crate::read::MAX_OBJ_BYTES)
+            .map_err(|e| e.to_string())
+            .and_then(|mut file| {
+                tobj::load_mtl_buf(&mut file).map_err(|e| format!("not a valid MTL file: {e}"))
+            })
+            .map(|(materials, _)| materials);
+        let names = result.iter().flatten().map(|m| m.name.clone()).collect();
+        self.read.push((path, result));
+        names
     }
 }
 

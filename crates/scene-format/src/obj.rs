@@ -142,20 +142,14 @@ fn read_obj_lines(
         .open(path, MAX_OBJ_BYTES)
         .and_then(|mut file| file.read_to_end(&mut bytes))
         .map_err(|e| e.to_string())?;
-    let libraries = Libraries::new(path.parent().unwrap_or(Path::new("")), source);
-    let mut collected = Collected {
-        libraries: &libraries,
-        found: Vec::new(),
-    };
-    let parsed = obj_text::parse(&bytes, &mut collected);
+    let mut libraries = Libraries::new(path.parent().unwrap_or(Path::new("")), source);
+    let parsed = obj_text::parse(&bytes, &mut libraries);
     drop(bytes);
     let text = parsed.map_err(|e| ObjFailure {
         message: format!("not a valid OBJ file: {}", e.what),
         line: Some(e.line),
     })?;
-    let found = collected.found;
-    // The libraries' own failures are kept by `libraries`.
-    let found = libraries.finish(&found, images);
+    let found = libraries.finish(images);
     let mut data = MeshData {
         materials: found.materials,
         material_warnings: found.warnings,
@@ -177,23 +171,6 @@ fn read_obj_lines(
     Ok(data)
 }
 
-/// The MTL files' materials, in the order read, for [`Libraries::finish`].
-struct Collected<'a, 'b> {
-    libraries: &'a Libraries<'b>,
-    found: Vec<tobj::Material>,
-}
-
-impl obj_text::MaterialLibraries for Collected<'_, '_> {
-    fn load(&mut self, name: &Path) -> Vec<String> {
-        let Ok((materials, _)) = self.libraries.load(name) else {
-            return Vec::new();
-        };
-        let names = materials.iter().map(|m| m.name.clone()).collect();
-        self.found.extend(materials);
-        names
-    }
-}
-
 /// Adds the file's triangles to `data`, but for degenerate ones, counted;
 /// gives the index among all triangles of the first degenerate one.
 fn add_triangles(text: &ObjText, data: &mut MeshData) -> Result<Option<usize>, String> {
@@ -211,7 +188,6 @@ fn add_triangles(text: &ObjText, data: &mut MeshData) -> Result<Option<usize>, S
     data.triangles.reserve(text.triangles.len());
     data.indices.reserve(text.triangles.len());
     let mut first_degenerate = None;
-    let mut kept_triangles = 0;
     for (k, corners) in text.triangles.iter().enumerate() {
         let triangle = [
             vertex(corners[0])?,
@@ -231,9 +207,7 @@ fn add_triangles(text: &ObjText, data: &mut MeshData) -> Result<Option<usize>, S
         if let Some(&material) = text.triangle_materials.get(k) {
             data.triangle_materials.push(material);
         }
-        kept_triangles += 1;
     }
-    debug_assert_eq!(kept_triangles, data.triangles.len());
     Ok(first_degenerate)
 }
 
@@ -614,13 +588,6 @@ mod tests {
         }
     }
 
-    struct NoLibraries;
-    impl obj_text::MaterialLibraries for NoLibraries {
-        fn load(&mut self, _: &Path) -> Vec<String> {
-            Vec::new()
-        }
-    }
-
     /// Lines put together from OBJ words, numbers and junk: each file is
     /// read or refused, never a panic.
     #[test]
@@ -676,7 +643,7 @@ mod tests {
             }
             // The faces' vertices are checked when the triangles are made.
             let mut data = MeshData::default();
-            match obj_text::parse(obj.as_bytes(), &mut NoLibraries) {
+            match obj_text::parse(obj.as_bytes(), &mut obj_text::NoLibraries) {
                 Ok(text) if add_triangles(&text, &mut data).is_ok() => read += 1,
                 _ => refused += 1,
             }

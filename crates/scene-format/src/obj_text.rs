@@ -48,6 +48,17 @@ pub(crate) trait MaterialLibraries {
     fn load(&mut self, name: &Path) -> Vec<String>;
 }
 
+/// For tests: an OBJ whose `mtllib` files give nothing.
+#[cfg(test)]
+pub(crate) struct NoLibraries;
+
+#[cfg(test)]
+impl MaterialLibraries for NoLibraries {
+    fn load(&mut self, _: &Path) -> Vec<String> {
+        Vec::new()
+    }
+}
+
 /// Parses `bytes`, an OBJ file's text.
 pub(crate) fn parse(
     bytes: &[u8],
@@ -264,13 +275,6 @@ fn index(part: &[u8], count: usize) -> Option<u32> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    struct NoLibraries;
-    impl MaterialLibraries for NoLibraries {
-        fn load(&mut self, _: &Path) -> Vec<String> {
-            Vec::new()
-        }
-    }
 
     fn text(obj: &str) -> Result<ObjText, ObjError> {
         parse(obj.as_bytes(), &mut NoLibraries)
