@@ -36,7 +36,7 @@ impl Aabb {
         max: Vec3A::NEG_INFINITY,
     };
 
-    fn grow(&mut self, other: &Aabb) {
+    pub(super) fn grow(&mut self, other: &Aabb) {
         self.min = self.min.min(other.min);
         self.max = self.max.max(other.max);
     }

@@ -98,11 +98,20 @@ impl Node {
         (half.child[lane % 4], half.count[lane % 4])
     }
 
+    /// The box of one lane.
+    fn lane_box(&self, lane: usize) -> Aabb {
+        let p = self.halves[lane / 4].planes.map(|plane| plane[lane % 4]);
+        Aabb {
+            min: glam::Vec3A::new(p[0], p[1], p[2]),
+            max: glam::Vec3A::new(p[3], p[4], p[5]),
+        }
+    }
+
     /// The box of one lane, for tests.
     #[cfg(test)]
     pub(super) fn bounds(&self, lane: usize) -> ([f32; 3], [f32; 3]) {
-        let p = self.halves[lane / 4].planes.map(|plane| plane[lane % 4]);
-        ([p[0], p[1], p[2]], [p[3], p[4], p[5]])
+        let b = self.lane_box(lane);
+        (b.min.to_array(), b.max.to_array())
     }
 }
 
@@ -220,19 +229,10 @@ pub(super) fn sah_cost(nodes: &[Node]) -> f64 {
     let Some(root) = nodes.first() else {
         return 0.0;
     };
-    let area = |node: &Node, lane: usize| -> f64 {
-        let half = &node.halves[lane / 4];
-        let d =
-            |axis: usize| (half.planes[axis + 3][lane % 4] - half.planes[axis][lane % 4]) as f64;
-        let (x, y, z) = (d(0), d(1), d(2));
-        x * y + y * z + z * x
-    };
+    let area = |node: &Node, lane: usize| node.lane_box(lane).half_area() as f64;
     let mut root_box = Aabb::EMPTY;
     for lane in used_lanes(root) {
-        let half = &root.halves[lane / 4];
-        let p = |axis: usize| half.planes[axis][lane % 4];
-        root_box.min = root_box.min.min(glam::Vec3A::new(p(0), p(1), p(2)));
-        root_box.max = root_box.max.max(glam::Vec3A::new(p(3), p(4), p(5)));
+        root_box.grow(&root.lane_box(lane));
     }
     let mut cost = TRAVERSAL_COST as f64 * root_box.half_area() as f64;
     for node in nodes {
