@@ -15,7 +15,7 @@ use exr::prelude::{
     AttributeValue, Encoding as ExrEncoding, Image, IntegerBounds, Layer, LayerAttributes,
     SpecificChannels, Text, Vec2,
 };
-use sha2::{Digest, Sha256};
+use std::io::Read;
 use std::path::{Path, PathBuf};
 use tracer_core::image::{Encoding, LinearImage, Saturation};
 
@@ -79,42 +79,59 @@ impl TileError {
     }
 }
 
-/// What makes two tiles parts of one image: SHA-256, in hex, of the
+/// What makes two tiles parts of one image: BLAKE3, in hex, of the
 /// bytes of every file the scene read (the scene file, included files,
 /// meshes, textures; the archive of a packed scene; the built-in scene's
 /// text), and of the render options (samples, size, gamma, AOV) but not the
 /// part; and of the tracer's version. Paths are left out, so tasks may
-/// see the scene at other paths.
+/// see the scene at other paths. (BLAKE3, not SHA-256: every task hashes
+/// its meshes again, and BLAKE3 takes a third of the time.)
 pub fn digest(input: &Input, loaded: &Loaded, options: &Options) -> Result<String, TileError> {
-    let mut hash = Sha256::new();
-    let mut add = |bytes: &[u8]| {
-        hash.update((bytes.len() as u64).to_le_bytes());
-        hash.update(bytes);
-    };
+    let mut hash = blake3::Hasher::new();
     // Another release may render other values: its tiles do not mix.
-    add(concat!("tracer tile 1, version ", env!("CARGO_PKG_VERSION")).as_bytes());
+    let version = concat!("tracer tile 2, version ", env!("CARGO_PKG_VERSION"));
+    add(&mut hash, version.as_bytes());
     if *input == Input::DefaultScene {
-        add(crate::load::DEFAULT_SCENE.as_bytes());
+        add(&mut hash, crate::load::DEFAULT_SCENE.as_bytes());
     }
     for path in &loaded.files_read {
-        let bytes = std::fs::read(path).map_err(|source| TileError::Read {
+        add_file(&mut hash, path).map_err(|source| TileError::Read {
             path: path.clone(),
             source,
         })?;
-        add(&bytes);
     }
     let options = Options {
         part: None,
         ..*options
     };
-    add(format!("{options:?}").as_bytes());
+    add(&mut hash, format!("{options:?}").as_bytes());
     let size = crate::image_size(loaded, &options).unwrap_or_default();
-    add(format!("{size:?}").as_bytes());
-    Ok(hex(&hash.finalize()))
+    add(&mut hash, format!("{size:?}").as_bytes());
+    Ok(hash.finalize().to_hex().to_string())
 }
 
-fn hex(bytes: &[u8]) -> String {
-    bytes.iter().map(|b| format!("{b:02x}")).collect()
+/// Bytes after their count, so no two sequences hash alike.
+fn add(hash: &mut blake3::Hasher, bytes: &[u8]) {
+    hash.update(&(bytes.len() as u64).to_le_bytes());
+    hash.update(bytes);
+}
+
+/// A file's bytes, then their count (known only at the end), streamed in blocks large enough for
+/// BLAKE3's SIMD lanes (a mesh is not held in memory a second time).
+fn add_file(hash: &mut blake3::Hasher, path: &Path) -> std::io::Result<()> {
+    let mut file = std::fs::File::open(path)?;
+    let mut block = vec![0u8; 1 << 16];
+    let mut total = 0u64;
+    loop {
+        let n = file.read(&mut block)?;
+        if n == 0 {
+            break;
+        }
+        hash.update(&block[..n]);
+        total += n as u64;
+    }
+    hash.update(&total.to_le_bytes());
+    Ok(())
 }
 
 /// A tile as read from its file.

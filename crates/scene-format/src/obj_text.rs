@@ -222,7 +222,42 @@ fn floats<'a, const N: usize>(words: &mut impl Iterator<Item = &'a [u8]>) -> Opt
 }
 
 fn float(word: &[u8]) -> Option<f32> {
-    std::str::from_utf8(word).ok()?.parse().ok()
+    short_decimal(word).or_else(|| std::str::from_utf8(word).ok()?.parse().ok())
+}
+
+/// A plain decimal (`-0.0378297`: no exponent, at most seven digits of
+/// mantissa, at most ten after the point) by Clinger's fast path: its
+/// digits as an integer below 2^24 and a power of ten up to 10^10 are both
+/// exact in f32, so one division rounds once, correctly, to the value
+/// `str::parse` gives. Other words are left to `str::parse` (None here).
+/// Most OBJ numbers are such words, and this takes a fifth of the time.
+fn short_decimal(word: &[u8]) -> Option<f32> {
+    const POWERS: [f32; 11] = [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10];
+    let (negative, digits) = match word {
+        [b'-', rest @ ..] => (true, rest),
+        [b'+', rest @ ..] => (false, rest),
+        _ => (false, word),
+    };
+    let (mut mantissa, mut count, mut after_point) = (0u32, 0usize, None::<usize>);
+    for &b in digits {
+        match b {
+            b'0'..=b'9' => {
+                mantissa = mantissa.checked_mul(10)?.checked_add(u32::from(b - b'0'))?;
+                count += 1;
+                if let Some(n) = &mut after_point {
+                    *n += 1;
+                }
+            }
+            b'.' if after_point.is_none() => after_point = Some(0),
+            _ => return None,
+        }
+    }
+    let decimals = after_point.unwrap_or(0);
+    if count == 0 || mantissa > 1 << 24 || decimals >= POWERS.len() {
+        return None;
+    }
+    let value = mantissa as f32 / POWERS[decimals];
+    Some(if negative { -value } else { value })
 }
 
 /// A face corner `v`, `v/vt`, `v//vn` or `v/vt/vn`; `counts` are the
@@ -278,6 +313,53 @@ mod tests {
 
     fn text(obj: &str) -> Result<ObjText, ObjError> {
         parse(obj.as_bytes(), &mut NoLibraries)
+    }
+
+    /// The fast path must give `str::parse`'s bits, or leave the word to it.
+    #[test]
+    fn short_decimals_parse_as_the_standard_library_does() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move |n: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state % n
+        };
+        let mut fast = 0;
+        for _ in 0..400_000 {
+            let mut word = String::new();
+            match next(3) {
+                0 => word.push('-'),
+                1 if next(4) == 0 => word.push('+'),
+                _ => {}
+            }
+            let whole = next(12) as usize;
+            let fraction = next(13) as usize;
+            for _ in 0..whole {
+                word.push(char::from(b'0' + next(10) as u8));
+            }
+            if fraction > 0 || next(2) == 0 {
+                word.push('.');
+            }
+            for _ in 0..fraction {
+                word.push(char::from(b'0' + next(10) as u8));
+            }
+            let parsed: Option<f32> = word.parse().ok();
+            let ours = float(word.as_bytes());
+            assert_eq!(ours.map(f32::to_bits), parsed.map(f32::to_bits), "{word:?}");
+            fast += short_decimal(word.as_bytes()).is_some() as usize;
+        }
+        // Both paths were taken.
+        assert!((50_000..350_000).contains(&fast), "{fast} fast");
+        for word in [
+            "1e3", "-2.5E-2", "inf", "nan", ".", "-", "1.2.3", "0x10", "",
+        ] {
+            let parsed: Option<f32> = word.parse().ok();
+            assert_eq!(
+                float(word.as_bytes()).map(f32::to_bits),
+                parsed.map(f32::to_bits)
+            );
+        }
     }
 
     #[test]
