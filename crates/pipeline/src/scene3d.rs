@@ -52,7 +52,7 @@ pub(crate) fn shade(
     };
     let stats = ShadedStats {
         objects,
-        primitives: scene.objects().len(),
+        primitives: scene.primitive_count(),
         rays: rays.total(),
         prepare_seconds,
         render_seconds,
@@ -105,12 +105,14 @@ fn prepare(file: &SceneFile, name: &Path) -> Result<Scene, Error> {
     tracer_core::prepare(file).map_err(|e| prepare_error(name, e))
 }
 
-/// `prepare`; a file owned here is dropped before the BVH is built, and
-/// with it the meshes' triangles when nothing else holds them.
+/// `prepare`, holding no more memory than the render needs: a file owned
+/// here is dropped before the BVH is built, and with it the meshes'
+/// triangles when nothing else holds them; the objects go once the BVH
+/// is built (a lean scene).
 fn prepare_releasing(file: Cow<SceneFile>, name: &Path) -> Result<Scene, Error> {
     let parts = tracer_core::prepare::parts(&file).map_err(|e| prepare_error(name, e))?;
     drop(file);
-    Ok(Scene::new(parts))
+    Ok(Scene::lean(parts))
 }
 
 fn prepare_error(name: &Path, e: tracer_core::PrepareError) -> Error {

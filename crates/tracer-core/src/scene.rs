@@ -40,6 +40,10 @@ pub struct Scene {
     /// Whether some material lets light through, so shadow rays must look
     /// past the first surface.
     transparency: bool,
+    /// How many objects the scene was made of (`objects` is empty in a
+    /// lean scene).
+    primitives: usize,
+    bounds: Option<(Vec3, Vec3)>,
 }
 
 /// How a scene finds the hits of a ray.
@@ -76,7 +80,14 @@ impl Scene {
         );
         let accel = Accel::Bvh(Bvh::build(&parts.objects));
         let transparency = parts.materials.iter().any(Material::is_transparent);
+        let bounds = parts
+            .objects
+            .iter()
+            .filter_map(|o| o.shape.bounds())
+            .reduce(|(lo, hi), (l, h)| (lo.min(l), hi.max(h)));
         Scene {
+            primitives: parts.objects.len(),
+            bounds,
             camera: parts.camera,
             objects: parts.objects,
             materials: parts.materials,
@@ -89,8 +100,23 @@ impl Scene {
         }
     }
 
-    /// The same scene searched without its BVH.
+    /// `Scene::new`, keeping only what a render reads: the objects are let
+    /// go once the BVH holds what its search and shading need of them (a
+    /// million-triangle mesh's objects take 71 MB). `objects()` is then
+    /// empty, and the scene cannot become `brute_force`.
+    pub fn lean(parts: SceneParts) -> Scene {
+        let mut scene = Scene::new(parts);
+        scene.objects = Vec::new();
+        scene
+    }
+
+    /// The same scene searched without its BVH. Panics for a `lean` scene,
+    /// which has no objects left to search: a mistake of the caller.
     pub fn brute_force(self) -> Scene {
+        assert!(
+            self.objects.len() == self.primitives,
+            "a lean scene has let its objects go"
+        );
         Scene {
             accel: Accel::BruteForce,
             ..self
@@ -106,9 +132,16 @@ impl Scene {
         &self.camera
     }
 
-    /// The primitives: a mesh contributes one object per triangle.
+    /// The primitives: a mesh contributes one object per triangle. Empty
+    /// for a `lean` scene.
     pub fn objects(&self) -> &[Object] {
         &self.objects
+    }
+
+    /// How many primitives the scene has (`objects().len()`, also after
+    /// a `lean` scene let them go).
+    pub fn primitive_count(&self) -> usize {
+        self.primitives
     }
 
     pub fn material(&self, index: usize) -> &Material {
@@ -146,10 +179,7 @@ impl Scene {
     /// The smallest box holding every bounded object (planes are left out),
     /// or None for a scene without one.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
-        self.objects
-            .iter()
-            .filter_map(|o| o.shape.bounds())
-            .reduce(|(lo, hi), (l, h)| (lo.min(l), hi.max(h)))
+        self.bounds
     }
 
     /// The nearest hit in (t_min, t_max); of hits at the same distance, the

@@ -130,3 +130,28 @@ fn rays_at_shared_vertices_and_edges_find_the_brute_force_hits() {
     }
     assert!(hits > 2500, "{hits} hits");
 }
+
+#[test]
+fn a_lean_scene_renders_as_the_full_one_without_its_objects() {
+    // Textures, smooth meshes, boxes and glass: what shading reads of an
+    // object must all be in the BVH once the objects are gone.
+    for name in ["textures", "smooth-mesh", "boxes", "showcase"] {
+        let mut file = load(&scenes_dir().join(format!("{name}.toml")));
+        (file.camera.width, file.camera.height) = (120, 90);
+        let parts = tracer_core::prepare::parts(&file).expect("prepare");
+        let full = Scene::new(parts.clone());
+        let lean = Scene::lean(parts);
+        assert!(lean.objects().is_empty());
+        assert_eq!(lean.primitive_count(), full.objects().len());
+        assert_eq!(lean.bounds(), full.bounds());
+        assert!(render_image(&lean) == render_image(&full), "{name}");
+    }
+}
+
+#[test]
+#[should_panic(expected = "a lean scene has let its objects go")]
+fn a_lean_scene_cannot_be_searched_by_brute_force() {
+    let file = load(&scenes_dir().join("reflectance2.toml"));
+    let parts = tracer_core::prepare::parts(&file).expect("prepare");
+    let _ = Scene::lean(parts).brute_force();
+}

@@ -2,7 +2,6 @@
 //! runs, each with its object index and material, so shading reads the hit
 //! from the record just tested.
 
-use super::build::BuildPrim;
 use super::tri4::{Tri4, TriRecord};
 use super::wide::{is_leaf, Node, WIDTH};
 use crate::geometry::{Object, Shape, Sphere, SurfaceHit};
@@ -29,12 +28,12 @@ impl SpherePrim {
     }
 }
 
-/// Turns the leaf lanes' runs of primitives into blocks of up to four
-/// triangles or runs of spheres, stored in leaf order, and points the lanes
-/// at them.
+/// Turns the leaf lanes' runs of primitives (indices into `objects`, in the
+/// build's order) into blocks of up to four triangles or runs of spheres,
+/// stored in leaf order, and points the lanes at them.
 pub(super) fn pack_leaves(
     nodes: &mut [Node],
-    items: &[BuildPrim],
+    order: &[u32],
     objects: &[Object],
 ) -> (Vec<Tri4>, Vec<SpherePrim>) {
     let mut leaves: Vec<(u32, usize, usize)> = Vec::new();
@@ -47,13 +46,13 @@ pub(super) fn pack_leaves(
         }
     }
     leaves.sort_unstable();
-    let (mut tris, mut spheres) = (Vec::with_capacity(items.len() / 3), Vec::new());
+    let (mut tris, mut spheres) = (Vec::with_capacity(order.len() / 3), Vec::new());
     for (first, n, lane) in leaves {
         let (_, count) = nodes[n].child(lane);
-        let run = &items[first as usize..][..count as usize];
+        let run = &order[first as usize..][..count as usize];
         // A leaf holds spheres or triangles (`build.rs` splits the two).
-        let records = || run.iter().map(|p| (&objects[p.id() as usize], p.id()));
-        if run[0].sphere() {
+        let records = || run.iter().map(|&id| (&objects[id as usize], id));
+        if matches!(objects[run[0] as usize].shape, Shape::Sphere(_)) {
             let start = spheres.len();
             spheres.extend(records().filter_map(|(o, id)| sphere_prim(o, id)));
             let count = (spheres.len() - start) as u32;

@@ -23,7 +23,6 @@ use crate::ray::Ray;
 use build::BuildPrim;
 use glam::Vec3;
 use leaves::{pack_leaves, SpherePrim, SPHERE_LEAF};
-use rayon::prelude::*;
 use traverse::{push_nearest_last, with_stack, Best, Entry, HitAt, RayData, PAD};
 use tri4::Tri4;
 use wide::{node_halves, Node};
@@ -58,8 +57,11 @@ impl Bvh {
     /// Builds the hierarchy over `objects`; uses the current rayon pool, and
     /// gives the same tree whatever its size.
     pub fn build(objects: &[Object]) -> Bvh {
+        // On this thread, not in parallel: rayon would collect them in
+        // vectors of the worker threads, whose freed memory stays in their
+        // glibc arenas (see `wide::Fork`).
         let mut items: Vec<BuildPrim> = objects
-            .par_iter()
+            .iter()
             .enumerate()
             .filter_map(|(i, o)| BuildPrim::new(&o.shape, i as u32))
             .collect();
@@ -94,7 +96,11 @@ impl Bvh {
             };
         }
         let mut nodes = wide::build(&mut items);
-        let (tris, spheres) = pack_leaves(&mut nodes, &items, objects);
+        // The leaves need only the order of the objects: 4 bytes each, where
+        // the build's primitives (let go before the blocks are made) took 32.
+        let order: Vec<u32> = items.iter().map(BuildPrim::id).collect();
+        drop(items);
+        let (tris, spheres) = pack_leaves(&mut nodes, &order, objects);
         Bvh {
             nodes,
             tris,

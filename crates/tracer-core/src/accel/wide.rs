@@ -123,14 +123,31 @@ pub(super) fn build(items: &mut [BuildPrim]) -> Vec<Node> {
     // so a quarter of the primitive count is more nodes than most trees need.
     let mut nodes = Vec::with_capacity(items.len() / 4 + 1);
     let root = Part::root(items);
-    write(items, 0, root, &mut nodes);
+    write(items, 0, root, &mut nodes, Fork::Root);
     nodes
+}
+
+/// Whether `write` may build a node's subtrees in parallel: only the
+/// root's, each into a vector the calling thread allocated. Memory a worker
+/// thread allocates and frees stays in its glibc arena, which the rest of
+/// the process cannot reuse: nested forks held 17 MB that way at 1.1M
+/// triangles on two threads.
+#[derive(Clone, Copy, PartialEq)]
+enum Fork {
+    Root,
+    Below,
 }
 
 /// Writes the node of `part`, which covers all of `items` (the first being
 /// primitive `base`), then the subtrees of its lanes; returns its index and
 /// the `count` its parent's lane marks it with.
-fn write(items: &mut [BuildPrim], base: usize, part: Part, nodes: &mut Vec<Node>) -> (u32, u32) {
+fn write(
+    items: &mut [BuildPrim],
+    base: usize,
+    part: Part,
+    nodes: &mut Vec<Node>,
+    fork: Fork,
+) -> (u32, u32) {
     let (lanes, len) = lanes(items, part);
     let lanes = &lanes[..len];
     let index = nodes.len();
@@ -142,12 +159,12 @@ fn write(items: &mut [BuildPrim], base: usize, part: Part, nodes: &mut Vec<Node>
             node.set(lane, (base + p.start) as u32, p.len() as u32);
         }
     }
-    if items.len() > PARALLEL_BUILD {
+    if fork == Fork::Root && items.len() > PARALLEL_BUILD {
         write_subtrees_in_parallel(items, base, lanes, &mut node, nodes);
     } else {
         for (lane, p) in lanes.iter().enumerate().filter(|(_, p)| !p.is_leaf()) {
             let run = &mut items[p.start..p.end];
-            let (child, count) = write(run, base + p.start, p.rebased(), nodes);
+            let (child, count) = write(run, base + p.start, p.rebased(), nodes, Fork::Below);
             node.set(lane, child, count);
         }
     }
@@ -170,15 +187,16 @@ fn write_subtrees_in_parallel(
     let mut rest = items;
     for p in lanes {
         let (run, tail) = rest.split_at_mut(p.len());
-        runs.push((run, p));
+        // Allocated here, not by the thread that fills it (see `Fork`).
+        let subtree = Vec::with_capacity(if p.is_leaf() { 0 } else { run.len() / 4 + 1 });
+        runs.push((run, p, subtree));
         rest = tail;
     }
     let subtrees: Vec<Option<(Vec<Node>, u32)>> = runs
         .into_par_iter()
-        .map(|(run, p)| {
+        .map(|(run, p, mut subtree)| {
             (!p.is_leaf()).then(|| {
-                let mut subtree = Vec::with_capacity(run.len() / 4 + 1);
-                let (_, count) = write(run, base + p.start, p.rebased(), &mut subtree);
+                let (_, count) = write(run, base + p.start, p.rebased(), &mut subtree, Fork::Below);
                 (subtree, count)
             })
         })
