@@ -3,7 +3,7 @@
 //! split decided; `wide.rs` splits parts until a node has its lanes.
 
 use crate::geometry::Shape;
-use glam::{UVec3, Vec3A, Vec4};
+use glam::{Vec3A, Vec4};
 
 /// Bins per axis of the SAH sweep.
 const BINS: usize = 16;
@@ -274,12 +274,33 @@ fn bin_scale(centroids: &Aabb, bins: usize) -> Vec3A {
     Vec3A::select(extent.cmpgt(Vec3A::ZERO), scale, Vec3A::ZERO)
 }
 
-/// The bin of a primitive on each axis.
+/// 1.5 * 2^23: floats from 2^23 to 2^24 step by one, so `x + ROUNDER`
+/// holds x rounded to a whole number in its low bits (for |x| < 2^22).
+const ROUNDER: f32 = 12_582_912.0;
+
+/// The bin of a primitive on each axis: its position on the grid, kept
+/// within the bins, less a half and rounded (as `bin_on` finds it on one
+/// axis). Rounding by adding `ROUNDER` takes no saturating conversion
+/// (`as u32` needs two compares a lane); a position on a bin boundary may
+/// go to either side, the same in binning and partition.
 #[inline(always)]
-fn bins_of(p: &BuildPrim, centroids: &Aabb, scale: Vec3A, bins: usize) -> UVec3 {
-    ((p.centroid2() - centroids.min) * scale)
-        .as_uvec3()
-        .min(UVec3::splat(bins as u32 - 1))
+fn bins_of(p: &BuildPrim, centroids: &Aabb, scale: Vec3A, bins: usize) -> [usize; 3] {
+    let top = Vec3A::splat(bins as f32 - 0.75);
+    let at = ((p.centroid2() - centroids.min) * scale)
+        .max(Vec3A::ZERO)
+        .min(top);
+    (at - Vec3A::splat(0.5) + Vec3A::splat(ROUNDER))
+        .to_array()
+        .map(|x| x.to_bits().wrapping_sub(ROUNDER.to_bits()) as usize)
+}
+
+/// `bins_of` on `axis` alone, with the same arithmetic.
+#[inline(always)]
+fn bin_on(c: f32, min: f32, scale: f32, bins: usize) -> usize {
+    let at = ((c - min) * scale).max(0.0).min(bins as f32 - 0.75);
+    (at - 0.5 + ROUNDER)
+        .to_bits()
+        .wrapping_sub(ROUNDER.to_bits()) as usize
 }
 
 /// The cheapest binned SAH split over the three axes, with its cost in
@@ -292,7 +313,7 @@ fn best_split(items: &[BuildPrim], bounds: &Aabb, centroids: &Aabb) -> Option<Sp
     for p in items {
         let b = bins_of(p, centroids, scale, bins);
         for axis in 0..3 {
-            let bin = b[axis] as usize;
+            let bin = b[axis];
             boxes[axis][bin].grow(&p.bounds());
             counts[axis][bin] += 1;
         }
@@ -339,10 +360,9 @@ fn partition(
 ) -> (usize, Extent, Extent) {
     let bins = bins_for(items.len());
     let scale = bin_scale(centroids, bins);
-    // The bin on `axis` alone, as `bins_of` computes it.
-    let (min, scale, last) = (centroids.min[axis], scale[axis], bins as u32 - 1);
+    let (min, scale) = (centroids.min[axis], scale[axis]);
     partition_by(items, |p| {
-        ((((p.centroid2()[axis] - min) * scale) as u32).min(last) as usize) < bin
+        bin_on(p.centroid2()[axis], min, scale, bins) < bin
     })
 }
 
