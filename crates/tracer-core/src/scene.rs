@@ -78,13 +78,10 @@ impl Scene {
             parts.objects.iter().all(|o| o.material < count),
             "an object's material index is out of range"
         );
-        let accel = Accel::Bvh(Bvh::build(&parts.objects));
+        let bvh = Bvh::build(&parts.objects);
+        let bounds = bvh.bounds();
+        let accel = Accel::Bvh(bvh);
         let transparency = parts.materials.iter().any(Material::is_transparent);
-        let bounds = parts
-            .objects
-            .iter()
-            .filter_map(|o| o.shape.bounds())
-            .reduce(|(lo, hi), (l, h)| (lo.min(l), hi.max(h)));
         Scene {
             primitives: parts.objects.len(),
             bounds,

@@ -43,6 +43,8 @@ pub struct Bvh {
     /// The smooth triangles' unit vertex normals, by object index, sorted:
     /// looked up once per closest hit, so the traversal never reads them.
     vertex_normals: Vec<(u32, [Vec3; 3])>,
+    /// The objects' exact bounds (the nodes' boxes are padded).
+    bounds: Option<(Vec3, Vec3)>,
 }
 
 /// A plane with its object index and material.
@@ -57,58 +59,48 @@ impl Bvh {
     /// Builds the hierarchy over `objects`; uses the current rayon pool, and
     /// gives the same tree whatever its size.
     pub fn build(objects: &[Object]) -> Bvh {
-        // On this thread, not in parallel: rayon would collect them in
-        // vectors of the worker threads, whose freed memory stays in their
-        // glibc arenas (see `wide::Fork`).
-        let mut items: Vec<BuildPrim> = objects
-            .iter()
-            .enumerate()
-            .filter_map(|(i, o)| BuildPrim::new(&o.shape, i as u32))
-            .collect();
-        let planes = objects
-            .iter()
-            .enumerate()
-            .filter_map(|(i, o)| match &o.shape {
-                Shape::Plane(plane) => Some(PlanePrim {
+        let mut bvh = Bvh::default();
+        let mut items = Vec::with_capacity(objects.len());
+        // One pass over the objects (a mesh's take megabytes), on this
+        // thread: rayon would collect in vectors of the worker threads,
+        // whose freed memory stays in their glibc arenas (see `wide::Fork`).
+        for (i, o) in objects.iter().enumerate() {
+            let id = i as u32;
+            match &o.shape {
+                Shape::Plane(plane) => bvh.planes.push(PlanePrim {
                     plane: Plane::clone(plane),
-                    id: i as u32,
+                    id,
                     material: o.material as u32,
                 }),
-                _ => None,
-            })
-            .collect();
-        let uv_maps = objects
-            .iter()
-            .enumerate()
-            .filter_map(|(i, o)| Some((i as u32, *o.uv.as_deref()?)))
-            .collect();
-        let vertex_normals = objects
-            .iter()
-            .enumerate()
-            .filter_map(|(i, o)| Some((i as u32, *o.vertex_normals.as_deref()?)))
-            .collect();
+                shape => items.extend(BuildPrim::new(shape, id)),
+            }
+            if let Some(uv) = o.uv.as_deref() {
+                bvh.uv_maps.push((id, *uv));
+            }
+            if let Some(normals) = o.vertex_normals.as_deref() {
+                bvh.vertex_normals.push((id, *normals));
+            }
+            if let Some((lo, hi)) = o.shape.bounds() {
+                bvh.bounds = Some(bvh.bounds.map_or((lo, hi), |(l, h)| (l.min(lo), h.max(hi))));
+            }
+        }
         if items.is_empty() {
-            return Bvh {
-                planes,
-                uv_maps,
-                vertex_normals,
-                ..Bvh::default()
-            };
+            return bvh;
         }
         let mut nodes = wide::build(&mut items);
         // The leaves need only the order of the objects: 4 bytes each, where
         // the build's primitives (let go before the blocks are made) took 32.
         let order: Vec<u32> = items.iter().map(BuildPrim::id).collect();
         drop(items);
-        let (tris, spheres) = pack_leaves(&mut nodes, &order, objects);
-        Bvh {
-            nodes,
-            tris,
-            spheres,
-            planes,
-            uv_maps,
-            vertex_normals,
-        }
+        (bvh.tris, bvh.spheres) = pack_leaves(&mut nodes, &order, objects);
+        bvh.nodes = nodes;
+        bvh
+    }
+
+    /// The smallest box holding every bounded object (planes are left out),
+    /// or None for a scene without one.
+    pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
+        self.bounds
     }
 
     /// The uv of a hit on triangle `id` at barycentric `uv`.
