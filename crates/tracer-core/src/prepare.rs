@@ -310,32 +310,34 @@ fn mesh_objects(
     let made = (smooth == Some(true)).then(|| face_weighted_normals(data));
     let to_world = placement.normal_matrix();
     let mirrors = placement.mirrors();
-    placed(data, placement)
-        .map(|(k, triangle)| {
-            let file_normals = match smooth {
-                Some(false) => None,
-                _ => data.normals.get(k).copied().flatten(),
-            };
-            let normals = file_normals.map(|n| n.map(Vec3::from)).or_else(|| {
-                let made = made.as_ref()?;
-                let ids = data.indices.get(k)?;
-                Some(ids.map(|i| made[i as usize]))
-            });
-            let vertex_normals = normals
-                .map(|n| in_placed_order(n, mirrors))
-                .and_then(|n| oriented(&triangle, n.map(|n| to_world * n)))
-                .map(Box::new);
-            let uv = data.uvs.get(k).copied().flatten();
-            let uv = uv.map_or(UvMap::IDENTITY, |uv| {
-                corner_uv_map(&in_placed_order(uv, mirrors))
-            });
-            Object {
-                vertex_normals,
-                ..Object::new(Shape::Triangle(triangle), materials.of(data, k))
-            }
-            .with_uv(uv)
-        })
-        .collect()
+    // Reserved whole: grown by doubling, a million objects were copied
+    // and their pages first touched twice.
+    let mut objects = Vec::with_capacity(data.triangles.len());
+    objects.extend(placed(data, placement).map(|(k, triangle)| {
+        let file_normals = match smooth {
+            Some(false) => None,
+            _ => data.normals.get(k).copied().flatten(),
+        };
+        let normals = file_normals.map(|n| n.map(Vec3::from)).or_else(|| {
+            let made = made.as_ref()?;
+            let ids = data.indices.get(k)?;
+            Some(ids.map(|i| made[i as usize]))
+        });
+        let vertex_normals = normals
+            .map(|n| in_placed_order(n, mirrors))
+            .and_then(|n| oriented(&triangle, n.map(|n| to_world * n)))
+            .map(Box::new);
+        let uv = data.uvs.get(k).copied().flatten();
+        let uv = uv.map_or(UvMap::IDENTITY, |uv| {
+            corner_uv_map(&in_placed_order(uv, mirrors))
+        });
+        Object {
+            vertex_normals,
+            ..Object::new(Shape::Triangle(triangle), materials.of(data, k))
+        }
+        .with_uv(uv)
+    }));
+    objects
 }
 
 /// A triangle's corner values in the order `place_triangle` puts its
