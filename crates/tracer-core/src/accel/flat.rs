@@ -97,7 +97,7 @@ mod tests {
                 Object::new(shape, i % 3)
             })
             .collect();
-        if n % 3 == 0 {
+        if n.is_multiple_of(3) {
             objects.push(objects[0].clone());
         }
         if n % 4 == 1 {
