@@ -2,6 +2,7 @@
 //! rule, gamma, 8-bit truncation (lab sections 5.3, 6 and 7), and the same
 //! rule at 16 bits.
 
+use crate::gamma_table::GammaTable;
 use glam::Vec3;
 
 /// What happens to a colour with a channel over 1 (lab 5.3).
@@ -52,13 +53,24 @@ impl LinearImage {
         self.pixels[(j * self.width + i) as usize]
     }
 
-    /// The 8-bit RGB image a display gets.
+    /// The 8-bit RGB image a display gets: each pixel's `encode_pixel`,
+    /// its gamma and truncation by table (the same bytes, tested).
     pub fn encode(&self, encoding: &Encoding) -> image::RgbImage {
-        let bytes = self
-            .pixels
-            .iter()
-            .flat_map(|&c| encode_pixel(c, encoding))
-            .collect();
+        let mut bytes = vec![0; 3 * self.pixels.len()];
+        let pixels = bytes.chunks_exact_mut(3).zip(&self.pixels);
+        match GammaTable::new(encoding.gamma) {
+            Some(table) => {
+                for (out, &c) in pixels {
+                    let [r, g, b] = saturated(c, encoding);
+                    out.copy_from_slice(&[table.code(r), table.code(g), table.code(b)]);
+                }
+            }
+            None => {
+                for (out, &c) in pixels {
+                    out.copy_from_slice(&encode_pixel(c, encoding));
+                }
+            }
+        }
         image::RgbImage::from_raw(self.width, self.height, bytes)
             .expect("the buffer holds exactly width * height pixels")
     }
@@ -84,13 +96,18 @@ pub fn encode_pixel(colour: Vec3, encoding: &Encoding) -> [u8; 3] {
 /// The saturation rule and gamma: what a display gets, in 0..=1, before
 /// quantisation to 8 or 16 bits.
 fn display_values(colour: Vec3, encoding: &Encoding) -> [f32; 3] {
+    let inv = 1.0 / encoding.gamma;
+    saturated(colour, encoding).map(|x| x.powf(inv))
+}
+
+/// The saturation rule, then each channel clamped to 0..=1.
+#[inline(always)]
+fn saturated(colour: Vec3, encoding: &Encoding) -> [f32; 3] {
     let saturated = match encoding.saturation {
         Saturation::White if colour.max_element() > 1.0 => Vec3::ONE,
         _ => colour,
     };
-    let c = saturated.clamp(Vec3::ZERO, Vec3::ONE);
-    let inv = 1.0 / encoding.gamma;
-    c.to_array().map(|x| x.powf(inv))
+    saturated.clamp(Vec3::ZERO, Vec3::ONE).to_array()
 }
 
 /// The lab's truncation to 8 bits; `as` maps NaN to 0.

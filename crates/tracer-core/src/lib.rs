@@ -11,6 +11,7 @@
 pub mod accel;
 pub mod aov;
 pub mod camera;
+mod gamma_table;
 pub mod geometry;
 pub mod image;
 pub mod integrate;

@@ -1,10 +1,12 @@
 //! Timing the tracer: BVH build and render, on 1 and 2 threads, in-process.
 //! The only file of the bench that calls tracer-core.
 
+use super::process::{self, Process, Spawn};
 use super::scenes::BenchScene;
 use super::stats::median;
 use super::THREADS;
 use anyhow::Result;
+use std::path::Path;
 use std::time::Instant;
 use tracer_core::accel::Bvh;
 use tracer_core::{prepare, render, Output, RayStats, Region, RenderJob, Scene};
@@ -56,6 +58,8 @@ pub struct Ours {
     pub speedup_runs: Vec<f64>,
     /// Each run's 1-thread CPU nanoseconds per ray, in run order.
     pub ns_per_ray_runs: Vec<f64>,
+    /// The whole `tracer render` process on one thread, when timed.
+    pub process: Option<Process>,
 }
 
 impl Ours {
@@ -88,29 +92,47 @@ struct Run {
 /// Runs every scene `reps` times, taking turns: run r of each scene and its
 /// 1- and 2-thread halves are measured close together in time, so the
 /// ratios between them (speed-up, cost at 1.1M / at 70k) are taken within a
-/// run, where the machine's slow swings in speed cancel out.
-pub fn measure(scenes: &[BenchScene], reps: usize) -> Result<Vec<Ours>> {
+/// run, where the machine's slow swings in speed cancel out. A scene with a
+/// `process` file is also rendered by `tracer` (its binary), writing into
+/// `out_dir`, a few times a run.
+pub fn measure(
+    scenes: &[BenchScene],
+    reps: usize,
+    tracer: Option<&Path>,
+    out_dir: &Path,
+) -> Result<Vec<Ours>> {
     let prepared = scenes
         .iter()
         .map(|s| prepare(&s.file).map_err(|e| anyhow::anyhow!("{e}")))
         .collect::<Result<Vec<_>>>()?;
     let pools = [pool(THREADS[0])?, pool(THREADS[1])?];
     let mut runs = vec![Vec::new(); scenes.len()];
+    let mut spawns: Vec<Vec<Spawn>> = vec![Vec::new(); scenes.len()];
     for rep in 0..reps {
         eprintln!("bench: run {} of {reps} ...", rep + 1);
-        for ((scene, bench), runs) in prepared.iter().zip(scenes).zip(&mut runs) {
+        for (k, (scene, bench)) in prepared.iter().zip(scenes).enumerate() {
             let mut run = measure_run(scene, bench.samples, &pools);
             run.load_s = bench.obj.as_deref().map(time_obj_read).transpose()?;
-            runs.push(run);
+            runs[k].push(run);
+            if let (Some(file), Some(tracer)) = (&bench.process, tracer) {
+                let out = out_dir.join(format!("{}.png", bench.name));
+                for _ in 0..process::SPAWNS_PER_RUN {
+                    spawns[k].push(process::spawn(tracer, file, &out)?);
+                }
+            }
         }
     }
     Ok(prepared
         .iter()
         .zip(runs)
-        .map(|(p, runs)| {
+        .zip(spawns)
+        .map(|((p, runs), spawns)| {
             let camera = p.camera();
             let pixels = u64::from(camera.width) * u64::from(camera.height);
-            summarise(p.objects().len(), pixels, &runs)
+            Ours {
+                process: (!spawns.is_empty()).then(|| Process::of(&spawns)),
+                ..summarise(p.objects().len(), pixels, &runs)
+            }
         })
         .collect())
 }
@@ -182,6 +204,7 @@ fn summarise(objects: usize, pixels: u64, runs: &[Run]) -> Ours {
             .iter()
             .map(|r| r.render_cpu_s * 1e9 / rays.total() as f64)
             .collect(),
+        process: None,
     }
 }
 

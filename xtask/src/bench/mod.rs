@@ -14,6 +14,7 @@
 //! - `scenes`: the bench scenes and their samples per pixel, the
 //!   1.1M-triangle bunny.
 //! - `measure`: timing the tracer (the only file that calls tracer-core).
+//! - `process`: timing the whole `tracer render` process on a small scene.
 //! - `pov_scene`: a scene file as POV-Ray SDL.
 //! - `povray`: timing POV-Ray.
 //! - `embree`: building and timing the Embree harness (`xtask/peers/`).
@@ -24,6 +25,7 @@ mod measure;
 mod pov_scene;
 mod povray;
 mod print;
+mod process;
 mod scenes;
 mod stats;
 
@@ -90,7 +92,15 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     } else {
         embree::build(&root, &crate::target_dir().join("peers"))
     };
-    let ours = measure::measure(&scenes, args.reps)?;
+    // The binary as a user runs it, for the scenes whose whole process is timed.
+    let tracer = if scenes.iter().any(|s| s.process.is_some()) {
+        eprintln!("bench: building the tracer binary ...");
+        Some(crate::farm::build_tracer(&root)?)
+    } else {
+        None
+    };
+    let out_dir = tempfile::tempdir()?;
+    let ours = measure::measure(&scenes, args.reps, tracer.as_deref(), out_dir.path())?;
     let mut rows = Vec::new();
     for (scene, ours) in scenes.iter().zip(ours) {
         let povray = if povray {

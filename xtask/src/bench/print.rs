@@ -123,6 +123,38 @@ fn targets(rows: &[Row]) {
     if let Some(aa) = rows.iter().find(|r| r.scene == "bunny-16spp") {
         supersampling_target(aa);
     }
+    if let Some(small) = rows.iter().find(|r| r.scene == "reflectance2") {
+        small_scene_target(small);
+    }
+}
+
+/// Issue 16's small-scene goal: the render's rays per second on one
+/// thread, and the whole `tracer render` process (start-up, parse, render,
+/// encode, write).
+fn small_scene_target(row: &Row) {
+    let o = &row.ours;
+    println!(
+        "target: {}, 1 thread, >= 40 Mrays/s: {:.2} Mrays/s wall, {:.2} per CPU-s ({:.1} ns per ray)",
+        row.scene,
+        o.mrays(0),
+        o.mrays_per_cpu_s(),
+        o.ns_per_ray()
+    );
+    let ms = |s: f64| s * 1e3;
+    match o.process {
+        Some(p) => println!(
+            "target: {}, whole `tracer render --threads 1` process < 30 ms: {:.1} ms wall ({:.1}-{:.1}), {:.1} ms CPU ({:.1}-{:.1}); medians of {} runs",
+            row.scene,
+            ms(p.wall_s),
+            ms(p.wall_range.0),
+            ms(p.wall_range.1),
+            ms(p.cpu_s),
+            ms(p.cpu_range.0),
+            ms(p.cpu_range.1),
+            p.spawns
+        ),
+        None => println!("target: {}, whole process < 30 ms: not timed", row.scene),
+    }
 }
 
 fn issue_6_targets(rows: &[Row]) {

@@ -12,6 +12,9 @@ use std::sync::Arc;
 /// The bunny's mesh, relative to the workspace root (Embree reads it too).
 pub const BUNNY_OBJ: &str = "scenes/bench/bunny.obj";
 
+/// The lab's final scene, relative to the workspace root.
+const REFLECTANCE2: &str = "scenes/reflectance2.toml";
+
 pub struct BenchScene {
     pub name: &'static str,
     /// The scene, its meshes loaded.
@@ -23,6 +26,9 @@ pub struct BenchScene {
     pub embree_subdiv: Option<u32>,
     /// The OBJ file of its mesh, whose reading is timed.
     pub obj: Option<PathBuf>,
+    /// The scene file, for a scene whose whole `tracer render` process is
+    /// timed too (a small one: start-up and output weigh beside its render).
+    pub process: Option<PathBuf>,
 }
 
 pub fn scenes(root: &Path) -> Result<Vec<BenchScene>> {
@@ -49,6 +55,7 @@ pub fn scenes(root: &Path) -> Result<Vec<BenchScene>> {
             samples: 1,
             embree_subdiv: Some(0),
             obj: Some(root.join(BUNNY_OBJ)),
+            process: None,
         },
         // Anti-aliased: POV-Ray's supersampling against ours. Embree's
         // harness casts one ray per pixel only.
@@ -58,6 +65,7 @@ pub fn scenes(root: &Path) -> Result<Vec<BenchScene>> {
             samples: 16,
             embree_subdiv: None,
             obj: None,
+            process: None,
         },
         BenchScene {
             name: "bunny-1.1m",
@@ -65,13 +73,15 @@ pub fn scenes(root: &Path) -> Result<Vec<BenchScene>> {
             samples: 1,
             embree_subdiv: Some(2),
             obj: Some(big_obj),
+            process: None,
         },
         BenchScene {
             name: "reflectance2",
-            file: load(&root.join("scenes/reflectance2.toml"))?,
+            file: load(&root.join(REFLECTANCE2))?,
             samples: 1,
             embree_subdiv: None,
             obj: None,
+            process: Some(root.join(REFLECTANCE2)),
         },
     ])
 }

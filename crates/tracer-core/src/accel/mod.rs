@@ -13,6 +13,7 @@
 
 pub mod brute_force;
 mod build;
+mod flat;
 mod leaves;
 mod traverse;
 mod tri4;
@@ -142,7 +143,9 @@ impl Bvh {
                 best.offer(t, p.id, t_max, HitAt::Plane(k));
             }
         }
-        if !self.nodes.is_empty() {
+        if self.is_flat() {
+            self.nearest_flat(ray, t_min, t_max, &mut best);
+        } else if !self.nodes.is_empty() {
             self.nearest_in_tree(ray, t_min, t_max, &mut best);
         }
         best.found().then(|| match best.at {
@@ -227,6 +230,9 @@ impl Bvh {
         let on_plane = |p: &PlanePrim| p.plane.intersect(ray, t_min, t_max).is_some();
         if self.planes.iter().any(on_plane) {
             return true;
+        }
+        if self.is_flat() {
+            return self.any_flat(ray, t_min, t_max);
         }
         if self.nodes.is_empty() {
             return false;
