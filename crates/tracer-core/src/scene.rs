@@ -3,12 +3,13 @@
 
 use crate::accel::{brute_force, Bvh};
 use crate::camera::Camera;
-use crate::geometry::{Object, SurfaceHit};
+use crate::geometry::{Object, Shape, SharedMesh, SurfaceHit};
 use crate::image::Encoding;
 use crate::light::Light;
 use crate::material::Material;
 use crate::ray::Ray;
 use glam::Vec3;
+use std::sync::Arc;
 
 /// The recursion settings of the lab's `rayTrace` (lab 5.3), and how
 /// finely sphere lights are sampled.
@@ -70,8 +71,12 @@ impl Scene {
     /// mistake of the caller (`prepare` resolves every name first).
     pub fn new(parts: SceneParts) -> Scene {
         let count = parts.materials.len();
+        let in_range = |o: &Object| match &o.shape {
+            Shape::Instance(i) => i.materials().iter().all(|&m| m < count),
+            _ => o.material < count,
+        };
         assert!(
-            parts.objects.iter().all(|o| o.material < count),
+            parts.objects.iter().all(in_range),
             "an object's material index is out of range"
         );
         let accel = Accel::Bvh(Bvh::build(&parts.objects));
@@ -106,9 +111,24 @@ impl Scene {
         &self.camera
     }
 
-    /// The primitives: a mesh contributes one object per triangle.
+    /// The primitives: a mesh contributes one object per triangle, or one
+    /// instance when several objects share it (`prepare::shared_meshes`).
     pub fn objects(&self) -> &[Object] {
         &self.objects
+    }
+
+    /// The primitives held in memory: the objects, and each shared mesh's
+    /// triangles once however many instances place it.
+    pub fn unique_primitives(&self) -> usize {
+        let meshes: std::collections::HashMap<*const SharedMesh, usize> = self
+            .objects
+            .iter()
+            .filter_map(|o| match &o.shape {
+                Shape::Instance(i) => Some((Arc::as_ptr(i.mesh()), i.mesh().objects().len())),
+                _ => None,
+            })
+            .collect();
+        self.objects.len() + meshes.values().sum::<usize>()
     }
 
     pub fn material(&self, index: usize) -> &Material {
