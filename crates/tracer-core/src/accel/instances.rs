@@ -214,3 +214,144 @@ fn pack(nodes: &mut [Node], items: &[BuildPrim], objects: &[Object]) -> Vec<Inst
     }
     prims
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::Rng;
+    use super::super::{brute_force, Bvh};
+    use crate::geometry::{
+        Instance, Object, Placement, Plane, Shape, SharedMesh, Sphere, Triangle, UvMap,
+    };
+    use crate::ray::Ray;
+    use glam::{Vec2, Vec3};
+    use std::sync::Arc;
+
+    /// Small triangles in a mesh's own space, in material slots 0 to 2,
+    /// every third smooth, every fifth with its uv mapped.
+    fn mesh(rng: &mut Rng, n: usize) -> Arc<SharedMesh> {
+        let objects = (0..n)
+            .map(|i| {
+                let c = rng.vec(1.0);
+                let t = Triangle::new(c, c + rng.vec(0.3), c + rng.vec(0.3));
+                let mut o = Object::new(Shape::Triangle(t), i % 3);
+                if i % 3 == 0 {
+                    let n = [0; 3].map(|_| (rng.vec(1.0) + Vec3::Z).normalize());
+                    o.vertex_normals = Some(Box::new(n));
+                }
+                if i % 5 == 0 {
+                    o = o.with_uv(UvMap {
+                        origin: Vec2::ONE,
+                        du: -Vec2::X,
+                        dv: -Vec2::Y,
+                    });
+                }
+                o
+            })
+            .collect();
+        Arc::new(SharedMesh::new(objects))
+    }
+
+    /// Scales of either sign (a third of the placements mirror), turns
+    /// about all three axes, moves within the scene.
+    fn placement(rng: &mut Rng) -> Placement {
+        let factor = |rng: &mut Rng| {
+            let s = 0.3 + 1.5 * rng.next().abs();
+            if rng.next() < -0.6 {
+                -s
+            } else {
+                s
+            }
+        };
+        let scale = Vec3::new(factor(rng), factor(rng), factor(rng));
+        Placement::new(scale, rng.vec(180.0), rng.vec(4.0))
+    }
+
+    fn instance(mesh: &Arc<SharedMesh>, placement: Placement, materials: Vec<usize>) -> Object {
+        let instance = Instance::new(Arc::clone(mesh), placement, materials).expect("invertible");
+        Object::new(Shape::Instance(Arc::new(instance)), 0)
+    }
+
+    /// Instances of three meshes among triangles, spheres and a plane,
+    /// each instance with materials of its own; one instance listed twice.
+    /// Returns the objects and the indices of the instances.
+    fn scene(rng: &mut Rng) -> (Vec<Object>, Vec<usize>) {
+        let meshes = [mesh(rng, 300), mesh(rng, 50), mesh(rng, 1)];
+        let mut objects = Vec::new();
+        for i in 0..120 {
+            objects.push(match i % 4 {
+                0 => {
+                    let s = Sphere::new(rng.vec(5.0), 0.1 + 0.3 * rng.next().abs());
+                    Object::new(Shape::Sphere(s), 1)
+                }
+                1 => {
+                    let c = rng.vec(5.0);
+                    let t = Triangle::new(c, c + rng.vec(0.6), c + rng.vec(0.6));
+                    Object::new(Shape::Triangle(t), 2)
+                }
+                _ => instance(&meshes[i % 3], placement(rng), vec![i % 7, 7 + i % 5, 12]),
+            });
+        }
+        let plane = Plane::new(Vec3::new(0.0, -5.0, 0.0), Vec3::new(0.1, 1.0, 0.0));
+        objects.insert(17, Object::new(Shape::Plane(Box::new(plane)), 1));
+        let copy = objects[40].clone();
+        objects.push(copy);
+        let instances = objects
+            .iter()
+            .enumerate()
+            .filter(|(_, o)| matches!(o.shape, Shape::Instance(_)))
+            .map(|(i, _)| i)
+            .collect();
+        (objects, instances)
+    }
+
+    #[test]
+    fn instances_find_exactly_the_brute_force_hits() {
+        let mut rng = Rng(0x1234_5678_9ABC_DEF1);
+        let (objects, instances) = scene(&mut rng);
+        let bvh = Bvh::build(&objects);
+        let (mut hits, mut backs, mut smooth) = (0, 0, 0);
+        for k in 0..20_000 {
+            let origin = rng.vec(if k % 2 == 0 { 9.0 } else { 4.0 });
+            // Directions of many lengths: `t` is never renormalised.
+            let ray = Ray::new(origin, rng.vec(1.0) * (0.2 + 3.0 * rng.next().abs()));
+            let t_max = if k % 3 == 0 { 2.0 } else { f32::INFINITY };
+            let expected = brute_force::closest_hit(&objects, &ray, 1e-4, t_max);
+            assert_eq!(bvh.closest_hit(&ray, 1e-4, t_max), expected, "ray {k}");
+            let any = brute_force::occluded(&objects, &ray, 1e-4, t_max);
+            assert_eq!(bvh.occluded(&ray, 1e-4, t_max), any, "ray {k}");
+            if let Some(h) = expected.filter(|h| instances.contains(&h.object)) {
+                hits += 1;
+                backs += !h.front_face as u32;
+                smooth += (h.shading_normal != h.geometric_normal) as u32;
+            }
+        }
+        assert!(hits > 3000, "only {hits} instance hits");
+        assert!(
+            backs > 500 && smooth > 500,
+            "{backs} back faces, {smooth} smooth"
+        );
+    }
+
+    #[test]
+    fn a_triangle_and_its_instance_at_the_same_distance_tie_to_the_one_listed_first() {
+        // Placed by the identity, the instance's triangle is the flat one
+        // to the bit, and so are their distances.
+        let t = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y);
+        let mesh = Arc::new(SharedMesh::new(vec![Object::new(
+            Shape::Triangle(t.clone()),
+            0,
+        )]));
+        let flat = Object::new(Shape::Triangle(t), 1);
+        let placed = instance(&mesh, Placement::IDENTITY, vec![2]);
+        let ray = Ray::new(Vec3::new(0.2, 0.2, 5.0), -Vec3::Z);
+        for (objects, material) in [
+            (vec![placed.clone(), flat.clone()], 2),
+            (vec![flat.clone(), placed.clone()], 1),
+            (vec![placed.clone(), placed], 2),
+        ] {
+            let hit = Bvh::build(&objects).closest_hit(&ray, 1e-4, f32::INFINITY);
+            assert_eq!(hit.map(|h| (h.t, h.object, h.material)), Some((5.0, 0, material)));
+            assert_eq!(hit, brute_force::closest_hit(&objects, &ray, 1e-4, f32::INFINITY));
+        }
+    }
+}
