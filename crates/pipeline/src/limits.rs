@@ -86,7 +86,9 @@ fn placements(file: &SceneFile, shared: &[Option<usize>]) -> Vec<Diagnostic> {
         let transform = o.transform.as_ref();
         let extent = match shared[i] {
             Some(group) => {
-                let b = boxes.entry(group).or_insert_with(|| prepare::mesh_box(data));
+                let b = boxes
+                    .entry(group)
+                    .or_insert_with(|| prepare::mesh_box(data));
                 prepare::instance_extent(b, transform)
             }
             None => prepare::mesh_extent(data, transform),

@@ -564,7 +564,10 @@ pub fn instance_extent(b: &MeshBox, transform: Option<&fmt::Transform>) -> MeshE
                     b.max[axis]
                 }
             };
-            placement.apply(Vec3::new(pick(0), pick(1), pick(2))).abs().max_element()
+            placement
+                .apply(Vec3::new(pick(0), pick(1), pick(2)))
+                .abs()
+                .max_element()
         })
         .fold(0.0f32, f32::max);
     MeshExtent {

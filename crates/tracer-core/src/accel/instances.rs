@@ -152,7 +152,15 @@ impl InstanceTree {
 
     /// The hit of `ray` at distance `t` on triangle `lane` of block `block`
     /// of instance `k`'s mesh, at barycentric `uv`, in world terms.
-    pub(super) fn hit(&self, k: u32, block: u32, lane: u32, ray: &Ray, t: f32, uv: Vec2) -> SurfaceHit {
+    pub(super) fn hit(
+        &self,
+        k: u32,
+        block: u32,
+        lane: u32,
+        ray: &Ray,
+        t: f32,
+        uv: Vec2,
+    ) -> SurfaceHit {
         let p = &self.prims[k as usize];
         let local_ray = p.instance.object_ray(ray);
         let mesh = p.instance.mesh().bvh();
@@ -350,8 +358,14 @@ mod tests {
             (vec![placed.clone(), placed], 2),
         ] {
             let hit = Bvh::build(&objects).closest_hit(&ray, 1e-4, f32::INFINITY);
-            assert_eq!(hit.map(|h| (h.t, h.object, h.material)), Some((5.0, 0, material)));
-            assert_eq!(hit, brute_force::closest_hit(&objects, &ray, 1e-4, f32::INFINITY));
+            assert_eq!(
+                hit.map(|h| (h.t, h.object, h.material)),
+                Some((5.0, 0, material))
+            );
+            assert_eq!(
+                hit,
+                brute_force::closest_hit(&objects, &ray, 1e-4, f32::INFINITY)
+            );
         }
     }
 }

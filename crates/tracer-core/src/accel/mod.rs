@@ -179,7 +179,14 @@ impl Bvh {
     /// The hit on lane `lane` of triangle block `block` at distance `t`
     /// and barycentric `uv`.
     #[inline(always)]
-    fn triangle_hit(&self, block: usize, lane: usize, ray: &Ray, t: f32, uv: glam::Vec2) -> SurfaceHit {
+    fn triangle_hit(
+        &self,
+        block: usize,
+        lane: usize,
+        ray: &Ray,
+        t: f32,
+        uv: glam::Vec2,
+    ) -> SurfaceHit {
         let tris = &self.tris[block];
         let id = tris.id[lane];
         let hit = tris.hit(lane, ray, t, self.map_uv(id, uv));

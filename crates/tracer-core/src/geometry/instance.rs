@@ -92,7 +92,13 @@ impl Instance {
             return None;
         }
         let corners = (0..8).map(|k| {
-            let pick = |bit: usize, axis: usize| if k >> bit & 1 == 0 { lo[axis] } else { hi[axis] };
+            let pick = |bit: usize, axis: usize| {
+                if k >> bit & 1 == 0 {
+                    lo[axis]
+                } else {
+                    hi[axis]
+                }
+            };
             placement.apply(Vec3::new(pick(0, 0), pick(1, 1), pick(2, 2)))
         });
         let (min, max) = corners.fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), p| {
