@@ -256,7 +256,7 @@ fn run_checked(command: &mut Command) -> Result<()> {
 }
 
 /// Builds the `tracer` binary as a user would, and returns its path.
-fn build_tracer(root: &Path) -> Result<PathBuf> {
+pub(crate) fn build_tracer(root: &Path) -> Result<PathBuf> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     run_checked(Command::new(cargo).current_dir(root).args([
         "build",

@@ -29,15 +29,15 @@ pub const BYTES_PER_PRIMITIVE: u64 = 170;
 /// `MAX_COORDINATE`.
 pub(crate) fn check(file: &SceneFile) -> Vec<Diagnostic> {
     let shared = tracer_core::prepare::shared_meshes(file);
-    if let Some(d) = primitive_count(file, &shared) {
+    if let Some(d) = primitive_count(file, &shared, MAX_PRIMITIVES) {
         return vec![d];
     }
     placements(file, &shared)
 }
 
 /// The diagnostic of the object that takes the count of unique primitives
-/// past [`MAX_PRIMITIVES`], if one does.
-fn primitive_count(file: &SceneFile, shared: &[Option<usize>]) -> Option<Diagnostic> {
+/// past `max` ([`MAX_PRIMITIVES`]), if one does.
+fn primitive_count(file: &SceneFile, shared: &[Option<usize>], max: usize) -> Option<Diagnostic> {
     let mut total = 0usize;
     let mut counted = HashSet::new();
     for (i, o) in file.objects.iter().enumerate() {
@@ -51,7 +51,7 @@ fn primitive_count(file: &SceneFile, shared: &[Option<usize>]) -> Option<Diagnos
             None => triangles,
         };
         total += n;
-        if total > MAX_PRIMITIVES {
+        if total > max {
             let path = if o.mesh.is_some() {
                 format!("objects[{i}].mesh")
             } else {
@@ -61,7 +61,7 @@ fn primitive_count(file: &SceneFile, shared: &[Option<usize>]) -> Option<Diagnos
             return Some(Diagnostic::new(
                 path,
                 format!(
-                    "with this object the scene has {total} primitives (this one: {n}), more than the {MAX_PRIMITIVES} the tracer builds \
+                    "with this object the scene has {total} primitives (this one: {n}), more than the {max} the tracer builds \
                      (they would take about {:.1} GB to prepare); a mesh file named by several objects (with the same `smooth`) is shared and counts its triangles once, \
                      plus one per object, while a mesh named once is a copy of its triangles of its own",
                     gb(total)
@@ -113,4 +113,82 @@ fn placements(file: &SceneFile, shared: &[Option<usize>]) -> Vec<Diagnostic> {
         }
     }
     diagnostics
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use scene_format::MeshData;
+    use std::sync::Arc;
+
+    /// A mesh of `n` triangles.
+    fn mesh(n: usize) -> Arc<MeshData> {
+        let t = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        Arc::new(MeshData {
+            triangles: vec![t; n],
+            ..MeshData::default()
+        })
+    }
+
+    /// Objects naming mesh a (10 triangles) three times, b (5) once, and a
+    /// sphere: [a, b, a, sphere, a].
+    fn scene() -> SceneFile {
+        let text = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
+            [[objects]]\nmesh = { obj = \"a.obj\" }\n\
+            [[objects]]\nmesh = { obj = \"b.obj\" }\n\
+            [[objects]]\nmesh = { obj = \"a.obj\" }\ntransform = { translate = [1, 0, 0] }\n\
+            [[objects]]\nsphere = { center = [0, 0, 0], radius = 1 }\n\
+            [[objects]]\nmesh = { obj = \"a.obj\" }\ntransform = { rotate = [0, 90, 0] }\n";
+        let mut file = scene_format::load_str(
+            text,
+            scene_format::Format::Toml,
+            std::path::Path::new("s.toml"),
+        )
+        .expect("a scene");
+        let (a, b) = (mesh(10), mesh(5));
+        for (k, data) in [(0, &a), (1, &b), (2, &a), (4, &a)] {
+            file.objects[k].mesh.as_mut().unwrap().data = Some(Arc::clone(data));
+        }
+        file
+    }
+
+    #[test]
+    fn a_shared_mesh_counts_its_triangles_once_and_one_per_object() {
+        let file = scene();
+        let shared = tracer_core::prepare::shared_meshes(&file);
+        assert_eq!(shared, [Some(0), None, Some(0), None, Some(0)]);
+        // a: 10 + 1, b: 5, a: 1, sphere: 1, a: 1 -> 11, 16, 17, 18, 19.
+        assert!(primitive_count(&file, &shared, 19).is_none());
+        let d = primitive_count(&file, &shared, 18).expect("refused");
+        assert_eq!(d.path.to_string(), "objects[4].mesh");
+        assert!(
+            d.message.contains("19 primitives (this one: 1)"),
+            "{}",
+            d.message
+        );
+        assert!(
+            d.message.contains("counts its triangles once"),
+            "{}",
+            d.message
+        );
+        let d = primitive_count(&file, &shared, 17).expect("refused");
+        assert_eq!(d.path.to_string(), "objects[3]");
+        let d = primitive_count(&file, &shared, 10).expect("refused");
+        assert!(
+            d.message.contains("11 primitives (this one: 11)"),
+            "{}",
+            d.message
+        );
+    }
+
+    #[test]
+    fn a_thousand_instances_count_once_toward_the_limit() {
+        let mut file = scene();
+        let template = file.objects[0].clone();
+        file.objects = vec![template; 1000];
+        let shared = tracer_core::prepare::shared_meshes(&file);
+        assert!(shared.iter().all(|&g| g == Some(0)));
+        assert!(primitive_count(&file, &shared, 10 + 1000).is_none());
+        assert!(primitive_count(&file, &shared, 10 + 999).is_some());
+    }
 }
