@@ -98,7 +98,11 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     } else {
         embree::build(&root, &crate::target_dir().join("peers"))
     };
-    let ours = measure::measure(&scenes, args.reps)?;
+    let ours = if scenes.is_empty() {
+        Vec::new()
+    } else {
+        measure::measure(&scenes, args.reps)?
+    };
     let mut rows = Vec::new();
     for (scene, ours) in scenes.iter().zip(ours) {
         let povray = if povray {
