@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::scenes_dir;
+use common::{load, scenes_dir};
 use glam::Vec3;
 use std::sync::Arc;
 use tracer_core::geometry::{Shape, SurfaceHit};
@@ -46,7 +46,7 @@ fn scene(objects: &str) -> Scene {
     }
     let path = dir.path().join("scene.toml");
     std::fs::write(&path, format!("{HEAD}{objects}")).expect("written");
-    let file = scene_format::load_path(&path).unwrap_or_else(|e| panic!("{e}"));
+    let file = load(&path);
     prepare(&file).expect("prepare")
 }
 
