@@ -231,6 +231,28 @@ mod tests {
     }
 
     #[test]
+    fn a_shared_mesh_scaled_to_nothing_is_an_error_at_each_mesh() {
+        // As above, the mesh named twice (shared): its box's placed corners
+        // all land on one point, so no triangle keeps an area.
+        let obj = "v 0 0 0\nv 0.001 0 0\nv 0 0.001 0\nf 1 2 3\n";
+        let object = "[[objects]]\nmesh = { obj = \"m.obj\" }\n\
+             transform = { scale = 1e-6, translate = [1000, 0, 0] }\n";
+        let (_dir, path) = scene_with_obj(obj, &format!("{HEAD}{object}{object}"));
+        let err = load(&Input::File(path)).unwrap_err();
+        let paths: Vec<String> = err
+            .diagnostics()
+            .iter()
+            .map(|d| d.path.to_string())
+            .collect();
+        assert_eq!(paths, ["objects[0].mesh", "objects[1].mesh"]);
+        let message = &err.diagnostics()[1].message;
+        assert!(
+            message.starts_with("no triangle of `m.obj` is left once placed"),
+            "{message}"
+        );
+    }
+
+    #[test]
     fn a_limit_broken_by_an_included_object_is_shown_in_its_file() {
         let obj = "v 0 0 0\nv 0.001 0 0\nv 0 0.001 0\nf 1 2 3\n";
         let scene = format!("include = [\"first.toml\", \"parts.toml\"]\n{HEAD}");

@@ -549,30 +549,38 @@ pub fn mesh_box(data: &fmt::MeshData) -> MeshBox {
     b
 }
 
-/// The extent of an instance of the mesh of box `b` placed by `transform`:
-/// its triangles, and the largest coordinate of its box's placed corners
-/// (at least that of any placed vertex; found without placing them, which
-/// for a thousand instances of a large mesh would take a while).
+/// The extent of an instance of the mesh of box `b` placed by `transform`,
+/// from its box's placed corners, without placing the triangles (for a
+/// thousand instances of a large mesh that would take a while): the largest
+/// coordinate of a corner (at least that of any placed vertex), and the
+/// mesh's triangles, or none when the corners coincide on two axes or more
+/// in f32 (a scale that leaves nothing of the mesh but a point or a line,
+/// as a flattened mesh's triangles would each have no area).
 pub fn instance_extent(b: &MeshBox, transform: Option<&fmt::Transform>) -> MeshExtent {
+    if b.triangles == 0 {
+        return MeshExtent {
+            triangles: 0,
+            max_abs: 0.0,
+        };
+    }
     let placement = placement(transform);
-    let max_abs = (0..8)
-        .map(|k: u32| {
-            let pick = |axis: usize| {
-                if k >> axis & 1 == 0 {
-                    b.min[axis]
-                } else {
-                    b.max[axis]
-                }
-            };
-            placement
-                .apply(Vec3::new(pick(0), pick(1), pick(2)))
-                .abs()
-                .max_element()
-        })
-        .fold(0.0f32, f32::max);
+    let corners = (0..8).map(|k: u32| {
+        let pick = |axis: usize| {
+            if k >> axis & 1 == 0 {
+                b.min[axis]
+            } else {
+                b.max[axis]
+            }
+        };
+        placement.apply(Vec3::new(pick(0), pick(1), pick(2)))
+    });
+    let (lo, hi) = corners.fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
+        (lo.min(p), hi.max(p))
+    });
+    let spread = (hi - lo).cmpgt(Vec3::ZERO).bitmask().count_ones();
     MeshExtent {
-        triangles: b.triangles,
-        max_abs: if b.triangles == 0 { 0.0 } else { max_abs },
+        triangles: if spread >= 2 { b.triangles } else { 0 },
+        max_abs: lo.abs().max(hi.abs()).max_element(),
     }
 }
 
