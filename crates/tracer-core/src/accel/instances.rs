@@ -11,11 +11,11 @@
 //! instance's within its mesh the lower triangle index (the mesh tree's own
 //! rule), as the brute-force loop meets them.
 
-use super::build::BuildPrim;
+use super::build::{Aabb, BuildPrim};
 use super::traverse::{
     push_nearest_last, safe_inverse, with_instance_stack, Best, Entry, HitAt, RayData, PAD,
 };
-use super::wide::{self, is_leaf, node_halves, Node, WIDTH};
+use super::wide::{self, is_leaf, node_halves, Node, INNER, INNER_HALF, WIDTH};
 use crate::geometry::{Instance, Object, Shape, SurfaceHit};
 use crate::ray::Ray;
 use glam::{Vec2, Vec3};
@@ -190,8 +190,12 @@ impl InstancePrim {
 }
 
 /// The instances of each leaf lane's run, stored in leaf order, the lanes
-/// pointed at them (count: how many instances).
-fn pack(nodes: &mut [Node], items: &[BuildPrim], objects: &[Object]) -> Vec<InstancePrim> {
+/// pointed at them. A run of several becomes a node of its own, each lane
+/// one instance (two when there are more than eight): the build sizes
+/// leaves for blocks of triangles (up to 16 primitives, 1.5 tests per four),
+/// but an instance costs a search of its mesh, so its box is better tested
+/// with the others' in SIMD lanes, and the nearest visited first.
+fn pack(nodes: &mut Vec<Node>, items: &[BuildPrim], objects: &[Object]) -> Vec<InstancePrim> {
     let mut leaves: Vec<(u32, usize, usize)> = Vec::new();
     for (n, node) in nodes.iter().enumerate() {
         for lane in 0..WIDTH {
@@ -205,22 +209,57 @@ fn pack(nodes: &mut [Node], items: &[BuildPrim], objects: &[Object]) -> Vec<Inst
     let mut prims = Vec::with_capacity(items.len());
     for (first, n, lane) in leaves {
         let (_, count) = nodes[n].child(lane);
-        let start = prims.len() as u32;
-        for item in &items[first as usize..][..count as usize] {
-            let Shape::Instance(instance) = &objects[item.id() as usize].shape else {
-                continue;
-            };
-            let (lo, hi) = instance.bounds();
-            prims.push(InstancePrim {
-                lo,
-                hi,
-                id: item.id(),
-                instance: Arc::clone(instance),
-            });
+        let start = prims.len();
+        let run = &items[first as usize..][..count as usize];
+        prims.extend(run.iter().filter_map(|item| prim(item.id(), objects)));
+        let placed = &prims[start..];
+        if placed.len() <= 1 {
+            nodes[n].set(lane, start as u32, placed.len() as u32);
+            continue;
         }
-        nodes[n].set(lane, start, prims.len() as u32 - start);
+        let (child, child_count) = leaf_node(placed, start);
+        let index = nodes.len() as u32;
+        nodes[n].set(lane, index, child_count);
+        nodes.push(child);
     }
     prims
+}
+
+/// The node whose lanes hold `placed` (at most 16 instances, the first
+/// being `prims[start]`), one or two to a lane, with the `count` its
+/// parent's lane marks it with.
+fn leaf_node(placed: &[InstancePrim], start: usize) -> (Node, u32) {
+    let per_lane = placed.len().div_ceil(WIDTH);
+    let mut node = Node::EMPTY;
+    let mut lanes = 0;
+    for (lane, group) in placed.chunks(per_lane).enumerate() {
+        let mut bounds = Aabb::EMPTY;
+        for p in group {
+            bounds.grow(&Aabb {
+                min: p.lo.into(),
+                max: p.hi.into(),
+            });
+        }
+        node.set_bounds(lane, &bounds);
+        node.set(lane, (start + lane * per_lane) as u32, group.len() as u32);
+        lanes += 1;
+    }
+    let count = if lanes > 4 { INNER } else { INNER_HALF };
+    (node, count)
+}
+
+/// Object `id` as the instance tree keeps it, if it is an instance.
+fn prim(id: u32, objects: &[Object]) -> Option<InstancePrim> {
+    let Shape::Instance(instance) = &objects[id as usize].shape else {
+        return None;
+    };
+    let (lo, hi) = instance.bounds();
+    Some(InstancePrim {
+        lo,
+        hi,
+        id,
+        instance: Arc::clone(instance),
+    })
 }
 
 #[cfg(test)]
@@ -337,6 +376,37 @@ mod tests {
         assert!(
             backs > 500 && smooth > 500,
             "{backs} back faces, {smooth} smooth"
+        );
+    }
+
+    #[test]
+    fn each_instance_is_in_one_leaf_inside_its_lane_box() {
+        let mut rng = Rng(5);
+        let (objects, instances) = scene(&mut rng);
+        let tree = super::InstanceTree::build(&objects);
+        let mut ids = Vec::new();
+        for node in &tree.nodes {
+            for lane in 0..super::WIDTH {
+                let (first, count) = node.child(lane);
+                if !super::is_leaf(count) {
+                    continue;
+                }
+                let (min, max) = node.bounds(lane);
+                for p in &tree.prims[first as usize..][..count as usize] {
+                    let inside = (0..3).all(|a| min[a] <= p.lo[a] && p.hi[a] <= max[a]);
+                    assert!(inside, "instance {} outside its lane's box", p.id);
+                    ids.push(p.id as usize);
+                }
+            }
+        }
+        ids.sort_unstable();
+        assert_eq!(ids, instances);
+        // Runs of several instances became nodes of their own.
+        assert!(
+            tree.nodes
+                .iter()
+                .all(|n| (0..super::WIDTH)
+                    .all(|k| n.child(k).1 <= 2 || !super::is_leaf(n.child(k).1)))
         );
     }
 
