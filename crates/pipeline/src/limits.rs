@@ -4,6 +4,8 @@
 
 use scene_format::validate::MAX_COORDINATE;
 use scene_format::{Diagnostic, SceneFile, ShapeRef};
+use std::collections::{HashMap, HashSet};
+use tracer_core::prepare::{self, MeshBox};
 
 /// Most primitives a scene may have. Preparing costs about
 /// [`BYTES_PER_PRIMITIVE`] at its peak (the triangles, the object list and
@@ -13,43 +15,84 @@ use scene_format::{Diagnostic, SceneFile, ShapeRef};
 pub const MAX_PRIMITIVES: usize = 20_000_000;
 
 /// Peak memory per primitive while preparing, measured: 20 copies of the
-/// bunny (1.39M triangles) peak at 219 MB more than one (70k).
+/// bunny (1.39M triangles) peak at 219 MB more than one (70k). (They were
+/// flattened copies then; now the 20 share one mesh. An instance counts as
+/// one primitive: it takes a few hundred bytes, so a scene of millions of
+/// instances would outgrow this figure, but not a machine's memory.)
 pub const BYTES_PER_PRIMITIVE: u64 = 170;
 
 /// The limits a loaded scene breaks, at the object that breaks them: the
 /// one that takes the count of primitives past [`MAX_PRIMITIVES`] (counted
-/// from the OBJ files' triangles, before any is placed), a mesh whose
-/// placement leaves no triangle, or one it moves beyond `MAX_COORDINATE`.
+/// from the OBJ files' triangles, before any is placed; a mesh shared by
+/// several objects counts its triangles once, and one per object), a mesh
+/// whose placement leaves no triangle, or one it moves beyond
+/// `MAX_COORDINATE`.
 pub(crate) fn check(file: &SceneFile) -> Vec<Diagnostic> {
+    let shared = tracer_core::prepare::shared_meshes(file);
+    if let Some(d) = primitive_count(file, &shared, MAX_PRIMITIVES) {
+        return vec![d];
+    }
+    placements(file, &shared)
+}
+
+/// The diagnostic of the object that takes the count of unique primitives
+/// past `max` ([`MAX_PRIMITIVES`]), if one does.
+fn primitive_count(file: &SceneFile, shared: &[Option<usize>], max: usize) -> Option<Diagnostic> {
     let mut total = 0usize;
+    let mut counted = HashSet::new();
     for (i, o) in file.objects.iter().enumerate() {
-        let n = match o.shapes().as_slice() {
+        let triangles = match o.shapes().as_slice() {
             [ShapeRef::Mesh(m)] => m.data.as_ref().map_or(0, |d| d.triangles.len()),
             _ => 1,
         };
+        let n = match shared[i] {
+            Some(group) if counted.insert(group) => triangles + 1,
+            Some(_) => 1,
+            None => triangles,
+        };
         total += n;
-        if total > MAX_PRIMITIVES {
+        if total > max {
             let path = if o.mesh.is_some() {
                 format!("objects[{i}].mesh")
             } else {
                 format!("objects[{i}]")
             };
             let gb = |n: usize| n as f64 * BYTES_PER_PRIMITIVE as f64 / 1e9;
-            return vec![Diagnostic::new(
+            return Some(Diagnostic::new(
                 path,
                 format!(
-                    "with this object the scene has {total} primitives (this one: {n}), more than the {MAX_PRIMITIVES} the tracer builds \
-                     (they would take about {:.1} GB to prepare); each mesh object is a full copy of its triangles, as instancing is not supported yet",
+                    "with this object the scene has {total} primitives (this one: {n}), more than the {max} the tracer builds \
+                     (they would take about {:.1} GB to prepare); a mesh file named by several objects (with the same `smooth`) is shared and counts its triangles once, \
+                     plus one per object, while a mesh named once is a copy of its triangles of its own",
                     gb(total)
                 ),
-            )];
+            ));
         }
     }
+    None
+}
+
+/// The diagnostics of mesh objects whose placement leaves no triangle or
+/// moves one beyond `MAX_COORDINATE`. An instance of a shared mesh is
+/// judged by its mesh's box: its corners placed reach at least as far as
+/// any vertex, and placing a thousand instances' every vertex would take
+/// longer than rendering them.
+fn placements(file: &SceneFile, shared: &[Option<usize>]) -> Vec<Diagnostic> {
+    let mut boxes: HashMap<usize, MeshBox> = HashMap::new();
     let mut diagnostics = Vec::new();
     for (i, o) in file.objects.iter().enumerate() {
         let Some(mesh) = &o.mesh else { continue };
         let Some(data) = &mesh.data else { continue };
-        let extent = tracer_core::prepare::mesh_extent(data, o.transform.as_ref());
+        let transform = o.transform.as_ref();
+        let extent = match shared[i] {
+            Some(group) => {
+                let b = boxes
+                    .entry(group)
+                    .or_insert_with(|| prepare::mesh_box(data));
+                prepare::instance_extent(b, transform)
+            }
+            None => prepare::mesh_extent(data, transform),
+        };
         if extent.triangles == 0 {
             diagnostics.push(Diagnostic::new(
                 format!("objects[{i}].mesh"),
@@ -70,4 +113,82 @@ pub(crate) fn check(file: &SceneFile) -> Vec<Diagnostic> {
         }
     }
     diagnostics
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use scene_format::MeshData;
+    use std::sync::Arc;
+
+    /// A mesh of `n` triangles.
+    fn mesh(n: usize) -> Arc<MeshData> {
+        let t = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        Arc::new(MeshData {
+            triangles: vec![t; n],
+            ..MeshData::default()
+        })
+    }
+
+    /// Objects naming mesh a (10 triangles) three times, b (5) once, and a
+    /// sphere: [a, b, a, sphere, a].
+    fn scene() -> SceneFile {
+        let text = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
+            [[objects]]\nmesh = { obj = \"a.obj\" }\n\
+            [[objects]]\nmesh = { obj = \"b.obj\" }\n\
+            [[objects]]\nmesh = { obj = \"a.obj\" }\ntransform = { translate = [1, 0, 0] }\n\
+            [[objects]]\nsphere = { center = [0, 0, 0], radius = 1 }\n\
+            [[objects]]\nmesh = { obj = \"a.obj\" }\ntransform = { rotate = [0, 90, 0] }\n";
+        let mut file = scene_format::load_str(
+            text,
+            scene_format::Format::Toml,
+            std::path::Path::new("s.toml"),
+        )
+        .expect("a scene");
+        let (a, b) = (mesh(10), mesh(5));
+        for (k, data) in [(0, &a), (1, &b), (2, &a), (4, &a)] {
+            file.objects[k].mesh.as_mut().unwrap().data = Some(Arc::clone(data));
+        }
+        file
+    }
+
+    #[test]
+    fn a_shared_mesh_counts_its_triangles_once_and_one_per_object() {
+        let file = scene();
+        let shared = tracer_core::prepare::shared_meshes(&file);
+        assert_eq!(shared, [Some(0), None, Some(0), None, Some(0)]);
+        // a: 10 + 1, b: 5, a: 1, sphere: 1, a: 1 -> 11, 16, 17, 18, 19.
+        assert!(primitive_count(&file, &shared, 19).is_none());
+        let d = primitive_count(&file, &shared, 18).expect("refused");
+        assert_eq!(d.path.to_string(), "objects[4].mesh");
+        assert!(
+            d.message.contains("19 primitives (this one: 1)"),
+            "{}",
+            d.message
+        );
+        assert!(
+            d.message.contains("counts its triangles once"),
+            "{}",
+            d.message
+        );
+        let d = primitive_count(&file, &shared, 17).expect("refused");
+        assert_eq!(d.path.to_string(), "objects[3]");
+        let d = primitive_count(&file, &shared, 10).expect("refused");
+        assert!(
+            d.message.contains("11 primitives (this one: 11)"),
+            "{}",
+            d.message
+        );
+    }
+
+    #[test]
+    fn a_thousand_instances_count_once_toward_the_limit() {
+        let mut file = scene();
+        let template = file.objects[0].clone();
+        file.objects = vec![template; 1000];
+        let shared = tracer_core::prepare::shared_meshes(&file);
+        assert!(shared.iter().all(|&g| g == Some(0)));
+        assert!(primitive_count(&file, &shared, 10 + 1000).is_none());
+        assert!(primitive_count(&file, &shared, 10 + 999).is_some());
+    }
 }

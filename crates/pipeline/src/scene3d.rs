@@ -52,7 +52,7 @@ pub(crate) fn shade(
     };
     let stats = ShadedStats {
         objects,
-        primitives: scene.primitive_count(),
+        primitives: scene.unique_primitives(),
         rays: rays.total(),
         prepare_seconds,
         render_seconds,

@@ -2,7 +2,9 @@
 //! where the core reads the file format's types.
 
 use crate::camera::Camera;
-use crate::geometry::{Object, Placement, Plane, Shape, Sphere, Triangle, UvMap};
+use crate::geometry::{
+    Instance, Object, Placement, Plane, Shape, SharedMesh, Sphere, Triangle, UvMap,
+};
 use crate::image::{Encoding, Saturation};
 use crate::light::Light;
 use crate::material::{Glass, Material, Phong};
@@ -42,11 +44,19 @@ pub fn prepare(file: &fmt::SceneFile) -> Result<Scene, PrepareError> {
 pub fn parts(file: &fmt::SceneFile) -> Result<SceneParts, PrepareError> {
     let mut materials = MaterialTable::new(file);
     let mut objects = Vec::new();
+    let shared = shared_meshes(file);
+    let mut meshes: Vec<Option<Arc<SharedMesh>>> = Vec::new();
     for (i, o) in file.objects.iter().enumerate() {
         let path = format!("objects[{i}]");
         let material = materials.resolve(&path, o)?;
         let mtl = materials.mtl_materials(&path, o)?;
-        let made = shapes(&path, o, material, &mtl)?;
+        let made = match shared[i] {
+            Some(group) => {
+                meshes.resize(meshes.len().max(group + 1), None);
+                instance(o, material, &mtl, &mut meshes[group])
+            }
+            None => shapes(&path, o, material, &mtl)?,
+        };
         // Taken whole when first: a large mesh's objects are not copied
         // (twice their memory for a moment).
         if objects.is_empty() {
@@ -64,6 +74,86 @@ pub fn parts(file: &fmt::SceneFile) -> Result<SceneParts, PrepareError> {
         encoding: encoding(&file.render),
         samples: file.render.samples,
     })
+}
+
+/// For each object of `file`, the group of objects it shares its mesh's
+/// triangles with, if any: a mesh file named by two or more objects with
+/// the same `smooth` is prepared once, in its own coordinates, and each of
+/// them becomes an instance of it, with its own transform and materials
+/// (the triangles hold material slots, so materials need not match).
+/// Everything else about a mesh object's triangles but the transform is
+/// the file's and `smooth`'s, so nothing else needs to match. A mesh named
+/// once stays flattened into world-space triangles (the tracer's fastest
+/// case, and the images made before instancing stay bit for bit), and so
+/// does an object whose transform cannot be undone in f32. Groups are
+/// numbered in file order.
+pub fn shared_meshes(file: &fmt::SceneFile) -> Vec<Option<usize>> {
+    let keys: Vec<Option<(usize, Option<bool>)>> = file
+        .objects
+        .iter()
+        .map(|o| {
+            let shapes = o.shapes();
+            let [fmt::ShapeRef::Mesh(m)] = shapes.as_slice() else {
+                return None;
+            };
+            let data = m.data.as_ref()?;
+            placement(o.transform.as_ref()).inverse()?;
+            Some((Arc::as_ptr(data) as usize, m.smooth))
+        })
+        .collect();
+    let mut counts: HashMap<(usize, Option<bool>), usize> = HashMap::new();
+    for key in keys.iter().flatten() {
+        *counts.entry(*key).or_default() += 1;
+    }
+    let mut groups: HashMap<(usize, Option<bool>), usize> = HashMap::new();
+    keys.iter()
+        .map(|key| {
+            let key = (*key)?;
+            (counts[&key] >= 2).then(|| {
+                let next = groups.len();
+                *groups.entry(key).or_insert(next)
+            })
+        })
+        .collect()
+}
+
+/// Mesh object `o` as an instance of its group's shared mesh (prepared
+/// here when `mesh` holds none yet), with material `material` and its
+/// faces' MTL materials `mtl`; nothing when its mesh has no triangle.
+fn instance(
+    o: &fmt::Object,
+    material: usize,
+    mtl: &[usize],
+    mesh: &mut Option<Arc<SharedMesh>>,
+) -> Vec<Object> {
+    let Some(m) = o.mesh.as_ref() else {
+        return Vec::new();
+    };
+    let Some(data) = m.data.as_ref() else {
+        return Vec::new();
+    };
+    let mesh = mesh.get_or_insert_with(|| Arc::new(shared_mesh(data, m.smooth)));
+    // Slot 0 is the object's material, slot 1 + k the MTL's material k:
+    // what `FaceMaterials::of` picks for a flattened mesh.
+    let slots = (0..data.materials.len()).map(|k| mtl.get(k).copied().unwrap_or(material));
+    let table = std::iter::once(material).chain(slots).collect();
+    let placement = placement(o.transform.as_ref());
+    let instance = Instance::new(Arc::clone(mesh), placement, table);
+    instance
+        .map(|i| Object::new(Shape::Instance(Arc::new(i)), material))
+        .into_iter()
+        .collect()
+}
+
+/// The triangles of `data` in its own coordinates, their materials slots
+/// of an instance's table (see `instance`), and their tree.
+fn shared_mesh(data: &fmt::MeshData, smooth: Option<bool>) -> SharedMesh {
+    let slots: Vec<usize> = (1..=data.materials.len()).collect();
+    let materials = FaceMaterials {
+        material: 0,
+        mtl: &slots,
+    };
+    SharedMesh::new(mesh_objects(data, &Placement::IDENTITY, smooth, materials))
 }
 
 /// The camera of the file's `[camera]` table.
@@ -434,6 +524,66 @@ pub fn mesh_extent(data: &fmt::MeshData, transform: Option<&fmt::Transform>) -> 
         extent.max_abs = extent.max_abs.max(m);
     }
     extent
+}
+
+/// A mesh's box and triangle count in its own coordinates: what an
+/// instance of it is made of (`shared_meshes`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeshBox {
+    min: Vec3,
+    max: Vec3,
+    /// Triangles of non-zero area in the file's coordinates.
+    pub triangles: usize,
+}
+
+/// The box and triangle count of `data` as a shared mesh keeps it.
+pub fn mesh_box(data: &fmt::MeshData) -> MeshBox {
+    let mut b = MeshBox {
+        min: Vec3::INFINITY,
+        max: Vec3::NEG_INFINITY,
+        triangles: 0,
+    };
+    for (_, t) in placed(data, &Placement::IDENTITY) {
+        b.triangles += 1;
+        b.min = b.min.min(t.v0.min(t.v1).min(t.v2));
+        b.max = b.max.max(t.v0.max(t.v1).max(t.v2));
+    }
+    b
+}
+
+/// The extent of an instance of the mesh of box `b` placed by `transform`,
+/// from its box's placed corners, without placing the triangles (for a
+/// thousand instances of a large mesh that would take a while): the largest
+/// coordinate of a corner (at least that of any placed vertex), and the
+/// mesh's triangles, or none when the corners coincide on two axes or more
+/// in f32 (a scale that leaves nothing of the mesh but a point or a line,
+/// as a flattened mesh's triangles would each have no area).
+pub fn instance_extent(b: &MeshBox, transform: Option<&fmt::Transform>) -> MeshExtent {
+    if b.triangles == 0 {
+        return MeshExtent {
+            triangles: 0,
+            max_abs: 0.0,
+        };
+    }
+    let placement = placement(transform);
+    let corners = (0..8).map(|k: u32| {
+        let pick = |axis: usize| {
+            if k >> axis & 1 == 0 {
+                b.min[axis]
+            } else {
+                b.max[axis]
+            }
+        };
+        placement.apply(Vec3::new(pick(0), pick(1), pick(2)))
+    });
+    let (lo, hi) = corners.fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
+        (lo.min(p), hi.max(p))
+    });
+    let spread = (hi - lo).cmpgt(Vec3::ZERO).bitmask().count_ones();
+    MeshExtent {
+        triangles: if spread >= 2 { b.triangles } else { 0 },
+        max_abs: lo.abs().max(hi.abs()).max_element(),
+    }
 }
 
 /// Materials of the prepared scene: the named ones once each, inline ones

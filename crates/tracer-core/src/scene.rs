@@ -3,12 +3,13 @@
 
 use crate::accel::{brute_force, Bvh};
 use crate::camera::Camera;
-use crate::geometry::{Object, SurfaceHit};
+use crate::geometry::{Object, Shape, SharedMesh, SurfaceHit};
 use crate::image::Encoding;
 use crate::light::Light;
 use crate::material::Material;
 use crate::ray::Ray;
 use glam::Vec3;
+use std::sync::Arc;
 
 /// The recursion settings of the lab's `rayTrace` (lab 5.3), and how
 /// finely sphere lights are sampled.
@@ -40,14 +41,17 @@ pub struct Scene {
     /// Whether some material lets light through, so shadow rays must look
     /// past the first surface.
     transparency: bool,
-    /// How many objects the scene was made of (`objects` is empty in a
-    /// lean scene).
+    /// `unique_primitives`, counted before a lean scene let its objects go.
     primitives: usize,
     bounds: Option<(Vec3, Vec3)>,
+    /// Whether the objects were let go (`Scene::lean`).
+    lean: bool,
 }
 
-/// How a scene finds the hits of a ray.
+/// How a scene finds the hits of a ray. (A scene holds one: the unused
+/// bytes of the brute-force variant cost nothing.)
 #[derive(Debug, Clone)]
+#[allow(clippy::large_enum_variant)]
 enum Accel {
     Bvh(Bvh),
     /// Every ray tests every object: the reference the BVH is tested against.
@@ -74,8 +78,12 @@ impl Scene {
     /// mistake of the caller (`prepare` resolves every name first).
     pub fn new(parts: SceneParts) -> Scene {
         let count = parts.materials.len();
+        let in_range = |o: &Object| match &o.shape {
+            Shape::Instance(i) => i.materials().iter().all(|&m| m < count),
+            _ => o.material < count,
+        };
         assert!(
-            parts.objects.iter().all(|o| o.material < count),
+            parts.objects.iter().all(in_range),
             "an object's material index is out of range"
         );
         let bvh = Bvh::build(&parts.objects);
@@ -83,8 +91,9 @@ impl Scene {
         let accel = Accel::Bvh(bvh);
         let transparency = parts.materials.iter().any(Material::is_transparent);
         Scene {
-            primitives: parts.objects.len(),
+            primitives: unique_primitives(&parts.objects),
             bounds,
+            lean: false,
             camera: parts.camera,
             objects: parts.objects,
             materials: parts.materials,
@@ -102,18 +111,17 @@ impl Scene {
     /// million-triangle mesh's objects take 71 MB). `objects()` is then
     /// empty, and the scene cannot become `brute_force`.
     pub fn lean(parts: SceneParts) -> Scene {
-        let mut scene = Scene::new(parts);
-        scene.objects = Vec::new();
-        scene
+        Scene {
+            objects: Vec::new(),
+            lean: true,
+            ..Scene::new(parts)
+        }
     }
 
     /// The same scene searched without its BVH. Panics for a `lean` scene,
     /// which has no objects left to search: a mistake of the caller.
     pub fn brute_force(self) -> Scene {
-        assert!(
-            self.objects.len() == self.primitives,
-            "a lean scene has let its objects go"
-        );
+        assert!(!self.lean, "a lean scene has let its objects go");
         Scene {
             accel: Accel::BruteForce,
             ..self
@@ -129,15 +137,17 @@ impl Scene {
         &self.camera
     }
 
-    /// The primitives: a mesh contributes one object per triangle. Empty
-    /// for a `lean` scene.
+    /// The primitives: a mesh contributes one object per triangle, or one
+    /// instance when several objects share it (`prepare::shared_meshes`).
+    /// Empty for a `lean` scene.
     pub fn objects(&self) -> &[Object] {
         &self.objects
     }
 
-    /// How many primitives the scene has (`objects().len()`, also after
-    /// a `lean` scene let them go).
-    pub fn primitive_count(&self) -> usize {
+    /// The primitives held in memory: the objects, and each shared mesh's
+    /// triangles once however many instances place it (also after a `lean`
+    /// scene let its objects go).
+    pub fn unique_primitives(&self) -> usize {
         self.primitives
     }
 
@@ -195,4 +205,16 @@ impl Scene {
             Accel::BruteForce => brute_force::occluded(&self.objects, ray, t_min, t_max),
         }
     }
+}
+
+/// The objects, and each shared mesh's triangles once.
+fn unique_primitives(objects: &[Object]) -> usize {
+    let meshes: std::collections::HashMap<*const SharedMesh, usize> = objects
+        .iter()
+        .filter_map(|o| match &o.shape {
+            Shape::Instance(i) => Some((Arc::as_ptr(i.mesh()), i.mesh().objects().len())),
+            _ => None,
+        })
+        .collect();
+    objects.len() + meshes.values().sum::<usize>()
 }

@@ -142,7 +142,7 @@ fn a_lean_scene_renders_as_the_full_one_without_its_objects() {
         let full = Scene::new(parts.clone());
         let lean = Scene::lean(parts);
         assert!(lean.objects().is_empty());
-        assert_eq!(lean.primitive_count(), full.objects().len());
+        assert_eq!(lean.unique_primitives(), full.unique_primitives());
         assert_eq!(lean.bounds(), full.bounds());
         assert!(render_image(&lean) == render_image(&full), "{name}");
     }

@@ -18,10 +18,13 @@
 //! - `pov_scene`: a scene file as POV-Ray SDL.
 //! - `povray`: timing POV-Ray.
 //! - `embree`: building and timing the Embree harness (`xtask/peers/`).
+//! - `memory`: peak memory of `tracer render` on one bunny and on 1,000
+//!   instances of it (the scene written into `target/bench/`).
 //! - `print`: the report.
 
 mod embree;
 mod measure;
+mod memory;
 mod pov_scene;
 mod povray;
 mod print;
@@ -49,10 +52,14 @@ pub struct BenchArgs {
     /// Keep the .pov files written for POV-Ray, and its images, in DIR
     #[arg(long, value_name = "DIR")]
     pub keep_pov: Option<std::path::PathBuf>,
-    /// Only these scenes (bunny, bunny-16spp, bunny-1.1m, reflectance2)
+    /// Only these scenes (bunny, bunny-16spp, bunny-1.1m, reflectance2) or
+    /// measurements (instancing: peak memory of 1 and 1,000 bunnies)
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
 }
+
+/// The `--only` name of the instancing memory measurement.
+const INSTANCING: &str = "instancing";
 
 /// The thread counts every scene is measured on.
 const THREADS: [usize; 2] = [1, 2];
@@ -72,19 +79,20 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     let root = crate::workspace_root();
     let mut scenes = scenes::scenes(&root)?;
+    let only = |name: &str| args.only.is_empty() || args.only.iter().any(|o| o == name);
     if !args.only.is_empty() {
         if let Some(unknown) = args
             .only
             .iter()
-            .find(|o| !scenes.iter().any(|s| s.name == *o))
+            .find(|o| *o != INSTANCING && !scenes.iter().any(|s| s.name == *o))
         {
             let names: Vec<&str> = scenes.iter().map(|s| s.name).collect();
             bail!(
-                "--only: no scene `{unknown}` (the scenes: {})",
+                "--only: no scene `{unknown}` (the scenes: {}; or {INSTANCING})",
                 names.join(", ")
             );
         }
-        scenes.retain(|s| args.only.iter().any(|o| o == s.name));
+        scenes.retain(|s| only(s.name));
     }
     let povray = !args.no_povray && povray::available();
     let embree = if args.no_embree || scenes.iter().all(|s| s.embree_subdiv.is_none()) {
@@ -100,7 +108,11 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         None
     };
     let out_dir = tempfile::tempdir()?;
-    let ours = measure::measure(&scenes, args.reps, tracer.as_deref(), out_dir.path())?;
+    let ours = if scenes.is_empty() {
+        Vec::new()
+    } else {
+        measure::measure(&scenes, args.reps, tracer.as_deref(), out_dir.path())?
+    };
     let mut rows = Vec::new();
     for (scene, ours) in scenes.iter().zip(ours) {
         let povray = if povray {
@@ -134,6 +146,11 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             embree,
         });
     }
-    print::report(&rows, args.reps);
+    if !rows.is_empty() {
+        print::report(&rows, args.reps);
+    }
+    if only(INSTANCING) {
+        memory::report(&memory::measure(&root)?);
+    }
     Ok(())
 }

@@ -89,13 +89,23 @@ impl BuildPrim {
                     max: c + r,
                 }
             }
-            Shape::Plane(_) => return None,
+            // Instances are the primitives of a tree of their own (`instances.rs`).
+            Shape::Plane(_) | Shape::Instance(_) => return None,
         };
         let sphere = matches!(shape, Shape::Sphere(_));
         Some(BuildPrim {
             lo: bounds.min.extend(f32::from_bits(id)),
             hi: bounds.max.extend(if sphere { 1.0 } else { 0.0 }),
         })
+    }
+
+    /// A primitive of box `min`..`max`, built as a triangle is (never
+    /// split from its neighbours by kind): an instance of the instance tree.
+    pub(super) fn boxed(min: glam::Vec3, max: glam::Vec3, id: u32) -> BuildPrim {
+        BuildPrim {
+            lo: min.extend(f32::from_bits(id)),
+            hi: max.extend(0.0),
+        }
     }
 
     pub(super) fn id(&self) -> u32 {

@@ -6,6 +6,11 @@
 //! infinite, so no box holds them: they are kept in a list tested beside
 //! the tree, first (a floor's hit then prunes what lies beyond it).
 //!
+//! Instances (a mesh shared by several objects, each placing it with its
+//! own transform) are the leaves of a tree of their own (`instances.rs`),
+//! searched after the flattened tree; each instance's mesh has its own
+//! `Bvh`, built once, searched in the mesh's space.
+//!
 //! It finds exactly the hits of the brute-force loop over all objects: the
 //! same intersection arithmetic on the same (precomputed) numbers, box tests
 //! padded against rounding, and ties in distance won by the lower object
@@ -14,6 +19,7 @@
 pub mod brute_force;
 mod build;
 mod flat;
+mod instances;
 mod leaves;
 mod traverse;
 mod tri4;
@@ -23,6 +29,7 @@ use crate::geometry::{Object, Plane, Shape, SurfaceHit, UvMap};
 use crate::ray::Ray;
 use build::BuildPrim;
 use glam::Vec3;
+use instances::InstanceTree;
 use leaves::{pack_leaves, SpherePrim, SPHERE_LEAF};
 use traverse::{push_nearest_last, with_stack, Best, Entry, HitAt, RayData, PAD};
 use tri4::Tri4;
@@ -46,6 +53,8 @@ pub struct Bvh {
     vertex_normals: Vec<(u32, [Vec3; 3])>,
     /// The objects' exact bounds (the nodes' boxes are padded).
     bounds: Option<(Vec3, Vec3)>,
+    /// The instances, in a tree of their own.
+    instances: InstanceTree,
 }
 
 /// A plane with its object index and material.
@@ -85,6 +94,7 @@ impl Bvh {
                 bvh.bounds = Some(bvh.bounds.map_or((lo, hi), |(l, h)| (l.min(lo), h.max(hi))));
             }
         }
+        bvh.instances = InstanceTree::build(objects);
         if items.is_empty() {
             return bvh;
         }
@@ -148,23 +158,52 @@ impl Bvh {
         } else if !self.nodes.is_empty() {
             self.nearest_in_tree(ray, t_min, t_max, &mut best);
         }
+        if !self.instances.is_empty() {
+            self.instances.nearest(ray, t_min, t_max, &mut best);
+        }
         best.found().then(|| match best.at {
-            HitAt::Triangle { block, lane, uv } => {
-                let tris = &self.tris[block];
-                let id = tris.id[lane];
-                let hit = tris.hit(lane, ray, best.t, self.map_uv(id, uv));
-                match self.vertex_normals(id) {
-                    Some(normals) => hit.with_vertex_normals(ray, tris.corners(lane), normals, uv),
-                    None => hit,
-                }
-            }
+            HitAt::Triangle { block, lane, uv } => self.triangle_hit(block, lane, ray, best.t, uv),
             HitAt::Sphere(k) => self.spheres[k].hit(ray, best.t),
             HitAt::Plane(k) => {
                 let p = &self.planes[k];
                 let (id, material) = (p.id as usize, p.material as usize);
                 SurfaceHit::on_plane(&p.plane, ray, best.t, id, material)
             }
+            HitAt::Instance { k, block, lane, uv } => {
+                self.instances.hit(k, block, lane, ray, best.t, uv)
+            }
         })
+    }
+
+    /// The hit on lane `lane` of triangle block `block` at distance `t`
+    /// and barycentric `uv`.
+    #[inline(always)]
+    fn triangle_hit(
+        &self,
+        block: usize,
+        lane: usize,
+        ray: &Ray,
+        t: f32,
+        uv: glam::Vec2,
+    ) -> SurfaceHit {
+        let tris = &self.tris[block];
+        let id = tris.id[lane];
+        let hit = tris.hit(lane, ray, t, self.map_uv(id, uv));
+        match self.vertex_normals(id) {
+            Some(normals) => hit.with_vertex_normals(ray, tris.corners(lane), normals, uv),
+            None => hit,
+        }
+    }
+
+    /// The nearest hit of the tree (planes and instances left out: a
+    /// shared mesh's tree has neither) in (t_min, t_max), not yet made a
+    /// `SurfaceHit`.
+    fn nearest(&self, ray: &Ray, t_min: f32, t_max: f32) -> Best {
+        let mut best = Best::none(t_max);
+        if !self.nodes.is_empty() {
+            self.nearest_in_tree(ray, t_min, t_max, &mut best);
+        }
+        best
     }
 
     /// Offers `best` the nearest hits of the tree.
@@ -229,6 +268,9 @@ impl Bvh {
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
         let on_plane = |p: &PlanePrim| p.plane.intersect(ray, t_min, t_max).is_some();
         if self.planes.iter().any(on_plane) {
+            return true;
+        }
+        if !self.instances.is_empty() && self.instances.occluded(ray, t_min, t_max) {
             return true;
         }
         if self.is_flat() {

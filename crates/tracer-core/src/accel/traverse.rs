@@ -24,12 +24,26 @@ thread_local! {
     /// Each thread's traversal stack, allocated once: zeroing a fresh one
     /// for every ray cost more than a ray that misses the scene.
     static STACKS: RefCell<Vec<Entry>> = const { RefCell::new(Vec::new()) };
+    /// The instance tree's: a mesh's own tree is searched (on `STACKS`)
+    /// while the instance tree's search is under way.
+    static INSTANCE_STACKS: RefCell<Vec<Entry>> = const { RefCell::new(Vec::new()) };
 }
 
 /// Runs `f` with this thread's traversal stack.
 #[inline(always)]
 pub(super) fn with_stack<R>(f: impl FnOnce(&mut [Entry]) -> R) -> R {
     STACKS.with_borrow_mut(|stack| {
+        if stack.is_empty() {
+            stack.resize(STACK, Entry::ROOT);
+        }
+        f(stack)
+    })
+}
+
+/// Runs `f` with this thread's stack for the instance tree.
+#[inline(always)]
+pub(super) fn with_instance_stack<R>(f: impl FnOnce(&mut [Entry]) -> R) -> R {
+    INSTANCE_STACKS.with_borrow_mut(|stack| {
         if stack.is_empty() {
             stack.resize(STACK, Entry::ROOT);
         }
@@ -55,6 +69,13 @@ pub(super) enum HitAt {
     Sphere(usize),
     /// Plane `k` of the list tested beside the tree.
     Plane(usize),
+    /// Instance `k` of the instance tree, and where in its mesh's tree.
+    Instance {
+        k: u32,
+        block: u32,
+        lane: u32,
+        uv: Vec2,
+    },
 }
 
 impl Best {
@@ -105,15 +126,7 @@ pub(super) struct RayData {
 
 impl RayData {
     pub(super) fn new(ray: &Ray) -> RayData {
-        // A zero component would give 0 * inf = NaN in the slab test.
-        let safe = |d: f32| {
-            if d.abs() < 1e-30 {
-                1e-30f32.copysign(d)
-            } else {
-                d
-            }
-        };
-        let inv = ray.dir.to_array().map(|d| 1.0 / safe(d));
+        let inv = safe_inverse(ray.dir);
         let dir_len = ray.dir.length();
         RayData {
             ray: *ray,
@@ -151,6 +164,20 @@ impl RayData {
         }
         (mask, entries)
     }
+}
+
+/// 1 / each component of `dir`, for slab tests: a zero component would
+/// give 0 * inf = NaN there, so it is taken as 1e-30 of its sign.
+#[inline(always)]
+pub(super) fn safe_inverse(dir: glam::Vec3) -> [f32; 3] {
+    let safe = |d: f32| {
+        if d.abs() < 1e-30 {
+            1e-30f32.copysign(d)
+        } else {
+            d
+        }
+    };
+    dir.to_array().map(|d| 1.0 / safe(d))
 }
 
 /// A node or leaf waiting on the traversal stack, as its parent's lane

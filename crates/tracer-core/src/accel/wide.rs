@@ -75,11 +75,11 @@ pub(super) fn is_leaf(count: u32) -> bool {
 }
 
 impl Node {
-    const EMPTY: Node = Node {
+    pub(super) const EMPTY: Node = Node {
         halves: [Half::EMPTY; GROUPS],
     };
 
-    fn set_bounds(&mut self, lane: usize, bounds: &Aabb) {
+    pub(super) fn set_bounds(&mut self, lane: usize, bounds: &Aabb) {
         let half = &mut self.halves[lane / 4];
         for axis in 0..3 {
             half.planes[axis][lane % 4] = bounds.min[axis];

@@ -2,6 +2,7 @@
 //! material), and the record of a hit that shading reads.
 
 mod hit;
+mod instance;
 mod placement;
 mod plane;
 mod shape;
@@ -9,6 +10,7 @@ mod sphere;
 mod triangle;
 
 pub use hit::SurfaceHit;
+pub use instance::{Instance, SharedMesh};
 pub use placement::Placement;
 pub use plane::Plane;
 pub use shape::{Object, Shape, UvMap};

@@ -65,6 +65,19 @@ impl Placement {
         self.linear.determinant() < 0.0
     }
 
+    /// The placement that undoes this one, when it has one in f32 (every
+    /// entry finite): `inverse().apply(apply(p))` is `p` up to rounding.
+    pub fn inverse(&self) -> Option<Placement> {
+        let det = self.linear.determinant();
+        if det == 0.0 || !det.is_finite() {
+            return None;
+        }
+        let linear = self.linear.inverse();
+        let translate = -(linear * self.translate);
+        let finite = linear.is_finite() && translate.is_finite();
+        finite.then_some(Placement { linear, translate })
+    }
+
     /// The linear part.
     pub fn linear(&self) -> Mat3 {
         self.linear
@@ -139,6 +152,22 @@ mod tests {
         let turn = Placement::new(Vec3::splat(2.0), Vec3::new(0.0, 0.0, 90.0), Vec3::ZERO);
         let n = (turn.normal_matrix() * Vec3::X).normalize();
         assert!((n - Vec3::Y).length() < 1e-6, "{n}");
+    }
+
+    #[test]
+    fn the_inverse_takes_points_back() {
+        let placement = Placement::new(
+            Vec3::new(2.0, -0.5, 3.0),
+            Vec3::new(30.0, -70.0, 10.0),
+            Vec3::new(1.0, -2.0, 5.0),
+        );
+        let inverse = placement.inverse().expect("invertible");
+        for p in [Vec3::ZERO, Vec3::new(0.3, -4.0, 2.5), Vec3::X] {
+            let back = inverse.apply(placement.apply(p));
+            assert!((back - p).length() < 1e-5, "{p} -> {back}");
+        }
+        let flat = Placement::new(Vec3::new(1.0, 0.0, 1.0), Vec3::ZERO, Vec3::ZERO);
+        assert_eq!(flat.inverse(), None);
     }
 
     #[test]

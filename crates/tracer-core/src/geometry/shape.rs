@@ -1,8 +1,9 @@
 //! The shapes a ray can hit, and an object: a shape with its material.
 
-use super::{Plane, Sphere, SurfaceHit, Triangle};
+use super::{Instance, Plane, Sphere, SurfaceHit, Triangle};
 use crate::ray::Ray;
 use glam::{Vec2, Vec3};
+use std::sync::Arc;
 
 /// One primitive of the scene. A mesh is many triangles, each its own
 /// shape; so are quads and boxes (two triangles per face, see `prepare`).
@@ -14,6 +15,9 @@ pub enum Shape {
     /// Boxed, as the sphere's texture frame: a mesh's million triangles
     /// would each pay the largest shape's size.
     Plane(Box<Plane>),
+    /// A shared mesh placed by one object (`geometry::instance`): behind a
+    /// pointer, as the plane, and shared with the BVH's leaves.
+    Instance(Arc<Instance>),
 }
 
 /// What a triangle's barycentric (u, v) becomes as the hit's uv:
@@ -66,24 +70,29 @@ impl Shape {
             Shape::Sphere(s) => s.intersect(ray, t_min, t_max),
             Shape::Triangle(t) => t.intersect(ray, t_min, t_max).map(|hit| hit.t),
             Shape::Plane(p) => p.intersect(ray, t_min, t_max),
+            Shape::Instance(i) => i.intersect(ray, t_min, t_max),
         }
     }
 
-    /// The unit normal at surface point `p`, as the lab defines it.
+    /// The unit normal at surface point `p`, as the lab defines it; zero on
+    /// an instance, which has many (its hits carry theirs).
     pub fn normal(&self, p: Vec3) -> Vec3 {
         match self {
             Shape::Sphere(s) => s.normal(p),
             Shape::Triangle(t) => t.normal(),
             Shape::Plane(plane) => plane.normal,
+            Shape::Instance(_) => Vec3::ZERO,
         }
     }
 
-    /// The smallest box holding the shape: (min, max); None for a plane.
+    /// The smallest box holding the shape: (min, max); None for a plane;
+    /// an instance's padded world box.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
         match self {
             Shape::Sphere(s) => Some((s.center - s.radius, s.center + s.radius)),
             Shape::Triangle(t) => Some((t.v0.min(t.v1).min(t.v2), t.v0.max(t.v1).max(t.v2))),
             Shape::Plane(_) => None,
+            Shape::Instance(i) => Some(i.bounds()),
         }
     }
 }
@@ -143,6 +152,7 @@ impl Object {
                 let t = p.intersect(ray, t_min, t_max)?;
                 Some(SurfaceHit::on_plane(p, ray, t, index, self.material))
             }
+            Shape::Instance(i) => i.surface_hit(index, ray, t_min, t_max),
         }
     }
 }

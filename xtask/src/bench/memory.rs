@@ -1,0 +1,187 @@
+//! Instancing's memory: the peak resident memory of a whole `tracer render`
+//! process (loading, preparing, the BVHs, the image, encoding) on the bunny
+//! scene and on a scene of 1,000 bunnies placing the same OBJ, each its own
+//! size and turn (issue 16: under twice the one bunny's). Measured on a child
+//! process, so the bench's own memory stays out of it: `wait4` gives the
+//! child's own peak (`ru_maxrss`) and CPU time.
+
+use anyhow::{bail, Context, Result};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Instant;
+
+/// The bunnies of the instancing scene: a 10 x 10 x 10 grid.
+const GRID: usize = 10;
+
+/// One `tracer render` process, measured.
+#[derive(Debug, Clone, Copy)]
+pub struct Process {
+    /// Peak resident memory, bytes.
+    pub peak_bytes: u64,
+    pub wall_s: f64,
+    /// User + system CPU time.
+    pub cpu_s: f64,
+}
+
+/// The one bunny and the 1,000 bunnies, each rendered on one thread.
+#[derive(Debug, Clone, Copy)]
+pub struct Instancing {
+    pub one: Process,
+    pub many: Process,
+    /// Bunnies in the second scene, and triangles they place.
+    pub copies: usize,
+    pub virtual_triangles: usize,
+}
+
+/// Renders both scenes once each with `tracer` (built first, as a user
+/// would), the 1,000 bunnies written into `target/bench/`.
+pub fn measure(root: &Path) -> Result<Instancing> {
+    let tracer = crate::farm::build_tracer(root)?;
+    let bunny = root.join("scenes/bench/bunny.toml");
+    let many_scene = scene_path();
+    let dir = many_scene.parent().context("no folder")?;
+    std::fs::create_dir_all(dir)?;
+    let obj = root.join(super::scenes::BUNNY_OBJ);
+    std::fs::write(&many_scene, bunnies(&obj)?)?;
+    let out = dir.join("instancing.png");
+    eprintln!("bench: peak memory of one bunny ...");
+    let one = render(&tracer, &bunny, &out)?;
+    eprintln!("bench: peak memory of {} bunnies ...", GRID.pow(3));
+    let many = render(&tracer, &many_scene, &out)?;
+    let triangles = scene_format::obj::read_obj(&obj)
+        .map_err(|e| anyhow::anyhow!("{e}"))?
+        .triangles
+        .len();
+    Ok(Instancing {
+        one,
+        many,
+        copies: GRID.pow(3),
+        virtual_triangles: triangles * GRID.pow(3),
+    })
+}
+
+/// The bunny scene's camera, image, light and material, its bunny placed
+/// on a grid of 1,000, each smaller, turned its own way, every seventh
+/// mirrored; all name `obj`, so they share one mesh.
+fn bunnies(obj: &Path) -> Result<String> {
+    let mut text = String::from(
+        "# Written by `cargo xtask bench`: 1,000 instances of the bench bunny.\n\
+         [camera]\neye = [14, 11, 18]\nlook_at = [0, 0, 0]\nfov = 50\nwidth = 1920\nheight = 1080\n\n\
+         [render]\nbackground = [0.1, 0.1, 0.15]\n\n\
+         [[lights]]\nposition = [20, 30, 25]\n\n\
+         [materials.clay]\nambient = [0.09, 0.085, 0.075]\ndiffuse = [0.81, 0.765, 0.675]\n",
+    );
+    let obj = obj.to_str().context("the bunny's path is not UTF-8")?;
+    let obj = toml::Value::String(obj.to_string());
+    for i in 0..GRID.pow(3) {
+        let cell = [i / (GRID * GRID), i / GRID % GRID, i % GRID];
+        let at = cell.map(|c| (c as f32 - (GRID as f32 - 1.0) / 2.0) * 1.1);
+        let s = 0.3 + 0.025 * (i * 7 % 5) as f32;
+        let mirror = if i % 7 == 0 { -1.0 } else { 1.0 };
+        let turn = [i * 37 % 360, i * 53 % 360, i * 11 % 90];
+        writeln!(
+            text,
+            "\n[[objects]]\nmesh = {{ obj = {obj} }}\nmaterial = \"clay\"\n\
+             transform = {{ translate = {at:?}, rotate = {turn:?}, scale = [{}, {s}, {}] }}",
+            mirror * s,
+            s * 1.2
+        )?;
+    }
+    Ok(text)
+}
+
+/// Renders `scene` to `out` on one thread and measures the process.
+fn render(tracer: &Path, scene: &Path, out: &Path) -> Result<Process> {
+    let start = Instant::now();
+    let child = Command::new(tracer)
+        .arg("render")
+        .arg(scene)
+        .arg("-o")
+        .arg(out)
+        .args(["--threads", "1", "--quiet"])
+        .spawn()
+        .with_context(|| format!("running {}", tracer.display()))?;
+    let (status, usage) = wait(child.id())?;
+    let wall_s = start.elapsed().as_secs_f64();
+    if status != 0 {
+        bail!("{} render {} failed", tracer.display(), scene.display());
+    }
+    let seconds = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
+    Ok(Process {
+        // Linux gives kilobytes.
+        peak_bytes: usage.ru_maxrss as u64 * 1024,
+        wall_s,
+        cpu_s: seconds(usage.ru_utime) + seconds(usage.ru_stime),
+    })
+}
+
+/// Waits for the child `pid`: its exit status (0 for success) and its own
+/// resource use, peak memory included.
+fn wait(pid: u32) -> Result<(i32, libc::rusage)> {
+    let mut status = 0;
+    // SAFETY: wait4 only writes the status and the struct it is given.
+    let usage = unsafe {
+        let mut usage = std::mem::zeroed::<libc::rusage>();
+        if libc::wait4(pid as libc::pid_t, &mut status, 0, &mut usage) < 0 {
+            bail!("wait4: {}", std::io::Error::last_os_error());
+        }
+        usage
+    };
+    let code = if libc::WIFEXITED(status) {
+        libc::WEXITSTATUS(status)
+    } else {
+        -1
+    };
+    Ok((code, usage))
+}
+
+/// The report's section.
+pub fn report(m: &Instancing) {
+    let mb = |b: u64| b as f64 / 1e6;
+    println!("\nInstancing, one `tracer render` process on 1 thread, 1920x1080 (loading, preparing, BVHs, image, encoding; peak resident memory from wait4):\n");
+    println!("| scene | peak memory | wall | CPU |");
+    println!("| --- | ---: | ---: | ---: |");
+    for (name, p) in [("bunny", m.one), ("bunnies-1000", m.many)] {
+        println!(
+            "| {name} | {:.1} MB | {:.3} s | {:.3} s |",
+            mb(p.peak_bytes),
+            p.wall_s,
+            p.cpu_s
+        );
+    }
+    println!(
+        "\ntarget: {} bunnies ({} virtual triangles), peak memory < 2x one bunny's: {:.1} MB / {:.1} MB = {:.2}x",
+        m.copies,
+        m.virtual_triangles,
+        mb(m.many.peak_bytes),
+        mb(m.one.peak_bytes),
+        m.many.peak_bytes as f64 / m.one.peak_bytes as f64
+    );
+}
+
+/// Where the 1,000 bunnies are written.
+fn scene_path() -> PathBuf {
+    crate::target_dir().join("bench/bunnies-1000.toml")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_thousand_bunnies_share_one_mesh() {
+        let root = crate::workspace_root();
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("bunnies.toml");
+        std::fs::write(
+            &path,
+            bunnies(&root.join(super::super::scenes::BUNNY_OBJ)).unwrap(),
+        )
+        .unwrap();
+        let file = scene_format::load_path(&path).unwrap_or_else(|e| panic!("{e}"));
+        let scene = tracer_core::prepare(&file).unwrap();
+        assert_eq!(scene.objects().len(), 1000);
+        assert_eq!(scene.unique_primitives(), 69_666 + 1000);
+    }
+}
