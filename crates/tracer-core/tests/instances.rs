@@ -9,7 +9,7 @@ use common::{load, scenes_dir};
 use glam::Vec3;
 use std::sync::Arc;
 use tracer_core::geometry::{Shape, SurfaceHit};
-use tracer_core::{prepare, render, Ray, RenderJob, Scene};
+use tracer_core::{render, Ray, RenderJob, Scene};
 
 const HEAD: &str = r#"
 [camera]
@@ -36,6 +36,11 @@ ior = 1.5
 /// The scene of `HEAD` and `objects`, beside copies of the cube and
 /// icosphere meshes.
 fn scene(objects: &str) -> Scene {
+    Scene::new(parts(objects))
+}
+
+/// What `scene` is made of.
+fn parts(objects: &str) -> tracer_core::scene::SceneParts {
     let dir = tempfile::tempdir().expect("a temporary folder");
     for mesh in ["cube.obj", "icosphere.obj"] {
         std::fs::copy(
@@ -47,7 +52,7 @@ fn scene(objects: &str) -> Scene {
     let path = dir.path().join("scene.toml");
     std::fs::write(&path, format!("{HEAD}{objects}")).expect("written");
     let file = load(&path);
-    prepare(&file).expect("prepare")
+    tracer_core::prepare::parts(&file).expect("prepare")
 }
 
 fn cube(transform: &str, material: &str) -> String {
@@ -249,4 +254,8 @@ fn instanced_scenes_are_identical_with_and_without_the_bvh() {
     let fast = image(&s);
     let slow = image(&s.clone().brute_force());
     assert!(fast == slow, "the BVH changed the image");
+    // The render's own scene lets the objects go; the instances stay.
+    let lean = Scene::lean(parts(&objects.concat()));
+    assert_eq!(lean.unique_primitives(), s.unique_primitives());
+    assert!(image(&lean) == fast, "the lean scene changed the image");
 }
