@@ -28,6 +28,12 @@ enum Command {
     /// Write docs/gallery.md: every scene's golden image with its file name
     /// and the command that renders it
     Gallery,
+    /// Run a command and print its peak memory and times (used by the bench)
+    #[command(hide = true)]
+    PeakOf {
+        #[arg(required = true, trailing_var_arg = true, allow_hyphen_values = true)]
+        command: Vec<std::ffi::OsString>,
+    },
 }
 
 /// Write a man page per `tracer` command (tracer.1, tracer-render.1, ...)
@@ -64,6 +70,9 @@ fn main() -> ExitCode {
         Command::FarmTest(args) => xtask::farm::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Man(args) => man(&args),
         Command::Gallery => gallery(),
+        Command::PeakOf { command } => {
+            xtask::bench::memory::peak_of(&command).map(|()| ExitCode::SUCCESS)
+        }
     };
     match result {
         Ok(code) => code,

@@ -1,9 +1,13 @@
-//! Instancing's memory: the peak resident memory of a whole `tracer render`
-//! process (loading, preparing, the BVHs, the image, encoding) on the bunny
-//! scene and on a scene of 1,000 bunnies placing the same OBJ, each its own
-//! size and turn (issue 16: under twice the one bunny's). Measured on a child
-//! process, so the bench's own memory stays out of it: `wait4` gives the
-//! child's own peak (`ru_maxrss`) and CPU time.
+//! Peak memory of whole `tracer render` processes (loading, preparing, the
+//! BVHs, the image, encoding): the bunny scene against a scene of 1,000
+//! bunnies placing the same OBJ, each its own size and turn (issue 16:
+//! under twice the one bunny's), and the 1.1M-triangle bunny on 1 and 2
+//! threads against Embree's harness (issue 16: no more than it holds).
+//!
+//! Each is measured as a child of a small process (`cargo xtask peak-of`,
+//! started afresh): Linux carries a process's resident high-water mark
+//! across `exec` into the child's `ru_maxrss`, so a child of the bench
+//! itself (which holds the 1.1M-triangle scene) reported the bench's peak.
 
 use anyhow::{bail, Context, Result};
 use std::fmt::Write as _;
@@ -24,7 +28,8 @@ pub struct Process {
     pub cpu_s: f64,
 }
 
-/// The one bunny and the 1,000 bunnies, each rendered on one thread.
+/// The one bunny and the 1,000 bunnies, each rendered on one thread; the
+/// 1.1M-triangle bunny on 1 and 2 threads, and Embree's harness on it.
 #[derive(Debug, Clone, Copy)]
 pub struct Instancing {
     pub one: Process,
@@ -32,11 +37,15 @@ pub struct Instancing {
     /// Bunnies in the second scene, and triangles they place.
     pub copies: usize,
     pub virtual_triangles: usize,
+    pub big: [Process; 2],
+    pub embree: Option<Process>,
 }
 
-/// Renders both scenes once each with `tracer` (built first, as a user
-/// would), the 1,000 bunnies written into `target/bench/`.
-pub fn measure(root: &Path) -> Result<Instancing> {
+/// Renders the scenes once each with `tracer` (built first, as a user
+/// would), the 1,000 bunnies and the 1.1M bunny's scene written into
+/// `target/bench/` (its OBJ already there: `scenes::scenes` writes it);
+/// `embree` is the built harness, when there is one.
+pub fn measure(root: &Path, embree: Option<&Path>) -> Result<Instancing> {
     let tracer = crate::farm::build_tracer(root)?;
     let bunny = root.join("scenes/bench/bunny.toml");
     let many_scene = scene_path();
@@ -49,6 +58,24 @@ pub fn measure(root: &Path) -> Result<Instancing> {
     let one = render(&tracer, &bunny, &out)?;
     eprintln!("bench: peak memory of {} bunnies ...", GRID.pow(3));
     let many = render(&tracer, &many_scene, &out)?;
+    let big_obj = crate::target_dir().join("bench/bunny-1.1m.obj");
+    let big_scene = dir.join("bunny-1.1m.toml");
+    std::fs::write(&big_scene, one_mesh(&bunny, &big_obj)?)?;
+    eprintln!("bench: peak memory of the 1.1M-triangle bunny ...");
+    let big = [
+        render_on(&tracer, &big_scene, &out, 1)?,
+        render_on(&tracer, &big_scene, &out, 2)?,
+    ];
+    let embree = match embree {
+        Some(exe) => {
+            eprintln!("bench: peak memory of Embree's harness on it ...");
+            let args = ["--reps", "1", "--subdiv", "2"];
+            let mut command = vec![exe.into(), root.join(super::scenes::BUNNY_OBJ).into()];
+            command.extend(args.map(Into::into));
+            Some(measured(&command)?)
+        }
+        None => None,
+    };
     let triangles = scene_format::obj::read_obj(&obj)
         .map_err(|e| anyhow::anyhow!("{e}"))?
         .triangles
@@ -58,7 +85,20 @@ pub fn measure(root: &Path) -> Result<Instancing> {
         many,
         copies: GRID.pow(3),
         virtual_triangles: triangles * GRID.pow(3),
+        big,
+        embree,
     })
+}
+
+/// The bench bunny's scene with its mesh the file `obj`.
+fn one_mesh(scene: &Path, obj: &Path) -> Result<String> {
+    let text = std::fs::read_to_string(scene)?;
+    let obj = toml::Value::String(obj.to_str().context("a path not UTF-8")?.to_string());
+    let with = text.replace("obj = \"bunny.obj\"", &format!("obj = {obj}"));
+    if with == text {
+        bail!("{}: no `obj = \"bunny.obj\"` to replace", scene.display());
+    }
+    Ok(with)
 }
 
 /// The bunny scene's camera, image, light and material, its bunny placed
@@ -93,27 +133,73 @@ fn bunnies(obj: &Path) -> Result<String> {
 
 /// Renders `scene` to `out` on one thread and measures the process.
 fn render(tracer: &Path, scene: &Path, out: &Path) -> Result<Process> {
+    render_on(tracer, scene, out, 1)
+}
+
+/// Renders `scene` to `out` on `threads` threads and measures the process.
+fn render_on(tracer: &Path, scene: &Path, out: &Path, threads: usize) -> Result<Process> {
+    let threads = threads.to_string();
+    let mut command = vec![tracer.into(), "render".into(), scene.into(), "-o".into()];
+    command.extend([
+        out.into(),
+        "--threads".into(),
+        threads.into(),
+        "--quiet".into(),
+    ]);
+    measured(&command)
+}
+
+/// `command` run by `cargo xtask peak-of`, started afresh (see the module's
+/// comment), and what that printed of it.
+fn measured(command: &[std::ffi::OsString]) -> Result<Process> {
+    let out = Command::new(std::env::current_exe()?)
+        .arg("peak-of")
+        .args(command)
+        .output()
+        .context("running `xtask peak-of`")?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    if !out.status.success() {
+        bail!(
+            "{:?} failed: {}",
+            command,
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    parse_process(&text).with_context(|| format!("`xtask peak-of` printed {text:?}"))
+}
+
+/// "peak_bytes wall_s cpu_s", as `peak_of` prints it.
+fn parse_process(text: &str) -> Option<Process> {
+    let mut words = text.split_whitespace();
+    let mut next = || words.next()?.parse::<f64>().ok();
+    let (peak, wall_s, cpu_s) = (next()?, next()?, next()?);
+    Some(Process {
+        peak_bytes: peak as u64,
+        wall_s,
+        cpu_s,
+    })
+}
+
+/// Runs `command` (quiet), waits for it and prints its peak resident memory
+/// in bytes, wall and CPU seconds: `cargo xtask peak-of`, for the bench.
+pub fn peak_of(command: &[std::ffi::OsString]) -> Result<()> {
     let start = Instant::now();
-    let child = Command::new(tracer)
-        .arg("render")
-        .arg(scene)
-        .arg("-o")
-        .arg(out)
-        .args(["--threads", "1", "--quiet"])
+    let child = Command::new(&command[0])
+        .args(&command[1..])
+        .stdout(std::process::Stdio::null())
         .spawn()
-        .with_context(|| format!("running {}", tracer.display()))?;
+        .with_context(|| format!("running {:?}", command[0]))?;
     let (status, usage) = wait(child.id())?;
     let wall_s = start.elapsed().as_secs_f64();
     if status != 0 {
-        bail!("{} render {} failed", tracer.display(), scene.display());
+        bail!("{command:?} failed");
     }
     let seconds = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
-    Ok(Process {
-        // Linux gives kilobytes.
-        peak_bytes: usage.ru_maxrss as u64 * 1024,
-        wall_s,
-        cpu_s: seconds(usage.ru_utime) + seconds(usage.ru_stime),
-    })
+    // Linux gives kilobytes.
+    let peak = usage.ru_maxrss as u64 * 1024;
+    let cpu = seconds(usage.ru_utime) + seconds(usage.ru_stime);
+    println!("{peak} {wall_s} {cpu}");
+    Ok(())
 }
 
 /// Waits for the child `pid`: its exit status (0 for success) and its own
@@ -139,10 +225,17 @@ fn wait(pid: u32) -> Result<(i32, libc::rusage)> {
 /// The report's section.
 pub fn report(m: &Instancing) {
     let mb = |b: u64| b as f64 / 1e6;
-    println!("\nInstancing, one `tracer render` process on 1 thread, 1920x1080 (loading, preparing, BVHs, image, encoding; peak resident memory from wait4):\n");
+    println!("\nMemory: one `tracer render` process each, 1920x1080 (loading, preparing, BVHs, image, encoding; peak resident memory from wait4):\n");
     println!("| scene | peak memory | wall | CPU |");
     println!("| --- | ---: | ---: | ---: |");
-    for (name, p) in [("bunny", m.one), ("bunnies-1000", m.many)] {
+    let mut rows = vec![
+        ("bunny, 1 thread", m.one),
+        ("bunnies-1000, 1 thread", m.many),
+        ("bunny-1.1m, 1 thread", m.big[0]),
+        ("bunny-1.1m, 2 threads", m.big[1]),
+    ];
+    rows.extend(m.embree.map(|e| ("bunny-1.1m, Embree's harness", e)));
+    for (name, p) in rows {
         println!(
             "| {name} | {:.1} MB | {:.3} s | {:.3} s |",
             mb(p.peak_bytes),
@@ -157,6 +250,17 @@ pub fn report(m: &Instancing) {
         mb(m.many.peak_bytes),
         mb(m.one.peak_bytes),
         m.many.peak_bytes as f64 / m.one.peak_bytes as f64
+    );
+    let embree = m.embree.map_or("no Embree in this run".to_string(), |e| {
+        format!(
+            "Embree's harness (1 and 2 threads, one process) {:.1} MB",
+            mb(e.peak_bytes)
+        )
+    });
+    println!(
+        "target: 1.1M-triangle bunny, peak memory <= Embree's: {:.1} MB on 1 thread, {:.1} MB on 2; {embree}",
+        mb(m.big[0].peak_bytes),
+        mb(m.big[1].peak_bytes)
     );
 }
 

@@ -24,7 +24,7 @@
 
 mod embree;
 mod measure;
-mod memory;
+pub mod memory;
 mod pov_scene;
 mod povray;
 mod print;
@@ -95,7 +95,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         scenes.retain(|s| only(s.name));
     }
     let povray = !args.no_povray && povray::available();
-    let embree = if args.no_embree || scenes.iter().all(|s| s.embree_subdiv.is_none()) {
+    // The memory measurement runs Embree's harness too.
+    let embree_wanted = only(INSTANCING) || scenes.iter().any(|s| s.embree_subdiv.is_some());
+    let embree = if args.no_embree || !embree_wanted {
         None
     } else {
         embree::build(&root, &crate::target_dir().join("peers"))
@@ -150,7 +152,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         print::report(&rows, args.reps);
     }
     if only(INSTANCING) {
-        memory::report(&memory::measure(&root)?);
+        memory::report(&memory::measure(&root, embree.as_deref())?);
     }
     Ok(())
 }
