@@ -12,10 +12,12 @@
 //! rule), as the brute-force loop meets them.
 
 use super::build::{Aabb, BuildPrim};
+use super::leaves::leaf_lanes;
 use super::traverse::{
-    push_nearest_last, safe_inverse, with_instance_stack, Best, Entry, HitAt, RayData, PAD,
+    push_entered, push_nearest_last, safe_inverse, with_instance_stack, Best, Entry, HitAt,
+    RayData, PAD,
 };
-use super::wide::{self, is_leaf, node_halves, Node, INNER, INNER_HALF, WIDTH};
+use super::wide::{self, node_halves, Node, INNER, INNER_HALF, WIDTH};
 use crate::geometry::{Instance, Object, Shape, SurfaceHit};
 use crate::ray::Ray;
 use glam::{Vec2, Vec3};
@@ -133,18 +135,8 @@ impl InstanceTree {
                     continue;
                 };
                 let node = &self.nodes[entry.child as usize];
-                let (mut mask, _) = r.enter(node, halves, t_min, t_max);
-                while mask != 0 {
-                    let lane = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    let (child, count) = node.child(lane);
-                    stack[sp] = Entry {
-                        child,
-                        count,
-                        t: 0.0,
-                    };
-                    sp += 1;
-                }
+                let (mask, _) = r.enter(node, halves, t_min, t_max);
+                sp = push_entered(stack, sp, node, mask);
             }
             false
         })
@@ -196,16 +188,7 @@ impl InstancePrim {
 /// but an instance costs a search of its mesh, so its box is better tested
 /// with the others' in SIMD lanes, and the nearest visited first.
 fn pack(nodes: &mut Vec<Node>, items: &[BuildPrim], objects: &[Object]) -> Vec<InstancePrim> {
-    let mut leaves: Vec<(u32, usize, usize)> = Vec::new();
-    for (n, node) in nodes.iter().enumerate() {
-        for lane in 0..WIDTH {
-            let (first, count) = node.child(lane);
-            if is_leaf(count) {
-                leaves.push((first, n, lane));
-            }
-        }
-    }
-    leaves.sort_unstable();
+    let leaves = leaf_lanes(nodes);
     let mut prims = Vec::with_capacity(items.len());
     for (first, n, lane) in leaves {
         let (_, count) = nodes[n].child(lane);
@@ -388,7 +371,7 @@ mod tests {
         for node in &tree.nodes {
             for lane in 0..super::WIDTH {
                 let (first, count) = node.child(lane);
-                if !super::is_leaf(count) {
+                if !super::super::wide::is_leaf(count) {
                     continue;
                 }
                 let (min, max) = node.bounds(lane);
@@ -402,12 +385,8 @@ mod tests {
         ids.sort_unstable();
         assert_eq!(ids, instances);
         // Runs of several instances became nodes of their own.
-        assert!(
-            tree.nodes
-                .iter()
-                .all(|n| (0..super::WIDTH)
-                    .all(|k| n.child(k).1 <= 2 || !super::is_leaf(n.child(k).1)))
-        );
+        assert!(tree.nodes.iter().all(|n| (0..super::WIDTH)
+            .all(|k| n.child(k).1 <= 2 || !super::super::wide::is_leaf(n.child(k).1))));
     }
 
     #[test]

@@ -36,16 +36,7 @@ pub(super) fn pack_leaves(
     order: &[u32],
     objects: &[Object],
 ) -> (Vec<Tri4>, Vec<SpherePrim>) {
-    let mut leaves: Vec<(u32, usize, usize)> = Vec::new();
-    for (n, node) in nodes.iter().enumerate() {
-        for lane in 0..WIDTH {
-            let (first, count) = node.child(lane);
-            if is_leaf(count) {
-                leaves.push((first, n, lane));
-            }
-        }
-    }
-    leaves.sort_unstable();
+    let leaves = leaf_lanes(nodes);
     let (mut tris, mut spheres) = (Vec::with_capacity(order.len() / 3), Vec::new());
     for (first, n, lane) in leaves {
         let (_, count) = nodes[n].child(lane);
@@ -65,6 +56,22 @@ pub(super) fn pack_leaves(
         }
     }
     (tris, spheres)
+}
+
+/// Every leaf lane as (its first primitive, node, lane), in the order of
+/// their primitives.
+pub(super) fn leaf_lanes(nodes: &[Node]) -> Vec<(u32, usize, usize)> {
+    let mut leaves = Vec::new();
+    for (n, node) in nodes.iter().enumerate() {
+        for lane in 0..WIDTH {
+            let (first, count) = node.child(lane);
+            if is_leaf(count) {
+                leaves.push((first, n, lane));
+            }
+        }
+    }
+    leaves.sort_unstable();
+    leaves
 }
 
 fn tri_record(object: &Object, id: u32) -> Option<TriRecord> {

@@ -31,7 +31,7 @@ use build::BuildPrim;
 use glam::Vec3;
 use instances::InstanceTree;
 use leaves::{pack_leaves, SpherePrim, SPHERE_LEAF};
-use traverse::{push_nearest_last, with_stack, Best, Entry, HitAt, RayData, PAD};
+use traverse::{push_entered, push_nearest_last, with_stack, Best, Entry, HitAt, RayData, PAD};
 use tri4::Tri4;
 use wide::{node_halves, Node};
 
@@ -292,21 +292,9 @@ impl Bvh {
                     }
                     continue;
                 };
-                // Any order finds an occluder; sorting by distance cost more
-                // than it saved.
                 let node = &self.nodes[entry.child as usize];
-                let (mut mask, _) = r.enter(node, halves, t_min, t_max);
-                while mask != 0 {
-                    let lane = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    let (child, count) = node.child(lane);
-                    stack[sp] = Entry {
-                        child,
-                        count,
-                        t: 0.0,
-                    };
-                    sp += 1;
-                }
+                let (mask, _) = r.enter(node, halves, t_min, t_max);
+                sp = push_entered(stack, sp, node, mask);
             }
             false
         })

@@ -198,6 +198,30 @@ impl Entry {
     };
 }
 
+/// Pushes the children of `node` that the ray enters (`mask`) in lane
+/// order: for shadow rays, which any occluder stops (sorting by distance
+/// cost more than it saved); returns the new stack size.
+#[inline(always)]
+pub(super) fn push_entered(
+    stack: &mut [Entry],
+    mut sp: usize,
+    node: &Node,
+    mut mask: u32,
+) -> usize {
+    while mask != 0 {
+        let lane = mask.trailing_zeros() as usize;
+        mask &= mask - 1;
+        let (child, count) = node.child(lane);
+        stack[sp] = Entry {
+            child,
+            count,
+            t: 0.0,
+        };
+        sp += 1;
+    }
+    sp
+}
+
 /// Pushes the children of `node` that the ray enters (`mask`), farthest
 /// first, so the nearest is popped next; returns the new stack size.
 #[inline(always)]
