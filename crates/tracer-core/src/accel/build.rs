@@ -316,10 +316,25 @@ fn bin_on(c: f32, min: f32, scale: f32, bins: usize) -> usize {
 /// The cheapest binned SAH split over the three axes, with its cost in
 /// units of one primitive test; None if the centroids do not spread.
 fn best_split(items: &[BuildPrim], bounds: &Aabb, centroids: &Aabb) -> Option<Split> {
+    // Most parts are small: their bins are cleared at the size they use.
+    match bins_for(items.len()) {
+        bins if bins <= 4 => best_split_in::<4>(items, bounds, centroids),
+        bins if bins <= 8 => best_split_in::<8>(items, bounds, centroids),
+        _ => best_split_in::<BINS>(items, bounds, centroids),
+    }
+}
+
+/// `best_split` with room for `N` bins.
+#[inline(always)]
+fn best_split_in<const N: usize>(
+    items: &[BuildPrim],
+    bounds: &Aabb,
+    centroids: &Aabb,
+) -> Option<Split> {
     let bins = bins_for(items.len());
     let scale = bin_scale(centroids, bins);
-    let mut boxes = [[Aabb::EMPTY; BINS]; 3];
-    let mut counts = [[0u32; BINS]; 3];
+    let mut boxes = [[Aabb::EMPTY; N]; 3];
+    let mut counts = [[0u32; N]; 3];
     for p in items {
         let b = bins_of(p, centroids, scale, bins);
         for axis in 0..3 {
@@ -336,7 +351,7 @@ fn best_split(items: &[BuildPrim], bounds: &Aabb, centroids: &Aabb) -> Option<Sp
         }
         let (boxes, counts) = (&boxes[axis], &counts[axis]);
         // Right-side area * count for each first-right bin, swept from the end.
-        let mut right_cost = [0f32; BINS];
+        let mut right_cost = [0f32; N];
         let (mut acc, mut n) = (Aabb::EMPTY, 0u32);
         for b in (1..bins).rev() {
             acc.grow(&boxes[b]);
