@@ -71,6 +71,7 @@ impl Bvh {
     pub fn build(objects: &[Object]) -> Bvh {
         let mut bvh = Bvh::default();
         let mut items = Vec::with_capacity(objects.len());
+        let mut has_instances = false;
         // One pass over the objects (a mesh's take megabytes), on this
         // thread: rayon would collect in vectors of the worker threads,
         // whose freed memory stays in their glibc arenas (see `wide::Fork`).
@@ -82,6 +83,8 @@ impl Bvh {
                     id,
                     material: o.material as u32,
                 }),
+                // In a tree of their own (`InstanceTree`).
+                Shape::Instance(_) => has_instances = true,
                 shape => items.extend(BuildPrim::new(shape, id)),
             }
             if let Some(uv) = o.uv.as_deref() {
@@ -94,7 +97,9 @@ impl Bvh {
                 bvh.bounds = Some(bvh.bounds.map_or((lo, hi), |(l, h)| (l.min(lo), h.max(hi))));
             }
         }
-        bvh.instances = InstanceTree::build(objects);
+        if has_instances {
+            bvh.instances = InstanceTree::build(objects);
+        }
         if items.is_empty() {
             return bvh;
         }
