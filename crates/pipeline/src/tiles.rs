@@ -116,10 +116,12 @@ fn add(hash: &mut blake3::Hasher, bytes: &[u8]) {
     hash.update(bytes);
 }
 
-/// A file's bytes, then their count (known only at the end), streamed in blocks large enough for
-/// BLAKE3's SIMD lanes (a mesh is not held in memory a second time).
+/// A file's bytes after their count, as `add`, streamed in blocks large
+/// enough for BLAKE3's SIMD lanes (a mesh is not held in memory twice).
 fn add_file(hash: &mut blake3::Hasher, path: &Path) -> std::io::Result<()> {
     let mut file = std::fs::File::open(path)?;
+    let size = file.metadata()?.len();
+    hash.update(&size.to_le_bytes());
     let mut block = vec![0u8; 1 << 16];
     let mut total = 0u64;
     loop {
@@ -130,7 +132,9 @@ fn add_file(hash: &mut blake3::Hasher, path: &Path) -> std::io::Result<()> {
         hash.update(&block[..n]);
         total += n as u64;
     }
-    hash.update(&total.to_le_bytes());
+    if total != size {
+        return Err(std::io::Error::other("it changed while it was read"));
+    }
     Ok(())
 }
 
