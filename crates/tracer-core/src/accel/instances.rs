@@ -14,8 +14,7 @@
 use super::build::{Aabb, BuildPrim};
 use super::leaves::leaf_lanes;
 use super::traverse::{
-    push_entered, push_nearest_last, safe_inverse, with_instance_stack, Best, Entry, HitAt,
-    RayData, PAD,
+    push_entered, safe_inverse, walk_nearest, with_instance_stack, Best, Entry, HitAt, RayData, PAD,
 };
 use super::wide::{self, node_halves, Node, INNER, INNER_HALF, WIDTH};
 use crate::geometry::{Instance, Object, Shape, SurfaceHit};
@@ -72,25 +71,12 @@ impl InstanceTree {
         let r = RayData::new(ray);
         let inv = Vec3::from(safe_inverse(ray.dir));
         with_instance_stack(|stack| {
-            stack[0] = Entry::ROOT;
-            let mut sp = 1;
-            while sp > 0 {
-                sp -= 1;
-                let entry = stack[sp];
-                if entry.t > best.t * PAD {
-                    continue;
+            walk_nearest(&self.nodes, &r, t_min, best, stack, |entry, best| {
+                let run = entry.child as usize..(entry.child + entry.count) as usize;
+                for k in run {
+                    self.nearest_in(k, ray, inv, t_min, t_max, best);
                 }
-                let Some(halves) = node_halves(entry.count) else {
-                    let run = entry.child as usize..(entry.child + entry.count) as usize;
-                    for k in run {
-                        self.nearest_in(k, ray, inv, t_min, t_max, best);
-                    }
-                    continue;
-                };
-                let node = &self.nodes[entry.child as usize];
-                let (mask, near) = r.enter(node, halves, t_min, best.t);
-                sp = push_nearest_last(stack, sp, node, mask, near);
-            }
+            })
         });
     }
 

@@ -31,7 +31,7 @@ use build::BuildPrim;
 use glam::Vec3;
 use instances::InstanceTree;
 use leaves::{pack_leaves, SpherePrim, SPHERE_LEAF};
-use traverse::{push_entered, push_nearest_last, with_stack, Best, Entry, HitAt, RayData, PAD};
+use traverse::{push_entered, walk_nearest, with_stack, Best, Entry, HitAt, RayData};
 use tri4::Tri4;
 use wide::{node_halves, Node};
 
@@ -215,22 +215,9 @@ impl Bvh {
     fn nearest_in_tree(&self, ray: &Ray, t_min: f32, t_max: f32, best: &mut Best) {
         let r = RayData::new(ray);
         with_stack(|stack| {
-            stack[0] = Entry::ROOT;
-            let mut sp = 1;
-            while sp > 0 {
-                sp -= 1;
-                let entry = stack[sp];
-                if entry.t > best.t * PAD {
-                    continue;
-                }
-                let Some(halves) = node_halves(entry.count) else {
-                    self.nearest_in_leaf(&r, entry, t_min, t_max, best);
-                    continue;
-                };
-                let node = &self.nodes[entry.child as usize];
-                let (mask, near) = r.enter(node, halves, t_min, best.t);
-                sp = push_nearest_last(stack, sp, node, mask, near);
-            }
+            walk_nearest(&self.nodes, &r, t_min, best, stack, |entry, best| {
+                self.nearest_in_leaf(&r, entry, t_min, t_max, best)
+            })
         });
     }
 

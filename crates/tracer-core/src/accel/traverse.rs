@@ -3,7 +3,7 @@
 
 use super::build::MAX_DEPTH;
 use super::tri4::Ray4;
-use super::wide::{Node, GROUPS, INNER, WIDTH};
+use super::wide::{node_halves, Node, GROUPS, INNER, WIDTH};
 use crate::ray::Ray;
 use glam::{Vec2, Vec4};
 use std::cell::RefCell;
@@ -196,6 +196,37 @@ impl Entry {
         count: INNER,
         t: 0.0,
     };
+}
+
+/// The nearest-first walk of a tree of `nodes` on `stack`: entries beyond
+/// the best hit so far are skipped, leaves handed to `leaf`, and the
+/// children the ray enters pushed farthest first. Both trees (the
+/// primitives' and the instances') walk this way, with their own leaves.
+#[inline(always)]
+pub(super) fn walk_nearest(
+    nodes: &[Node],
+    r: &RayData,
+    t_min: f32,
+    best: &mut Best,
+    stack: &mut [Entry],
+    mut leaf: impl FnMut(Entry, &mut Best),
+) {
+    stack[0] = Entry::ROOT;
+    let mut sp = 1;
+    while sp > 0 {
+        sp -= 1;
+        let entry = stack[sp];
+        if entry.t > best.t * PAD {
+            continue;
+        }
+        let Some(halves) = node_halves(entry.count) else {
+            leaf(entry, best);
+            continue;
+        };
+        let node = &nodes[entry.child as usize];
+        let (mask, near) = r.enter(node, halves, t_min, best.t);
+        sp = push_nearest_last(stack, sp, node, mask, near);
+    }
 }
 
 /// Pushes the children of `node` that the ray enters (`mask`) in lane
