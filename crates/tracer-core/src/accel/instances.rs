@@ -14,9 +14,9 @@
 use super::build::{Aabb, BuildPrim};
 use super::leaves::leaf_lanes;
 use super::traverse::{
-    push_entered, safe_inverse, walk_nearest, with_instance_stack, Best, Entry, HitAt, RayData, PAD,
+    safe_inverse, walk_any, walk_nearest, with_instance_stack, Best, HitAt, RayData, PAD,
 };
-use super::wide::{self, node_halves, Node, INNER, INNER_HALF, WIDTH};
+use super::wide::{self, Node, INNER, INNER_HALF, WIDTH};
 use crate::geometry::{Instance, Object, Shape, SurfaceHit};
 use crate::ray::Ray;
 use glam::{Vec2, Vec3};
@@ -108,23 +108,10 @@ impl InstanceTree {
         let r = RayData::new(ray);
         let inv = Vec3::from(safe_inverse(ray.dir));
         with_instance_stack(|stack| {
-            stack[0] = Entry::ROOT;
-            let mut sp = 1;
-            while sp > 0 {
-                sp -= 1;
-                let entry = stack[sp];
-                let Some(halves) = node_halves(entry.count) else {
-                    let run = &self.prims[entry.child as usize..][..entry.count as usize];
-                    if run.iter().any(|p| p.occludes(ray, inv, t_min, t_max)) {
-                        return true;
-                    }
-                    continue;
-                };
-                let node = &self.nodes[entry.child as usize];
-                let (mask, _) = r.enter(node, halves, t_min, t_max);
-                sp = push_entered(stack, sp, node, mask);
-            }
-            false
+            walk_any(&self.nodes, &r, (t_min, t_max), stack, |entry| {
+                let run = &self.prims[entry.child as usize..][..entry.count as usize];
+                run.iter().any(|p| p.occludes(ray, inv, t_min, t_max))
+            })
         })
     }
 

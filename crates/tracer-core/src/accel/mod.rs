@@ -31,9 +31,9 @@ use build::BuildPrim;
 use glam::Vec3;
 use instances::InstanceTree;
 use leaves::{pack_leaves, SpherePrim, SPHERE_LEAF};
-use traverse::{push_entered, walk_nearest, with_stack, Best, Entry, HitAt, RayData};
+use traverse::{walk_any, walk_nearest, with_stack, Best, Entry, HitAt, RayData};
 use tri4::Tri4;
-use wide::{node_halves, Node};
+use wide::Node;
 
 /// The bounding volume hierarchy over a scene's objects. It copies what
 /// the search needs of each object into its leaves, so it answers for the
@@ -273,22 +273,9 @@ impl Bvh {
         }
         let r = RayData::new(ray);
         with_stack(|stack| {
-            stack[0] = Entry::ROOT;
-            let mut sp = 1;
-            while sp > 0 {
-                sp -= 1;
-                let entry = stack[sp];
-                let Some(halves) = node_halves(entry.count) else {
-                    if self.any_in_leaf(&r, entry, t_min, t_max) {
-                        return true;
-                    }
-                    continue;
-                };
-                let node = &self.nodes[entry.child as usize];
-                let (mask, _) = r.enter(node, halves, t_min, t_max);
-                sp = push_entered(stack, sp, node, mask);
-            }
-            false
+            walk_any(&self.nodes, &r, (t_min, t_max), stack, |entry| {
+                self.any_in_leaf(&r, entry, t_min, t_max)
+            })
         })
     }
 }
@@ -314,7 +301,7 @@ impl Bvh {
 mod tests {
     use super::*;
     use crate::geometry::{Sphere, Triangle};
-    use wide::{GROUPS, WIDTH};
+    use wide::{node_halves, GROUPS, WIDTH};
 
     /// xorshift: reproducible numbers in [-1, 1) without a dependency.
     pub(super) struct Rng(pub(super) u64);

@@ -229,6 +229,34 @@ pub(super) fn walk_nearest(
     }
 }
 
+/// The shadow rays' walk of a tree of `nodes` on `stack`, in any order:
+/// whether `leaf` finds an occluder in some leaf the ray enters.
+#[inline(always)]
+pub(super) fn walk_any(
+    nodes: &[Node],
+    r: &RayData,
+    (t_min, t_max): (f32, f32),
+    stack: &mut [Entry],
+    mut leaf: impl FnMut(Entry) -> bool,
+) -> bool {
+    stack[0] = Entry::ROOT;
+    let mut sp = 1;
+    while sp > 0 {
+        sp -= 1;
+        let entry = stack[sp];
+        let Some(halves) = node_halves(entry.count) else {
+            if leaf(entry) {
+                return true;
+            }
+            continue;
+        };
+        let node = &nodes[entry.child as usize];
+        let (mask, _) = r.enter(node, halves, t_min, t_max);
+        sp = push_entered(stack, sp, node, mask);
+    }
+    false
+}
+
 /// Pushes the children of `node` that the ray enters (`mask`) in lane
 /// order: for shadow rays, which any occluder stops (sorting by distance
 /// cost more than it saved); returns the new stack size.
