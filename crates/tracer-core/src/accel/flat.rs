@@ -8,12 +8,10 @@
 //! the same records, offered to the same `Best`, whose rule (nearer, or as
 //! near and listed first) does not depend on the order of the offers.
 
-use super::leaves::SpherePrim;
-use super::traverse::{Best, HitAt};
+use super::traverse::Best;
 use super::tri4::Ray4;
 use super::Bvh;
 use crate::ray::Ray;
-use glam::Vec2;
 
 /// Scenes of up to this many spheres and triangle blocks (of four) are
 /// searched flat. A test costs about what the traversal's setup and the
@@ -32,46 +30,26 @@ impl Bvh {
     /// Offers `best` every hit of the spheres and triangles.
     #[inline(always)]
     pub(super) fn nearest_flat(&self, ray: &Ray, t_min: f32, t_max: f32, best: &mut Best) {
-        for (k, s) in self.spheres.iter().enumerate() {
-            if let Some(t) = s.sphere.intersect(ray, t_min, best.limit(t_max)) {
-                best.offer(t, s.id, t_max, HitAt::Sphere(k));
-            }
-        }
-        if self.tris.is_empty() {
-            return;
-        }
-        let ray4 = Ray4::new(ray, ray.dir.length());
-        for (block, tris) in self.tris.iter().enumerate() {
-            let (mut mask, t, [u, v]) = tris.intersect(&ray4, t_min, best.limit(t_max));
-            // In lane order, as the scalar loop would meet them.
-            while mask != 0 {
-                let lane = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                let uv = Vec2::new(u[lane], v[lane]);
-                best.offer(
-                    t[lane],
-                    tris.id[lane],
-                    t_max,
-                    HitAt::Triangle { block, lane, uv },
-                );
-            }
+        self.offer_spheres(0..self.spheres.len(), ray, t_min, t_max, best);
+        if !self.tris.is_empty() {
+            let ray4 = Ray4::new(ray, ray.dir.length());
+            self.offer_blocks(0..self.tris.len(), &ray4, t_min, t_max, best);
         }
     }
 
     /// Whether a sphere or triangle lies on the ray in (t_min, t_max).
     #[inline(always)]
     pub(super) fn any_flat(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
-        let on_sphere = |s: &SpherePrim| s.sphere.intersect(ray, t_min, t_max).is_some();
-        if self.spheres.iter().any(on_sphere) {
+        if self.any_sphere(0..self.spheres.len(), ray, t_min, t_max) {
             return true;
         }
-        if self.tris.is_empty() {
-            return false;
-        }
-        let ray4 = Ray4::new(ray, ray.dir.length());
-        self.tris
-            .iter()
-            .any(|tris| tris.intersect(&ray4, t_min, t_max).0 != 0)
+        !self.tris.is_empty()
+            && self.any_block(
+                0..self.tris.len(),
+                &Ray4::new(ray, ray.dir.length()),
+                t_min,
+                t_max,
+            )
     }
 }
 

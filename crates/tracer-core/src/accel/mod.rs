@@ -31,8 +31,9 @@ use build::BuildPrim;
 use glam::Vec3;
 use instances::InstanceTree;
 use leaves::{pack_leaves, SpherePrim, SPHERE_LEAF};
+use std::ops::Range;
 use traverse::{walk_any, walk_nearest, with_stack, Best, Entry, HitAt, RayData};
-use tri4::Tri4;
+use tri4::{Ray4, Tri4};
 use wide::Node;
 
 /// The bounding volume hierarchy over a scene's objects. It copies what
@@ -224,34 +225,43 @@ impl Bvh {
     /// Offers `best` every hit in the leaf `entry`.
     #[inline(always)]
     fn nearest_in_leaf(&self, r: &RayData, entry: Entry, t_min: f32, t_max: f32, best: &mut Best) {
-        let start = entry.child as usize;
-        if entry.count & SPHERE_LEAF != 0 {
-            let count = (entry.count & !SPHERE_LEAF) as usize;
-            for k in start..start + count {
-                let s = &self.spheres[k];
-                if let Some(t) = s.sphere.intersect(&r.ray, t_min, best.limit(t_max)) {
-                    best.offer(t, s.id, t_max, HitAt::Sphere(k));
-                }
-            }
-            return;
+        match leaf_run(entry) {
+            (true, run) => self.offer_spheres(run, &r.ray, t_min, t_max, best),
+            (false, run) => self.offer_blocks(run, &r.ray4, t_min, t_max, best),
         }
-        for block in start..start + entry.count as usize {
+    }
+
+    /// Offers `best` the hits on spheres `run`.
+    #[inline(always)]
+    fn offer_spheres(&self, run: Range<usize>, ray: &Ray, t_min: f32, t_max: f32, best: &mut Best) {
+        for k in run {
+            let s = &self.spheres[k];
+            if let Some(t) = s.sphere.intersect(ray, t_min, best.limit(t_max)) {
+                best.offer(t, s.id, t_max, HitAt::Sphere(k));
+            }
+        }
+    }
+
+    /// Offers `best` the hits on triangle blocks `run`.
+    #[inline(always)]
+    fn offer_blocks(
+        &self,
+        run: Range<usize>,
+        ray4: &Ray4,
+        t_min: f32,
+        t_max: f32,
+        best: &mut Best,
+    ) {
+        for block in run {
             let tris = &self.tris[block];
-            let (mut mask, t, [u, v]) = tris.intersect(&r.ray4, t_min, best.limit(t_max));
+            let (mut mask, t, [u, v]) = tris.intersect(ray4, t_min, best.limit(t_max));
             // In lane order, as the scalar loop would meet them.
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;
                 mask &= mask - 1;
-                best.offer(
-                    t[lane],
-                    tris.id[lane],
-                    t_max,
-                    HitAt::Triangle {
-                        block,
-                        lane,
-                        uv: glam::Vec2::new(u[lane], v[lane]),
-                    },
-                );
+                let uv = glam::Vec2::new(u[lane], v[lane]);
+                let at = HitAt::Triangle { block, lane, uv };
+                best.offer(t[lane], tris.id[lane], t_max, at);
             }
         }
     }
@@ -284,17 +294,37 @@ impl Bvh {
     /// Whether anything in the leaf `entry` lies on the ray in (t_min, t_max).
     #[inline(always)]
     fn any_in_leaf(&self, r: &RayData, entry: Entry, t_min: f32, t_max: f32) -> bool {
-        let start = entry.child as usize;
-        if entry.count & SPHERE_LEAF != 0 {
-            let count = (entry.count & !SPHERE_LEAF) as usize;
-            return self.spheres[start..start + count]
-                .iter()
-                .any(|s| s.sphere.intersect(&r.ray, t_min, t_max).is_some());
+        match leaf_run(entry) {
+            (true, run) => self.any_sphere(run, &r.ray, t_min, t_max),
+            (false, run) => self.any_block(run, &r.ray4, t_min, t_max),
         }
-        self.tris[start..start + entry.count as usize]
-            .iter()
-            .any(|tris| tris.intersect(&r.ray4, t_min, t_max).0 != 0)
     }
+
+    /// Whether one of spheres `run` lies on the ray in (t_min, t_max).
+    #[inline(always)]
+    fn any_sphere(&self, run: Range<usize>, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        self.spheres[run]
+            .iter()
+            .any(|s| s.sphere.intersect(ray, t_min, t_max).is_some())
+    }
+
+    /// Whether one of triangle blocks `run` lies on the ray in (t_min, t_max).
+    #[inline(always)]
+    fn any_block(&self, run: Range<usize>, ray4: &Ray4, t_min: f32, t_max: f32) -> bool {
+        self.tris[run]
+            .iter()
+            .any(|tris| tris.intersect(ray4, t_min, t_max).0 != 0)
+    }
+}
+
+/// Whether the leaf `entry` holds spheres, and the run of its spheres or
+/// triangle blocks.
+#[inline(always)]
+fn leaf_run(entry: Entry) -> (bool, Range<usize>) {
+    let start = entry.child as usize;
+    let spheres = entry.count & SPHERE_LEAF != 0;
+    let count = (entry.count & !SPHERE_LEAF) as usize;
+    (spheres, start..start + count)
 }
 
 #[cfg(test)]
