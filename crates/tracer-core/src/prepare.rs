@@ -566,19 +566,7 @@ pub fn instance_extent(b: &MeshBox, transform: Option<&fmt::Transform>) -> MeshE
         };
     }
     let placement = placement(transform);
-    let corners = (0..8).map(|k: u32| {
-        let pick = |axis: usize| {
-            if k >> axis & 1 == 0 {
-                b.min[axis]
-            } else {
-                b.max[axis]
-            }
-        };
-        placement.apply(Vec3::new(pick(0), pick(1), pick(2)))
-    });
-    let (lo, hi) = corners.fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
-        (lo.min(p), hi.max(p))
-    });
+    let (lo, hi) = placement.apply_box(b.min, b.max);
     let spread = (hi - lo).cmpgt(Vec3::ZERO).bitmask().count_ones();
     MeshExtent {
         triangles: if spread >= 2 { b.triangles } else { 0 },

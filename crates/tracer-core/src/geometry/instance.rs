@@ -19,8 +19,6 @@ use std::sync::Arc;
 pub struct SharedMesh {
     objects: Vec<Object>,
     bvh: Bvh,
-    /// The primitives' box, None for none: each instance places it.
-    bounds: Option<(Vec3, Vec3)>,
 }
 
 impl SharedMesh {
@@ -30,15 +28,7 @@ impl SharedMesh {
     pub fn new(mut objects: Vec<Object>) -> SharedMesh {
         objects.retain(|o| matches!(o.shape, Shape::Triangle(_)));
         let bvh = Bvh::build(&objects);
-        let bounds = objects
-            .iter()
-            .filter_map(|o| o.shape.bounds())
-            .reduce(|(lo, hi), (l, h)| (lo.min(l), hi.max(h)));
-        SharedMesh {
-            objects,
-            bvh,
-            bounds,
-        }
+        SharedMesh { objects, bvh }
     }
 
     /// The primitives, in the mesh's coordinates.
@@ -50,9 +40,10 @@ impl SharedMesh {
         &self.bvh
     }
 
-    /// The smallest box holding the primitives, None for no primitive.
+    /// The smallest box holding the primitives, None for no primitive:
+    /// each instance places it.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
-        self.bounds
+        self.bvh.bounds()
     }
 }
 
@@ -91,19 +82,7 @@ impl Instance {
         if materials.is_empty() {
             return None;
         }
-        let corners = (0..8).map(|k| {
-            let pick = |bit: usize, axis: usize| {
-                if k >> bit & 1 == 0 {
-                    lo[axis]
-                } else {
-                    hi[axis]
-                }
-            };
-            placement.apply(Vec3::new(pick(0, 0), pick(1, 1), pick(2, 2)))
-        });
-        let (min, max) = corners.fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), p| {
-            (a.min(p), b.max(p))
-        });
+        let (min, max) = placement.apply_box(lo, hi);
         let size = min.abs().max(max.abs()).max_element() + (max - min).max_element();
         let pad = Vec3::splat(size * INSTANCE_PAD);
         Some(Instance {

@@ -48,6 +48,25 @@ impl Placement {
         self.linear * p + self.translate
     }
 
+    /// The smallest box holding the box `lo`..`hi` placed: its eight
+    /// corners placed (so at least as far as any point of the box reaches).
+    pub fn apply_box(&self, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) {
+        (0..8u32)
+            .map(|k| {
+                let pick = |axis: usize| {
+                    if k >> axis & 1 == 0 {
+                        lo[axis]
+                    } else {
+                        hi[axis]
+                    }
+                };
+                self.apply(Vec3::new(pick(0), pick(1), pick(2)))
+            })
+            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), p| {
+                (a.min(p), b.max(p))
+            })
+    }
+
     /// A direction (a difference of points): moved by the linear part only.
     pub fn apply_vector(&self, v: Vec3) -> Vec3 {
         self.linear * v
