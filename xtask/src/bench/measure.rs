@@ -210,12 +210,5 @@ fn summarise(objects: usize, pixels: u64, runs: &[Run]) -> Ours {
 
 /// CPU seconds this process has used, on all its threads.
 fn cpu_time() -> f64 {
-    // SAFETY: getrusage only writes the struct it is given.
-    let usage = unsafe {
-        let mut usage = std::mem::zeroed::<libc::rusage>();
-        libc::getrusage(libc::RUSAGE_SELF, &mut usage);
-        usage
-    };
-    let seconds = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
-    seconds(usage.ru_utime) + seconds(usage.ru_stime)
+    super::rusage::cpu_seconds(&super::rusage::of(libc::RUSAGE_SELF))
 }

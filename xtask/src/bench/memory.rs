@@ -189,37 +189,16 @@ pub fn peak_of(command: &[std::ffi::OsString]) -> Result<()> {
         .stdout(std::process::Stdio::null())
         .spawn()
         .with_context(|| format!("running {:?}", command[0]))?;
-    let (status, usage) = wait(child.id())?;
+    let (status, usage) = super::rusage::wait(child.id())?;
     let wall_s = start.elapsed().as_secs_f64();
     if status != 0 {
         bail!("{command:?} failed");
     }
-    let seconds = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
     // Linux gives kilobytes.
     let peak = usage.ru_maxrss as u64 * 1024;
-    let cpu = seconds(usage.ru_utime) + seconds(usage.ru_stime);
+    let cpu = super::rusage::cpu_seconds(&usage);
     println!("{peak} {wall_s} {cpu}");
     Ok(())
-}
-
-/// Waits for the child `pid`: its exit status (0 for success) and its own
-/// resource use, peak memory included.
-fn wait(pid: u32) -> Result<(i32, libc::rusage)> {
-    let mut status = 0;
-    // SAFETY: wait4 only writes the status and the struct it is given.
-    let usage = unsafe {
-        let mut usage = std::mem::zeroed::<libc::rusage>();
-        if libc::wait4(pid as libc::pid_t, &mut status, 0, &mut usage) < 0 {
-            bail!("wait4: {}", std::io::Error::last_os_error());
-        }
-        usage
-    };
-    let code = if libc::WIFEXITED(status) {
-        libc::WEXITSTATUS(status)
-    } else {
-        -1
-    };
-    Ok((code, usage))
 }
 
 /// The report's section.

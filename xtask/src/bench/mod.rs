@@ -21,6 +21,7 @@
 //! - `memory`: peak memory of `tracer render` on one bunny and on 1,000
 //!   instances of it (the scene written into `target/bench/`).
 //! - `print`: the report.
+//! - `rusage`: CPU time and peak memory of this process and its children.
 
 mod embree;
 mod measure;
@@ -29,6 +30,7 @@ mod pov_scene;
 mod povray;
 mod print;
 mod process;
+mod rusage;
 mod scenes;
 mod stats;
 

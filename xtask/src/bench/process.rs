@@ -3,7 +3,8 @@
 //! the PNG (issue 16: reflectance2 under 30 ms on one thread). For a scene
 //! this small the render is only part of what a user waits for.
 
-use super::stats::median;
+use super::rusage;
+use super::stats::{median, range};
 use anyhow::{bail, Context, Result};
 use std::path::Path;
 use std::process::Command;
@@ -44,10 +45,9 @@ impl Process {
     }
 }
 
-fn range(xs: &[f64]) -> (f64, f64) {
-    let lo = xs.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    (lo, hi)
+/// CPU seconds of the children this process has waited for, all together.
+fn children_cpu_time() -> f64 {
+    rusage::cpu_seconds(&rusage::of(libc::RUSAGE_CHILDREN))
 }
 
 /// Runs `tracer render SCENE --threads 1 -q -o OUT.png` once.
@@ -73,18 +73,6 @@ pub fn spawn(tracer: &Path, scene: &Path, out: &Path) -> Result<Spawn> {
         wall_s,
         cpu_s: children_cpu_time() - cpu,
     })
-}
-
-/// CPU seconds of the children this process has waited for, all together.
-fn children_cpu_time() -> f64 {
-    // SAFETY: getrusage only writes the struct it is given.
-    let usage = unsafe {
-        let mut usage = std::mem::zeroed::<libc::rusage>();
-        libc::getrusage(libc::RUSAGE_CHILDREN, &mut usage);
-        usage
-    };
-    let seconds = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
-    seconds(usage.ru_utime) + seconds(usage.ru_stime)
 }
 
 #[cfg(test)]

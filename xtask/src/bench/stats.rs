@@ -6,9 +6,15 @@ pub fn median(mut xs: Vec<f64>) -> f64 {
     xs[xs.len() / 2]
 }
 
-/// "lowest-highest" of runs' ratios, e.g. `1.54x-2.03x`.
-pub fn spread(xs: &[f64]) -> String {
+/// The lowest and the highest.
+pub fn range(xs: &[f64]) -> (f64, f64) {
     let lo = xs.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    (lo, hi)
+}
+
+/// "lowest-highest" of runs' ratios, e.g. `1.54x-2.03x`.
+pub fn spread(xs: &[f64]) -> String {
+    let (lo, hi) = range(xs);
     format!("{lo:.2}x-{hi:.2}x")
 }

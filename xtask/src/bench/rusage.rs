@@ -1,0 +1,41 @@
+//! Resource use of this process and of the children it waits for: CPU
+//! time and peak memory, through `getrusage` and `wait4`.
+
+use anyhow::{bail, Result};
+
+/// The resource use of this process (`libc::RUSAGE_SELF`) or of all the
+/// children it has waited for (`libc::RUSAGE_CHILDREN`).
+pub fn of(who: libc::c_int) -> libc::rusage {
+    // SAFETY: getrusage only writes the struct it is given.
+    unsafe {
+        let mut usage = std::mem::zeroed::<libc::rusage>();
+        libc::getrusage(who, &mut usage);
+        usage
+    }
+}
+
+/// User + system CPU seconds of `usage`.
+pub fn cpu_seconds(usage: &libc::rusage) -> f64 {
+    let seconds = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
+    seconds(usage.ru_utime) + seconds(usage.ru_stime)
+}
+
+/// Waits for the child `pid`: its exit status (0 for success) and its own
+/// resource use, peak memory included.
+pub fn wait(pid: u32) -> Result<(i32, libc::rusage)> {
+    let mut status = 0;
+    // SAFETY: wait4 only writes the status and the struct it is given.
+    let usage = unsafe {
+        let mut usage = std::mem::zeroed::<libc::rusage>();
+        if libc::wait4(pid as libc::pid_t, &mut status, 0, &mut usage) < 0 {
+            bail!("wait4: {}", std::io::Error::last_os_error());
+        }
+        usage
+    };
+    let code = if libc::WIFEXITED(status) {
+        libc::WEXITSTATUS(status)
+    } else {
+        -1
+    };
+    Ok((code, usage))
+}
