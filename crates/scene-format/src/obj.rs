@@ -624,13 +624,8 @@ mod tests {
             "\t",
             "\r",
         ];
-        let mut state = 0x2545_F491_4F6C_DD1Du64;
-        let mut next = |n: usize| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state % n as u64) as usize
-        };
+        let mut below = obj_text::below(0x2545_F491_4F6C_DD1D);
+        let mut next = |n: usize| below(n as u64) as usize;
         let (mut read, mut refused) = (0, 0);
         for _ in 0..4_000 {
             let mut obj = String::from("v 0 0 0\nv 1 0 0\nv 0 1 0\n");

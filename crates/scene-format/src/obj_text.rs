@@ -307,6 +307,18 @@ fn index(part: &[u8], count: usize) -> Option<u32> {
     u32::try_from(index).ok().filter(|&i| i != NONE)
 }
 
+/// Reproducible numbers below `n` (xorshift from `state`), for the tests'
+/// random words.
+#[cfg(test)]
+pub(crate) fn below(mut state: u64) -> impl FnMut(u64) -> u64 {
+    move |n| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state % n
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -318,13 +330,7 @@ mod tests {
     /// The fast path must give `str::parse`'s bits, or leave the word to it.
     #[test]
     fn short_decimals_parse_as_the_standard_library_does() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move |n: u64| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state % n
-        };
+        let mut next = below(0x2545_f491_4f6c_dd1d);
         let mut fast = 0;
         for _ in 0..400_000 {
             let mut word = String::new();
