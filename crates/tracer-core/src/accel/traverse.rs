@@ -7,6 +7,7 @@ use super::wide::{node_halves, Node, GROUPS, INNER, WIDTH};
 use crate::ray::Ray;
 use glam::{Vec2, Vec4};
 use std::cell::RefCell;
+use std::thread::LocalKey;
 
 /// Widens box intervals by a few ulps against the rounding of the slab test
 /// (pbrt's `1 + 2 gamma(3)`, with margin). Rays that Moller-Trumbore rounds
@@ -32,18 +33,22 @@ thread_local! {
 /// Runs `f` with this thread's traversal stack.
 #[inline(always)]
 pub(super) fn with_stack<R>(f: impl FnOnce(&mut [Entry]) -> R) -> R {
-    STACKS.with_borrow_mut(|stack| {
-        if stack.is_empty() {
-            stack.resize(STACK, Entry::ROOT);
-        }
-        f(stack)
-    })
+    with_stack_of(&STACKS, f)
 }
 
 /// Runs `f` with this thread's stack for the instance tree.
 #[inline(always)]
 pub(super) fn with_instance_stack<R>(f: impl FnOnce(&mut [Entry]) -> R) -> R {
-    INSTANCE_STACKS.with_borrow_mut(|stack| {
+    with_stack_of(&INSTANCE_STACKS, f)
+}
+
+/// Runs `f` with the stack `key`, allocated on its first use.
+#[inline(always)]
+fn with_stack_of<R>(
+    key: &'static LocalKey<RefCell<Vec<Entry>>>,
+    f: impl FnOnce(&mut [Entry]) -> R,
+) -> R {
+    key.with_borrow_mut(|stack| {
         if stack.is_empty() {
             stack.resize(STACK, Entry::ROOT);
         }
