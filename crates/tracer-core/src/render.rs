@@ -2,14 +2,18 @@
 //! pixel, and what each sample computes (the shaded colour or an AOV).
 //! Bands of rows are rendered in parallel on the current rayon pool.
 
+use crate::accel::PACKET;
 use crate::aov::{Aov, AovContext};
 use crate::image::LinearImage;
 use crate::integrate::whitted::Whitted;
 use crate::integrate::RayStats;
+use crate::ray::Ray;
 use crate::sampling::{concentric_disk, Rng, Shuffle, Strata};
 use crate::scene::Scene;
+use crate::EPSILON;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
+use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// A rectangle of pixels: columns `x0..x1`, rows `y0..y1` (ends exclusive).
@@ -118,7 +122,7 @@ pub fn render(scene: &Scene, job: &RenderJob, rows_done: &(dyn Fn(u32) + Sync)) 
 }
 
 /// `render`, given up (None) soon after `cancel` becomes true: it is read
-/// before each row of a tile and each sample of a pixel of several, so an
+/// before each row of a tile and each packet of a pixel's samples, so an
 /// edit in watch mode stops even a costly render at once.
 pub fn render_cancellable(
     scene: &Scene,
@@ -196,8 +200,8 @@ struct PixelRenderer<'a> {
     thin_lens: bool,
     output: Output,
     aov: AovContext,
-    /// Read before each sample of a pixel of several: a pixel of
-    /// thousands of samples stops too when the render is given up.
+    /// Read before each packet of a pixel's samples (`PACKET` of them): a
+    /// pixel of thousands of samples stops too when the render is given up.
     cancel: &'a AtomicBool,
 }
 
@@ -223,27 +227,61 @@ impl<'a> PixelRenderer<'a> {
             let centre = Vec2::new(i as f32 + 0.5, j as f32 + 0.5);
             let mut rng = Rng::for_sample(i, j, 0);
             let lens = self.lens_point(rng.square(), |p| p);
-            return self.sample(centre, lens, rng, tracer);
+            let ray = self.scene.camera().lens_ray(centre.x, centre.y, lens);
+            return self.value(&ray, rng, tracer);
         }
-        let pixel = Vec2::new(i as f32, j as f32);
         // The pixel's lens order, from a stream none of its samples uses.
         let order = if self.thin_lens {
             Rng::for_sample(i, j, self.samples).next_u64() as u32
         } else {
             0
         };
-        let sum: Vec3 = (0..self.samples)
-            .take_while(|_| !self.cancel.load(Ordering::Relaxed))
-            .map(|s| {
-                let mut rng = Rng::for_sample(i, j, s);
-                let at = pixel + self.strata.point(s, rng.square());
-                let lens = self.lens_point(rng.square(), |jitter| {
-                    self.strata.point(self.lens_order.apply(s, order), jitter)
-                });
-                self.sample(at, lens, rng, tracer)
-            })
-            .sum();
+        let mut sum = Vec3::ZERO;
+        let mut first = 0;
+        while first < self.samples && !self.cancel.load(Ordering::Relaxed) {
+            let last = (first + PACKET as u32).min(self.samples);
+            self.add_samples((i, j, order), first..last, tracer, &mut sum);
+            first = last;
+        }
         sum / self.samples as f32
+    }
+
+    /// Adds to `sum`, in order, the values of samples `samples` of pixel
+    /// (i, j) whose lens order is `order`: their primary rays searched
+    /// together (`Scene::closest_hits`) for the shaded colour.
+    #[inline(always)]
+    fn add_samples(
+        &self,
+        (i, j, order): (u32, u32, u32),
+        samples: Range<u32>,
+        tracer: &mut Whitted,
+        sum: &mut Vec3,
+    ) {
+        let pixel = Vec2::new(i as f32, j as f32);
+        let mut rays = [Ray::new(Vec3::ZERO, Vec3::ZERO); PACKET];
+        let mut rngs = [Rng::new(0); PACKET];
+        let n = samples.len();
+        for ((s, ray), rng) in samples.zip(&mut rays).zip(&mut rngs) {
+            *rng = Rng::for_sample(i, j, s);
+            let at = pixel + self.strata.point(s, rng.square());
+            let lens = self.lens_point(rng.square(), |jitter| {
+                self.strata.point(self.lens_order.apply(s, order), jitter)
+            });
+            *ray = self.scene.camera().lens_ray(at.x, at.y, lens);
+        }
+        if self.output != Output::Shading {
+            for (ray, rng) in rays.iter().zip(rngs).take(n) {
+                *sum += self.value(ray, rng, tracer);
+            }
+            return;
+        }
+        let mut hits = [None; PACKET];
+        let (rays, hits) = (&rays[..n], &mut hits[..n]);
+        self.scene.closest_hits(rays, EPSILON, f32::INFINITY, hits);
+        for ((ray, hit), rng) in rays.iter().zip(hits).zip(rngs) {
+            tracer.reseed(rng);
+            *sum += tracer.trace_from(ray, *hit, 1.0, 0);
+        }
     }
 
     /// The lens point of a sample whose lens jitter is `jitter` (drawn
@@ -258,18 +296,17 @@ impl<'a> PixelRenderer<'a> {
         }
     }
 
-    /// The value of one sample at image point `at` through `lens` (a point
-    /// of the unit disk), with `rng` for what the tracer samples.
+    /// The value of one sample whose ray is `ray`, with `rng` for what the
+    /// tracer samples.
     #[inline(always)]
-    fn sample(&self, at: Vec2, lens: Vec2, rng: Rng, tracer: &mut Whitted) -> Vec3 {
-        let ray = self.scene.camera().lens_ray(at.x, at.y, lens);
+    fn value(&self, ray: &Ray, rng: Rng, tracer: &mut Whitted) -> Vec3 {
         match self.output {
             Output::Shading => {
                 tracer.reseed(rng);
-                tracer.trace(&ray, 1.0, 0)
+                tracer.trace(ray, 1.0, 0)
             }
-            Output::Aov(aov) => self.aov.value(self.scene, aov, &ray),
-            Output::Distance => self.aov.distance(self.scene, &ray),
+            Output::Aov(aov) => self.aov.value(self.scene, aov, ray),
+            Output::Distance => self.aov.distance(self.scene, ray),
         }
     }
 }

@@ -198,6 +198,26 @@ impl Scene {
         }
     }
 
+    /// The nearest hits of `rays` (at most `accel::PACKET`) in (t_min,
+    /// t_max), into `hits`: each the one `closest_hit` finds for it, but
+    /// rays from one origin (a pixel's samples) searched together.
+    pub fn closest_hits(
+        &self,
+        rays: &[Ray],
+        t_min: f32,
+        t_max: f32,
+        hits: &mut [Option<SurfaceHit>],
+    ) {
+        match &self.accel {
+            Accel::Bvh(bvh) => bvh.closest_hits(rays, t_min, t_max, hits),
+            Accel::BruteForce => {
+                for (ray, hit) in rays.iter().zip(hits) {
+                    *hit = brute_force::closest_hit(&self.objects, ray, t_min, t_max);
+                }
+            }
+        }
+    }
+
     /// Whether anything lies on the ray within (t_min, t_max): shadow rays.
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
         match &self.accel {

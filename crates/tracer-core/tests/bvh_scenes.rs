@@ -51,6 +51,25 @@ fn boxes_planes_and_quads_are_identical_with_and_without_the_bvh() {
 }
 
 #[test]
+fn samples_searched_together_find_the_brute_force_image() {
+    // At 16 samples a pixel's primary rays are searched as one packet
+    // (`Bvh::closest_hits`); brute force takes each on its own. Boxes,
+    // planes, quads and glass; and the bunny's silhouette, where a
+    // packet's rays part between mesh and sky.
+    let mut boxes = load(&scenes_dir().join("boxes.toml"));
+    (boxes.camera.width, boxes.camera.height) = (64, 40);
+    let mut bunny = load(&scenes_dir().join("bench/bunny.toml"));
+    (bunny.camera.width, bunny.camera.height) = (32, 18);
+    for (name, file) in [("boxes", boxes), ("bunny", bunny)] {
+        let scene = prepare(&file).expect("prepare");
+        let job = RenderJob::full(&scene).with_samples(16);
+        let fast = render(&scene, &job, &|_| {}).image;
+        let slow = render(&scene.brute_force(), &job, &|_| {}).image;
+        assert!(fast == slow, "{name}: the packets changed the image");
+    }
+}
+
+#[test]
 fn the_bunny_is_identical_with_and_without_the_bvh() {
     let scene = small_bunny();
     assert_eq!(scene.objects().len(), 69_666);

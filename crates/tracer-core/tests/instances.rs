@@ -254,6 +254,14 @@ fn instanced_scenes_are_identical_with_and_without_the_bvh() {
     let fast = image(&s);
     let slow = image(&s.clone().brute_force());
     assert!(fast == slow, "the BVH changed the image");
+    // A pixel's samples searched together (the flattened smooth ball makes
+    // a tree of more than one node), then each ray among the instances.
+    let smooth = "[[objects]]\nmesh = { obj = \"icosphere.obj\", smooth = true }\nmaterial = \"red\"\ntransform = { translate = [2, 1.5, -1] }\n";
+    let s16 = scene(&(objects.concat() + smooth));
+    let job = RenderJob::full(&s16).with_samples(16);
+    let packets = render(&s16, &job, &|_| {}).image;
+    let one_by_one = render(&s16.clone().brute_force(), &job, &|_| {}).image;
+    assert!(packets == one_by_one, "the packets changed the image");
     // The render's own scene lets the objects go; the instances stay.
     let lean = Scene::lean(parts(&objects.concat()));
     assert_eq!(lean.unique_primitives(), s.unique_primitives());

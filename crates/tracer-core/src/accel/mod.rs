@@ -21,6 +21,7 @@ mod build;
 mod flat;
 mod instances;
 mod leaves;
+mod packet;
 mod traverse;
 mod tri4;
 mod wide;
@@ -31,6 +32,7 @@ use build::BuildPrim;
 use glam::Vec3;
 use instances::InstanceTree;
 use leaves::{pack_leaves, SpherePrim, SPHERE_LEAF};
+pub use packet::PACKET;
 use std::ops::Range;
 use traverse::{walk_any, walk_nearest, with_stack, Best, Entry, HitAt, RayData};
 use tri4::{Ray4, Tri4};
@@ -154,11 +156,7 @@ impl Bvh {
     /// one of the lowest object index (as the brute-force loop finds it).
     pub fn closest_hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
         let mut best = Best::none(t_max);
-        for (k, p) in self.planes.iter().enumerate() {
-            if let Some(t) = p.plane.intersect(ray, t_min, best.limit(t_max)) {
-                best.offer(t, p.id, t_max, HitAt::Plane(k));
-            }
-        }
+        self.offer_planes(ray, t_min, t_max, &mut best);
         if self.is_flat() {
             self.nearest_flat(ray, t_min, t_max, &mut best);
         } else if !self.nodes.is_empty() {
@@ -167,6 +165,22 @@ impl Bvh {
         if !self.instances.is_empty() {
             self.instances.nearest(ray, t_min, t_max, &mut best);
         }
+        self.surface_hit(&best, ray)
+    }
+
+    /// Offers `best` the hits on the planes.
+    #[inline(always)]
+    fn offer_planes(&self, ray: &Ray, t_min: f32, t_max: f32, best: &mut Best) {
+        for (k, p) in self.planes.iter().enumerate() {
+            if let Some(t) = p.plane.intersect(ray, t_min, best.limit(t_max)) {
+                best.offer(t, p.id, t_max, HitAt::Plane(k));
+            }
+        }
+    }
+
+    /// The hit record of `ray`'s best hit, if it found one.
+    #[inline(always)]
+    fn surface_hit(&self, best: &Best, ray: &Ray) -> Option<SurfaceHit> {
         best.found().then(|| match best.at {
             HitAt::Triangle { block, lane, uv } => self.triangle_hit(block, lane, ray, best.t, uv),
             HitAt::Sphere(k) => self.spheres[k].hit(ray, best.t),
@@ -217,17 +231,24 @@ impl Bvh {
         let r = RayData::new(ray);
         with_stack(|stack| {
             walk_nearest(&self.nodes, &r, t_min, best, stack, |entry, best| {
-                self.nearest_in_leaf(&r, entry, t_min, t_max, best)
+                self.nearest_in_leaf(&r.ray, &r.ray4, entry, (t_min, t_max), best)
             })
         });
     }
 
     /// Offers `best` every hit in the leaf `entry`.
     #[inline(always)]
-    fn nearest_in_leaf(&self, r: &RayData, entry: Entry, t_min: f32, t_max: f32, best: &mut Best) {
+    fn nearest_in_leaf(
+        &self,
+        ray: &Ray,
+        ray4: &Ray4,
+        entry: Entry,
+        (t_min, t_max): (f32, f32),
+        best: &mut Best,
+    ) {
         match leaf_run(entry) {
-            (true, run) => self.offer_spheres(run, &r.ray, t_min, t_max, best),
-            (false, run) => self.offer_blocks(run, &r.ray4, t_min, t_max, best),
+            (true, run) => self.offer_spheres(run, ray, t_min, t_max, best),
+            (false, run) => self.offer_blocks(run, ray4, t_min, t_max, best),
         }
     }
 
@@ -352,7 +373,7 @@ mod tests {
     }
 
     /// Small triangles and spheres scattered in a cube, some coinciding.
-    fn soup(rng: &mut Rng, n: usize) -> Vec<Object> {
+    pub(super) fn soup(rng: &mut Rng, n: usize) -> Vec<Object> {
         let mut objects = Vec::new();
         for i in 0..n {
             let c = rng.vec(5.0);

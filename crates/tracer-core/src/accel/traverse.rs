@@ -57,6 +57,7 @@ fn with_stack_of<R>(
 }
 
 /// The best hit so far of a nearest-hit search, and where it is.
+#[derive(Clone, Copy)]
 pub(super) struct Best {
     pub(super) t: f32,
     pub(super) id: u32,
@@ -141,34 +142,74 @@ impl RayData {
             near_plane: [0, 1, 2].map(|axis| if inv[axis] < 0.0 { axis + 3 } else { axis }),
         }
     }
+}
 
-    /// Which boxes of the node's first `halves` halves the ray meets within
-    /// (t_min, t_max], padded against rounding, as a bit mask; and the
-    /// entry distances.
+/// What a nearest-hit walk asks of its rays: which children of a node
+/// they may enter.
+pub(super) trait Enter {
+    /// Which boxes of the node's first `halves` halves the rays may meet
+    /// within (t_min, t_max], padded against rounding, as a bit mask; and
+    /// the entry distances (for several rays, the least of them).
+    fn enter(&self, node: &Node, halves: usize, t_min: f32, t_max: f32) -> (u32, [Vec4; GROUPS]);
+}
+
+/// What a nearest-hit walk asks of its best hits: the farthest distance
+/// at which a hit may still count.
+pub(super) trait Reach {
+    fn reach(&self) -> f32;
+}
+
+impl Reach for Best {
     #[inline(always)]
-    pub(super) fn enter(
-        &self,
-        node: &Node,
-        halves: usize,
-        t_min: f32,
-        t_max: f32,
-    ) -> (u32, [Vec4; GROUPS]) {
-        let mut mask = 0;
-        let mut entries = [Vec4::ZERO; GROUPS];
-        for (g, entry) in entries.iter_mut().enumerate().take(halves) {
-            let planes = &node.halves[g].planes;
-            let mut near = Vec4::splat(t_min);
-            let mut far = Vec4::splat(t_max);
-            for axis in 0..3 {
-                let (n, f) = (self.near_plane[axis], (self.near_plane[axis] + 3) % 6);
-                near = near.max((planes[n] - self.origin[axis]) * self.inv_dir[axis]);
-                far = far.min((planes[f] - self.origin[axis]) * self.inv_dir[axis]);
-            }
-            mask |= near.cmple(far * PAD).bitmask() << (4 * g);
-            *entry = near;
-        }
-        (mask, entries)
+    fn reach(&self) -> f32 {
+        self.t
     }
+}
+
+impl Enter for RayData {
+    #[inline(always)]
+    fn enter(&self, node: &Node, halves: usize, t_min: f32, t_max: f32) -> (u32, [Vec4; GROUPS]) {
+        slab_test(
+            node,
+            halves,
+            (t_min, t_max),
+            &self.near_plane,
+            |axis, near, far| {
+                let (o, inv) = (self.origin[axis], self.inv_dir[axis]);
+                ((near - o) * inv, (far - o) * inv)
+            },
+        )
+    }
+}
+
+/// The slab test of the boxes of the node's first `halves` halves, the
+/// near plane of each axis being `near_plane`: `slab(axis, near planes,
+/// far planes)` gives the distances to them. Returns the boxes entered
+/// within (t_min, t_max], padded against rounding, as a bit mask, and the
+/// entry distances.
+#[inline(always)]
+pub(super) fn slab_test(
+    node: &Node,
+    halves: usize,
+    (t_min, t_max): (f32, f32),
+    near_plane: &[usize; 3],
+    slab: impl Fn(usize, Vec4, Vec4) -> (Vec4, Vec4),
+) -> (u32, [Vec4; GROUPS]) {
+    let mut mask = 0;
+    let mut entries = [Vec4::ZERO; GROUPS];
+    for (g, entry) in entries.iter_mut().enumerate().take(halves) {
+        let planes = &node.halves[g].planes;
+        let mut near = Vec4::splat(t_min);
+        let mut far = Vec4::splat(t_max);
+        for (axis, &n) in near_plane.iter().enumerate() {
+            let (t_near, t_far) = slab(axis, planes[n], planes[(n + 3) % 6]);
+            near = near.max(t_near);
+            far = far.min(t_far);
+        }
+        mask |= near.cmple(far * PAD).bitmask() << (4 * g);
+        *entry = near;
+    }
+    (mask, entries)
 }
 
 /// 1 / each component of `dir`, for slab tests: a zero component would
@@ -206,22 +247,23 @@ impl Entry {
 /// The nearest-first walk of a tree of `nodes` on `stack`: entries beyond
 /// the best hit so far are skipped, leaves handed to `leaf`, and the
 /// children the ray enters pushed farthest first. Both trees (the
-/// primitives' and the instances') walk this way, with their own leaves.
+/// primitives' and the instances') walk this way, with their own leaves,
+/// and so do packets of rays (`packet.rs`).
 #[inline(always)]
-pub(super) fn walk_nearest(
+pub(super) fn walk_nearest<B: Reach>(
     nodes: &[Node],
-    r: &RayData,
+    r: &impl Enter,
     t_min: f32,
-    best: &mut Best,
+    best: &mut B,
     stack: &mut [Entry],
-    mut leaf: impl FnMut(Entry, &mut Best),
+    mut leaf: impl FnMut(Entry, &mut B),
 ) {
     stack[0] = Entry::ROOT;
     let mut sp = 1;
     while sp > 0 {
         sp -= 1;
         let entry = stack[sp];
-        if entry.t > best.t * PAD {
+        if entry.t > best.reach() * PAD {
             continue;
         }
         let Some(halves) = node_halves(entry.count) else {
@@ -229,7 +271,7 @@ pub(super) fn walk_nearest(
             continue;
         };
         let node = &nodes[entry.child as usize];
-        let (mask, near) = r.enter(node, halves, t_min, best.t);
+        let (mask, near) = r.enter(node, halves, t_min, best.reach());
         sp = push_nearest_last(stack, sp, node, mask, near);
     }
 }

@@ -83,9 +83,22 @@ impl<'a> Whitted<'a> {
     /// is the lab's ray-tree counter. A primary ray starts at energy 1,
     /// depth 0.
     pub fn trace(&mut self, ray: &Ray, energy: f32, depth: u32) -> Vec3 {
+        let hit = self.scene.closest_hit(ray, EPSILON, f32::INFINITY);
+        self.trace_from(ray, hit, energy, depth)
+    }
+
+    /// `trace`, the ray's nearest hit (in (EPSILON, inf)) already found:
+    /// a pixel's samples are searched together (`Scene::closest_hits`).
+    pub fn trace_from(
+        &mut self,
+        ray: &Ray,
+        hit: Option<SurfaceHit>,
+        energy: f32,
+        depth: u32,
+    ) -> Vec3 {
         self.stats.nearest += 1;
         let scene = self.scene;
-        let Some(hit) = scene.closest_hit(ray, EPSILON, f32::INFINITY) else {
+        let Some(hit) = hit else {
             // With the lab's black background this adds nothing, as in the lab.
             return energy * scene.trace_settings().background;
         };
