@@ -247,8 +247,9 @@ impl<'a> PixelRenderer<'a> {
     }
 
     /// Adds to `sum`, in order, the values of samples `samples` of pixel
-    /// (i, j) whose lens order is `order`: their primary rays searched
-    /// together (`Scene::closest_hits`) for the shaded colour.
+    /// (i, j) whose lens order is `order`: for the shaded colour, their
+    /// primary rays searched together (`Scene::closest_hits`), and their
+    /// shadow rays (`Whitted::add_samples`).
     #[inline(always)]
     fn add_samples(
         &self,
@@ -278,10 +279,7 @@ impl<'a> PixelRenderer<'a> {
         let mut hits = [None; PACKET];
         let (rays, hits) = (&rays[..n], &mut hits[..n]);
         self.scene.closest_hits(rays, EPSILON, f32::INFINITY, hits);
-        for ((ray, hit), rng) in rays.iter().zip(hits).zip(rngs) {
-            tracer.reseed(rng);
-            *sum += tracer.trace_from(ray, *hit, 1.0, 0);
-        }
+        tracer.add_samples(rays, hits, &rngs[..n], sum);
     }
 
     /// The lens point of a sample whose lens jitter is `jitter` (drawn

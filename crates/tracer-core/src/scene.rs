@@ -218,6 +218,19 @@ impl Scene {
         }
     }
 
+    /// Which of `rays` (at most `accel::PACKET`) something lies on within
+    /// (t_min, t_max[i]), as a bit mask (bit i for ray i): each as
+    /// `occluded` finds it, but searched together.
+    pub fn occluded_together(&self, rays: &[Ray], t_min: f32, t_max: &[f32]) -> u32 {
+        match &self.accel {
+            Accel::Bvh(bvh) => bvh.occluded_together(rays, t_min, t_max),
+            Accel::BruteForce => (0..rays.len()).fold(0, |mask, i| {
+                let blocked = brute_force::occluded(&self.objects, &rays[i], t_min, t_max[i]);
+                mask | (blocked as u32) << i
+            }),
+        }
+    }
+
     /// Whether anything lies on the ray within (t_min, t_max): shadow rays.
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
         match &self.accel {

@@ -289,6 +289,13 @@ impl Bvh {
 
     /// Whether any primitive lies on the ray in (t_min, t_max).
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        self.occluded_beside_tree(ray, t_min, t_max) || self.occluded_in_tree(ray, t_min, t_max)
+    }
+
+    /// Whether a plane, an instance or (in a small scene searched flat) a
+    /// sphere or triangle lies on the ray in (t_min, t_max).
+    #[inline(always)]
+    fn occluded_beside_tree(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
         let on_plane = |p: &PlanePrim| p.plane.intersect(ray, t_min, t_max).is_some();
         if self.planes.iter().any(on_plane) {
             return true;
@@ -296,16 +303,20 @@ impl Bvh {
         if !self.instances.is_empty() && self.instances.occluded(ray, t_min, t_max) {
             return true;
         }
-        if self.is_flat() {
-            return self.any_flat(ray, t_min, t_max);
-        }
-        if self.nodes.is_empty() {
+        self.is_flat() && self.any_flat(ray, t_min, t_max)
+    }
+
+    /// Whether a primitive of the tree (unless searched flat) lies on the
+    /// ray in (t_min, t_max).
+    #[inline(always)]
+    fn occluded_in_tree(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        if self.is_flat() || self.nodes.is_empty() {
             return false;
         }
         let r = RayData::new(ray);
         with_stack(|stack| {
             walk_any(&self.nodes, &r, (t_min, t_max), stack, |entry| {
-                self.any_in_leaf(&r, entry, t_min, t_max)
+                self.any_in_leaf(&r.ray, &r.ray4, entry, (t_min, t_max))
             })
         })
     }
@@ -314,10 +325,16 @@ impl Bvh {
 impl Bvh {
     /// Whether anything in the leaf `entry` lies on the ray in (t_min, t_max).
     #[inline(always)]
-    fn any_in_leaf(&self, r: &RayData, entry: Entry, t_min: f32, t_max: f32) -> bool {
+    fn any_in_leaf(
+        &self,
+        ray: &Ray,
+        ray4: &Ray4,
+        entry: Entry,
+        (t_min, t_max): (f32, f32),
+    ) -> bool {
         match leaf_run(entry) {
-            (true, run) => self.any_sphere(run, &r.ray, t_min, t_max),
-            (false, run) => self.any_block(run, &r.ray4, t_min, t_max),
+            (true, run) => self.any_sphere(run, ray, t_min, t_max),
+            (false, run) => self.any_block(run, ray4, t_min, t_max),
         }
     }
 

@@ -1,18 +1,22 @@
-//! Rays searched together: a pixel's samples share the camera's origin and
-//! differ in direction by less than a pixel, so they enter nearly the same
-//! nodes. A packet walks the tree once, testing a node's boxes against all
-//! its rays at once, and tests each leaf's primitives against each ray.
+//! Rays searched together. A pixel's samples share the camera's origin
+//! and differ in direction by less than a pixel, and their shadow rays
+//! start a pixel's width apart toward the same light, so they enter
+//! nearly the same nodes. A packet walks the tree once, testing a node's
+//! boxes against all its rays at once, and tests each leaf's primitives
+//! against each ray.
 //!
-//! Each ray finds the hit it finds alone. The packet's box test bounds
-//! every ray's: float products are monotone in each factor, so the
-//! products with the least and the greatest inverse direction of an axis
-//! bound each ray's own, and the packet enters every box that one of its
-//! rays would. Each ray is thus offered the primitives of its own walk and
-//! perhaps more (all of them real hits or misses of the same arithmetic),
-//! and the best-hit rule (nearest, then lowest object index) does not
-//! depend on the order or the number of the offers.
+//! Each ray finds what it finds alone. The packet's box test bounds every
+//! ray's: float subtraction and multiplication are monotone in each
+//! operand, so the slab distances worked out from the extreme origins and
+//! inverse directions bound each ray's own, and the packet enters every box
+//! that one of its rays would. Each ray is thus offered the primitives of
+//! its own walk and perhaps more (each a hit or a miss of the same
+//! arithmetic); the best-hit rule (nearest, then lowest object index) does
+//! not depend on the order or the number of the offers, nor does "any hit".
 
-use super::traverse::{safe_inverse, slab_test, walk_nearest, with_stack, Best, Enter, Reach};
+use super::traverse::{
+    safe_inverse, slab_test, walk_any, walk_nearest, with_stack, Best, Enter, Reach,
+};
 use super::tri4::Ray4;
 use super::wide::{Node, GROUPS};
 use super::Bvh;
@@ -23,50 +27,62 @@ use glam::Vec4;
 /// Most rays in one packet: a pixel's 16 samples.
 pub const PACKET: usize = 16;
 
-/// A packet's rays as the box test needs them: their common origin in
-/// every lane and, per axis, the least and greatest inverse direction (of
-/// one sign).
+/// A packet's rays as the box test needs them, per axis: the origin that
+/// gives the least distance to the near planes and the one that gives the
+/// greatest to the far planes (the same for rays of one origin), and the
+/// least and greatest inverse direction (of one sign).
 pub(super) struct PacketData {
-    origin: [Vec4; 3],
+    origin_near: [Vec4; 3],
+    origin_far: [Vec4; 3],
     inv_lo: [Vec4; 3],
     inv_hi: [Vec4; 3],
     near_plane: [usize; 3],
 }
 
 impl PacketData {
-    /// The packet of `rays`; None when they do not share an origin, or the
-    /// sign of their direction differs on some axis (the near plane would
-    /// differ too), or a direction is not finite and non-zero.
-    pub(super) fn new(rays: &[Ray]) -> Option<PacketData> {
-        let origin = rays.first()?.origin;
-        let mut lo = [f32::INFINITY; 3];
-        let mut hi = [f32::NEG_INFINITY; 3];
+    /// The packet of `rays`; None when the sign of their directions
+    /// differs on some axis (the near plane would differ too), or a
+    /// direction is not finite and non-zero, or an origin is not finite.
+    pub(super) fn new<'a>(rays: impl IntoIterator<Item = &'a Ray>) -> Option<PacketData> {
+        let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        let (mut o_lo, mut o_hi) = (lo, hi);
+        let mut empty = true;
         for ray in rays {
+            empty = false;
             let inv = safe_inverse(ray.dir);
-            if ray.origin != origin || inv.iter().any(|&i| !i.is_normal()) {
+            let o = ray.origin.to_array();
+            if inv.iter().any(|&i| !i.is_normal()) || !ray.origin.is_finite() {
                 return None;
             }
             for axis in 0..3 {
-                lo[axis] = lo[axis].min(inv[axis]);
-                hi[axis] = hi[axis].max(inv[axis]);
+                (lo[axis], hi[axis]) = (lo[axis].min(inv[axis]), hi[axis].max(inv[axis]));
+                (o_lo[axis], o_hi[axis]) = (o_lo[axis].min(o[axis]), o_hi[axis].max(o[axis]));
             }
         }
-        if (0..3).any(|axis| (lo[axis] < 0.0) != (hi[axis] < 0.0)) {
+        let toward_minus = |axis: usize| lo[axis] < 0.0;
+        if empty || (0..3).any(|axis| toward_minus(axis) != (hi[axis] < 0.0)) {
             return None;
         }
+        // Toward +, the near plane's distance falls as the origin grows;
+        // toward -, it grows with it (and the far plane's the other way).
+        let pick = |minus: &[f32; 3], plus: &[f32; 3]| {
+            [0, 1, 2].map(|axis| Vec4::splat(if toward_minus(axis) { minus } else { plus }[axis]))
+        };
         Some(PacketData {
-            origin: origin.to_array().map(Vec4::splat),
+            origin_near: pick(&o_lo, &o_hi),
+            origin_far: pick(&o_hi, &o_lo),
             inv_lo: lo.map(Vec4::splat),
             inv_hi: hi.map(Vec4::splat),
-            near_plane: [0, 1, 2].map(|axis| if lo[axis] < 0.0 { axis + 3 } else { axis }),
+            near_plane: [0, 1, 2].map(|axis| if toward_minus(axis) { axis + 3 } else { axis }),
         })
     }
 }
 
 impl Enter for PacketData {
     /// The boxes one of the rays may enter, and the least of their entry
-    /// distances: the slab distances of the least and greatest inverse
-    /// direction, the smaller for the near plane, the larger for the far.
+    /// distances: of the distances from the extreme origin and with the
+    /// least and greatest inverse direction, the smaller for the near
+    /// plane, the larger for the far.
     #[inline(always)]
     fn enter(&self, node: &Node, halves: usize, t_min: f32, t_max: f32) -> (u32, [Vec4; GROUPS]) {
         slab_test(
@@ -76,7 +92,8 @@ impl Enter for PacketData {
             &self.near_plane,
             |axis, near, far| {
                 let (lo, hi) = (self.inv_lo[axis], self.inv_hi[axis]);
-                let (near, far) = (near - self.origin[axis], far - self.origin[axis]);
+                let near = near - self.origin_near[axis];
+                let far = far - self.origin_far[axis];
                 ((near * lo).min(near * hi), (far * lo).max(far * hi))
             },
         )
@@ -153,10 +170,7 @@ impl Bvh {
         (t_min, t_max): (f32, f32),
         bests: &mut Bests,
     ) {
-        let ray4: [Ray4; PACKET] = std::array::from_fn(|i| {
-            let ray = &rays[i.min(rays.len() - 1)];
-            Ray4::new(ray, ray.dir.length())
-        });
+        let ray4 = rays4(rays);
         bests.update_reach();
         with_stack(|stack| {
             walk_nearest(&self.nodes, packet, t_min, bests, stack, |entry, bests| {
@@ -167,6 +181,70 @@ impl Bvh {
             })
         });
     }
+
+    /// Which of `rays` (at most `PACKET`) something lies on within
+    /// (t_min, t_max[i]), as a bit mask (bit i for ray i): each as
+    /// `occluded` finds it. Shadow rays toward one light point, from a
+    /// pixel's hits, are searched together.
+    pub fn occluded_together(&self, rays: &[Ray], t_min: f32, t_max: &[f32]) -> u32 {
+        assert!(rays.len() <= PACKET && t_max.len() == rays.len());
+        let mut blocked = 0;
+        for (i, (ray, &t_max)) in rays.iter().zip(t_max).enumerate() {
+            blocked |= (self.occluded_beside_tree(ray, t_min, t_max) as u32) << i;
+        }
+        let left = ((1u32 << rays.len()) - 1) & !blocked;
+        let in_left = |i: &usize| left & (1 << i) != 0;
+        let packet = (left.count_ones() > 1 && !self.is_flat() && !self.nodes.is_empty())
+            .then(|| PacketData::new((0..rays.len()).filter(in_left).map(|i| &rays[i])))
+            .flatten();
+        let Some(packet) = packet else {
+            for i in (0..rays.len()).filter(in_left) {
+                blocked |= (self.occluded_in_tree(&rays[i], t_min, t_max[i]) as u32) << i;
+            }
+            return blocked;
+        };
+        blocked | self.occluded_in_packet(rays, &packet, t_min, t_max, left)
+    }
+
+    /// Which of the rays of `left` (a bit mask) a primitive of the tree
+    /// lies on within (t_min, t_max[i]), as a bit mask.
+    fn occluded_in_packet(
+        &self,
+        rays: &[Ray],
+        packet: &PacketData,
+        t_min: f32,
+        t_max: &[f32],
+        left: u32,
+    ) -> u32 {
+        let ray4 = rays4(rays);
+        let reach = (0..rays.len())
+            .filter(|&i| left & (1 << i) != 0)
+            .fold(f32::NEG_INFINITY, |reach, i| reach.max(t_max[i]));
+        let mut open = left;
+        with_stack(|stack| {
+            walk_any(&self.nodes, packet, (t_min, reach), stack, |entry| {
+                let mut lanes = open;
+                while lanes != 0 {
+                    let i = lanes.trailing_zeros() as usize;
+                    lanes &= lanes - 1;
+                    if self.any_in_leaf(&rays[i], &ray4[i], entry, (t_min, t_max[i])) {
+                        open &= !(1 << i);
+                    }
+                }
+                open == 0
+            })
+        });
+        left & !open
+    }
+}
+
+/// Each ray of `rays` in every lane, for the triangle blocks' test; the
+/// lanes past the last ray repeat it.
+fn rays4(rays: &[Ray]) -> [Ray4; PACKET] {
+    std::array::from_fn(|i| {
+        let ray = &rays[i.min(rays.len() - 1)];
+        Ray4::new(ray, ray.dir.length())
+    })
 }
 
 #[cfg(test)]
@@ -178,9 +256,10 @@ mod tests {
     use crate::geometry::{Object, Plane, Shape};
     use glam::Vec3;
 
-    /// Up to 16 rays from one origin around one direction: a pixel's
-    /// samples (spread 0.002), or wider (0.3); some with a zero component,
-    /// some from another origin, so that the packet is refused.
+    /// Up to 16 rays around one direction: a pixel's samples from one
+    /// origin (spread 0.002), or wider (0.3); or shadow rays, from points
+    /// up to 0.05 apart toward one point; some with a zero component, so
+    /// that the packet is refused.
     fn packet(rng: &mut Rng, k: usize) -> Vec<Ray> {
         let origin = rng.vec(if k.is_multiple_of(2) { 8.0 } else { 4.0 });
         let aim = rng.vec(1.0);
@@ -189,11 +268,15 @@ mod tests {
         let mut rays: Vec<Ray> = (0..n)
             .map(|_| Ray::new(origin, aim + rng.vec(spread)))
             .collect();
+        if k % 5 == 1 {
+            let light = origin + 6.0 * aim;
+            for ray in &mut rays {
+                ray.origin += rng.vec(0.05);
+                ray.dir = (light - ray.origin).normalize();
+            }
+        }
         if k.is_multiple_of(11) {
             rays[n - 1].dir.y = 0.0;
-        }
-        if k.is_multiple_of(13) {
-            rays[0].origin.x += 1e-3;
         }
         rays
     }
@@ -210,7 +293,7 @@ mod tests {
             ),
         );
         let bvh = Bvh::build(&objects);
-        let (mut searched_together, mut hits) = (0, 0);
+        let (mut searched_together, mut hits, mut blocked) = (0, 0, 0);
         for k in 0..3000 {
             let rays = packet(&mut rng, k);
             let t_max = if k.is_multiple_of(4) {
@@ -220,10 +303,16 @@ mod tests {
             };
             let mut found = vec![None; rays.len()];
             bvh.closest_hits(&rays, 1e-4, t_max, &mut found);
+            // Shadow rays' lengths differ ray by ray.
+            let lengths: Vec<f32> = (0..rays.len()).map(|i| 1.0 + i as f32 * 0.4).collect();
+            let occluded = bvh.occluded_together(&rays, 1e-4, &lengths);
             for (i, ray) in rays.iter().enumerate() {
                 let expected = brute_force::closest_hit(&objects, ray, 1e-4, t_max);
                 assert_eq!(found[i], expected, "packet {k}, ray {i}");
                 hits += expected.is_some() as u32;
+                let any = brute_force::occluded(&objects, ray, 1e-4, lengths[i]);
+                assert_eq!(occluded & (1 << i) != 0, any, "packet {k}, shadow ray {i}");
+                blocked += any as u32;
             }
             searched_together += (rays.len() > 1 && PacketData::new(&rays).is_some()) as u32;
         }
@@ -231,6 +320,10 @@ mod tests {
         assert!(
             hits > 10_000,
             "only {hits} hits: the test would prove little"
+        );
+        assert!(
+            blocked > 5_000,
+            "only {blocked} blocked: the test would prove little"
         );
     }
 

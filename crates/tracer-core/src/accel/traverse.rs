@@ -277,11 +277,12 @@ pub(super) fn walk_nearest<B: Reach>(
 }
 
 /// The shadow rays' walk of a tree of `nodes` on `stack`, in any order:
-/// whether `leaf` finds an occluder in some leaf the ray enters.
+/// whether `leaf` finds an occluder in some leaf the ray enters (for a
+/// packet, whether it has found one for every ray).
 #[inline(always)]
 pub(super) fn walk_any(
     nodes: &[Node],
-    r: &RayData,
+    r: &impl Enter,
     (t_min, t_max): (f32, f32),
     stack: &mut [Entry],
     mut leaf: impl FnMut(Entry) -> bool,

@@ -3,6 +3,7 @@
 //! lab, refraction through glass and sphere lights' soft shadows.
 
 use super::RayStats;
+use crate::accel::PACKET;
 use crate::geometry::SurfaceHit;
 use crate::light::{Light, SphereLight};
 use crate::material::{Glass, Material, Phong};
@@ -57,12 +58,100 @@ struct Shaded {
     shadow_origin: Vec3,
 }
 
+impl Shaded {
+    /// The hit `hit` of `ray`, at `p`.
+    fn new(p: Vec3, ray: &Ray, hit: &SurfaceHit) -> Shaded {
+        Shaded {
+            p,
+            n: hit.shading_normal,
+            view: -ray.dir,
+            shadow_origin: p + hit.shadow_offset,
+        }
+    }
+}
+
+/// The light from a light point as a shaded point sees it: the unit
+/// direction `l` toward it, the cosine `cos_a` of its angle with the
+/// normal, and the shadow ray and its length.
+struct LightRay {
+    l: Vec3,
+    cos_a: f32,
+    shadow: Ray,
+    length: f32,
+}
+
+impl LightRay {
+    /// The light from `from` at `at`; None when it falls too flat or on
+    /// the back (no shadow ray is cast then).
+    fn new(at: &Shaded, from: Vec3) -> Option<LightRay> {
+        let to_light = from - at.p;
+        let distance = to_light.length();
+        let l = to_light / distance;
+        let cos_a = at.n.dot(l);
+        if cos_a <= COS_THRESHOLD {
+            return None;
+        }
+        let (shadow, length) = shadow_ray(at, from, l, distance);
+        Some(LightRay {
+            l,
+            cos_a,
+            shadow,
+            length,
+        })
+    }
+}
+
+/// A placeholder in arrays of rays.
+const NO_RAY: Ray = Ray {
+    origin: Vec3::ZERO,
+    dir: Vec3::ZERO,
+};
+
+/// Most point lights whose shadow rays from a packet of samples' first
+/// hits are searched together, ahead of their shading.
+const AHEAD_LIGHTS: usize = 4;
+
+/// The answers of the shadow rays searched ahead for the sample being
+/// shaded, in the order its shading asks them: each ray, its length and
+/// whether it is blocked.
+#[derive(Clone, Copy)]
+struct Ahead {
+    answers: [(Ray, f32, bool); AHEAD_LIGHTS],
+    len: usize,
+    next: usize,
+}
+
+impl Ahead {
+    const NONE: Ahead = Ahead {
+        answers: [(NO_RAY, 0.0, false); AHEAD_LIGHTS],
+        len: 0,
+        next: 0,
+    };
+
+    fn push(&mut self, ray: Ray, length: f32, blocked: bool) {
+        self.answers[self.len] = (ray, length, blocked);
+        self.len += 1;
+    }
+
+    /// The answer found ahead for the shadow ray `ray` of `length`, if the
+    /// next one is its: the same question, so the same answer.
+    fn take(&mut self, ray: &Ray, length: f32) -> Option<bool> {
+        let &(r, l, blocked) = self.answers[..self.len].get(self.next)?;
+        (r == *ray && l == length).then(|| {
+            self.next += 1;
+            blocked
+        })
+    }
+}
+
 /// Traces rays through one scene, counting them; one per thread, reseeded
 /// for each pixel sample so that soft shadows are the same on every run.
 pub struct Whitted<'a> {
     scene: &'a Scene,
     pub stats: RayStats,
     rng: Rng,
+    /// The sample's shadow rays searched ahead (`add_samples`).
+    ahead: Ahead,
 }
 
 impl<'a> Whitted<'a> {
@@ -71,6 +160,72 @@ impl<'a> Whitted<'a> {
             scene,
             stats: RayStats::default(),
             rng: Rng::new(0),
+            ahead: Ahead::NONE,
+        }
+    }
+
+    /// Adds to `sum`, in order, the colours of a pixel's samples: primary
+    /// rays `rays`, their nearest hits `hits` (`Scene::closest_hits`) and
+    /// random numbers `rngs`. The shadow rays of their hits toward the
+    /// point lights are searched together first; each sample's shading
+    /// then takes their answers, and the colours are those of `trace`.
+    pub fn add_samples(
+        &mut self,
+        rays: &[Ray],
+        hits: &[Option<SurfaceHit>],
+        rngs: &[Rng],
+        sum: &mut Vec3,
+    ) {
+        let ahead = self.shadows_ahead(rays, hits);
+        for (k, ((ray, hit), rng)) in rays.iter().zip(hits).zip(rngs).enumerate() {
+            self.reseed(*rng);
+            self.ahead = ahead[k];
+            *sum += self.trace_from(ray, *hit, 1.0, 0);
+        }
+        self.ahead = Ahead::NONE;
+    }
+
+    /// The answers of the shadow rays the shading of `hits` will cast
+    /// toward the first `AHEAD_LIGHTS` point lights, searched together
+    /// light by light: none where glass makes a shadow ray a walk.
+    fn shadows_ahead(&self, rays: &[Ray], hits: &[Option<SurfaceHit>]) -> [Ahead; PACKET] {
+        let mut ahead = [Ahead::NONE; PACKET];
+        let scene = self.scene;
+        if scene.has_transparency() {
+            return ahead;
+        }
+        let points = scene.lights().iter().filter_map(|light| match light {
+            Light::Point(point) => Some(point.position),
+            Light::Sphere(_) => None,
+        });
+        for from in points.take(AHEAD_LIGHTS) {
+            let (mut samples, mut shadow_rays, mut lengths) =
+                ([0; PACKET], [NO_RAY; PACKET], [0.0; PACKET]);
+            let mut n = 0;
+            for (k, (ray, hit)) in rays.iter().zip(hits).enumerate() {
+                let Some(hit) = hit.filter(|hit| self.shaded_locally(hit)) else {
+                    continue;
+                };
+                let at = Shaded::new(ray.at(hit.t), ray, &hit);
+                if let Some(light) = LightRay::new(&at, from) {
+                    (samples[n], shadow_rays[n], lengths[n]) = (k, light.shadow, light.length);
+                    n += 1;
+                }
+            }
+            let blocked = scene.occluded_together(&shadow_rays[..n], EPSILON, &lengths[..n]);
+            for j in 0..n {
+                ahead[samples[j]].push(shadow_rays[j], lengths[j], blocked & (1 << j) != 0);
+            }
+        }
+        ahead
+    }
+
+    /// Whether the shading of `hit` lights it (and casts shadow rays):
+    /// Blinn-Phong, and glass seen from outside.
+    fn shaded_locally(&self, hit: &SurfaceHit) -> bool {
+        match self.scene.material(hit.material) {
+            Material::Phong(_) => true,
+            Material::Glass(_) => hit.front_face,
         }
     }
 
@@ -170,12 +325,7 @@ impl<'a> Whitted<'a> {
     /// order: ambient once per light and always; diffuse and specular only
     /// where the light is not shadowed.
     fn local_colour(&mut self, m: &Terms, ray: &Ray, p: Vec3, hit: &SurfaceHit) -> Vec3 {
-        let at = Shaded {
-            p,
-            n: hit.shading_normal,
-            view: -ray.dir,
-            shadow_origin: p + hit.shadow_offset,
-        };
+        let at = Shaded::new(p, ray, hit);
         let mut colour = Vec3::ZERO;
         for light in self.scene.lights() {
             colour += light.color() * m.ambient;
@@ -208,15 +358,16 @@ impl<'a> Whitted<'a> {
     /// point `from` (lab 4.4), dimmed by what lies between; term by term,
     /// in the lab's order of additions.
     fn direct(&mut self, m: &Terms, at: &Shaded, from: Vec3, color: Vec3, colour: &mut Vec3) {
-        let to_light = from - at.p;
-        let distance = to_light.length();
-        let l = to_light / distance;
-        let cos_a = at.n.dot(l);
-        if cos_a <= COS_THRESHOLD {
+        let Some(LightRay {
+            l,
+            cos_a,
+            shadow,
+            length,
+        }) = LightRay::new(at, from)
+        else {
             return;
-        }
-        let (shadow_ray, distance) = shadow_ray(at, from, l, distance);
-        let Some(through) = self.shadow(&shadow_ray, distance) else {
+        };
+        let Some(through) = self.shadow(&shadow, length) else {
             return;
         };
         // 1 exactly unless glass is in the way: the lab's arithmetic stays.
@@ -238,7 +389,11 @@ impl<'a> Whitted<'a> {
         self.stats.shadow += 1;
         let scene = self.scene;
         if !scene.has_transparency() {
-            return (!scene.occluded(ray, EPSILON, distance)).then_some(Vec3::ONE);
+            let blocked = match self.ahead.take(ray, distance) {
+                Some(blocked) => blocked,
+                None => scene.occluded(ray, EPSILON, distance),
+            };
+            return (!blocked).then_some(Vec3::ONE);
         }
         let mut through = Vec3::ONE;
         let mut ray = *ray;
