@@ -7,6 +7,12 @@ pub struct Ray {
     pub dir: Vec3,
 }
 
+/// A placeholder in arrays of rays.
+pub const NO_RAY: Ray = Ray {
+    origin: Vec3::ZERO,
+    dir: Vec3::ZERO,
+};
+
 impl Ray {
     pub fn new(origin: Vec3, dir: Vec3) -> Self {
         Ray { origin, dir }

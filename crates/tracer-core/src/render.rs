@@ -7,7 +7,7 @@ use crate::aov::{Aov, AovContext};
 use crate::image::LinearImage;
 use crate::integrate::whitted::Whitted;
 use crate::integrate::RayStats;
-use crate::ray::Ray;
+use crate::ray::{Ray, NO_RAY};
 use crate::sampling::{concentric_disk, Rng, Shuffle, Strata};
 use crate::scene::Scene;
 use crate::EPSILON;
@@ -164,21 +164,30 @@ const BAND_ROWS: u32 = 8;
 const TILE_WIDTH: u32 = 32;
 
 /// Renders the rows from `top` on, of `region`'s columns, into `pixels`,
-/// tile by tile.
+/// tile by tile, each tile in blocks (`PixelRenderer::block_side`).
 fn render_band(pixel: &PixelRenderer, region: Region, top: u32, pixels: &mut [Vec3]) -> RayStats {
     let width = region.width();
     let rows = pixels.len() as u32 / width;
     let mut tracer = Whitted::new(pixel.scene);
+    let side = pixel.block_side();
     for left in (0..width).step_by(TILE_WIDTH as usize) {
-        for y in 0..rows {
-            // Per row of a tile: a costly pixel (thousands of samples)
-            // still stops soon.
+        let right = (left + TILE_WIDTH).min(width);
+        for y in (0..rows).step_by(side as usize) {
+            // Per row of blocks of a tile: a costly pixel (thousands of
+            // samples) still stops soon.
             if pixel.cancel.load(Ordering::Relaxed) {
                 return tracer.stats;
             }
-            for x in left..(left + TILE_WIDTH).min(width) {
-                let colour = pixel.render(region.x0 + x, top + y, &mut tracer);
-                pixels[(y * width + x) as usize] = colour;
+            for x in (left..right).step_by(side as usize) {
+                let block = Region {
+                    x0: x,
+                    y0: y,
+                    x1: (x + side).min(right),
+                    y1: (y + side).min(rows),
+                };
+                pixel.render_block(block, (region.x0, top), &mut tracer, |x, y, colour| {
+                    pixels[(y * width + x) as usize] = colour;
+                });
             }
         }
     }
@@ -220,14 +229,56 @@ impl<'a> PixelRenderer<'a> {
         }
     }
 
+    /// The side of the square blocks of pixels rendered together: at one
+    /// sample a pixel, 4 x 4 neighbours' rays are searched together; at
+    /// more, each pixel's own samples are (`render`).
+    fn block_side(&self) -> u32 {
+        if self.samples == 1 && self.output == Output::Shading {
+            4
+        } else {
+            1
+        }
+    }
+
+    /// The pixels of `block` (of a band whose top-left pixel is `corner`
+    /// of the whole image), each handed to `put` with its place in the
+    /// band.
+    #[inline(always)]
+    fn render_block(
+        &self,
+        block: Region,
+        (x0, y0): (u32, u32),
+        tracer: &mut Whitted,
+        mut put: impl FnMut(u32, u32, Vec3),
+    ) {
+        if block.width() * block.height() == 1 {
+            put(
+                block.x0,
+                block.y0,
+                self.render(x0 + block.x0, y0 + block.y0, tracer),
+            );
+            return;
+        }
+        let places =
+            || (block.y0..block.y1).flat_map(|y| (block.x0..block.x1).map(move |x| (x, y)));
+        let (mut rays, mut rngs) = ([NO_RAY; PACKET], [Rng::new(0); PACKET]);
+        let mut n = 0;
+        for (x, y) in places() {
+            (rays[n], rngs[n]) = self.centre_ray(x0 + x, y0 + y);
+            n += 1;
+        }
+        let mut colours = [Vec3::ZERO; PACKET];
+        self.trace_together(&rays[..n], &rngs[..n], tracer, &mut colours[..n]);
+        for ((x, y), colour) in places().zip(colours) {
+            put(x, y, colour);
+        }
+    }
+
     /// Pixel (column i, row j) of the whole image: the mean of its samples.
     #[inline(always)]
     fn render(&self, i: u32, j: u32, tracer: &mut Whitted) -> Vec3 {
         if self.samples == 1 {
-            let centre = Vec2::new(i as f32 + 0.5, j as f32 + 0.5);
-            let mut rng = Rng::for_sample(i, j, 0);
-            let lens = self.lens_point(rng.square(), |p| p);
-            let ray = self.scene.camera().lens_ray(centre.x, centre.y, lens);
+            let (ray, rng) = self.centre_ray(i, j);
             return self.value(&ray, rng, tracer);
         }
         // The pixel's lens order, from a stream none of its samples uses.
@@ -246,10 +297,18 @@ impl<'a> PixelRenderer<'a> {
         sum / self.samples as f32
     }
 
+    /// The one sample of pixel (i, j) at one sample a pixel: the ray
+    /// through its centre (the lab's), and its random numbers.
+    #[inline(always)]
+    fn centre_ray(&self, i: u32, j: u32) -> (Ray, Rng) {
+        let centre = Vec2::new(i as f32 + 0.5, j as f32 + 0.5);
+        let mut rng = Rng::for_sample(i, j, 0);
+        let lens = self.lens_point(rng.square(), |p| p);
+        (self.scene.camera().lens_ray(centre.x, centre.y, lens), rng)
+    }
+
     /// Adds to `sum`, in order, the values of samples `samples` of pixel
-    /// (i, j) whose lens order is `order`: for the shaded colour, their
-    /// primary rays searched together (`Scene::closest_hits`), and their
-    /// shadow rays (`Whitted::add_samples`).
+    /// (i, j) whose lens order is `order`, traced together.
     #[inline(always)]
     fn add_samples(
         &self,
@@ -259,8 +318,7 @@ impl<'a> PixelRenderer<'a> {
         sum: &mut Vec3,
     ) {
         let pixel = Vec2::new(i as f32, j as f32);
-        let mut rays = [Ray::new(Vec3::ZERO, Vec3::ZERO); PACKET];
-        let mut rngs = [Rng::new(0); PACKET];
+        let (mut rays, mut rngs) = ([NO_RAY; PACKET], [Rng::new(0); PACKET]);
         let n = samples.len();
         for ((s, ray), rng) in samples.zip(&mut rays).zip(&mut rngs) {
             *rng = Rng::for_sample(i, j, s);
@@ -270,16 +328,35 @@ impl<'a> PixelRenderer<'a> {
             });
             *ray = self.scene.camera().lens_ray(at.x, at.y, lens);
         }
+        let mut colours = [Vec3::ZERO; PACKET];
+        self.trace_together(&rays[..n], &rngs[..n], tracer, &mut colours[..n]);
+        for colour in &colours[..n] {
+            *sum += *colour;
+        }
+    }
+
+    /// The values of the samples whose rays are `rays` and random numbers
+    /// `rngs`, into `colours`: for the shaded colour, the rays' nearest
+    /// hits searched together (`Scene::closest_hits`), and their shadow
+    /// rays (`Whitted::trace_samples`).
+    #[inline(always)]
+    fn trace_together(
+        &self,
+        rays: &[Ray],
+        rngs: &[Rng],
+        tracer: &mut Whitted,
+        colours: &mut [Vec3],
+    ) {
         if self.output != Output::Shading {
-            for (ray, rng) in rays.iter().zip(rngs).take(n) {
-                *sum += self.value(ray, rng, tracer);
+            for ((ray, rng), colour) in rays.iter().zip(rngs).zip(colours) {
+                *colour = self.value(ray, *rng, tracer);
             }
             return;
         }
         let mut hits = [None; PACKET];
-        let (rays, hits) = (&rays[..n], &mut hits[..n]);
+        let hits = &mut hits[..rays.len()];
         self.scene.closest_hits(rays, EPSILON, f32::INFINITY, hits);
-        tracer.add_samples(rays, hits, &rngs[..n], sum);
+        tracer.trace_samples(rays, hits, rngs, colours);
     }
 
     /// The lens point of a sample whose lens jitter is `jitter` (drawn

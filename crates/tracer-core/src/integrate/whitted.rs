@@ -7,7 +7,7 @@ use crate::accel::PACKET;
 use crate::geometry::SurfaceHit;
 use crate::light::{Light, SphereLight};
 use crate::material::{Glass, Material, Phong};
-use crate::ray::Ray;
+use crate::ray::{Ray, NO_RAY};
 use crate::sampling::{concentric_disk, Rng, Strata};
 use crate::scene::Scene;
 use crate::EPSILON;
@@ -101,12 +101,6 @@ impl LightRay {
     }
 }
 
-/// A placeholder in arrays of rays.
-const NO_RAY: Ray = Ray {
-    origin: Vec3::ZERO,
-    dir: Vec3::ZERO,
-};
-
 /// Most point lights whose shadow rays from a packet of samples' first
 /// hits are searched together, ahead of their shading.
 const AHEAD_LIGHTS: usize = 4;
@@ -150,7 +144,7 @@ pub struct Whitted<'a> {
     scene: &'a Scene,
     pub stats: RayStats,
     rng: Rng,
-    /// The sample's shadow rays searched ahead (`add_samples`).
+    /// The sample's shadow rays searched ahead (`trace_samples`).
     ahead: Ahead,
 }
 
@@ -164,23 +158,24 @@ impl<'a> Whitted<'a> {
         }
     }
 
-    /// Adds to `sum`, in order, the colours of a pixel's samples: primary
-    /// rays `rays`, their nearest hits `hits` (`Scene::closest_hits`) and
-    /// random numbers `rngs`. The shadow rays of their hits toward the
-    /// point lights are searched together first; each sample's shading
-    /// then takes their answers, and the colours are those of `trace`.
-    pub fn add_samples(
+    /// The colours of samples (a pixel's, or neighbouring pixels'), into
+    /// `colours`: primary rays `rays`, their nearest hits `hits`
+    /// (`Scene::closest_hits`) and random numbers `rngs`. The shadow rays
+    /// of their hits toward the point lights are searched together first;
+    /// each sample's shading then takes their answers, and the colours are
+    /// those of `trace`.
+    pub fn trace_samples(
         &mut self,
         rays: &[Ray],
         hits: &[Option<SurfaceHit>],
         rngs: &[Rng],
-        sum: &mut Vec3,
+        colours: &mut [Vec3],
     ) {
         let ahead = self.shadows_ahead(rays, hits);
         for (k, ((ray, hit), rng)) in rays.iter().zip(hits).zip(rngs).enumerate() {
             self.reseed(*rng);
             self.ahead = ahead[k];
-            *sum += self.trace_from(ray, *hit, 1.0, 0);
+            colours[k] = self.trace_from(ray, *hit, 1.0, 0);
         }
         self.ahead = Ahead::NONE;
     }
