@@ -3,10 +3,10 @@
 //! section 2), the surface normal and the depth, for debugging scenes. The
 //! pixel driver (`render`) computes them, sample by sample.
 
+use crate::geometry::SurfaceHit;
 use crate::image::{Encoding, Saturation};
 use crate::ray::Ray;
 use crate::scene::Scene;
-use crate::EPSILON;
 use glam::Vec3;
 
 /// One quantity per pixel.
@@ -46,6 +46,11 @@ impl Aov {
             Aov::Depth => "depth",
         }
     }
+
+    /// Whether its value depends on the ray's nearest hit.
+    pub(crate) fn needs_hit(self) -> bool {
+        matches!(self, Aov::Normal | Aov::Depth)
+    }
 }
 
 /// AOVs are data: written linearly (gamma 1), each channel clamped.
@@ -74,29 +79,24 @@ impl AovContext {
         AovContext { near, far }
     }
 
-    /// The AOV's value for one primary ray.
-    pub(crate) fn value(&self, scene: &Scene, aov: Aov, ray: &Ray) -> Vec3 {
+    /// The AOV's value for one primary ray and its nearest hit (looked
+    /// for only when the AOV `needs_hit`).
+    pub(crate) fn value(&self, aov: Aov, ray: &Ray, hit: Option<&SurfaceHit>) -> Vec3 {
         match aov {
             Aov::RayDirX => channel(0, ray.dir.x),
             Aov::RayDirY => channel(1, ray.dir.y),
             Aov::RayDirZ => channel(2, ray.dir.z),
-            Aov::Normal => scene
-                .closest_hit(ray, EPSILON, f32::INFINITY)
-                .map_or(Vec3::ZERO, |hit| (hit.geometric_normal + Vec3::ONE) / 2.0),
-            Aov::Depth => scene
-                .closest_hit(ray, EPSILON, f32::INFINITY)
-                .map_or(Vec3::ZERO, |hit| {
-                    Vec3::splat(self.grey(hit.t * ray.dir.length()))
-                }),
+            Aov::Normal => hit.map_or(Vec3::ZERO, |hit| (hit.geometric_normal + Vec3::ONE) / 2.0),
+            Aov::Depth => hit.map_or(Vec3::ZERO, |hit| {
+                Vec3::splat(self.grey(hit.t * ray.dir.length()))
+            }),
         }
     }
 
     /// The distance from the ray's origin (the eye, or its point on the
-    /// lens) to the nearest hit, in every channel; 0 for no hit.
-    pub(crate) fn distance(&self, scene: &Scene, ray: &Ray) -> Vec3 {
-        scene
-            .closest_hit(ray, EPSILON, f32::INFINITY)
-            .map_or(Vec3::ZERO, |hit| Vec3::splat(hit.t * ray.dir.length()))
+    /// lens) to its nearest hit `hit`, in every channel; 0 for no hit.
+    pub(crate) fn distance(&self, ray: &Ray, hit: Option<&SurfaceHit>) -> Vec3 {
+        hit.map_or(Vec3::ZERO, |hit| Vec3::splat(hit.t * ray.dir.length()))
     }
 
     /// The depth grey of a hit at `distance` from the eye.

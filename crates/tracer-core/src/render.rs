@@ -4,6 +4,7 @@
 
 use crate::accel::PACKET;
 use crate::aov::{Aov, AovContext};
+use crate::geometry::SurfaceHit;
 use crate::image::LinearImage;
 use crate::integrate::whitted::Whitted;
 use crate::integrate::RayStats;
@@ -233,7 +234,7 @@ impl<'a> PixelRenderer<'a> {
     /// sample a pixel, 4 x 4 neighbours' rays are searched together; at
     /// more, each pixel's own samples are (`render`).
     fn block_side(&self) -> u32 {
-        if self.samples == 1 && self.output == Output::Shading {
+        if self.samples == 1 {
             4
         } else {
             1
@@ -336,9 +337,9 @@ impl<'a> PixelRenderer<'a> {
     }
 
     /// The values of the samples whose rays are `rays` and random numbers
-    /// `rngs`, into `colours`: for the shaded colour, the rays' nearest
-    /// hits searched together (`Scene::closest_hits`), and their shadow
-    /// rays (`Whitted::trace_samples`).
+    /// `rngs`, into `colours`: the rays' nearest hits searched together
+    /// (`Scene::closest_hits`), and for the shaded colour their shadow rays
+    /// too (`Whitted::trace_samples`).
     #[inline(always)]
     fn trace_together(
         &self,
@@ -347,16 +348,40 @@ impl<'a> PixelRenderer<'a> {
         tracer: &mut Whitted,
         colours: &mut [Vec3],
     ) {
-        if self.output != Output::Shading {
-            for ((ray, rng), colour) in rays.iter().zip(rngs).zip(colours) {
-                *colour = self.value(ray, *rng, tracer);
+        if !self.needs_hit() {
+            for (ray, colour) in rays.iter().zip(colours) {
+                *colour = self.aov_of(ray, None);
             }
             return;
         }
         let mut hits = [None; PACKET];
         let hits = &mut hits[..rays.len()];
         self.scene.closest_hits(rays, EPSILON, f32::INFINITY, hits);
-        tracer.trace_samples(rays, hits, rngs, colours);
+        if self.output == Output::Shading {
+            tracer.trace_samples(rays, hits, rngs, colours);
+            return;
+        }
+        for ((ray, hit), colour) in rays.iter().zip(hits).zip(colours) {
+            *colour = self.aov_of(ray, hit.as_ref());
+        }
+    }
+
+    /// Whether the output depends on the primary rays' nearest hits.
+    fn needs_hit(&self) -> bool {
+        match self.output {
+            Output::Aov(aov) => aov.needs_hit(),
+            Output::Shading | Output::Distance => true,
+        }
+    }
+
+    /// The AOV or the distance (the outputs other than the shaded
+    /// colour) of a primary ray whose nearest hit is `hit`.
+    #[inline(always)]
+    fn aov_of(&self, ray: &Ray, hit: Option<&SurfaceHit>) -> Vec3 {
+        match self.output {
+            Output::Aov(aov) => self.aov.value(aov, ray, hit),
+            _ => self.aov.distance(ray, hit),
+        }
     }
 
     /// The lens point of a sample whose lens jitter is `jitter` (drawn
@@ -380,8 +405,11 @@ impl<'a> PixelRenderer<'a> {
                 tracer.reseed(rng);
                 tracer.trace(ray, 1.0, 0)
             }
-            Output::Aov(aov) => self.aov.value(self.scene, aov, ray),
-            Output::Distance => self.aov.distance(self.scene, ray),
+            _ if !self.needs_hit() => self.aov_of(ray, None),
+            _ => {
+                let hit = self.scene.closest_hit(ray, EPSILON, f32::INFINITY);
+                self.aov_of(ray, hit.as_ref())
+            }
         }
     }
 }
