@@ -156,6 +156,28 @@ pub fn render_cancellable(
     (!cancel.load(Ordering::Relaxed)).then_some(Rendered { image, rays })
 }
 
+/// The primary ray of every sample of `job`, pixel by pixel (rows top to
+/// bottom, each left to right), a pixel's samples in order: the rays its
+/// render traces first, for a peer to trace the same (the bench).
+pub fn sample_rays(scene: &Scene, job: &RenderJob, mut f: impl FnMut(&Ray)) {
+    let never = AtomicBool::new(false);
+    let pixel = PixelRenderer::new(scene, job, &never);
+    let camera = scene.camera();
+    let region = job.region.within(camera.width, camera.height);
+    for j in region.y0..region.y1 {
+        for i in region.x0..region.x1 {
+            if pixel.samples == 1 {
+                f(&pixel.centre_ray(i, j).0);
+                continue;
+            }
+            let order = pixel.lens_order_of(i, j);
+            for s in 0..pixel.samples {
+                f(&pixel.sample_ray((i, j, order), s).0);
+            }
+        }
+    }
+}
+
 /// Rows in one band, the unit of parallel work: small enough that the two
 /// halves of the image, cheap sky and costly mesh, spread evenly on threads.
 const BAND_ROWS: u32 = 8;
@@ -282,12 +304,7 @@ impl<'a> PixelRenderer<'a> {
             let (ray, rng) = self.centre_ray(i, j);
             return self.value(&ray, rng, tracer);
         }
-        // The pixel's lens order, from a stream none of its samples uses.
-        let order = if self.thin_lens {
-            Rng::for_sample(i, j, self.samples).next_u64() as u32
-        } else {
-            0
-        };
+        let order = self.lens_order_of(i, j);
         let mut sum = Vec3::ZERO;
         let mut first = 0;
         while first < self.samples && !self.cancel.load(Ordering::Relaxed) {
@@ -308,6 +325,28 @@ impl<'a> PixelRenderer<'a> {
         (self.scene.camera().lens_ray(centre.x, centre.y, lens), rng)
     }
 
+    /// The lens order of pixel (i, j), from a stream none of its samples
+    /// uses.
+    fn lens_order_of(&self, i: u32, j: u32) -> u32 {
+        if self.thin_lens {
+            Rng::for_sample(i, j, self.samples).next_u64() as u32
+        } else {
+            0
+        }
+    }
+
+    /// Sample `s` of pixel (i, j) whose lens order is `order`, of several a
+    /// pixel: its primary ray and its random numbers.
+    #[inline(always)]
+    fn sample_ray(&self, (i, j, order): (u32, u32, u32), s: u32) -> (Ray, Rng) {
+        let mut rng = Rng::for_sample(i, j, s);
+        let at = Vec2::new(i as f32, j as f32) + self.strata.point(s, rng.square());
+        let lens = self.lens_point(rng.square(), |jitter| {
+            self.strata.point(self.lens_order.apply(s, order), jitter)
+        });
+        (self.scene.camera().lens_ray(at.x, at.y, lens), rng)
+    }
+
     /// Adds to `sum`, in order, the values of samples `samples` of pixel
     /// (i, j) whose lens order is `order`, traced together.
     #[inline(always)]
@@ -318,16 +357,10 @@ impl<'a> PixelRenderer<'a> {
         tracer: &mut Whitted,
         sum: &mut Vec3,
     ) {
-        let pixel = Vec2::new(i as f32, j as f32);
         let (mut rays, mut rngs) = ([NO_RAY; PACKET], [Rng::new(0); PACKET]);
         let n = samples.len();
         for ((s, ray), rng) in samples.zip(&mut rays).zip(&mut rngs) {
-            *rng = Rng::for_sample(i, j, s);
-            let at = pixel + self.strata.point(s, rng.square());
-            let lens = self.lens_point(rng.square(), |jitter| {
-                self.strata.point(self.lens_order.apply(s, order), jitter)
-            });
-            *ray = self.scene.camera().lens_ray(at.x, at.y, lens);
+            (*ray, *rng) = self.sample_ray((i, j, order), s);
         }
         let mut colours = [Vec3::ZERO; PACKET];
         self.trace_together(&rays[..n], &rngs[..n], tracer, &mut colours[..n]);

@@ -171,3 +171,38 @@ fn hits_know_the_side_they_met() {
     let inside = at(Vec3::new(5.0, 5.0, 0.0), Vec3::new(5.0, 5.0, 3.0));
     assert!(!inside.front_face && (inside.t - 1.0 / 3.0).abs() < 1e-5);
 }
+
+#[test]
+fn the_sample_rays_are_the_rays_a_render_traces() {
+    // The distance output of each pixel is the mean of its samples' nearest
+    // hit distances: worked out here from `sample_rays`, one ray at a time,
+    // through a lens (origins off the eye) and through a pinhole at 1 and 16.
+    let mut lens = load(&scenes_dir().join("depth-of-field.toml"));
+    (lens.camera.width, lens.camera.height) = (24, 16);
+    let mut pinhole = load(&scenes_dir().join("bench/bunny.toml"));
+    (pinhole.camera.width, pinhole.camera.height) = (24, 14);
+    let cases = [(lens.clone(), 4), (pinhole.clone(), 16), (pinhole, 1)];
+    for (k, (file, samples)) in cases.into_iter().enumerate() {
+        let scene = prepare(&file).expect("prepare");
+        let job = RenderJob::full(&scene)
+            .with_samples(samples)
+            .with_output(Output::Distance);
+        let mut distances = Vec::new();
+        tracer_core::sample_rays(&scene, &job, |ray| {
+            let hit = scene.closest_hit(ray, tracer_core::EPSILON, f32::INFINITY);
+            distances.push(hit.map_or(0.0, |h| h.t * ray.dir.length()));
+        });
+        let expected: Vec<Vec3> = distances
+            .chunks(samples as usize)
+            .map(|d| d.iter().fold(Vec3::ZERO, |sum, &d| sum + Vec3::splat(d)) / samples as f32)
+            .collect();
+        let image = render_job(&scene, &job);
+        assert_eq!(image.pixels.len(), expected.len(), "case {k}");
+        assert!(
+            image.pixels == expected,
+            "case {k}: other rays than the render's"
+        );
+        // Hits were compared (and, on the bunny, misses).
+        assert!(distances.iter().any(|&d| d > 0.0), "case {k}");
+    }
+}

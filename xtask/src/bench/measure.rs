@@ -9,7 +9,7 @@ use anyhow::Result;
 use std::path::Path;
 use std::time::Instant;
 use tracer_core::accel::Bvh;
-use tracer_core::{prepare, render, Output, RayStats, Region, RenderJob, Scene};
+use tracer_core::{prepare, render, sample_rays, Output, RayStats, Region, RenderJob, Scene};
 
 /// The rays one render traced.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -135,6 +135,67 @@ pub fn measure(
             }
         })
         .collect())
+}
+
+/// Our primary rays at `samples` per pixel on one thread: the distance
+/// output (nearest hits only, no shading; a pixel's samples searched
+/// together), the median seconds of `reps` renders; and how many rays. The
+/// same rays are first written to `rays_file` for a peer: a u32 count, the
+/// common origin, then each direction (f32, little-endian).
+pub fn primary_rays(
+    file: &scene_format::SceneFile,
+    samples: u32,
+    reps: usize,
+    rays_file: &Path,
+) -> Result<(u64, f64)> {
+    let scene = prepare(file).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let camera = scene.camera();
+    let job = RenderJob {
+        region: Region::full(camera.width, camera.height),
+        samples,
+        output: Output::Distance,
+    };
+    let rays = write_rays(&scene, &job, rays_file)?;
+    let pool = pool(1)?;
+    let times = (0..reps)
+        .map(|_| {
+            let start = Instant::now();
+            let image = pool.install(|| render(&scene, &job, &|_| {}).image);
+            let seconds = start.elapsed().as_secs_f64();
+            drop(image);
+            seconds
+        })
+        .collect();
+    Ok((rays, median(times)))
+}
+
+/// Writes the primary rays of `job` to `path` (see `primary_rays`);
+/// returns how many.
+fn write_rays(scene: &Scene, job: &RenderJob, path: &Path) -> Result<u64> {
+    use std::io::{Seek, SeekFrom, Write};
+    let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
+    out.write_all(&[0; 16])?;
+    let (mut count, mut origin, mut failed) = (0u32, None, None);
+    sample_rays(scene, job, |ray| {
+        if *origin.get_or_insert(ray.origin) != ray.origin {
+            failed.get_or_insert_with(|| anyhow::anyhow!("rays from several origins"));
+        }
+        let bytes = ray.dir.to_array().map(f32::to_le_bytes).concat();
+        if let Err(e) = out.write_all(&bytes) {
+            failed.get_or_insert(e.into());
+        }
+        count += 1;
+    });
+    if let Some(e) = failed {
+        return Err(e);
+    }
+    let mut out = out.into_inner().map_err(|e| e.into_error())?;
+    out.seek(SeekFrom::Start(0))?;
+    out.write_all(&count.to_le_bytes())?;
+    let origin = origin.unwrap_or_default().to_array().map(f32::to_le_bytes);
+    out.write_all(&origin.concat())?;
+    out.sync_all()?;
+    Ok(u64::from(count))
 }
 
 /// Seconds to read the OBJ file at `path` into triangles.

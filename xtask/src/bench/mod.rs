@@ -18,6 +18,8 @@
 //! - `pov_scene`: a scene file as POV-Ray SDL.
 //! - `povray`: timing POV-Ray.
 //! - `embree`: building and timing the Embree harness (`xtask/peers/`).
+//! - `packets`: primary rays at 16 samples per pixel, ours against
+//!   Embree's packet kernels on the same rays.
 //! - `memory`: peak memory of `tracer render` on one bunny and on 1,000
 //!   instances of it (the scene written into `target/bench/`).
 //! - `print`: the report.
@@ -26,6 +28,7 @@
 mod embree;
 mod measure;
 pub mod memory;
+mod packets;
 mod pov_scene;
 mod povray;
 mod print;
@@ -38,6 +41,7 @@ pub use pov_scene::pov_scene;
 pub use scenes::subdivide;
 
 use anyhow::{bail, Context, Result};
+use packets::PACKETS;
 
 /// Options of `cargo xtask bench`.
 #[derive(Debug, Clone, clap::Args)]
@@ -55,7 +59,9 @@ pub struct BenchArgs {
     #[arg(long, value_name = "DIR")]
     pub keep_pov: Option<std::path::PathBuf>,
     /// Only these scenes (bunny, bunny-16spp, bunny-1.1m, reflectance2) or
-    /// measurements (instancing: peak memory of 1 and 1,000 bunnies)
+    /// measurements (instancing: peak memory of 1 and 1,000 bunnies;
+    /// packets: primary rays at 16 samples per pixel against Embree's
+    /// packet kernels on the same rays)
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
 }
@@ -81,16 +87,19 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     let root = crate::workspace_root();
     let mut scenes = scenes::scenes(&root)?;
+    // The packet measurement's bunny, whichever scenes are chosen.
+    let bunny = scenes
+        .iter()
+        .find(|s| s.name == "bunny")
+        .map(|s| s.file.clone());
     let only = |name: &str| args.only.is_empty() || args.only.iter().any(|o| o == name);
     if !args.only.is_empty() {
-        if let Some(unknown) = args
-            .only
-            .iter()
-            .find(|o| *o != INSTANCING && !scenes.iter().any(|s| s.name == *o))
-        {
+        if let Some(unknown) = args.only.iter().find(|o| {
+            ![INSTANCING, PACKETS].contains(&o.as_str()) && !scenes.iter().any(|s| s.name == *o)
+        }) {
             let names: Vec<&str> = scenes.iter().map(|s| s.name).collect();
             bail!(
-                "--only: no scene `{unknown}` (the scenes: {}; or {INSTANCING})",
+                "--only: no scene `{unknown}` (the scenes: {}; or {INSTANCING}, {PACKETS})",
                 names.join(", ")
             );
         }
@@ -98,7 +107,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     let povray = !args.no_povray && povray::available();
     // The memory measurement runs Embree's harness too.
-    let embree_wanted = only(INSTANCING) || scenes.iter().any(|s| s.embree_subdiv.is_some());
+    let embree_wanted =
+        only(INSTANCING) || only(PACKETS) || scenes.iter().any(|s| s.embree_subdiv.is_some());
     let embree = if args.no_embree || !embree_wanted {
         None
     } else {
@@ -152,6 +162,12 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     if !rows.is_empty() {
         print::report(&rows, args.reps);
+    }
+    if only(PACKETS) {
+        let bunny = bunny.context("no bunny scene")?;
+        let obj = root.join(scenes::BUNNY_OBJ);
+        let figures = packets::measure(&bunny, &obj, embree.as_deref(), args.reps, out_dir.path())?;
+        packets::report(&figures);
     }
     if only(INSTANCING) {
         memory::report(&memory::measure(&root, embree.as_deref())?);

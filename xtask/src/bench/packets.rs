@@ -1,0 +1,130 @@
+//! Issue 16's packet goal: the bunny's primary rays at 16 samples per
+//! pixel, on one thread. Ours: the distance output (nearest hits only, no
+//! shading), a pixel's 16 samples searched together. Embree's harness:
+//! `rtcIntersect1`, `rtcIntersect8` and `rtcIntersect16` over the same rays,
+//! read from a file we write (a pixel's 16 in a row: an 8-ray packet is
+//! half a pixel's samples, a 16-ray packet all of them).
+
+use super::measure;
+use anyhow::{bail, Context, Result};
+use scene_format::SceneFile;
+use std::path::Path;
+use std::process::Command;
+
+/// The `--only` name of this measurement.
+pub const PACKETS: &str = "packets";
+
+/// Samples per pixel of the measurement.
+const SAMPLES: u32 = 16;
+
+/// The figures: how many rays, our seconds, Embree's Mrays/s with
+/// rtcIntersect1, 8 and 16 (when its harness ran).
+#[derive(Debug)]
+pub struct Packets {
+    rays: u64,
+    ours_s: f64,
+    embree: Option<[f64; 3]>,
+}
+
+/// Measures ours on `bunny` and Embree's harness `embree` on `obj` (the
+/// bunny's mesh), `reps` times each; the rays' file is written in `dir`.
+pub fn measure(
+    bunny: &SceneFile,
+    obj: &Path,
+    embree: Option<&Path>,
+    reps: usize,
+    dir: &Path,
+) -> Result<Packets> {
+    eprintln!("bench: primary rays at {SAMPLES} samples per pixel ...");
+    let rays_file = dir.join("bunny-16spp.rays");
+    let (rays, ours_s) = measure::primary_rays(bunny, SAMPLES, reps, &rays_file)?;
+    let embree = match embree {
+        Some(exe) => {
+            eprintln!("bench: Embree on the same rays ...");
+            let out = Command::new(exe)
+                .arg(obj)
+                .arg("--rays")
+                .arg(&rays_file)
+                .args(["--reps", &reps.to_string()])
+                .output()
+                .context("run embree_bench --rays")?;
+            let text = String::from_utf8_lossy(&out.stdout);
+            if !out.status.success() {
+                bail!(
+                    "embree_bench --rays failed: {}",
+                    String::from_utf8_lossy(&out.stderr)
+                );
+            }
+            Some(parse(&text).with_context(|| format!("unexpected embree_bench output:\n{text}"))?)
+        }
+        None => None,
+    };
+    std::fs::remove_file(&rays_file)?;
+    Ok(Packets {
+        rays,
+        ours_s,
+        embree,
+    })
+}
+
+/// Embree's Mrays/s with rtcIntersect1, 8 and 16, from its `--rays` report.
+fn parse(text: &str) -> Option<[f64; 3]> {
+    let mrays = |kernel: &str| -> Option<f64> {
+        let line = text
+            .lines()
+            .find(|l| l.trim_start().starts_with(&format!("rays {kernel} ")))?;
+        line.split("Mrays/s")
+            .next()?
+            .split_whitespace()
+            .last()?
+            .parse()
+            .ok()
+    };
+    Some([
+        mrays("rtcIntersect1")?,
+        mrays("rtcIntersect8")?,
+        mrays("rtcIntersect16")?,
+    ])
+}
+
+pub fn report(p: &Packets) {
+    let ours = p.rays as f64 / p.ours_s / 1e6;
+    println!(
+        "\nPrimary rays at {SAMPLES} samples per pixel, 1 thread, the same {} rays (the bunny, nearest hits only):\n",
+        p.rays
+    );
+    println!("| tracer | Mrays/s | ours / it |\n| --- | ---: | ---: |");
+    println!("| ours: a pixel's {SAMPLES} samples searched together | {ours:.2} | |");
+    let Some(embree) = p.embree else {
+        println!("\ntarget: primary rays at {SAMPLES} spp >= Embree's rtcIntersect8: {ours:.2} Mrays/s; no Embree figure in this run");
+        return;
+    };
+    let kernels = [
+        "rtcIntersect1",
+        "rtcIntersect8 (8 of a pixel's samples)",
+        "rtcIntersect16 (a pixel's 16)",
+    ];
+    for (kernel, mrays) in kernels.iter().zip(embree) {
+        println!("| Embree {kernel} | {mrays:.2} | {:.2} |", ours / mrays);
+    }
+    println!(
+        "\ntarget: primary rays at {SAMPLES} spp, 1 thread, >= Embree's rtcIntersect8 on the same rays: {ours:.2} Mrays/s = {:.2} of Embree's {:.2} (this run)",
+        ours / embree[1],
+        embree[1]
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn embree_packet_figures_are_read_from_its_report() {
+        let text = "[rays 33177600 from x.rays, quality=medium threads=1]\n\
+            \x20 rays rtcIntersect1                  2300.00 ms/frame     14.43 Mrays/s  (hits 1 of 2)\n\
+            \x20 rays rtcIntersect8 (8 in a row)     1200.00 ms/frame     27.65 Mrays/s  (hits 1 of 2)\n\
+            \x20 rays rtcIntersect16 (16 in a row)   1000.00 ms/frame     33.18 Mrays/s  (hits 1 of 2)\n";
+        assert_eq!(parse(text), Some([14.43, 27.65, 33.18]));
+        assert_eq!(parse("  rays rtcIntersect1  1 ms/frame  2.5 Mrays/s"), None);
+    }
+}
