@@ -14,15 +14,13 @@
 //! arithmetic); the best-hit rule (nearest, then lowest object index) does
 //! not depend on the order or the number of the offers, nor does "any hit".
 
-use super::traverse::{
-    safe_inverse, slab_test, walk_any, walk_nearest, with_stack, Best, Enter, Reach,
-};
+use super::traverse::{slab_test, walk_any, walk_nearest, with_stack, Best, Enter, Reach};
 use super::tri4::Ray4;
 use super::wide::{Node, GROUPS};
 use super::Bvh;
 use crate::geometry::SurfaceHit;
 use crate::ray::Ray;
-use glam::Vec4;
+use glam::{Vec3A, Vec4};
 
 /// Most rays in one packet: a pixel's 16 samples.
 pub const PACKET: usize = 16;
@@ -42,27 +40,36 @@ pub(super) struct PacketData {
 impl PacketData {
     /// The packet of `rays`; None when the sign of their directions
     /// differs on some axis (the near plane would differ too), or a
-    /// direction is not finite and non-zero, or an origin is not finite.
+    /// direction has a component below 1e-30 or above 1e30 in size (or not
+    /// a number), or an origin is not finite.
     pub(super) fn new<'a>(rays: impl IntoIterator<Item = &'a Ray>) -> Option<PacketData> {
-        let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-        let (mut o_lo, mut o_hi) = (lo, hi);
-        let mut empty = true;
+        let (mut d_lo, mut d_hi) = (Vec3A::INFINITY, Vec3A::NEG_INFINITY);
+        let (mut o_lo, mut o_hi) = (d_lo, d_hi);
+        let (mut regular, mut empty) = (true, true);
         for ray in rays {
+            let (d, o) = (Vec3A::from(ray.dir), Vec3A::from(ray.origin));
+            // No component that `safe_inverse` replaces, nor one whose
+            // inverse is subnormal.
+            let size = d.abs();
+            regular &= (size.cmpge(Vec3A::splat(1e-30)) & size.cmple(Vec3A::splat(1e30))).all()
+                && o.is_finite();
+            (d_lo, d_hi) = (d_lo.min(d), d_hi.max(d));
+            (o_lo, o_hi) = (o_lo.min(o), o_hi.max(o));
             empty = false;
-            let inv = safe_inverse(ray.dir);
-            let o = ray.origin.to_array();
-            if inv.iter().any(|&i| !i.is_normal()) || !ray.origin.is_finite() {
-                return None;
-            }
-            for axis in 0..3 {
-                (lo[axis], hi[axis]) = (lo[axis].min(inv[axis]), hi[axis].max(inv[axis]));
-                (o_lo[axis], o_hi[axis]) = (o_lo[axis].min(o[axis]), o_hi[axis].max(o[axis]));
-            }
         }
-        let toward_minus = |axis: usize| lo[axis] < 0.0;
-        if empty || (0..3).any(|axis| toward_minus(axis) != (hi[axis] < 0.0)) {
+        let (d_lo, d_hi) = (d_lo.to_array(), d_hi.to_array());
+        let toward_minus = |axis: usize| d_lo[axis] < 0.0;
+        if empty || !regular || (0..3).any(|axis| toward_minus(axis) != (d_hi[axis] < 0.0)) {
             return None;
         }
+        // 1 / d falls as d grows on either side of 0, and division rounds
+        // monotonically: the extreme directions give the extreme inverses
+        // (each ray's own is `safe_inverse`'s 1 / d).
+        let (lo, hi) = (
+            [0, 1, 2].map(|a| 1.0 / d_hi[a]),
+            [0, 1, 2].map(|a| 1.0 / d_lo[a]),
+        );
+        let (o_lo, o_hi) = (o_lo.to_array(), o_hi.to_array());
         // Toward +, the near plane's distance falls as the origin grows;
         // toward -, it grows with it (and the far plane's the other way).
         let pick = |minus: &[f32; 3], plus: &[f32; 3]| {
