@@ -29,7 +29,7 @@ mod wide;
 use crate::geometry::{Object, Plane, Shape, SurfaceHit, UvMap};
 use crate::ray::Ray;
 use build::BuildPrim;
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 use instances::InstanceTree;
 use leaves::{pack_leaves, SpherePrim, SPHERE_LEAF};
 pub use packet::PACKET;
@@ -274,16 +274,23 @@ impl Bvh {
         best: &mut Best,
     ) {
         for block in run {
-            let tris = &self.tris[block];
-            let (mut mask, t, [u, v]) = tris.intersect(ray4, t_min, best.limit(t_max));
-            // In lane order, as the scalar loop would meet them.
-            while mask != 0 {
-                let lane = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                let uv = glam::Vec2::new(u[lane], v[lane]);
-                let at = HitAt::Triangle { block, lane, uv };
-                best.offer(t[lane], tris.id[lane], t_max, at);
-            }
+            let found = self.tris[block].intersect(ray4, t_min, best.limit(t_max));
+            self.offer_lanes(block, found, t_max, best);
+        }
+    }
+
+    /// Offers `best` the hits `found` on triangle block `block` (a lane
+    /// mask, distances, barycentrics), in lane order, as the scalar loop
+    /// would meet them.
+    #[inline(always)]
+    fn offer_lanes(&self, block: usize, found: (u32, Vec4, [Vec4; 2]), t_max: f32, best: &mut Best) {
+        let (mut mask, t, [u, v]) = found;
+        while mask != 0 {
+            let lane = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            let uv = glam::Vec2::new(u[lane], v[lane]);
+            let at = HitAt::Triangle { block, lane, uv };
+            best.offer(t[lane], self.tris[block].id[lane], t_max, at);
         }
     }
 

@@ -17,10 +17,11 @@
 use super::traverse::{slab_test, walk_any, walk_nearest, with_stack, Best, Enter, Reach};
 use super::tri4::Ray4;
 use super::wide::{Node, GROUPS};
-use super::Bvh;
+use super::{leaf_run, Bvh};
 use crate::geometry::SurfaceHit;
 use crate::ray::Ray;
 use glam::{Vec3A, Vec4};
+use std::ops::Range;
 
 /// Most rays in one packet: a pixel's 16 samples.
 pub const PACKET: usize = 16;
@@ -30,6 +31,8 @@ pub const PACKET: usize = 16;
 /// greatest to the far planes (the same for rays of one origin), and the
 /// least and greatest inverse direction (of one sign).
 pub(super) struct PacketData {
+    /// The rays' origin, when they share one (in every lane).
+    common_origin: Option<[Vec4; 3]>,
     origin_near: [Vec4; 3],
     origin_far: [Vec4; 3],
     inv_lo: [Vec4; 3],
@@ -76,6 +79,7 @@ impl PacketData {
             [0, 1, 2].map(|axis| Vec4::splat(if toward_minus(axis) { minus } else { plus }[axis]))
         };
         Some(PacketData {
+            common_origin: (o_lo == o_hi).then(|| o_lo.map(Vec4::splat)),
             origin_near: pick(&o_lo, &o_hi),
             origin_far: pick(&o_hi, &o_lo),
             inv_lo: lo.map(Vec4::splat),
@@ -181,12 +185,42 @@ impl Bvh {
         bests.update_reach();
         with_stack(|stack| {
             walk_nearest(&self.nodes, packet, t_min, bests, stack, |entry, bests| {
-                for (i, best) in bests.of[..bests.len].iter_mut().enumerate() {
-                    self.nearest_in_leaf(&rays[i], &ray4[i], entry, (t_min, t_max), best);
+                let of = &mut bests.of[..bests.len];
+                match (leaf_run(entry), &packet.common_origin) {
+                    ((false, run), Some(origin)) => {
+                        self.offer_blocks_together(run, origin, &ray4, (t_min, t_max), of);
+                    }
+                    _ => {
+                        for (i, best) in of.iter_mut().enumerate() {
+                            self.nearest_in_leaf(&rays[i], &ray4[i], entry, (t_min, t_max), best);
+                        }
+                    }
                 }
                 bests.update_reach();
             })
         });
+    }
+
+    /// Offers each of `bests` the hits of its ray (`ray4`, from `origin`
+    /// as all) on triangle blocks `run`: what the test shares among rays
+    /// of one origin worked out once a block.
+    #[inline(always)]
+    fn offer_blocks_together(
+        &self,
+        run: Range<usize>,
+        origin: &[Vec4; 3],
+        ray4: &[Ray4; PACKET],
+        (t_min, t_max): (f32, f32),
+        bests: &mut [Best],
+    ) {
+        for block in run {
+            let tris = &self.tris[block];
+            let from = tris.from_origin(origin);
+            for (ray4, best) in ray4.iter().zip(bests.iter_mut()) {
+                let found = tris.intersect_from(&from, ray4, t_min, best.limit(t_max));
+                self.offer_lanes(block, found, t_max, best);
+            }
+        }
     }
 
     /// Which of `rays` (at most `PACKET`) something lies on within

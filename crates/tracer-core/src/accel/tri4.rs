@@ -32,6 +32,14 @@ pub(super) struct Tri4 {
     material: [u32; 4],
 }
 
+/// What the test of a block shares among rays of one origin: `s = origin
+/// - v0`, `q = s x e1`, and `e2 . q` (the distance times the determinant).
+pub(super) struct FromOrigin {
+    s: [Vec4; 3],
+    q: [Vec4; 3],
+    t_times_det: Vec4,
+}
+
 /// The ray in every lane.
 pub(super) struct Ray4 {
     origin: [Vec4; 3],
@@ -78,20 +86,39 @@ impl Tri4 {
     /// same order.
     #[inline(always)]
     pub(super) fn intersect(&self, r: &Ray4, t_min: f32, t_max: f32) -> (u32, Vec4, [Vec4; 2]) {
+        self.intersect_from(&self.from_origin(&r.origin), r, t_min, t_max)
+    }
+
+    /// What the test shares among rays from `origin` (in every lane).
+    #[inline(always)]
+    pub(super) fn from_origin(&self, origin: &[Vec4; 3]) -> FromOrigin {
+        let s = [0, 1, 2].map(|a| origin[a] - self.v0[a]);
+        // q = s x e1
+        let q = cross(&s, &self.e1);
+        let t_times_det = dot(&self.e2, &q);
+        FromOrigin { s, q, t_times_det }
+    }
+
+    /// `intersect`, for a ray from the origin `from` was made for.
+    #[inline(always)]
+    pub(super) fn intersect_from(
+        &self,
+        from: &FromOrigin,
+        r: &Ray4,
+        t_min: f32,
+        t_max: f32,
+    ) -> (u32, Vec4, [Vec4; 2]) {
         let (d, e1, e2) = (&r.dir, &self.e1, &self.e2);
         // p = dir x e2, det = e1 . p
         let p = cross(d, e2);
         let det = dot(e1, &p);
         let parallel = det.abs().cmplt(self.edge_scale * r.dir_len);
         let inv = Vec4::ONE / det;
-        let s = [0, 1, 2].map(|a| r.origin[a] - self.v0[a]);
-        let u = dot(&s, &p) * inv;
+        let u = dot(&from.s, &p) * inv;
         let u_inside = u.cmpge(Vec4::ZERO) & u.cmple(Vec4::ONE);
-        // q = s x e1
-        let q = cross(&s, e1);
-        let v = dot(d, &q) * inv;
+        let v = dot(d, &from.q) * inv;
         let v_outside = v.cmplt(Vec4::ZERO) | (u + v).cmpgt(Vec4::ONE);
-        let t = dot(e2, &q) * inv;
+        let t = from.t_times_det * inv;
         let t_inside = t.cmpgt(Vec4::splat(t_min)) & t.cmplt(Vec4::splat(t_max));
         let hit = !parallel & u_inside & !v_outside & t_inside;
         (hit.bitmask(), t, [u, v])
