@@ -201,6 +201,13 @@ fn render_band(pixel: &PixelRenderer, region: Region, top: u32, pixels: &mut [Ve
             if pixel.cancel.load(Ordering::Relaxed) {
                 return tracer.stats;
             }
+            if side == 1 {
+                for x in left..right {
+                    let colour = pixel.render(region.x0 + x, top + y, &mut tracer);
+                    pixels[(y * width + x) as usize] = colour;
+                }
+                continue;
+            }
             for x in (left..right).step_by(side as usize) {
                 let block = Region {
                     x0: x,
@@ -253,10 +260,11 @@ impl<'a> PixelRenderer<'a> {
     }
 
     /// The side of the square blocks of pixels rendered together: at one
-    /// sample a pixel, 4 x 4 neighbours' rays are searched together; at
-    /// more, each pixel's own samples are (`render`).
+    /// sample a pixel, 4 x 4 neighbours' rays are searched together (when
+    /// the scene has a tree to walk); at more, each pixel's own samples
+    /// are (`render`).
     fn block_side(&self) -> u32 {
-        if self.samples == 1 {
+        if self.samples == 1 && self.scene.searches_together() {
             4
         } else {
             1
@@ -274,14 +282,6 @@ impl<'a> PixelRenderer<'a> {
         tracer: &mut Whitted,
         mut put: impl FnMut(u32, u32, Vec3),
     ) {
-        if block.width() * block.height() == 1 {
-            put(
-                block.x0,
-                block.y0,
-                self.render(x0 + block.x0, y0 + block.y0, tracer),
-            );
-            return;
-        }
         let places =
             || (block.y0..block.y1).flat_map(|y| (block.x0..block.x1).map(move |x| (x, y)));
         let (mut rays, mut rngs) = ([NO_RAY; PACKET], [Rng::new(0); PACKET]);

@@ -133,6 +133,16 @@ impl Scene {
         matches!(self.accel, Accel::Bvh(_))
     }
 
+    /// Whether rays searched together (`closest_hits`,
+    /// `occluded_together`) walk a tree together: a small scene, searched
+    /// flat, tests each ray on its own anyway.
+    pub fn searches_together(&self) -> bool {
+        match &self.accel {
+            Accel::Bvh(bvh) => bvh.has_tree(),
+            Accel::BruteForce => false,
+        }
+    }
+
     pub fn camera(&self) -> &Camera {
         &self.camera
     }

@@ -283,7 +283,13 @@ impl Bvh {
     /// mask, distances, barycentrics), in lane order, as the scalar loop
     /// would meet them.
     #[inline(always)]
-    fn offer_lanes(&self, block: usize, found: (u32, Vec4, [Vec4; 2]), t_max: f32, best: &mut Best) {
+    fn offer_lanes(
+        &self,
+        block: usize,
+        found: (u32, Vec4, [Vec4; 2]),
+        t_max: f32,
+        best: &mut Best,
+    ) {
         let (mut mask, t, [u, v]) = found;
         while mask != 0 {
             let lane = mask.trailing_zeros() as usize;

@@ -142,6 +142,12 @@ impl Reach for Bests {
 }
 
 impl Bvh {
+    /// Whether the primitives are searched through a tree (not flat, as a
+    /// small scene's): what packets walk together.
+    pub fn has_tree(&self) -> bool {
+        !self.is_flat() && !self.nodes.is_empty()
+    }
+
     /// The nearest hits of `rays` (at most `PACKET`) in (t_min, t_max),
     /// into `hits`: each the one `closest_hit` finds for it. Rays from one
     /// origin are searched together.
@@ -153,7 +159,7 @@ impl Bvh {
         hits: &mut [Option<SurfaceHit>],
     ) {
         assert!(rays.len() <= PACKET && hits.len() == rays.len());
-        let tree = rays.len() > 1 && !self.is_flat() && !self.nodes.is_empty();
+        let tree = rays.len() > 1 && self.has_tree();
         let Some(packet) = tree.then(|| PacketData::new(rays)).flatten() else {
             for (ray, hit) in rays.iter().zip(hits) {
                 *hit = self.closest_hit(ray, t_min, t_max);
@@ -235,7 +241,7 @@ impl Bvh {
         }
         let left = ((1u32 << rays.len()) - 1) & !blocked;
         let in_left = |i: &usize| left & (1 << i) != 0;
-        let packet = (left.count_ones() > 1 && !self.is_flat() && !self.nodes.is_empty())
+        let packet = (left.count_ones() > 1 && self.has_tree())
             .then(|| PacketData::new((0..rays.len()).filter(in_left).map(|i| &rays[i])))
             .flatten();
         let Some(packet) = packet else {

@@ -182,11 +182,12 @@ impl<'a> Whitted<'a> {
 
     /// The answers of the shadow rays the shading of `hits` will cast
     /// toward the first `AHEAD_LIGHTS` point lights, searched together
-    /// light by light: none where glass makes a shadow ray a walk.
+    /// light by light: none where glass makes a shadow ray a walk, or
+    /// where there is no tree to walk together.
     fn shadows_ahead(&self, rays: &[Ray], hits: &[Option<SurfaceHit>]) -> [Ahead; PACKET] {
         let mut ahead = [Ahead::NONE; PACKET];
         let scene = self.scene;
-        if scene.has_transparency() {
+        if scene.has_transparency() || !scene.searches_together() {
             return ahead;
         }
         let points = scene.lights().iter().filter_map(|light| match light {
