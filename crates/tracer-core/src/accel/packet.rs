@@ -221,9 +221,9 @@ impl Bvh {
     ) {
         for block in run {
             let tris = &self.tris[block];
-            let from = tris.from_origin(origin);
+            let terms = tris.origin_terms(origin);
             for (ray4, best) in ray4.iter().zip(bests.iter_mut()) {
-                let found = tris.intersect_from(&from, ray4, t_min, best.limit(t_max));
+                let found = tris.intersect_with(&terms, ray4, t_min, best.limit(t_max));
                 self.offer_lanes(block, found, t_max, best);
             }
         }

@@ -34,7 +34,7 @@ pub(super) struct Tri4 {
 
 /// What the test of a block shares among rays of one origin: `s = origin
 /// - v0`, `q = s x e1`, and `e2 . q` (the distance times the determinant).
-pub(super) struct FromOrigin {
+pub(super) struct OriginTerms {
     s: [Vec4; 3],
     q: [Vec4; 3],
     t_times_det: Vec4,
@@ -86,24 +86,24 @@ impl Tri4 {
     /// same order.
     #[inline(always)]
     pub(super) fn intersect(&self, r: &Ray4, t_min: f32, t_max: f32) -> (u32, Vec4, [Vec4; 2]) {
-        self.intersect_from(&self.from_origin(&r.origin), r, t_min, t_max)
+        self.intersect_with(&self.origin_terms(&r.origin), r, t_min, t_max)
     }
 
     /// What the test shares among rays from `origin` (in every lane).
     #[inline(always)]
-    pub(super) fn from_origin(&self, origin: &[Vec4; 3]) -> FromOrigin {
+    pub(super) fn origin_terms(&self, origin: &[Vec4; 3]) -> OriginTerms {
         let s = [0, 1, 2].map(|a| origin[a] - self.v0[a]);
         // q = s x e1
         let q = cross(&s, &self.e1);
         let t_times_det = dot(&self.e2, &q);
-        FromOrigin { s, q, t_times_det }
+        OriginTerms { s, q, t_times_det }
     }
 
-    /// `intersect`, for a ray from the origin `from` was made for.
+    /// `intersect`, for a ray from the origin `terms` were worked out for.
     #[inline(always)]
-    pub(super) fn intersect_from(
+    pub(super) fn intersect_with(
         &self,
-        from: &FromOrigin,
+        terms: &OriginTerms,
         r: &Ray4,
         t_min: f32,
         t_max: f32,
@@ -114,11 +114,11 @@ impl Tri4 {
         let det = dot(e1, &p);
         let parallel = det.abs().cmplt(self.edge_scale * r.dir_len);
         let inv = Vec4::ONE / det;
-        let u = dot(&from.s, &p) * inv;
+        let u = dot(&terms.s, &p) * inv;
         let u_inside = u.cmpge(Vec4::ZERO) & u.cmple(Vec4::ONE);
-        let v = dot(d, &from.q) * inv;
+        let v = dot(d, &terms.q) * inv;
         let v_outside = v.cmplt(Vec4::ZERO) | (u + v).cmpgt(Vec4::ONE);
-        let t = from.t_times_det * inv;
+        let t = terms.t_times_det * inv;
         let t_inside = t.cmpgt(Vec4::splat(t_min)) & t.cmplt(Vec4::splat(t_max));
         let hit = !parallel & u_inside & !v_outside & t_inside;
         (hit.bitmask(), t, [u, v])
