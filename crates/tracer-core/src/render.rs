@@ -271,7 +271,7 @@ impl<'a> PixelRenderer<'a> {
         }
     }
 
-    /// The pixels of `block` (of a band whose top-left pixel is `corner`
+    /// The pixels of `block` (of a band whose top-left pixel is (x0, y0)
     /// of the whole image), each handed to `put` with its place in the
     /// band.
     #[inline(always)]

@@ -70,6 +70,40 @@ fn samples_searched_together_find_the_brute_force_image() {
 }
 
 #[test]
+fn shadow_rays_searched_ahead_find_the_brute_force_image() {
+    // Six lights, a sphere light among them and more point lights than are
+    // searched ahead (four), some behind the bunny: each sample's shading
+    // takes the answers found ahead only for the very questions it asks.
+    let mut file = load(&scenes_dir().join("bench/bunny.toml"));
+    (file.camera.width, file.camera.height) = (24, 14);
+    let light = file.lights[0].clone();
+    let at = |position: [f32; 3], radius: f32| scene_format::model::Light {
+        position: position.into(),
+        radius,
+        color: [0.3, 0.3, 0.3],
+    };
+    file.lights = vec![
+        light,
+        at([-3.0, 1.0, 2.0], 0.0),
+        at([0.0, 4.0, 1.0], 0.5),
+        at([2.0, -1.0, -4.0], 0.0),
+        at([-1.0, 0.5, 5.0], 0.0),
+        at([0.5, 3.0, -2.0], 0.0),
+    ];
+    let scene = prepare(&file).expect("prepare");
+    let brute_force = scene.clone().brute_force();
+    for samples in [1, 2] {
+        let job = RenderJob::full(&scene).with_samples(samples);
+        let fast = render(&scene, &job, &|_| {}).image;
+        let slow = render(&brute_force, &job, &|_| {}).image;
+        assert!(
+            fast == slow,
+            "{samples} samples: the shadows found ahead changed the image"
+        );
+    }
+}
+
+#[test]
 fn the_bunny_is_identical_with_and_without_the_bvh() {
     let scene = small_bunny();
     assert_eq!(scene.objects().len(), 69_666);
