@@ -6,10 +6,11 @@ use super::scenes::BenchScene;
 use super::stats::median;
 use super::THREADS;
 use anyhow::Result;
+use glam::Vec3;
 use std::path::Path;
 use std::time::Instant;
-use tracer_core::accel::Bvh;
-use tracer_core::{prepare, render, sample_rays, Output, RayStats, Region, RenderJob, Scene};
+use tracer_core::accel::{Bvh, PACKET};
+use tracer_core::{prepare, render, sample_rays, Output, Ray, RayStats, Region, RenderJob, Scene};
 
 /// The rays one render traced.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -137,17 +138,29 @@ pub fn measure(
         .collect())
 }
 
-/// Our primary rays at `samples` per pixel on one thread: the distance
-/// output (nearest hits only, no shading; a pixel's samples searched
-/// together), the median seconds of `reps` renders; and how many rays. The
-/// same rays are first written to `rays_file` for a peer: a u32 count, the
-/// common origin, then each direction (f32, little-endian).
+/// Our primary rays at `samples` per pixel, on one thread, medians of
+/// `reps` runs.
+pub struct PrimaryRays {
+    pub rays: u64,
+    /// The render's distance output: nearest hits only, no shading; the
+    /// rays made as the render goes, a pixel's samples searched together.
+    pub render_s: f64,
+    /// The same rays stored (as a peer's harness reads them), traced 16 at
+    /// a time, a pixel's samples (`Scene::closest_hits`).
+    pub stored_s: f64,
+    /// How many of the stored rays hit.
+    pub hits: u64,
+}
+
+/// Measures `PrimaryRays` on `file`. The rays are first written to
+/// `rays_file` for a peer: a u32 count, the common origin, then each
+/// direction (f32, little-endian).
 pub fn primary_rays(
     file: &scene_format::SceneFile,
     samples: u32,
     reps: usize,
     rays_file: &Path,
-) -> Result<(u64, f64)> {
+) -> Result<PrimaryRays> {
     let scene = prepare(file).map_err(|e| anyhow::anyhow!("{e}"))?;
     let camera = scene.camera();
     let job = RenderJob {
@@ -155,47 +168,63 @@ pub fn primary_rays(
         samples,
         output: Output::Distance,
     };
-    let rays = write_rays(&scene, &job, rays_file)?;
+    let (origin, dirs) = write_rays(&scene, &job, rays_file)?;
     let pool = pool(1)?;
-    let times = (0..reps)
-        .map(|_| {
-            let start = Instant::now();
-            let image = pool.install(|| render(&scene, &job, &|_| {}).image);
-            let seconds = start.elapsed().as_secs_f64();
-            drop(image);
-            seconds
-        })
-        .collect();
-    Ok((rays, median(times)))
+    let timed = |work: &mut (dyn FnMut() + Send)| {
+        let start = Instant::now();
+        pool.install(&mut *work);
+        start.elapsed().as_secs_f64()
+    };
+    let mut hits = 0;
+    let (mut render_s, mut stored_s) = (Vec::new(), Vec::new());
+    for _ in 0..reps {
+        render_s.push(timed(&mut || drop(render(&scene, &job, &|_| {}))));
+        stored_s.push(timed(&mut || hits = trace_stored(&scene, origin, &dirs)));
+    }
+    Ok(PrimaryRays {
+        rays: dirs.len() as u64,
+        render_s: median(render_s),
+        stored_s: median(stored_s),
+        hits,
+    })
+}
+
+/// Traces rays from `origin` along `dirs`, 16 at a time; how many hit.
+fn trace_stored(scene: &Scene, origin: Vec3, dirs: &[Vec3]) -> u64 {
+    let (mut rays, mut hits) = ([Ray::new(origin, origin); PACKET], [None; PACKET]);
+    let mut found = 0;
+    for chunk in dirs.chunks(PACKET) {
+        for (ray, &dir) in rays.iter_mut().zip(chunk) {
+            ray.dir = dir;
+        }
+        let (rays, hits) = (&rays[..chunk.len()], &mut hits[..chunk.len()]);
+        scene.closest_hits(rays, tracer_core::EPSILON, f32::INFINITY, hits);
+        found += hits.iter().filter(|h| h.is_some()).count() as u64;
+    }
+    found
 }
 
 /// Writes the primary rays of `job` to `path` (see `primary_rays`);
-/// returns how many.
-fn write_rays(scene: &Scene, job: &RenderJob, path: &Path) -> Result<u64> {
-    use std::io::{Seek, SeekFrom, Write};
-    let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
-    out.write_all(&[0; 16])?;
-    let (mut count, mut origin, mut failed) = (0u32, None, None);
+/// returns their origin and directions.
+fn write_rays(scene: &Scene, job: &RenderJob, path: &Path) -> Result<(Vec3, Vec<Vec3>)> {
+    use std::io::Write;
+    let (mut origin, mut dirs) = (None, Vec::new());
+    let mut several = false;
     sample_rays(scene, job, |ray| {
-        if *origin.get_or_insert(ray.origin) != ray.origin {
-            failed.get_or_insert_with(|| anyhow::anyhow!("rays from several origins"));
-        }
-        let bytes = ray.dir.to_array().map(f32::to_le_bytes).concat();
-        if let Err(e) = out.write_all(&bytes) {
-            failed.get_or_insert(e.into());
-        }
-        count += 1;
+        several |= *origin.get_or_insert(ray.origin) != ray.origin;
+        dirs.push(ray.dir);
     });
-    if let Some(e) = failed {
-        return Err(e);
+    if several {
+        anyhow::bail!("rays from several origins");
     }
-    let mut out = out.into_inner().map_err(|e| e.into_error())?;
-    out.seek(SeekFrom::Start(0))?;
-    out.write_all(&count.to_le_bytes())?;
-    let origin = origin.unwrap_or_default().to_array().map(f32::to_le_bytes);
-    out.write_all(&origin.concat())?;
-    out.sync_all()?;
-    Ok(u64::from(count))
+    let origin = origin.unwrap_or_default();
+    let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
+    out.write_all(&u32::try_from(dirs.len())?.to_le_bytes())?;
+    for v in std::iter::once(&origin).chain(&dirs) {
+        out.write_all(&v.to_array().map(f32::to_le_bytes).concat())?;
+    }
+    out.into_inner().map_err(|e| e.into_error())?.sync_all()?;
+    Ok((origin, dirs))
 }
 
 /// Seconds to read the OBJ file at `path` into triangles.
