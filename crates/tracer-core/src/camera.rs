@@ -94,6 +94,7 @@ impl Camera {
     /// the unit disk: on a thin lens it leaves that point of the lens and
     /// crosses the pinhole ray where it meets the plane in focus; without
     /// a lens it is the pinhole ray.
+    #[inline(always)]
     pub fn lens_ray(&self, fx: f32, fy: f32, lens_point: Vec2) -> Ray {
         let pinhole = self.ray(fx, fy);
         let Some(lens) = &self.lens else {
@@ -108,6 +109,7 @@ impl Camera {
     }
 
     /// The ray through image point (fx, fy); a pixel's centre is (i + 0.5, j + 0.5).
+    #[inline(always)]
     pub fn ray(&self, fx: f32, fy: f32) -> Ray {
         let dir = self.projection * Vec3::new(fx, fy, 1.0);
         Ray::new(self.eye, dir.normalize())
