@@ -3,7 +3,7 @@
 //! image and a thin lens.
 
 use crate::ray::Ray;
-use glam::{Mat3, Vec2, Vec3};
+use glam::{Mat3, Vec2, Vec3, Vec4};
 
 /// The lab's pinhole camera: the eye, the image size, and the projection
 /// matrix that turns an image point into a ray direction. With the lab's
@@ -113,6 +113,24 @@ impl Camera {
     pub fn ray(&self, fx: f32, fy: f32) -> Ray {
         let dir = self.projection * Vec3::new(fx, fy, 1.0);
         Ray::new(self.eye, dir.normalize())
+    }
+
+    /// The pinhole rays through image points (fx[k], fy[k]), four at once
+    /// (the lens, if any, left out): each lane does `ray`'s arithmetic in
+    /// `ray`'s order, so each ray is `ray`'s, bit for bit.
+    #[inline(always)]
+    pub fn pinhole_rays4(&self, fx: Vec4, fy: Vec4) -> [Ray; 4] {
+        let p = &self.projection;
+        // projection * (fx, fy, 1), a row at a time; z times 1 is z.
+        let row = |c: usize| {
+            Vec4::splat(p.x_axis[c]) * fx + Vec4::splat(p.y_axis[c]) * fy + Vec4::splat(p.z_axis[c])
+        };
+        let (x, y, z) = (row(0), row(1), row(2));
+        // normalize: times 1 / sqrt((x x + y y) + z z).
+        let length = Vec4::from_array((x * x + y * y + z * z).to_array().map(f32::sqrt));
+        let recip = Vec4::ONE / length;
+        let (x, y, z) = (x * recip, y * recip, z * recip);
+        std::array::from_fn(|k| Ray::new(self.eye, Vec3::new(x[k], y[k], z[k])))
     }
 
     /// The primary ray of pixel (column i, row j), through its centre.
@@ -228,6 +246,29 @@ mod tests {
         assert!((top_left - mirrored).length() < 1e-6);
         let centre = (lab.view_direction() - right.view_direction()).length();
         assert!(centre < 1e-6);
+    }
+
+    #[test]
+    fn four_pinhole_rays_at_once_are_each_rays_own() {
+        // Points over and beyond the image, fractions of all kinds.
+        let cam = lab_camera();
+        let mut seed = 0x9E37_79B9u32;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            (seed >> 8) as f32 / (1u32 << 24) as f32 * 700.0 - 50.0
+        };
+        for _ in 0..10_000 {
+            let (fx, fy) = (
+                Vec4::from_array([(); 4].map(|_| next())),
+                Vec4::from_array([(); 4].map(|_| next())),
+            );
+            let rays = cam.pinhole_rays4(fx, fy);
+            for k in 0..4 {
+                assert_eq!(rays[k], cam.ray(fx[k], fy[k]), "{} {}", fx[k], fy[k]);
+            }
+        }
     }
 
     #[test]

@@ -12,7 +12,7 @@ use crate::ray::{Ray, NO_RAY};
 use crate::sampling::{concentric_disk, Rng, Shuffle, Strata};
 use crate::scene::Scene;
 use crate::EPSILON;
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -284,12 +284,13 @@ impl<'a> PixelRenderer<'a> {
     ) {
         let places =
             || (block.y0..block.y1).flat_map(|y| (block.x0..block.x1).map(move |x| (x, y)));
-        let (mut rays, mut rngs) = ([NO_RAY; PACKET], [Rng::new(0); PACKET]);
+        let mut points = [(Vec2::ZERO, Vec2::ZERO, Rng::new(0)); PACKET];
         let mut n = 0;
         for (x, y) in places() {
-            (rays[n], rngs[n]) = self.centre_ray(x0 + x, y0 + y);
+            points[n] = self.centre_point(x0 + x, y0 + y);
             n += 1;
         }
+        let (rays, rngs) = self.camera_rays(&points[..n]);
         let mut colours = [Vec3::ZERO; PACKET];
         self.trace_together(&rays[..n], &rngs[..n], tracer, &mut colours[..n]);
         for ((x, y), colour) in places().zip(colours) {
@@ -319,10 +320,43 @@ impl<'a> PixelRenderer<'a> {
     /// through its centre (the lab's), and its random numbers.
     #[inline(always)]
     fn centre_ray(&self, i: u32, j: u32) -> (Ray, Rng) {
+        let (at, lens, rng) = self.centre_point(i, j);
+        (self.scene.camera().lens_ray(at.x, at.y, lens), rng)
+    }
+
+    /// `centre_ray`'s image point, lens point and random numbers.
+    #[inline(always)]
+    fn centre_point(&self, i: u32, j: u32) -> (Vec2, Vec2, Rng) {
         let centre = Vec2::new(i as f32 + 0.5, j as f32 + 0.5);
         let mut rng = Rng::for_sample(i, j, 0);
         let lens = self.lens_point(rng.square(), |p| p);
-        (self.scene.camera().lens_ray(centre.x, centre.y, lens), rng)
+        (centre, lens, rng)
+    }
+
+    /// The rays of samples `points` (image point, lens point, random
+    /// numbers), and their random numbers: through a pinhole four at a time
+    /// (`Camera::pinhole_rays4`, the same rays as `lens_ray`).
+    #[inline(always)]
+    fn camera_rays(&self, points: &[(Vec2, Vec2, Rng)]) -> ([Ray; PACKET], [Rng; PACKET]) {
+        let camera = self.scene.camera();
+        let (mut rays, mut rngs) = ([NO_RAY; PACKET], [Rng::new(0); PACKET]);
+        for (rng, point) in rngs.iter_mut().zip(points) {
+            *rng = point.2;
+        }
+        if self.thin_lens {
+            for (ray, &(at, lens, _)) in rays.iter_mut().zip(points) {
+                *ray = camera.lens_ray(at.x, at.y, lens);
+            }
+            return (rays, rngs);
+        }
+        for (four, points) in rays.chunks_mut(4).zip(points.chunks(4)) {
+            // A short last group repeats its first point.
+            let at = |k: usize| points.get(k).unwrap_or(&points[0]).0;
+            let fx = Vec4::from_array(std::array::from_fn(|k| at(k).x));
+            let fy = Vec4::from_array(std::array::from_fn(|k| at(k).y));
+            four.copy_from_slice(&camera.pinhole_rays4(fx, fy)[..four.len()]);
+        }
+        (rays, rngs)
     }
 
     /// The lens order of pixel (i, j), from a stream none of its samples
@@ -338,13 +372,20 @@ impl<'a> PixelRenderer<'a> {
     /// Sample `s` of pixel (i, j) whose lens order is `order`, of several a
     /// pixel: its primary ray and its random numbers.
     #[inline(always)]
-    fn sample_ray(&self, (i, j, order): (u32, u32, u32), s: u32) -> (Ray, Rng) {
+    fn sample_ray(&self, pixel: (u32, u32, u32), s: u32) -> (Ray, Rng) {
+        let (at, lens, rng) = self.sample_point(pixel, s);
+        (self.scene.camera().lens_ray(at.x, at.y, lens), rng)
+    }
+
+    /// `sample_ray`'s image point, lens point and random numbers.
+    #[inline(always)]
+    fn sample_point(&self, (i, j, order): (u32, u32, u32), s: u32) -> (Vec2, Vec2, Rng) {
         let mut rng = Rng::for_sample(i, j, s);
         let at = Vec2::new(i as f32, j as f32) + self.strata.point(s, rng.square());
         let lens = self.lens_point(rng.square(), |jitter| {
             self.strata.point(self.lens_order.apply(s, order), jitter)
         });
-        (self.scene.camera().lens_ray(at.x, at.y, lens), rng)
+        (at, lens, rng)
     }
 
     /// Adds to `sum`, in order, the values of samples `samples` of pixel
@@ -357,11 +398,12 @@ impl<'a> PixelRenderer<'a> {
         tracer: &mut Whitted,
         sum: &mut Vec3,
     ) {
-        let (mut rays, mut rngs) = ([NO_RAY; PACKET], [Rng::new(0); PACKET]);
+        let mut points = [(Vec2::ZERO, Vec2::ZERO, Rng::new(0)); PACKET];
         let n = samples.len();
-        for ((s, ray), rng) in samples.zip(&mut rays).zip(&mut rngs) {
-            (*ray, *rng) = self.sample_ray((i, j, order), s);
+        for (s, point) in samples.zip(&mut points) {
+            *point = self.sample_point((i, j, order), s);
         }
+        let (rays, rngs) = self.camera_rays(&points[..n]);
         let mut colours = [Vec3::ZERO; PACKET];
         self.trace_together(&rays[..n], &rngs[..n], tracer, &mut colours[..n]);
         for colour in &colours[..n] {
