@@ -78,7 +78,7 @@ fn shadow_rays_searched_ahead_find_the_brute_force_image() {
     (file.camera.width, file.camera.height) = (24, 14);
     let light = file.lights[0].clone();
     let at = |position: [f32; 3], radius: f32| scene_format::model::Light {
-        position: position.into(),
+        position,
         radius,
         color: [0.3, 0.3, 0.3],
     };
