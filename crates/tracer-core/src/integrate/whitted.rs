@@ -144,8 +144,11 @@ pub struct Whitted<'a> {
     scene: &'a Scene,
     pub stats: RayStats,
     rng: Rng,
-    /// The sample's shadow rays searched ahead (`trace_samples`).
-    ahead: Ahead,
+    /// The shadow rays searched ahead for each sample of a packet
+    /// (`trace_samples`), and which sample is being shaded (none: no
+    /// answers).
+    ahead: [Ahead; PACKET],
+    shading: Option<usize>,
 }
 
 impl<'a> Whitted<'a> {
@@ -154,7 +157,8 @@ impl<'a> Whitted<'a> {
             scene,
             stats: RayStats::default(),
             rng: Rng::new(0),
-            ahead: Ahead::NONE,
+            ahead: [Ahead::NONE; PACKET],
+            shading: None,
         }
     }
 
@@ -171,24 +175,26 @@ impl<'a> Whitted<'a> {
         rngs: &[Rng],
         colours: &mut [Vec3],
     ) {
-        let ahead = self.shadows_ahead(rays, hits);
+        self.shadows_ahead(rays, hits);
         for (k, ((ray, hit), rng)) in rays.iter().zip(hits).zip(rngs).enumerate() {
             self.reseed(*rng);
-            self.ahead = ahead[k];
+            self.shading = Some(k);
             colours[k] = self.trace_from(ray, *hit, 1.0, 0);
         }
-        self.ahead = Ahead::NONE;
+        self.shading = None;
     }
 
-    /// The answers of the shadow rays the shading of `hits` will cast
-    /// toward the first `AHEAD_LIGHTS` point lights, searched together
-    /// light by light: none where glass makes a shadow ray a walk, or
+    /// Finds, into `ahead`, the answers of the shadow rays the shading of
+    /// `hits` will cast toward the first `AHEAD_LIGHTS` point lights,
+    /// searched together light by light: none where glass makes a shadow ray a walk, or
     /// where there is no tree to walk together.
-    fn shadows_ahead(&self, rays: &[Ray], hits: &[Option<SurfaceHit>]) -> [Ahead; PACKET] {
-        let mut ahead = [Ahead::NONE; PACKET];
+    fn shadows_ahead(&mut self, rays: &[Ray], hits: &[Option<SurfaceHit>]) {
+        for ahead in &mut self.ahead[..rays.len()] {
+            (ahead.len, ahead.next) = (0, 0);
+        }
         let scene = self.scene;
         if scene.has_transparency() || !scene.searches_together() {
-            return ahead;
+            return;
         }
         let points = scene.lights().iter().filter_map(|light| match light {
             Light::Point(point) => Some(point.position),
@@ -210,10 +216,10 @@ impl<'a> Whitted<'a> {
             }
             let blocked = scene.occluded_together(&shadow_rays[..n], EPSILON, &lengths[..n]);
             for j in 0..n {
-                ahead[samples[j]].push(shadow_rays[j], lengths[j], blocked & (1 << j) != 0);
+                let blocked = blocked & (1 << j) != 0;
+                self.ahead[samples[j]].push(shadow_rays[j], lengths[j], blocked);
             }
         }
-        ahead
     }
 
     /// Whether the shading of `hit` lights it (and casts shadow rays):
@@ -385,7 +391,8 @@ impl<'a> Whitted<'a> {
         self.stats.shadow += 1;
         let scene = self.scene;
         if !scene.has_transparency() {
-            let blocked = match self.ahead.take(ray, distance) {
+            let ahead = self.shading.map(|k| &mut self.ahead[k]);
+            let blocked = match ahead.and_then(|ahead| ahead.take(ray, distance)) {
                 Some(blocked) => blocked,
                 None => scene.occluded(ray, EPSILON, distance),
             };
