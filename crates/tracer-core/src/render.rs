@@ -290,9 +290,11 @@ impl<'a> PixelRenderer<'a> {
             points[n] = self.centre_point(x0 + x, y0 + y);
             n += 1;
         }
-        let (rays, rngs) = self.camera_rays(&points[..n]);
+        let (mut rays, mut rngs) = ([NO_RAY; PACKET], [Rng::new(0); PACKET]);
+        let (rays, rngs) = (&mut rays[..n], &mut rngs[..n]);
+        self.camera_rays(&points[..n], rays, rngs);
         let mut colours = [Vec3::ZERO; PACKET];
-        self.trace_together(&rays[..n], &rngs[..n], tracer, &mut colours[..n]);
+        self.trace_together(rays, rngs, tracer, &mut colours[..n]);
         for ((x, y), colour) in places().zip(colours) {
             put(x, y, colour);
         }
@@ -334,12 +336,12 @@ impl<'a> PixelRenderer<'a> {
     }
 
     /// The rays of samples `points` (image point, lens point, random
-    /// numbers), and their random numbers: through a pinhole four at a time
-    /// (`Camera::pinhole_rays4`, the same rays as `lens_ray`).
+    /// numbers) into `rays`, and their random numbers into `rngs`: through
+    /// a pinhole four at a time (`Camera::pinhole_rays4`, the same rays as
+    /// `lens_ray`).
     #[inline(always)]
-    fn camera_rays(&self, points: &[(Vec2, Vec2, Rng)]) -> ([Ray; PACKET], [Rng; PACKET]) {
+    fn camera_rays(&self, points: &[(Vec2, Vec2, Rng)], rays: &mut [Ray], rngs: &mut [Rng]) {
         let camera = self.scene.camera();
-        let (mut rays, mut rngs) = ([NO_RAY; PACKET], [Rng::new(0); PACKET]);
         for (rng, point) in rngs.iter_mut().zip(points) {
             *rng = point.2;
         }
@@ -347,7 +349,7 @@ impl<'a> PixelRenderer<'a> {
             for (ray, &(at, lens, _)) in rays.iter_mut().zip(points) {
                 *ray = camera.lens_ray(at.x, at.y, lens);
             }
-            return (rays, rngs);
+            return;
         }
         for (four, points) in rays.chunks_mut(4).zip(points.chunks(4)) {
             // A short last group repeats its first point.
@@ -356,7 +358,6 @@ impl<'a> PixelRenderer<'a> {
             let fy = Vec4::from_array(std::array::from_fn(|k| at(k).y));
             four.copy_from_slice(&camera.pinhole_rays4(fx, fy)[..four.len()]);
         }
-        (rays, rngs)
     }
 
     /// The lens order of pixel (i, j), from a stream none of its samples
@@ -403,9 +404,11 @@ impl<'a> PixelRenderer<'a> {
         for (s, point) in samples.zip(&mut points) {
             *point = self.sample_point((i, j, order), s);
         }
-        let (rays, rngs) = self.camera_rays(&points[..n]);
+        let (mut rays, mut rngs) = ([NO_RAY; PACKET], [Rng::new(0); PACKET]);
+        let (rays, rngs) = (&mut rays[..n], &mut rngs[..n]);
+        self.camera_rays(&points[..n], rays, rngs);
         let mut colours = [Vec3::ZERO; PACKET];
-        self.trace_together(&rays[..n], &rngs[..n], tracer, &mut colours[..n]);
+        self.trace_together(rays, rngs, tracer, &mut colours[..n]);
         for colour in &colours[..n] {
             *sum += *colour;
         }
