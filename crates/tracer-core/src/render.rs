@@ -290,11 +290,8 @@ impl<'a> PixelRenderer<'a> {
             points[n] = self.centre_point(x0 + x, y0 + y);
             n += 1;
         }
-        let (mut rays, mut rngs) = ([NO_RAY; PACKET], [Rng::new(0); PACKET]);
-        let (rays, rngs) = (&mut rays[..n], &mut rngs[..n]);
-        self.camera_rays(&points[..n], rays, rngs);
         let mut colours = [Vec3::ZERO; PACKET];
-        self.trace_together(rays, rngs, tracer, &mut colours[..n]);
+        self.trace_points(&points[..n], tracer, &mut colours[..n]);
         for ((x, y), colour) in places().zip(colours) {
             put(x, y, colour);
         }
@@ -404,14 +401,26 @@ impl<'a> PixelRenderer<'a> {
         for (s, point) in samples.zip(&mut points) {
             *point = self.sample_point((i, j, order), s);
         }
-        let (mut rays, mut rngs) = ([NO_RAY; PACKET], [Rng::new(0); PACKET]);
-        let (rays, rngs) = (&mut rays[..n], &mut rngs[..n]);
-        self.camera_rays(&points[..n], rays, rngs);
         let mut colours = [Vec3::ZERO; PACKET];
-        self.trace_together(rays, rngs, tracer, &mut colours[..n]);
+        self.trace_points(&points[..n], tracer, &mut colours[..n]);
         for colour in &colours[..n] {
             *sum += *colour;
         }
+    }
+
+    /// The values of the samples `points` (image point, lens point, random
+    /// numbers), into `colours`: their camera rays traced together.
+    #[inline(always)]
+    fn trace_points(
+        &self,
+        points: &[(Vec2, Vec2, Rng)],
+        tracer: &mut Whitted,
+        colours: &mut [Vec3],
+    ) {
+        let (mut rays, mut rngs) = ([NO_RAY; PACKET], [Rng::new(0); PACKET]);
+        let (rays, rngs) = (&mut rays[..points.len()], &mut rngs[..points.len()]);
+        self.camera_rays(points, rays, rngs);
+        self.trace_together(rays, rngs, tracer, colours);
     }
 
     /// The values of the samples whose rays are `rays` and random numbers

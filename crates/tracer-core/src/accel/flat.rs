@@ -32,7 +32,7 @@ impl Bvh {
     pub(super) fn nearest_flat(&self, ray: &Ray, t_min: f32, t_max: f32, best: &mut Best) {
         self.offer_spheres(0..self.spheres.len(), ray, t_min, t_max, best);
         if !self.tris.is_empty() {
-            let ray4 = Ray4::new(ray, ray.dir.length());
+            let ray4 = Ray4::new(ray);
             self.offer_blocks(0..self.tris.len(), &ray4, t_min, t_max, best);
         }
     }
@@ -43,13 +43,7 @@ impl Bvh {
         if self.any_sphere(0..self.spheres.len(), ray, t_min, t_max) {
             return true;
         }
-        !self.tris.is_empty()
-            && self.any_block(
-                0..self.tris.len(),
-                &Ray4::new(ray, ray.dir.length()),
-                t_min,
-                t_max,
-            )
+        !self.tris.is_empty() && self.any_block(0..self.tris.len(), &Ray4::new(ray), t_min, t_max)
     }
 }
 

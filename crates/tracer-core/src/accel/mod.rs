@@ -323,7 +323,7 @@ impl Bvh {
     /// ray in (t_min, t_max).
     #[inline(always)]
     fn occluded_in_tree(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
-        if self.is_flat() || self.nodes.is_empty() {
+        if !self.has_tree() {
             return false;
         }
         let r = RayData::new(ray);

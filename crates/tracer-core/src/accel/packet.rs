@@ -290,7 +290,7 @@ impl Bvh {
 fn rays4(rays: &[Ray]) -> [Ray4; PACKET] {
     std::array::from_fn(|i| {
         let ray = &rays[i.min(rays.len() - 1)];
-        Ray4::new(ray, ray.dir.length())
+        Ray4::new(ray)
     })
 }
 

@@ -48,11 +48,11 @@ pub(super) struct Ray4 {
 }
 
 impl Ray4 {
-    pub(super) fn new(ray: &Ray, dir_len: f32) -> Ray4 {
+    pub(super) fn new(ray: &Ray) -> Ray4 {
         Ray4 {
             origin: ray.origin.to_array().map(Vec4::splat),
             dir: ray.dir.to_array().map(Vec4::splat),
-            dir_len: Vec4::splat(dir_len),
+            dir_len: Vec4::splat(ray.dir.length()),
         }
     }
 }
@@ -212,8 +212,7 @@ mod tests {
                 .collect();
             let block = Tri4::new(&records);
             let t_max = if k % 3 == 0 { 2.0 } else { f32::INFINITY };
-            let (mask, t, [u, v]) =
-                block.intersect(&Ray4::new(&ray, ray.dir.length()), 1e-4, t_max);
+            let (mask, t, [u, v]) = block.intersect(&Ray4::new(&ray), 1e-4, t_max);
             for (lane, tri) in triangles.iter().enumerate() {
                 let scalar = tri.intersect(&ray, 1e-4, t_max);
                 let simd = (mask >> lane & 1 == 1).then_some([t[lane], u[lane], v[lane]]);
