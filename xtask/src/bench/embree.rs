@@ -3,7 +3,7 @@
 //! `rtcOccluded1` + Lambert shade, the bunny scene's camera and light),
 //! compiled into `target/peers/` when `g++` and `libembree-dev` are there.
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -81,18 +81,15 @@ fn is_newer(a: &Path, b: &Path) -> bool {
 
 /// Runs the harness on `obj` split `subdiv` times, `reps` frames each.
 pub fn measure(exe: &Path, obj: &Path, subdiv: u32, reps: usize) -> Result<Embree> {
-    let out = Command::new(exe)
-        .arg(obj)
-        .args(["--reps", &reps.to_string(), "--subdiv", &subdiv.to_string()])
-        .output()
-        .context("run embree_bench")?;
-    let text = String::from_utf8_lossy(&out.stdout);
-    if !out.status.success() {
-        bail!(
-            "embree_bench failed: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-    }
+    let text = super::process::stdout_of(
+        Command::new(exe).arg(obj).args([
+            "--reps",
+            &reps.to_string(),
+            "--subdiv",
+            &subdiv.to_string(),
+        ]),
+        "embree_bench",
+    )?;
     parse(&text).with_context(|| format!("unexpected embree_bench output:\n{text}"))
 }
 

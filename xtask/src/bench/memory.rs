@@ -152,19 +152,12 @@ fn render_on(tracer: &Path, scene: &Path, out: &Path, threads: usize) -> Result<
 /// `command` run by `cargo xtask peak-of`, started afresh (see the module's
 /// comment), and what that printed of it.
 fn measured(command: &[std::ffi::OsString]) -> Result<Process> {
-    let out = Command::new(std::env::current_exe()?)
-        .arg("peak-of")
-        .args(command)
-        .output()
-        .context("running `xtask peak-of`")?;
-    let text = String::from_utf8_lossy(&out.stdout);
-    if !out.status.success() {
-        bail!(
-            "{:?} failed: {}",
-            command,
-            String::from_utf8_lossy(&out.stderr)
-        );
-    }
+    let text = super::process::stdout_of(
+        Command::new(std::env::current_exe()?)
+            .arg("peak-of")
+            .args(command),
+        &format!("{command:?} under `xtask peak-of`"),
+    )?;
     parse_process(&text).with_context(|| format!("`xtask peak-of` printed {text:?}"))
 }
 

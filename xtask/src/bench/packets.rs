@@ -7,7 +7,7 @@
 //! packet is half a pixel's samples, a 16-ray packet all of them).
 
 use super::measure;
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use scene_format::SceneFile;
 use std::path::Path;
 use std::process::Command;
@@ -40,20 +40,14 @@ pub fn measure(
     let embree = match embree {
         Some(exe) => {
             eprintln!("bench: Embree on the same rays ...");
-            let out = Command::new(exe)
-                .arg(obj)
-                .arg("--rays")
-                .arg(&rays_file)
-                .args(["--reps", &reps.to_string()])
-                .output()
-                .context("run embree_bench --rays")?;
-            let text = String::from_utf8_lossy(&out.stdout);
-            if !out.status.success() {
-                bail!(
-                    "embree_bench --rays failed: {}",
-                    String::from_utf8_lossy(&out.stderr)
-                );
-            }
+            let text = super::process::stdout_of(
+                Command::new(exe)
+                    .arg(obj)
+                    .arg("--rays")
+                    .arg(&rays_file)
+                    .args(["--reps", &reps.to_string()]),
+                "embree_bench --rays",
+            )?;
             Some(parse(&text).with_context(|| format!("unexpected embree_bench output:\n{text}"))?)
         }
         None => None,

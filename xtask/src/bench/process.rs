@@ -75,6 +75,16 @@ pub fn spawn(tracer: &Path, scene: &Path, out: &Path) -> Result<Spawn> {
     })
 }
 
+/// What `command` printed on standard output, once it has succeeded;
+/// `what` names it in the errors, which carry its standard error.
+pub fn stdout_of(command: &mut Command, what: &str) -> Result<String> {
+    let out = command.output().with_context(|| format!("run {what}"))?;
+    if !out.status.success() {
+        bail!("{what} failed: {}", String::from_utf8_lossy(&out.stderr));
+    }
+    Ok(String::from_utf8_lossy(&out.stdout).into_owned())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
