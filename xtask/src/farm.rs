@@ -34,6 +34,10 @@ pub struct FarmArgs {
     /// a private single-node cluster and stops it afterwards
     #[arg(long)]
     pub slurm: bool,
+    /// Tiles prepare the scene each (as before `tracer render --cache`),
+    /// instead of the first keeping it for the others
+    #[arg(long)]
+    pub no_cache: bool,
 }
 
 pub fn run(args: &FarmArgs) -> Result<()> {
@@ -80,7 +84,8 @@ pub fn run(args: &FarmArgs) -> Result<()> {
         return run_slurm(&job, &args.tiles);
     }
     for &n in &args.tiles {
-        let (tiles, seconds) = render_tiles(&tracer, &scene, n, dir.path(), &size)?;
+        let cache = (!args.no_cache).then(|| dir.path().join(format!("prepared-{n}")));
+        let (tiles, seconds) = render_tiles(&tracer, &scene, n, dir.path(), &size, cache)?;
         let merged = dir.path().join(format!("merged-{n}.exr"));
         let mut merge: Vec<String> = vec!["merge".into()];
         merge.extend(tiles.iter().map(|t| path_arg(t)));
@@ -99,20 +104,33 @@ pub fn run(args: &FarmArgs) -> Result<()> {
 /// Renders tile I/N for every I, one process each, one after the other
 /// (a farm runs them side by side; their sum is what it pays). Every
 /// render here is on one thread, so the times compare; that the thread
-/// count changes no pixel is the tile tests' part.
+/// count changes no pixel is the tile tests' part. With a `cache` folder
+/// (empty), the first task prepares the scene and keeps it there, and the
+/// others read it, as the farm scripts do.
 fn render_tiles(
     tracer: &Path,
     scene: &Path,
     n: u32,
     dir: &Path,
     size: &[String],
+    cache: Option<PathBuf>,
 ) -> Result<(Vec<PathBuf>, f64)> {
     let mut tiles = Vec::new();
     let mut seconds = 0.0;
     for i in 0..n {
         let tile = dir.join(format!("tile-{n}-{i}.exr"));
         let spec = format!("{i}/{n}");
-        let args = [&path_arg(scene), "--tile", &spec, "-o", &path_arg(&tile)];
+        let mut args = vec![
+            path_arg(scene),
+            "--tile".into(),
+            spec,
+            "-o".into(),
+            path_arg(&tile),
+        ];
+        if let Some(cache) = &cache {
+            args.extend(["--cache".into(), path_arg(cache)]);
+        }
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
         let start = Instant::now();
         tracer_run(tracer, &args, size)?;
         seconds += start.elapsed().as_secs_f64();

@@ -7,6 +7,7 @@
 //! writes it in the format of its extension, whole or not at all. [`lab`]
 //! makes the lab's calibration chart and gamma fit.
 
+pub mod cache;
 mod error;
 pub mod lab;
 mod limits;
@@ -23,5 +24,9 @@ pub use error::{scene_error_is_bad_input, Error};
 pub use limits::{BYTES_PER_PRIMITIVE, MAX_PRIMITIVES};
 pub use load::{load, Input, Loaded, DEFAULT_SCENE_NAME};
 pub use options::{tile_region, Aov, Gamma, Options, Part, Region};
-pub use render::{default_output, image_size, render, render_cancellable, render_taking};
+pub use render::{
+    default_output, image_size, prepare_taking, render, render_cancellable, render_prepared,
+    render_taking,
+};
 pub use rendered::{Picture, Rendered, ShadedStats, Summary, FORCED_WHITE_WARNING};
+pub use scene3d::PreparedScene;

@@ -5,6 +5,7 @@
 use crate::load::Loaded;
 use crate::options::{Aov, Gamma, Options};
 use crate::rendered::{Picture, Rendered, Summary};
+use crate::scene3d::PreparedScene;
 use crate::{scene3d, Error};
 use scene_format::{CanvasFile, SceneFile, SceneKind};
 use std::borrow::Cow;
@@ -58,6 +59,49 @@ pub fn render_taking(
         SceneKind::Canvas(ref file) => Some(draw(file, &loaded.name, options)?),
     };
     Ok(rendered.expect("never cancelled"))
+}
+
+/// The first half of a shaded render of a 3D scene, taking it as
+/// `render_taking` does: the prepared scene, to render with
+/// `render_prepared` (and to keep: `cache`). A canvas is refused, as
+/// with any option of 3D scenes (`option`: the one that asked for this).
+pub fn prepare_taking(
+    loaded: Loaded,
+    options: &Options,
+    option: &'static str,
+) -> Result<PreparedScene, Error> {
+    match loaded.kind {
+        SceneKind::Scene3d(file) => {
+            let file = Cow::Owned(options.apply_owned(file)?);
+            scene3d::prepare_shaded(file, &loaded.name)
+        }
+        SceneKind::Canvas(_) => Err(Error::CanvasOption {
+            scene: loaded.name,
+            option,
+        }),
+    }
+}
+
+/// The shaded image of a prepared scene (`options.aov` is not looked at:
+/// a prepared scene is for shaded renders); progress as for `render`.
+pub fn render_prepared(
+    prepared: &PreparedScene,
+    options: &Options,
+    rows_done: &(dyn Fn(u32) + Sync),
+) -> Result<Rendered, Error> {
+    let region = options
+        .part
+        .map(|p| p.region(prepared.size()))
+        .transpose()?;
+    let never = AtomicBool::new(false);
+    rows_done(0);
+    let (image, stats) =
+        scene3d::shade_prepared(prepared, options.gamma, region, rows_done, &never)
+            .expect("never cancelled");
+    Ok(Rendered {
+        image,
+        summary: Summary::Shaded(stats),
+    })
 }
 
 /// A canvas drawn, refusing options of 3D scenes.

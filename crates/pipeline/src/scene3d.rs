@@ -14,6 +14,26 @@ use std::time::Instant;
 use tracer_core::image::Saturation;
 use tracer_core::{Output, Region, RenderJob, Scene};
 
+/// A 3D scene prepared for shaded renders (lean: its BVH, not its
+/// objects), with what a render's summary says of it; what `--cache`
+/// keeps.
+#[derive(Debug, serde::Serialize, serde::Deserialize)]
+pub struct PreparedScene {
+    pub(crate) scene: Scene,
+    /// Objects in the scene file (a mesh is one).
+    pub(crate) objects: usize,
+    #[serde(skip)]
+    pub(crate) prepare_seconds: f64,
+}
+
+impl PreparedScene {
+    /// The image's size in pixels, (width, height).
+    pub fn size(&self) -> (u32, u32) {
+        let camera = self.scene.camera();
+        (camera.width, camera.height)
+    }
+}
+
 /// The shaded image, with the scene's gamma (or `gamma`) and saturation
 /// rule for its encoding; `rows_done(0)` once the scene is prepared, then
 /// `rows_done(n)` from the render threads as `n` more rows are done.
@@ -25,16 +45,35 @@ pub(crate) fn shade(
     rows_done: &(dyn Fn(u32) + Sync),
     cancel: &AtomicBool,
 ) -> Result<Option<(Picture, ShadedStats)>, Error> {
+    let prepared = prepare_shaded(file, name)?;
+    rows_done(0);
+    Ok(shade_prepared(&prepared, gamma, region, rows_done, cancel))
+}
+
+/// The scene of `file`, prepared and lean (see `prepare_releasing`).
+pub(crate) fn prepare_shaded(file: Cow<SceneFile>, name: &Path) -> Result<PreparedScene, Error> {
     let start = Instant::now();
     let objects = file.objects.len();
     let scene = prepare_releasing(file, name)?;
-    let prepare_seconds = start.elapsed().as_secs_f64();
-    rows_done(0);
+    Ok(PreparedScene {
+        scene,
+        objects,
+        prepare_seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// `shade` of a prepared scene; progress from the render threads only.
+pub(crate) fn shade_prepared(
+    prepared: &PreparedScene,
+    gamma: Option<Gamma>,
+    region: Option<Region>,
+    rows_done: &(dyn Fn(u32) + Sync),
+    cancel: &AtomicBool,
+) -> Option<(Picture, ShadedStats)> {
+    let scene = &prepared.scene;
     let start = Instant::now();
-    let job = job(&scene, region);
-    let Some(rendered) = tracer_core::render_cancellable(&scene, &job, rows_done, cancel) else {
-        return Ok(None);
-    };
+    let job = job(scene, region);
+    let rendered = tracer_core::render_cancellable(scene, &job, rows_done, cancel)?;
     let (image, rays) = (rendered.image, rendered.rays);
     let render_seconds = start.elapsed().as_secs_f64();
     let mut encoding = *scene.encoding();
@@ -51,10 +90,10 @@ pub(crate) fn shade(
         Saturation::Clamp => 0,
     };
     let stats = ShadedStats {
-        objects,
+        objects: prepared.objects,
         primitives: scene.unique_primitives(),
         rays: rays.total(),
-        prepare_seconds,
+        prepare_seconds: prepared.prepare_seconds,
         render_seconds,
         forced_white,
         pixels: image.pixels.len() as u64,
@@ -63,7 +102,7 @@ pub(crate) fn shade(
         linear: image,
         encoding,
     };
-    Ok(Some((picture, stats)))
+    Some((picture, stats))
 }
 
 /// The image of one AOV, encoded linearly unless `options.gamma` is given

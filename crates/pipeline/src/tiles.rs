@@ -87,6 +87,18 @@ impl TileError {
 /// see the scene at other paths. (BLAKE3, not SHA-256: every task hashes
 /// its meshes again, and BLAKE3 takes a third of the time.)
 pub fn digest(input: &Input, loaded: &Loaded, options: &Options) -> Result<String, TileError> {
+    let size = crate::image_size(loaded, options).unwrap_or_default();
+    digest_of(input, &loaded.files_read, options, size)
+}
+
+/// `digest` of a scene read from `files_read`, its image `size` pixels
+/// with `options` (a scene prepared earlier and kept: `cache`).
+pub(crate) fn digest_of(
+    input: &Input,
+    files_read: &[PathBuf],
+    options: &Options,
+    size: (u32, u32),
+) -> Result<String, TileError> {
     let mut hash = blake3::Hasher::new();
     // Another release may render other values: its tiles do not mix.
     let version = concat!("tracer tile 2, version ", env!("CARGO_PKG_VERSION"));
@@ -94,7 +106,7 @@ pub fn digest(input: &Input, loaded: &Loaded, options: &Options) -> Result<Strin
     if *input == Input::DefaultScene {
         add(&mut hash, crate::load::DEFAULT_SCENE.as_bytes());
     }
-    for path in &loaded.files_read {
+    for path in files_read {
         add_file(&mut hash, path).map_err(|source| TileError::Read {
             path: path.clone(),
             source,
@@ -105,20 +117,19 @@ pub fn digest(input: &Input, loaded: &Loaded, options: &Options) -> Result<Strin
         ..*options
     };
     add(&mut hash, format!("{options:?}").as_bytes());
-    let size = crate::image_size(loaded, &options).unwrap_or_default();
     add(&mut hash, format!("{size:?}").as_bytes());
     Ok(hash.finalize().to_hex().to_string())
 }
 
 /// Bytes after their count, so no two sequences hash alike.
-fn add(hash: &mut blake3::Hasher, bytes: &[u8]) {
+pub(crate) fn add(hash: &mut blake3::Hasher, bytes: &[u8]) {
     hash.update(&(bytes.len() as u64).to_le_bytes());
     hash.update(bytes);
 }
 
 /// A file's bytes after their count, as `add`, streamed in blocks large
 /// enough for BLAKE3's SIMD lanes (a mesh is not held in memory twice).
-fn add_file(hash: &mut blake3::Hasher, path: &Path) -> std::io::Result<()> {
+pub(crate) fn add_file(hash: &mut blake3::Hasher, path: &Path) -> std::io::Result<()> {
     let mut file = std::fs::File::open(path)?;
     let size = file.metadata()?.len();
     hash.update(&size.to_le_bytes());

@@ -47,6 +47,13 @@ pub struct RenderArgs {
     /// same region): for schedulers that retry tasks
     #[arg(long)]
     pub skip_existing: bool,
+    /// Keep the prepared scene (meshes read, BVH built) in DIR, and read it
+    /// from there in later renders of the same scene and options instead of
+    /// preparing it again: for a farm's tasks, each rendering a tile of one
+    /// scene. An entry is used only while every file of the scene is
+    /// unchanged. Not for --aov or scenes with instances.
+    #[arg(long, value_name = "DIR", conflicts_with = "aov")]
+    pub cache: Option<PathBuf>,
     /// Print no progress bar and no summary, only warnings and errors
     #[arg(short, long)]
     pub quiet: bool,
@@ -306,6 +313,8 @@ pub struct Render {
     /// The one pool every path renders on, so `--threads` holds for all.
     pub pool: rayon::ThreadPool,
     pub skip_existing: bool,
+    /// `--cache`: where prepared scenes are kept.
+    pub cache: Option<PathBuf>,
     pub quiet: bool,
 }
 
@@ -327,6 +336,7 @@ impl RenderArgs {
             bit_depth: self.bit_depth.into(),
             pool: pool(self.view.threads)?,
             skip_existing: self.skip_existing,
+            cache: self.cache,
             quiet: self.quiet,
         })
     }

@@ -175,13 +175,21 @@ pub fn color_wanted() -> bool {
 
 /// The loaded scene's warnings, one line each; shown even when quiet.
 pub fn warnings(loaded: &tracer_pipeline::Loaded) {
-    for w in &loaded.warnings {
+    for line in warning_lines(loaded) {
+        crate::console::note!("{line}");
+    }
+}
+
+/// The lines `warnings` prints (kept with a prepared scene, `--cache`).
+pub fn warning_lines(loaded: &tracer_pipeline::Loaded) -> Vec<String> {
+    let line = |w: &scene_format::Diagnostic| {
         // An object of an included file is named in that file.
         let (file, path) = loaded.origins.origin(&w.path);
         let name = match loaded.origins.files.get(file) {
             Some(f) if file > 0 => f.name.display().to_string(),
             _ => loaded.name.display().to_string(),
         };
-        crate::console::note!("warning: {name}: `{path}`: {}", w.message);
-    }
+        format!("warning: {name}: `{path}`: {}", w.message)
+    };
+    loaded.warnings.iter().map(line).collect()
 }

@@ -223,3 +223,86 @@ fn a_gamma_given_to_the_tiles_encodes_the_merged_png() {
     ok(&render(dir.path(), &scene, &["-o", "own.png", "-q"]));
     assert!(read("merged.png") != read("own.png"));
 }
+
+#[test]
+fn tiles_that_read_a_kept_scene_merge_into_the_single_render() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scenes().join("depth-of-field.toml");
+    ok(&render(dir.path(), &scene, &["-o", "full.exr", "-q"]));
+    let names: Vec<String> = (0..3).map(|i| format!("c{i}.exr")).collect();
+    for (i, name) in names.iter().enumerate() {
+        let tile = format!("{i}/3");
+        let out = render(
+            dir.path(),
+            &scene,
+            &["--tile", &tile, "--cache", "kept", "-o", name],
+        );
+        ok(&out);
+        let said = if i == 0 {
+            "kept the prepared scene in"
+        } else {
+            "read the prepared scene from"
+        };
+        assert!(stderr(&out).contains(said), "{}", stderr(&out));
+    }
+    ok(&merge(dir.path(), &names, "merged.exr"));
+    let at = |n: &str| dir.path().join(n);
+    assert_eq!(floats(&at("merged.exr")), floats(&at("full.exr")));
+}
+
+#[test]
+fn a_damaged_kept_scene_is_said_and_prepared_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scenes().join("showcase.toml");
+    ok(&render(dir.path(), &scene, &["-o", "full.png", "-q"]));
+    ok(&render(
+        dir.path(),
+        &scene,
+        &["--cache", "kept", "-o", "a.png", "-q"],
+    ));
+    let entries: Vec<PathBuf> = std::fs::read_dir(dir.path().join("kept"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert_eq!(entries.len(), 1, "{entries:?}");
+    std::fs::write(&entries[0], b"tracer prepared scene 1\nnot a scene").unwrap();
+    let out = render(dir.path(), &scene, &["--cache", "kept", "-o", "b.png"]);
+    ok(&out);
+    assert!(
+        stderr(&out).contains("not used (it is damaged"),
+        "{}",
+        stderr(&out)
+    );
+    let read = |n: &str| std::fs::read(dir.path().join(n)).unwrap();
+    assert!(read("a.png") == read("full.png") && read("b.png") == read("full.png"));
+    // Prepared again, and kept again.
+    let out = render(dir.path(), &scene, &["--cache", "kept", "-o", "c.png"]);
+    assert!(
+        stderr(&out).contains("read the prepared scene"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+#[test]
+fn cache_with_an_aov_or_a_canvas_is_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scenes().join("showcase.toml");
+    let out = render(dir.path(), &scene, &["--aov", "depth", "--cache", "kept"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let canvas = scenes().join("robot.toml");
+    let out = tracer(
+        dir.path(),
+        &[
+            "render",
+            canvas.to_str().unwrap(),
+            "--cache",
+            "kept",
+            "-o",
+            "r.png",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("--cache"), "{}", stderr(&out));
+    assert!(!dir.path().join("r.png").exists());
+}

@@ -4,11 +4,12 @@
 
 use crate::ray::Ray;
 use glam::{Mat3, Vec2, Vec3, Vec4};
+use serde::{Deserialize, Serialize};
 
 /// The lab's pinhole camera: the eye, the image size, and the projection
 /// matrix that turns an image point into a ray direction. With the lab's
 /// conventions world +x is on the image's left (lab section 0).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Camera {
     pub eye: Vec3,
     pub width: u32,
@@ -20,7 +21,7 @@ pub struct Camera {
 }
 
 /// A thin lens centred on the eye, facing the view direction.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Lens {
     /// The lens' radius (the aperture): 0 would be a pinhole.
     pub radius: f32,

@@ -4,9 +4,10 @@
 
 use crate::gamma_table::GammaTable;
 use glam::Vec3;
+use serde::{Deserialize, Serialize};
 
 /// What happens to a colour with a channel over 1 (lab 5.3).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 pub enum Saturation {
     /// The lab's rule: any channel over 1 makes the whole pixel white.
     #[default]
@@ -24,7 +25,7 @@ pub struct LinearImage {
 }
 
 /// How linear colours become 8-bit values.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Encoding {
     /// 1.0 writes the linear values; the lab's default is 2.2.
     pub gamma: f32,

@@ -2,9 +2,10 @@
 //! point light is one variant, the sphere light (soft shadows) another.
 
 use glam::Vec3;
+use serde::{Deserialize, Serialize};
 
 /// A light of the scene.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum Light {
     /// The lab's point light (section 4.2).
     Point(PointLight),
@@ -36,7 +37,7 @@ impl Light {
 }
 
 /// A point light (lab 4.2); its colour carries the intensity.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PointLight {
     pub position: Vec3,
     pub color: Vec3,
@@ -46,7 +47,7 @@ pub struct PointLight {
 /// `radius` facing that point, sampled by shadow rays. Its colour is the
 /// whole light's, as for a point light in the same place, so growing the
 /// radius softens shadows without brightening the scene.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SphereLight {
     pub centre: Vec3,
     pub color: Vec3,

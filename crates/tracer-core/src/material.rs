@@ -6,10 +6,11 @@ use crate::geometry::SurfaceHit;
 use crate::optics::{fresnel_reflectance, refract};
 use crate::texture::{ColorTexture, Texture};
 use glam::Vec3;
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
 /// A surface's material.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum Material {
     /// The lab's Blinn-Phong material with mirror reflection (lab 4.1, 5.2).
     Phong(Phong),
@@ -26,7 +27,7 @@ impl Material {
 }
 
 /// The lab's Blinn-Phong material (section 4.1).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Phong {
     pub ambient: Vec3,
     pub diffuse: Vec3,
@@ -59,7 +60,7 @@ impl Phong {
 
 /// A dielectric: the lab's Blinn-Phong surface (seen from outside), a
 /// mirror ray, and a refracted ray into or out of the inside.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Glass {
     /// The local colour and, without `fresnel`, the mirror's energy.
     pub surface: Phong,
@@ -75,7 +76,7 @@ pub struct Glass {
 }
 
 /// How a ray's energy divides at a glass surface.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Split {
     /// Energy of the mirror ray.
     pub reflected: f32,

@@ -9,11 +9,12 @@ use crate::light::Light;
 use crate::material::Material;
 use crate::ray::Ray;
 use glam::Vec3;
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
 /// The recursion settings of the lab's `rayTrace` (lab 5.3), and how
 /// finely sphere lights are sampled.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TraceSettings {
     /// The lab's MAX_RAY_TREE: how many mirror bounces a ray may take.
     pub max_depth: u32,
@@ -28,15 +29,19 @@ pub struct TraceSettings {
 /// A scene ready to render: the camera, the objects with their materials,
 /// the lights, the settings, and the hierarchy over the objects. The
 /// fields are private so the hierarchy always answers for these objects.
-#[derive(Debug, Clone)]
+/// Only a lean scene is serialized (a prepared scene kept for later
+/// renders): its objects are never written.
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Scene {
     camera: Camera,
+    #[serde(skip)]
     objects: Vec<Object>,
     materials: Vec<Material>,
     lights: Vec<Light>,
     trace: TraceSettings,
     encoding: Encoding,
     samples: u32,
+    #[serde(serialize_with = "without_instances")]
     accel: Accel,
     /// Whether some material lets light through, so shadow rays must look
     /// past the first surface.
@@ -45,12 +50,36 @@ pub struct Scene {
     primitives: usize,
     bounds: Option<(Vec3, Vec3)>,
     /// Whether the objects were let go (`Scene::lean`).
+    #[serde(serialize_with = "only_lean")]
     lean: bool,
+}
+
+/// Refuses to serialize a scene that holds its objects (they would be lost).
+fn only_lean<S: serde::Serializer>(lean: &bool, serializer: S) -> Result<S::Ok, S::Error> {
+    if !*lean {
+        return Err(serde::ser::Error::custom(
+            "only a lean scene (Scene::lean) is serialized",
+        ));
+    }
+    serializer.serialize_bool(true)
+}
+
+/// Refuses to serialize a BVH with instances (its tree of them is skipped).
+fn without_instances<S: serde::Serializer>(
+    accel: &Accel,
+    serializer: S,
+) -> Result<S::Ok, S::Error> {
+    if matches!(accel, Accel::Bvh(bvh) if bvh.has_instances()) {
+        return Err(serde::ser::Error::custom(
+            "a scene with instances is not serialized",
+        ));
+    }
+    accel.serialize(serializer)
 }
 
 /// How a scene finds the hits of a ray. (A scene holds one: the unused
 /// bytes of the brute-force variant cost nothing.)
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 #[allow(clippy::large_enum_variant)]
 enum Accel {
     Bvh(Bvh),
@@ -141,6 +170,12 @@ impl Scene {
             Accel::Bvh(bvh) => bvh.has_tree(),
             Accel::BruteForce => false,
         }
+    }
+
+    /// Whether some objects are instances of a shared mesh (such a scene
+    /// is not serialized).
+    pub fn has_instances(&self) -> bool {
+        matches!(&self.accel, Accel::Bvh(bvh) if bvh.has_instances())
     }
 
     pub fn camera(&self) -> &Camera {

@@ -3,10 +3,11 @@
 //! and diffuse terms.
 
 use glam::{Vec2, Vec3};
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
 /// An RGB texture, row 0 at the top (v = 0).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Texture {
     pub width: u32,
     pub height: u32,
@@ -16,7 +17,7 @@ pub struct Texture {
 /// The textures built into the tracer, by the name a scene file gives them.
 /// The one registry: the file format knows the names, this the images, and
 /// `prepare` maps one to the other with an exhaustive match.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Builtin {
     /// The lab's `createTexture(400, 400)`: grey stripes.
     LabStripes,
@@ -96,7 +97,7 @@ pub fn srgb_to_linear(c: f32) -> f32 {
 }
 
 /// How an image is read outside its 0..1 square.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Wrap {
     /// Tiles the image.
     Repeat,
@@ -126,7 +127,7 @@ impl Wrap {
 
 /// An image of linear colours, row 0 at the top, shared by every texture
 /// that reads the same file.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ImageTexels {
     width: u32,
     height: u32,
@@ -180,7 +181,7 @@ impl ImageTexels {
 
 /// A colour over a surface's uv that multiplies the ambient and diffuse
 /// colours of its material (not the specular, not the reflection).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum ColorTexture {
     /// An image, sampled at (u * scale.x, v * scale.y).
     Image {

@@ -8,6 +8,7 @@ use crate::progress::Progress;
 use crate::report;
 use anyhow::Result;
 use std::path::Path;
+use tracer_pipeline::cache::{CacheEntry, Cached, SceneCache};
 use tracer_pipeline::output::{check_not_an_input, ImageFormat, PendingOutput};
 use tracer_pipeline::{default_output, tiles, Error, Input, Part, Rendered, ShadedStats, Summary};
 
@@ -33,18 +34,42 @@ pub fn run(args: &Render) -> Result<()> {
         raw_depth: linear,
         ..args.options
     };
-    let loaded = tracer_pipeline::load(&args.input)?;
+    let entry = args
+        .cache
+        .as_ref()
+        .and_then(|dir| SceneCache::new(dir.clone()).entry(&args.input, &options));
+    let source = match entry.as_ref().and_then(|e| read_kept(e, args, &options)) {
+        Some(cached) => Source::Kept(cached),
+        None => Source::Loaded(tracer_pipeline::load(&args.input)?),
+    };
+    let (files_read, size) = match &source {
+        Source::Kept(cached) => (&cached.files_read, cached.prepared.size()),
+        Source::Loaded(loaded) => (
+            &loaded.files_read,
+            tracer_pipeline::image_size(loaded, &options)?,
+        ),
+    };
     // The scene's meshes are known only now.
-    check_not_an_input(&output, &loaded.files_read).map_err(Error::from)?;
-    report::warnings(&loaded);
-    let size = tracer_pipeline::image_size(&loaded, &options)?;
+    check_not_an_input(&output, files_read).map_err(Error::from)?;
+    let warnings = match &source {
+        Source::Kept(cached) => cached.warnings.clone(),
+        Source::Loaded(loaded) => report::warning_lines(loaded),
+    };
+    warnings.iter().for_each(|line| note!("{line}"));
     // Checked before the work, as the output is.
     let region = options.part.map(|p| p.region(size)).transpose()?;
-    let tile = match (region, pending.format()) {
-        (Some(region), ImageFormat::Exr) => Some((
-            region,
-            tiles::digest(&args.input, &loaded, &options).map_err(Error::from)?,
-        )),
+    let digest = match (
+        &source,
+        region.is_some() && pending.format() == ImageFormat::Exr || entry.is_some(),
+    ) {
+        (Source::Kept(cached), _) => Some(cached.digest.clone()),
+        (Source::Loaded(loaded), true) => {
+            Some(tiles::digest(&args.input, loaded, &options).map_err(Error::from)?)
+        }
+        (Source::Loaded(_), false) => None,
+    };
+    let tile = match (region, pending.format(), &digest) {
+        (Some(region), ImageFormat::Exr, Some(digest)) => Some((region, digest.clone())),
         _ => None,
     };
     if args.skip_existing {
@@ -60,11 +85,23 @@ pub fn run(args: &Render) -> Result<()> {
     }
     let rows = region.map_or(size.1, |r| r.height());
     let progress = Progress::new(rows.into(), args.quiet);
-    let name = loaded.name.clone();
-    // Taken: a large mesh's triangles are let go before its BVH is built.
-    let rendered = args
-        .pool
-        .install(|| tracer_pipeline::render_taking(loaded, &options, &|n| progress.rows_done(n)));
+    let name = args.input.name();
+    let rows_done = |n| progress.rows_done(n);
+    let rendered = args.pool.install(|| match source {
+        Source::Kept(cached) => {
+            tracer_pipeline::render_prepared(&cached.prepared, &options, &rows_done)
+        }
+        Source::Loaded(loaded) => match (&entry, &digest) {
+            (Some(entry), Some(digest)) => {
+                let files_read = loaded.files_read.clone();
+                let prepared = tracer_pipeline::prepare_taking(loaded, &options, "--cache")?;
+                keep(entry, &prepared, &files_read, digest, &warnings, args.quiet);
+                tracer_pipeline::render_prepared(&prepared, &options, &rows_done)
+            }
+            // Taken: a large mesh's triangles are let go before its BVH is built.
+            _ => tracer_pipeline::render_taking(loaded, &options, &rows_done),
+        },
+    });
     progress.finish();
     let rendered = rendered?;
     // A float file keeps the values over 1: nothing is made white.
@@ -92,6 +129,56 @@ pub fn run(args: &Render) -> Result<()> {
         note!("{}", summary(&name, &rendered, threads, &output));
     }
     Ok(())
+}
+
+/// Where the scene comes from: its files, or `--cache`.
+enum Source {
+    Loaded(tracer_pipeline::Loaded),
+    Kept(Cached),
+}
+
+/// The scene kept in `entry`, if it is there and can be used; a kept
+/// scene that cannot is said, and prepared again.
+fn read_kept(
+    entry: &CacheEntry,
+    args: &Render,
+    options: &tracer_pipeline::Options,
+) -> Option<Cached> {
+    match entry.read(&args.input, options) {
+        Ok(Some(cached)) => {
+            if !args.quiet {
+                note!("read the prepared scene from {}", entry.path.display());
+            }
+            Some(cached)
+        }
+        Ok(None) => None,
+        Err(why) => {
+            if !args.quiet {
+                note!(
+                    "{}: not used ({why}); preparing the scene again",
+                    entry.path.display()
+                );
+            }
+            None
+        }
+    }
+}
+
+/// Keeps the prepared scene in `entry`; a failure is a warning (the render
+/// goes on).
+fn keep(
+    entry: &CacheEntry,
+    prepared: &tracer_pipeline::PreparedScene,
+    files_read: &[std::path::PathBuf],
+    digest: &str,
+    warnings: &[String],
+    quiet: bool,
+) {
+    match entry.write(prepared, files_read, digest, warnings) {
+        Ok(()) if !quiet => note!("kept the prepared scene in {}", entry.path.display()),
+        Ok(()) => {}
+        Err(e) => note!("warning: --cache: {e}"),
+    }
 }
 
 /// The line that says what was written.

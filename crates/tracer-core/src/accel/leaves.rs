@@ -6,10 +6,11 @@ use super::tri4::{Tri4, TriRecord};
 use super::wide::{is_leaf, Node, WIDTH};
 use crate::geometry::{Object, Shape, Sphere, SurfaceHit};
 use crate::ray::Ray;
+use serde::{Deserialize, Serialize};
 
 /// A sphere, with its object index and material. Leaves hold spheres or
 /// triangles, never both.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub(super) struct SpherePrim {
     pub(super) sphere: Sphere,
     pub(super) id: u32,

@@ -33,6 +33,7 @@ use glam::{Vec3, Vec4};
 use instances::InstanceTree;
 use leaves::{pack_leaves, SpherePrim, SPHERE_LEAF};
 pub use packet::PACKET;
+use serde::{Deserialize, Serialize};
 use std::ops::Range;
 use traverse::{walk_any, walk_nearest, with_stack, Best, Entry, HitAt, RayData};
 use tri4::{Ray4, Tri4};
@@ -41,7 +42,7 @@ use wide::Node;
 /// The bounding volume hierarchy over a scene's objects. It copies what
 /// the search needs of each object into its leaves, so it answers for the
 /// object list it was built from: `Scene` keeps the two together.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Bvh {
     nodes: Vec<Node>,
     tris: Vec<Tri4>,
@@ -56,12 +57,15 @@ pub struct Bvh {
     vertex_normals: Vec<(u32, [Vec3; 3])>,
     /// The objects' exact bounds (the nodes' boxes are padded).
     bounds: Option<(Vec3, Vec3)>,
-    /// The instances, in a tree of their own.
+    /// The instances, in a tree of their own. Never serialized: a mesh
+    /// shared by instances would be written once for each (the scene's
+    /// serialization refuses a tree that has instances).
+    #[serde(skip)]
     instances: InstanceTree,
 }
 
 /// A plane with its object index and material.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 struct PlanePrim {
     plane: Plane,
     id: u32,
@@ -137,6 +141,11 @@ impl Bvh {
             .binary_search_by_key(&id, |&(i, _)| i)
             .ok()?;
         Some(&self.vertex_normals[k].1)
+    }
+
+    /// Whether some objects are instances of a shared mesh.
+    pub fn has_instances(&self) -> bool {
+        !self.instances.is_empty()
     }
 
     /// How many 8-wide nodes the tree has.

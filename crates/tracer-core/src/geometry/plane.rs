@@ -4,12 +4,13 @@
 use super::Placement;
 use crate::ray::Ray;
 use glam::{Vec2, Vec3};
+use serde::{Deserialize, Serialize};
 
 /// A plane through `point` with unit normal `normal`; a point's uv is its
 /// offset from `point` dotted with `u_axis` and `v_axis`. Those are unit
 /// vectors in the plane with `u_axis x v_axis = normal`, unless the plane
 /// was placed by a transform: then they are what keeps each point's uv.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Plane {
     pub point: Vec3,
     pub normal: Vec3,

@@ -3,6 +3,7 @@
 use super::{Instance, Plane, Sphere, SurfaceHit, Triangle};
 use crate::ray::Ray;
 use glam::{Vec2, Vec3};
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
 /// One primitive of the scene. A mesh is many triangles, each its own
@@ -23,7 +24,7 @@ pub enum Shape {
 /// What a triangle's barycentric (u, v) becomes as the hit's uv:
 /// `origin + u * du + v * dv`. The identity for a plain triangle; a quad's
 /// second half maps its barycentrics back onto the quad's (s, t).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct UvMap {
     pub origin: Vec2,
     pub du: Vec2,

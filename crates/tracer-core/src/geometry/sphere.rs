@@ -3,10 +3,11 @@
 
 use crate::ray::Ray;
 use glam::{Mat3, Vec2, Vec3};
+use serde::{Deserialize, Serialize};
 use std::f32::consts::PI;
 
 /// A sphere: centre and radius, and the turn its texture was given.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Sphere {
     pub center: Vec3,
     pub radius: f32,
