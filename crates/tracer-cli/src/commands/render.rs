@@ -1,6 +1,7 @@
 //! `tracer render`: scene file in, image out (its format by extension); a
-//! 3D scene shaded or as an AOV, or a 2D canvas scene drawn. Every path loads, warns, renders on the
-//! one thread pool, writes and (unless quiet) sums up the same way.
+//! 3D scene shaded or as an AOV, or a 2D canvas scene drawn. Every path
+//! loads (or reads the scene kept by `--cache`), warns, renders on the one
+//! thread pool, writes and (unless quiet) sums up the same way.
 
 use crate::args::Render;
 use crate::console::note;
@@ -38,36 +39,8 @@ pub fn run(args: &Render) -> Result<()> {
         .cache
         .as_ref()
         .and_then(|dir| SceneCache::new(dir.clone()).entry(&args.input, &options));
-    let source = match entry.as_ref().and_then(|e| read_kept(e, args, &options)) {
-        Some(cached) => Source::Kept(cached),
-        None => Source::Loaded(tracer_pipeline::load(&args.input)?),
-    };
-    let (files_read, size) = match &source {
-        Source::Kept(cached) => (&cached.files_read, cached.prepared.size()),
-        Source::Loaded(loaded) => (
-            &loaded.files_read,
-            tracer_pipeline::image_size(loaded, &options)?,
-        ),
-    };
-    // The scene's meshes are known only now.
-    check_not_an_input(&output, files_read).map_err(Error::from)?;
-    let warnings = match &source {
-        Source::Kept(cached) => cached.warnings.clone(),
-        Source::Loaded(loaded) => report::warning_lines(loaded),
-    };
-    warnings.iter().for_each(|line| note!("{line}"));
-    // Checked before the work, as the output is.
-    let region = options.part.map(|p| p.region(size)).transpose()?;
-    let digest = match (
-        &source,
-        region.is_some() && pending.format() == ImageFormat::Exr || entry.is_some(),
-    ) {
-        (Source::Kept(cached), _) => Some(cached.digest.clone()),
-        (Source::Loaded(loaded), true) => {
-            Some(tiles::digest(&args.input, loaded, &options).map_err(Error::from)?)
-        }
-        (Source::Loaded(_), false) => None,
-    };
+    let scene = open(args, &options, entry.as_ref(), &output, pending.format())?;
+    let (size, region, digest) = (scene.size, scene.region, scene.digest.clone());
     let tile = match (region, pending.format(), &digest) {
         (Some(region), ImageFormat::Exr, Some(digest)) => Some((region, digest.clone())),
         _ => None,
@@ -87,21 +60,9 @@ pub fn run(args: &Render) -> Result<()> {
     let progress = Progress::new(rows.into(), args.quiet);
     let name = args.input.name();
     let rows_done = |n| progress.rows_done(n);
-    let rendered = args.pool.install(|| match source {
-        Source::Kept(cached) => {
-            tracer_pipeline::render_prepared(&cached.prepared, &options, &rows_done)
-        }
-        Source::Loaded(loaded) => match (&entry, &digest) {
-            (Some(entry), Some(digest)) => {
-                let files_read = loaded.files_read.clone();
-                let prepared = tracer_pipeline::prepare_taking(loaded, &options, "--cache")?;
-                keep(entry, &prepared, &files_read, digest, &warnings, args.quiet);
-                tracer_pipeline::render_prepared(&prepared, &options, &rows_done)
-            }
-            // Taken: a large mesh's triangles are let go before its BVH is built.
-            _ => tracer_pipeline::render_taking(loaded, &options, &rows_done),
-        },
-    });
+    let rendered = args
+        .pool
+        .install(|| rendered(scene, entry.as_ref(), &options, args.quiet, &rows_done));
     progress.finish();
     let rendered = rendered?;
     // A float file keeps the values over 1: nothing is made white.
@@ -135,6 +96,95 @@ pub fn run(args: &Render) -> Result<()> {
 enum Source {
     Loaded(tracer_pipeline::Loaded),
     Kept(Cached),
+}
+
+/// The scene, from `--cache` or from its files, with what is checked of it
+/// before the work.
+struct Opened {
+    source: Source,
+    size: (u32, u32),
+    region: Option<tracer_pipeline::Region>,
+    /// Its tiles' digest: for a tile, or to keep the scene.
+    digest: Option<String>,
+    /// The warnings its loading gave (printed).
+    warnings: Vec<String>,
+}
+
+/// Reads the scene kept in `entry`, or else loads it; checks that the
+/// output is none of its files and that the part is in the image; prints
+/// its warnings.
+fn open(
+    args: &Render,
+    options: &tracer_pipeline::Options,
+    entry: Option<&CacheEntry>,
+    output: &Path,
+    format: ImageFormat,
+) -> Result<Opened> {
+    let source = match entry.and_then(|e| read_kept(e, args, options)) {
+        Some(cached) => Source::Kept(cached),
+        None => Source::Loaded(tracer_pipeline::load(&args.input)?),
+    };
+    let (files_read, size, warnings) = match &source {
+        Source::Kept(c) => (&c.files_read, c.prepared.size(), c.warnings.clone()),
+        Source::Loaded(loaded) => (
+            &loaded.files_read,
+            tracer_pipeline::image_size(loaded, options)?,
+            report::warning_lines(loaded),
+        ),
+    };
+    // The scene's meshes are known only now.
+    check_not_an_input(output, files_read).map_err(Error::from)?;
+    warnings.iter().for_each(|line| note!("{line}"));
+    // Checked before the work, as the output is.
+    let region = options.part.map(|p| p.region(size)).transpose()?;
+    let wanted = region.is_some() && format == ImageFormat::Exr || entry.is_some();
+    let digest = match &source {
+        Source::Kept(cached) => Some(cached.digest.clone()),
+        Source::Loaded(loaded) if wanted => {
+            Some(tiles::digest(&args.input, loaded, options).map_err(Error::from)?)
+        }
+        Source::Loaded(_) => None,
+    };
+    Ok(Opened {
+        source,
+        size,
+        region,
+        digest,
+        warnings,
+    })
+}
+
+/// The render of the opened scene; a scene loaded for `--cache` is
+/// prepared and kept first.
+fn rendered(
+    scene: Opened,
+    entry: Option<&CacheEntry>,
+    options: &tracer_pipeline::Options,
+    quiet: bool,
+    rows_done: &(dyn Fn(u32) + Sync),
+) -> Result<Rendered, Error> {
+    match (scene.source, entry, &scene.digest) {
+        (Source::Kept(cached), _, _) => {
+            tracer_pipeline::render_prepared(&cached.prepared, options, rows_done)
+        }
+        (Source::Loaded(loaded), Some(entry), Some(digest)) => {
+            let files_read = loaded.files_read.clone();
+            let prepared = tracer_pipeline::prepare_taking(loaded, options, "--cache")?;
+            keep(
+                entry,
+                &prepared,
+                &files_read,
+                digest,
+                &scene.warnings,
+                quiet,
+            );
+            tracer_pipeline::render_prepared(&prepared, options, rows_done)
+        }
+        // Taken: a large mesh's triangles are let go before its BVH is built.
+        (Source::Loaded(loaded), _, _) => {
+            tracer_pipeline::render_taking(loaded, options, rows_done)
+        }
+    }
 }
 
 /// The scene kept in `entry`, if it is there and can be used; a kept
