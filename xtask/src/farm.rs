@@ -59,14 +59,17 @@ pub fn run(args: &FarmArgs) -> Result<()> {
         size.extend(["--samples".to_string(), s.to_string()]);
     }
     let single = dir.path().join("single.exr");
-    let start = Instant::now();
+    let start = Cost::now();
     tracer_run(
         &tracer,
         &[&path_arg(&scene), "-o", &path_arg(&single)],
         &size,
     )?;
-    let single_seconds = start.elapsed().as_secs_f64();
-    println!("single render: {single_seconds:.3} s");
+    let single_cost = start.since();
+    println!(
+        "single render: {:.3} s ({:.3} s of CPU)",
+        single_cost.wall, single_cost.cpu
+    );
     ensure!(
         args.tiles.iter().all(|&n| n > 0),
         "--tiles: expected counts of at least 1"
@@ -85,7 +88,7 @@ pub fn run(args: &FarmArgs) -> Result<()> {
     }
     for &n in &args.tiles {
         let cache = (!args.no_cache).then(|| dir.path().join(format!("prepared-{n}")));
-        let (tiles, seconds) = render_tiles(&tracer, &scene, n, dir.path(), &size, cache)?;
+        let (tiles, cost) = render_tiles(&tracer, &scene, n, dir.path(), &size, cache)?;
         let merged = dir.path().join(format!("merged-{n}.exr"));
         let mut merge: Vec<String> = vec!["merge".into()];
         merge.extend(tiles.iter().map(|t| path_arg(t)));
@@ -93,9 +96,12 @@ pub fn run(args: &FarmArgs) -> Result<()> {
         run_checked(Command::new(&tracer).args(&merge))?;
         same_as_single(&single, &merged, n)?;
         println!(
-            "{n:>3} tiles: merged = single render, bit for bit; tasks {seconds:.3} s in all, \
-             {:+.1} % against the single render",
-            100.0 * (seconds / single_seconds - 1.0)
+            "{n:>3} tiles: merged = single render, bit for bit; tasks {:.3} s in all, \
+             {:+.1} % against the single render ({:.3} s of CPU, {:+.1} %)",
+            cost.wall,
+            100.0 * (cost.wall / single_cost.wall - 1.0),
+            cost.cpu,
+            100.0 * (cost.cpu / single_cost.cpu - 1.0)
         );
     }
     Ok(())
@@ -114,9 +120,9 @@ fn render_tiles(
     dir: &Path,
     size: &[String],
     cache: Option<PathBuf>,
-) -> Result<(Vec<PathBuf>, f64)> {
+) -> Result<(Vec<PathBuf>, Cost)> {
     let mut tiles = Vec::new();
-    let mut seconds = 0.0;
+    let mut cost = Cost::default();
     for i in 0..n {
         let tile = dir.join(format!("tile-{n}-{i}.exr"));
         let spec = format!("{i}/{n}");
@@ -131,12 +137,13 @@ fn render_tiles(
             args.extend(["--cache".into(), path_arg(cache)]);
         }
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
-        let start = Instant::now();
+        let start = Cost::now();
         tracer_run(tracer, &args, size)?;
-        seconds += start.elapsed().as_secs_f64();
+        let task = start.since();
+        (cost.wall, cost.cpu) = (cost.wall + task.wall, cost.cpu + task.cpu);
         tiles.push(tile);
     }
-    Ok((tiles, seconds))
+    Ok((tiles, cost))
 }
 
 /// What the Slurm jobs are given.
@@ -223,6 +230,44 @@ fn slurm_tiles(cluster: &slurm::Cluster, job: &SlurmJob, n: u32) -> Result<()> {
     );
     report("merge:", merge_seconds, &merge_job.span);
     Ok(())
+}
+
+/// Wall and CPU seconds of the `tracer` processes run: the CPU time
+/// (user and system, of the children waited for) moves less with the
+/// machine's other load.
+#[derive(Debug, Clone, Copy, Default)]
+struct Cost {
+    wall: f64,
+    cpu: f64,
+}
+
+/// When a cost began to count.
+struct Start {
+    at: Instant,
+    cpu: f64,
+}
+
+impl Cost {
+    fn now() -> Start {
+        Start {
+            at: Instant::now(),
+            cpu: children_cpu(),
+        }
+    }
+}
+
+impl Start {
+    fn since(&self) -> Cost {
+        Cost {
+            wall: seconds(self.at),
+            cpu: children_cpu() - self.cpu,
+        }
+    }
+}
+
+fn children_cpu() -> f64 {
+    use crate::bench::rusage;
+    rusage::cpu_seconds(&rusage::of(libc::RUSAGE_CHILDREN))
 }
 
 fn seconds(start: Instant) -> f64 {

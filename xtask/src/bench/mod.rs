@@ -33,7 +33,7 @@ mod pov_scene;
 mod povray;
 mod print;
 mod process;
-mod rusage;
+pub(crate) mod rusage;
 mod scenes;
 mod stats;
 

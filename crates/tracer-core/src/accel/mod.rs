@@ -16,6 +16,7 @@
 //! padded against rounding, and ties in distance won by the lower object
 //! index.
 
+mod as_bytes;
 pub mod brute_force;
 mod build;
 mod flat;
@@ -44,7 +45,9 @@ use wide::Node;
 /// object list it was built from: `Scene` keeps the two together.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Bvh {
+    #[serde(with = "as_bytes")]
     nodes: Vec<Node>,
+    #[serde(with = "as_bytes")]
     tris: Vec<Tri4>,
     spheres: Vec<SpherePrim>,
     /// The unbounded objects, in list order.

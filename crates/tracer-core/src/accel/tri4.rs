@@ -5,7 +5,6 @@
 use crate::geometry::{SurfaceHit, TriangleHit};
 use crate::ray::Ray;
 use glam::{Vec2, Vec3, Vec4};
-use serde::{Deserialize, Serialize};
 
 /// One triangle as the test needs it: `e1 = v1 - v0`, `e2 = v2 - v0`,
 /// `edge_scale = EPSILON * |e1| * |e2|`.
@@ -23,7 +22,7 @@ pub(super) struct TriRecord {
 /// An unused lane has zero edges and an infinite `edge_scale`: every ray
 /// runs "parallel" to it.
 #[repr(C, align(64))]
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub(super) struct Tri4 {
     v0: [Vec4; 3],
     e1: [Vec4; 3],

@@ -8,7 +8,6 @@ use super::build::{leaf_cost, Aabb, BuildPrim, Part, BLOCK_COST, PARALLEL_BUILD,
 use super::leaves::SPHERE_LEAF;
 use glam::Vec4;
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 
 /// Children per node.
 pub(super) const WIDTH: usize = 8;
@@ -27,14 +26,14 @@ const UNUSED: u32 = u32::MAX;
 /// lanes: 256 bytes, four cache lines. Unused lanes hold an inverted box
 /// (min +inf, max -inf), which the sign-ordered slab test never enters.
 #[repr(C, align(64))]
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub(super) struct Node {
     pub(super) halves: [Half; GROUPS],
 }
 
 /// Four lanes of a node: 128 bytes, two cache lines.
 #[repr(C, align(64))]
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub(super) struct Half {
     /// min x, min y, min z, max x, max y, max z of the four children.
     pub(super) planes: [Vec4; 6],
