@@ -38,6 +38,11 @@ pub struct FarmArgs {
     /// instead of the first keeping it for the others
     #[arg(long)]
     pub no_cache: bool,
+    /// Times to run the single render and every tile count, taking turns
+    /// (the machine's noise moves one run's overhead by several percent);
+    /// the median overhead of each count is printed last
+    #[arg(long, default_value = "1", value_parser = clap::value_parser!(u32).range(1..))]
+    pub reps: u32,
 }
 
 pub fn run(args: &FarmArgs) -> Result<()> {
@@ -58,53 +63,98 @@ pub fn run(args: &FarmArgs) -> Result<()> {
     if let Some(s) = args.samples {
         size.extend(["--samples".to_string(), s.to_string()]);
     }
-    let single = dir.path().join("single.exr");
-    let start = Cost::now();
-    tracer_run(
-        &tracer,
-        &[&path_arg(&scene), "-o", &path_arg(&single)],
-        &size,
-    )?;
-    let single_cost = start.since();
-    println!(
-        "single render: {:.3} s ({:.3} s of CPU)",
-        single_cost.wall, single_cost.cpu
-    );
     ensure!(
         args.tiles.iter().all(|&n| n > 0),
         "--tiles: expected counts of at least 1"
     );
+    let single = dir.path().join("single.exr");
+    let job = Job {
+        tracer: &tracer,
+        scene: &scene,
+        dir: dir.path(),
+        size: &size,
+        single: &single,
+    };
     if args.slurm {
+        single_render(&job)?;
+        // Slurm runs the scripts in another folder.
         let scene = std::path::absolute(&scene).context("cannot find the scene")?;
-        let job = SlurmJob {
-            root: &root,
-            tracer: &tracer,
+        let job = Job {
             scene: &scene,
-            dir: dir.path(),
-            size: &size,
-            single: &single,
+            ..job
         };
-        return run_slurm(&job, &args.tiles);
+        return run_slurm(&root, &job, &args.tiles);
     }
-    for &n in &args.tiles {
-        let cache = (!args.no_cache).then(|| dir.path().join(format!("prepared-{n}")));
-        let (tiles, cost) = render_tiles(&tracer, &scene, n, dir.path(), &size, cache)?;
-        let merged = dir.path().join(format!("merged-{n}.exr"));
-        let mut merge: Vec<String> = vec!["merge".into()];
-        merge.extend(tiles.iter().map(|t| path_arg(t)));
-        merge.extend(["-o".into(), path_arg(&merged)]);
-        run_checked(Command::new(&tracer).args(&merge))?;
-        same_as_single(&single, &merged, n)?;
-        println!(
-            "{n:>3} tiles: merged = single render, bit for bit; tasks {:.3} s in all, \
-             {:+.1} % against the single render ({:.3} s of CPU, {:+.1} %)",
-            cost.wall,
-            100.0 * (cost.wall / single_cost.wall - 1.0),
-            cost.cpu,
-            100.0 * (cost.cpu / single_cost.cpu - 1.0)
-        );
+    let mut overheads = vec![Vec::new(); args.tiles.len()];
+    for rep in 0..args.reps {
+        let single_cost = single_render(&job)?;
+        for (k, &n) in args.tiles.iter().enumerate() {
+            let cache = (!args.no_cache).then(|| dir.path().join(format!("prepared-{n}-{rep}")));
+            let cost = tiles_merged(&job, n, cache)?;
+            let over = |tiles: f64, one: f64| 100.0 * (tiles / one - 1.0);
+            let (wall, cpu) = (
+                over(cost.wall, single_cost.wall),
+                over(cost.cpu, single_cost.cpu),
+            );
+            println!(
+                "{n:>3} tiles: merged = single render, bit for bit; tasks {:.3} s in all, \
+                 {wall:+.1} % against the single render ({:.3} s of CPU, {cpu:+.1} %)",
+                cost.wall, cost.cpu,
+            );
+            overheads[k].push((wall, cpu));
+        }
+    }
+    if args.reps > 1 {
+        for (&n, runs) in args.tiles.iter().zip(&overheads) {
+            let median = |f: fn(&(f64, f64)) -> f64| {
+                let mut v: Vec<f64> = runs.iter().map(f).collect();
+                v.sort_by(f64::total_cmp);
+                v[v.len() / 2]
+            };
+            println!(
+                "{n:>3} tiles, median of {} runs: {:+.1} % wall, {:+.1} % CPU against the single render",
+                runs.len(),
+                median(|r| r.0),
+                median(|r| r.1)
+            );
+        }
     }
     Ok(())
+}
+
+/// What every run of the test renders, and where.
+#[derive(Clone, Copy)]
+struct Job<'a> {
+    tracer: &'a Path,
+    scene: &'a Path,
+    dir: &'a Path,
+    size: &'a [String],
+    single: &'a Path,
+}
+
+/// The whole image in one process, as the tiles are compared with.
+fn single_render(job: &Job) -> Result<Cost> {
+    let start = Cost::now();
+    let args = [&path_arg(job.scene), "-o", &path_arg(job.single)];
+    tracer_run(job.tracer, &args, job.size)?;
+    let cost = start.since();
+    println!(
+        "single render: {:.3} s ({:.3} s of CPU)",
+        cost.wall, cost.cpu
+    );
+    Ok(cost)
+}
+
+/// N tiles, merged and compared with the single render: their cost.
+fn tiles_merged(job: &Job, n: u32, cache: Option<PathBuf>) -> Result<Cost> {
+    let (tiles, cost) = render_tiles(job.tracer, job.scene, n, job.dir, job.size, cache)?;
+    let merged = job.dir.join(format!("merged-{n}.exr"));
+    let mut merge: Vec<String> = vec!["merge".into()];
+    merge.extend(tiles.iter().map(|t| path_arg(t)));
+    merge.extend(["-o".into(), path_arg(&merged)]);
+    run_checked(Command::new(job.tracer).args(&merge))?;
+    same_as_single(job.single, &merged, n)?;
+    Ok(cost)
 }
 
 /// Renders tile I/N for every I, one process each, one after the other
@@ -146,19 +196,9 @@ fn render_tiles(
     Ok((tiles, cost))
 }
 
-/// What the Slurm jobs are given.
-struct SlurmJob<'a> {
-    root: &'a Path,
-    tracer: &'a Path,
-    scene: &'a Path,
-    dir: &'a Path,
-    size: &'a [String],
-    single: &'a Path,
-}
-
 /// Installs and starts Slurm, runs the array and the merge for each tile
 /// count, compares; the cluster stops when dropped, on failure too.
-fn run_slurm(job: &SlurmJob, counts: &[u32]) -> Result<()> {
+fn run_slurm(root: &Path, job: &Job, counts: &[u32]) -> Result<()> {
     let start = Instant::now();
     let installed = slurm::install()?;
     println!("slurm install: {:.1} s ({installed})", seconds(start));
@@ -173,7 +213,7 @@ fn run_slurm(job: &SlurmJob, counts: &[u32]) -> Result<()> {
         node.memory_mb
     );
     for &n in counts {
-        slurm_tiles(&cluster, job, n)?;
+        slurm_tiles(&cluster, root, job, n)?;
     }
     let start = Instant::now();
     drop(cluster);
@@ -184,8 +224,8 @@ fn run_slurm(job: &SlurmJob, counts: &[u32]) -> Result<()> {
 /// One tile count: `sbatch --wait --array=0-(N-1) tiles.sbatch`, then
 /// `sbatch --wait --dependency=afterok:ID merge.sbatch`, as docs/farm.md
 /// has them.
-fn slurm_tiles(cluster: &slurm::Cluster, job: &SlurmJob, n: u32) -> Result<()> {
-    let scripts = job.root.join("farm/slurm");
+fn slurm_tiles(cluster: &slurm::Cluster, root: &Path, job: &Job, n: u32) -> Result<()> {
+    let scripts = root.join("farm/slurm");
     let logs = cluster.jobs_dir();
     let tiles = job.dir.join(format!("slurm-tiles-{n}"));
     let merged = job.dir.join(format!("slurm-merged-{n}.exr"));
