@@ -208,3 +208,17 @@ fn a_lean_scene_cannot_be_searched_by_brute_force() {
     let parts = tracer_core::prepare::parts(&file).expect("prepare");
     let _ = Scene::lean(parts).brute_force();
 }
+
+#[test]
+fn only_a_lean_scene_without_instances_is_serialized() {
+    let file = load(&scenes_dir().join("smooth-mesh.toml"));
+    let parts = tracer_core::prepare::parts(&file).expect("prepare");
+    // The objects would be lost: refused.
+    let error = serde_json::to_string(&Scene::new(parts.clone())).unwrap_err();
+    assert!(error.to_string().contains("only a lean scene"), "{error}");
+    let lean = Scene::lean(parts);
+    let text = serde_json::to_string(&lean).expect("a lean scene is serialized");
+    let back: Scene = serde_json::from_str(&text).expect("and read back");
+    assert_eq!(back.unique_primitives(), lean.unique_primitives());
+    assert!(render_image(&back) == render_image(&lean));
+}

@@ -266,4 +266,8 @@ fn instanced_scenes_are_identical_with_and_without_the_bvh() {
     let lean = Scene::lean(parts(&objects.concat()));
     assert_eq!(lean.unique_primitives(), s.unique_primitives());
     assert!(image(&lean) == fast, "the lean scene changed the image");
+    // Its shared mesh would be written once an instance: not serialized.
+    assert!(lean.has_instances() && !Scene::lean(parts(&objects[0])).has_instances());
+    let error = serde_json::to_string(&lean).unwrap_err();
+    assert!(error.to_string().contains("instances"), "{error}");
 }

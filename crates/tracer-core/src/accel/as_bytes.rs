@@ -5,7 +5,7 @@
 //! the same build of the tracer.
 
 use bytemuck::Pod;
-use serde::de::{Error, Visitor};
+use serde::de::{Error, SeqAccess, Visitor};
 use serde::{Deserializer, Serializer};
 use std::fmt;
 use std::marker::PhantomData;
@@ -26,7 +26,7 @@ pub(super) fn deserialize<'de, T: Pod, D: Deserializer<'de>>(
 /// Reads the bytes of a `Vec<T>`.
 struct Items<T>(PhantomData<T>);
 
-impl<T: Pod> Visitor<'_> for Items<T> {
+impl<'de, T: Pod> Visitor<'de> for Items<T> {
     type Value = Vec<T>;
 
     fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
@@ -39,5 +39,15 @@ impl<T: Pod> Visitor<'_> for Items<T> {
         }
         // A copy into memory aligned for T (the bytes may be at any address).
         Ok(bytemuck::pod_collect_to_vec(bytes))
+    }
+
+    /// The bytes as a sequence of numbers: a format without a byte string
+    /// (JSON) writes them so.
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<T>, A::Error> {
+        let mut bytes = Vec::new();
+        while let Some(byte) = seq.next_element::<u8>()? {
+            bytes.push(byte);
+        }
+        self.visit_bytes(&bytes)
     }
 }
