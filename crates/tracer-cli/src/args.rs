@@ -51,7 +51,8 @@ pub struct RenderArgs {
     /// from there in later renders of the same scene and options instead of
     /// preparing it again: for a farm's tasks, each rendering a tile of one
     /// scene. An entry is used only while every file of the scene is
-    /// unchanged. Not for --aov or scenes with instances.
+    /// unchanged; nothing in DIR is deleted. Not for --aov or scenes with
+    /// instances.
     #[arg(long, value_name = "DIR", conflicts_with = "aov")]
     pub cache: Option<PathBuf>,
     /// Print no progress bar and no summary, only warnings and errors
