@@ -8,15 +8,16 @@
 //! path and bytes, and the render options; it holds the files the scene was
 //! read from and their digest (the tiles' digest), checked again before the
 //! entry is used, so a changed mesh, texture or included file is never
-//! rendered from an old entry. Entries are written whole (a temporary file
-//! renamed), with a checksum of their bytes.
+//! rendered from an old entry. Entries are written as images are, whole or
+//! not at all (`PendingFile`), with a checksum of their bytes.
 
 use crate::load::Input;
 use crate::options::Options;
+use crate::output::{OutputError, PendingFile};
 use crate::scene3d::PreparedScene;
 use crate::tiles::{add, add_file, digest_of};
 use serde::{Deserialize, Serialize};
-use std::io::Write;
+use std::io::ErrorKind;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -71,11 +72,13 @@ struct ToStore<'a> {
 /// Why a kept scene could not be kept.
 #[derive(Debug, thiserror::Error)]
 pub enum CacheError {
-    #[error("{}: cannot write it: {source}", path.display())]
-    Write {
-        path: PathBuf,
+    #[error("{}: cannot make the folder: {source}", dir.display())]
+    Folder {
+        dir: PathBuf,
         source: std::io::Error,
     },
+    #[error(transparent)]
+    Write(#[from] OutputError),
     #[error("a scene with instances is not kept (each instance would hold its own copy of the shared mesh)")]
     Instances,
     #[error("this scene cannot be kept: {0}")]
@@ -130,7 +133,10 @@ impl CacheEntry {
         let start = Instant::now();
         let bytes = match std::fs::read(&self.path) {
             Ok(bytes) => bytes,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+            // None yet (or no folder, where a file stands: said when kept).
+            Err(e) if matches!(e.kind(), ErrorKind::NotFound | ErrorKind::NotADirectory) => {
+                return Ok(None)
+            }
             Err(e) => return Err(format!("cannot read it: {e}")),
         };
         let stored = decode(&bytes)?;
@@ -174,18 +180,18 @@ impl CacheEntry {
         };
         let payload =
             postcard::to_allocvec(&stored).map_err(|e| CacheError::Encode(e.to_string()))?;
-        let write_error = |source| CacheError::Write {
-            path: self.path.clone(),
-            source,
-        };
+        let mut bytes = Vec::with_capacity(MAGIC.len() + CHECKSUM + payload.len());
+        bytes.extend_from_slice(MAGIC);
+        bytes.extend_from_slice(blake3::hash(&payload).as_bytes());
+        bytes.extend_from_slice(&payload);
         let dir = self.path.parent().unwrap_or(Path::new("."));
-        std::fs::create_dir_all(dir).map_err(write_error)?;
-        let mut file = tempfile::NamedTempFile::new_in(dir).map_err(write_error)?;
-        file.write_all(MAGIC).map_err(write_error)?;
-        file.write_all(blake3::hash(&payload).as_bytes())
-            .map_err(write_error)?;
-        file.write_all(&payload).map_err(write_error)?;
-        file.persist(&self.path).map_err(|e| write_error(e.error))?;
+        std::fs::create_dir_all(dir).map_err(|source| CacheError::Folder {
+            dir: dir.to_path_buf(),
+            source,
+        })?;
+        // As an image is written: whole or not at all, readable by others
+        // as a new file is, and no temporary file left by Ctrl-C.
+        PendingFile::create(&self.path)?.write_bytes(&bytes)?;
         Ok(())
     }
 }

@@ -306,3 +306,22 @@ fn cache_with_an_aov_or_a_canvas_is_exit_2() {
     assert!(stderr(&out).contains("--cache"), "{}", stderr(&out));
     assert!(!dir.path().join("r.png").exists());
 }
+
+#[test]
+fn a_cache_that_cannot_be_written_is_a_warning_and_the_render_goes_on() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scenes().join("showcase.toml");
+    std::fs::write(dir.path().join("taken"), b"a file, not a folder").unwrap();
+    let out = render(
+        dir.path(),
+        &scene,
+        &["--cache", "taken/kept", "-o", "a.png"],
+    );
+    ok(&out);
+    assert!(
+        stderr(&out).contains("warning: --cache:"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(dir.path().join("a.png").exists());
+}
