@@ -69,7 +69,7 @@ fn without_instances<S: serde::Serializer>(
     accel: &Accel,
     serializer: S,
 ) -> Result<S::Ok, S::Error> {
-    if matches!(accel, Accel::Bvh(bvh) if bvh.has_instances()) {
+    if accel.has_instances() {
         return Err(serde::ser::Error::custom(
             "a scene with instances is not serialized",
         ));
@@ -85,6 +85,12 @@ enum Accel {
     Bvh(Bvh),
     /// Every ray tests every object: the reference the BVH is tested against.
     BruteForce,
+}
+
+impl Accel {
+    fn has_instances(&self) -> bool {
+        matches!(self, Accel::Bvh(bvh) if bvh.has_instances())
+    }
 }
 
 /// What a `Scene` is made of, before its hierarchy is built.
@@ -175,7 +181,7 @@ impl Scene {
     /// Whether some objects are instances of a shared mesh (such a scene
     /// is not serialized).
     pub fn has_instances(&self) -> bool {
-        matches!(&self.accel, Accel::Bvh(bvh) if bvh.has_instances())
+        self.accel.has_instances()
     }
 
     pub fn camera(&self) -> &Camera {

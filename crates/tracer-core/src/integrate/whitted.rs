@@ -186,8 +186,8 @@ impl<'a> Whitted<'a> {
 
     /// Finds, into `ahead`, the answers of the shadow rays the shading of
     /// `hits` will cast toward the first `AHEAD_LIGHTS` point lights,
-    /// searched together light by light: none where glass makes a shadow ray a walk, or
-    /// where there is no tree to walk together.
+    /// searched together light by light: none where glass makes a shadow
+    /// ray a walk, or where there is no tree to walk together.
     fn shadows_ahead(&mut self, rays: &[Ray], hits: &[Option<SurfaceHit>]) {
         for ahead in &mut self.ahead[..rays.len()] {
             (ahead.len, ahead.next) = (0, 0);
