@@ -58,12 +58,18 @@ impl Aabb {
 /// a third more memory to move).
 #[derive(Debug, Clone, Copy)]
 pub(super) struct BuildPrim {
-    /// The box's minimum, and the object index's bits in `w`.
+    /// The box's minimum, and the object index's bits in `w` (`ID_BITS`).
     lo: Vec4,
     /// The box's maximum, and 1 in `w` for a sphere (spheres and triangles
     /// are tested differently, so never share a leaf).
     hi: Vec4,
 }
+
+/// Flipped in an object index's bits before they go in a float lane: the
+/// lanes take part in the boxes' arithmetic, and the bits of an index below
+/// 2^23 are a denormal float, which the processor takes a slow path for
+/// (the build was 5 % slower). With bit 30 flipped, no index below 2^30 is.
+const ID_BITS: u32 = 1 << 30;
 
 impl BuildPrim {
     /// None for a plane: it has no finite box (the BVH tests planes apart).
@@ -94,7 +100,7 @@ impl BuildPrim {
         };
         let sphere = matches!(shape, Shape::Sphere(_));
         Some(BuildPrim {
-            lo: bounds.min.extend(f32::from_bits(id)),
+            lo: bounds.min.extend(f32::from_bits(id ^ ID_BITS)),
             hi: bounds.max.extend(if sphere { 1.0 } else { 0.0 }),
         })
     }
@@ -103,13 +109,13 @@ impl BuildPrim {
     /// split from its neighbours by kind): an instance of the instance tree.
     pub(super) fn boxed(min: glam::Vec3, max: glam::Vec3, id: u32) -> BuildPrim {
         BuildPrim {
-            lo: min.extend(f32::from_bits(id)),
+            lo: min.extend(f32::from_bits(id ^ ID_BITS)),
             hi: max.extend(0.0),
         }
     }
 
     pub(super) fn id(&self) -> u32 {
-        self.lo.w.to_bits()
+        self.lo.w.to_bits() ^ ID_BITS
     }
 
     pub(super) fn sphere(&self) -> bool {
@@ -205,7 +211,9 @@ impl Part {
     fn new(items: &[BuildPrim], start: usize, end: usize, extent: Extent, depth: usize) -> Part {
         let run = &items[start..end];
         let count = run.len();
-        let cut = if count == 1 || depth >= MAX_DEPTH {
+        // A split costs at least a node's visit: cheaper leaves are kept
+        // without a search (four triangles or fewer).
+        let cut = if leaf_cost(count) <= TRAVERSAL_COST || depth >= MAX_DEPTH {
             Cut::Leaf
         } else {
             match best_split(run, &extent.bounds, &extent.centroids) {
