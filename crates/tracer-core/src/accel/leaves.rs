@@ -39,8 +39,6 @@ pub(super) fn pack_leaves(
 ) -> (Vec<Tri4>, Vec<SpherePrim>) {
     let leaves = leaf_lanes(nodes);
     let (mut tris, mut spheres) = (Vec::with_capacity(order.len() / 3), Vec::new());
-    // One vector for every leaf's records: 150,000 leaves at 1.1M triangles.
-    let mut triangles: Vec<TriRecord> = Vec::new();
     for (first, n, lane) in leaves {
         let (_, count) = nodes[n].child(lane);
         let run = &order[first as usize..][..count as usize];
@@ -52,10 +50,17 @@ pub(super) fn pack_leaves(
             let count = (spheres.len() - start) as u32;
             nodes[n].set(lane, start as u32, SPHERE_LEAF | count);
         } else {
-            triangles.clear();
-            triangles.extend(records().filter_map(|(o, id)| tri_record(o, id)));
-            nodes[n].set(lane, tris.len() as u32, triangles.len().div_ceil(4) as u32);
-            tris.extend(triangles.chunks(4).map(Tri4::new));
+            let start = tris.len();
+            let mut records = records().filter_map(|(o, id)| tri_record(o, id)).peekable();
+            // Each block filled where it is stored, four records at a time.
+            while records.peek().is_some() {
+                tris.push(Tri4::EMPTY);
+                let block = tris.last_mut().expect("just pushed");
+                for (lane, t) in records.by_ref().take(4).enumerate() {
+                    block.set(lane, &t);
+                }
+            }
+            nodes[n].set(lane, start as u32, (tris.len() - start) as u32);
         }
     }
     (tris, spheres)

@@ -59,26 +59,36 @@ impl Ray4 {
 
 impl Tri4 {
     /// The block of `tris` (one to four).
+    #[cfg(test)]
     pub(super) fn new(tris: &[TriRecord]) -> Tri4 {
-        let mut block = Tri4 {
-            v0: [Vec4::ZERO; 3],
-            e1: [Vec4::ZERO; 3],
-            e2: [Vec4::ZERO; 3],
-            edge_scale: Vec4::INFINITY,
-            id: [u32::MAX; 4],
-            material: [0; 4],
-        };
+        let mut block = Tri4::EMPTY;
         for (lane, t) in tris.iter().enumerate() {
-            for axis in 0..3 {
-                block.v0[axis][lane] = t.v0[axis];
-                block.e1[axis][lane] = t.e1[axis];
-                block.e2[axis][lane] = t.e2[axis];
-            }
-            block.edge_scale[lane] = t.edge_scale;
-            block.id[lane] = t.id;
-            block.material[lane] = t.material;
+            block.set(lane, t);
         }
         block
+    }
+
+    /// A block with every lane unused.
+    pub(super) const EMPTY: Tri4 = Tri4 {
+        v0: [Vec4::ZERO; 3],
+        e1: [Vec4::ZERO; 3],
+        e2: [Vec4::ZERO; 3],
+        edge_scale: Vec4::INFINITY,
+        id: [u32::MAX; 4],
+        material: [0; 4],
+    };
+
+    /// Puts `t` in lane `lane`.
+    #[inline(always)]
+    pub(super) fn set(&mut self, lane: usize, t: &TriRecord) {
+        for axis in 0..3 {
+            self.v0[axis][lane] = t.v0[axis];
+            self.e1[axis][lane] = t.e1[axis];
+            self.e2[axis][lane] = t.e2[axis];
+        }
+        self.edge_scale[lane] = t.edge_scale;
+        self.id[lane] = t.id;
+        self.material[lane] = t.material;
     }
 
     /// The lanes hit within (t_min, t_max), as a bit mask, the distances
