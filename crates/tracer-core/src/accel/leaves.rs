@@ -3,7 +3,7 @@
 //! from the record just tested.
 
 use super::tri4::{Tri4, TriRecord};
-use super::wide::{is_leaf, Node, WIDTH};
+use super::wide::{is_leaf, node_halves, Node, WIDTH};
 use crate::geometry::{Object, Shape, Sphere, SurfaceHit};
 use crate::ray::Ray;
 use serde::{Deserialize, Serialize};
@@ -67,19 +67,25 @@ pub(super) fn pack_leaves(
 }
 
 /// Every leaf lane as (its first primitive, node, lane), in the order of
-/// their primitives.
+/// their primitives: a node's lanes hold its primitives in lane order, so
+/// a depth-first walk in lane order meets the leaves in that order.
 pub(super) fn leaf_lanes(nodes: &[Node]) -> Vec<(u32, usize, usize)> {
     let mut leaves = Vec::new();
-    for (n, node) in nodes.iter().enumerate() {
-        for lane in 0..WIDTH {
-            let (first, count) = node.child(lane);
-            if is_leaf(count) {
-                leaves.push((first, n, lane));
-            }
+    if !nodes.is_empty() {
+        walk(nodes, 0, &mut leaves);
+    }
+    leaves
+}
+
+fn walk(nodes: &[Node], n: usize, leaves: &mut Vec<(u32, usize, usize)>) {
+    for lane in 0..WIDTH {
+        let (child, count) = nodes[n].child(lane);
+        if is_leaf(count) {
+            leaves.push((child, n, lane));
+        } else if node_halves(count).is_some() {
+            walk(nodes, child as usize, leaves);
         }
     }
-    leaves.sort_unstable();
-    leaves
 }
 
 fn tri_record(object: &Object, id: u32) -> Option<TriRecord> {
