@@ -85,6 +85,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     if args.reps == 0 {
         bail!("--reps: expected at least 1");
     }
+    rusage::fix_mmap_threshold();
     let root = crate::workspace_root();
     let mut scenes = scenes::scenes(&root)?;
     // The packet measurement's bunny, whichever scenes are chosen.
