@@ -2,7 +2,9 @@
 //! heuristic over binned centroids. A `Part` is a run of primitives with its
 //! split decided; `wide.rs` splits parts until a node has its lanes.
 
+use super::tri4::Tri4;
 use crate::geometry::Shape;
+use bytemuck::Zeroable;
 use glam::{BVec3A, Vec3A, Vec4};
 
 /// Bins per axis of the SAH sweep.
@@ -56,7 +58,8 @@ impl Aabb {
 /// build: 32 bytes, the id and the kind in the boxes' unused fourth lanes
 /// (the build moves every primitive once per level; at 48 bytes that was
 /// a third more memory to move).
-#[derive(Debug, Clone, Copy)]
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub(super) struct BuildPrim {
     /// The box's minimum, and the object index's bits in `w` (`ID_BITS`).
     lo: Vec4,
@@ -134,6 +137,46 @@ impl BuildPrim {
     #[inline(always)]
     fn centroid2(&self) -> Vec3A {
         Vec3A::from_vec4(self.lo) + Vec3A::from_vec4(self.hi)
+    }
+}
+
+/// The build's primitives, six to a triangle block's bytes, in the vector
+/// the blocks will be packed into: the blocks are then written over the
+/// pages the primitives touched, where a page's first touch is a fault of
+/// the kernel's (18 ms for the 1.1M bunny's 53 MB of blocks).
+pub(super) struct PrimStore {
+    blocks: Vec<Tri4>,
+    six: [BuildPrim; 6],
+    count: usize,
+}
+
+impl PrimStore {
+    /// Room for the primitives of `objects` objects and, reserved but not
+    /// touched, for a third of a block per object: as many as most trees'
+    /// leaves need.
+    pub(super) fn with_capacity(objects: usize) -> PrimStore {
+        PrimStore {
+            blocks: Vec::with_capacity(objects / 3 + 1),
+            six: [BuildPrim::zeroed(); 6],
+            count: 0,
+        }
+    }
+
+    pub(super) fn extend(&mut self, p: Option<BuildPrim>) {
+        let Some(p) = p else { return };
+        self.six[self.count % 6] = p;
+        self.count += 1;
+        if self.count.is_multiple_of(6) {
+            self.blocks.push(bytemuck::cast(self.six));
+        }
+    }
+
+    /// The blocks, and how many primitives their bytes begin with.
+    pub(super) fn finish(mut self) -> (Vec<Tri4>, usize) {
+        if !self.count.is_multiple_of(6) {
+            self.blocks.push(bytemuck::cast(self.six));
+        }
+        (self.blocks, self.count)
     }
 }
 

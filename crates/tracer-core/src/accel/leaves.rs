@@ -31,14 +31,16 @@ impl SpherePrim {
 
 /// Turns the leaf lanes' runs of primitives (indices into `objects`, in the
 /// build's order) into blocks of up to four triangles or runs of spheres,
-/// stored in leaf order, and points the lanes at them.
+/// stored in leaf order (the blocks appended to `tris`), and points the
+/// lanes at them.
 pub(super) fn pack_leaves(
     nodes: &mut [Node],
     order: &[u32],
     objects: &[Object],
+    mut tris: Vec<Tri4>,
 ) -> (Vec<Tri4>, Vec<SpherePrim>) {
     let leaves = leaf_lanes(nodes);
-    let (mut tris, mut spheres) = (Vec::with_capacity(order.len() / 3), Vec::new());
+    let mut spheres = Vec::new();
     for (first, n, lane) in leaves {
         let (_, count) = nodes[n].child(lane);
         let run = &order[first as usize..][..count as usize];

@@ -29,7 +29,7 @@ mod wide;
 
 use crate::geometry::{Object, Plane, Shape, SurfaceHit, UvMap};
 use crate::ray::Ray;
-use build::BuildPrim;
+use build::{BuildPrim, PrimStore};
 use glam::{Vec3, Vec4};
 use instances::InstanceTree;
 use leaves::{pack_leaves, SpherePrim, SPHERE_LEAF};
@@ -80,7 +80,7 @@ impl Bvh {
     /// gives the same tree whatever its size.
     pub fn build(objects: &[Object]) -> Bvh {
         let mut bvh = Bvh::default();
-        let mut items = Vec::with_capacity(objects.len());
+        let mut prims = PrimStore::with_capacity(objects.len());
         let mut has_instances = false;
         // One pass over the objects (a mesh's take megabytes), on this
         // thread: rayon would collect in vectors of the worker threads,
@@ -95,7 +95,7 @@ impl Bvh {
                 }),
                 // In a tree of their own (`InstanceTree`).
                 Shape::Instance(_) => has_instances = true,
-                shape => items.extend(BuildPrim::new(shape, id)),
+                shape => prims.extend(BuildPrim::new(shape, id)),
             }
             if let Some(uv) = o.uv.as_deref() {
                 bvh.uv_maps.push((id, *uv));
@@ -110,15 +110,17 @@ impl Bvh {
         if has_instances {
             bvh.instances = InstanceTree::build(objects);
         }
+        let (mut storage, count) = prims.finish();
+        let items = &mut bytemuck::cast_slice_mut::<Tri4, BuildPrim>(&mut storage)[..count];
         if items.is_empty() {
             return bvh;
         }
-        let mut nodes = wide::build(&mut items);
+        let mut nodes = wide::build(items);
         // The leaves need only the order of the objects: 4 bytes each, where
-        // the build's primitives (let go before the blocks are made) took 32.
+        // the build's primitives (written over by the blocks) took 32.
         let order: Vec<u32> = items.iter().map(BuildPrim::id).collect();
-        drop(items);
-        (bvh.tris, bvh.spheres) = pack_leaves(&mut nodes, &order, objects);
+        storage.clear();
+        (bvh.tris, bvh.spheres) = pack_leaves(&mut nodes, &order, objects, storage);
         bvh.nodes = nodes;
         bvh
     }
