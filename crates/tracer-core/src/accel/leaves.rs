@@ -79,6 +79,7 @@ pub(super) fn leaf_lanes(nodes: &[Node]) -> Vec<(u32, usize, usize)> {
     leaves
 }
 
+/// Appends the leaf lanes under node `n`, lane by lane.
 fn walk(nodes: &[Node], n: usize, leaves: &mut Vec<(u32, usize, usize)>) {
     for lane in 0..WIDTH {
         let (child, count) = nodes[n].child(lane);
