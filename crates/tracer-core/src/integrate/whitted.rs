@@ -358,7 +358,11 @@ impl<'a> Whitted<'a> {
 
     /// Adds to `colour` the diffuse and specular of light `color` from
     /// point `from` (lab 4.4), dimmed by what lies between; term by term,
-    /// in the lab's order of additions.
+    /// in the lab's order of additions. Inlined: called apart, it read the
+    /// shading point back from memory just after its caller wrote it, in
+    /// pieces the processor cannot forward from those writes (a fifth of
+    /// its time at 1.1M; reflectance2 renders 13 % faster).
+    #[inline(always)]
     fn direct(&mut self, m: &Terms, at: &Shaded, from: Vec3, color: Vec3, colour: &mut Vec3) {
         let Some(LightRay {
             l,
