@@ -446,7 +446,8 @@ fn best_split_in<const N: usize>(
     let scale = bin_scale(centroids, bins);
     let Bins { boxes, counts } = Bins::<N>::of(items, centroids, scale, bins);
     // Candidates are compared by their sides' area * cost; only the best
-    // one's is divided by the parent's area.
+    // one's is divided by the parent's area (two whose quotients would
+    // round alike are told apart; the bunnies' trees came out the same).
     let mut best: Option<(Split, f32)> = None;
     for axis in 0..3 {
         if scale[axis] == 0.0 {
