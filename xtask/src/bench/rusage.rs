@@ -45,8 +45,10 @@ pub fn wait(pid: u32) -> Result<(i32, libc::rusage)> {
 /// so after the other scenes' renders the 1.1M-triangle build took 0.41 s
 /// in this process against 0.32 s as the first work of a process, as in a
 /// `tracer render` (its time there: 0.31-0.34 s either way).
+/// (glibc's alone: elsewhere this does nothing.)
 pub fn fix_mmap_threshold() {
     // SAFETY: mallopt only sets an allocator parameter.
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
     unsafe {
         libc::mallopt(libc::M_MMAP_THRESHOLD, 128 * 1024);
     }

@@ -445,10 +445,8 @@ fn best_split_in<const N: usize>(
 ) -> Option<Split> {
     let scale = bin_scale(centroids, bins);
     let Bins { boxes, counts } = Bins::<N>::of(items, centroids, scale, bins);
-    // Candidates are compared by their sides' area * cost; only the best
-    // one's is divided by the parent's area (two whose quotients would
-    // round alike are told apart; the bunnies' trees came out the same).
-    let mut best: Option<(Split, f32)> = None;
+    let parent_area = bounds.half_area();
+    let mut best: Option<Split> = None;
     for axis in 0..3 {
         if scale[axis] == 0.0 {
             continue;
@@ -470,23 +468,23 @@ fn best_split_in<const N: usize>(
             if n == 0 || n as usize == items.len() {
                 continue;
             }
-            let weighted = acc.half_area() * leaf_cost(n as usize) + right[b].1;
-            if best.is_none_or(|(_, w)| weighted < w) {
+            // Each candidate's cost divided as a whole: comparing the sums
+            // before the division split ties the division rounds together,
+            // and mirror-image scenes built other trees.
+            let cost = TRAVERSAL_COST
+                + (acc.half_area() * leaf_cost(n as usize) + right[b].1) / parent_area;
+            if best.is_none_or(|s| cost < s.cost) {
                 let sides = [acc, right[b].0];
-                let split = Split {
+                best = Some(Split {
                     axis,
                     bin: b,
-                    cost: 0.0,
+                    cost,
                     sides,
-                };
-                best = Some((split, weighted));
+                });
             }
         }
     }
-    best.map(|(split, weighted)| Split {
-        cost: TRAVERSAL_COST + weighted / bounds.half_area(),
-        ..split
-    })
+    best
 }
 
 /// Puts the primitives of bins below `bin` first; returns how many, and

@@ -121,6 +121,15 @@ impl Bvh {
         let order: Vec<u32> = items.iter().map(BuildPrim::id).collect();
         storage.clear();
         (bvh.tris, bvh.spheres) = pack_leaves(&mut nodes, &order, objects, storage);
+        // The primitives' pages past the blocks (a scene of spheres has few
+        // blocks) would stay resident for the tree's life. (A mesh's blocks
+        // cover them: a block's 192 bytes hold four triangles, whose
+        // primitives took 128. Shrinking those would copy them: Tri4's
+        // alignment makes the allocator move, not trim.)
+        let prims_bytes = count * std::mem::size_of::<BuildPrim>();
+        if bvh.tris.len() * std::mem::size_of::<Tri4>() < prims_bytes {
+            bvh.tris.shrink_to_fit();
+        }
         bvh.nodes = nodes;
         bvh
     }
@@ -414,6 +423,19 @@ mod tests {
 
     fn object(shape: Shape) -> Object {
         Object::new(shape, 0)
+    }
+
+    #[test]
+    fn a_tree_of_spheres_keeps_no_room_for_triangle_blocks() {
+        // The build's primitives are written where the triangle blocks go:
+        // with no triangles, none of that room may stay held.
+        let mut rng = Rng(7);
+        let objects: Vec<Object> = (0..3000)
+            .map(|_| object(Shape::Sphere(Sphere::new(rng.vec(5.0), 0.1))))
+            .collect();
+        let bvh = Bvh::build(&objects);
+        assert_eq!(bvh.spheres.len(), 3000);
+        assert_eq!((bvh.tris.len(), bvh.tris.capacity()), (0, 0));
     }
 
     /// Small triangles and spheres scattered in a cube, some coinciding.
