@@ -182,7 +182,7 @@ impl PrimStore {
 
 /// One SAH split candidate: axis, first bin of the right side, cost, and
 /// the boxes of the two sides (the union of their bins' boxes).
-#[derive(Clone, Copy)]
+#[derive(Debug, Clone, Copy)]
 struct Split {
     axis: usize,
     bin: usize,
@@ -224,11 +224,7 @@ impl Extent {
 #[derive(Debug, Clone, Copy)]
 enum Cut {
     Leaf,
-    Bins {
-        axis: usize,
-        bin: usize,
-        sides: [Aabb; 2],
-    },
+    Bins(Split),
     Halve,
     Kind,
 }
@@ -260,11 +256,7 @@ impl Part {
             Cut::Leaf
         } else {
             match best_split(run, &extent.bounds, &extent.centroids) {
-                Some(s) if count > MAX_LEAF || s.cost < leaf_cost(count) => Cut::Bins {
-                    axis: s.axis,
-                    bin: s.bin,
-                    sides: s.sides,
-                },
+                Some(s) if count > MAX_LEAF || s.cost < leaf_cost(count) => Cut::Bins(s),
                 None if count > MAX_LEAF => Cut::Halve,
                 _ => Cut::Leaf,
             }
@@ -306,7 +298,7 @@ impl Part {
         let run = &mut items[self.start..self.end];
         let (mid, left, right) = match self.cut {
             Cut::Leaf => return None,
-            Cut::Bins { axis, bin, sides } => partition(run, &self.extent, axis, bin, sides),
+            Cut::Bins(s) => partition(run, &self.extent, &s),
             Cut::Halve => halves(run, run.len() / 2),
             Cut::Kind => {
                 let (mid, ..) = partition_by(run, |p| BVec3A::splat(p.sphere()));
@@ -335,31 +327,60 @@ fn bins_for(count: usize) -> usize {
     (count / 8).clamp(4, BINS)
 }
 
-/// Bins per unit of each axis of the centroid box; 0 on a flat axis.
-fn bin_scale(centroids: &Aabb, bins: usize) -> Vec3A {
-    let extent = centroids.max - centroids.min;
-    let scale = Vec3A::splat(bins as f32) / extent;
-    Vec3A::select(extent.cmpgt(Vec3A::ZERO), scale, Vec3A::ZERO)
-}
-
 /// 1.5 * 2^23: floats from 2^23 to 2^24 step by one, so `x + ROUNDER`
 /// holds x rounded to a whole number in its low bits (for |x| < 2^22).
 const ROUNDER: f32 = 12_582_912.0;
 
-/// The bin of a primitive on each axis: its position on the grid, kept
-/// within the bins, less a half and rounded (as `below` finds it on one
-/// axis). Rounding by adding `ROUNDER` takes no saturating conversion
-/// (`as u32` needs two compares a lane); a position on a bin boundary may
-/// go to either side, the same in binning and partition.
-#[inline(always)]
-fn bins_of(p: &BuildPrim, centroids: &Aabb, scale: Vec3A, bins: usize) -> [usize; 3] {
-    let top = Vec3A::splat(bins as f32 - 0.75);
-    let at = ((p.centroid2() - centroids.min) * scale)
-        .max(Vec3A::ZERO)
-        .min(top);
-    (at - Vec3A::splat(0.5) + Vec3A::splat(ROUNDER))
-        .to_array()
-        .map(|x| x.to_bits().wrapping_sub(ROUNDER.to_bits()) as usize)
+/// The grid a part is binned on, over its centroids' box: the one piece of
+/// arithmetic that bins a centroid, which the binning, the partition and
+/// `first_of_bin` all go through, so that they cannot disagree.
+#[derive(Debug, Clone, Copy)]
+struct Grid {
+    min: Vec3A,
+    /// Bins per unit of each axis; 0 on a flat axis.
+    scale: Vec3A,
+    /// Within the last bin, kept off its far edge.
+    top: Vec3A,
+}
+
+impl Grid {
+    fn new(centroids: &Aabb, bins: usize) -> Grid {
+        let extent = centroids.max - centroids.min;
+        let scale = Vec3A::splat(bins as f32) / extent;
+        Grid {
+            min: centroids.min,
+            scale: Vec3A::select(extent.cmpgt(Vec3A::ZERO), scale, Vec3A::ZERO),
+            top: Vec3A::splat(bins as f32 - 0.75),
+        }
+    }
+
+    /// The same grid on axis `axis` alone, in every lane.
+    fn along(&self, axis: usize) -> Grid {
+        Grid {
+            min: Vec3A::splat(self.min[axis]),
+            scale: Vec3A::splat(self.scale[axis]),
+            top: self.top,
+        }
+    }
+
+    /// `ROUNDER + k` in each lane, k the bin of that lane of `c`: its
+    /// position on the grid, kept within the bins, less a half and rounded.
+    /// Rounding by adding `ROUNDER` takes no saturating conversion (`as
+    /// u32` needs two compares a lane); a position on a bin boundary may go
+    /// to either side, the same in binning and partition.
+    #[inline(always)]
+    fn rounded(&self, c: Vec3A) -> Vec3A {
+        let at = ((c - self.min) * self.scale).max(Vec3A::ZERO).min(self.top);
+        at - Vec3A::splat(0.5) + Vec3A::splat(ROUNDER)
+    }
+
+    /// The bin of each lane of `c`.
+    #[inline(always)]
+    fn bins(&self, c: Vec3A) -> [usize; 3] {
+        self.rounded(c)
+            .to_array()
+            .map(|x| x.to_bits().wrapping_sub(ROUNDER.to_bits()) as usize)
+    }
 }
 
 /// The cheapest binned SAH split over the three axes, with its cost in
@@ -414,11 +435,11 @@ impl<const N: usize> Bins<N> {
         }
     }
 
-    /// `items` binned on a grid of `bins` over `centroids`.
+    /// `items` binned on `grid`.
     #[inline(always)]
-    fn of(items: &[BuildPrim], centroids: &Aabb, scale: Vec3A, bins: usize) -> Self {
+    fn of(items: &[BuildPrim], grid: &Grid) -> Self {
         let mut even = Self::EMPTY;
-        let at = |p: &BuildPrim| bins_of(p, centroids, scale, bins);
+        let at = |p: &BuildPrim| grid.bins(p.centroid2());
         if items.len() < TWO_SETS {
             items.iter().for_each(|p| even.add(p, at(p)));
             return even;
@@ -443,12 +464,12 @@ fn best_split_in<const N: usize>(
     centroids: &Aabb,
     bins: usize,
 ) -> Option<Split> {
-    let scale = bin_scale(centroids, bins);
-    let Bins { boxes, counts } = Bins::<N>::of(items, centroids, scale, bins);
+    let grid = Grid::new(centroids, bins);
+    let Bins { boxes, counts } = Bins::<N>::of(items, &grid);
     let parent_area = bounds.half_area();
     let mut best: Option<Split> = None;
     for axis in 0..3 {
-        if scale[axis] == 0.0 {
+        if grid.scale[axis] == 0.0 {
             continue;
         }
         let (boxes, counts) = (&boxes[axis], &counts[axis]);
@@ -487,34 +508,27 @@ fn best_split_in<const N: usize>(
     best
 }
 
-/// Puts the primitives of bins below `bin` first; returns how many, and
-/// the extents of both sides, whose boxes `sides` the binning found.
-fn partition(
-    items: &mut [BuildPrim],
-    extent: &Extent,
-    axis: usize,
-    bin: usize,
-    sides: [Aabb; 2],
-) -> (usize, Extent, Extent) {
-    let bins = bins_for(items.len());
-    let scale = bin_scale(&extent.centroids, bins);
-    let (min, scale) = (extent.centroids.min[axis], scale[axis]);
+/// Puts the primitives of bins below the split's first right bin first;
+/// returns how many, and the extents of both sides, whose boxes the
+/// binning found (`split.sides`).
+fn partition(items: &mut [BuildPrim], extent: &Extent, split: &Split) -> (usize, Extent, Extent) {
+    let grid = Grid::new(&extent.centroids, bins_for(items.len())).along(split.axis);
     let (mid, centroids, left_spheres) = if items.len() >= FIND_THRESHOLD {
-        let first = first_of_bin(min, scale, bins, bin);
-        match axis {
+        let first = first_of_bin(&grid, split.bin);
+        match split.axis {
             0 => partition_by(items, before::<0>(first)),
             1 => partition_by(items, before::<1>(first)),
             _ => partition_by(items, before::<2>(first)),
         }
     } else {
-        match axis {
-            0 => partition_by(items, below::<0>(min, scale, bins, bin)),
-            1 => partition_by(items, below::<1>(min, scale, bins, bin)),
-            _ => partition_by(items, below::<2>(min, scale, bins, bin)),
+        match split.axis {
+            0 => partition_by(items, below::<0>(grid, split.bin)),
+            1 => partition_by(items, below::<1>(grid, split.bin)),
+            _ => partition_by(items, below::<2>(grid, split.bin)),
         }
     };
     let side = |k: usize, spheres| Extent {
-        bounds: sides[k],
+        bounds: split.sides[k],
         centroids: centroids[k],
         spheres,
     };
@@ -527,18 +541,13 @@ fn partition(
 /// (a search of 32 steps) instead of binning every centroid again.
 const FIND_THRESHOLD: usize = 256;
 
-/// The least coordinate whose bin on a grid from `min` is `bin` or above,
-/// found by bisecting the floats in order. The bin of a coordinate never
-/// decreases as the coordinate grows (each step of `bins_of` is monotonic),
-/// so a coordinate is in a bin below `bin` exactly when it is below that.
-fn first_of_bin(min: f32, scale: f32, bins: usize, bin: usize) -> f32 {
-    let top = bins as f32 - 0.75;
-    let bin_at = |c: f32| {
-        let at = ((c - min) * scale).max(0.0).min(top);
-        (at - 0.5 + ROUNDER)
-            .to_bits()
-            .wrapping_sub(ROUNDER.to_bits()) as usize
-    };
+/// The least coordinate whose bin on `grid` (one axis, `Grid::along`) is
+/// `bin` or above, found by bisecting the floats in order. The bin of a
+/// coordinate never decreases as the coordinate grows (each step of
+/// `Grid::rounded` is monotonic), so a coordinate is in a bin below `bin`
+/// exactly when it is below that.
+fn first_of_bin(grid: &Grid, bin: usize) -> f32 {
+    let bin_at = |c: f32| grid.bins(Vec3A::splat(c))[0];
     // The finite floats as integers in their order (both zeros as 0).
     let order = |x: f32| {
         let magnitude = i64::from(x.to_bits() & 0x7fff_ffff);
@@ -573,24 +582,16 @@ fn before<const AXIS: usize>(first: f32) -> impl Fn(&BuildPrim) -> BVec3A {
     move |p| !Vec3A::splat(p.centroid2()[AXIS]).cmpge(first)
 }
 
-/// Whether a primitive's bin on axis `AXIS` is below `bin`, in every lane
-/// of the mask: `bins_of`'s arithmetic on the centroid's coordinate put in
-/// all lanes. The rounded position `ROUNDER + k` is compared as a float with
-/// `ROUNDER + bin`: both are whole numbers where floats step by one.
+/// Whether a primitive's bin on axis `AXIS` of `grid` (that axis alone,
+/// `Grid::along`) is below `bin`, in every lane of the mask. The rounded
+/// position `ROUNDER + k` is compared as a float with `ROUNDER + bin`:
+/// both are whole numbers where floats step by one.
 #[inline(always)]
-fn below<const AXIS: usize>(
-    min: f32,
-    scale: f32,
-    bins: usize,
-    bin: usize,
-) -> impl Fn(&BuildPrim) -> BVec3A {
-    let (min, scale) = (Vec3A::splat(min), Vec3A::splat(scale));
-    let top = Vec3A::splat(bins as f32 - 0.75);
+fn below<const AXIS: usize>(grid: Grid, bin: usize) -> impl Fn(&BuildPrim) -> BVec3A {
     let first_right = Vec3A::splat(ROUNDER + bin as f32);
     move |p| {
-        let c = Vec3A::splat(p.centroid2()[AXIS]);
-        let at = ((c - min) * scale).max(Vec3A::ZERO).min(top);
-        (at - Vec3A::splat(0.5) + Vec3A::splat(ROUNDER)).cmplt(first_right)
+        grid.rounded(Vec3A::splat(p.centroid2()[AXIS]))
+            .cmplt(first_right)
     }
 }
 
@@ -668,12 +669,12 @@ mod tests {
                     min: Vec3A::splat(min),
                     max: Vec3A::splat(min + extent),
                 };
-                let scale = bin_scale(&centroids, bins);
+                let grid = Grid::new(&centroids, bins);
                 for bin in 1..bins {
-                    let first = first_of_bin(min, scale.x, bins, bin);
+                    let first = first_of_bin(&grid.along(0), bin);
                     let is_left = before::<0>(first);
                     for c in probes(first, min, extent) {
-                        let binned = bins_of(&at(c), &centroids, scale, bins)[0];
+                        let binned = grid.bins(at(c).centroid2())[0];
                         assert_eq!(
                             is_left(&at(c)).all(),
                             binned < bin,
@@ -692,10 +693,10 @@ mod tests {
             min: Vec3A::ZERO,
             max: Vec3A::ONE,
         };
-        let scale = bin_scale(&centroids, 16);
+        let grid = Grid::new(&centroids, 16);
         let nan = at(f32::NAN);
-        assert_eq!(bins_of(&nan, &centroids, scale, 16)[0], 0);
-        assert!(before::<0>(first_of_bin(0.0, scale.x, 16, 5))(&nan).all());
-        assert!(below::<0>(0.0, scale.x, 16, 5)(&nan).all());
+        assert_eq!(grid.bins(nan.centroid2())[0], 0);
+        assert!(before::<0>(first_of_bin(&grid.along(0), 5))(&nan).all());
+        assert!(below::<0>(grid.along(0), 5)(&nan).all());
     }
 }
