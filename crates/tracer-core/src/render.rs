@@ -260,11 +260,13 @@ impl<'a> PixelRenderer<'a> {
     }
 
     /// The side of the square blocks of pixels rendered together: at one
-    /// sample a pixel, 4 x 4 neighbours' rays are searched together (when
-    /// the scene has a tree to walk); at more, each pixel's own samples
-    /// are (`render`).
+    /// sample a pixel, 4 x 4 neighbours' rays are made four at a time and
+    /// searched together (walking the tree once, or, in a small scene
+    /// searched flat, one after the other from memory: either costs less
+    /// than a pixel's setup alone); at more, each pixel's own samples are
+    /// (`render`).
     fn block_side(&self) -> u32 {
-        if self.samples == 1 && self.scene.searches_together() {
+        if self.samples == 1 {
             4
         } else {
             1
@@ -297,13 +299,10 @@ impl<'a> PixelRenderer<'a> {
         }
     }
 
-    /// Pixel (column i, row j) of the whole image: the mean of its samples.
+    /// Pixel (column i, row j) of the whole image, of several samples
+    /// (one a pixel is rendered in blocks): the mean of its samples.
     #[inline(always)]
     fn render(&self, i: u32, j: u32, tracer: &mut Whitted) -> Vec3 {
-        if self.samples == 1 {
-            let (ray, rng) = self.centre_ray(i, j);
-            return self.value(&ray, rng, tracer);
-        }
         let order = self.lens_order_of(i, j);
         let mut sum = Vec3::ZERO;
         let mut first = 0;
@@ -480,23 +479,6 @@ impl<'a> PixelRenderer<'a> {
             concentric_disk(in_square(jitter))
         } else {
             Vec2::ZERO
-        }
-    }
-
-    /// The value of one sample whose ray is `ray`, with `rng` for what the
-    /// tracer samples.
-    #[inline(always)]
-    fn value(&self, ray: &Ray, rng: Rng, tracer: &mut Whitted) -> Vec3 {
-        match self.output {
-            Output::Shading => {
-                tracer.reseed(rng);
-                tracer.trace(ray, 1.0, 0)
-            }
-            _ if !self.needs_hit() => self.aov_of(ray, None),
-            _ => {
-                let hit = self.scene.closest_hit(ray, EPSILON, f32::INFINITY);
-                self.aov_of(ray, hit.as_ref())
-            }
         }
     }
 }
