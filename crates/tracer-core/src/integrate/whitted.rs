@@ -275,7 +275,7 @@ impl<'a> Whitted<'a> {
     fn phong(&mut self, m: &Phong, ray: &Ray, hit: &SurfaceHit, energy: f32, depth: u32) -> Vec3 {
         let p = ray.at(hit.t);
         let n = hit.shading_normal;
-        let mut colour = energy * self.textured_local(m, ray, hit, p);
+        let mut colour = energy * self.textured_local(m, ray, hit);
         if m.reflectance > 0.0 && self.may_recurse(energy, depth) {
             let reflected = ray.reflected(p, n);
             colour += self.trace(&reflected, energy * m.reflectance, depth + 1);
@@ -292,7 +292,7 @@ impl<'a> Whitted<'a> {
         // From inside, the lights' highlights would be seen through the
         // surface from its back: leave them out.
         let mut colour = if hit.front_face {
-            energy * self.textured_local(&g.surface, ray, hit, p)
+            energy * self.textured_local(&g.surface, ray, hit)
         } else {
             Vec3::ZERO
         };
@@ -312,9 +312,12 @@ impl<'a> Whitted<'a> {
         colour
     }
 
-    /// The local colour of material `m` at `p` (its colour texture on
-    /// ambient and diffuse), times its lab texture.
-    fn textured_local(&mut self, m: &Phong, ray: &Ray, hit: &SurfaceHit, p: Vec3) -> Vec3 {
+    /// The local colour of material `m` at `ray`'s hit `hit` (its colour
+    /// texture on ambient and diffuse), times its lab texture. The point is
+    /// found here, not passed: handed over in memory, it was read back in
+    /// pieces the processor could not forward from the caller's writes.
+    fn textured_local(&mut self, m: &Phong, ray: &Ray, hit: &SurfaceHit) -> Vec3 {
+        let p = ray.at(hit.t);
         let terms = Terms::at(m, hit);
         let local = self.local_colour(&terms, ray, p, hit);
         match &m.texture {
