@@ -83,12 +83,12 @@ impl AovContext {
     /// for only when the AOV `needs_hit`).
     pub(crate) fn value(&self, aov: Aov, ray: &Ray, hit: Option<&SurfaceHit>) -> Vec3 {
         match aov {
-            Aov::RayDirX => channel(0, ray.dir.x),
-            Aov::RayDirY => channel(1, ray.dir.y),
-            Aov::RayDirZ => channel(2, ray.dir.z),
+            Aov::RayDirX => channel(0, ray.dir().x),
+            Aov::RayDirY => channel(1, ray.dir().y),
+            Aov::RayDirZ => channel(2, ray.dir().z),
             Aov::Normal => hit.map_or(Vec3::ZERO, |hit| (hit.geometric_normal + Vec3::ONE) / 2.0),
             Aov::Depth => hit.map_or(Vec3::ZERO, |hit| {
-                Vec3::splat(self.grey(hit.t * ray.dir.length()))
+                Vec3::splat(self.grey(hit.t * ray.dir().length()))
             }),
         }
     }
@@ -96,7 +96,7 @@ impl AovContext {
     /// The distance from the ray's origin (the eye, or its point on the
     /// lens) to its nearest hit `hit`, in every channel; 0 for no hit.
     pub(crate) fn distance(&self, ray: &Ray, hit: Option<&SurfaceHit>) -> Vec3 {
-        hit.map_or(Vec3::ZERO, |hit| Vec3::splat(hit.t * ray.dir.length()))
+        hit.map_or(Vec3::ZERO, |hit| Vec3::splat(hit.t * ray.dir().length()))
     }
 
     /// The depth grey of a hit at `distance` from the eye.

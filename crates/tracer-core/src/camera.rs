@@ -101,7 +101,7 @@ impl Camera {
         let Some(lens) = &self.lens else {
             return pinhole;
         };
-        let focus = pinhole.at(lens.focus_distance / pinhole.dir.dot(lens.forward));
+        let focus = pinhole.at(lens.focus_distance / pinhole.dir().dot(lens.forward));
         // u and v are unit vectors across the image: the lens' plane.
         let offset = lens.radius * lens_point;
         let origin =
@@ -223,7 +223,7 @@ mod tests {
             ((w - 1.0 + 0.5, h - 1.0 + 0.5), [-0.40, -0.32, -0.86]),
         ];
         for ((fx, fy), expected) in checks {
-            let dir = cam.ray(fx, fy).dir;
+            let dir = cam.ray(fx, fy).dir();
             let diff = (dir - Vec3::from(expected)).abs().max_element();
             assert!(diff <= 0.01, "({fx}, {fy}): {dir:?}, expected {expected:?}");
         }
@@ -232,7 +232,7 @@ mod tests {
     #[test]
     fn plus_x_is_on_the_left_and_plus_y_up() {
         let cam = lab_camera();
-        let top_left = cam.primary_ray(0, 0).dir;
+        let top_left = cam.primary_ray(0, 0).dir();
         assert!(top_left.x > 0.0 && top_left.y > 0.0);
     }
 
@@ -240,10 +240,10 @@ mod tests {
     fn a_right_handed_camera_puts_plus_x_on_the_right_and_keeps_the_view() {
         let lab = lab_camera();
         let right = lab_camera().right_handed();
-        let top_left = right.primary_ray(0, 0).dir;
+        let top_left = right.primary_ray(0, 0).dir();
         assert!(top_left.x < 0.0 && top_left.y > 0.0, "{top_left}");
         // The same rays, mirrored left to right.
-        let mirrored = lab.primary_ray(499, 0).dir;
+        let mirrored = lab.primary_ray(499, 0).dir();
         assert!((top_left - mirrored).length() < 1e-6);
         let centre = (lab.view_direction() - right.view_direction()).length();
         assert!(centre < 1e-6);
@@ -276,16 +276,16 @@ mod tests {
     fn lens_rays_meet_on_the_plane_in_focus() {
         let cam = lab_camera().with_lens(0.5, 4.0);
         let pinhole = cam.ray(100.5, 70.5);
-        let focus = pinhole.at(4.0 / pinhole.dir.dot(Vec3::NEG_Z));
+        let focus = pinhole.at(4.0 / pinhole.dir().dot(Vec3::NEG_Z));
         assert!((focus.z - 6.0).abs() < 1e-5, "the plane z = 10 - 4");
         for lens_point in [Vec2::new(1.0, 0.0), Vec2::new(-0.3, 0.8)] {
             let ray = cam.lens_ray(100.5, 70.5, lens_point);
-            assert!((ray.origin - cam.eye).length() <= 0.5 + 1e-6);
+            assert!((ray.origin() - cam.eye).length() <= 0.5 + 1e-6);
             assert!(
-                (ray.origin.z - 10.0).abs() < 1e-6,
+                (ray.origin().z - 10.0).abs() < 1e-6,
                 "the lens faces the view"
             );
-            let t = (6.0 - ray.origin.z) / ray.dir.z;
+            let t = (6.0 - ray.origin().z) / ray.dir().z;
             assert!((ray.at(t) - focus).length() < 1e-4, "{}", ray.at(t));
         }
         let no_lens = lab_camera().with_lens(0.0, 4.0);

@@ -246,12 +246,12 @@ fn a_sphere_of_air_is_invisible() {
     for j in 0..camera.height {
         for i in 0..camera.width {
             let ray = camera.primary_ray(i, j);
-            let to_centre = centre - ray.origin;
-            let miss = (to_centre - to_centre.dot(ray.dir) * ray.dir).length();
+            let to_centre = centre - ray.origin();
+            let miss = (to_centre - to_centre.dot(ray.dir()) * ray.dir()).length();
             if miss < radius {
                 seen += 1;
-            } else if ray.dir.y < 0.0 {
-                let floor = ray.at(-ray.origin.y / ray.dir.y);
+            } else if ray.dir().y < 0.0 {
+                let floor = ray.at(-ray.origin().y / ray.dir().y);
                 let light = Vec3::new(-3.0, 6.0, 5.0);
                 if segment_meets_ball(floor, light, centre, radius) {
                     shadowed += 1;
@@ -327,25 +327,25 @@ fn a_slab_shifts_a_ray_sideways_by_the_textbook_amount_and_keeps_its_direction()
         let theta_r = (theta_i.sin() / n).asin();
         let inside = -normal.as_dvec3() * theta_r.cos() + across.as_dvec3() * theta_r.sin();
         assert!(
-            close(path[1].dir, inside, 1e-5),
+            close(path[1].dir(), inside, 1e-5),
             "{degrees}: {}",
-            path[1].dir
+            path[1].dir()
         );
         // The exit point, d tan(theta_r) along the face from the entry.
         let exit = entry.as_dvec3() - normal.as_dvec3() * d + across.as_dvec3() * d * theta_r.tan();
         assert!(
-            close(path[2].origin, exit, 1e-5),
+            close(path[2].origin(), exit, 1e-5),
             "{degrees}: {}",
-            path[2].origin
+            path[2].origin()
         );
         // Out parallel to the incoming ray...
         assert!(
-            close(path[2].dir, dir.as_dvec3(), 1e-5),
+            close(path[2].dir(), dir.as_dvec3(), 1e-5),
             "{degrees}: {}",
-            path[2].dir
+            path[2].dir()
         );
         // ... and off its line by d sin(theta_i - theta_r) / cos(theta_r).
-        let offset = (path[2].origin - ray.origin).cross(dir).length() as f64;
+        let offset = (path[2].origin() - ray.origin()).cross(dir).length() as f64;
         let expected = d * (theta_i - theta_r).sin() / theta_r.cos();
         assert!(
             (offset - expected).abs() < 1e-5,
@@ -398,9 +398,9 @@ fn inside_a_slab_past_the_critical_angle_nothing_leaves() {
                 let theta_t = (n * angle.sin()).asin();
                 let out = normal.as_dvec3() * theta_t.cos() + across.as_dvec3() * theta_t.sin();
                 assert!(
-                    close(path[1].dir, out, 1e-4),
+                    close(path[1].dir(), out, 1e-4),
                     "n {n}, {degrees}: {}",
-                    path[1].dir
+                    path[1].dir()
                 );
             } else {
                 assert_eq!(
@@ -411,7 +411,7 @@ fn inside_a_slab_past_the_critical_angle_nothing_leaves() {
             }
             // The split, without Fresnel: reflectance 0.1 and transmittance
             // 0.7 as given, or 0.8 all reflected when nothing can leave.
-            let split = glass(n as f32, 0.1, 0.7, false).split(ray.dir, &hit);
+            let split = glass(n as f32, 0.1, 0.7, false).split(ray.dir(), &hit);
             if leaves {
                 assert_eq!(split.reflected, 0.1);
                 assert_eq!(split.transmitted.map(|(_, w)| w), Some(0.7));
@@ -422,7 +422,7 @@ fn inside_a_slab_past_the_critical_angle_nothing_leaves() {
             // With Fresnel: the textbook reflectance from n to 1 (near 1
             // just below the critical angle), the rest times 0.7 through;
             // past it, everything reflected.
-            let split = glass(n as f32, 0.0, 0.7, true).split(ray.dir, &hit);
+            let split = glass(n as f32, 0.0, 0.7, true).split(ray.dir(), &hit);
             let r = fresnel(n, 1.0, angle);
             if leaves {
                 assert!(
@@ -470,7 +470,7 @@ fn a_prism_reflects_totally_above_index_sqrt_2_and_lets_light_out_below() {
     let ray = Ray::new(Vec3::new(0.3, -1.0, 0.2), Vec3::Y);
     let path = refracted_path(&prism_scene(1.43), &ray, 10);
     assert_eq!(path.len(), 2, "n 1.43: in, then reflected totally");
-    assert!(close(path[1].dir, DVec3::Y, 1e-6), "{}", path[1].dir);
+    assert!(close(path[1].dir(), DVec3::Y, 1e-6), "{}", path[1].dir());
     let path = refracted_path(&prism_scene(1.40), &ray, 10);
     assert_eq!(path.len(), 3, "n 1.40: in and out");
     // Out at theta_t from the long face's normal, sin(theta_t) = 1.4 sin 45
@@ -480,11 +480,15 @@ fn a_prism_reflects_totally_above_index_sqrt_2_and_lets_light_out_below() {
     let normal = DVec3::new(1.0, 1.0, 0.0).normalize();
     let along = DVec3::new(-1.0, 1.0, 0.0).normalize();
     let out = normal * theta_t.cos() + along * theta_t.sin();
-    assert!(close(path[2].dir, out, 1e-4), "{} vs {out}", path[2].dir);
     assert!(
-        close(path[2].origin, DVec3::new(0.3, 0.7, 0.2), 1e-6),
+        close(path[2].dir(), out, 1e-4),
+        "{} vs {out}",
+        path[2].dir()
+    );
+    assert!(
+        close(path[2].origin(), DVec3::new(0.3, 0.7, 0.2), 1e-6),
         "{}",
-        path[2].origin
+        path[2].origin()
     );
 }
 
@@ -506,11 +510,11 @@ fn ball_lens_focus(ior: f32, radius: f32, h: f32) -> f32 {
     assert_eq!(path.len(), 3, "h {h}: in, through, out");
     let out = path[2];
     assert!(
-        out.origin.x == 0.0 && out.dir.x == 0.0,
+        out.origin().x == 0.0 && out.dir().x == 0.0,
         "stays in the plane x = 0"
     );
-    assert!(out.dir.y < 0.0, "h {h}: bent toward the axis");
-    out.at(-out.origin.y / out.dir.y).z
+    assert!(out.dir().y < 0.0, "h {h}: bent toward the axis");
+    out.at(-out.origin().y / out.dir().y).z
 }
 
 #[test]

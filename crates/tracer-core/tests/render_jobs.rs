@@ -38,7 +38,7 @@ fn sixteen_samples_see_an_edge_through_the_pixel_centre_as_half_covered() {
     // Where the ray through the centre line of column 249 (fx = 249.5)
     // meets z = 0: every point of the pixel left of it lies at larger x.
     let probe = half_plane_scene(0.0);
-    let dir = probe.camera().ray(249.5, 200.5).dir;
+    let dir = probe.camera().ray(249.5, 200.5).dir();
     let edge = dir.x * 10.0 / -dir.z;
     let scene = half_plane_scene(edge);
     let job = RenderJob {
@@ -190,7 +190,7 @@ fn the_sample_rays_are_the_rays_a_render_traces() {
         let mut distances = Vec::new();
         tracer_core::sample_rays(&scene, &job, |ray| {
             let hit = scene.closest_hit(ray, tracer_core::EPSILON, f32::INFINITY);
-            distances.push(hit.map_or(0.0, |h| h.t * ray.dir.length()));
+            distances.push(hit.map_or(0.0, |h| h.t * ray.dir().length()));
         });
         let expected: Vec<Vec3> = distances
             .chunks(samples as usize)

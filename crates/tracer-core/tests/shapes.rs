@@ -225,12 +225,12 @@ fn light_through_a_glass_box_is_shifted_by_the_textbook_amount() {
         assert_eq!(path.len(), 3, "{degrees} deg: in, through, out");
         // Out parallel to the way in, and d sin(i - r) / cos(r) off its line.
         assert!(
-            (path[2].dir - dir).length() < 1e-5,
+            (path[2].dir() - dir).length() < 1e-5,
             "{degrees}: {}",
-            path[2].dir
+            path[2].dir()
         );
         let theta_r = (theta_i.sin() / n).asin();
-        let offset = (path[2].origin - ray.origin).cross(dir).length() as f64;
+        let offset = (path[2].origin() - ray.origin()).cross(dir).length() as f64;
         let expected = d * (theta_i - theta_r).sin() / theta_r.cos();
         assert!(
             (offset - expected).abs() < 1e-5,

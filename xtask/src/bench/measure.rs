@@ -195,7 +195,7 @@ fn trace_stored(scene: &Scene, origin: Vec3, dirs: &[Vec3]) -> u64 {
     let mut found = 0;
     for chunk in dirs.chunks(PACKET) {
         for (ray, &dir) in rays.iter_mut().zip(chunk) {
-            ray.dir = dir;
+            *ray = Ray::new(origin, dir);
         }
         let (rays, hits) = (&rays[..chunk.len()], &mut hits[..chunk.len()]);
         scene.closest_hits(rays, tracer_core::EPSILON, f32::INFINITY, hits);
@@ -211,8 +211,8 @@ fn write_rays(scene: &Scene, job: &RenderJob, path: &Path) -> Result<(Vec3, Vec<
     let (mut origin, mut dirs) = (None, Vec::new());
     let mut several = false;
     sample_rays(scene, job, |ray| {
-        several |= *origin.get_or_insert(ray.origin) != ray.origin;
-        dirs.push(ray.dir);
+        several |= *origin.get_or_insert(ray.origin()) != ray.origin();
+        dirs.push(ray.dir());
     });
     if several {
         anyhow::bail!("rays from several origins");

@@ -69,7 +69,7 @@ impl InstanceTree {
     /// Offers `best` the nearest hits on the instances.
     pub(super) fn nearest(&self, ray: &Ray, t_min: f32, t_max: f32, best: &mut Best) {
         let r = RayData::new(ray);
-        let inv = Vec3::from(safe_inverse(ray.dir));
+        let inv = Vec3::from(safe_inverse(ray.dir()));
         with_instance_stack(|stack| {
             walk_nearest(&self.nodes, &r, t_min, best, stack, |entry, best| {
                 let run = entry.child as usize..(entry.child + entry.count) as usize;
@@ -106,7 +106,7 @@ impl InstanceTree {
     /// Whether an instance lies on the ray in (t_min, t_max).
     pub(super) fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
         let r = RayData::new(ray);
-        let inv = Vec3::from(safe_inverse(ray.dir));
+        let inv = Vec3::from(safe_inverse(ray.dir()));
         with_instance_stack(|stack| {
             walk_any(&self.nodes, &r, (t_min, t_max), stack, |entry| {
                 let run = &self.prims[entry.child as usize..][..entry.count as usize];
@@ -139,7 +139,10 @@ impl InstancePrim {
     /// as the nodes' boxes are.
     #[inline(always)]
     fn entered(&self, ray: &Ray, inv: Vec3, t_min: f32, t_max: f32) -> bool {
-        let (a, b) = ((self.lo - ray.origin) * inv, (self.hi - ray.origin) * inv);
+        let (a, b) = (
+            (self.lo - ray.origin()) * inv,
+            (self.hi - ray.origin()) * inv,
+        );
         let near = a.min(b).max_element().max(t_min);
         let far = a.max(b).min_element().min(t_max);
         near <= far * PAD

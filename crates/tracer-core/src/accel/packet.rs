@@ -50,7 +50,7 @@ impl PacketData {
         let (mut o_lo, mut o_hi) = (d_lo, d_hi);
         let (mut regular, mut empty) = (true, true);
         for ray in rays {
-            let (d, o) = (Vec3A::from(ray.dir), Vec3A::from(ray.origin));
+            let (d, o) = (Vec3A::from(ray.dir()), Vec3A::from(ray.origin()));
             // No component that `safe_inverse` replaces, nor one whose
             // inverse is subnormal.
             let size = d.abs();
@@ -318,12 +318,13 @@ mod tests {
         if k % 5 == 1 {
             let light = origin + 6.0 * aim;
             for ray in &mut rays {
-                ray.origin += rng.vec(0.05);
-                ray.dir = (light - ray.origin).normalize();
+                let origin = ray.origin() + rng.vec(0.05);
+                *ray = Ray::new(origin, (light - origin).normalize());
             }
         }
         if k.is_multiple_of(11) {
-            rays[n - 1].dir.y = 0.0;
+            let last = rays[n - 1];
+            rays[n - 1] = Ray::new(last.origin(), last.dir() * Vec3::new(1.0, 0.0, 1.0));
         }
         rays
     }

@@ -132,11 +132,11 @@ pub(super) struct RayData {
 
 impl RayData {
     pub(super) fn new(ray: &Ray) -> RayData {
-        let inv = safe_inverse(ray.dir);
+        let inv = safe_inverse(ray.dir());
         RayData {
             ray: *ray,
             ray4: Ray4::new(ray),
-            origin: ray.origin.to_array().map(Vec4::splat),
+            origin: ray.origin().to_array().map(Vec4::splat),
             inv_dir: inv.map(Vec4::splat),
             near_plane: [0, 1, 2].map(|axis| if inv[axis] < 0.0 { axis + 3 } else { axis }),
         }

@@ -50,9 +50,9 @@ pub(super) struct Ray4 {
 impl Ray4 {
     pub(super) fn new(ray: &Ray) -> Ray4 {
         Ray4 {
-            origin: ray.origin.to_array().map(Vec4::splat),
-            dir: ray.dir.to_array().map(Vec4::splat),
-            dir_len: Vec4::splat(ray.dir.length()),
+            origin: ray.origin().to_array().map(Vec4::splat),
+            dir: ray.dir().to_array().map(Vec4::splat),
+            dir_len: Vec4::splat(ray.dir().length()),
         }
     }
 }

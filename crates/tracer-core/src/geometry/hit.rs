@@ -55,7 +55,7 @@ impl SurfaceHit {
             geometric_normal: normal,
             shading_normal: normal,
             uv: sphere.uv(normal),
-            front_face: ray.dir.dot(normal) < 0.0,
+            front_face: ray.dir().dot(normal) < 0.0,
             shadow_offset: Vec3::ZERO,
         }
     }
@@ -79,7 +79,7 @@ impl SurfaceHit {
             geometric_normal: normal,
             shading_normal: normal,
             uv: hit.uv,
-            front_face: ray.dir.dot(normal) < 0.0,
+            front_face: ray.dir().dot(normal) < 0.0,
             shadow_offset: Vec3::ZERO,
         }
     }
@@ -128,7 +128,7 @@ impl SurfaceHit {
             geometric_normal: plane.normal,
             shading_normal: plane.normal,
             uv: plane.uv(ray.at(t)),
-            front_face: ray.dir.dot(plane.normal) < 0.0,
+            front_face: ray.dir().dot(plane.normal) < 0.0,
             shadow_offset: Vec3::ZERO,
         }
     }

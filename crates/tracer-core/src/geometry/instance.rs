@@ -114,8 +114,8 @@ impl Instance {
     #[inline(always)]
     pub fn object_ray(&self, ray: &Ray) -> Ray {
         Ray::new(
-            self.to_object.apply(ray.origin),
-            self.to_object.apply_vector(ray.dir),
+            self.to_object.apply(ray.origin()),
+            self.to_object.apply_vector(ray.dir()),
         )
     }
 
@@ -139,7 +139,7 @@ impl Instance {
             geometric_normal,
             shading_normal,
             uv: local.uv,
-            front_face: ray.dir.dot(geometric_normal) < 0.0,
+            front_face: ray.dir().dot(geometric_normal) < 0.0,
             shadow_offset: self.to_world.apply_vector(local.shadow_offset),
         }
     }

@@ -61,11 +61,11 @@ impl Plane {
     /// ray in the plane or parallel to it misses (as a triangle's edge-on
     /// ray does).
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        let denom = self.normal.dot(ray.dir);
-        if denom.abs() <= f32::EPSILON * ray.dir.length() {
+        let denom = self.normal.dot(ray.dir());
+        if denom.abs() <= f32::EPSILON * ray.dir().length() {
             return None;
         }
-        let t = self.normal.dot(self.point - ray.origin) / denom;
+        let t = self.normal.dot(self.point - ray.origin()) / denom;
         (t > t_min && t < t_max).then_some(t)
     }
 

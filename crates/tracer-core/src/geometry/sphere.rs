@@ -38,9 +38,9 @@ impl Sphere {
     /// `v = origin - center`; the smallest root in (t_min, t_max).
     /// The direction need not be normalised.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        let v = ray.origin - self.center;
-        let a = ray.dir.dot(ray.dir);
-        let b = 2.0 * v.dot(ray.dir);
+        let v = ray.origin() - self.center;
+        let a = ray.dir().dot(ray.dir());
+        let b = 2.0 * v.dot(ray.dir());
         let c = v.dot(v) - self.radius * self.radius;
         let discriminant = b * b - 4.0 * a * c;
         if discriminant < 0.0 {

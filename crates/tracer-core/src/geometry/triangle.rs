@@ -27,7 +27,7 @@ impl Triangle {
             e2,
             edge_scale,
             ray,
-            ray.dir.length(),
+            ray.dir().length(),
             t_min,
             t_max,
         )
@@ -71,19 +71,19 @@ fn moller_trumbore(
     t_min: f32,
     t_max: f32,
 ) -> Option<TriangleHit> {
-    let p = ray.dir.cross(e2);
+    let p = ray.dir().cross(e2);
     let det = e1.dot(p);
     if det.abs() < edge_scale * dir_len {
         return None; // the ray runs parallel to the plane
     }
     let inv = 1.0 / det;
-    let s = ray.origin - v0;
+    let s = ray.origin() - v0;
     let u = s.dot(p) * inv;
     if !(0.0..=1.0).contains(&u) {
         return None;
     }
     let q = s.cross(e1);
-    let v = ray.dir.dot(q) * inv;
+    let v = ray.dir().dot(q) * inv;
     if v < 0.0 || u + v > 1.0 {
         return None;
     }
@@ -115,7 +115,7 @@ mod tests {
             Vec3::new(0.0, 0.0, 10.0),
             centroid - Vec3::new(0.0, 0.0, 10.0),
         );
-        let back = Ray::new(centroid * 2.0 - front.origin, front.origin - centroid);
+        let back = Ray::new(centroid * 2.0 - front.origin(), front.origin() - centroid);
         let tf = t
             .intersect(&front, 0.0, f32::INFINITY)
             .expect("front hit")

@@ -64,7 +64,7 @@ impl Shaded {
         Shaded {
             p,
             n: hit.shading_normal,
-            view: -ray.dir,
+            view: -ray.dir(),
             shadow_origin: p + hit.shadow_offset,
         }
     }
@@ -296,7 +296,7 @@ impl<'a> Whitted<'a> {
         } else {
             Vec3::ZERO
         };
-        let split = g.split(ray.dir, hit);
+        let split = g.split(ray.dir(), hit);
         if self.may_recurse(energy, depth) {
             if split.reflected > 0.0 {
                 let reflected = ray.reflected(p, hit.shading_normal);
@@ -415,7 +415,7 @@ impl<'a> Whitted<'a> {
             let Material::Glass(g) = scene.material(hit.material) else {
                 return None;
             };
-            let passes = g.shadow_transmission(ray.dir, &hit);
+            let passes = g.shadow_transmission(ray.dir(), &hit);
             if passes <= 0.0 {
                 return None;
             }
@@ -423,7 +423,7 @@ impl<'a> Whitted<'a> {
             if !hit.front_face {
                 through *= g.absorbed_over(hit.t);
             }
-            ray = Ray::new(ray.at(hit.t), ray.dir);
+            ray = Ray::new(ray.at(hit.t), ray.dir());
             left -= hit.t;
             self.stats.shadow += 1;
         }
@@ -457,7 +457,7 @@ pub fn refracted_path(scene: &Scene, ray: &Ray, max: usize) -> Vec<Ray> {
         let Material::Glass(g) = scene.material(hit.material) else {
             break;
         };
-        let Some((dir, _)) = g.split(last.dir, &hit).transmitted else {
+        let Some((dir, _)) = g.split(last.dir(), &hit).transmitted else {
             break;
         };
         path.push(Ray::new(last.at(hit.t), dir));
