@@ -179,7 +179,7 @@ impl<'a> Whitted<'a> {
         for (k, ((ray, hit), rng)) in rays.iter().zip(hits).zip(rngs).enumerate() {
             self.reseed(*rng);
             self.shading = Some(k);
-            colours[k] = self.trace_from(ray, *hit, 1.0, 0);
+            colours[k] = self.trace_from(ray, hit.as_ref(), 1.0, 0);
         }
         self.shading = None;
     }
@@ -241,7 +241,7 @@ impl<'a> Whitted<'a> {
     /// depth 0.
     pub fn trace(&mut self, ray: &Ray, energy: f32, depth: u32) -> Vec3 {
         let hit = self.scene.closest_hit(ray, EPSILON, f32::INFINITY);
-        self.trace_from(ray, hit, energy, depth)
+        self.trace_from(ray, hit.as_ref(), energy, depth)
     }
 
     /// `trace`, the ray's nearest hit (in (EPSILON, inf)) already found:
@@ -249,7 +249,7 @@ impl<'a> Whitted<'a> {
     pub fn trace_from(
         &mut self,
         ray: &Ray,
-        hit: Option<SurfaceHit>,
+        hit: Option<&SurfaceHit>,
         energy: f32,
         depth: u32,
     ) -> Vec3 {
@@ -260,8 +260,8 @@ impl<'a> Whitted<'a> {
             return energy * scene.trace_settings().background;
         };
         match scene.material(hit.material) {
-            Material::Phong(m) => self.phong(m, ray, &hit, energy, depth),
-            Material::Glass(g) => self.glass(g, ray, &hit, energy, depth),
+            Material::Phong(m) => self.phong(m, ray, hit, energy, depth),
+            Material::Glass(g) => self.glass(g, ray, hit, energy, depth),
         }
     }
 
