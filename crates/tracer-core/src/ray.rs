@@ -2,11 +2,12 @@ use glam::{Vec3, Vec4};
 
 /// A half line `origin + t * dir`, t >= 0.
 ///
-/// Each vector is kept in a 16-byte SIMD value, written and read whole: a
-/// ray is mostly made just before it is searched, and written as three
-/// floats in pieces (as the compiler grouped them), it was read back in
-/// other pieces the processor could not forward from those writes; the
-/// wait was a fifth of a shadow ray's search in a small scene.
+/// The origin and the direction are each kept in a 16-byte SIMD value,
+/// written and read whole. Most rays are searched just after they are
+/// made; kept as plain `Vec3`s, they were written in pieces (as the
+/// compiler grouped the floats) and read back in other pieces, which the
+/// processor cannot forward from the writes: the wait was a fifth of a
+/// shadow ray's search in a small scene.
 #[derive(Clone, Copy, PartialEq)]
 pub struct Ray {
     origin: Vec4,
@@ -62,6 +63,21 @@ impl Ray {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_ray_gives_back_its_vectors_bit_for_bit() {
+        let odd = [-0.0, f32::MIN_POSITIVE / 8.0, f32::INFINITY, 1.0e-30, -3.25];
+        for (i, &x) in odd.iter().enumerate() {
+            let (y, z) = (odd[(i + 1) % odd.len()], odd[(i + 2) % odd.len()]);
+            let (origin, dir) = (Vec3::new(x, y, z), Vec3::new(z, x, y));
+            let ray = Ray::new(origin, dir);
+            let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+            assert_eq!(bits(ray.origin()), bits(origin));
+            assert_eq!(bits(ray.dir()), bits(dir));
+            assert_eq!(ray, Ray::new(origin, dir));
+        }
+        assert_ne!(Ray::new(Vec3::ZERO, Vec3::X), Ray::new(Vec3::ZERO, Vec3::Y));
+    }
 
     #[test]
     fn reflected_ray_matches_the_lab_check() {
