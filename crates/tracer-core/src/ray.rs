@@ -6,8 +6,8 @@ use glam::{Vec3, Vec4};
 /// written and read whole. Most rays are searched just after they are
 /// made; kept as plain `Vec3`s, they were written in pieces (as the
 /// compiler grouped the floats) and read back in other pieces, which the
-/// processor cannot forward from the writes: the wait was a fifth of a
-/// shadow ray's search in a small scene.
+/// processor cannot forward from the writes: the wait was a fifth to a
+/// quarter of a shadow ray's search in a small scene.
 #[derive(Clone, Copy, PartialEq)]
 pub struct Ray {
     origin: Vec4,
@@ -88,7 +88,7 @@ mod tests {
         assert!(
             (r.dir() - expected).abs().max_element() < 0.01,
             "{:?}",
-            r.dir
+            r.dir()
         );
     }
 }

@@ -123,7 +123,8 @@ pub fn render(scene: &Scene, job: &RenderJob, rows_done: &(dyn Fn(u32) + Sync)) 
 }
 
 /// `render`, given up (None) soon after `cancel` becomes true: it is read
-/// before each row of a tile and each packet of a pixel's samples, so an
+/// before each row of a tile (of blocks, at one sample a pixel) and each
+/// packet of a pixel's samples, so an
 /// edit in watch mode stops even a costly render at once.
 pub fn render_cancellable(
     scene: &Scene,
@@ -303,6 +304,8 @@ impl<'a> PixelRenderer<'a> {
     /// (one a pixel is rendered in blocks): the mean of its samples.
     #[inline(always)]
     fn render(&self, i: u32, j: u32, tracer: &mut Whitted) -> Vec3 {
+        // One sample is the pixel's centre (`render_block`), not a stratum's.
+        debug_assert!(self.samples > 1, "one sample a pixel is rendered in blocks");
         let order = self.lens_order_of(i, j);
         let mut sum = Vec3::ZERO;
         let mut first = 0;

@@ -323,8 +323,8 @@ mod tests {
             }
         }
         if k.is_multiple_of(11) {
-            let last = rays[n - 1];
-            rays[n - 1] = Ray::new(last.origin(), last.dir() * Vec3::new(1.0, 0.0, 1.0));
+            let (origin, dir) = (rays[n - 1].origin(), rays[n - 1].dir());
+            rays[n - 1] = Ray::new(origin, Vec3::new(dir.x, 0.0, dir.z));
         }
         rays
     }
