@@ -30,7 +30,9 @@ pub use image::{Encoding, LinearImage};
 pub use integrate::RayStats;
 pub use prepare::{prepare, PrepareError};
 pub use ray::Ray;
-pub use render::{render, render_cancellable, sample_rays, Output, Region, RenderJob, Rendered};
+pub use render::{
+    render, render_cancellable, render_into, sample_rays, Output, Region, RenderJob, Rendered,
+};
 pub use scene::Scene;
 
 /// Minimum distance along a secondary ray, so it does not hit its own origin

@@ -206,3 +206,41 @@ fn the_sample_rays_are_the_rays_a_render_traces() {
         assert!(distances.iter().any(|&d| d > 0.0), "case {k}");
     }
 }
+
+#[test]
+fn a_render_into_an_image_already_used_writes_every_pixel_anew() {
+    let scene = prepare(&load(&scenes_dir().join("reflectance2.toml"))).unwrap();
+    let whole = render_job(&scene, &RenderJob::full(&scene));
+    let never = std::sync::atomic::AtomicBool::new(false);
+    let render_into = |job: &RenderJob, image: &mut LinearImage| {
+        tracer_core::render_into(&scene, job, &|_| {}, &never, image).expect("not cancelled")
+    };
+    // Held another size and other values: a region, then the whole image,
+    // then a region again (smaller than what the memory held).
+    let mut image = LinearImage::new(7, 3);
+    image.pixels.fill(Vec3::splat(f32::NAN));
+    let region = Region {
+        x0: 100,
+        y0: 50,
+        x1: 160,
+        y1: 90,
+    };
+    let part = RenderJob {
+        region,
+        ..RenderJob::full(&scene)
+    };
+    for job in [&part, &RenderJob::full(&scene), &part] {
+        let rays = render_into(job, &mut image);
+        assert_eq!(rays, render(&scene, job, &|_| {}).rays);
+        let (w, h) = (image.width, image.height);
+        assert_eq!(image.pixels.len(), (w * h) as usize);
+        let bits = |c: Vec3| c.to_array().map(f32::to_bits);
+        for j in 0..h {
+            for i in 0..w {
+                let expected = whole.get(job.region.x0 + i, job.region.y0 + j);
+                assert_eq!(bits(image.get(i, j)), bits(expected), "pixel ({i}, {j})");
+            }
+        }
+    }
+    assert_eq!((image.width, image.height), (60, 40));
+}
