@@ -142,11 +142,11 @@ pub fn render_cancellable(
 }
 
 /// `render_cancellable` into `image`, made the region's size in the memory
-/// it already has: renders that follow each other (a bench's, a watch's)
-/// need not map and first touch a new image each time, which costs a
-/// 1920x1080 render a tenth of its time. Every pixel is written, unless
-/// the render is given up (None): then the image holds some pixels of
-/// this render and others of what it held.
+/// it already has: renders that follow each other (the bench's) need not
+/// map and first touch a new image each time, which cost a 1920x1080
+/// render a tenth of its time on the bench's machine. Every pixel is
+/// written, unless the render is given up (None): then the image holds
+/// some pixels of this render and others of what it held.
 pub fn render_into(
     scene: &Scene,
     job: &RenderJob,
