@@ -232,6 +232,9 @@ pub(super) struct Entry {
     pub(super) child: u32,
     pub(super) count: u32,
     pub(super) t: f32,
+    /// The node and lane that refer to it, as `node * WIDTH + lane`: where
+    /// a packet finds a leaf's box, to test it ray by ray.
+    pub(super) from: u32,
 }
 
 impl Entry {
@@ -240,6 +243,7 @@ impl Entry {
         child: 0,
         count: INNER,
         t: 0.0,
+        from: 0,
     };
 }
 
@@ -271,7 +275,7 @@ pub(super) fn walk_nearest<B: Reach>(
         };
         let node = &nodes[entry.child as usize];
         let (mask, near) = r.enter(node, halves, t_min, best.reach());
-        sp = push_nearest_last(stack, sp, node, mask, near);
+        sp = push_nearest_last(stack, sp, (node, entry.child), mask, near);
     }
 }
 
@@ -299,7 +303,7 @@ pub(super) fn walk_any(
         };
         let node = &nodes[entry.child as usize];
         let (mask, _) = r.enter(node, halves, t_min, t_max);
-        sp = push_entered(stack, sp, node, mask);
+        sp = push_entered(stack, sp, (node, entry.child), mask);
     }
     false
 }
@@ -311,7 +315,7 @@ pub(super) fn walk_any(
 pub(super) fn push_entered(
     stack: &mut [Entry],
     mut sp: usize,
-    node: &Node,
+    (node, index): (&Node, u32),
     mut mask: u32,
 ) -> usize {
     while mask != 0 {
@@ -322,6 +326,7 @@ pub(super) fn push_entered(
             child,
             count,
             t: 0.0,
+            from: index * WIDTH as u32 + lane as u32,
         };
         sp += 1;
     }
@@ -334,7 +339,7 @@ pub(super) fn push_entered(
 pub(super) fn push_nearest_last(
     stack: &mut [Entry],
     mut sp: usize,
-    node: &Node,
+    (node, index): (&Node, u32),
     mut mask: u32,
     near: [Vec4; GROUPS],
 ) -> usize {
@@ -347,6 +352,7 @@ pub(super) fn push_nearest_last(
             child,
             count,
             t: near[lane / 4][lane % 4],
+            from: index * WIDTH as u32 + lane as u32,
         };
         // Insertion into the pushed run, kept in decreasing distance.
         let mut k = sp;

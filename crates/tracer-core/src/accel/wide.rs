@@ -98,6 +98,12 @@ impl Node {
         (half.child[lane % 4], half.count[lane % 4])
     }
 
+    /// The planes of one lane's box, in `Half::planes`' order.
+    #[inline(always)]
+    pub(super) fn lane_planes(&self, lane: usize) -> [f32; 6] {
+        self.halves[lane / 4].planes.map(|plane| plane[lane % 4])
+    }
+
     /// The box of one lane.
     fn lane_box(&self, lane: usize) -> Aabb {
         let p = self.halves[lane / 4].planes.map(|plane| plane[lane % 4]);
