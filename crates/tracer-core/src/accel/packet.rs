@@ -17,7 +17,7 @@
 use super::traverse::{
     slab_test, walk_any, walk_nearest, with_stack, Best, Enter, Entry, Reach, PAD,
 };
-use super::tri4::Ray4;
+use super::tri4::{OriginTerms, Ray4, Tri4};
 use super::wide::{Node, GROUPS, WIDTH};
 use super::{leaf_run, Bvh};
 use crate::geometry::SurfaceHit;
@@ -355,13 +355,24 @@ impl Bvh {
         if rays == 0 {
             return;
         }
+        let test = |block: usize, tris: &Tri4, terms: &OriginTerms, i: usize, best: &mut Best| {
+            let found = tris.intersect_with(terms, &ray4[i], t_min, best.limit(t_max));
+            self.offer_lanes(block, found, t_max, best);
+        };
         for block in run {
             let tris = &self.tris[block];
             let terms = tris.origin_terms(origin);
-            for i in ones(rays) {
-                let best = &mut bests[i];
-                let found = tris.intersect_with(&terms, &ray4[i], t_min, best.limit(t_max));
-                self.offer_lanes(block, found, t_max, best);
+            // The first n rays, as all of a pixel's samples mostly are: a
+            // plain loop (16 samples' primary rays 3 % faster than by mask).
+            if rays & (rays + 1) == 0 {
+                let n = rays.count_ones() as usize;
+                for (i, best) in bests[..n].iter_mut().enumerate() {
+                    test(block, tris, &terms, i, best);
+                }
+            } else {
+                for i in ones(rays) {
+                    test(block, tris, &terms, i, &mut bests[i]);
+                }
             }
         }
     }
