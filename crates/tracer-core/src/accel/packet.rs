@@ -163,16 +163,18 @@ impl RayLanes {
     /// The lanes of `rays` (one to `PACKET`); those past the last ray
     /// repeat it.
     fn new(rays: &[Ray]) -> RayLanes {
-        let ray = |i: usize| &rays[i.min(rays.len() - 1)];
-        let lanes = |f: &dyn Fn(&Ray) -> [f32; 3]| {
-            std::array::from_fn(|g| {
-                let v: [[f32; 3]; 4] = std::array::from_fn(|k| f(ray(4 * g + k)));
-                [0, 1, 2].map(|axis| Vec4::from_array(v.map(|v| v[axis])))
-            })
-        };
-        let dir: [[Vec4; 3]; RAY_GROUPS] = lanes(&|r| r.dir().to_array());
+        let mut origin = [[Vec4::ZERO; 3]; RAY_GROUPS];
+        let mut dir = [[Vec4::ONE; 3]; RAY_GROUPS];
+        for i in 0..PACKET {
+            let ray = &rays[i.min(rays.len() - 1)];
+            let (o, d) = (ray.origin(), ray.dir());
+            for axis in 0..3 {
+                origin[i / 4][axis][i % 4] = o[axis];
+                dir[i / 4][axis][i % 4] = d[axis];
+            }
+        }
         RayLanes {
-            origin: lanes(&|r| r.origin().to_array()),
+            origin,
             // `safe_inverse`'s: a packet's directions have no component
             // it replaces (`PacketData::new`).
             inv_dir: dir.map(|d| d.map(|d| Vec4::ONE / d)),
@@ -192,22 +194,35 @@ impl RayLanes {
         t_min: f32,
         far: &[Vec4; RAY_GROUPS],
     ) -> u32 {
-        let mut mask = 0;
+        // Each axis's near and far plane (the near one the min when the
+        // rays run toward +), with indices the compiler sees are in range.
+        let mut bounds = [(0.0, 0.0); 3];
+        for (axis, bound) in bounds.iter_mut().enumerate() {
+            let (min, max) = (planes[axis], planes[axis + 3]);
+            *bound = if near_plane[axis] == axis {
+                (min, max)
+            } else {
+                (max, min)
+            };
+        }
         // The planes' offsets from the origin, by axis; worked out once
         // when the rays share their origin.
         let offsets = |g: usize| {
-            [0, 1, 2].map(|axis| {
-                let n = near_plane[axis];
+            let mut offsets = [(Vec4::ZERO, Vec4::ZERO); 3];
+            for (axis, &(near, far)) in bounds.iter().enumerate() {
                 let o = self.origin[g][axis];
-                (
-                    Vec4::splat(planes[n]) - o,
-                    Vec4::splat(planes[(n + 3) % 6]) - o,
-                )
-            })
+                offsets[axis] = (Vec4::splat(near) - o, Vec4::splat(far) - o);
+            }
+            offsets
         };
-        let shared = self.common_origin.then(|| offsets(0));
-        for g in 0..self.len.div_ceil(4) {
-            let offsets = shared.unwrap_or_else(|| offsets(g));
+        let shared = offsets(0);
+        let mut mask = 0;
+        for g in 0..self.len.div_ceil(4).min(RAY_GROUPS) {
+            let offsets = if self.common_origin {
+                shared
+            } else {
+                offsets(g)
+            };
             let inv = &self.inv_dir[g];
             let mut t_near = Vec4::splat(t_min);
             let mut t_far = far[g];
@@ -246,7 +261,11 @@ impl Bests {
     /// Each ray's limit, `Best::reach`, one to a lane (see `RayLanes`).
     #[inline(always)]
     fn far(&self) -> [Vec4; RAY_GROUPS] {
-        std::array::from_fn(|g| Vec4::from_array(std::array::from_fn(|k| self.of[4 * g + k].t)))
+        let mut far = [Vec4::ZERO; RAY_GROUPS];
+        for (i, best) in self.of.iter().enumerate() {
+            far[i / 4][i % 4] = best.t;
+        }
+        far
     }
 }
 
@@ -413,12 +432,12 @@ impl Bvh {
     ) -> u32 {
         let ray4 = rays4(rays);
         let mut lanes = None;
-        let far = || -> [Vec4; RAY_GROUPS] {
-            std::array::from_fn(|g| {
-                Vec4::from_array(std::array::from_fn(|k| {
-                    t_max[(4 * g + k).min(rays.len() - 1)]
-                }))
-            })
+        let far = || {
+            let mut far = [Vec4::ZERO; RAY_GROUPS];
+            for i in 0..PACKET {
+                far[i / 4][i % 4] = t_max[i.min(rays.len() - 1)];
+            }
+            far
         };
         let reach = (0..rays.len())
             .filter(|&i| left & (1 << i) != 0)

@@ -101,7 +101,16 @@ impl Node {
     /// The planes of one lane's box, in `Half::planes`' order.
     #[inline(always)]
     pub(super) fn lane_planes(&self, lane: usize) -> [f32; 6] {
-        self.halves[lane / 4].planes.map(|plane| plane[lane % 4])
+        // Spelt out: `map` was left a call in the shadow rays' walk.
+        let (planes, k) = (&self.halves[lane / 4].planes, lane % 4);
+        [
+            planes[0][k],
+            planes[1][k],
+            planes[2][k],
+            planes[3][k],
+            planes[4][k],
+            planes[5][k],
+        ]
     }
 
     /// The box of one lane.
