@@ -3,14 +3,17 @@
 //! start a pixel's width apart toward the same light, so they enter
 //! nearly the same nodes. A packet walks the tree once, testing a node's
 //! boxes against all its rays at once, and tests each leaf's primitives
-//! against each ray.
+//! against each ray (where a leaf is small beside the packet, against each
+//! ray whose own slab test enters its box).
 //!
 //! Each ray finds what it finds alone. The packet's box test bounds every
 //! ray's: float subtraction and multiplication are monotone in each
 //! operand, so the slab distances worked out from the extreme origins and
 //! inverse directions bound each ray's own, and the packet enters every box
-//! that one of its rays would. Each ray is thus offered the primitives of
-//! its own walk and perhaps more (each a hit or a miss of the same
+//! that one of its rays would. A ray skips a leaf only where its own slab
+//! test, with a limit no nearer than its best hit so far, misses the box:
+//! as its own walk would skip it. Each ray is thus offered the primitives
+//! of its own walk and perhaps more (each a hit or a miss of the same
 //! arithmetic); the best-hit rule (nearest, then lowest object index) does
 //! not depend on the order or the number of the offers, nor does "any hit".
 
@@ -106,6 +109,8 @@ impl PacketData {
     /// it ray by ray (`RayLanes`) costs less than its primitives for those
     /// rays. Where a leaf is much wider than the packet, as are most of a
     /// pixel's 16 samples' leaves, the test would cost more than it saves.
+    /// (Shadow rays' stack entries carry no distance: `t` is 0 there, and
+    /// the width the origins' spread.)
     #[inline(always)]
     fn small_beside(&self, planes: &[f32; 6], t: f32) -> bool {
         let side = (planes[3] - planes[0])
@@ -139,8 +144,9 @@ impl Enter for PacketData {
 
 /// See `PacketData::small_beside`. A box several times wider than the
 /// packet is still missed by some of its rays where the packet meets it
-/// near an edge; 3, 5, 10 and 1,000 took the 1.1M bunny's render the same
-/// time, 1,000 cost 16 samples a pixel 5 %, 1 lost most of the gain.
+/// near an edge. 3, 5, 10 and 1,000 took the 1.1M bunny's render the same
+/// time (8 lies between them), 1,000 cost 16 samples a pixel 5 %, and 1
+/// lost most of the gain.
 const NARROW: f32 = 8.0;
 
 /// Groups of four rays of a packet, one ray a SIMD lane.
@@ -148,9 +154,10 @@ const RAY_GROUPS: usize = PACKET / 4;
 
 /// A packet's rays one to a SIMD lane, in groups of four, for the slab
 /// test of a leaf's box ray by ray: each lane's arithmetic is the one
-/// `RayData::enter` does for that ray, so a ray is offered a leaf exactly
-/// when its own walk would enter it (with its own best hit as the limit).
-/// At 1.1M triangles a leaf is smaller than a 4 x 4 packet's footprint.
+/// `RayData::enter` does for that ray, so with its best hit so far as the
+/// limit a ray is offered every leaf that may hold its answer, as its own
+/// walk would be. At 1.1M triangles a leaf is smaller than a 4 x 4
+/// packet's footprint.
 struct RayLanes {
     origin: [[Vec4; 3]; RAY_GROUPS],
     inv_dir: [[Vec4; 3]; RAY_GROUPS],
@@ -176,7 +183,9 @@ impl RayLanes {
         RayLanes {
             origin,
             // `safe_inverse`'s: a packet's directions have no component
-            // it replaces (`PacketData::new`).
+            // it replaces (`PacketData::new`). (Shadow rays already
+            // blocked beside the tree are left out of the packet, but not
+            // of these lanes; their bits are never asked for.)
             inv_dir: dir.map(|d| d.map(|d| Vec4::ONE / d)),
             len: rays.len(),
             common_origin: rays.iter().all(|r| r.origin() == rays[0].origin()),
@@ -258,7 +267,7 @@ impl Bests {
             .fold(f32::NEG_INFINITY, |reach, best| reach.max(best.t));
     }
 
-    /// Each ray's limit, `Best::reach`, one to a lane (see `RayLanes`).
+    /// Each ray's reach (`Best::reach`), one to a lane (see `RayLanes`).
     #[inline(always)]
     fn far(&self) -> [Vec4; RAY_GROUPS] {
         let mut far = [Vec4::ZERO; RAY_GROUPS];
@@ -496,8 +505,7 @@ mod tests {
     use crate::accel::brute_force;
     use crate::accel::tests::{soup, Rng};
     use crate::accel::traverse::RayData;
-    use crate::accel::wide::is_leaf;
-    use crate::geometry::{Object, Plane, Shape};
+    use crate::geometry::{Object, Plane, Shape, Sphere, Triangle};
     use glam::Vec3;
 
     /// Up to 16 rays around one direction: a pixel's samples from one
@@ -654,28 +662,266 @@ mod tests {
         );
     }
 
+    /// A ray's leaf test at the edge of its limit: the limit at the box's
+    /// entry distance, just below it, and where only the padding of the
+    /// slab test lets the ray in; directions with components down to the
+    /// least a packet takes; origins on the box's planes; flat boxes.
     #[test]
-    fn leaves_small_beside_a_packet_are_common_in_the_brute_force_test() {
-        // `packets_find_exactly_the_brute_force_hits` tests rays leaf by
-        // leaf only where a leaf is small beside its packet: its scene and
-        // packets must have such leaves, and leaves that are not.
-        let mut rng = Rng(0xC0FF_EE00_1234_5678);
-        let bvh = Bvh::build(&soup(&mut rng, 3000));
-        let (mut small, mut wide) = (0, 0);
-        for k in 0..300 {
-            let Some(p) = PacketData::new(&packet(&mut rng, k)) else {
+    fn a_leaf_is_offered_as_the_rays_own_slab_test_decides_at_the_edges() {
+        let mut rng = Rng(0xFEED_BEEF);
+        let index = |rng: &mut Rng, n: usize| ((rng.next() + 1.0) * 0.5 * n as f32) as usize % n;
+        let (mut checked, mut by_padding) = (0, 0);
+        let sizes = [1e-30f32, 1.5e-30, 1e-7, 0.3, 1.0, 7.0, 1e30];
+        let coordinates = [0.0f32, -0.0, 1.0, -1.0, 0.5, 3.0, 1e-20];
+        for k in 0..20_000 {
+            let signs = [0, 1, 2].map(|_| if rng.next() < 0.0 { -1.0 } else { 1.0 });
+            let lo = [0, 1, 2].map(|_| coordinates[index(&mut rng, 7)] + rng.next().max(0.0));
+            let hi: [f32; 3] = std::array::from_fn(|a| {
+                let flat = k % 3 == 0 && a == k % 9 / 3;
+                lo[a] + if flat { 0.0 } else { 2.0 * rng.next().abs() }
+            });
+            let n = 1 + index(&mut rng, PACKET);
+            let rays: Vec<Ray> = (0..n)
+                .map(|_| {
+                    let dir: [f32; 3] = std::array::from_fn(|a| {
+                        let size = match rng.next() < -0.4 {
+                            true => sizes[index(&mut rng, sizes.len())],
+                            false => 0.01 + rng.next().abs(),
+                        };
+                        signs[a] * size
+                    });
+                    let origin: [f32; 3] = std::array::from_fn(|a| match index(&mut rng, 4) {
+                        0 => lo[a],
+                        1 => hi[a],
+                        2 => coordinates[index(&mut rng, 7)],
+                        _ => 4.0 * rng.next(),
+                    });
+                    Ray::new(Vec3::from_array(origin), Vec3::from_array(dir))
+                })
+                .collect();
+            let Some(p) = PacketData::new(&rays) else {
                 continue;
             };
-            for node in &bvh.nodes {
-                for lane in (0..WIDTH).filter(|&lane| is_leaf(node.child(lane).1)) {
-                    let is_small = p.small_beside(&node.lane_planes(lane), 4.0);
-                    (small, wide) = (small + is_small as u32, wide + !is_small as u32);
-                }
+            let lane = index(&mut rng, WIDTH);
+            let mut node = Node::EMPTY;
+            node.set_bounds(lane, &bounds(lo, hi));
+            let t_min = [0.0, 1e-4, -1.0, 0.5][k % 4];
+            let limits: [f32; PACKET] = std::array::from_fn(|i| {
+                let own = RayData::new(&rays[i.min(n - 1)]);
+                let entry = own.enter(&node, GROUPS, t_min, f32::INFINITY).1[lane / 4][lane % 4];
+                let below = |t: f32| f32::from_bits(t.to_bits().wrapping_sub(1));
+                [
+                    f32::INFINITY,
+                    entry,
+                    below(entry),
+                    entry / PAD,
+                    below(entry / PAD),
+                    entry / PAD / PAD,
+                    f32::NAN,
+                    10.0 * rng.next().abs(),
+                ][index(&mut rng, 8)]
+            });
+            let far: [Vec4; RAY_GROUPS] =
+                std::array::from_fn(|g| Vec4::from_slice(&limits[4 * g..4 * g + 4]));
+            let lanes = RayLanes::new(&rays);
+            let mask = lanes.entering(&node.lane_planes(lane), &p.near_plane, t_min, &far);
+            assert_eq!(mask >> n, 0, "packet {k}: a lane past its rays");
+            for (i, ray) in rays.iter().enumerate() {
+                let (own, near) = RayData::new(ray).enter(&node, GROUPS, t_min, limits[i]);
+                let own = own & (1 << lane) != 0;
+                assert_eq!(mask & (1 << i) != 0, own, "packet {k}, ray {i}");
+                by_padding += (own && near[lane / 4][lane % 4] > limits[i]) as u32;
+                checked += 1;
             }
         }
+        assert!(checked > 50_000, "{checked} rays");
         assert!(
-            small > 10_000 && wide > 10_000,
-            "{small} small, {wide} wide"
+            by_padding > 100,
+            "{by_padding} rays let in by the padding alone"
+        );
+    }
+
+    fn bounds(lo: [f32; 3], hi: [f32; 3]) -> super::super::build::Aabb {
+        super::super::build::Aabb {
+            min: glam::Vec3A::from_array(lo),
+            max: glam::Vec3A::from_array(hi),
+        }
+    }
+
+    /// A flat grid of 28,800 small triangles with shared edges, a sphere
+    /// of 4,096, copies of some of them (ties), and 200 small spheres; and
+    /// the grid's and the sphere's vertices and edge midpoints, to aim at.
+    fn fine_scene() -> (Vec<Object>, [Vec<Vec3>; 2]) {
+        let mut objects = Vec::new();
+        let mut targets = [Vec::new(), Vec::new()];
+        let triangle =
+            |a, b, c, material| Object::new(Shape::Triangle(Triangle::new(a, b, c)), material);
+        let n = 120;
+        let grid = |i: usize, j: usize| {
+            let at = |k: usize| -2.0 + 4.0 * k as f32 / n as f32;
+            Vec3::new(at(i), at(j), 0.0)
+        };
+        for i in 0..n {
+            for j in 0..n {
+                let [a, b, c, d] = [
+                    grid(i, j),
+                    grid(i + 1, j),
+                    grid(i + 1, j + 1),
+                    grid(i, j + 1),
+                ];
+                let (first, second, diagonal) = match (i + j) % 2 {
+                    0 => ((a, b, c), (a, c, d), 0.5 * (a + c)),
+                    _ => ((a, b, d), (b, c, d), 0.5 * (b + d)),
+                };
+                objects.push(triangle(first.0, first.1, first.2, 0));
+                objects.push(triangle(second.0, second.1, second.2, 1));
+                targets[0].extend([a, 0.5 * (a + b), diagonal]);
+            }
+        }
+        let (center, radius, around, down) = (Vec3::new(0.3, -0.2, 1.0), 0.7, 64, 32);
+        let sphere = |i: usize, j: usize| {
+            let phi = std::f32::consts::TAU * (i % around) as f32 / around as f32;
+            let theta = std::f32::consts::PI * j as f32 / down as f32;
+            let (sin, cos) = (theta.sin(), theta.cos());
+            center + radius * Vec3::new(sin * phi.cos(), sin * phi.sin(), cos)
+        };
+        let first = objects.len();
+        for i in 0..around {
+            for j in 0..down {
+                let [a, b, c, d] = [
+                    sphere(i, j),
+                    sphere(i + 1, j),
+                    sphere(i + 1, j + 1),
+                    sphere(i, j + 1),
+                ];
+                objects.push(triangle(a, b, c, 2));
+                objects.push(triangle(a, c, d, 0));
+                targets[1].extend([a, 0.5 * (a + c), 0.5 * (a + b)]);
+            }
+        }
+        let copies: Vec<Object> = objects[first..].iter().step_by(5).cloned().collect();
+        objects.extend(copies);
+        let mut rng = Rng(0xABCD_1234);
+        for _ in 0..200 {
+            let c = rng.vec(2.0) * Vec3::new(1.0, 1.0, 0.0) + Vec3::new(0.0, 0.0, 0.05);
+            objects.push(Object::new(Shape::Sphere(Sphere::new(c, 0.02)), 1));
+        }
+        (objects, targets)
+    }
+
+    /// Two unit vectors square to `d` and to each other.
+    fn across(d: Vec3) -> (Vec3, Vec3) {
+        let u = d
+            .cross(if d.x.abs() < 0.9 { Vec3::X } else { Vec3::Y })
+            .normalize();
+        (u, d.normalize().cross(u))
+    }
+
+    /// Packets on a fine mesh, whose leaves are small beside them: 4 x 4
+    /// packets from one origin with one ray aimed at a vertex or an edge,
+    /// packets from many origins toward one point, some with tiny
+    /// components; limits and shadow lengths at a ray's own hit distance
+    /// and one ulp past it. (A limit a ten-thousandth short of each ray's
+    /// own, in either walk, fails it.)
+    #[test]
+    fn packets_on_a_fine_mesh_find_exactly_the_brute_force_hits() {
+        let (objects, targets) = fine_scene();
+        let bvh = Bvh::build(&objects);
+        let mut rng = Rng(0x1234_5678_9ABC_DEF1);
+        let pick = |rng: &mut Rng, v: &[Vec3]| {
+            v[((rng.next() + 1.0) * 0.5 * v.len() as f32) as usize % v.len()]
+        };
+        let nearest = |ray: &Ray| brute_force::closest_hit(&objects, ray, 1e-4, f32::INFINITY);
+        let next_up = |t: f32| f32::from_bits(t.to_bits() + 1);
+        let (mut hits, mut blocked, mut together) = (0, 0, 0);
+        for k in 0..800 {
+            let mut rays: Vec<Ray> = Vec::new();
+            match k % 5 {
+                0 | 1 => {
+                    let target = pick(&mut rng, &targets[k % 2]);
+                    let origin = Vec3::new(
+                        3.0 * rng.next(),
+                        3.0 * rng.next(),
+                        3.0 + 3.0 * rng.next().abs(),
+                    );
+                    let aim = target - origin;
+                    let (u, v) = across(aim);
+                    let step = [1e-4, 1e-3, 4e-3, 2e-2][(k / 4) % 4] * aim.length();
+                    for (a, b) in (0..16).map(|i| ((i % 4) as f32 - 1.0, (i / 4) as f32 - 1.0)) {
+                        rays.push(Ray::new(origin, aim + (a * u + b * v) * step));
+                    }
+                }
+                2 => {
+                    // Straight down at the grid, x and y tiny or zero.
+                    let target = pick(&mut rng, &targets[0]);
+                    let origin = Vec3::new(target.x, target.y, 1.0 + 4.0 * rng.next().abs());
+                    let spread = [0.0, 1e-5, 1e-3][(k / 4) % 3];
+                    let tiny = [1e-20, 1e-29, 1e-7][(k / 12) % 3];
+                    for (a, b) in (0..16).map(|i| ((i % 4) as f32, (i / 4) as f32)) {
+                        rays.push(Ray::new(
+                            origin,
+                            Vec3::new(tiny + a * spread, tiny + b * spread, -1.0),
+                        ));
+                    }
+                }
+                3 => {
+                    // Rays from many origins above the grid toward one
+                    // point below it: they meet its flat leaves where
+                    // their boxes begin.
+                    let target = pick(&mut rng, &targets[0]);
+                    let spacing = [0.002, 0.02, 0.1][(k / 5) % 3];
+                    let below = target - Vec3::new(0.1 * rng.next(), 0.1 * rng.next(), 0.5);
+                    let top = target + (target - below) * (1.0 + rng.next().abs());
+                    for i in 0..16 {
+                        let origin = top + Vec3::new((i % 4) as f32, (i / 4) as f32, 0.0) * spacing;
+                        rays.push(Ray::new(origin, below - origin));
+                    }
+                }
+                _ => {
+                    // Shadow rays from the grid toward a light placed so
+                    // that the first passes through a vertex of the sphere.
+                    let (vertex, base) = (pick(&mut rng, &targets[1]), pick(&mut rng, &targets[0]));
+                    let spacing = [0.002, 0.02, 0.1][(k / 4) % 3];
+                    let light = vertex + (vertex - base) * (0.5 + rng.next().abs());
+                    for i in 0..16 {
+                        let origin =
+                            base + Vec3::new((i % 4) as f32, (i / 4) as f32, 0.0) * spacing;
+                        rays.push(Ray::new(origin, (light - origin).normalize()));
+                    }
+                }
+            }
+            rays.truncate(if k % 7 == 3 { 1 + (k / 7) % 16 } else { 16 });
+            let first = nearest(&rays[0]);
+            let t_max = match k % 3 {
+                0 => first.map_or(f32::INFINITY, |h| h.t),
+                1 => first.map_or(f32::INFINITY, |h| next_up(h.t)),
+                _ => f32::INFINITY,
+            };
+            let mut found = vec![None; rays.len()];
+            bvh.closest_hits(&rays, 1e-4, t_max, &mut found);
+            let lengths: Vec<f32> = rays
+                .iter()
+                .enumerate()
+                .map(|(i, ray)| match (nearest(ray), i % 3) {
+                    (Some(h), 0) => h.t,
+                    (Some(h), 1) => next_up(h.t),
+                    _ => 2.0 + i as f32 * 0.3,
+                })
+                .collect();
+            let occluded = bvh.occluded_together(&rays, 1e-4, &lengths);
+            for (i, ray) in rays.iter().enumerate() {
+                let expected = brute_force::closest_hit(&objects, ray, 1e-4, t_max);
+                assert_eq!(found[i], expected, "packet {k}, ray {i}");
+                let any = brute_force::occluded(&objects, ray, 1e-4, lengths[i]);
+                assert_eq!(occluded & (1 << i) != 0, any, "packet {k}, shadow ray {i}");
+                (hits, blocked) = (hits + expected.is_some() as u32, blocked + any as u32);
+            }
+            together += (rays.len() > 1 && PacketData::new(&rays).is_some()) as u32;
+        }
+        assert!(together > 600, "{together} packets searched together");
+        assert!(
+            hits > 5_000 && blocked > 3_000,
+            "{hits} hits, {blocked} blocked"
         );
     }
 

@@ -233,7 +233,8 @@ pub(super) struct Entry {
     pub(super) count: u32,
     pub(super) t: f32,
     /// The node and lane that refer to it, as `node * WIDTH + lane`: where
-    /// a packet finds a leaf's box, to test it ray by ray.
+    /// a packet finds a leaf's box, to test it ray by ray (an entry of 16
+    /// bytes, where it was 12; unused for the root and by single rays).
     pub(super) from: u32,
 }
 
