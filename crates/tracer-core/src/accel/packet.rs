@@ -245,6 +245,55 @@ impl RayLanes {
     }
 }
 
+/// Which of a packet's rays test a leaf: all, or where the leaf is small
+/// beside the packet, those whose own slab test enters its box (the lanes
+/// made at the first such leaf).
+struct LeafFilter<'a> {
+    rays: &'a [Ray],
+    packet: &'a PacketData,
+    lanes: Option<RayLanes>,
+}
+
+impl<'a> LeafFilter<'a> {
+    fn new(rays: &'a [Ray], packet: &'a PacketData) -> Self {
+        LeafFilter {
+            rays,
+            packet,
+            lanes: None,
+        }
+    }
+
+    /// The rays (a bit mask) that test the leaf `entry` of `nodes` (its box
+    /// read from the node lane that pushed it), each within (t_min, its
+    /// lane of `far`].
+    #[inline(always)]
+    fn rays_entering(
+        &mut self,
+        nodes: &[Node],
+        entry: Entry,
+        t_min: f32,
+        far: impl FnOnce() -> [Vec4; RAY_GROUPS],
+    ) -> u32 {
+        let from = entry.from as usize;
+        let planes = nodes[from / WIDTH].lane_planes(from % WIDTH);
+        if !self.packet.small_beside(&planes, entry.t) {
+            return all(self.rays.len());
+        }
+        let lanes = self.lanes.get_or_insert_with(|| RayLanes::new(self.rays));
+        lanes.entering(&planes, &self.packet.near_plane, t_min, &far())
+    }
+}
+
+/// `value(i)` for each ray i of a packet, one to a lane.
+#[inline(always)]
+fn by_lane(value: impl Fn(usize) -> f32) -> [Vec4; RAY_GROUPS] {
+    let mut lanes = [Vec4::ZERO; RAY_GROUPS];
+    for i in 0..PACKET {
+        lanes[i / 4][i % 4] = value(i);
+    }
+    lanes
+}
+
 /// The best hits so far of a packet's rays, and the farthest of them.
 pub(super) struct Bests {
     of: [Best; PACKET],
@@ -270,11 +319,7 @@ impl Bests {
     /// Each ray's reach (`Best::reach`), one to a lane (see `RayLanes`).
     #[inline(always)]
     fn far(&self) -> [Vec4; RAY_GROUPS] {
-        let mut far = [Vec4::ZERO; RAY_GROUPS];
-        for (i, best) in self.of.iter().enumerate() {
-            far[i / 4][i % 4] = best.t;
-        }
-        far
+        by_lane(|i| self.of[i].t)
     }
 }
 
@@ -286,13 +331,6 @@ impl Reach for Bests {
 }
 
 impl Bvh {
-    /// The box of the leaf `entry`, from the lane of the node that holds it.
-    #[inline(always)]
-    fn leaf_planes(&self, entry: Entry) -> [f32; 6] {
-        let from = entry.from as usize;
-        self.nodes[from / WIDTH].lane_planes(from % WIDTH)
-    }
-
     /// Whether the primitives are searched through a tree (not flat, as a
     /// small scene's): what packets walk together.
     pub fn has_tree(&self) -> bool {
@@ -339,17 +377,11 @@ impl Bvh {
         bests: &mut Bests,
     ) {
         let ray4 = rays4(rays);
-        let mut lanes = None;
+        let mut filter = LeafFilter::new(rays, packet);
         bests.update_reach();
         with_stack(|stack| {
             walk_nearest(&self.nodes, packet, t_min, bests, stack, |entry, bests| {
-                let planes = self.leaf_planes(entry);
-                let entering = if packet.small_beside(&planes, entry.t) {
-                    let lanes = lanes.get_or_insert_with(|| RayLanes::new(rays));
-                    lanes.entering(&planes, &packet.near_plane, t_min, &bests.far())
-                } else {
-                    all(rays.len())
-                };
+                let entering = filter.rays_entering(&self.nodes, entry, t_min, || bests.far());
                 match (leaf_run(entry), &packet.common_origin) {
                     ((false, run), Some(origin)) => {
                         let (ray4, of) = (&ray4, &mut bests.of);
@@ -440,27 +472,15 @@ impl Bvh {
         left: u32,
     ) -> u32 {
         let ray4 = rays4(rays);
-        let mut lanes = None;
-        let far = || {
-            let mut far = [Vec4::ZERO; RAY_GROUPS];
-            for i in 0..PACKET {
-                far[i / 4][i % 4] = t_max[i.min(rays.len() - 1)];
-            }
-            far
-        };
+        let mut filter = LeafFilter::new(rays, packet);
+        let far = by_lane(|i| t_max[i.min(rays.len() - 1)]);
         let reach = (0..rays.len())
             .filter(|&i| left & (1 << i) != 0)
             .fold(f32::NEG_INFINITY, |reach, i| reach.max(t_max[i]));
         let mut open = left;
         with_stack(|stack| {
             walk_any(&self.nodes, packet, (t_min, reach), stack, |entry| {
-                let planes = self.leaf_planes(entry);
-                let entering = if packet.small_beside(&planes, entry.t) {
-                    let (lanes, far) = lanes.get_or_insert_with(|| (RayLanes::new(rays), far()));
-                    lanes.entering(&planes, &packet.near_plane, t_min, far)
-                } else {
-                    open
-                };
+                let entering = filter.rays_entering(&self.nodes, entry, t_min, || far);
                 for i in ones(open & entering) {
                     if self.any_in_leaf(&rays[i], &ray4[i], entry, (t_min, t_max[i])) {
                         open &= !(1 << i);
