@@ -6,6 +6,7 @@ use crate::accel::PACKET;
 use crate::aov::{Aov, AovContext};
 use crate::geometry::SurfaceHit;
 use crate::image::LinearImage;
+use crate::integrate::lanes::LaneScene;
 use crate::integrate::whitted::Whitted;
 use crate::integrate::RayStats;
 use crate::ray::{Ray, NO_RAY};
@@ -262,6 +263,9 @@ struct PixelRenderer<'a> {
     thin_lens: bool,
     output: Output,
     aov: AovContext,
+    /// The scene shaded four rays at a time, if it is one of the simple
+    /// scenes that path handles (`integrate::lanes`).
+    lanes: Option<LaneScene>,
     /// Read before each packet of a pixel's samples (`PACKET` of them): a
     /// pixel of thousands of samples stops too when the render is given up.
     cancel: &'a AtomicBool,
@@ -278,6 +282,9 @@ impl<'a> PixelRenderer<'a> {
             thin_lens: scene.camera().lens.is_some(),
             output: job.output,
             aov: AovContext::new(scene),
+            lanes: (job.output == Output::Shading)
+                .then(|| LaneScene::new(scene))
+                .flatten(),
             cancel,
         }
     }
@@ -463,6 +470,10 @@ impl<'a> PixelRenderer<'a> {
             for (ray, colour) in rays.iter().zip(colours) {
                 *colour = self.aov_of(ray, None);
             }
+            return;
+        }
+        if let Some(lanes) = &self.lanes {
+            lanes.trace(rays, colours, &mut tracer.stats);
             return;
         }
         let mut hits = [None; PACKET];

@@ -14,7 +14,7 @@ use crate::EPSILON;
 use glam::Vec3;
 
 /// The lab's threshold on the cosines of the diffuse and specular terms.
-const COS_THRESHOLD: f32 = 0.001;
+pub(super) const COS_THRESHOLD: f32 = 0.001;
 
 /// Surfaces a shadow ray may pass through before it counts as blocked: a
 /// bound on the walk through a stack of glass.
