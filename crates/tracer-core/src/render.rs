@@ -265,7 +265,7 @@ struct PixelRenderer<'a> {
     aov: AovContext,
     /// The scene shaded four rays at a time, if it is one of the simple
     /// scenes that path handles (`integrate::lanes`).
-    lanes: Option<LaneScene>,
+    lanes: Option<&'a LaneScene>,
     /// Read before each packet of a pixel's samples (`PACKET` of them): a
     /// pixel of thousands of samples stops too when the render is given up.
     cancel: &'a AtomicBool,
@@ -282,9 +282,7 @@ impl<'a> PixelRenderer<'a> {
             thin_lens: scene.camera().lens.is_some(),
             output: job.output,
             aov: AovContext::new(scene),
-            lanes: (job.output == Output::Shading)
-                .then(|| LaneScene::new(scene))
-                .flatten(),
+            lanes: scene.lanes().filter(|_| job.output == Output::Shading),
             cancel,
         }
     }
@@ -472,8 +470,13 @@ impl<'a> PixelRenderer<'a> {
             }
             return;
         }
-        if let Some(lanes) = &self.lanes {
-            lanes.trace(rays, colours, &mut tracer.stats);
+        if let Some(lanes) = self.lanes {
+            lanes.trace(
+                self.scene.trace_settings(),
+                rays,
+                colours,
+                &mut tracer.stats,
+            );
             return;
         }
         let mut hits = [None; PACKET];

@@ -5,6 +5,7 @@ use crate::accel::{brute_force, Bvh};
 use crate::camera::Camera;
 use crate::geometry::{Object, Shape, SharedMesh, SurfaceHit};
 use crate::image::Encoding;
+use crate::integrate::lanes::LaneScene;
 use crate::light::Light;
 use crate::material::Material;
 use crate::ray::Ray;
@@ -49,6 +50,11 @@ pub struct Scene {
     /// `unique_primitives`, counted before a lean scene let its objects go.
     primitives: usize,
     bounds: Option<(Vec3, Vec3)>,
+    /// The scene as the four-lane shading reads it, if it is one of the
+    /// small plain scenes that path shades (kept when the objects are let
+    /// go; not serialized: a scene read back shades one ray at a time).
+    #[serde(skip)]
+    lanes: Option<Box<LaneScene>>,
     /// Whether the objects were let go (`Scene::lean`).
     #[serde(serialize_with = "only_lean")]
     lean: bool,
@@ -125,7 +131,9 @@ impl Scene {
         let bounds = bvh.bounds();
         let accel = Accel::Bvh(bvh);
         let transparency = parts.materials.iter().any(Material::is_transparent);
+        let lanes = LaneScene::new(&parts.objects, &parts.materials, &parts.lights).map(Box::new);
         Scene {
+            lanes,
             primitives: unique_primitives(&parts.objects),
             bounds,
             lean: false,
@@ -182,6 +190,12 @@ impl Scene {
     /// is not serialized).
     pub fn has_instances(&self) -> bool {
         self.accel.has_instances()
+    }
+
+    /// The scene as the four-lane shading reads it (`integrate::lanes`),
+    /// if it is one that path shades.
+    pub(crate) fn lanes(&self) -> Option<&LaneScene> {
+        self.lanes.as_deref()
     }
 
     pub fn camera(&self) -> &Camera {

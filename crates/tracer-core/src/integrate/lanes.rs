@@ -9,11 +9,11 @@
 
 use super::whitted::COS_THRESHOLD;
 use super::RayStats;
-use crate::geometry::{Shape, Triangle};
+use crate::geometry::{Object, Shape, Triangle};
 use crate::light::Light;
 use crate::material::{Material, Phong};
 use crate::ray::Ray;
-use crate::scene::Scene;
+use crate::scene::TraceSettings;
 use crate::EPSILON;
 use glam::{BVec4A, Vec3, Vec4};
 use std::ops::{Add, Div, Mul, Neg, Sub};
@@ -24,20 +24,17 @@ const MAX_OBJECTS: usize = 8;
 
 /// A scene ready to be shaded in lanes: its objects in the scene's order
 /// (the first listed wins a tie, as in the one-ray search), their
-/// materials, the point lights and the settings.
-#[derive(Debug)]
+/// materials and the point lights.
+#[derive(Debug, Clone)]
 pub struct LaneScene {
     prims: Vec<Prim>,
     surfaces: Vec<Surface>,
     lights: Vec<(Vec3, Vec3)>,
-    background: Vec3,
-    max_depth: u32,
-    min_energy: f32,
 }
 
 /// One object as its test needs it, with what the one-ray test computes
 /// anew on each call worked out once (the same values).
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 enum Prim {
     Sphere {
         center: Vec3,
@@ -53,7 +50,7 @@ enum Prim {
 
 /// What shading reads of an object: its normal (a triangle's, constant) or
 /// centre (a sphere's), and its material.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 struct Surface {
     sphere: bool,
     center: Vec3,
@@ -62,30 +59,26 @@ struct Surface {
 }
 
 impl LaneScene {
-    /// The scene in lanes, if it is one they shade: up to `MAX_OBJECTS`
-    /// spheres and flat triangles, every light a point, every material
-    /// Blinn-Phong without a texture.
-    pub fn new(scene: &Scene) -> Option<LaneScene> {
-        let objects = scene.objects();
+    /// The scene of `objects`, `materials` and `lights` in lanes, if it is one they shade: up to `MAX_OBJECTS` spheres and flat
+    /// triangles, every light a point, every material Blinn-Phong without
+    /// a texture.
+    pub fn new(objects: &[Object], materials: &[Material], lights: &[Light]) -> Option<LaneScene> {
         if objects.is_empty() || objects.len() > MAX_OBJECTS {
             return None;
         }
         let mut lane_scene = LaneScene {
             prims: Vec::with_capacity(objects.len()),
             surfaces: Vec::with_capacity(objects.len()),
-            lights: Vec::with_capacity(scene.lights().len()),
-            background: scene.trace_settings().background,
-            max_depth: scene.trace_settings().max_depth,
-            min_energy: scene.trace_settings().min_energy,
+            lights: Vec::with_capacity(lights.len()),
         };
-        for light in scene.lights() {
+        for light in lights {
             let Light::Point(point) = light else {
                 return None;
             };
             lane_scene.lights.push((point.position, point.color));
         }
         for object in objects {
-            let material = plain_phong(scene.material(object.material))?;
+            let material = plain_phong(&materials[object.material])?;
             let (prim, surface) = match &object.shape {
                 Shape::Sphere(s) => (
                     Prim::Sphere {
@@ -106,12 +99,19 @@ impl LaneScene {
     }
 
     /// The colours of `rays` (up to 16 primary rays, energy 1, depth 0)
-    /// into `colours`, counting the rays traced into `stats`.
-    pub fn trace(&self, rays: &[Ray], colours: &mut [Vec3], stats: &mut RayStats) {
+    /// under the recursion settings `trace` into `colours`, counting the
+    /// rays traced into `stats`.
+    pub fn trace(
+        &self,
+        trace: &TraceSettings,
+        rays: &[Ray],
+        colours: &mut [Vec3],
+        stats: &mut RayStats,
+    ) {
         for (rays, colours) in rays.chunks(4).zip(colours.chunks_mut(4)) {
             let active = BVec4A::from_array(std::array::from_fn(|k| k < rays.len()));
             let lanes = Rays4::new(rays);
-            let colour = self.trace4(&lanes, active, Vec4::ONE, 0, stats);
+            let colour = self.trace4(trace, &lanes, (active, Vec4::ONE, 0), stats);
             for (k, c) in colours.iter_mut().enumerate() {
                 *c = colour.lane(k);
             }
@@ -122,14 +122,13 @@ impl LaneScene {
     /// scaled by its `energy`; `depth` is the lab's ray-tree counter.
     fn trace4(
         &self,
+        trace: &TraceSettings,
         rays: &Rays4,
-        active: BVec4A,
-        energy: Vec4,
-        depth: u32,
+        (active, energy, depth): (BVec4A, Vec4, u32),
         stats: &mut RayStats,
     ) -> V3 {
         stats.nearest += count(active);
-        let missed = V3::splat(self.background) * energy;
+        let missed = V3::splat(trace.background) * energy;
         let (t, which) = self.nearest(rays, active);
         let hit = which.cmpge(Vec4::ZERO);
         if !hit.any() {
@@ -138,12 +137,12 @@ impl LaneScene {
         let p = rays.at(t);
         let at = self.shading_point(&which, hit, p);
         let mut colour = self.local(rays, p, &at, hit, stats) * energy;
-        if depth < self.max_depth {
-            let reflect = hit & at.reflective & energy.cmpgt(Vec4::splat(self.min_energy));
+        if depth < trace.max_depth {
+            let reflect = hit & at.reflective & energy.cmpgt(Vec4::splat(trace.min_energy));
             if reflect.any() {
                 let reflected = rays.reflected(p, at.n);
                 let energy = energy * at.reflectance;
-                let more = self.trace4(&reflected, reflect, energy, depth + 1, stats);
+                let more = self.trace4(trace, &reflected, (reflect, energy, depth + 1), stats);
                 colour = V3::select(reflect, colour + more, colour);
             }
         }
@@ -546,11 +545,11 @@ fn count(mask: BVec4A) -> u64 {
 mod tests {
     use super::*;
     use crate::camera::Camera;
-    use crate::geometry::{Object, Plane, Sphere};
+    use crate::geometry::{Plane, Sphere};
     use crate::image::Encoding;
     use crate::integrate::whitted::Whitted;
     use crate::material::Glass;
-    use crate::scene::{SceneParts, TraceSettings};
+    use crate::scene::{Scene, SceneParts};
     use crate::texture::{ColorTexture, Texture};
     use std::sync::Arc;
 
@@ -650,12 +649,12 @@ mod tests {
         let (mut primary, mut totals, mut lit) = (0, RayStats::default(), 0);
         for case in 0..60 {
             let scene = Scene::new(random_parts(&mut numbers));
-            let lanes = LaneScene::new(&scene).expect("a scene the lanes shade");
+            let lanes = scene.lanes().expect("a scene the lanes shade");
             for packet in 0..40 {
                 let n = 1 + numbers.below(16);
                 let rays: Vec<Ray> = (0..n).map(|_| random_ray(&mut numbers)).collect();
                 let (mut colours, mut stats) = ([Vec3::ZERO; 16], RayStats::default());
-                lanes.trace(&rays, &mut colours[..n], &mut stats);
+                lanes.trace(scene.trace_settings(), &rays, &mut colours[..n], &mut stats);
                 let mut whitted = Whitted::new(&scene);
                 for (k, ray) in rays.iter().enumerate() {
                     let expected = whitted.trace(ray, 1.0, 0);
@@ -690,11 +689,12 @@ mod tests {
             parts.objects[0] = Object::new(Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0)), 0);
             parts
         };
-        assert!(LaneScene::new(&Scene::new(plain())).is_some());
+        assert!(Scene::new(plain()).lanes().is_some());
+        assert!(Scene::lean(plain()).lanes().is_some());
         let refused = |change: &dyn Fn(&mut SceneParts)| {
             let mut parts = plain();
             change(&mut parts);
-            LaneScene::new(&Scene::new(parts)).is_none()
+            Scene::new(parts).lanes().is_none()
         };
         assert!(refused(&|p| p.objects.clear()));
         assert!(refused(
