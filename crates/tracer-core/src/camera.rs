@@ -121,6 +121,13 @@ impl Camera {
     /// `ray`'s order, so each ray is `ray`'s, bit for bit.
     #[inline(always)]
     pub fn pinhole_rays4(&self, fx: Vec4, fy: Vec4) -> [Ray; 4] {
+        let [x, y, z] = self.pinhole_dirs4(fx, fy);
+        std::array::from_fn(|k| Ray::new(self.eye, Vec3::new(x[k], y[k], z[k])))
+    }
+
+    /// The unit directions of `pinhole_rays4`, by lane: x, y and z.
+    #[inline(always)]
+    pub fn pinhole_dirs4(&self, fx: Vec4, fy: Vec4) -> [Vec4; 3] {
         let p = &self.projection;
         // projection * (fx, fy, 1), a row at a time; z times 1 is z.
         let row = |c: usize| {
@@ -130,8 +137,7 @@ impl Camera {
         // normalize: times 1 / sqrt((x x + y y) + z z).
         let length = Vec4::from_array((x * x + y * y + z * z).to_array().map(f32::sqrt));
         let recip = Vec4::ONE / length;
-        let (x, y, z) = (x * recip, y * recip, z * recip);
-        std::array::from_fn(|k| Ray::new(self.eye, Vec3::new(x[k], y[k], z[k])))
+        [x * recip, y * recip, z * recip]
     }
 
     /// The primary ray of pixel (column i, row j), through its centre.

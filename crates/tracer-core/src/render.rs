@@ -13,7 +13,7 @@ use crate::ray::{Ray, NO_RAY};
 use crate::sampling::{concentric_disk, Rng, Shuffle, Strata};
 use crate::scene::Scene;
 use crate::EPSILON;
-use glam::{Vec2, Vec3, Vec4};
+use glam::{BVec4A, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -312,6 +312,10 @@ impl<'a> PixelRenderer<'a> {
         tracer: &mut Whitted,
         mut put: impl FnMut(u32, u32, Vec3),
     ) {
+        if let Some(lanes) = self.lanes.filter(|_| !self.thin_lens) {
+            self.render_block_in_lanes(lanes, block, (x0, y0), &mut tracer.stats, put);
+            return;
+        }
         let places =
             || (block.y0..block.y1).flat_map(|y| (block.x0..block.x1).map(move |x| (x, y)));
         let mut points = [(Vec2::ZERO, Vec2::ZERO, Rng::new(0)); PACKET];
@@ -324,6 +328,35 @@ impl<'a> PixelRenderer<'a> {
         self.trace_points(&points[..n], tracer, &mut colours[..n]);
         for ((x, y), colour) in places().zip(colours) {
             put(x, y, colour);
+        }
+    }
+
+    /// `render_block` for a scene shaded in lanes through a pinhole: each
+    /// row of the block (up to four pixels) is one group of lanes, its
+    /// rays made in place (`Camera::pinhole_dirs4`, the rays of
+    /// `camera_rays`), without the random numbers nothing there draws.
+    #[inline(always)]
+    fn render_block_in_lanes(
+        &self,
+        lanes: &LaneScene,
+        block: Region,
+        (x0, y0): (u32, u32),
+        stats: &mut RayStats,
+        mut put: impl FnMut(u32, u32, Vec3),
+    ) {
+        let (camera, trace) = (self.scene.camera(), self.scene.trace_settings());
+        let width = block.width().min(4);
+        let active = BVec4A::from_array(std::array::from_fn(|k| (k as u32) < width));
+        // A short row repeats its last pixel in the lanes past it.
+        let column = |k: u32| (x0 + block.x0 + k.min(width - 1)) as f32 + 0.5;
+        let fx = Vec4::from_array(std::array::from_fn(|k| column(k as u32)));
+        for y in block.y0..block.y1 {
+            let fy = Vec4::splat((y0 + y) as f32 + 0.5);
+            let rays = (camera.eye, camera.pinhole_dirs4(fx, fy));
+            let colours = lanes.trace_dirs(trace, rays, active, stats);
+            for (k, colour) in (0..width).zip(colours) {
+                put(block.x0 + k, y, colour);
+            }
         }
     }
 

@@ -118,6 +118,21 @@ impl LaneScene {
         }
     }
 
+    /// The colours of the `active` lanes of four primary rays from
+    /// `origin` along `dirs` (x, y and z by lane), under the recursion
+    /// settings `trace`, counting the rays traced into `stats`.
+    pub fn trace_dirs(
+        &self,
+        trace: &TraceSettings,
+        (origin, [x, y, z]): (Vec3, [Vec4; 3]),
+        active: BVec4A,
+        stats: &mut RayStats,
+    ) -> [Vec3; 4] {
+        let rays = Rays4::from_lanes(V3::splat(origin), V3 { x, y, z });
+        let colour = self.trace4(trace, &rays, (active, Vec4::ONE, 0), stats);
+        std::array::from_fn(|k| colour.lane(k))
+    }
+
     /// `Whitted::trace` of the `active` lanes of `rays`, each already
     /// scaled by its `energy`; `depth` is the lab's ray-tree counter.
     fn trace4(
@@ -678,6 +693,29 @@ mod tests {
         );
         assert!(totals.nearest > primary + primary / 10, "{totals:?}");
         assert!(totals.shadow > primary / 4, "{totals:?}");
+    }
+
+    #[test]
+    fn an_image_shaded_in_lanes_is_the_one_ray_image() {
+        // An odd size: the driver's blocks of 4 x 4 pixels are cut short at
+        // the right and bottom edges.
+        let mut numbers = Numbers(0xB10C);
+        for case in 0..8 {
+            let mut parts = random_parts(&mut numbers);
+            parts.camera = Camera::new(Vec3::Z * 6.0, Vec3::ZERO, Vec3::Y, 60.0, 37, 23);
+            let scene = Scene::new(parts);
+            assert!(scene.lanes().is_some());
+            let rendered = crate::render(&scene, &crate::RenderJob::full(&scene), &|_| {});
+            let mut whitted = Whitted::new(&scene);
+            for j in 0..23 {
+                for i in 0..37 {
+                    let expected = whitted.trace(&scene.camera().primary_ray(i, j), 1.0, 0);
+                    let found = rendered.image.get(i, j);
+                    assert_eq!(bits(found), bits(expected), "case {case}, pixel ({i}, {j})");
+                }
+            }
+            assert_eq!(rendered.rays, whitted.stats, "case {case}");
+        }
     }
 
     #[test]
