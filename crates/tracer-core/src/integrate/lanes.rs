@@ -78,20 +78,22 @@ impl LaneScene {
             lane_scene.lights.push((point.position, point.color));
         }
         for object in objects {
-            let material = plain_phong(&materials[object.material])?;
+            // The shape first: an instance's own `material` is not an index
+            // the scene checks.
             let (prim, surface) = match &object.shape {
                 Shape::Sphere(s) => (
                     Prim::Sphere {
                         center: s.center,
                         radius2: s.radius * s.radius,
                     },
-                    Surface::sphere(s.center, material),
+                    Surface::sphere(s.center),
                 ),
                 Shape::Triangle(t) if object.vertex_normals.is_none() => {
-                    (Prim::triangle(t), Surface::flat(t, material))
+                    (Prim::triangle(t), Surface::flat(t))
                 }
                 _ => return None,
             };
+            let surface = surface.with(plain_phong(&materials[object.material])?);
             lane_scene.prims.push(prim);
             lane_scene.surfaces.push(surface);
         }
@@ -301,24 +303,28 @@ impl Prim {
 }
 
 impl Surface {
-    fn sphere(center: Vec3, material: Phong) -> Surface {
+    fn sphere(center: Vec3) -> Surface {
         Surface {
             sphere: true,
             center,
             normal: Vec3::ZERO,
-            material,
+            material: Phong::default_grey(),
         }
     }
 
     /// A flat triangle: its normal as `SurfaceHit::on_triangle` finds it.
-    fn flat(t: &Triangle, material: Phong) -> Surface {
+    fn flat(t: &Triangle) -> Surface {
         let (e1, e2, _) = t.edges();
         Surface {
             sphere: false,
             center: Vec3::ZERO,
             normal: e1.cross(e2).normalize(),
-            material,
+            material: Phong::default_grey(),
         }
+    }
+
+    fn with(self, material: Phong) -> Surface {
+        Surface { material, ..self }
     }
 }
 
@@ -560,7 +566,7 @@ fn count(mask: BVec4A) -> u64 {
 mod tests {
     use super::*;
     use crate::camera::Camera;
-    use crate::geometry::{Plane, Sphere};
+    use crate::geometry::{Instance, Placement, Plane, SharedMesh, Sphere};
     use crate::image::Encoding;
     use crate::integrate::whitted::Whitted;
     use crate::material::Glass;
@@ -693,6 +699,98 @@ mod tests {
         );
         assert!(totals.nearest > primary + primary / 10, "{totals:?}");
         assert!(totals.shadow > primary / 4, "{totals:?}");
+    }
+
+    /// Objects on a small grid, so that rays aimed at their corners, edge
+    /// midpoints and poles meet them exactly there: quads of two triangles
+    /// sharing an edge, zero-area triangles, a sphere and the triangle
+    /// tangent to it (listed either way), zero and tiny radii; and those
+    /// points, to aim at.
+    fn grid_parts(numbers: &mut Numbers) -> (SceneParts, Vec<Vec3>) {
+        let mut parts = random_parts(numbers);
+        let (mut objects, mut points) = (Vec::new(), vec![Vec3::ZERO]);
+        let grid = |numbers: &mut Numbers| numbers.vec(2.0).round();
+        while objects.len() < MAX_OBJECTS - 1 {
+            let (c, m) = (grid(numbers), numbers.below(3));
+            let triangle = |a, b, c| Object::new(Shape::Triangle(Triangle::new(a, b, c)), m);
+            let sphere = |r| Object::new(Shape::Sphere(Sphere::new(c, r)), m);
+            match numbers.below(4) {
+                0 => {
+                    let (a, b) = (c + Vec3::X, c + Vec3::X + Vec3::Y);
+                    objects.extend([triangle(c, a, b), triangle(c, b, c + Vec3::Y)]);
+                    points.extend([c, b, (c + b) * 0.5, (c + a) * 0.5]);
+                }
+                1 => {
+                    let d = grid(numbers);
+                    objects.push(triangle(c, c + d, c + d * 2.0));
+                    points.extend([c, c + d]);
+                }
+                2 => {
+                    let pole = c + Vec3::Z;
+                    let flat = triangle(pole - Vec3::X, pole + Vec3::X, pole + Vec3::Y);
+                    // Another material: which of the two wins shows.
+                    let round = Object::new(Shape::Sphere(Sphere::new(c, 1.0)), (m + 1) % 3);
+                    let pair = if numbers.below(2) == 0 {
+                        [flat, round]
+                    } else {
+                        [round, flat]
+                    };
+                    objects.extend(pair);
+                    // A corner, and the middles of the edges from it.
+                    let half = |p: Vec3| (pole - Vec3::X + p) * 0.5;
+                    points.extend([pole - Vec3::X, pole, half(pole + Vec3::Y), c + Vec3::X]);
+                }
+                _ => {
+                    objects.push(sphere(numbers.pick(&[0.0, 1e-3, 0.5, 1.0])));
+                    points.extend([c, c + Vec3::Y * 0.5]);
+                }
+            }
+        }
+        parts.objects = objects;
+        (parts, points)
+    }
+
+    #[test]
+    fn lanes_meet_edges_vertices_poles_and_ties_as_the_one_ray_path_does() {
+        let mut numbers = Numbers(0xED6E);
+        for case in 0..300 {
+            let (parts, points) = grid_parts(&mut numbers);
+            let scene = Scene::new(parts);
+            let lanes = scene.lanes().expect("a scene the lanes shade");
+            let mut rays = Vec::new();
+            for &target in &points {
+                // Along the axes (exactly through edges and poles) and from afar.
+                let from = [Vec3::Z * 5.0, -Vec3::X * 4.0, numbers.vec(6.0)];
+                rays.extend(from.map(|f| Ray::new(target + f, -f.normalize())));
+            }
+            for packet in rays.chunks(1 + case % 16) {
+                let (mut colours, mut stats) = ([Vec3::ZERO; 16], RayStats::default());
+                lanes.trace(
+                    scene.trace_settings(),
+                    packet,
+                    &mut colours[..packet.len()],
+                    &mut stats,
+                );
+                let mut whitted = Whitted::new(&scene);
+                for (ray, found) in packet.iter().zip(colours) {
+                    let expected = whitted.trace(ray, 1.0, 0);
+                    assert_eq!(bits(found), bits(expected), "case {case}, {ray:?}");
+                }
+                assert_eq!(stats, whitted.stats, "case {case}");
+            }
+        }
+    }
+
+    #[test]
+    fn an_instance_is_refused_before_its_material_is_read() {
+        // An instance's own `material` need not index the scene's list.
+        let mut parts = random_parts(&mut Numbers(11));
+        let t = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y);
+        let mesh = SharedMesh::new(vec![Object::new(Shape::Triangle(t), 0)]);
+        let instance = Instance::new(Arc::new(mesh), Placement::IDENTITY, vec![0]);
+        let instance = Shape::Instance(Arc::new(instance.expect("an instance")));
+        parts.objects = vec![Object::new(instance, 99)];
+        assert!(Scene::new(parts).lanes().is_none());
     }
 
     #[test]
