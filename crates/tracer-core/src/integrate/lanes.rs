@@ -59,9 +59,9 @@ struct Surface {
 }
 
 impl LaneScene {
-    /// The scene of `objects`, `materials` and `lights` in lanes, if it is one they shade: up to `MAX_OBJECTS` spheres and flat
-    /// triangles, every light a point, every material Blinn-Phong without
-    /// a texture.
+    /// The scene of `objects`, `materials` and `lights` in lanes, if it
+    /// is one they shade: up to `MAX_OBJECTS` spheres and flat triangles,
+    /// every light a point, every material Blinn-Phong without a texture.
     pub fn new(objects: &[Object], materials: &[Material], lights: &[Light]) -> Option<LaneScene> {
         if objects.is_empty() || objects.len() > MAX_OBJECTS {
             return None;

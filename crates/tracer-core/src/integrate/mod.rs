@@ -1,7 +1,7 @@
 //! Integrators: what colour a ray brings back. Today the lab's Whitted-style
 //! `rayTrace`; others (path tracing, ...) would sit beside it.
 
-pub mod lanes;
+pub(crate) mod lanes;
 pub mod whitted;
 
 /// How many rays of each kind a render traced.
