@@ -124,11 +124,8 @@ impl LaneScene {
     ) {
         for (rays, colours) in rays.chunks(4).zip(colours.chunks_mut(4)) {
             let active = BVec4A::from_array(std::array::from_fn(|k| k < rays.len()));
-            let lanes = Rays4::new(rays);
-            let colour = self.trace4(trace, &lanes, (active, Vec4::ONE, 0), stats);
-            for (k, c) in colours.iter_mut().enumerate() {
-                *c = colour.lane(k);
-            }
+            let found = self.primary(trace, &Rays4::new(rays), active, stats);
+            colours.copy_from_slice(&found[..colours.len()]);
         }
     }
 
@@ -143,7 +140,19 @@ impl LaneScene {
         stats: &mut RayStats,
     ) -> [Vec3; 4] {
         let rays = Rays4::from_lanes(V3::splat(origin), V3 { x, y, z });
-        let colour = self.trace4(trace, &rays, (active, Vec4::ONE, 0), stats);
+        self.primary(trace, &rays, active, stats)
+    }
+
+    /// The colours of the `active` lanes of primary rays `rays` (energy 1,
+    /// depth 0), by lane.
+    fn primary(
+        &self,
+        trace: &TraceSettings,
+        rays: &Rays4,
+        active: BVec4A,
+        stats: &mut RayStats,
+    ) -> [Vec3; 4] {
+        let colour = self.trace4(trace, rays, (active, Vec4::ONE, 0), stats);
         std::array::from_fn(|k| colour.lane(k))
     }
 
