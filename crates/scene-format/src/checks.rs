@@ -4,7 +4,7 @@
 
 use crate::error::SceneError;
 use crate::locate::locate_all;
-use crate::model::{SceneFile, ShapeRef, Vec3};
+use crate::model::{Integrator, SceneFile, ShapeRef, Vec3};
 use crate::obj::mesh_warnings;
 use crate::{Diagnostic, Format, KeyPath};
 use std::path::Path;
@@ -27,7 +27,15 @@ pub fn invalid(
 /// what was meant. The meshes' warnings come first.
 pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
     let mut warnings = mesh_warnings(scene);
-    if scene.lights.is_empty() {
+    let path_mode = scene.render.integrator == Integrator::Path;
+    if path_mode {
+        if scene.lights.is_empty() && !emits(scene) && scene.render.background == [0.0; 3] {
+            warnings.push(Diagnostic::new(
+                "lights",
+                "no lights, no emissive material and a black background: nothing gives off light, so the image is black; add [[lights]] or a material with `emission`",
+            ));
+        }
+    } else if scene.lights.is_empty() {
         // The lab adds ambient once per light: no light, no light at all.
         warnings.push(Diagnostic::new(
             "lights",
@@ -56,6 +64,9 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
             materials.push((root.key("objects").index(i).key("material"), m));
         }
     }
+    if path_mode {
+        path_materials(&mut warnings, &materials);
+    }
     for (path, m) in &materials {
         over_one(&mut warnings, path, m);
         unseen_texture(&mut warnings, path, m);
@@ -68,12 +79,12 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
     }
     open_glass(&mut warnings, scene);
     let transparent = materials.iter().any(|(_, m)| m.transmittance > 0.0);
-    if transparent && scene.render.max_depth < 2 {
+    if transparent && scene.render.max_depth() < 2 {
         warnings.push(Diagnostic::new(
             "render.max_depth",
             format!(
                 "{}: a ray can enter a transparent object but not leave it, so glass looks dark; try max_depth = 8",
-                scene.render.max_depth
+                scene.render.max_depth()
             ),
         ));
     }
@@ -87,6 +98,58 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
         ));
     }
     warnings
+}
+
+/// Whether some material of the scene gives off light.
+fn emits(scene: &SceneFile) -> bool {
+    let inline = scene.objects.iter().filter_map(|o| match &o.material {
+        Some(crate::MaterialRef::Inline(m)) => Some(m),
+        _ => None,
+    });
+    scene
+        .materials
+        .values()
+        .chain(inline)
+        .any(crate::Material::is_emissive)
+}
+
+/// What the path tracer reads differently from the lab: `ambient`, which
+/// stands in for light that really bounces there (one warning, at the first
+/// material that has it), and materials that would reflect more light than
+/// they receive.
+fn path_materials(warnings: &mut Vec<Diagnostic>, materials: &[(KeyPath, &crate::Material)]) {
+    if let Some((path, _)) = materials.iter().find(|(_, m)| m.ambient != [0.0; 3]) {
+        warnings.push(Diagnostic::new(
+            path.key("ambient"),
+            "ignored in path mode: ambient stands in for light bounced between objects, which the path tracer computes (this warning is given once)",
+        ));
+    }
+    for (path, m) in materials {
+        let sum = albedo_sum(m);
+        if sum > 1.0 + 1e-6 {
+            warnings.push(Diagnostic::new(
+                (*path).clone(),
+                format!(
+                    "its albedos sum to {sum} (the largest channel of diffuse + specular + reflectance + transmittance, or 1 for `fresnel` glass): it would give back more light than it receives, so in path mode each is scaled by 1/{sum}"
+                ),
+            ));
+        }
+    }
+}
+
+/// The largest channel of the share of light a material sends back in path
+/// mode, before any scaling: its Lambertian, Blinn-Phong, mirror and
+/// transmitted shares (the Fresnel split's reflected and transmitted
+/// shares add up to at most 1).
+pub fn albedo_sum(m: &crate::Material) -> f32 {
+    let interface = if m.fresnel {
+        1.0
+    } else {
+        m.reflectance + m.transmittance
+    };
+    (0..3)
+        .map(|c| m.diffuse[c] + m.specular[c] + interface)
+        .fold(0.0, f32::max)
 }
 
 /// Glass on a lone triangle: a ray enters it and never leaves, so

@@ -125,45 +125,110 @@ pub enum Saturation {
 }
 
 /// How rays are traced and the image encoded; every key left out takes
-/// the lab's value.
+/// the lab's value (or, for `max_depth` and `saturation`, the path
+/// tracer's own default in path mode).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct RenderSettings {
-    /// The lab's MAX_RAY_TREE: how many mirror bounces (and glass
-    /// crossings) a ray may take, at most 64. Default 1.
+    /// How light is computed: "whitted" (the lab's `rayTrace`: local
+    /// Blinn-Phong, shadows, mirrors, glass) or "path" (path tracing:
+    /// the global model of light, where objects light each other and
+    /// emissive materials are area lights). Default "whitted".
+    pub integrator: Integrator,
+    /// With "whitted", the lab's MAX_RAY_TREE: how many mirror bounces (and
+    /// glass crossings) a ray may take. With "path", the longest path, as
+    /// pbrt-v4's `maxdepth`: 0 shows only emitters seen directly, 1 adds
+    /// direct light, each more one bounce of indirect light (Mitsuba 3's
+    /// `max_depth` is this + 1, Blender Cycles' `max_bounces` this - 1).
+    /// At most 64. Default 1 with "whitted", 7 with "path".
+    #[serde(skip_serializing_if = "Option::is_none")]
     #[schemars(range(max = 64))]
-    pub max_depth: u32,
+    pub max_depth: Option<u32>,
     /// The lab's MIN_RAY_ENERGY: no bounce once the energy falls to this.
-    /// Default 0.01.
+    /// Whitted only. Default 0.01.
     #[schemars(range(min = 0))]
     pub min_energy: f32,
-    /// The colour of rays that leave the scene (linear, channels from 0 to
-    /// 1). Default [0, 0, 0].
+    /// The colour of rays that leave the scene (linear, channels >= 0).
+    /// With "path" it is a uniform sky that also lights the scene (found by
+    /// the paths' bounces, not sampled as a light). Default [0, 0, 0].
     #[schemars(inner(range(min = 0)))]
     pub background: Color,
     /// A pixel with a channel above 1: "white" (the lab's rule: the whole
-    /// pixel white) or "clamp" (each channel to 1 on its own). Default "white".
-    pub saturation: Saturation,
+    /// pixel white) or "clamp" (each channel to 1 on its own). Default
+    /// "white" with "whitted", "clamp" with "path" (light sources and their
+    /// highlights are far above 1 there).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub saturation: Option<Saturation>,
     /// Display gamma; 1.0 writes linear values. Default 2.2.
     #[schemars(extend("exclusiveMinimum" = 0))]
     pub gamma: f32,
     /// Samples per pixel: 1 is one ray through the pixel's centre (the
     /// lab); more are stratified and jittered over the pixel (anti-aliasing).
-    /// Default 1.
-    #[schemars(range(min = 1, max = 4096))]
+    /// With "path", the paths per pixel. From 1 to 4096 with "whitted", to
+    /// 65536 with "path". Default 1.
+    #[schemars(range(min = 1, max = 65536))]
     pub samples: u32,
-    /// Shadow rays per light of `radius` > 0 at each shaded point. Default 16.
+    /// Shadow rays per light of `radius` > 0 at each shaded point. Whitted
+    /// only: the path tracer samples a sphere light as an emitter, one
+    /// point per bounce. Default 16.
     #[schemars(range(min = 1, max = 4096))]
     pub light_samples: u32,
+}
+
+/// Which way light is computed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum Integrator {
+    /// The lab's `rayTrace` (Whitted-style): local light, shadows, mirrors
+    /// and glass.
+    #[default]
+    Whitted,
+    /// Unidirectional path tracing with next-event estimation and multiple
+    /// importance sampling: objects light each other.
+    Path,
+}
+
+impl Integrator {
+    pub fn name(self) -> &'static str {
+        match self {
+            Integrator::Whitted => "whitted",
+            Integrator::Path => "path",
+        }
+    }
+}
+
+/// `render.max_depth` left out: the lab's MAX_RAY_TREE.
+pub const WHITTED_MAX_DEPTH: u32 = 1;
+/// `render.max_depth` left out in path mode: Mitsuba 3's default
+/// (`max_depth = 8`, which counts one more).
+pub const PATH_MAX_DEPTH: u32 = 7;
+
+impl RenderSettings {
+    /// `max_depth`, or the integrator's default when left out.
+    pub fn max_depth(&self) -> u32 {
+        self.max_depth.unwrap_or(match self.integrator {
+            Integrator::Whitted => WHITTED_MAX_DEPTH,
+            Integrator::Path => PATH_MAX_DEPTH,
+        })
+    }
+
+    /// `saturation`, or the integrator's default when left out.
+    pub fn saturation(&self) -> Saturation {
+        self.saturation.unwrap_or(match self.integrator {
+            Integrator::Whitted => Saturation::White,
+            Integrator::Path => Saturation::Clamp,
+        })
+    }
 }
 
 impl Default for RenderSettings {
     fn default() -> Self {
         RenderSettings {
-            max_depth: 1,
+            integrator: Integrator::Whitted,
+            max_depth: None,
             min_energy: 0.01,
             background: [0.0, 0.0, 0.0],
-            saturation: Saturation::White,
+            saturation: None,
             gamma: 2.2,
             samples: 1,
             light_samples: 16,
@@ -171,7 +236,10 @@ impl Default for RenderSettings {
     }
 }
 
-/// A light: a point, or a sphere with `radius`.
+/// A light: a point, or a sphere with `radius`. In path mode a point
+/// light's `color` is its intensity (its light falls off with the square
+/// of the distance: 1 gives an irradiance of 1 at distance 1, facing it),
+/// and a sphere light is a sphere that emits, of the same total light.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Light {
@@ -218,6 +286,13 @@ pub struct Material {
     /// 0 = no mirror reflection, 1 = perfect mirror. Default 0.
     #[schemars(range(min = 0, max = 1))]
     pub reflectance: f32,
+    /// Light the surface gives off (linear radiance, channels >= 0, on the
+    /// side its normal faces): every object with this material is an area
+    /// light in path mode, and shows this colour in Whitted mode (seen and
+    /// mirrored, lighting nothing). Not on a `plane`: an infinite emitter
+    /// cannot be sampled (use a `quad`). Default [0, 0, 0].
+    #[schemars(inner(range(min = 0)))]
+    pub emission: Color,
     /// A built-in texture's name ("lab-stripes": multiplies the whole
     /// local colour, as the lab), or a table: an image
     /// (`{ image = "wood.png" }`) or a checkerboard
@@ -254,7 +329,15 @@ impl Default for Material {
             ior: DEFAULT_IOR,
             fresnel: false,
             absorption: [0.0; 3],
+            emission: [0.0; 3],
         }
+    }
+}
+
+impl Material {
+    /// Whether the material gives off light.
+    pub fn is_emissive(&self) -> bool {
+        self.emission.iter().any(|&c| c > 0.0)
     }
 }
 

@@ -102,6 +102,8 @@ fn scene_material(
         specular: m.specular.unwrap_or_default(),
         shininess: m.shininess.unwrap_or_default(),
         transmittance: transmittance(m, out),
+        // `Ke`: the emitted radiance, as exporters write area lights.
+        emission: m.emissive.unwrap_or_default(),
         ..Material::default()
     };
     if let Some(ior) = m.optical_density.filter(|&n| n > 0.0) {
@@ -176,6 +178,7 @@ fn keep_valid(name: &str, material: &mut Material, out: &mut ObjMaterials) {
             "shininess" => ("Ns", |m| m.shininess = 0.0),
             "transmittance" => ("d` or `Tr", |m| m.transmittance = 0.0),
             "ior" => ("Ni", |m| m.ior = crate::model::DEFAULT_IOR),
+            "emission" => ("Ke", |m| m.emission = [0.0; 3]),
             _ => ("", |_| {}),
         };
         reset(material);

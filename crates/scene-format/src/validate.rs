@@ -48,6 +48,9 @@ pub const SCALE_RANGE: (f32, f32) = (1e-6, 1e6);
 /// Largest `render.samples` and `render.light_samples`: 4096 rays per
 /// pixel is beyond what a reference image needs.
 pub const MAX_SAMPLES: u32 = 4096;
+/// Largest `render.samples` in path mode: a reference image of the path
+/// tracer takes tens of thousands of paths per pixel.
+pub const MAX_PATH_SAMPLES: u32 = 65536;
 
 /// All problems found in `scene`, in file order.
 pub fn validate(scene: &SceneFile) -> Vec<Diagnostic> {
@@ -242,10 +245,10 @@ impl Validator {
     }
 
     fn render(&mut self, path: &KeyPath, r: &RenderSettings) {
-        if r.max_depth > MAX_DEPTH_CAP {
+        if r.max_depth() > MAX_DEPTH_CAP {
             self.error(
                 path.key("max_depth"),
-                format!("expected at most {MAX_DEPTH_CAP}, found {}", r.max_depth),
+                format!("expected at most {MAX_DEPTH_CAP}, found {}", r.max_depth()),
             );
         }
         if self.finite(path.key("min_energy"), r.min_energy) && r.min_energy < 0.0 {
@@ -261,13 +264,33 @@ impl Validator {
                 format!("expected a number > 0, found {}", r.gamma),
             );
         }
-        for (key, n) in [("samples", r.samples), ("light_samples", r.light_samples)] {
-            if n == 0 || n > MAX_SAMPLES {
+        let samples = path.key("samples");
+        match r.integrator {
+            Integrator::Whitted if r.samples > MAX_SAMPLES => self.error(
+                samples,
+                format!(
+                    "expected 1 to {MAX_SAMPLES} samples, found {}; more are allowed with integrator = \"path\"",
+                    r.samples
+                ),
+            ),
+            _ if r.samples == 0 || r.samples > MAX_PATH_SAMPLES => {
+                let max = match r.integrator {
+                    Integrator::Whitted => MAX_SAMPLES,
+                    Integrator::Path => MAX_PATH_SAMPLES,
+                };
                 self.error(
-                    path.key(key),
-                    format!("expected 1 to {MAX_SAMPLES} samples, found {n}"),
-                );
+                    samples,
+                    format!("expected 1 to {max} samples, found {}", r.samples),
+                )
             }
+            _ => {}
+        }
+        let n = r.light_samples;
+        if n == 0 || n > MAX_SAMPLES {
+            self.error(
+                path.key("light_samples"),
+                format!("expected 1 to {MAX_SAMPLES} samples, found {n}"),
+            );
         }
     }
 
@@ -275,6 +298,7 @@ impl Validator {
         self.color(path.key("ambient"), m.ambient);
         self.color(path.key("diffuse"), m.diffuse);
         self.color(path.key("specular"), m.specular);
+        self.color(path.key("emission"), m.emission);
         let shin = path.key("shininess");
         if self.finite(&shin, m.shininess) && m.shininess < 0.0 {
             self.error(
@@ -425,6 +449,23 @@ impl Validator {
         }
         if let Some(t) = &o.texture {
             self.texture(&path.key("texture"), t);
+        }
+        self.emissive_plane(path, o, scene);
+    }
+
+    /// An emissive material on a plane: a light of infinite area, which no
+    /// light sampling can pick a point of.
+    fn emissive_plane(&mut self, path: &KeyPath, o: &Object, scene: &SceneFile) {
+        let material = match &o.material {
+            Some(MaterialRef::Inline(m)) => Some(m),
+            Some(MaterialRef::Named(name)) => scene.materials.get(name),
+            None => None,
+        };
+        if o.plane.is_some() && material.is_some_and(Material::is_emissive) {
+            self.error(
+                path.key("material"),
+                "expected a material without `emission` on a plane: an infinite plane cannot be sampled as a light; use a `quad` (or a `box`) of the size you need",
+            );
         }
     }
 

@@ -10,6 +10,7 @@
 
 pub mod accel;
 pub mod aov;
+pub mod bsdf;
 pub mod camera;
 mod gamma_table;
 pub mod geometry;
@@ -21,6 +22,7 @@ pub mod optics;
 pub mod prepare;
 pub mod ray;
 pub mod render;
+pub mod sampler;
 pub mod sampling;
 pub mod scene;
 pub mod texture;

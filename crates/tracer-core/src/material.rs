@@ -24,6 +24,19 @@ impl Material {
     pub fn is_transparent(&self) -> bool {
         matches!(self, Material::Glass(g) if g.transmittance > 0.0)
     }
+
+    /// The lab's surface colours (glass's seen from outside).
+    pub fn surface(&self) -> &Phong {
+        match self {
+            Material::Phong(p) => p,
+            Material::Glass(g) => &g.surface,
+        }
+    }
+
+    /// The radiance given off on the front side.
+    pub fn emission(&self) -> Vec3 {
+        self.surface().emission
+    }
 }
 
 /// The lab's Blinn-Phong material (section 4.1).
@@ -40,6 +53,9 @@ pub struct Phong {
     /// Multiplies `ambient` and `diffuse` at each hit (an image or a
     /// checkerboard); specular and reflection are left as they are.
     pub color_texture: Option<ColorTexture>,
+    /// Radiance given off on the front side (where the geometric normal
+    /// points): an area light in path mode, a colour seen in Whitted mode.
+    pub emission: Vec3,
 }
 
 impl Phong {
@@ -54,6 +70,7 @@ impl Phong {
             reflectance: 0.0,
             texture: None,
             color_texture: None,
+            emission: Vec3::ZERO,
         }
     }
 }

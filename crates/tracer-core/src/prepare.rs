@@ -8,7 +8,7 @@ use crate::geometry::{
 use crate::image::{Encoding, Saturation};
 use crate::light::Light;
 use crate::material::{Glass, Material, Phong};
-use crate::scene::{Scene, SceneParts, TraceSettings};
+use crate::scene::{Integrator, Scene, SceneParts, TraceSettings};
 use crate::texture::{Builtin, ColorTexture, ImageTexels, Texture, Wrap};
 use glam::{Vec2, Vec3};
 use scene_format as fmt;
@@ -174,17 +174,21 @@ fn light(l: &fmt::Light) -> Light {
 
 fn trace_settings(r: &fmt::RenderSettings) -> TraceSettings {
     TraceSettings {
-        max_depth: r.max_depth,
+        max_depth: r.max_depth(),
         min_energy: r.min_energy,
         background: r.background.into(),
         light_samples: r.light_samples,
+        integrator: match r.integrator {
+            fmt::Integrator::Whitted => Integrator::Whitted,
+            fmt::Integrator::Path => Integrator::Path,
+        },
     }
 }
 
 fn encoding(r: &fmt::RenderSettings) -> Encoding {
     Encoding {
         gamma: r.gamma,
-        saturation: saturation(r.saturation),
+        saturation: saturation(r.saturation()),
     }
 }
 
@@ -695,6 +699,7 @@ impl<'a> MaterialTable<'a> {
             reflectance: m.reflectance,
             texture: None,
             color_texture: None,
+            emission: m.emission.into(),
         };
         let surface = self.textured(path, surface, texture.or(m.texture.as_ref()))?;
         if m.transmittance == 0.0 && !m.fresnel {

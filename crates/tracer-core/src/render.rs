@@ -7,11 +7,12 @@ use crate::aov::{Aov, AovContext};
 use crate::geometry::SurfaceHit;
 use crate::image::LinearImage;
 use crate::integrate::lanes::LaneScene;
+use crate::integrate::path::PathTracer;
 use crate::integrate::whitted::Whitted;
 use crate::integrate::RayStats;
 use crate::ray::{Ray, NO_RAY};
 use crate::sampling::{concentric_disk, Rng, Shuffle, Strata};
-use crate::scene::Scene;
+use crate::scene::{Integrator, Scene};
 use crate::EPSILON;
 use glam::{BVec4A, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
@@ -172,7 +173,11 @@ pub fn render_into(
         .enumerate()
         .map(|(band, pixels)| {
             let top = region.y0 + band as u32 * BAND_ROWS;
-            let stats = render_band(&pixel, region, top, pixels);
+            let stats = if pixel.traces_paths() {
+                render_band_of_paths(&pixel, region, top, pixels)
+            } else {
+                render_band(&pixel, region, top, pixels)
+            };
             rows_done(pixels.len() as u32 / width);
             stats
         })
@@ -243,6 +248,29 @@ fn render_band(pixel: &PixelRenderer, region: Region, top: u32, pixels: &mut [Ve
                     pixels[(y * width + x) as usize] = colour;
                 });
             }
+        }
+    }
+    tracer.stats
+}
+
+/// `render_band` in path mode: each pixel the mean of its paths
+/// (`PathTracer::pixel`), row by row.
+fn render_band_of_paths(
+    pixel: &PixelRenderer,
+    region: Region,
+    top: u32,
+    pixels: &mut [Vec3],
+) -> RayStats {
+    let width = region.width();
+    let mut tracer = PathTracer::new(pixel.scene);
+    let cancelled = || pixel.cancel.load(Ordering::Relaxed);
+    for (y, row) in pixels.chunks_mut(width as usize).enumerate() {
+        if cancelled() {
+            break;
+        }
+        for (x, colour) in row.iter_mut().enumerate() {
+            let (i, j) = (region.x0 + x as u32, top + y as u32);
+            *colour = tracer.pixel(i, j, pixel.samples, cancelled);
         }
     }
     tracer.stats
@@ -522,6 +550,11 @@ impl<'a> PixelRenderer<'a> {
         for ((ray, hit), colour) in rays.iter().zip(hits).zip(colours) {
             *colour = self.aov_of(ray, hit.as_ref());
         }
+    }
+
+    /// Whether each pixel's colour is path traced.
+    fn traces_paths(&self) -> bool {
+        self.output == Output::Shading && self.scene.trace_settings().integrator == Integrator::Path
     }
 
     /// Whether the output depends on the primary rays' nearest hits.

@@ -3,11 +3,13 @@
 
 use crate::accel::{brute_force, Bvh};
 use crate::camera::Camera;
-use crate::geometry::{Object, Shape, SharedMesh, SurfaceHit};
+use crate::geometry::{Object, Shape, SharedMesh, Sphere, SurfaceHit};
 use crate::image::Encoding;
 use crate::integrate::lanes::LaneScene;
+use crate::light::area::AreaShape;
+use crate::light::lights::{AreaLight, Lights, PointSource};
 use crate::light::Light;
-use crate::material::Material;
+use crate::material::{Material, Phong};
 use crate::ray::Ray;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -25,6 +27,18 @@ pub struct TraceSettings {
     pub background: Vec3,
     /// Shadow rays per sphere light at each shaded point.
     pub light_samples: u32,
+    /// How light is computed.
+    pub integrator: Integrator,
+}
+
+/// How a render computes light.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum Integrator {
+    /// The lab's `rayTrace` (`integrate::whitted`).
+    #[default]
+    Whitted,
+    /// Path tracing (`integrate::path`).
+    Path,
 }
 
 /// A scene ready to render: the camera, the objects with their materials,
@@ -55,6 +69,9 @@ pub struct Scene {
     /// go; not serialized: a scene read back shades one ray at a time).
     #[serde(skip)]
     lanes: Option<Box<LaneScene>>,
+    /// Path mode's lights: point lights and emitting surfaces, chosen by
+    /// power (empty in Whitted mode).
+    path_lights: Lights,
     /// Whether the objects were let go (`Scene::lean`).
     #[serde(serialize_with = "only_lean")]
     lean: bool,
@@ -118,6 +135,11 @@ impl Scene {
     /// Panics if an object names a material that is not in the list: a
     /// mistake of the caller (`prepare` resolves every name first).
     pub fn new(parts: SceneParts) -> Scene {
+        let mut parts = parts;
+        let path_mode = parts.trace.integrator == Integrator::Path;
+        if path_mode {
+            sphere_lights_as_emitters(&mut parts);
+        }
         let count = parts.materials.len();
         let in_range = |o: &Object| match &o.shape {
             Shape::Instance(i) => i.materials().iter().all(|&m| m < count),
@@ -131,9 +153,19 @@ impl Scene {
         let bounds = bvh.bounds();
         let accel = Accel::Bvh(bvh);
         let transparency = parts.materials.iter().any(Material::is_transparent);
-        let lanes = LaneScene::new(&parts.objects, &parts.materials, &parts.lights).map(Box::new);
+        let lanes = if path_mode {
+            None
+        } else {
+            LaneScene::new(&parts.objects, &parts.materials, &parts.lights).map(Box::new)
+        };
+        let path_lights = if path_mode {
+            path_lights(&parts)
+        } else {
+            Lights::default()
+        };
         Scene {
             lanes,
+            path_lights,
             primitives: unique_primitives(&parts.objects),
             bounds,
             lean: false,
@@ -224,6 +256,11 @@ impl Scene {
         &self.lights
     }
 
+    /// Path mode's lights (empty in Whitted mode).
+    pub fn path_lights(&self) -> &Lights {
+        &self.path_lights
+    }
+
     pub fn trace_settings(&self) -> &TraceSettings {
         &self.trace
     }
@@ -303,6 +340,88 @@ impl Scene {
             Accel::BruteForce => brute_force::occluded(&self.objects, ray, t_min, t_max),
         }
     }
+}
+
+/// Path mode's reading of the lab's sphere lights: a sphere of the same
+/// size that emits, of the same total light (a sphere of radiance L and
+/// radius r sends pi r^2 L toward any far point, so L = I / (pi r^2), I the
+/// light's intensity), and absorbs what falls on it. Seen and met by
+/// paths as any emissive object.
+fn sphere_lights_as_emitters(parts: &mut SceneParts) {
+    for light in &parts.lights {
+        let Light::Sphere(s) = light else {
+            continue;
+        };
+        let area = std::f32::consts::PI * s.radius * s.radius;
+        let surface = Phong {
+            ambient: Vec3::ZERO,
+            diffuse: Vec3::ZERO,
+            specular: Vec3::ZERO,
+            emission: s.color / area,
+            ..Phong::default_grey()
+        };
+        parts.materials.push(Material::Phong(surface));
+        let sphere = Shape::Sphere(Sphere::new(s.centre, s.radius));
+        parts
+            .objects
+            .push(Object::new(sphere, parts.materials.len() - 1));
+    }
+}
+
+/// The lights path mode samples: the point lights, and every emitting
+/// triangle and sphere (an instance's emitting triangles placed in the
+/// world). Planes cannot be sampled: validation refuses emissive ones.
+fn path_lights(parts: &SceneParts) -> Lights {
+    let points = parts
+        .lights
+        .iter()
+        .filter_map(|light| match light {
+            Light::Point(p) => Some(PointSource {
+                position: p.position,
+                intensity: p.color,
+            }),
+            Light::Sphere(_) => None,
+        })
+        .collect();
+    let emission = |material: usize| parts.materials[material].emission();
+    let mut areas = Vec::new();
+    let mut sphere_objects = Vec::new();
+    let triangle = |[a, b, c]: [Vec3; 3], radiance: Vec3| {
+        let shape = AreaShape::triangle(a, b - a, c - a)?;
+        Some(AreaLight { shape, radiance })
+    };
+    for (index, object) in parts.objects.iter().enumerate() {
+        match &object.shape {
+            Shape::Triangle(t) if emission(object.material) != Vec3::ZERO => {
+                areas.extend(triangle([t.v0, t.v1, t.v2], emission(object.material)));
+            }
+            Shape::Instance(instance) => {
+                for o in instance.mesh().objects() {
+                    let Shape::Triangle(t) = &o.shape else {
+                        continue;
+                    };
+                    let slots = instance.materials();
+                    let material = *slots.get(o.material).unwrap_or(&slots[0]);
+                    if emission(material) != Vec3::ZERO {
+                        areas.extend(triangle(instance.world_triangle(t), emission(material)));
+                    }
+                }
+            }
+            _ => {}
+        }
+        if let Shape::Sphere(s) = &object.shape {
+            let radiance = emission(object.material);
+            if radiance != Vec3::ZERO {
+                let shape = AreaShape::Sphere {
+                    center: s.center,
+                    radius: s.radius,
+                };
+                areas.push(AreaLight { shape, radiance });
+                sphere_objects.push(index as u32);
+            }
+        }
+    }
+    Lights::new(points, areas, &sphere_objects)
 }
 
 /// The objects, and each shared mesh's triangles once.

@@ -365,6 +365,7 @@ fn glass(ior: f32, reflectance: f32, transmittance: f32, fresnel: bool) -> Glass
             reflectance,
             texture: None,
             color_texture: None,
+            emission: Vec3::ZERO,
         },
         transmittance,
         ior,

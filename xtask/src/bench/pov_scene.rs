@@ -51,7 +51,7 @@ pub fn pov_scene(scene: &SceneFile) -> String {
     let _ = writeln!(
         pov,
         "global_settings {{ assumed_gamma 1.0 max_trace_level {} adc_bailout {} ambient_light rgb {} }}",
-        r.max_depth + 1,
+        r.max_depth() + 1,
         num(r.min_energy),
         vec3(ambient_light)
     );

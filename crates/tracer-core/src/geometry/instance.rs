@@ -109,6 +109,19 @@ impl Instance {
         self.bounds
     }
 
+    /// The corners of the mesh's triangle `t` placed in the world, in an
+    /// order whose normal (`(v1 - v0) x (v2 - v0)`) faces as this
+    /// instance's hits on it do: a mirroring placement turns the vertex
+    /// order, not the normals (`world_hit`).
+    pub fn world_triangle(&self, t: &super::Triangle) -> [Vec3; 3] {
+        let [a, b, c] = [t.v0, t.v1, t.v2].map(|v| self.to_world.apply(v));
+        if self.to_world.mirrors() {
+            [a, c, b]
+        } else {
+            [a, b, c]
+        }
+    }
+
     /// `ray` in the mesh's coordinates; its direction keeps the scale the
     /// placement gives it, so distances `t` along both are the same.
     #[inline(always)]

@@ -291,7 +291,11 @@ impl LaneScene {
 /// A material the lanes shade: Blinn-Phong without a texture.
 fn plain_phong(material: &Material) -> Option<Phong> {
     match material {
-        Material::Phong(m) if m.texture.is_none() && m.color_texture.is_none() => Some(m.clone()),
+        Material::Phong(m)
+            if m.texture.is_none() && m.color_texture.is_none() && m.emission == Vec3::ZERO =>
+        {
+            Some(m.clone())
+        }
         _ => None,
     }
 }
@@ -685,6 +689,7 @@ mod tests {
                 min_energy: numbers.pick(&[0.01, 0.4]),
                 background: numbers.vec(0.3).abs() * numbers.below(2) as f32,
                 light_samples: 1,
+                integrator: Default::default(),
             },
             encoding: Encoding::default(),
             samples: 1,

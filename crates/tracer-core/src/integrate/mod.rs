@@ -1,7 +1,9 @@
-//! Integrators: what colour a ray brings back. Today the lab's Whitted-style
-//! `rayTrace`; others (path tracing, ...) would sit beside it.
+//! Integrators: what colour a ray brings back. The lab's Whitted-style
+//! `rayTrace` (`whitted.rs`, and its four-lane form for small plain scenes,
+//! `lanes.rs`), and path tracing beside it (`path.rs`).
 
 pub(crate) mod lanes;
+pub mod path;
 pub mod whitted;
 
 /// How many rays of each kind a render traced.
@@ -11,6 +13,9 @@ pub struct RayStats {
     pub nearest: u64,
     /// Shadow rays: any hit between a point and a light.
     pub shadow: u64,
+    /// Path samples whose value was not finite (NaN or infinite): left out
+    /// of their pixel's mean.
+    pub dropped: u64,
 }
 
 impl RayStats {
@@ -25,6 +30,7 @@ impl std::ops::Add for RayStats {
         RayStats {
             nearest: self.nearest + o.nearest,
             shadow: self.shadow + o.shadow,
+            dropped: self.dropped + o.dropped,
         }
     }
 }

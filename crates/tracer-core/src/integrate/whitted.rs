@@ -276,6 +276,11 @@ impl<'a> Whitted<'a> {
         let p = ray.at(hit.t);
         let n = hit.shading_normal;
         let mut colour = energy * self.textured_local(m, ray, hit);
+        if m.emission != Vec3::ZERO && hit.front_face {
+            // Seen (and mirrored), lighting nothing: Whitted mode has no
+            // area lights. Skipped otherwise, so the lab's sums stay.
+            colour += energy * m.emission;
+        }
         if m.reflectance > 0.0 && self.may_recurse(energy, depth) {
             let reflected = ray.reflected(p, n);
             colour += self.trace(&reflected, energy * m.reflectance, depth + 1);
@@ -296,6 +301,9 @@ impl<'a> Whitted<'a> {
         } else {
             Vec3::ZERO
         };
+        if g.surface.emission != Vec3::ZERO && hit.front_face {
+            colour += energy * g.surface.emission;
+        }
         let split = g.split(ray.dir(), hit);
         if self.may_recurse(energy, depth) {
             if split.reflected > 0.0 {

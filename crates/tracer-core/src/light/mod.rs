@@ -1,5 +1,12 @@
 //! Lights. An enum, so the shading loop dispatches statically; the lab's
 //! point light is one variant, the sphere light (soft shadows) another.
+//! Path mode reads them, and every emissive surface, as one list chosen
+//! by power (`lights.rs`): area lights' shapes in `area.rs`, the table
+//! that picks one in `alias.rs`.
+
+pub mod alias;
+pub mod area;
+pub mod lights;
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};

@@ -1,0 +1,68 @@
+//! The local frame of a shaded point: the BSDFs work with directions
+//! whose z is the cosine to the shading normal.
+
+use glam::Vec3;
+
+/// An orthonormal frame around a unit normal `n`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Frame {
+    pub s: Vec3,
+    pub t: Vec3,
+    pub n: Vec3,
+}
+
+impl Frame {
+    /// A frame around unit `n`, without branches on its direction (Duff et
+    /// al., "Building an orthonormal basis, revisited", 2017).
+    pub fn new(n: Vec3) -> Frame {
+        let sign = 1.0f32.copysign(n.z);
+        let a = -1.0 / (sign + n.z);
+        let b = n.x * n.y * a;
+        Frame {
+            s: Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+            t: Vec3::new(b, sign + n.y * n.y * a, -n.y),
+            n,
+        }
+    }
+
+    /// World direction `v` in this frame.
+    #[inline(always)]
+    pub fn to_local(&self, v: Vec3) -> Vec3 {
+        Vec3::new(v.dot(self.s), v.dot(self.t), v.dot(self.n))
+    }
+
+    /// Local direction `v` in the world.
+    #[inline(always)]
+    pub fn to_world(&self, v: Vec3) -> Vec3 {
+        v.x * self.s + v.y * self.t + v.z * self.n
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frames_are_orthonormal_and_round_trip() {
+        let normals = [
+            Vec3::Z,
+            -Vec3::Z,
+            Vec3::X,
+            Vec3::new(0.3, -0.4, 0.866).normalize(),
+            Vec3::new(1e-4, 1e-4, -1.0).normalize(),
+        ];
+        for n in normals {
+            let f = Frame::new(n);
+            for (a, b) in [(f.s, f.t), (f.s, f.n), (f.t, f.n)] {
+                assert!(a.dot(b).abs() < 1e-6, "{n}");
+            }
+            for v in [f.s, f.t, f.n] {
+                assert!((v.length() - 1.0).abs() < 1e-6, "{n}");
+            }
+            assert!((f.s.cross(f.t) - f.n).length() < 1e-5, "right-handed: {n}");
+            let v = Vec3::new(0.2, -0.7, 0.5);
+            assert!((f.to_world(f.to_local(v)) - v).length() < 1e-6);
+            assert!((f.to_local(n) - Vec3::Z).length() < 1e-6);
+        }
+    }
+}

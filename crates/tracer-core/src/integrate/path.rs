@@ -1,0 +1,240 @@
+//! Path tracing: the global model of light of lab section 1.5.1, where
+//! objects light each other. Unidirectional, as pbrt-v4's `PathIntegrator`
+//! and Mitsuba 3's `path`: at each bounce a light sample (next-event
+//! estimation) and a BSDF sample, combined by multiple importance sampling
+//! with the power heuristic, and Russian roulette once paths are long.
+//!
+//! `max_depth` counts as pbrt-v4's `maxdepth`: 0 shows only what emits,
+//! seen directly; 1 adds direct light; each more one bounce of indirect
+//! light.
+
+use super::RayStats;
+use crate::bsdf::Bsdf;
+use crate::geometry::SurfaceHit;
+use crate::material::Material;
+use crate::ray::Ray;
+use crate::sampler::PixelSampler;
+use crate::sampling::concentric_disk;
+use crate::scene::Scene;
+use crate::EPSILON;
+use glam::{Vec2, Vec3};
+
+/// Bounces before Russian roulette may end a path: the first few carry
+/// most of the light, and ending them early costs more noise than time.
+const ROULETTE_DEPTH: u32 = 3;
+
+/// How much shorter than a light sample's distance its shadow ray stops,
+/// relative: the light's own surface must not count as in the way.
+const SHADOW_SHORTEN: f32 = 1e-4;
+
+/// Traces paths through one scene, counting rays; one per thread.
+pub struct PathTracer<'a> {
+    scene: &'a Scene,
+    max_depth: u32,
+    /// Which set of scramblings the samples use (0 for renders).
+    seed: u32,
+    pub stats: RayStats,
+}
+
+/// What the last bounce knows of the direction it sent the path in.
+#[derive(Debug, Clone, Copy)]
+struct Bounce {
+    /// Where the path left from (where its light sample started).
+    from: Vec3,
+    /// The BSDF's density of the direction among its smooth lobes.
+    pdf: f32,
+    /// A specular lobe (or the camera): emitters met count whole.
+    specular: bool,
+}
+
+impl<'a> PathTracer<'a> {
+    pub fn new(scene: &'a Scene) -> Self {
+        PathTracer {
+            scene,
+            max_depth: scene.trace_settings().max_depth,
+            seed: 0,
+            stats: RayStats::default(),
+        }
+    }
+
+    /// The same tracer with another set of scramblings: independent
+    /// renders of the same scene (for tests of the noise).
+    pub fn with_seed(self, seed: u32) -> Self {
+        PathTracer { seed, ..self }
+    }
+
+    /// The same tracer with paths of at most `max_depth` (tests).
+    pub fn with_max_depth(self, max_depth: u32) -> Self {
+        PathTracer { max_depth, ..self }
+    }
+
+    /// Pixel (column i, row j): the mean of `samples` paths through it, a
+    /// sample whose value is not finite dropped (and counted). Gives up
+    /// between samples once `cancelled` says so.
+    pub fn pixel(&mut self, i: u32, j: u32, samples: u32, cancelled: impl Fn() -> bool) -> Vec3 {
+        let camera = self.scene.camera();
+        let mut sampler = PixelSampler::new(i, j, samples, self.seed);
+        let (mut sum, mut kept) = (Vec3::ZERO, 0u32);
+        for s in 0..samples {
+            if s % 64 == 63 && cancelled() {
+                break;
+            }
+            sampler.start(s);
+            let at = Vec2::new(i as f32, j as f32) + sampler.get2();
+            let lens = match camera.lens {
+                Some(_) => concentric_disk(sampler.get2()),
+                None => Vec2::ZERO,
+            };
+            let ray = camera.lens_ray(at.x, at.y, lens);
+            let radiance = self.radiance(ray, &mut sampler);
+            if radiance.is_finite() {
+                sum += radiance;
+                kept += 1;
+            } else {
+                self.stats.dropped += 1;
+            }
+        }
+        sum / kept.max(1) as f32
+    }
+
+    /// The radiance arriving along `ray` (from its origin), one path's
+    /// estimate, its random numbers from `sampler`.
+    pub fn radiance(&mut self, ray: Ray, sampler: &mut PixelSampler) -> Vec3 {
+        let scene = self.scene;
+        let mut ray = ray;
+        let (mut radiance, mut throughput) = (Vec3::ZERO, Vec3::ONE);
+        // The throughput without the eta^2 of refraction, for the roulette.
+        let mut eta_scale = 1.0;
+        let mut bounce = Bounce {
+            from: ray.origin(),
+            pdf: 0.0,
+            specular: true,
+        };
+        let mut depth = 0;
+        loop {
+            self.stats.nearest += 1;
+            let Some(hit) = scene.closest_hit(&ray, EPSILON, f32::INFINITY) else {
+                radiance += throughput * scene.trace_settings().background;
+                break;
+            };
+            let material = scene.material(hit.material);
+            if let Material::Glass(g) = material {
+                if !hit.front_face {
+                    // The path came through the inside.
+                    throughput *= g.absorbed_over(hit.t);
+                }
+            }
+            let p = ray.at(hit.t);
+            radiance += throughput * self.emitted(material, &hit, &ray, p, &bounce);
+            if depth == self.max_depth {
+                break;
+            }
+            depth += 1;
+            let wo = -ray.dir();
+            let bsdf = Bsdf::new(material, &hit, wo);
+            let from = if hit.front_face {
+                p + hit.shadow_offset
+            } else {
+                p
+            };
+            let (pick, u) = (sampler.get1(), sampler.get2());
+            if bsdf.has_smooth_lobes() {
+                radiance += throughput * self.light_sample(&bsdf, from, pick, u);
+            }
+            let (lobe, u) = (sampler.get1(), sampler.get2());
+            let Some(sample) = bsdf.sample(lobe, u) else {
+                break;
+            };
+            throughput *= sample.weight;
+            // Without the weight's eta^2: the roulette looks at energy.
+            eta_scale /= sample.eta * sample.eta;
+            bounce = Bounce {
+                from,
+                pdf: sample.pdf,
+                specular: sample.specular,
+            };
+            let survive = sampler.get1();
+            if depth >= ROULETTE_DEPTH {
+                let q = (throughput * eta_scale).max_element();
+                if q < 1.0 {
+                    if survive >= q {
+                        break;
+                    }
+                    throughput /= q;
+                }
+            }
+            if throughput == Vec3::ZERO {
+                break;
+            }
+            ray = Ray::new(p, sample.wi);
+        }
+        radiance
+    }
+
+    /// The light emitted toward the path by the surface it met at `p`,
+    /// weighted against the light sample that could have found it: whole
+    /// after the camera or a specular bounce, which no light sample can
+    /// take.
+    fn emitted(
+        &self,
+        material: &Material,
+        hit: &SurfaceHit,
+        ray: &Ray,
+        p: Vec3,
+        bounce: &Bounce,
+    ) -> Vec3 {
+        let emission = material.emission();
+        if emission == Vec3::ZERO || !hit.front_face {
+            return Vec3::ZERO;
+        }
+        if bounce.specular {
+            return emission;
+        }
+        let cos = -ray.dir().dot(hit.geometric_normal);
+        let lights = self.scene.path_lights();
+        let light_pdf = lights.pdf_hit(bounce.from, p, cos, emission, hit.object);
+        emission * power_heuristic(bounce.pdf, light_pdf)
+    }
+
+    /// Next-event estimation: the light a sampled point of a light (picked
+    /// by `pick`, drawn by `u`) sends through `bsdf` at `from`, if nothing
+    /// is in the way, weighted against the BSDF sample that could have
+    /// found it.
+    fn light_sample(&mut self, bsdf: &Bsdf, from: Vec3, pick: f32, u: Vec2) -> Vec3 {
+        let lights = self.scene.path_lights();
+        let Some(light) = lights.sample(from, pick, u) else {
+            return Vec3::ZERO;
+        };
+        let (f, bsdf_pdf) = bsdf.eval(light.wi);
+        if f == Vec3::ZERO || !(light.pdf > 0.0) {
+            return Vec3::ZERO;
+        }
+        self.stats.shadow += 1;
+        let shadow = Ray::new(from, light.wi);
+        let reach = light.distance * (1.0 - SHADOW_SHORTEN);
+        if self.scene.occluded(&shadow, EPSILON, reach) {
+            return Vec3::ZERO;
+        }
+        let weight = if light.point {
+            1.0
+        } else {
+            power_heuristic(light.pdf, bsdf_pdf)
+        };
+        f * light.radiance * (weight / light.pdf)
+    }
+}
+
+/// Veach's power heuristic (exponent 2) for one sample of each strategy:
+/// the weight of the strategy of density `a` at a point where the other
+/// has density `b`.
+#[inline(always)]
+pub fn power_heuristic(a: f32, b: f32) -> f32 {
+    let (a2, b2) = (a * a, b * b);
+    if a2.is_infinite() {
+        return 1.0;
+    }
+    if a2 + b2 == 0.0 {
+        return 0.0;
+    }
+    a2 / (a2 + b2)
+}

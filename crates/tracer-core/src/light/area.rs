@@ -1,0 +1,246 @@
+//! The shapes of area lights, and how a point of each is drawn as seen
+//! from a shaded point: a triangle by its area, a sphere by the cone of
+//! directions it fills (its visible cap, with no samples wasted on the
+//! far side).
+
+use crate::bsdf::Frame;
+use glam::{Vec2, Vec3};
+use serde::{Deserialize, Serialize};
+use std::f32::consts::PI;
+
+/// An emitting shape, in world space.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum AreaShape {
+    /// Emits toward `normal` (the geometric one, `e1 x e2` normalised).
+    Triangle {
+        v0: Vec3,
+        e1: Vec3,
+        e2: Vec3,
+        normal: Vec3,
+        area: f32,
+    },
+    /// Emits outward.
+    Sphere { center: Vec3, radius: f32 },
+}
+
+/// A point drawn on an area light, seen from a shaded point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AreaPoint {
+    pub point: Vec3,
+    /// Unit, from the shaded point toward `point`.
+    pub wi: Vec3,
+    pub distance: f32,
+    /// The density of `wi` (solid angle) given this shape was picked.
+    pub pdf: f32,
+}
+
+impl AreaShape {
+    /// The triangle `v0`, `v0 + e1`, `v0 + e2`; None without area.
+    pub fn triangle(v0: Vec3, e1: Vec3, e2: Vec3) -> Option<AreaShape> {
+        let cross = e1.cross(e2);
+        let normal = cross.try_normalize()?;
+        Some(AreaShape::Triangle {
+            v0,
+            e1,
+            e2,
+            normal,
+            area: 0.5 * cross.length(),
+        })
+    }
+
+    /// The area of the surface.
+    pub fn area(&self) -> f32 {
+        match self {
+            AreaShape::Triangle { area, .. } => *area,
+            AreaShape::Sphere { radius, .. } => 4.0 * PI * radius * radius,
+        }
+    }
+
+    /// A point of the shape facing `from`, drawn by `u`; None when the
+    /// point drawn faces away (a triangle seen from behind) or `from` is
+    /// inside a sphere (which emits outward only).
+    #[inline(always)]
+    pub fn sample(&self, from: Vec3, u: Vec2) -> Option<AreaPoint> {
+        match self {
+            AreaShape::Triangle {
+                v0,
+                e1,
+                e2,
+                normal,
+                area,
+            } => {
+                let (b1, b2) = square_to_triangle(u);
+                let point = *v0 + b1 * *e1 + b2 * *e2;
+                let to = point - from;
+                let distance2 = to.length_squared();
+                let distance = distance2.sqrt();
+                let wi = to / distance;
+                let cos = -wi.dot(*normal);
+                if cos <= 0.0 || !(distance > 0.0) {
+                    return None;
+                }
+                Some(AreaPoint {
+                    point,
+                    wi,
+                    distance,
+                    pdf: distance2 / (cos * area),
+                })
+            }
+            AreaShape::Sphere { center, radius } => sphere_sample(*center, *radius, from, u),
+        }
+    }
+
+    /// The density `sample` gives a direction from `from` that meets the
+    /// shape at `point`, whose cosine with the normal there is `cos`
+    /// (positive on the emitting side).
+    #[inline(always)]
+    pub fn pdf(&self, from: Vec3, point: Vec3, cos: f32) -> f32 {
+        match self {
+            AreaShape::Triangle { area, .. } => {
+                if cos <= 0.0 {
+                    return 0.0;
+                }
+                (point - from).length_squared() / (cos * area)
+            }
+            AreaShape::Sphere { center, radius } => {
+                let cone = Cone::of(*center, *radius, from);
+                cone.map_or(0.0, |c| 1.0 / (2.0 * PI * c.one_minus_cos_max))
+            }
+        }
+    }
+}
+
+/// Heitz's low-distortion map of the unit square onto a triangle ("A
+/// low-distortion map between triangle and square", 2019): barycentric
+/// (b1, b2), uniform by area, strata kept compact.
+#[inline(always)]
+fn square_to_triangle(u: Vec2) -> (f32, f32) {
+    if u.y > u.x {
+        let b1 = u.x / 2.0;
+        (b1, u.y - b1)
+    } else {
+        let b2 = u.y / 2.0;
+        (u.x - b2, b2)
+    }
+}
+
+/// The cone of directions a sphere fills, seen from a point outside it.
+struct Cone {
+    /// Unit, from the point toward the centre.
+    axis: Vec3,
+    sin2_max: f32,
+    cos_max: f32,
+    one_minus_cos_max: f32,
+}
+
+/// Below this sin^2 of the cone's half-angle (about 1.5 degrees), 1 - cos
+/// is computed from its series: in f32 it would cancel to nothing.
+const SMALL_CONE_SIN2: f32 = 0.000_685_2;
+
+impl Cone {
+    fn of(center: Vec3, radius: f32, from: Vec3) -> Option<Cone> {
+        let to = center - from;
+        let distance = to.length();
+        if !(distance > radius) {
+            return None;
+        }
+        let sin2_max = (radius / distance).powi(2);
+        let cos_max = (1.0 - sin2_max).max(0.0).sqrt();
+        let one_minus_cos_max = if sin2_max < SMALL_CONE_SIN2 {
+            sin2_max / 2.0
+        } else {
+            1.0 - cos_max
+        };
+        Some(Cone {
+            axis: to / distance,
+            sin2_max,
+            cos_max,
+            one_minus_cos_max,
+        })
+    }
+}
+
+/// A direction of the cone a sphere fills from `from`, uniform in solid
+/// angle, and the point of the sphere it meets first. The point is found
+/// by its angle at the centre rather than by intersecting the ray: tiny
+/// or far spheres would lose it to cancellation.
+fn sphere_sample(center: Vec3, radius: f32, from: Vec3, u: Vec2) -> Option<AreaPoint> {
+    let cone = Cone::of(center, radius, from)?;
+    let (sin2, cos) = if cone.sin2_max < SMALL_CONE_SIN2 {
+        let sin2 = cone.sin2_max * u.x;
+        (sin2, (1.0 - sin2).sqrt())
+    } else {
+        let cos = (cone.cos_max - 1.0) * u.x + 1.0;
+        (1.0 - cos * cos, cos)
+    };
+    // The angle at the centre between the axis back to `from` and the
+    // point: law of sines in the triangle (from, centre, point).
+    let sin_max = cone.sin2_max.sqrt();
+    let cos_alpha = sin2 / sin_max + cos * (1.0 - sin2 / cone.sin2_max).max(0.0).sqrt();
+    let sin_alpha = (1.0 - cos_alpha * cos_alpha).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    let frame = Frame::new(-cone.axis);
+    let outward = frame.to_world(Vec3::new(
+        sin_alpha * phi.cos(),
+        sin_alpha * phi.sin(),
+        cos_alpha,
+    ));
+    let point = center + radius * outward;
+    let to = point - from;
+    let distance = to.length();
+    if !(distance > 0.0) {
+        return None;
+    }
+    Some(AreaPoint {
+        point,
+        wi: to / distance,
+        distance,
+        pdf: 1.0 / (2.0 * PI * cone.one_minus_cos_max),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_triangle_map_is_uniform_by_area() {
+        // The share of points with b1 + b2 < 1/2 is the small triangle's
+        // area, a quarter; with b1 < 1/2, three quarters.
+        let n = 200u32;
+        let (mut corner, mut left) = (0, 0);
+        for i in 0..n {
+            for j in 0..n {
+                let u = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+                let (b1, b2) = square_to_triangle(u);
+                assert!(b1 >= 0.0 && b2 >= 0.0 && b1 + b2 <= 1.0);
+                corner += usize::from(b1 + b2 < 0.5);
+                left += usize::from(b1 < 0.5);
+            }
+        }
+        let total = (n * n) as f32;
+        assert!((corner as f32 / total - 0.25).abs() < 0.005);
+        assert!((left as f32 / total - 0.75).abs() < 0.005);
+    }
+
+    #[test]
+    fn sphere_points_lie_on_the_visible_cap_with_the_cone_s_density() {
+        let (center, radius) = (Vec3::new(0.0, 0.0, 5.0), 1.0);
+        let sphere = AreaShape::Sphere { center, radius };
+        let from = Vec3::ZERO;
+        let cos_max = (1.0f32 - 1.0 / 25.0).sqrt();
+        for k in 0..100 {
+            let u = Vec2::new((k as f32 + 0.5) / 100.0, (k * 37 % 100) as f32 / 100.0);
+            let s = sphere.sample(from, u).expect("outside the sphere");
+            assert!(((s.point - center).length() - radius).abs() < 1e-5);
+            // Seen from `from`: facing it, and within the cone.
+            assert!((s.point - center).dot(from - s.point) >= -1e-5);
+            assert!(s.wi.dot(Vec3::Z) >= cos_max - 1e-6);
+            let expected = 1.0 / (2.0 * PI * (1.0 - cos_max));
+            assert!((s.pdf / expected - 1.0).abs() < 1e-3);
+            assert_eq!(sphere.pdf(from, s.point, 1.0), s.pdf);
+        }
+        // From inside, nothing: the sphere emits outward.
+        assert!(sphere.sample(center, Vec2::splat(0.5)).is_none());
+    }
+}

@@ -1,0 +1,162 @@
+//! The lights of path mode, one list: the point lights and every emitting
+//! surface (each triangle of an emissive mesh, quad or box, each emissive
+//! sphere), one of them picked per light sample in proportion to its power,
+//! so a mesh of thousands of emissive triangles costs one sample, not
+//! thousands.
+
+use super::alias::AliasTable;
+use super::area::AreaShape;
+use glam::{Vec2, Vec3};
+use serde::{Deserialize, Serialize};
+use std::f32::consts::PI;
+
+/// An emitting surface: its shape and radiance.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AreaLight {
+    pub shape: AreaShape,
+    pub radiance: Vec3,
+}
+
+/// A point light of path mode: its intensity falls off with the square
+/// of the distance.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PointSource {
+    pub position: Vec3,
+    pub intensity: Vec3,
+}
+
+/// What a light sample brings to a shaded point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LightSample {
+    /// Unit, toward the light.
+    pub wi: Vec3,
+    pub distance: f32,
+    /// The radiance arriving along `wi` (a point light's intensity over
+    /// the distance squared).
+    pub radiance: Vec3,
+    /// The density of `wi` (solid angle), the pick included; for a point
+    /// light, the probability of the pick.
+    pub pdf: f32,
+    /// A point light: no other sampling can find it.
+    pub point: bool,
+}
+
+/// The point lights then the area lights, and the table that picks one.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Lights {
+    points: Vec<PointSource>,
+    areas: Vec<AreaLight>,
+    /// Over `points` then `areas`; None without light.
+    table: Option<AliasTable>,
+    /// pi / the total power (of luminance): a triangle's density by area
+    /// is its radiance's luminance times this.
+    per_area: f32,
+    /// (object, index into `areas`) of each emissive sphere, by object,
+    /// to find its density when a path meets it.
+    spheres: Vec<(u32, u32)>,
+}
+
+/// Rec. 709 luminance: the weight of a colour's power.
+pub fn luminance(c: Vec3) -> f32 {
+    c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
+}
+
+impl Lights {
+    /// The lights of `points` and `areas`, where `sphere_objects[k]` is the
+    /// scene object of the k-th sphere in `areas` (in order).
+    pub fn new(points: Vec<PointSource>, areas: Vec<AreaLight>, sphere_objects: &[u32]) -> Lights {
+        let point_power = |p: &PointSource| 4.0 * PI as f64 * f64::from(luminance(p.intensity));
+        // One-sided: a surface of radiance L and area A gives off pi L A.
+        let area_power = |a: &AreaLight| {
+            PI as f64 * f64::from(luminance(a.radiance)) * f64::from(a.shape.area())
+        };
+        let weights: Vec<f64> = points
+            .iter()
+            .map(point_power)
+            .chain(areas.iter().map(area_power))
+            .collect();
+        let total: f64 = weights.iter().sum();
+        let spheres = areas
+            .iter()
+            .enumerate()
+            .filter(|(_, a)| matches!(a.shape, AreaShape::Sphere { .. }))
+            .zip(sphere_objects)
+            .map(|((k, _), &object)| (object, k as u32))
+            .collect::<Vec<_>>();
+        let mut spheres = spheres;
+        spheres.sort_unstable();
+        Lights {
+            table: AliasTable::new(&weights),
+            per_area: (PI as f64 / total) as f32,
+            points,
+            areas,
+            spheres,
+        }
+    }
+
+    /// Whether there is any light to sample.
+    pub fn is_empty(&self) -> bool {
+        self.table.is_none()
+    }
+
+    pub fn areas(&self) -> &[AreaLight] {
+        &self.areas
+    }
+
+    pub fn points(&self) -> &[PointSource] {
+        &self.points
+    }
+
+    /// One light picked by `pick`, a point of it by `u`, seen from `from`.
+    #[inline(always)]
+    pub fn sample(&self, from: Vec3, pick: f32, u: Vec2) -> Option<LightSample> {
+        let (i, pmf) = self.table.as_ref()?.sample(pick);
+        if let Some(p) = self.points.get(i) {
+            let to = p.position - from;
+            let distance2 = to.length_squared();
+            let distance = distance2.sqrt();
+            if !(distance > 0.0) {
+                return None;
+            }
+            return Some(LightSample {
+                wi: to / distance,
+                distance,
+                radiance: p.intensity / distance2,
+                pdf: pmf,
+                point: true,
+            });
+        }
+        let light = &self.areas[i - self.points.len()];
+        let s = light.shape.sample(from, u)?;
+        Some(LightSample {
+            wi: s.wi,
+            distance: s.distance,
+            radiance: light.radiance,
+            pdf: pmf * s.pdf,
+            point: false,
+        })
+    }
+
+    /// The density `sample` gives the direction from `from` that meets an
+    /// emitting surface of radiance `radiance` at `point`, on scene object
+    /// `object`, with cosine `cos` to its normal (positive on the emitting
+    /// side). A triangle is picked with probability in proportion to its
+    /// power, pi L A, and its points by area: whichever triangle it is,
+    /// its density by area is pi luminance(L) / total power.
+    #[inline(always)]
+    pub fn pdf_hit(&self, from: Vec3, point: Vec3, cos: f32, radiance: Vec3, object: usize) -> f32 {
+        let Some(table) = &self.table else {
+            return 0.0;
+        };
+        if let Ok(k) = self.spheres.binary_search_by_key(&(object as u32), |s| s.0) {
+            let area = self.spheres[k].1 as usize;
+            let pmf = table.pmf(self.points.len() + area);
+            return pmf * self.areas[area].shape.pdf(from, point, cos);
+        }
+        if cos <= 0.0 {
+            return 0.0;
+        }
+        let per_area = self.per_area * luminance(radiance);
+        per_area * (point - from).length_squared() / cos
+    }
+}

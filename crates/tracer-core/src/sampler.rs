@@ -1,0 +1,219 @@
+//! The path tracer's sample sequence: for each pixel, `n` samples of as
+//! many dimensions as a path asks for, deterministic (the same numbers for
+//! the same pixel, sample and dimension, whatever the threads or tiles).
+//!
+//! Each 1D or 2D request of a path (the point in the pixel, the lens, each
+//! bounce's light choice, light point, lobe and direction) draws from its
+//! own copy of the first two dimensions of the Sobol sequence, Owen
+//! scrambled, its sample order shuffled, both by a hash of the pixel and
+//! the request's number: a "padded" Sobol sampler (as pbrt-v4's
+//! `PaddedSobolSampler`). Every 2D projection is then a (0, 2)-sequence in
+//! base 2: each power-of-two prefix of it puts one point in each of the
+//! elementary intervals of its area, which is what makes edges and small
+//! lights converge faster than N^-1/2, while no two requests are correlated.
+
+use crate::sampling::{hash, Shuffle};
+use glam::Vec2;
+
+/// The samples of one pixel: which pixel, which sample, and how many
+/// dimensions the current sample has used.
+#[derive(Debug, Clone, Copy)]
+pub struct PixelSampler {
+    /// A hash of the pixel (and the seed).
+    pixel: u64,
+    samples: Shuffle,
+    sample: u32,
+    dimension: u32,
+}
+
+impl PixelSampler {
+    /// The sampler of pixel (i, j) of an image rendered at `samples` per
+    /// pixel; `seed` picks another, independent set of scramblings (0 for
+    /// renders; other seeds give independent renders, for tests).
+    pub fn new(i: u32, j: u32, samples: u32, seed: u32) -> PixelSampler {
+        PixelSampler {
+            pixel: hash(i, j, seed ^ 0x5EED_0000),
+            samples: Shuffle::new(samples),
+            sample: 0,
+            dimension: 0,
+        }
+    }
+
+    /// Starts sample `s` (in `0..samples`), from its first dimension.
+    pub fn start(&mut self, s: u32) {
+        self.sample = s;
+        self.dimension = 0;
+    }
+
+    /// The next dimension's hash: the pixel's, mixed with the dimension.
+    #[inline(always)]
+    fn next_hash(&mut self) -> u64 {
+        let d = self.dimension;
+        self.dimension += 1;
+        mix64(self.pixel ^ (u64::from(d) + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15))
+    }
+
+    /// The index into the Sobol sequence of the current sample, for the
+    /// dimension of hash `h`: the sample order shuffled per dimension.
+    #[inline(always)]
+    fn index(&self, h: u64) -> u32 {
+        self.samples.apply(self.sample, (h >> 32) as u32)
+    }
+
+    /// A number of [0, 1).
+    #[inline(always)]
+    pub fn get1(&mut self) -> f32 {
+        let h = self.next_hash();
+        let index = self.index(h);
+        to_unit(owen_scramble(index.reverse_bits(), h as u32))
+    }
+
+    /// A point of [0, 1)^2.
+    #[inline(always)]
+    pub fn get2(&mut self) -> Vec2 {
+        let h = self.next_hash();
+        let index = self.index(h);
+        let seed2 = mix64(h) as u32;
+        Vec2::new(
+            to_unit(owen_scramble(index.reverse_bits(), h as u32)),
+            to_unit(owen_scramble(sobol_second(index), seed2)),
+        )
+    }
+}
+
+/// SplitMix64's finaliser: a 64-bit hash.
+#[inline(always)]
+fn mix64(mut z: u64) -> u64 {
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// The second dimension of the Sobol sequence, as 32-bit fixed point: its
+/// generator matrix is Pascal's triangle mod 2, each direction number the
+/// one before xor itself shifted by one.
+#[inline(always)]
+fn sobol_second(mut index: u32) -> u32 {
+    let mut v = 1u32 << 31;
+    let mut x = 0;
+    while index != 0 {
+        if index & 1 != 0 {
+            x ^= v;
+        }
+        index >>= 1;
+        v ^= v >> 1;
+    }
+    x
+}
+
+/// An Owen scrambling of the 32-bit fixed-point number `x`: each bit
+/// flipped by a hash of the bits above it, so every elementary interval
+/// is permuted as a whole and the net's strata are kept. The hash is
+/// Laine and Karras' on the reversed bits, with Vegdahl's constants
+/// ("Building a better LK hash", 2021), which make it close to a true
+/// Owen scrambling.
+#[inline(always)]
+fn owen_scramble(x: u32, seed: u32) -> u32 {
+    let mut v = x.reverse_bits();
+    v ^= v.wrapping_mul(0x3d20_adea);
+    v = v.wrapping_add(seed);
+    v = v.wrapping_mul((seed >> 16) | 1);
+    v ^= v.wrapping_mul(0x0552_6c56);
+    v ^= v.wrapping_mul(0x53a2_2864);
+    v.reverse_bits()
+}
+
+/// A 32-bit fixed-point number as a float of [0, 1): its top 24 bits, so
+/// the float is exact and never rounds up to 1.
+#[inline(always)]
+fn to_unit(x: u32) -> f32 {
+    (x >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_second_sobol_dimension_is_a_0_2_net_with_the_first() {
+        // Every power-of-two prefix of (radical inverse, sobol_second) puts
+        // one point in each elementary interval of area 1/n: here the
+        // 2^a x 2^b grids with a + b = log2 n.
+        for log_n in [2u32, 4, 6, 8] {
+            let n = 1u32 << log_n;
+            for a in 0..=log_n {
+                let b = log_n - a;
+                let mut seen = vec![false; n as usize];
+                for i in 0..n {
+                    let top = |v: u32, bits: u32| v.checked_shr(32 - bits).unwrap_or(0);
+                    let (x, y) = (i.reverse_bits(), sobol_second(i));
+                    let cell = (top(x, a) << b) | top(y, b);
+                    assert!(!seen[cell as usize], "n {n}, {a}x{b}: cell {cell} twice");
+                    seen[cell as usize] = true;
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn owen_scrambling_keeps_the_strata() {
+        // Scrambled, a net stays a net: the 16 points of a pixel's 2D
+        // request fall one in each cell of the 4x4 grid, whatever the pixel.
+        for (i, j) in [(0, 0), (3, 7), (100, 250)] {
+            let mut sampler = PixelSampler::new(i, j, 16, 0);
+            let mut seen = [false; 16];
+            for s in 0..16 {
+                sampler.start(s);
+                sampler.get1();
+                let p = sampler.get2();
+                let cell = (p.y * 4.0) as usize * 4 + (p.x * 4.0) as usize;
+                assert!(!seen[cell], "pixel ({i}, {j}): cell {cell} twice");
+                seen[cell] = true;
+            }
+        }
+    }
+
+    #[test]
+    fn samples_are_uniform_and_independent_of_each_other_across_pixels() {
+        // Over many pixels, the mean of a dimension is 1/2 and the
+        // correlation of two dimensions is 0, within a few standard errors.
+        let (mut sum, mut product, mut n) = (0.0f64, 0.0f64, 0.0f64);
+        for j in 0..64 {
+            for i in 0..64 {
+                let mut sampler = PixelSampler::new(i, j, 4, 0);
+                for s in 0..4 {
+                    sampler.start(s);
+                    let a = sampler.get2();
+                    let b = sampler.get1();
+                    assert!((0.0..1.0).contains(&a.x) && (0.0..1.0).contains(&b));
+                    sum += f64::from(a.x);
+                    product += (f64::from(a.y) - 0.5) * (f64::from(b) - 0.5);
+                    n += 1.0;
+                }
+            }
+        }
+        // sd of a uniform: 1/sqrt(12); of a product of two: 1/12.
+        let mean_error = (sum / n - 0.5).abs();
+        assert!(
+            mean_error < 4.0 / (12.0f64.sqrt() * n.sqrt()),
+            "{mean_error}"
+        );
+        let correlation = (product / n).abs();
+        assert!(correlation < 4.0 / (12.0 * n.sqrt()), "{correlation}");
+    }
+
+    #[test]
+    fn a_sample_is_the_same_whenever_it_is_drawn() {
+        let mut a = PixelSampler::new(5, 9, 64, 0);
+        a.start(17);
+        let first = (a.get2(), a.get1(), a.get2());
+        let mut b = PixelSampler::new(5, 9, 64, 0);
+        b.start(3);
+        b.get2();
+        b.start(17);
+        assert_eq!(first, (b.get2(), b.get1(), b.get2()));
+        let mut other = PixelSampler::new(5, 9, 64, 1);
+        other.start(17);
+        assert_ne!(first.0, other.get2(), "another seed, other numbers");
+    }
+}
