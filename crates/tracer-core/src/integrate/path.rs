@@ -27,12 +27,27 @@ const ROULETTE_DEPTH: u32 = 3;
 /// relative: the light's own surface must not count as in the way.
 const SHADOW_SHORTEN: f32 = 1e-4;
 
+/// How the light reaching a smooth lobe is found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Strategy {
+    /// Light samples and BSDF samples, weighted by the power heuristic.
+    #[default]
+    Mis,
+    /// Light samples alone (a BSDF sample that meets a light adds nothing
+    /// after a smooth bounce).
+    Lights,
+    /// BSDF samples alone (no light samples; point lights are then never
+    /// found).
+    Bsdf,
+}
+
 /// Traces paths through one scene, counting rays; one per thread.
 pub struct PathTracer<'a> {
     scene: &'a Scene,
     max_depth: u32,
     /// Which set of scramblings the samples use (0 for renders).
     seed: u32,
+    strategy: Strategy,
     pub stats: RayStats,
 }
 
@@ -53,6 +68,7 @@ impl<'a> PathTracer<'a> {
             scene,
             max_depth: scene.trace_settings().max_depth,
             seed: 0,
+            strategy: Strategy::Mis,
             stats: RayStats::default(),
         }
     }
@@ -66,6 +82,12 @@ impl<'a> PathTracer<'a> {
     /// The same tracer with paths of at most `max_depth` (tests).
     pub fn with_max_depth(self, max_depth: u32) -> Self {
         PathTracer { max_depth, ..self }
+    }
+
+    /// The same tracer finding light by `strategy` alone (tests: each
+    /// strategy converges to the same image).
+    pub fn with_strategy(self, strategy: Strategy) -> Self {
+        PathTracer { strategy, ..self }
     }
 
     /// Pixel (column i, row j): the mean of `samples` paths through it, a
@@ -138,7 +160,7 @@ impl<'a> PathTracer<'a> {
                 p
             };
             let (pick, u) = (sampler.get1(), sampler.get2());
-            if bsdf.has_smooth_lobes() {
+            if bsdf.has_smooth_lobes() && self.strategy != Strategy::Bsdf {
                 radiance += throughput * self.light_sample(&bsdf, from, pick, u);
             }
             let (lobe, u) = (sampler.get1(), sampler.get2());
@@ -187,8 +209,11 @@ impl<'a> PathTracer<'a> {
         if emission == Vec3::ZERO || !hit.front_face {
             return Vec3::ZERO;
         }
-        if bounce.specular {
-            return emission;
+        match self.strategy {
+            _ if bounce.specular => return emission,
+            Strategy::Mis => {}
+            Strategy::Lights => return Vec3::ZERO,
+            Strategy::Bsdf => return emission,
         }
         let cos = -ray.dir().dot(hit.geometric_normal);
         let lights = self.scene.path_lights();
@@ -215,7 +240,7 @@ impl<'a> PathTracer<'a> {
         if self.scene.occluded(&shadow, EPSILON, reach) {
             return Vec3::ZERO;
         }
-        let weight = if light.point {
+        let weight = if light.point || self.strategy == Strategy::Lights {
             1.0
         } else {
             power_heuristic(light.pdf, bsdf_pdf)
