@@ -29,6 +29,9 @@ pub enum Error {
     /// `--width`/`--height` that make an image too large (or empty).
     #[error("--width/--height: the image would be {width}x{height} pixels; expected 1 to {side} a side and at most {pixels} (2^28) in all", side = scene_format::validate::MAX_IMAGE_SIDE, pixels = scene_format::validate::MAX_IMAGE_PIXELS)]
     ImageSize { width: u64, height: u64 },
+    /// More samples than Whitted mode takes.
+    #[error("--samples {0}: expected 1 to {max} with the Whitted integrator; more are allowed in path mode (--integrator path, or integrator = \"path\" in [render])", max = scene_format::validate::MAX_SAMPLES)]
+    Samples(u32),
     /// A `--region` or `--tile` that is empty or leaves the image.
     #[error("{0}")]
     Part(String),
@@ -61,6 +64,7 @@ impl Error {
             | Error::ChartSize { .. }
             | Error::CanvasOption { .. }
             | Error::ImageSize { .. }
+            | Error::Samples(_)
             | Error::Part(_)
             | Error::Prepare { .. }
             | Error::Measurements { .. } => true,

@@ -55,6 +55,22 @@ pub struct Loaded {
 }
 
 impl Loaded {
+    /// The warnings of the scene as `options` render it: its own, or those
+    /// of its other mode where `--integrator` changes it (the path
+    /// tracer reads materials differently).
+    pub fn warnings_for(&self, options: &crate::Options) -> Vec<Diagnostic> {
+        match (&self.kind, options.integrator) {
+            (SceneKind::Scene3d(file), Some(integrator))
+                if integrator != file.render.integrator =>
+            {
+                let mut file = file.clone();
+                file.render.integrator = integrator;
+                scene_format::warnings(&file)
+            }
+            _ => self.warnings.clone(),
+        }
+    }
+
     /// The image's size in pixels, (width, height).
     pub fn size(&self) -> (u32, u32) {
         match &self.kind {

@@ -2,8 +2,8 @@
 //! overrides of the scene's samples and image size.
 
 use crate::Error;
-use scene_format::validate::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE};
-use scene_format::SceneFile;
+use scene_format::validate::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE, MAX_SAMPLES};
+use scene_format::{Integrator, SceneFile};
 use std::borrow::Cow;
 pub use tracer_core::Region;
 
@@ -36,8 +36,11 @@ pub struct Options {
     pub gamma: Option<Gamma>,
     /// An AOV instead of the shaded colour; 3D scenes only.
     pub aov: Option<Aov>,
-    /// Overrides `[render] samples` (checked by the caller: 1 to 4096).
+    /// Overrides `[render] samples` (checked by the caller: 1 to 65536;
+    /// above 4096 only in path mode, checked here).
     pub samples: Option<u32>,
+    /// Overrides `[render] integrator`.
+    pub integrator: Option<Integrator>,
     /// Overrides the camera's width; alone, the height follows so the view
     /// keeps its shape.
     pub width: Option<u32>,
@@ -131,6 +134,7 @@ impl Options {
         [
             ("--aov", self.aov.is_some()),
             ("--samples", self.samples.is_some()),
+            ("--integrator", self.integrator.is_some()),
             ("--width", self.width.is_some()),
             ("--height", self.height.is_some()),
             ("--region/--tile", self.part.is_some()),
@@ -162,15 +166,28 @@ impl Options {
 
     /// `file` with the overrides applied (borrowed when there are none).
     pub(crate) fn apply<'a>(&self, file: &'a SceneFile) -> Result<Cow<'a, SceneFile>, Error> {
-        if self.samples.is_none() && self.width.is_none() && self.height.is_none() {
+        let overrides = [
+            self.samples.is_some(),
+            self.width.is_some(),
+            self.height.is_some(),
+            self.integrator.is_some(),
+        ];
+        if !overrides.contains(&true) {
             return Ok(Cow::Borrowed(file));
         }
         let (width, height) = self.image_size(file)?;
         let mut file = file.clone();
         file.camera.width = width;
         file.camera.height = height;
+        if let Some(integrator) = self.integrator {
+            file.render.integrator = integrator;
+        }
         if let Some(samples) = self.samples {
             file.render.samples = samples;
+        }
+        let render = &file.render;
+        if render.integrator == Integrator::Whitted && render.samples > MAX_SAMPLES {
+            return Err(Error::Samples(render.samples));
         }
         Ok(Cow::Owned(file))
     }

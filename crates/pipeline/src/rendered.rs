@@ -92,6 +92,9 @@ pub struct ShadedStats {
     pub forced_white: u64,
     /// Pixels in the image.
     pub pixels: u64,
+    /// Path samples left out of their pixel for a value that was not
+    /// finite (NaN or infinite); 0 in Whitted mode.
+    pub dropped: u64,
 }
 
 /// Above this share of pixels forced to white, a render warns: the lab's
@@ -102,6 +105,20 @@ pub struct ShadedStats {
 pub const FORCED_WHITE_WARNING: f64 = 0.03;
 
 impl ShadedStats {
+    /// A warning when path samples were dropped.
+    pub fn dropped_warning(&self) -> Option<String> {
+        (self.dropped > 0).then(|| {
+            format!(
+                "{} path sample{} had a value that is not a number or infinite and {} left out of {} pixel{}",
+                self.dropped,
+                if self.dropped == 1 { "" } else { "s" },
+                if self.dropped == 1 { "was" } else { "were" },
+                if self.dropped == 1 { "its" } else { "their" },
+                if self.dropped == 1 { "" } else { "s" },
+            )
+        })
+    }
+
     /// A warning when more than [`FORCED_WHITE_WARNING`] of the pixels were
     /// forced to white.
     pub fn forced_white_warning(&self) -> Option<String> {

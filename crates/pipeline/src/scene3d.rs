@@ -97,6 +97,7 @@ pub(crate) fn shade_prepared(
         render_seconds,
         forced_white,
         pixels: image.pixels.len() as u64,
+        dropped: rays.dropped,
     };
     let picture = Picture {
         linear: image,

@@ -127,14 +127,26 @@ fn path_materials(warnings: &mut Vec<Diagnostic>, materials: &[(KeyPath, &crate:
     for (path, m) in materials {
         let sum = albedo_sum(m);
         if sum > 1.0 + 1e-6 {
+            let sum = short(sum);
+            let terms = if m.fresnel {
+                "diffuse + specular + 1 for the Fresnel glass"
+            } else {
+                "diffuse + specular + reflectance + transmittance"
+            };
             warnings.push(Diagnostic::new(
                 (*path).clone(),
                 format!(
-                    "its albedos sum to {sum} (the largest channel of diffuse + specular + reflectance + transmittance, or 1 for `fresnel` glass): it would give back more light than it receives, so in path mode each is scaled by 1/{sum}"
+                    "{terms} is {sum} (its largest channel), above 1: it would give back more light than it receives, so path mode scales each by 1/{sum}"
                 ),
             ));
         }
     }
+}
+
+/// `x` with at most 3 decimals, trailing zeros dropped: 1.4000001 -> 1.4.
+fn short(x: f32) -> String {
+    let text = format!("{x:.3}");
+    text.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
 /// The largest channel of the share of light a material sends back in path

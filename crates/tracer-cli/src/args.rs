@@ -30,8 +30,9 @@ pub struct RenderArgs {
     #[arg(long, value_name = "G", allow_negative_numbers = true)]
     pub gamma: Option<f32>,
     /// Write one quantity per pixel instead of the shaded colour (linear,
-    /// unless --gamma is given)
-    #[arg(long, value_name = "NAME")]
+    /// unless --gamma is given); the same with either integrator, which it
+    /// does not use
+    #[arg(long, value_name = "NAME", conflicts_with = "integrator")]
     pub aov: Option<AovArg>,
     #[command(flatten)]
     pub view: ViewArgs,
@@ -104,9 +105,16 @@ pub struct MergeArgs {
 pub struct ViewArgs {
     /// Samples per pixel, overriding the scene's `[render] samples`: 1 is one
     /// ray through each pixel's centre (the lab); more smooth the edges
-    /// (anti-aliasing) and the blur of depth of field
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
+    /// (anti-aliasing) and the blur of depth of field. In path mode, the
+    /// paths per pixel. At most 4096, or 65536 in path mode
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=65536))]
     pub samples: Option<u32>,
+    /// How light is computed, overriding the scene's `[render]
+    /// integrator`: "whitted" (the lab's rayTrace: local light, shadows,
+    /// mirrors, glass) or "path" (path tracing: objects light each other,
+    /// emissive materials are area lights)
+    #[arg(long, value_name = "NAME")]
+    pub integrator: Option<IntegratorArg>,
     /// Image width in pixels, overriding the camera's: the same view at
     /// another resolution (alone, the height follows to keep the shape)
     #[arg(long, value_name = "PIXELS", value_parser = clap::value_parser!(u32).range(1..=16384))]
@@ -127,6 +135,7 @@ impl ViewArgs {
             gamma: None,
             aov: None,
             samples: self.samples,
+            integrator: self.integrator.map(Into::into),
             width: self.width,
             height: self.height,
             part: None,
@@ -150,6 +159,25 @@ impl From<BitDepthArg> for BitDepth {
         match b {
             BitDepthArg::Eight => BitDepth::Eight,
             BitDepthArg::Sixteen => BitDepth::Sixteen,
+        }
+    }
+}
+
+/// `--integrator`'s values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum IntegratorArg {
+    /// The lab's rayTrace (Whitted-style): local Blinn-Phong, shadows,
+    /// mirrors, glass
+    Whitted,
+    /// Path tracing with light sampling and MIS: objects light each other
+    Path,
+}
+
+impl From<IntegratorArg> for scene_format::Integrator {
+    fn from(i: IntegratorArg) -> scene_format::Integrator {
+        match i {
+            IntegratorArg::Whitted => scene_format::Integrator::Whitted,
+            IntegratorArg::Path => scene_format::Integrator::Path,
         }
     }
 }

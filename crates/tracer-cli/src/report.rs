@@ -173,15 +173,19 @@ pub fn color_wanted() -> bool {
     std::io::stderr().is_terminal() && !no_color
 }
 
-/// The loaded scene's warnings, one line each; shown even when quiet.
-pub fn warnings(loaded: &tracer_pipeline::Loaded) {
-    for line in warning_lines(loaded) {
+/// The loaded scene's warnings as `options` render it, one line each;
+/// shown even when quiet.
+pub fn warnings(loaded: &tracer_pipeline::Loaded, options: &tracer_pipeline::Options) {
+    for line in warning_lines(loaded, options) {
         crate::console::note!("{line}");
     }
 }
 
 /// The lines `warnings` prints (kept with a prepared scene, `--cache`).
-pub fn warning_lines(loaded: &tracer_pipeline::Loaded) -> Vec<String> {
+pub fn warning_lines(
+    loaded: &tracer_pipeline::Loaded,
+    options: &tracer_pipeline::Options,
+) -> Vec<String> {
     let line = |w: &scene_format::Diagnostic| {
         // An object of an included file is named in that file.
         let (file, path) = loaded.origins.origin(&w.path);
@@ -191,5 +195,5 @@ pub fn warning_lines(loaded: &tracer_pipeline::Loaded) -> Vec<String> {
         };
         format!("warning: {name}: `{path}`: {}", w.message)
     };
-    loaded.warnings.iter().map(line).collect()
+    loaded.warnings_for(options).iter().map(line).collect()
 }

@@ -7,12 +7,13 @@
 //! own copy of the first two dimensions of the Sobol sequence, Owen
 //! scrambled, its sample order shuffled, both by a hash of the pixel and
 //! the request's number: a "padded" Sobol sampler (as pbrt-v4's
-//! `PaddedSobolSampler`). Every 2D projection is then a (0, 2)-sequence in
-//! base 2: each power-of-two prefix of it puts one point in each of the
-//! elementary intervals of its area, which is what makes edges and small
-//! lights converge faster than N^-1/2, while no two requests are correlated.
+//! `PaddedSobolSampler`), with Burley's hashed shuffle and scrambling
+//! ("Practical Hash-based Owen Scrambling", 2020). Every 2D projection is
+//! then a (0, 2)-sequence in base 2: each power-of-two prefix of it puts
+//! one point in each of the elementary intervals of its area, which is
+//! what makes edges and small lights converge faster than N^-1/2, while no
+//! two requests are correlated.
 
-use crate::sampling::{hash, Shuffle};
 use glam::Vec2;
 
 /// The samples of one pixel: which pixel, which sample, and how many
@@ -21,25 +22,24 @@ use glam::Vec2;
 pub struct PixelSampler {
     /// A hash of the pixel (and the seed).
     pixel: u64,
-    samples: Shuffle,
     sample: u32,
     dimension: u32,
 }
 
 impl PixelSampler {
-    /// The sampler of pixel (i, j) of an image rendered at `samples` per
-    /// pixel; `seed` picks another, independent set of scramblings (0 for
-    /// renders; other seeds give independent renders, for tests).
-    pub fn new(i: u32, j: u32, samples: u32, seed: u32) -> PixelSampler {
+    /// The sampler of pixel (i, j); `seed` picks another, independent set
+    /// of scramblings (0 for renders; other seeds give independent
+    /// renders, for tests). Any number of samples may be drawn: each
+    /// power-of-two prefix of them is a net.
+    pub fn new(i: u32, j: u32, seed: u32) -> PixelSampler {
         PixelSampler {
-            pixel: hash(i, j, seed ^ 0x5EED_0000),
-            samples: Shuffle::new(samples),
+            pixel: crate::sampling::hash(i, j, seed ^ 0x5EED_0000),
             sample: 0,
             dimension: 0,
         }
     }
 
-    /// Starts sample `s` (in `0..samples`), from its first dimension.
+    /// Starts sample `s`, from its first dimension.
     pub fn start(&mut self, s: u32) {
         self.sample = s;
         self.dimension = 0;
@@ -54,10 +54,13 @@ impl PixelSampler {
     }
 
     /// The index into the Sobol sequence of the current sample, for the
-    /// dimension of hash `h`: the sample order shuffled per dimension.
+    /// dimension of hash `h`: the sample order shuffled per dimension by
+    /// an Owen scrambling of the index, which maps the first 2^k indices
+    /// to indices whose low k bits are all different, and so to the same
+    /// elementary intervals as the first 2^k points.
     #[inline(always)]
     fn index(&self, h: u64) -> u32 {
-        self.samples.apply(self.sample, (h >> 32) as u32)
+        owen_scramble(self.sample, (h >> 32) as u32) & INDEX_MASK
     }
 
     /// A number of [0, 1).
@@ -73,13 +76,19 @@ impl PixelSampler {
     pub fn get2(&mut self) -> Vec2 {
         let h = self.next_hash();
         let index = self.index(h);
-        let seed2 = mix64(h) as u32;
+        // A third seed, independent of the shuffle's and the first's.
+        let seed2 = mix64(h ^ 0xD1B5_4A32_D192_ED03) as u32;
         Vec2::new(
             to_unit(owen_scramble(index.reverse_bits(), h as u32)),
             to_unit(owen_scramble(sobol_second(index), seed2)),
         )
     }
 }
+
+/// The index bits that reach a float: a point's top 24 bits (all a float
+/// of [0, 1) keeps) depend on the index's low 24 bits only, as each
+/// direction number of the first two dimensions starts at its own bit.
+const INDEX_MASK: u32 = (1 << 24) - 1;
 
 /// SplitMix64's finaliser: a 64-bit hash.
 #[inline(always)]
@@ -89,21 +98,48 @@ fn mix64(mut z: u64) -> u64 {
     z ^ (z >> 31)
 }
 
-/// The second dimension of the Sobol sequence, as 32-bit fixed point: its
-/// generator matrix is Pascal's triangle mod 2, each direction number the
-/// one before xor itself shifted by one.
+/// The second dimension of the Sobol sequence, as 32-bit fixed point, for
+/// an index below 2^24: its generator matrix is Pascal's triangle mod 2,
+/// each direction number the one before xor itself shifted by one; the
+/// xor of the direction numbers of the index's set bits, a byte at a time.
 #[inline(always)]
-fn sobol_second(mut index: u32) -> u32 {
+fn sobol_second(index: u32) -> u32 {
+    let [b0, b1, b2, _] = index.to_le_bytes();
+    SOBOL_SECOND[0][b0 as usize] ^ SOBOL_SECOND[1][b1 as usize] ^ SOBOL_SECOND[2][b2 as usize]
+}
+
+/// For each byte k of the index and each value of it, the xor of the
+/// direction numbers 8k .. 8k + 7 its bits select.
+static SOBOL_SECOND: [[u32; 256]; 3] = sobol_second_tables();
+
+const fn sobol_second_tables() -> [[u32; 256]; 3] {
+    let mut directions = [0u32; 24];
     let mut v = 1u32 << 31;
-    let mut x = 0;
-    while index != 0 {
-        if index & 1 != 0 {
-            x ^= v;
-        }
-        index >>= 1;
+    let mut k = 0;
+    while k < 24 {
+        directions[k] = v;
         v ^= v >> 1;
+        k += 1;
     }
-    x
+    let mut tables = [[0u32; 256]; 3];
+    let mut byte = 0;
+    while byte < 3 {
+        let mut value = 0;
+        while value < 256 {
+            let mut x = 0;
+            let mut bit = 0;
+            while bit < 8 {
+                if value & (1 << bit) != 0 {
+                    x ^= directions[8 * byte + bit];
+                }
+                bit += 1;
+            }
+            tables[byte][value] = x;
+            value += 1;
+        }
+        byte += 1;
+    }
+    tables
 }
 
 /// An Owen scrambling of the 32-bit fixed-point number `x`: each bit
@@ -134,6 +170,19 @@ fn to_unit(x: u32) -> f32 {
 mod tests {
     use super::*;
 
+    /// The second dimension one direction number at a time.
+    fn sobol_second_by_bits(mut index: u32) -> u32 {
+        let (mut v, mut x) = (1u32 << 31, 0);
+        while index != 0 {
+            if index & 1 != 0 {
+                x ^= v;
+            }
+            index >>= 1;
+            v ^= v >> 1;
+        }
+        x
+    }
+
     #[test]
     fn the_second_sobol_dimension_is_a_0_2_net_with_the_first() {
         // Every power-of-two prefix of (radical inverse, sobol_second) puts
@@ -147,6 +196,7 @@ mod tests {
                 for i in 0..n {
                     let top = |v: u32, bits: u32| v.checked_shr(32 - bits).unwrap_or(0);
                     let (x, y) = (i.reverse_bits(), sobol_second(i));
+                    assert_eq!(y, sobol_second_by_bits(i));
                     let cell = (top(x, a) << b) | top(y, b);
                     assert!(!seen[cell as usize], "n {n}, {a}x{b}: cell {cell} twice");
                     seen[cell as usize] = true;
@@ -160,8 +210,9 @@ mod tests {
         // Scrambled, a net stays a net: the 16 points of a pixel's 2D
         // request fall one in each cell of the 4x4 grid, whatever the pixel.
         for (i, j) in [(0, 0), (3, 7), (100, 250)] {
-            let mut sampler = PixelSampler::new(i, j, 16, 0);
+            let mut sampler = PixelSampler::new(i, j, 0);
             let mut seen = [false; 16];
+            let mut quarters = [false; 4];
             for s in 0..16 {
                 sampler.start(s);
                 sampler.get1();
@@ -169,6 +220,15 @@ mod tests {
                 let cell = (p.y * 4.0) as usize * 4 + (p.x * 4.0) as usize;
                 assert!(!seen[cell], "pixel ({i}, {j}): cell {cell} twice");
                 seen[cell] = true;
+                // The first 4 (a power-of-two prefix) are a net too.
+                if s < 4 {
+                    let quarter = (p.y * 2.0) as usize * 2 + (p.x * 2.0) as usize;
+                    assert!(
+                        !quarters[quarter],
+                        "pixel ({i}, {j}): quarter {quarter} twice"
+                    );
+                    quarters[quarter] = true;
+                }
             }
         }
     }
@@ -180,7 +240,7 @@ mod tests {
         let (mut sum, mut product, mut n) = (0.0f64, 0.0f64, 0.0f64);
         for j in 0..64 {
             for i in 0..64 {
-                let mut sampler = PixelSampler::new(i, j, 4, 0);
+                let mut sampler = PixelSampler::new(i, j, 0);
                 for s in 0..4 {
                     sampler.start(s);
                     let a = sampler.get2();
@@ -204,15 +264,15 @@ mod tests {
 
     #[test]
     fn a_sample_is_the_same_whenever_it_is_drawn() {
-        let mut a = PixelSampler::new(5, 9, 64, 0);
+        let mut a = PixelSampler::new(5, 9, 0);
         a.start(17);
         let first = (a.get2(), a.get1(), a.get2());
-        let mut b = PixelSampler::new(5, 9, 64, 0);
+        let mut b = PixelSampler::new(5, 9, 0);
         b.start(3);
         b.get2();
         b.start(17);
         assert_eq!(first, (b.get2(), b.get1(), b.get2()));
-        let mut other = PixelSampler::new(5, 9, 64, 1);
+        let mut other = PixelSampler::new(5, 9, 1);
         other.start(17);
         assert_ne!(first.0, other.get2(), "another seed, other numbers");
     }

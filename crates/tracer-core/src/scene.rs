@@ -70,8 +70,8 @@ pub struct Scene {
     #[serde(skip)]
     lanes: Option<Box<LaneScene>>,
     /// Path mode's lights: point lights and emitting surfaces, chosen by
-    /// power (empty in Whitted mode).
-    path_lights: Lights,
+    /// power (empty in Whitted mode). Boxed: most scenes leave it empty.
+    path_lights: Box<Lights>,
     /// Whether the objects were let go (`Scene::lean`).
     #[serde(serialize_with = "only_lean")]
     lean: bool,
@@ -158,11 +158,11 @@ impl Scene {
         } else {
             LaneScene::new(&parts.objects, &parts.materials, &parts.lights).map(Box::new)
         };
-        let path_lights = if path_mode {
+        let path_lights = Box::new(if path_mode {
             path_lights(&parts)
         } else {
             Lights::default()
-        };
+        });
         Scene {
             lanes,
             path_lights,
@@ -384,16 +384,13 @@ fn path_lights(parts: &SceneParts) -> Lights {
         })
         .collect();
     let emission = |material: usize| parts.materials[material].emission();
+    let mut triangles = Vec::new();
     let mut areas = Vec::new();
     let mut sphere_objects = Vec::new();
-    let triangle = |[a, b, c]: [Vec3; 3], radiance: Vec3| {
-        let shape = AreaShape::triangle(a, b - a, c - a)?;
-        Some(AreaLight { shape, radiance })
-    };
     for (index, object) in parts.objects.iter().enumerate() {
         match &object.shape {
             Shape::Triangle(t) if emission(object.material) != Vec3::ZERO => {
-                areas.extend(triangle([t.v0, t.v1, t.v2], emission(object.material)));
+                triangles.push(([t.v0, t.v1, t.v2], emission(object.material)));
             }
             Shape::Instance(instance) => {
                 for o in instance.mesh().objects() {
@@ -403,7 +400,7 @@ fn path_lights(parts: &SceneParts) -> Lights {
                     let slots = instance.materials();
                     let material = *slots.get(o.material).unwrap_or(&slots[0]);
                     if emission(material) != Vec3::ZERO {
-                        areas.extend(triangle(instance.world_triangle(t), emission(material)));
+                        triangles.push((instance.world_triangle(t), emission(material)));
                     }
                 }
             }
@@ -421,7 +418,32 @@ fn path_lights(parts: &SceneParts) -> Lights {
             }
         }
     }
+    areas.extend(flat_lights(&triangles));
     Lights::new(points, areas, &sphere_objects)
+}
+
+/// Emitting triangles as area lights, each pair that is a quad's two
+/// halves (as `prepare` cuts a quad or a box's face: (c, c + u, c + v)
+/// then (c + u + v, c + v, c + u), of one radiance) as one parallelogram.
+fn flat_lights(triangles: &[([Vec3; 3], Vec3)]) -> Vec<AreaLight> {
+    let mut lights = Vec::with_capacity(triangles.len());
+    let mut k = 0;
+    while k < triangles.len() {
+        let ([a, b, c], radiance) = triangles[k];
+        let halves = triangles.get(k + 1).filter(|(second, r)| {
+            *r == radiance && second[1] == c && second[2] == b && {
+                let far = b + c - a;
+                (second[0] - far).length() <= 1e-5 * (b - a).length().max((c - a).length())
+            }
+        });
+        let shape = match halves {
+            Some(_) => AreaShape::parallelogram(a, b - a, c - a),
+            None => AreaShape::triangle(a, b - a, c - a),
+        };
+        lights.extend(shape.map(|shape| AreaLight { shape, radiance }));
+        k += if halves.is_some() { 2 } else { 1 };
+    }
+    lights
 }
 
 /// The objects, and each shared mesh's triangles once.

@@ -170,8 +170,17 @@ fn a_furnace_of_albedo_one_half_and_emission_one_half_shows_one() {
         inward_box("m")
     ));
     let expected = 1.0 - 0.5f64.powi(depth + 1);
-    for strategy in [Strategy::Mis, Strategy::Lights, Strategy::Bsdf] {
-        let means = means_over_seeds(&scene, 16, 8, strategy, |_| true);
+    // Light samples alone meet a singularity where two emitting faces
+    // meet: a point of one sees the other at distances down to 0, and the
+    // estimate's variance is infinite (its mean converges, slowly, from
+    // below). They get more samples; MIS takes those directions from the
+    // BSDF.
+    for (strategy, samples) in [
+        (Strategy::Mis, 16),
+        (Strategy::Lights, 256),
+        (Strategy::Bsdf, 16),
+    ] {
+        let means = means_over_seeds(&scene, samples, 8, strategy, |_| true);
         let (mean, error) = mean_and_error(&means);
         assert!(
             (mean - expected).abs() < 4.0 * error,
@@ -260,6 +269,9 @@ fn a_square_light_lights_the_point_below_it_by_its_form_factor() {
     );
 }
 
+/// Which pixels (by index) a mean is taken over.
+type PixelFilter = fn(usize) -> bool;
+
 #[test]
 fn light_samples_bsdf_samples_and_mis_converge_to_the_same_mean() {
     // A glossy floor and a matte sphere lit by a square and a sphere that
@@ -277,7 +289,7 @@ fn light_samples_bsdf_samples_and_mis_converge_to_the_same_mean() {
          [[objects]]\nsphere = { center = [-0.4, 0.5, 0], radius = 0.5 }\nmaterial = \"matte\"\n\
          [[objects]]\nquad = { corner = [-10, 0, 10], edge_u = [20, 0, 0], edge_v = [0, 0, -20] }\nmaterial = \"floor\"\n",
     );
-    let regions: [(&str, fn(usize) -> bool); 5] = [
+    let regions: [(&str, PixelFilter); 5] = [
         ("image", |_| true),
         ("top left", |k| k % 24 < 12 && k / 24 < 9),
         ("top right", |k| k % 24 >= 12 && k / 24 < 9),

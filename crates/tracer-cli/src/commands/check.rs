@@ -13,7 +13,7 @@ pub fn run(args: &CheckArgs) -> Outcome {
     for scene in &args.scenes {
         match tracer_pipeline::load(&Input::File(scene.clone())) {
             Ok(loaded) => {
-                report::warnings(&loaded);
+                report::warnings(&loaded, &tracer_pipeline::Options::default());
                 note!("ok: {}", scene.display());
             }
             Err(e) => {

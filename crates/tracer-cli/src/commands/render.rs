@@ -66,6 +66,11 @@ pub fn run(args: &Render) -> Result<()> {
     progress.finish();
     let rendered = rendered?;
     // A float file keeps the values over 1: nothing is made white.
+    if let Summary::Shaded(stats) = &rendered.summary {
+        if let Some(warning) = stats.dropped_warning() {
+            note!("warning: {}: {warning}", name.display());
+        }
+    }
     if let (Summary::Shaded(stats), false) = (&rendered.summary, linear) {
         if let Some(warning) = stats.forced_white_warning() {
             note!("warning: {}: {warning}", name.display());
@@ -129,7 +134,7 @@ fn open(
         Source::Loaded(loaded) => (
             &loaded.files_read,
             tracer_pipeline::image_size(loaded, options)?,
-            report::warning_lines(loaded),
+            report::warning_lines(loaded, options),
         ),
     };
     // The scene's meshes are known only now.

@@ -21,7 +21,7 @@ use glam::{Vec2, Vec3};
 
 /// Bounces before Russian roulette may end a path: the first few carry
 /// most of the light, and ending them early costs more noise than time.
-const ROULETTE_DEPTH: u32 = 3;
+const ROULETTE_DEPTH: u32 = 5;
 
 /// How much shorter than a light sample's distance its shadow ray stops,
 /// relative: the light's own surface must not count as in the way.
@@ -95,7 +95,7 @@ impl<'a> PathTracer<'a> {
     /// between samples once `cancelled` says so.
     pub fn pixel(&mut self, i: u32, j: u32, samples: u32, cancelled: impl Fn() -> bool) -> Vec3 {
         let camera = self.scene.camera();
-        let mut sampler = PixelSampler::new(i, j, samples, self.seed);
+        let mut sampler = PixelSampler::new(i, j, self.seed);
         let (mut sum, mut kept) = (Vec3::ZERO, 0u32);
         for s in 0..samples {
             if s % 64 == 63 && cancelled() {
@@ -231,7 +231,7 @@ impl<'a> PathTracer<'a> {
             return Vec3::ZERO;
         };
         let (f, bsdf_pdf) = bsdf.eval(light.wi);
-        if f == Vec3::ZERO || !(light.pdf > 0.0) {
+        if f == Vec3::ZERO || light.pdf.is_nan() || light.pdf <= 0.0 {
             return Vec3::ZERO;
         }
         self.stats.shadow += 1;

@@ -1,7 +1,7 @@
 //! The shapes of area lights, and how a point of each is drawn as seen
-//! from a shaded point: a triangle by its area, a sphere by the cone of
-//! directions it fills (its visible cap, with no samples wasted on the
-//! far side).
+//! from a shaded point: a triangle or a parallelogram (a quad, a box's
+//! face) by its area, a sphere by the cone of directions it fills (its
+//! visible cap, with no samples wasted on the far side).
 
 use crate::bsdf::Frame;
 use glam::{Vec2, Vec3};
@@ -14,6 +14,17 @@ pub enum AreaShape {
     /// Emits toward `normal` (the geometric one, `e1 x e2` normalised).
     Triangle {
         v0: Vec3,
+        e1: Vec3,
+        e2: Vec3,
+        normal: Vec3,
+        area: f32,
+    },
+    /// `corner + s e1 + t e2` for s, t in [0, 1]: sampled whole, so the
+    /// strata of the point drawn cover it evenly (as two triangles, each
+    /// picked by a number of its own, they would not). Emits toward
+    /// `normal`, `e1 x e2` normalised.
+    Parallelogram {
+        corner: Vec3,
         e1: Vec3,
         e2: Vec3,
         normal: Vec3,
@@ -48,10 +59,23 @@ impl AreaShape {
         })
     }
 
+    /// The parallelogram `corner + s e1 + t e2`; None without area.
+    pub fn parallelogram(corner: Vec3, e1: Vec3, e2: Vec3) -> Option<AreaShape> {
+        let cross = e1.cross(e2);
+        let normal = cross.try_normalize()?;
+        Some(AreaShape::Parallelogram {
+            corner,
+            e1,
+            e2,
+            normal,
+            area: cross.length(),
+        })
+    }
+
     /// The area of the surface.
     pub fn area(&self) -> f32 {
         match self {
-            AreaShape::Triangle { area, .. } => *area,
+            AreaShape::Triangle { area, .. } | AreaShape::Parallelogram { area, .. } => *area,
             AreaShape::Sphere { radius, .. } => 4.0 * PI * radius * radius,
         }
     }
@@ -70,22 +94,15 @@ impl AreaShape {
                 area,
             } => {
                 let (b1, b2) = square_to_triangle(u);
-                let point = *v0 + b1 * *e1 + b2 * *e2;
-                let to = point - from;
-                let distance2 = to.length_squared();
-                let distance = distance2.sqrt();
-                let wi = to / distance;
-                let cos = -wi.dot(*normal);
-                if cos <= 0.0 || !(distance > 0.0) {
-                    return None;
-                }
-                Some(AreaPoint {
-                    point,
-                    wi,
-                    distance,
-                    pdf: distance2 / (cos * area),
-                })
+                flat_point(*v0 + b1 * *e1 + b2 * *e2, *normal, *area, from)
             }
+            AreaShape::Parallelogram {
+                corner,
+                e1,
+                e2,
+                normal,
+                area,
+            } => flat_point(*corner + u.x * *e1 + u.y * *e2, *normal, *area, from),
             AreaShape::Sphere { center, radius } => sphere_sample(*center, *radius, from, u),
         }
     }
@@ -96,7 +113,7 @@ impl AreaShape {
     #[inline(always)]
     pub fn pdf(&self, from: Vec3, point: Vec3, cos: f32) -> f32 {
         match self {
-            AreaShape::Triangle { area, .. } => {
+            AreaShape::Triangle { area, .. } | AreaShape::Parallelogram { area, .. } => {
                 if cos <= 0.0 {
                     return 0.0;
                 }
@@ -108,6 +125,27 @@ impl AreaShape {
             }
         }
     }
+}
+
+/// `point` of a flat light of unit `normal` and `area`, drawn uniformly by
+/// area, seen from `from`: its density by solid angle is d^2 / (cos A).
+/// None when it faces away.
+#[inline(always)]
+fn flat_point(point: Vec3, normal: Vec3, area: f32, from: Vec3) -> Option<AreaPoint> {
+    let to = point - from;
+    let distance2 = to.length_squared();
+    let distance = distance2.sqrt();
+    let wi = to / distance;
+    let cos = -wi.dot(normal);
+    if cos <= 0.0 || distance.is_nan() || distance <= 0.0 {
+        return None;
+    }
+    Some(AreaPoint {
+        point,
+        wi,
+        distance,
+        pdf: distance2 / (cos * area),
+    })
 }
 
 /// Heitz's low-distortion map of the unit square onto a triangle ("A
@@ -141,7 +179,7 @@ impl Cone {
     fn of(center: Vec3, radius: f32, from: Vec3) -> Option<Cone> {
         let to = center - from;
         let distance = to.length();
-        if !(distance > radius) {
+        if distance.is_nan() || distance <= radius {
             return None;
         }
         let sin2_max = (radius / distance).powi(2);
@@ -188,7 +226,7 @@ fn sphere_sample(center: Vec3, radius: f32, from: Vec3, u: Vec2) -> Option<AreaP
     let point = center + radius * outward;
     let to = point - from;
     let distance = to.length();
-    if !(distance > 0.0) {
+    if distance.is_nan() || distance <= 0.0 {
         return None;
     }
     Some(AreaPoint {

@@ -115,7 +115,7 @@ impl Lights {
             let to = p.position - from;
             let distance2 = to.length_squared();
             let distance = distance2.sqrt();
-            if !(distance > 0.0) {
+            if distance.is_nan() || distance <= 0.0 {
                 return None;
             }
             return Some(LightSample {

@@ -40,7 +40,7 @@ pub fn run(args: &Watch) -> Result<()> {
             Ok(loaded) => {
                 last_read.clone_from(&loaded.files_read);
                 changes.watch(&loaded.files_read);
-                report::warnings(&loaded);
+                report::warnings(&loaded, &args.options);
                 // Writing over a texture the scene reads would render
                 // again and again.
                 match check_not_an_input(&args.output, &loaded.files_read) {
