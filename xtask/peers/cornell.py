@@ -12,8 +12,9 @@ at 256x256 with a box pixel filter, written as a 32-bit float linear Rec.709 EXR
 and prints one JSON line: `seconds` is the render alone (after a warm-up render
 that loads kernels; less the JIT compilation left in it, `jit_s`), `spp` the
 samples per pixel rendered, `cpu_s` the CPU time (about threads x seconds when
-the threads are used), and the settings. Exit status: 0 done, 3 the renderer is not installed (one line on
-stderr saying so), 2 bad arguments, 1 anything else.
+the threads are used), and the settings. Exit status: 0 done, 3 the renderer is
+not installed (one line on stderr saying so), 2 bad arguments, 1 anything else.
+`reference` and `compare` also need numpy and OpenEXR (pip install OpenEXR).
 """
 
 import argparse
@@ -128,9 +129,10 @@ def mitsuba(args):
 def reference(args):
     """The mean of `passes` independent renders (seeds 0..passes-1): their spread
     estimates the reference's own noise."""
-    mi, dr = load_mitsuba("llvm_ad_rgb", args.threads)
     import numpy as np
+    import OpenEXR  # noqa: F401 (written at the end: missing, fail before the work)
 
+    mi, dr = load_mitsuba("llvm_ad_rgb", args.threads)
     scene = mitsuba_scene(mi, args.sampler)
     if args.spp % args.passes:
         sys.exit(f"--spp {args.spp} is not a multiple of --passes {args.passes}")

@@ -247,12 +247,7 @@ pub fn seconds_to(points: &[Point], target: f64) -> Option<f64> {
 /// between the two points around x, or extended from the nearest two. One
 /// point alone is extended with `slope` (Monte Carlo's: error ~ time^-1/2,
 /// so time ~ error^-2).
-fn log_log(
-    points: &[Point],
-    xy: impl Fn(&Point) -> (f64, f64),
-    x: f64,
-    slope: f64,
-) -> Option<f64> {
+fn log_log(points: &[Point], xy: impl Fn(&Point) -> (f64, f64), x: f64, slope: f64) -> Option<f64> {
     let mut pts: Vec<(f64, f64)> = points
         .iter()
         .map(xy)
@@ -309,7 +304,11 @@ mod tests {
     fn monte_carlo(seconds: &[f64]) -> Vec<Point> {
         seconds
             .iter()
-            .map(|&s| Point { spp: 0, seconds: s, rmse: 0.1 / s.sqrt() })
+            .map(|&s| Point {
+                spp: 0,
+                seconds: s,
+                rmse: 0.1 / s.sqrt(),
+            })
             .collect()
     }
 
@@ -336,8 +335,11 @@ mod tests {
     fn the_bracketing_points_are_used_not_the_outer_ones() {
         // A slope change between the segments: the budget inside the first
         // one ignores the third point.
-        let points = [(1.0, 0.1), (4.0, 0.05), (16.0, 0.0125)]
-            .map(|(seconds, rmse)| Point { spp: 0, seconds, rmse });
+        let points = [(1.0, 0.1), (4.0, 0.05), (16.0, 0.0125)].map(|(seconds, rmse)| Point {
+            spp: 0,
+            seconds,
+            rmse,
+        });
         assert!((rmse_at(&points, 2.0).unwrap() - 0.1 / 2f64.sqrt()).abs() < 1e-12);
         assert!((rmse_at(&points, 8.0).unwrap() - 0.025).abs() < 1e-12);
     }
@@ -354,7 +356,9 @@ mod tests {
     fn a_peer_not_installed_is_skipped_and_a_failure_is_an_error() {
         let dir = tempfile::tempdir().unwrap();
         let skipped = sh("echo 'Cycles: skipped, bpy not installed' >&2; exit 3");
-        assert!(run(&skipped, Peer::Cycles, 1, 1, 0, dir.path()).unwrap().is_none());
+        assert!(run(&skipped, Peer::Cycles, 1, 1, 0, dir.path())
+            .unwrap()
+            .is_none());
         let failed = sh("echo 'Traceback ...' >&2; exit 1");
         let err = run(&failed, Peer::Cycles, 1, 1, 0, dir.path()).unwrap_err();
         assert!(format!("{err:#}").contains("Traceback"), "{err:#}");
@@ -372,8 +376,13 @@ mod tests {
             r#"for a; do out=$a; done; cp {} "$out"; echo '{{"spp": 4, "seconds": 1.5, "cpu_s": 3}}'"#,
             exr.display()
         );
-        let peer = Peer::Mitsuba { variant: "scalar_rgb", sampler: "independent" };
-        let r = run(&sh(&script), peer, 4, 2, 0, dir.path()).unwrap().unwrap();
+        let peer = Peer::Mitsuba {
+            variant: "scalar_rgb",
+            sampler: "independent",
+        };
+        let r = run(&sh(&script), peer, 4, 2, 0, dir.path())
+            .unwrap()
+            .unwrap();
         assert_eq!((r.spp, r.seconds, r.cpu_s), (4, 1.5, 3.0));
         assert_eq!(r.image, image(vec![0.5, 1.0, 2.0, 0.0, 0.25, 8.0], 2));
     }
