@@ -11,6 +11,10 @@ use std::process::Command;
 /// The script, relative to the workspace root.
 pub const SCRIPT: &str = "xtask/peers/cornell.py";
 
+/// Mitsuba's high-sample image of the Cornell box, relative to the
+/// workspace root (its README says how it was made).
+pub const REFERENCE: &str = "crates/tracer-core/tests/data/cornell-box-mitsuba.exr";
+
 /// The script's exit status for a renderer that is not installed (its one
 /// line on stderr says which, and how to install it).
 const NOT_INSTALLED: i32 = 3;
@@ -342,6 +346,19 @@ mod tests {
         });
         assert!((rmse_at(&points, 2.0).unwrap() - 0.1 / 2f64.sqrt()).abs() < 1e-12);
         assert!((rmse_at(&points, 8.0).unwrap() - 0.025).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_tests_reference_reads_as_the_cornell_box() {
+        // Half floats, ZIP: what the path tracer's tests compare with.
+        let path = crate::workspace_root().join(REFERENCE);
+        let r = read_image(&path).unwrap();
+        assert_eq!((r.width, r.height), (256, 256));
+        let mean = r.rgb.iter().map(|&x| f64::from(x)).sum::<f64>() / r.rgb.len() as f64;
+        assert!((mean - 0.14708).abs() < 1e-4, "{mean}");
+        // The light, near the top middle: Mitsuba's radiance plus what it reflects.
+        let light = &r.rgb[(36 * 256 + 128) * 3..][..3];
+        assert!((light[0] - 18.6).abs() < 0.05, "{light:?}");
     }
 
     /// A stand-in for the script: a shell command.
