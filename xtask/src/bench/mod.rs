@@ -29,6 +29,7 @@ mod embree;
 mod measure;
 pub mod memory;
 mod packets;
+pub mod path_peers;
 mod pov_scene;
 mod povray;
 mod print;

@@ -1,0 +1,406 @@
+//! The path tracer's peers on the Cornell box: Mitsuba 3 and Blender Cycles,
+//! run by `xtask/peers/cornell.py` at a given samples per pixel and thread
+//! count (its render-only seconds and its EXR), the RMSE between two images,
+//! and, at equal time, the RMSE a peer reaches within a time budget and the
+//! time it takes to reach a given RMSE.
+
+use anyhow::{bail, Context, Result};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The script, relative to the workspace root.
+pub const SCRIPT: &str = "xtask/peers/cornell.py";
+
+/// Mitsuba's high-sample image of the Cornell box, relative to the
+/// workspace root (its README says how it was made).
+pub const REFERENCE: &str = "crates/tracer-core/tests/data/cornell-box-mitsuba.exr";
+
+/// The script's exit status for a renderer that is not installed (its one
+/// line on stderr says which, and how to install it).
+const NOT_INSTALLED: i32 = 3;
+
+/// One peer renderer and its settings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Peer {
+    /// Mitsuba 3: `llvm_ad_rgb` or `scalar_rgb`, sampler `independent` or
+    /// `multijitter`.
+    Mitsuba {
+        variant: &'static str,
+        sampler: &'static str,
+    },
+    /// Blender Cycles on the CPU (`bpy`).
+    Cycles,
+}
+
+impl Peer {
+    /// The peers the issue compares against.
+    pub const ALL: [Peer; 4] = [
+        Peer::Mitsuba {
+            variant: "llvm_ad_rgb",
+            sampler: "independent",
+        },
+        Peer::Mitsuba {
+            variant: "llvm_ad_rgb",
+            sampler: "multijitter",
+        },
+        Peer::Mitsuba {
+            variant: "scalar_rgb",
+            sampler: "independent",
+        },
+        Peer::Cycles,
+    ];
+
+    pub fn name(&self) -> String {
+        match self {
+            Peer::Mitsuba { variant, sampler } => format!("Mitsuba 3 {variant} {sampler}"),
+            Peer::Cycles => "Cycles".into(),
+        }
+    }
+
+    fn args(&self) -> Vec<&'static str> {
+        match *self {
+            Peer::Mitsuba { variant, sampler } => {
+                vec!["mitsuba", "--variant", variant, "--sampler", sampler]
+            }
+            Peer::Cycles => vec!["cycles"],
+        }
+    }
+}
+
+/// How the script is started: `python3 xtask/peers/cornell.py` (tests
+/// put a stand-in in its place).
+#[derive(Debug, Clone)]
+pub struct Runner {
+    pub program: PathBuf,
+    pub args: Vec<String>,
+}
+
+impl Runner {
+    pub fn new(root: &Path) -> Runner {
+        Runner {
+            program: "python3".into(),
+            args: vec![root.join(SCRIPT).to_string_lossy().into_owned()],
+        }
+    }
+}
+
+/// A linear RGB image, row by row from the top, three floats a pixel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FloatImage {
+    pub width: u32,
+    pub height: u32,
+    pub rgb: Vec<f32>,
+}
+
+/// An EXR's (or any format's) colour channels as linear floats.
+pub fn read_image(path: &Path) -> Result<FloatImage> {
+    let image = image::open(path)
+        .with_context(|| format!("cannot read {}", path.display()))?
+        .into_rgb32f();
+    Ok(FloatImage {
+        width: image.width(),
+        height: image.height(),
+        rgb: image.into_raw(),
+    })
+}
+
+/// Root mean square of the difference over every pixel and channel.
+pub fn rmse(a: &FloatImage, b: &FloatImage) -> Result<f64> {
+    if (a.width, a.height) != (b.width, b.height) {
+        bail!(
+            "images of different sizes: {}x{} and {}x{}",
+            a.width,
+            a.height,
+            b.width,
+            b.height
+        );
+    }
+    let sum: f64 = a
+        .rgb
+        .iter()
+        .zip(&b.rgb)
+        .map(|(&x, &y)| (f64::from(x) - f64::from(y)).powi(2))
+        .sum();
+    Ok((sum / a.rgb.len() as f64).sqrt())
+}
+
+/// One render of a peer.
+#[derive(Debug, Clone)]
+pub struct Run {
+    /// The samples per pixel rendered: Mitsuba's multijitter rounds some
+    /// counts up (128 to 132).
+    pub spp: u32,
+    /// The render alone: without start-up, scene loading, kernel loading
+    /// and JIT compilation.
+    pub seconds: f64,
+    /// CPU seconds of the render (about threads x seconds).
+    pub cpu_s: f64,
+    pub image: FloatImage,
+}
+
+/// Renders the Cornell box with `peer` into `dir`; None, after the
+/// script's one line saying why, when the peer is not installed.
+pub fn run(
+    runner: &Runner,
+    peer: Peer,
+    spp: u32,
+    threads: usize,
+    seed: u32,
+    dir: &Path,
+) -> Result<Option<Run>> {
+    let out = dir.join(format!(
+        "{}-{spp}spp-{threads}t-{seed}.exr",
+        peer.name().replace(' ', "-")
+    ));
+    let output = Command::new(&runner.program)
+        .args(&runner.args)
+        .args(peer.args())
+        .arg("--spp")
+        .arg(spp.to_string())
+        .arg("--threads")
+        .arg(threads.to_string())
+        .arg("--seed")
+        .arg(seed.to_string())
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .with_context(|| format!("cannot run {}", runner.program.display()))?;
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    if output.status.code() == Some(NOT_INSTALLED) {
+        eprintln!("{}", stderr.trim_end().lines().last().unwrap_or(""));
+        return Ok(None);
+    }
+    if !output.status.success() {
+        bail!("{} failed ({}): {stderr}", peer.name(), output.status);
+    }
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let line = stdout.lines().last().unwrap_or("");
+    let field = |key| {
+        json_number(line, key)
+            .with_context(|| format!("{}: no `{key}` in its output line {line:?}", peer.name()))
+    };
+    Ok(Some(Run {
+        spp: field("spp")? as u32,
+        seconds: field("seconds")?,
+        cpu_s: field("cpu_s")?,
+        image: read_image(&out)?,
+    }))
+}
+
+/// The number of `"key": NUMBER` in the script's one-line JSON object (its
+/// values hold no commas, braces or nested objects).
+fn json_number(line: &str, key: &str) -> Option<f64> {
+    let start = line.find(&format!("\"{key}\":"))? + key.len() + 3;
+    let rest = &line[start..];
+    let end = rest.find([',', '}']).unwrap_or(rest.len());
+    rest[..end].trim().parse().ok()
+}
+
+/// One point of a peer's convergence: its time and its error.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Point {
+    pub spp: u32,
+    pub seconds: f64,
+    pub rmse: f64,
+}
+
+/// The peer's renders at `start_spp`, then twice as many samples each time,
+/// until one takes `budget_s` or more (or reaches `max_spp`), each with its
+/// RMSE against `reference`. None when the peer is not installed.
+#[allow(clippy::too_many_arguments)]
+pub fn until_budget(
+    runner: &Runner,
+    peer: Peer,
+    threads: usize,
+    budget_s: f64,
+    reference: &FloatImage,
+    start_spp: u32,
+    max_spp: u32,
+    dir: &Path,
+) -> Result<Option<Vec<Point>>> {
+    let mut points = Vec::new();
+    let mut spp = start_spp.max(1);
+    loop {
+        let Some(r) = run(runner, peer, spp, threads, 0, dir)? else {
+            return Ok(None);
+        };
+        points.push(Point {
+            spp: r.spp,
+            seconds: r.seconds,
+            rmse: rmse(&r.image, reference)?,
+        });
+        if r.seconds >= budget_s || spp >= max_spp {
+            return Ok(Some(points));
+        }
+        spp = spp.saturating_mul(2).min(max_spp);
+    }
+}
+
+/// The RMSE at `budget_s`, interpolated in log-log between the renders
+/// around it (extrapolated from the nearest two beyond them).
+pub fn rmse_at(points: &[Point], budget_s: f64) -> Option<f64> {
+    log_log(points, |p| (p.seconds, p.rmse), budget_s, -0.5)
+}
+
+/// The seconds to reach `target` RMSE, interpolated in the same way.
+pub fn seconds_to(points: &[Point], target: f64) -> Option<f64> {
+    log_log(points, |p| (p.rmse, p.seconds), target, -2.0)
+}
+
+/// y at x on the polyline through `points` in log-log space, ordered by x:
+/// between the two points around x, or extended from the nearest two. One
+/// point alone is extended with `slope` (Monte Carlo's: error ~ time^-1/2,
+/// so time ~ error^-2).
+fn log_log(points: &[Point], xy: impl Fn(&Point) -> (f64, f64), x: f64, slope: f64) -> Option<f64> {
+    let mut pts: Vec<(f64, f64)> = points
+        .iter()
+        .map(xy)
+        .filter(|&(x, y)| x > 0.0 && y > 0.0)
+        .map(|(x, y)| (x.ln(), y.ln()))
+        .collect();
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    pts.dedup_by(|a, b| a.0 == b.0);
+    let lx = x.ln();
+    let (a, b) = match pts.len() {
+        0 => return None,
+        1 => {
+            let (x0, y0) = pts[0];
+            return Some((y0 + slope * (lx - x0)).exp());
+        }
+        n => {
+            let i = pts.partition_point(|p| p.0 < lx).clamp(1, n - 1);
+            (pts[i - 1], pts[i])
+        }
+    };
+    let t = (lx - a.0) / (b.0 - a.0);
+    Some((a.1 + t * (b.1 - a.1)).exp())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn image(rgb: Vec<f32>, width: u32) -> FloatImage {
+        let height = rgb.len() as u32 / 3 / width;
+        FloatImage { width, height, rgb }
+    }
+
+    #[test]
+    fn rmse_is_over_every_pixel_and_channel() {
+        let a = image(vec![0.0; 6], 2);
+        let b = image(vec![1.0, 0.0, 0.0, 0.0, 0.0, 1.0], 2);
+        assert!((rmse(&a, &b).unwrap() - (2.0f64 / 6.0).sqrt()).abs() < 1e-12);
+        assert_eq!(rmse(&b, &b).unwrap(), 0.0);
+        assert!(rmse(&a, &image(vec![0.0; 6], 1)).is_err());
+    }
+
+    #[test]
+    fn numbers_are_read_from_the_scripts_json_line() {
+        let line = r#"{"renderer": "cycles", "spp": 64, "seconds": 1.25, "cpu_s": 2.5e-1}"#;
+        assert_eq!(json_number(line, "seconds"), Some(1.25));
+        assert_eq!(json_number(line, "cpu_s"), Some(0.25));
+        assert_eq!(json_number(line, "spp"), Some(64.0));
+        assert_eq!(json_number(line, "renderer"), None);
+        assert_eq!(json_number(line, "threads"), None);
+    }
+
+    /// Monte Carlo error: rmse = 0.1 / sqrt(seconds).
+    fn monte_carlo(seconds: &[f64]) -> Vec<Point> {
+        seconds
+            .iter()
+            .map(|&s| Point {
+                spp: 0,
+                seconds: s,
+                rmse: 0.1 / s.sqrt(),
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_power_law_is_interpolated_and_extended_exactly() {
+        let points = monte_carlo(&[0.5, 1.0, 2.0, 4.0]);
+        for budget in [0.25, 0.7, 3.0, 16.0] {
+            let expected = 0.1 / f64::sqrt(budget);
+            assert!((rmse_at(&points, budget).unwrap() - expected).abs() < 1e-12);
+            // The time to reach that error is the budget again.
+            assert!((seconds_to(&points, expected).unwrap() - budget).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn one_point_is_extended_with_the_monte_carlo_slope() {
+        let points = monte_carlo(&[2.0]);
+        assert!((rmse_at(&points, 8.0).unwrap() - 0.1 / 8f64.sqrt()).abs() < 1e-12);
+        assert!((seconds_to(&points, 0.1 / 8f64.sqrt()).unwrap() - 8.0).abs() < 1e-9);
+        assert_eq!(rmse_at(&[], 1.0), None);
+    }
+
+    #[test]
+    fn the_bracketing_points_are_used_not_the_outer_ones() {
+        // A slope change between the segments: the budget inside the first
+        // one ignores the third point.
+        let points = [(1.0, 0.1), (4.0, 0.05), (16.0, 0.0125)].map(|(seconds, rmse)| Point {
+            spp: 0,
+            seconds,
+            rmse,
+        });
+        assert!((rmse_at(&points, 2.0).unwrap() - 0.1 / 2f64.sqrt()).abs() < 1e-12);
+        assert!((rmse_at(&points, 8.0).unwrap() - 0.025).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_tests_reference_reads_as_the_cornell_box() {
+        // Half floats, ZIP: what the path tracer's tests compare with.
+        let path = crate::workspace_root().join(REFERENCE);
+        let r = read_image(&path).unwrap();
+        assert_eq!((r.width, r.height), (256, 256));
+        let mean = r.rgb.iter().map(|&x| f64::from(x)).sum::<f64>() / r.rgb.len() as f64;
+        assert!((mean - 0.14708).abs() < 1e-4, "{mean}");
+        // The light, near the top middle: Mitsuba's radiance plus what it reflects.
+        let light = &r.rgb[(36 * 256 + 128) * 3..][..3];
+        assert!((light[0] - 18.6).abs() < 0.05, "{light:?}");
+    }
+
+    /// A stand-in for the script: a shell command.
+    fn sh(script: &str) -> Runner {
+        Runner {
+            program: "sh".into(),
+            args: vec!["-c".into(), script.into(), "cornell.py".into()],
+        }
+    }
+
+    #[test]
+    fn a_peer_not_installed_is_skipped_and_a_failure_is_an_error() {
+        let dir = tempfile::tempdir().unwrap();
+        let skipped = sh("echo 'Cycles: skipped, bpy not installed' >&2; exit 3");
+        assert!(run(&skipped, Peer::Cycles, 1, 1, 0, dir.path())
+            .unwrap()
+            .is_none());
+        let failed = sh("echo 'Traceback ...' >&2; exit 1");
+        let err = run(&failed, Peer::Cycles, 1, 1, 0, dir.path()).unwrap_err();
+        assert!(format!("{err:#}").contains("Traceback"), "{err:#}");
+    }
+
+    #[test]
+    fn a_run_returns_its_seconds_and_image() {
+        let dir = tempfile::tempdir().unwrap();
+        // The stand-in copies an EXR to the path after --out (the last
+        // argument) and prints its line.
+        let exr = dir.path().join("source.exr");
+        let pixels = image::Rgb32FImage::from_raw(2, 1, vec![0.5, 1.0, 2.0, 0.0, 0.25, 8.0]);
+        pixels.unwrap().save(&exr).unwrap();
+        let script = format!(
+            r#"for a; do out=$a; done; cp {} "$out"; echo '{{"spp": 4, "seconds": 1.5, "cpu_s": 3}}'"#,
+            exr.display()
+        );
+        let peer = Peer::Mitsuba {
+            variant: "scalar_rgb",
+            sampler: "independent",
+        };
+        let r = run(&sh(&script), peer, 4, 2, 0, dir.path())
+            .unwrap()
+            .unwrap();
+        assert_eq!((r.spp, r.seconds, r.cpu_s), (4, 1.5, 3.0));
+        assert_eq!(r.image, image(vec![0.5, 1.0, 2.0, 0.0, 0.25, 8.0], 2));
+    }
+}
