@@ -148,6 +148,11 @@ const CASES: &[Case] = &[
     case("checker-negative.toml", "objects[0].texture.checker[1]", 7, 35, "expected a colour with channels >= 0, found [0, -0.5, 0]"),
     case("checker-wrap.toml", "objects[0].texture", 7, 11, "expected `wrap` only with `image`"),
     case("wrong-type.json", "camera.width", 2, 64, "expected a whole number >= 0, found the string \"640\""),
+    case("emission-negative.toml", "materials.lamp.emission", 6, 12, "expected a colour with channels >= 0, found [4, -1, 4]"),
+    case("integrator-typo.toml", "render.integrator", 6, 14, "unknown value `pth`; did you mean `path`?"),
+    case("emissive-plane.toml", "objects[0].material", 10, 12, "an infinite plane cannot be sampled as a light; use a `quad`"),
+    case("samples-whitted-too-many.toml", "render.samples", 6, 11, "expected 1 to 4096 samples, found 8192; more are allowed with integrator = \"path\""),
+    case("samples-path-too-many.toml", "render.samples", 7, 11, "expected 1 to 65536 samples, found 100000"),
 ];
 
 fn bad_dir() -> PathBuf {

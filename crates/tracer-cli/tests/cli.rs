@@ -1183,3 +1183,73 @@ fn check_shows_the_problems_of_each_file_of_a_scene() {
         "{stderr}"
     );
 }
+
+#[test]
+fn path_mode_on_the_command_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let cornell = scene("cornell-box.toml");
+    let small = ["--samples", "2", "--width", "32", "--threads", "2"];
+    // An AOV does not trace light: no integrator goes with it.
+    let out = tracer(
+        dir.path(),
+        &[
+            "render",
+            &cornell,
+            "--integrator",
+            "path",
+            "--aov",
+            "normal",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("--integrator") && stderr.contains("--aov"),
+        "{stderr}"
+    );
+    // A misspelt integrator is named with the ones there are.
+    let out = tracer(dir.path(), &["render", &cornell, "--integrator", "pth"]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("whitted") && stderr.contains("path"),
+        "{stderr}"
+    );
+    // Above 4096 samples only in path mode.
+    let shadows = scene("shadows.toml");
+    let out = tracer(
+        dir.path(),
+        &["render", &shadows, "--samples", "5000", "-o", "x.png"],
+    );
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("path mode"), "{stderr}");
+    assert!(!dir.path().join("x.png").exists());
+    // A lab scene in path mode: its ambient is warned about once, and the
+    // linear light of the Cornell box's lamp is kept in an EXR.
+    let mut args = vec!["render", &shadows, "--integrator", "path", "-o", "s.png"];
+    args.extend(small);
+    let out = tracer(dir.path(), &args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(
+        stderr.matches("ignored in path mode").count(),
+        1,
+        "{stderr}"
+    );
+    let mut args = vec!["render", &cornell, "-o", "c.exr"];
+    args.extend(small);
+    let out = tracer(dir.path(), &args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let exr = image::open(dir.path().join("c.exr")).unwrap().to_rgb32f();
+    let brightest = exr.pixels().map(|p| p.0[0]).fold(0.0, f32::max);
+    assert!(brightest > 10.0, "{brightest}");
+}
