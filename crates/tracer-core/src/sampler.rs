@@ -22,7 +22,9 @@ use glam::Vec2;
 pub struct PixelSampler {
     /// A hash of the pixel (and the seed).
     pixel: u64,
-    sample: u32,
+    /// The current sample's number, its bits reversed (the scramblings
+    /// work on reversed bits).
+    reversed_sample: u32,
     dimension: u32,
 }
 
@@ -34,14 +36,14 @@ impl PixelSampler {
     pub fn new(i: u32, j: u32, seed: u32) -> PixelSampler {
         PixelSampler {
             pixel: crate::sampling::hash(i, j, seed ^ 0x5EED_0000),
-            sample: 0,
+            reversed_sample: 0,
             dimension: 0,
         }
     }
 
     /// Starts sample `s`, from its first dimension.
     pub fn start(&mut self, s: u32) {
-        self.sample = s;
+        self.reversed_sample = s.reverse_bits();
         self.dimension = 0;
     }
 
@@ -60,15 +62,17 @@ impl PixelSampler {
     /// elementary intervals as the first 2^k points.
     #[inline(always)]
     fn index(&self, h: u64) -> u32 {
-        owen_scramble(self.sample, (h >> 32) as u32) & INDEX_MASK
+        lk_hash(self.reversed_sample, (h >> 32) as u32).reverse_bits() & INDEX_MASK
     }
 
-    /// A number of [0, 1).
+    /// A number of [0, 1): the first Sobol dimension (the index's bits
+    /// reversed), Owen scrambled, as `owen_scramble(index.reverse_bits())`
+    /// with the reversals that cancel left out.
     #[inline(always)]
     pub fn get1(&mut self) -> f32 {
         let h = self.next_hash();
         let index = self.index(h);
-        to_unit(owen_scramble(index.reverse_bits(), h as u32))
+        to_unit(lk_hash(index, h as u32).reverse_bits())
     }
 
     /// A point of [0, 1)^2.
@@ -76,11 +80,12 @@ impl PixelSampler {
     pub fn get2(&mut self) -> Vec2 {
         let h = self.next_hash();
         let index = self.index(h);
-        // A third seed, independent of the shuffle's and the first's.
-        let seed2 = mix64(h ^ 0xD1B5_4A32_D192_ED03) as u32;
+        // A third seed, from the product's high bits: each depends on all
+        // of h's, unlike the two halves the first two seeds are.
+        let seed2 = (h.wrapping_mul(0xD1B5_4A32_D192_ED03) >> 32) as u32;
         Vec2::new(
-            to_unit(owen_scramble(index.reverse_bits(), h as u32)),
-            to_unit(owen_scramble(sobol_second(index), seed2)),
+            to_unit(lk_hash(index, h as u32).reverse_bits()),
+            to_unit(lk_hash(sobol_second_reversed(index), seed2).reverse_bits()),
         )
     }
 }
@@ -99,17 +104,18 @@ fn mix64(mut z: u64) -> u64 {
 }
 
 /// The second dimension of the Sobol sequence, as 32-bit fixed point, for
-/// an index below 2^24: its generator matrix is Pascal's triangle mod 2,
-/// each direction number the one before xor itself shifted by one; the
-/// xor of the direction numbers of the index's set bits, a byte at a time.
+/// an index below 2^24, its bits reversed (as the scrambling takes it):
+/// its generator matrix is Pascal's triangle mod 2, each direction number
+/// the one before xor itself shifted by one; the xor of the direction
+/// numbers of the index's set bits, a byte at a time.
 #[inline(always)]
-fn sobol_second(index: u32) -> u32 {
+fn sobol_second_reversed(index: u32) -> u32 {
     let [b0, b1, b2, _] = index.to_le_bytes();
     SOBOL_SECOND[0][b0 as usize] ^ SOBOL_SECOND[1][b1 as usize] ^ SOBOL_SECOND[2][b2 as usize]
 }
 
 /// For each byte k of the index and each value of it, the xor of the
-/// direction numbers 8k .. 8k + 7 its bits select.
+/// direction numbers 8k .. 8k + 7 its bits select, bits reversed.
 static SOBOL_SECOND: [[u32; 256]; 3] = sobol_second_tables();
 
 const fn sobol_second_tables() -> [[u32; 256]; 3] {
@@ -134,7 +140,7 @@ const fn sobol_second_tables() -> [[u32; 256]; 3] {
                 }
                 bit += 1;
             }
-            tables[byte][value] = x;
+            tables[byte][value] = x.reverse_bits();
             value += 1;
         }
         byte += 1;
@@ -148,15 +154,21 @@ const fn sobol_second_tables() -> [[u32; 256]; 3] {
 /// Laine and Karras' on the reversed bits, with Vegdahl's constants
 /// ("Building a better LK hash", 2021), which make it close to a true
 /// Owen scrambling.
-#[inline(always)]
+#[cfg(test)]
 fn owen_scramble(x: u32, seed: u32) -> u32 {
-    let mut v = x.reverse_bits();
+    lk_hash(x.reverse_bits(), seed).reverse_bits()
+}
+
+/// The hash behind `owen_scramble`, on reversed bits: each bit is flipped
+/// by a hash of the bits below it, and the seed.
+#[inline(always)]
+fn lk_hash(mut v: u32, seed: u32) -> u32 {
     v ^= v.wrapping_mul(0x3d20_adea);
     v = v.wrapping_add(seed);
     v = v.wrapping_mul((seed >> 16) | 1);
     v ^= v.wrapping_mul(0x0552_6c56);
     v ^= v.wrapping_mul(0x53a2_2864);
-    v.reverse_bits()
+    v
 }
 
 /// A 32-bit fixed-point number as a float of [0, 1): its top 24 bits, so
@@ -195,7 +207,7 @@ mod tests {
                 let mut seen = vec![false; n as usize];
                 for i in 0..n {
                     let top = |v: u32, bits: u32| v.checked_shr(32 - bits).unwrap_or(0);
-                    let (x, y) = (i.reverse_bits(), sobol_second(i));
+                    let (x, y) = (i.reverse_bits(), sobol_second_reversed(i).reverse_bits());
                     assert_eq!(y, sobol_second_by_bits(i));
                     let cell = (top(x, a) << b) | top(y, b);
                     assert!(!seen[cell as usize], "n {n}, {a}x{b}: cell {cell} twice");

@@ -131,8 +131,21 @@ impl Bsdf {
         if wi.z <= 0.0 {
             return (Vec3::ZERO, 0.0);
         }
-        let f = self.lambert.eval(wi) + self.phong.eval(self.wo, wi);
-        (f * wi.z, self.smooth_pdf(wi))
+        (self.smooth_f(wi) * wi.z, self.smooth_pdf(wi))
+    }
+
+    /// f of the smooth lobes toward local `wi` (above the surface); a lobe
+    /// never picked (of albedo 0) is not evaluated.
+    #[inline(always)]
+    fn smooth_f(&self, wi: Vec3) -> Vec3 {
+        let mut f = Vec3::ZERO;
+        if self.p_lambert > 0.0 {
+            f += self.lambert.eval(wi);
+        }
+        if self.p_phong > 0.0 {
+            f += self.phong.eval(self.wo, wi);
+        }
+        f
     }
 
     /// The density of local `wi` among the smooth lobes, each weighted by
@@ -163,7 +176,7 @@ impl Bsdf {
         } else {
             self.phong.sample(self.wo, u)?
         };
-        let f = self.lambert.eval(wi) + self.phong.eval(self.wo, wi);
+        let f = self.smooth_f(wi);
         let pdf = self.smooth_pdf(wi);
         if pdf <= 0.0 || wi.z <= 0.0 {
             return None;
