@@ -140,11 +140,16 @@ def toml():
     # The point of the view line nearest the origin: any point on it would do.
     look_at = tuple(e + f * -sum(a * b for a, b in zip(eye, fwd)) for e, f in zip(eye, fwd))
     out = [
-        "# Mitsuba 3's cornell_box() (mitsuba.cornell_box(), Mitsuba 3.9), with a box",
-        "# pixel filter instead of its Gaussian. Made by",
-        "#     python3 xtask/peers/cornell_box.py > scenes/cornell-box.toml",
-        "# from Mitsuba's to_world transforms: its rectangles are [-1, 1]^2 at z = 0",
-        "# facing +z, its cubes [-1, 1]^3. Mitsuba's max_depth 8 is max_depth 7 here.",
+        "# The Cornell box of Mitsuba 3 (`mitsuba.cornell_box()`), path traced: the",
+        "# ceiling's lamp is the only light, and everything else is lit by what the",
+        "# walls and boxes reflect. The red and green walls tint the boxes' sides",
+        "# facing them, and the image agrees with Mitsuba's own render of the scene",
+        "# (crates/tracer-core/tests/cornell_box.rs).",
+        "#",
+        "# Made by `python3 xtask/peers/cornell_box.py > scenes/cornell-box.toml` from",
+        "# Mitsuba 3.9's to_world transforms (its rectangles are [-1, 1]^2 at z = 0",
+        "# facing +z, its cubes [-1, 1]^3), with a box pixel filter instead of its",
+        "# Gaussian. Mitsuba's max_depth 8 is max_depth 7 here.",
         "[camera]",
         f"eye = {fmt(eye)}",
         f"look_at = {fmt(look_at)}",

@@ -106,10 +106,12 @@ fn the_goldens_hold_the_labs_hand_worked_values() {
     assert_eq!(px("shadows", 100, 150), [70, 70, 70]);
     // The lab's scenes are all 500x400; the scenes beyond the lab (checked
     // by the physics tests of tracer-core) are not.
-    const BEYOND_LAB: [&str; 9] = [
+    const BEYOND_LAB: [&str; 11] = [
         "antialiasing",
         "bench-bunny",
         "boxes",
+        "cornell-box",
+        "global-illumination",
         "depth-of-field",
         "glass",
         "showcase",
@@ -127,6 +129,82 @@ fn the_goldens_hold_the_labs_hand_worked_values() {
     for name in lab {
         assert_eq!(real_golden(name).dimensions(), (500, 400), "{name}");
     }
+}
+
+/// The Cornell box's golden against Mitsuba 3's render of the same scene
+/// (`crates/tracer-core/tests/data`, 32768 paths a pixel), encoded by the
+/// scene's rule (clamp, gamma 2.2, truncation): the same image but for the
+/// golden's noise (64 paths a pixel), which 16x16 blocks average out.
+#[test]
+fn the_cornell_box_golden_is_mitsuba_s_image() {
+    let exr = root().join("crates/tracer-core/tests/data/cornell-box-mitsuba.exr");
+    let reference = image::open(exr).unwrap().to_rgb32f();
+    let golden = real_golden("cornell-box");
+    assert_eq!(golden.dimensions(), reference.dimensions());
+    let encode = |c: f32| (c.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0) as u8;
+    let blocks = |level: &dyn Fn(u32, u32, usize) -> f64| {
+        let mut sums = vec![0.0; 16 * 16 * 3];
+        for (x, y) in (0..256).flat_map(|y| (0..256).map(move |x| (x, y))) {
+            for c in 0..3 {
+                sums[((y / 16 * 16 + x / 16) * 3) as usize + c] += level(x, y, c) / 256.0;
+            }
+        }
+        sums
+    };
+    let ours = blocks(&|x, y, c| f64::from(golden.get_pixel(x, y).0[c]));
+    let theirs = blocks(&|x, y, c| f64::from(encode(reference.get_pixel(x, y).0[c])));
+    for (k, (o, t)) in ours.iter().zip(&theirs).enumerate() {
+        let (block, channel) = (k / 3, k % 3);
+        assert!(
+            (o - t).abs() <= 3.0,
+            "block ({}, {}), channel {channel}: {o:.1} vs Mitsuba's {t:.1}",
+            block % 16,
+            block / 16
+        );
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    assert!((mean(&ours) / mean(&theirs) - 1.0).abs() < 0.01);
+}
+
+/// The global look of `global-illumination.toml`'s golden, by numbers: the
+/// floor is warmer beside the orange wall than beside the teal one and the
+/// box's sides take each wall's colour (colour bleeding), a corner is
+/// darker than the middle of its wall, and the glass ball's caustic is
+/// brighter than the floor beside it. Regions read off the image's layout
+/// (320x240, the camera of the scene file).
+#[test]
+fn the_global_illumination_golden_shows_the_global_look() {
+    let golden = real_golden("global-illumination");
+    let mean = |x0: u32, y0: u32, x1: u32, y1: u32| {
+        let mut sum = [0.0f64; 3];
+        for y in y0..y1 {
+            for x in x0..x1 {
+                for (c, v) in golden.get_pixel(x, y).0.iter().enumerate() {
+                    sum[c] += f64::from(*v);
+                }
+            }
+        }
+        sum.map(|s| s / f64::from((x1 - x0) * (y1 - y0)))
+    };
+    let grey = |c: [f64; 3]| (c[0] + c[1] + c[2]) / 3.0;
+    let (floor_right, floor_left) = (mean(255, 195, 295, 215), mean(25, 195, 65, 215));
+    assert!(
+        floor_right[0] / floor_right[2] > 1.15 * floor_left[0] / floor_left[2],
+        "{floor_right:?} {floor_left:?}"
+    );
+    let (box_left, box_right) = (mean(95, 110, 110, 150), mean(125, 110, 145, 150));
+    assert!(
+        box_left[1] > box_left[0],
+        "teal on the side facing it: {box_left:?}"
+    );
+    assert!(
+        box_right[0] > box_right[1],
+        "orange on the other: {box_right:?}"
+    );
+    let (corner, middle) = (mean(88, 150, 96, 160), mean(150, 60, 170, 80));
+    assert!(grey(corner) < 0.6 * grey(middle), "{corner:?} {middle:?}");
+    let (caustic, beside) = (mean(160, 175, 185, 190), mean(100, 175, 125, 190));
+    assert!(grey(caustic) > 1.2 * grey(beside), "{caustic:?} {beside:?}");
 }
 
 /// The floor of `textures.toml`, worked out from its camera: eye (0, 3, 9)
