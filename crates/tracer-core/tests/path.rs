@@ -326,3 +326,32 @@ fn light_samples_bsdf_samples_and_mis_converge_to_the_same_mean() {
         );
     }
 }
+
+#[test]
+fn a_sample_that_is_not_finite_is_dropped_and_counted() {
+    // The camera inside a glass ball looks out at an emitter of radiance
+    // 3e38: leaving the glass scales radiance by eta^2 = 2.25, past the
+    // largest float. Seen straight, the emitter is finite (and so is the
+    // sum of many such samples); the samples through the glass are left
+    // out of their pixel's mean, and counted.
+    let scene = scene_from(
+        "[camera]\neye = [0, 0, 0]\nlook_at = [0, 0, -1]\nfov = 20\nwidth = 4\nheight = 4\n\
+         [render]\nintegrator = \"path\"\nmax_depth = 4\n\
+         [materials.sun]\nemission = [3e38, 3e38, 3e38]\n\
+         [materials.glass]\ntransmittance = 1\nfresnel = true\n\
+         [[objects]]\nsphere = { center = [0, 0, 0], radius = 2 }\nmaterial = \"glass\"\n\
+         [[objects]]\nquad = { corner = [-10, -10, -5], edge_u = [20, 0, 0], edge_v = [0, 20, 0] }\nmaterial = \"sun\"\n",
+    );
+    let mut tracer = PathTracer::new(&scene);
+    let through = tracer.pixel(1, 2, 16, || false);
+    assert!(through.is_finite(), "{through}");
+    assert!(tracer.stats.dropped > 0, "{}", tracer.stats.dropped);
+    let straight = scene_from(
+        "[camera]\neye = [0, 0, 0]\nlook_at = [0, 0, -1]\nfov = 20\nwidth = 4\nheight = 4\n\
+         [render]\nintegrator = \"path\"\n[materials.sun]\nemission = [3e38, 3e38, 3e38]\n\
+         [[objects]]\nquad = { corner = [-10, -10, -5], edge_u = [20, 0, 0], edge_v = [0, 20, 0] }\nmaterial = \"sun\"\n",
+    );
+    let mut tracer = PathTracer::new(&straight);
+    assert_eq!(tracer.pixel(1, 2, 64, || false), Vec3::splat(3e38));
+    assert_eq!(tracer.stats.dropped, 0);
+}

@@ -17,7 +17,7 @@ use crate::sampler::PixelSampler;
 use crate::sampling::concentric_disk;
 use crate::scene::Scene;
 use crate::EPSILON;
-use glam::{Vec2, Vec3};
+use glam::{DVec3, Vec2, Vec3};
 
 /// Bounces before Russian roulette may end a path: the first few carry
 /// most of the light, and ending them early costs more noise than time.
@@ -96,7 +96,8 @@ impl<'a> PathTracer<'a> {
     pub fn pixel(&mut self, i: u32, j: u32, samples: u32, cancelled: impl Fn() -> bool) -> Vec3 {
         let camera = self.scene.camera();
         let mut sampler = PixelSampler::new(i, j, self.seed);
-        let (mut sum, mut kept) = (Vec3::ZERO, 0u32);
+        // Summed in f64: finite samples never add up to infinity.
+        let (mut sum, mut kept) = (DVec3::ZERO, 0u32);
         for s in 0..samples {
             if s % 64 == 63 && cancelled() {
                 break;
@@ -110,13 +111,13 @@ impl<'a> PathTracer<'a> {
             let ray = camera.lens_ray(at.x, at.y, lens);
             let radiance = self.radiance(ray, &mut sampler);
             if radiance.is_finite() {
-                sum += radiance;
+                sum += radiance.as_dvec3();
                 kept += 1;
             } else {
                 self.stats.dropped += 1;
             }
         }
-        sum / kept.max(1) as f32
+        (sum / f64::from(kept.max(1))).as_vec3()
     }
 
     /// The radiance arriving along `ray` (from its origin), one path's
