@@ -66,8 +66,7 @@ impl PixelSampler {
     }
 
     /// A number of [0, 1): the first Sobol dimension (the index's bits
-    /// reversed), Owen scrambled, as `owen_scramble(index.reverse_bits())`
-    /// with the reversals that cancel left out.
+    /// reversed), Owen scrambled, the reversals that cancel left out.
     #[inline(always)]
     pub fn get1(&mut self) -> f32 {
         let h = self.next_hash();
@@ -148,19 +147,12 @@ const fn sobol_second_tables() -> [[u32; 256]; 3] {
     tables
 }
 
-/// An Owen scrambling of the 32-bit fixed-point number `x`: each bit
-/// flipped by a hash of the bits above it, so every elementary interval
-/// is permuted as a whole and the net's strata are kept. The hash is
-/// Laine and Karras' on the reversed bits, with Vegdahl's constants
-/// ("Building a better LK hash", 2021), which make it close to a true
-/// Owen scrambling.
-#[cfg(test)]
-fn owen_scramble(x: u32, seed: u32) -> u32 {
-    lk_hash(x.reverse_bits(), seed).reverse_bits()
-}
-
-/// The hash behind `owen_scramble`, on reversed bits: each bit is flipped
-/// by a hash of the bits below it, and the seed.
+/// An Owen scrambling of a 32-bit fixed-point number, on its reversed
+/// bits (the scrambling of x is `lk_hash(x.reverse_bits()).reverse_bits()`):
+/// each bit flipped by a hash of the bits above it in x, so every
+/// elementary interval is permuted as a whole and the net's strata are
+/// kept. Laine and Karras' hash, with Vegdahl's constants ("Building a
+/// better LK hash", 2021), which make it close to a true Owen scrambling.
 #[inline(always)]
 fn lk_hash(mut v: u32, seed: u32) -> u32 {
     v ^= v.wrapping_mul(0x3d20_adea);
