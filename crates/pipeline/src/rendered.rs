@@ -95,6 +95,9 @@ pub struct ShadedStats {
     /// Path samples left out of their pixel for a value that was not
     /// finite (NaN or infinite); 0 in Whitted mode.
     pub dropped: u64,
+    /// In path mode with point lights, the image's mean luminance (linear);
+    /// None otherwise.
+    pub point_lit_mean: Option<f32>,
 }
 
 /// Above this share of pixels forced to white, a render warns: the lab's
@@ -104,7 +107,24 @@ pub struct ShadedStats {
 /// white patches.
 pub const FORCED_WHITE_WARNING: f64 = 0.03;
 
+/// Below this mean luminance a path-mode image lit by point lights is
+/// called nearly black: the lab's lights (colour 0.6, 10 units away) give
+/// a white surface about 0.002 in path mode.
+pub const DARK_MEAN: f32 = 0.01;
+
 impl ShadedStats {
+    /// A warning when a path-mode image lit by point lights came out nearly
+    /// black: their light falls off with the square of the distance there,
+    /// which the lab's scenes were not made for.
+    pub fn dark_warning(&self) -> Option<String> {
+        let mean = self.point_lit_mean.filter(|&m| m < DARK_MEAN)?;
+        Some(format!(
+            "the image is nearly black (mean {mean:.4}): in path mode a point light's `color` is its intensity, \
+             which falls off with the square of the distance (a light 10 units away lights a surface 100 times less \
+             than in Whitted mode); raise the lights' `color` by the square of their distance, or give a material `emission`"
+        ))
+    }
+
     /// A warning when path samples were dropped.
     pub fn dropped_warning(&self) -> Option<String> {
         (self.dropped > 0).then(|| {

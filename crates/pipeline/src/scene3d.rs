@@ -98,12 +98,28 @@ pub(crate) fn shade_prepared(
         forced_white,
         pixels: image.pixels.len() as u64,
         dropped: rays.dropped,
+        point_lit_mean: point_lit_mean(scene, &image),
     };
     let picture = Picture {
         linear: image,
         encoding,
     };
     Some((picture, stats))
+}
+
+/// The mean luminance of a path-mode image of a scene with point lights.
+fn point_lit_mean(scene: &Scene, image: &tracer_core::LinearImage) -> Option<f32> {
+    let path_mode = scene.trace_settings().integrator == tracer_core::scene::Integrator::Path;
+    if !path_mode || scene.path_lights().points().is_empty() || image.pixels.is_empty() {
+        return None;
+    }
+    let luminance = glam::Vec3::new(0.2126, 0.7152, 0.0722);
+    let sum: f64 = image
+        .pixels
+        .iter()
+        .map(|c| f64::from(c.dot(luminance)))
+        .sum();
+    Some((sum / image.pixels.len() as f64) as f32)
 }
 
 /// The image of one AOV, encoded linearly unless `options.gamma` is given
