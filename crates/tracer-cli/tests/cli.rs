@@ -1241,6 +1241,11 @@ fn path_mode_on_the_command_line() {
         1,
         "{stderr}"
     );
+    // Its point lights, 10 units away, leave it nearly black: said, with why.
+    assert!(
+        stderr.contains("nearly black") && stderr.contains("square of the distance"),
+        "{stderr}"
+    );
     let mut args = vec!["render", &cornell, "-o", "c.exr"];
     args.extend(small);
     let out = tracer(dir.path(), &args);
