@@ -12,6 +12,7 @@ pub mod accel;
 pub mod aov;
 pub mod bsdf;
 pub mod camera;
+pub mod film;
 mod gamma_table;
 pub mod geometry;
 pub mod image;

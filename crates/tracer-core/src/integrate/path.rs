@@ -18,6 +18,7 @@ use crate::sampling::concentric_disk;
 use crate::scene::Scene;
 use crate::EPSILON;
 use glam::{DVec3, Vec2, Vec3};
+use std::ops::Range;
 
 /// Bounces before Russian roulette may end a path: the first few carry
 /// most of the light, and ending them early costs more noise than time.
@@ -94,11 +95,26 @@ impl<'a> PathTracer<'a> {
     /// sample whose value is not finite dropped (and counted). Gives up
     /// between samples once `cancelled` says so.
     pub fn pixel(&mut self, i: u32, j: u32, samples: u32, cancelled: impl Fn() -> bool) -> Vec3 {
+        let mut sum = PixelSum::default();
+        self.add_samples(i, j, 0..samples, &mut sum, cancelled);
+        sum.mean()
+    }
+
+    /// Adds samples `samples` of pixel (i, j) to `sum`, in order, a sample
+    /// whose value is not finite dropped (and counted): `pixel` over passes
+    /// (`film.rs`), the same additions in the same order. Gives up between
+    /// samples once `cancelled` says so.
+    pub fn add_samples(
+        &mut self,
+        i: u32,
+        j: u32,
+        samples: Range<u32>,
+        sum: &mut PixelSum,
+        cancelled: impl Fn() -> bool,
+    ) {
         let camera = self.scene.camera();
         let mut sampler = PixelSampler::new(i, j, self.seed);
-        // Summed in f64: finite samples never add up to infinity.
-        let (mut sum, mut kept) = (DVec3::ZERO, 0u32);
-        for s in 0..samples {
+        for s in samples {
             if s % 64 == 63 && cancelled() {
                 break;
             }
@@ -111,13 +127,11 @@ impl<'a> PathTracer<'a> {
             let ray = camera.lens_ray(at.x, at.y, lens);
             let radiance = self.radiance(ray, &mut sampler);
             if radiance.is_finite() {
-                sum += radiance.as_dvec3();
-                kept += 1;
+                sum.add(radiance);
             } else {
                 self.stats.dropped += 1;
             }
         }
-        (sum / f64::from(kept.max(1))).as_vec3()
     }
 
     /// The radiance arriving along `ray` (from its origin), one path's
@@ -247,6 +261,27 @@ impl<'a> PathTracer<'a> {
             power_heuristic(light.pdf, bsdf_pdf)
         };
         f * light.radiance * (weight / light.pdf)
+    }
+}
+
+/// A pixel's finite samples so far: their sum, in f64 (finite samples
+/// never add up to infinity), and how many.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PixelSum {
+    pub sum: DVec3,
+    pub kept: u32,
+}
+
+impl PixelSum {
+    #[inline(always)]
+    pub fn add(&mut self, radiance: Vec3) {
+        self.sum += radiance.as_dvec3();
+        self.kept += 1;
+    }
+
+    /// The mean of the samples (black for none).
+    pub fn mean(&self) -> Vec3 {
+        (self.sum / f64::from(self.kept.max(1))).as_vec3()
     }
 }
 
