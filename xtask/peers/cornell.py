@@ -121,6 +121,8 @@ def mitsuba(args):
     # Code generation and LLVM compilation, in ms (0 for a cached kernel).
     jit_s = sum(k.get("codegen_time", 0) + k.get("backend_time", 0)
                 for k in dr.kernel_history()) / 1000 if jit else 0.0
+    # Mitsuba 3.9's EXR writer deadlocks in a pool of one thread.
+    dr.set_thread_count(max(args.threads, 2))
     mi.Bitmap(image).write(args.out)
     report(args, f"mitsuba-{args.variant}-{args.sampler}", spp, wall - jit_s, cpu,
            wall_s=round(wall, 4), jit_s=round(jit_s, 4), version=mi.__version__)

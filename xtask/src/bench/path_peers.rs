@@ -5,8 +5,10 @@
 //! time it takes to reach a given RMSE.
 
 use anyhow::{bail, Context, Result};
+use std::io::Read;
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, ExitStatus, Stdio};
+use std::time::{Duration, Instant};
 
 /// The script, relative to the workspace root.
 pub const SCRIPT: &str = "xtask/peers/cornell.py";
@@ -73,6 +75,10 @@ impl Peer {
 pub struct Runner {
     pub program: PathBuf,
     pub args: Vec<String>,
+    /// A run taking longer is stopped and is an error: a peer that hangs
+    /// (Mitsuba 3.9 did, writing its EXR on one thread) must not hang the
+    /// bench.
+    pub timeout: Duration,
 }
 
 impl Runner {
@@ -80,6 +86,7 @@ impl Runner {
         Runner {
             program: "python3".into(),
             args: vec![root.join(SCRIPT).to_string_lossy().into_owned()],
+            timeout: Duration::from_secs(600),
         }
     }
 }
@@ -152,7 +159,8 @@ pub fn run(
         "{}-{spp}spp-{threads}t-{seed}.exr",
         peer.name().replace(' ', "-")
     ));
-    let output = Command::new(&runner.program)
+    let mut command = Command::new(&runner.program);
+    command
         .args(&runner.args)
         .args(peer.args())
         .arg("--spp")
@@ -162,18 +170,16 @@ pub fn run(
         .arg("--seed")
         .arg(seed.to_string())
         .arg("--out")
-        .arg(&out)
-        .output()
-        .with_context(|| format!("cannot run {}", runner.program.display()))?;
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    if output.status.code() == Some(NOT_INSTALLED) {
+        .arg(&out);
+    let (status, stdout, stderr) = output_within(&mut command, runner.timeout)
+        .with_context(|| format!("{} ({})", peer.name(), runner.program.display()))?;
+    if status.code() == Some(NOT_INSTALLED) {
         eprintln!("{}", stderr.trim_end().lines().last().unwrap_or(""));
         return Ok(None);
     }
-    if !output.status.success() {
-        bail!("{} failed ({}): {stderr}", peer.name(), output.status);
+    if !status.success() {
+        bail!("{} failed ({status}): {stderr}", peer.name());
     }
-    let stdout = String::from_utf8_lossy(&output.stdout);
     let line = stdout.lines().last().unwrap_or("");
     let field = |key| {
         json_number(line, key)
@@ -185,6 +191,42 @@ pub fn run(
         cpu_s: field("cpu_s")?,
         image: read_image(&out)?,
     }))
+}
+
+/// The command's status, stdout and stderr, as `Command::output`, but
+/// killed (and an error) after `timeout`.
+fn output_within(command: &mut Command, timeout: Duration) -> Result<(ExitStatus, String, String)> {
+    let mut child = command
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .context("cannot start")?;
+    // Read as it comes, so a full pipe never stalls the child.
+    let drain = |pipe: Option<Box<dyn Read + Send>>| {
+        std::thread::spawn(move || {
+            let mut text = String::new();
+            if let Some(mut pipe) = pipe {
+                let _ = pipe.read_to_string(&mut text);
+            }
+            text
+        })
+    };
+    let stdout = drain(child.stdout.take().map(|p| Box::new(p) as _));
+    let stderr = drain(child.stderr.take().map(|p| Box::new(p) as _));
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait()? {
+            break status;
+        }
+        if start.elapsed() > timeout {
+            let _ = child.kill();
+            let _ = child.wait();
+            bail!("stopped after {} s", timeout.as_secs_f64());
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let text = |t: std::thread::JoinHandle<String>| t.join().unwrap_or_default();
+    Ok((status, text(stdout), text(stderr)))
 }
 
 /// The number of `"key": NUMBER` in the script's one-line JSON object (its
@@ -366,6 +408,7 @@ mod tests {
         Runner {
             program: "sh".into(),
             args: vec!["-c".into(), script.into(), "cornell.py".into()],
+            timeout: Duration::from_secs(60),
         }
     }
 
@@ -379,6 +422,22 @@ mod tests {
         let failed = sh("echo 'Traceback ...' >&2; exit 1");
         let err = run(&failed, Peer::Cycles, 1, 1, 0, dir.path()).unwrap_err();
         assert!(format!("{err:#}").contains("Traceback"), "{err:#}");
+    }
+
+    #[test]
+    fn a_peer_that_hangs_is_stopped() {
+        let dir = tempfile::tempdir().unwrap();
+        let hung = Runner {
+            timeout: Duration::from_millis(200),
+            ..sh("sleep 30")
+        };
+        let start = Instant::now();
+        let err = run(&hung, Peer::Cycles, 1, 1, 0, dir.path()).unwrap_err();
+        assert!(
+            format!("{err:#}").contains("stopped after 0.2 s"),
+            "{err:#}"
+        );
+        assert!(start.elapsed() < Duration::from_secs(10));
     }
 
     #[test]
