@@ -13,7 +13,10 @@
 //!
 //! - `scenes`: the bench scenes and their samples per pixel, the
 //!   1.1M-triangle bunny.
-//! - `measure`: timing the tracer (the only file that calls tracer-core).
+//! - `measure`: timing the tracer (with `path`, the files that call
+//!   tracer-core).
+//! - `path`, `path_peers`: the path tracer on the Cornell box against
+//!   Mitsuba 3 and Blender Cycles at equal time (`--only path`).
 //! - `process`: timing the whole `tracer render` process on a small scene.
 //! - `pov_scene`: a scene file as POV-Ray SDL.
 //! - `povray`: timing POV-Ray.
@@ -29,6 +32,7 @@ mod embree;
 mod measure;
 pub mod memory;
 mod packets;
+mod path;
 pub mod path_peers;
 mod pov_scene;
 mod povray;
@@ -62,7 +66,8 @@ pub struct BenchArgs {
     /// Only these scenes (bunny, bunny-16spp, bunny-1.1m, reflectance2) or
     /// measurements (instancing: peak memory of 1 and 1,000 bunnies;
     /// packets: primary rays at 16 samples per pixel against Embree's
-    /// packet kernels on the same rays)
+    /// packet kernels on the same rays; path: the path tracer on the Cornell
+    /// box against Mitsuba 3 and Cycles at equal time)
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
 }
@@ -97,12 +102,14 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let only = |name: &str| args.only.is_empty() || args.only.iter().any(|o| o == name);
     if !args.only.is_empty() {
         if let Some(unknown) = args.only.iter().find(|o| {
-            ![INSTANCING, PACKETS].contains(&o.as_str()) && !scenes.iter().any(|s| s.name == *o)
+            ![INSTANCING, PACKETS, path::PATH].contains(&o.as_str())
+                && !scenes.iter().any(|s| s.name == *o)
         }) {
             let names: Vec<&str> = scenes.iter().map(|s| s.name).collect();
             bail!(
-                "--only: no scene `{unknown}` (the scenes: {}; or {INSTANCING}, {PACKETS})",
-                names.join(", ")
+                "--only: no scene `{unknown}` (the scenes: {}; or {INSTANCING}, {PACKETS}, {})",
+                names.join(", "),
+                path::PATH
             );
         }
         scenes.retain(|s| only(s.name));
@@ -173,6 +180,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     if only(INSTANCING) {
         memory::report(&memory::measure(&root, embree.as_deref())?);
+    }
+    if only(path::PATH) {
+        path::report(&path::measure(&root, out_dir.path())?);
     }
     Ok(())
 }

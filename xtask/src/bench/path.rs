@@ -1,0 +1,227 @@
+//! `cargo xtask bench --only path`: the path tracer on Mitsuba 3's Cornell
+//! box (`scenes/cornell-box.toml`) against Mitsuba 3 and Blender Cycles at
+//! equal time, on 1 and 2 threads. Each renderer renders at doubling
+//! samples per pixel until a render takes the time budget; its RMSE against
+//! the same high-sample reference (Mitsuba's, `path_peers::REFERENCE`) at
+//! the budget, and the time it takes to reach RMSE 0.01, are read off its
+//! error curve in log-log. The peers run through `xtask/peers/cornell.py`
+//! (`path_peers`); one that is not installed is skipped with one line.
+
+use super::path_peers::{self, FloatImage, Peer, Point, Runner};
+use super::rusage;
+use super::THREADS;
+use anyhow::{Context, Result};
+use std::path::Path;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+use tracer_core::{Region, RenderJob, Scene};
+
+/// The `--only` name of this measurement.
+pub const PATH: &str = "path";
+
+/// The time budget of a renderer's curve on each thread count of
+/// `THREADS`: about Mitsuba's time for 256 samples per pixel.
+const BUDGET_S: [f64; 2] = [8.0, 4.0];
+
+/// The RMSE whose time to reach is reported.
+const TARGET_RMSE: f64 = 0.01;
+
+/// The samples per pixel our curve starts at, and its largest.
+const OUR_SPP: (u32, u32) = (16, 4096);
+/// The peers' (below 64 their start-up dominates, and their times are noise).
+const PEER_SPP: (u32, u32) = (64, 4096);
+
+/// One renderer's curve on one thread count.
+#[derive(Debug, Clone)]
+pub struct Curve {
+    pub renderer: String,
+    pub threads: usize,
+    pub points: Vec<Point>,
+    /// CPU seconds over wall seconds of its last render, against the
+    /// thread count: below it, the machine was busy with something else.
+    pub cpu_share: f64,
+}
+
+impl Curve {
+    pub fn rmse_at_budget(&self) -> Option<f64> {
+        path_peers::rmse_at(&self.points, BUDGET_S[thread_slot(self.threads)])
+    }
+
+    pub fn seconds_to_target(&self) -> Option<f64> {
+        path_peers::seconds_to(&self.points, TARGET_RMSE)
+    }
+
+    /// Paths per second of its last render, in millions.
+    fn mpaths(&self) -> f64 {
+        let last = self.points.last().expect("a curve has points");
+        256.0 * 256.0 * f64::from(last.spp) / last.seconds / 1e6
+    }
+}
+
+fn thread_slot(threads: usize) -> usize {
+    THREADS.iter().position(|&t| t == threads).unwrap_or(0)
+}
+
+/// Our curve and every installed peer's, on each thread count.
+pub fn measure(root: &Path, dir: &Path) -> Result<Vec<Curve>> {
+    let reference = path_peers::read_image(&root.join(path_peers::REFERENCE))?;
+    let scene = cornell_box(root)?;
+    let runner = Runner::new(root);
+    let mut curves = Vec::new();
+    for (slot, &threads) in THREADS.iter().enumerate() {
+        eprintln!("bench: path tracing the Cornell box on {threads} thread(s) ...");
+        curves.push(ours(&scene, threads, BUDGET_S[slot], &reference)?);
+        for peer in Peer::ALL {
+            eprintln!("bench: {} on {threads} thread(s) ...", peer.name());
+            let (start, max) = PEER_SPP;
+            let points = path_peers::until_budget(
+                &runner,
+                peer,
+                threads,
+                BUDGET_S[slot],
+                &reference,
+                start,
+                max,
+                dir,
+            )?;
+            if let Some(points) = points {
+                curves.push(Curve {
+                    renderer: peer.name(),
+                    threads,
+                    points,
+                    cpu_share: f64::NAN,
+                });
+            }
+        }
+    }
+    Ok(curves)
+}
+
+/// The Cornell box, prepared as `tracer render` prepares it.
+fn cornell_box(root: &Path) -> Result<Scene> {
+    let path = root.join("scenes/cornell-box.toml");
+    let file = scene_format::load_path(&path).with_context(|| path.display().to_string())?;
+    Ok(tracer_core::prepare(&file)?)
+}
+
+/// Our renders at doubling samples per pixel on `threads` threads, until
+/// one takes `budget_s`: the render alone is timed (the scene is prepared
+/// once, as a peer's load and compilation are left out of its time).
+fn ours(scene: &Scene, threads: usize, budget_s: f64, reference: &FloatImage) -> Result<Curve> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()?;
+    let (mut spp, max) = OUR_SPP;
+    let mut points = Vec::new();
+    let mut cpu_share;
+    let never = AtomicBool::new(false);
+    loop {
+        let camera = scene.camera();
+        let job = RenderJob::full(scene).with_samples(spp);
+        let job = RenderJob {
+            region: Region::full(camera.width, camera.height),
+            ..job
+        };
+        let cpu = rusage::cpu_seconds(&rusage::of(libc::RUSAGE_SELF));
+        let start = Instant::now();
+        let rendered = pool
+            .install(|| tracer_core::render_cancellable(scene, &job, &|_| {}, &never))
+            .context("a render that is never cancelled")?;
+        let seconds = start.elapsed().as_secs_f64();
+        cpu_share = (rusage::cpu_seconds(&rusage::of(libc::RUSAGE_SELF)) - cpu) / seconds;
+        let image = FloatImage {
+            width: rendered.image.width,
+            height: rendered.image.height,
+            rgb: rendered
+                .image
+                .pixels
+                .iter()
+                .flat_map(|c| c.to_array())
+                .collect(),
+        };
+        points.push(Point {
+            spp,
+            seconds,
+            rmse: path_peers::rmse(&image, reference)?,
+        });
+        if seconds >= budget_s || spp >= max {
+            break;
+        }
+        spp *= 2;
+    }
+    Ok(Curve {
+        renderer: "tracer (ours)".into(),
+        threads,
+        points,
+        cpu_share,
+    })
+}
+
+/// The table of every curve, and ours against the best peer at equal time.
+pub fn report(curves: &[Curve]) {
+    println!();
+    println!("Path tracing: Mitsuba 3's Cornell box, 256x256, max depth 7 (Mitsuba's 8, Cycles' 6 bounces), box filter;");
+    println!(
+        "RMSE against Mitsuba's 32768-sample reference (its own noise 0.0004), at equal time."
+    );
+    for &threads in &THREADS {
+        let slot = thread_slot(threads);
+        let mine: Vec<&Curve> = curves.iter().filter(|c| c.threads == threads).collect();
+        println!();
+        println!("{threads} thread(s), budget {:.0} s:", BUDGET_S[slot]);
+        println!(
+            "  {:<36} {:>10} {:>9} {:>13} {:>15} {:>14}",
+            "renderer", "last spp", "Mpaths/s", "RMSE at 256", "RMSE at budget", "s to RMSE 0.01"
+        );
+        for c in &mine {
+            let at_256 = rmse_at_samples(&c.points, 256);
+            println!(
+                "  {:<36} {:>10} {:>9.2} {:>13} {:>15} {:>14}",
+                c.renderer,
+                c.points.last().map_or(0, |p| p.spp),
+                c.mpaths(),
+                show(at_256, 4),
+                show(c.rmse_at_budget(), 4),
+                show(c.seconds_to_target(), 2),
+            );
+        }
+        let ours = mine.iter().find(|c| c.renderer.starts_with("tracer"));
+        let best = mine
+            .iter()
+            .filter(|c| !c.renderer.starts_with("tracer"))
+            .filter_map(|c| Some((c, c.rmse_at_budget()?)))
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+        if let (Some(ours), Some((best, best_rmse))) = (ours, best) {
+            if let Some(our_rmse) = ours.rmse_at_budget() {
+                println!(
+                    "  ours / best peer ({}) at equal time: {:.2} (goal: at most 0.50)",
+                    best.renderer,
+                    our_rmse / best_rmse
+                );
+            }
+            if ours.cpu_share < 0.9 * threads as f64 {
+                println!(
+                    "  (our renders had {:.2} CPU-seconds a second for {threads} thread(s): the machine was busy)",
+                    ours.cpu_share
+                );
+            }
+        }
+    }
+}
+
+/// The RMSE at `spp` samples per pixel, read off the curve as
+/// `path_peers::rmse_at` reads it at a time.
+fn rmse_at_samples(points: &[Point], spp: u32) -> Option<f64> {
+    let by_samples: Vec<Point> = points
+        .iter()
+        .map(|p| Point {
+            seconds: f64::from(p.spp),
+            ..*p
+        })
+        .collect();
+    path_peers::rmse_at(&by_samples, f64::from(spp))
+}
+
+fn show(value: Option<f64>, decimals: usize) -> String {
+    value.map_or("-".into(), |v| format!("{v:.decimals$}"))
+}
