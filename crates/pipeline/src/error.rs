@@ -32,6 +32,12 @@ pub enum Error {
     /// More samples than Whitted mode takes.
     #[error("--samples {0}: expected 1 to {max} with the Whitted integrator; more are allowed in path mode (--integrator path, or integrator = \"path\" in [render])", max = scene_format::validate::MAX_SAMPLES)]
     Samples(u32),
+    /// An option of path mode's passes for a scene in Whitted mode.
+    #[error("{option}: needs path mode, which renders in passes (integrator = \"path\" in [render], or --integrator path); Whitted mode renders in one")]
+    NeedsPathMode { option: &'static str },
+    /// A `--reference` image that cannot be read or is not the render's size.
+    #[error("--reference {}: {message}", path.display())]
+    Reference { path: PathBuf, message: String },
     /// A `--region` or `--tile` that is empty or leaves the image.
     #[error("{0}")]
     Part(String),
@@ -65,6 +71,8 @@ impl Error {
             | Error::CanvasOption { .. }
             | Error::ImageSize { .. }
             | Error::Samples(_)
+            | Error::Reference { .. }
+            | Error::NeedsPathMode { .. }
             | Error::Part(_)
             | Error::Prepare { .. }
             | Error::Measurements { .. } => true,

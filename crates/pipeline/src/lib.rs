@@ -15,6 +15,7 @@ mod load;
 mod options;
 pub mod output;
 pub mod pack;
+pub mod reference;
 mod render;
 mod rendered;
 mod scene3d;
@@ -26,7 +27,8 @@ pub use load::{load, Input, Loaded, DEFAULT_SCENE_NAME};
 pub use options::{tile_region, Aov, Gamma, Options, Part, Region};
 pub use render::{
     default_output, image_size, prepare_taking, render, render_cancellable, render_prepared,
-    render_taking,
+    render_prepared_progressive, render_progressive, render_taking,
 };
 pub use rendered::{Picture, Rendered, ShadedStats, Summary, FORCED_WHITE_WARNING};
-pub use scene3d::PreparedScene;
+pub use scene3d::{Pass, PreparedScene};
+pub use tracer_core::LinearImage;

@@ -71,6 +71,25 @@ impl Loaded {
         }
     }
 
+    /// Whether `options` render this scene in path mode.
+    pub fn is_path_traced(&self, options: &crate::Options) -> bool {
+        match &self.kind {
+            SceneKind::Scene3d(file) => {
+                options.integrator.unwrap_or(file.render.integrator)
+                    == scene_format::Integrator::Path
+            }
+            SceneKind::Canvas(_) => false,
+        }
+    }
+
+    /// The scene file's `[render] time_limit`, in seconds.
+    pub fn time_limit(&self) -> Option<f64> {
+        match &self.kind {
+            SceneKind::Scene3d(file) => file.render.time_limit.map(f64::from),
+            SceneKind::Canvas(_) => None,
+        }
+    }
+
     /// The image's size in pixels, (width, height).
     pub fn size(&self) -> (u32, u32) {
         match &self.kind {

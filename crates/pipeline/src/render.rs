@@ -5,7 +5,7 @@
 use crate::load::Loaded;
 use crate::options::{Aov, Gamma, Options};
 use crate::rendered::{Picture, Rendered, Summary};
-use crate::scene3d::PreparedScene;
+use crate::scene3d::{Pass, PreparedScene};
 use crate::{scene3d, Error};
 use scene_format::{CanvasFile, SceneFile, SceneKind};
 use std::borrow::Cow;
@@ -102,6 +102,42 @@ pub fn render_prepared(
         image,
         summary: Summary::Shaded(stats),
     })
+}
+
+/// The shaded image of a prepared scene in passes: in path mode samples
+/// 0..1, 1..2, 2..4, ... up to the scene's (or `--samples`), `on_pass`
+/// called after each with the picture so far (its return false stops the
+/// render there); in Whitted mode one pass. The last pass's image, which
+/// for a render that ran to its samples is `render_prepared`'s bit for
+/// bit; None when `cancel` became true. `options.aov` is not looked at.
+pub fn render_prepared_progressive(
+    prepared: &PreparedScene,
+    options: &Options,
+    cancel: &AtomicBool,
+    on_pass: &mut dyn FnMut(Pass) -> bool,
+) -> Result<Option<Rendered>, Error> {
+    let region = options
+        .part
+        .map(|p| p.region(prepared.size()))
+        .transpose()?;
+    let rendered = scene3d::shade_progressive(prepared, options.gamma, region, cancel, on_pass);
+    Ok(rendered.map(|(image, stats, _)| Rendered {
+        image,
+        summary: Summary::Shaded(stats),
+    }))
+}
+
+/// `render_prepared_progressive` of a loaded scene (a 3D scene: a canvas is
+/// refused, naming `option`, the option that asked for passes).
+pub fn render_progressive(
+    loaded: &Loaded,
+    options: &Options,
+    option: &'static str,
+    cancel: &AtomicBool,
+    on_pass: &mut dyn FnMut(Pass) -> bool,
+) -> Result<Option<Rendered>, Error> {
+    let prepared = prepare_taking(loaded.clone(), options, option)?;
+    render_prepared_progressive(&prepared, options, cancel, on_pass)
 }
 
 /// A canvas drawn, refusing options of 3D scenes.

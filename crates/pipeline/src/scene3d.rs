@@ -22,6 +22,8 @@ pub struct PreparedScene {
     pub(crate) scene: Scene,
     /// Objects in the scene file (a mesh is one).
     pub(crate) objects: usize,
+    /// The scene file's `[render] time_limit`, in seconds.
+    pub(crate) time_limit: Option<f32>,
     #[serde(skip)]
     pub(crate) prepare_seconds: f64,
 }
@@ -31,6 +33,16 @@ impl PreparedScene {
     pub fn size(&self) -> (u32, u32) {
         let camera = self.scene.camera();
         (camera.width, camera.height)
+    }
+
+    /// Whether the scene is path traced (and so renders in passes).
+    pub fn is_path_traced(&self) -> bool {
+        self.scene.trace_settings().integrator == tracer_core::scene::Integrator::Path
+    }
+
+    /// The scene file's `[render] time_limit`, in seconds.
+    pub fn time_limit(&self) -> Option<f64> {
+        self.time_limit.map(f64::from)
     }
 }
 
@@ -54,10 +66,12 @@ pub(crate) fn shade(
 pub(crate) fn prepare_shaded(file: Cow<SceneFile>, name: &Path) -> Result<PreparedScene, Error> {
     let start = Instant::now();
     let objects = file.objects.len();
+    let time_limit = file.render.time_limit;
     let scene = prepare_releasing(file, name)?;
     Ok(PreparedScene {
         scene,
         objects,
+        time_limit,
         prepare_seconds: start.elapsed().as_secs_f64(),
     })
 }
@@ -74,8 +88,83 @@ pub(crate) fn shade_prepared(
     let start = Instant::now();
     let job = job(scene, region);
     let rendered = tracer_core::render_cancellable(scene, &job, rows_done, cancel)?;
-    let (image, rays) = (rendered.image, rendered.rays);
-    let render_seconds = start.elapsed().as_secs_f64();
+    let seconds = start.elapsed().as_secs_f64();
+    Some(shaded(
+        prepared,
+        gamma,
+        rendered.image,
+        rendered.rays,
+        seconds,
+    ))
+}
+
+/// A pass of a progressive render: the picture so far, and how far it got.
+pub struct Pass<'a> {
+    pub picture: &'a Picture,
+    pub stats: &'a ShadedStats,
+    /// Samples per pixel so far, of `total`.
+    pub samples: u32,
+    pub total: u32,
+}
+
+/// `shade_prepared` in passes of doubling samples per pixel (path mode:
+/// `tracer_core::film`), `on_pass` called after each with the picture so
+/// far; it returns false to stop there. The last pass's picture (and the
+/// samples it has), or None when cancelled. A scene in Whitted mode is
+/// one pass.
+pub(crate) fn shade_progressive(
+    prepared: &PreparedScene,
+    gamma: Option<Gamma>,
+    region: Option<Region>,
+    cancel: &AtomicBool,
+    on_pass: &mut dyn FnMut(Pass) -> bool,
+) -> Option<(Picture, ShadedStats, u32)> {
+    let scene = &prepared.scene;
+    let job = job(scene, region);
+    if scene.trace_settings().integrator != tracer_core::scene::Integrator::Path {
+        let (picture, stats) = shade_prepared(prepared, gamma, region, &|_| {}, cancel)?;
+        let samples = job.samples;
+        on_pass(Pass {
+            picture: &picture,
+            stats: &stats,
+            samples,
+            total: samples,
+        });
+        return Some((picture, stats, samples));
+    }
+    let start = Instant::now();
+    let mut film = tracer_core::film::Film::new(scene, job.region);
+    let mut rays = tracer_core::RayStats::default();
+    let mut last = None;
+    for pass in tracer_core::film::passes(job.samples) {
+        rays = rays + film.add_pass(scene, pass, &|_| {}, cancel)?;
+        let seconds = start.elapsed().as_secs_f64();
+        let (picture, stats) = shaded(prepared, gamma, film.image(), rays, seconds);
+        let go_on = on_pass(Pass {
+            picture: &picture,
+            stats: &stats,
+            samples: film.samples(),
+            total: job.samples,
+        });
+        last = Some((picture, stats, film.samples()));
+        if !go_on {
+            break;
+        }
+    }
+    last
+}
+
+/// The picture of a rendered `image` of `prepared` (`rays` traced in
+/// `render_seconds`), with the scene's gamma (or `gamma`) and saturation
+/// rule, and its numbers.
+fn shaded(
+    prepared: &PreparedScene,
+    gamma: Option<Gamma>,
+    image: tracer_core::LinearImage,
+    rays: tracer_core::RayStats,
+    render_seconds: f64,
+) -> (Picture, ShadedStats) {
+    let scene = &prepared.scene;
     let mut encoding = *scene.encoding();
     if let Some(gamma) = gamma {
         encoding.gamma = gamma.get();
@@ -104,7 +193,7 @@ pub(crate) fn shade_prepared(
         linear: image,
         encoding,
     };
-    Some((picture, stats))
+    (picture, stats)
 }
 
 /// The mean luminance of a path-mode image of a scene with point lights.

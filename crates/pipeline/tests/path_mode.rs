@@ -3,10 +3,11 @@
 //! encoding's defaults; its limits on samples; emission in Whitted mode.
 
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 use tracer_pipeline::cache::SceneCache;
 use tracer_pipeline::{
-    load, prepare_taking, render, render_prepared, tiles, Input, Options, Part, Picture, Region,
-    Summary,
+    load, prepare_taking, render, render_prepared, render_progressive, tiles, Input, Options, Part,
+    Picture, Region, Summary,
 };
 
 fn scene(name: &str) -> PathBuf {
@@ -222,4 +223,36 @@ fn in_whitted_mode_an_emitter_is_seen_and_lights_nothing() {
         .pixels
         .iter()
         .all(|c| *c == glam::Vec3::ZERO || *c == glam::Vec3::new(2.0, 1.0, 0.5)));
+}
+
+#[test]
+fn a_render_in_passes_is_the_render_of_as_many_samples_bit_for_bit() {
+    // Passes of 1, 2, 4 and 8 samples a pixel: run to the end, the image
+    // of one render of 8; stopped after the second pass, the image of one
+    // render of 2 (a sample's numbers do not depend on how many there are).
+    let loaded = load(&cornell()).unwrap();
+    let options = path_options(None);
+    let whole = render(&loaded, &options, &|_| {}).unwrap().image;
+    let never = AtomicBool::new(false);
+    let mut seen = Vec::new();
+    let mut on_pass = |pass: tracer_pipeline::Pass| {
+        seen.push((pass.samples, pass.total));
+        true
+    };
+    let passes = render_progressive(&loaded, &options, "test", &never, &mut on_pass)
+        .unwrap()
+        .expect("not cancelled");
+    assert_eq!(seen, [(1, 8), (2, 8), (4, 8), (8, 8)]);
+    assert_eq!(bits(&passes.image), bits(&whole));
+    let mut stop_at_two = |pass: tracer_pipeline::Pass| pass.samples < 2;
+    let two = render_progressive(&loaded, &options, "test", &never, &mut stop_at_two)
+        .unwrap()
+        .unwrap();
+    let two_samples = Options {
+        samples: Some(2),
+        ..options
+    };
+    let render_of_two = render(&loaded, &two_samples, &|_| {}).unwrap().image;
+    assert_eq!(bits(&two.image), bits(&render_of_two));
+    assert_ne!(bits(&two.image), bits(&whole));
 }

@@ -88,6 +88,12 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
             ),
         ));
     }
+    if scene.render.time_limit.is_some() && !path_mode {
+        warnings.push(Diagnostic::new(
+            "render.time_limit",
+            "ignored in Whitted mode, which renders in one pass; path mode renders in passes that a time limit can stop",
+        ));
+    }
     if scene.camera.aperture > 0.0 && scene.render.samples < 16 {
         warnings.push(Diagnostic::new(
             "render.samples",

@@ -173,6 +173,12 @@ pub struct RenderSettings {
     /// point per bounce. Default 16.
     #[schemars(range(min = 1, max = 4096))]
     pub light_samples: u32,
+    /// Path mode: render in passes of doubling samples per pixel (1, 2, 4,
+    /// ...) and stop after the last pass that fits in this many seconds
+    /// (`tracer render --time-limit` overrides it). Left out: every sample.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("exclusiveMinimum" = 0))]
+    pub time_limit: Option<f32>,
 }
 
 /// Which way light is computed.
@@ -232,6 +238,7 @@ impl Default for RenderSettings {
             gamma: 2.2,
             samples: 1,
             light_samples: 16,
+            time_limit: None,
         }
     }
 }

@@ -285,6 +285,12 @@ impl Validator {
             }
             _ => {}
         }
+        if let Some(limit) = r.time_limit {
+            let key = path.key("time_limit");
+            if self.finite(&key, limit) && limit <= 0.0 {
+                self.error(key, format!("expected seconds > 0, found {}", num(limit)));
+            }
+        }
         let n = r.light_samples;
         if n == 0 || n > MAX_SAMPLES {
             self.error(

@@ -153,6 +153,7 @@ const CASES: &[Case] = &[
     case("emissive-plane.toml", "objects[0].material", 10, 12, "an infinite plane cannot be sampled as a light; use a `quad`"),
     case("samples-whitted-too-many.toml", "render.samples", 6, 11, "expected 1 to 4096 samples, found 8192; more are allowed with integrator = \"path\""),
     case("samples-path-too-many.toml", "render.samples", 7, 11, "expected 1 to 65536 samples, found 100000"),
+    case("time-limit-negative.toml", "render.time_limit", 7, 14, "expected seconds > 0, found -5"),
 ];
 
 fn bad_dir() -> PathBuf {

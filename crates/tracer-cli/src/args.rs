@@ -56,9 +56,26 @@ pub struct RenderArgs {
     /// instances.
     #[arg(long, value_name = "DIR", conflicts_with = "aov")]
     pub cache: Option<PathBuf>,
+    /// Path mode: render in passes of doubling samples per pixel and stop
+    /// after the last pass that fits in SECONDS (overrides the scene's
+    /// `[render] time_limit`); says how many samples it took
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds, conflicts_with_all = ["region", "tile", "aov"])]
+    pub time_limit: Option<f64>,
+    /// Path mode: print after each pass of doubling samples the error
+    /// (RMSE of the linear values) against this image of the same size
+    /// (.exr or .hdr), as pbrt's --mse-reference-image does
+    #[arg(long, value_name = "REF.exr", conflicts_with_all = ["region", "tile", "aov"])]
+    pub reference: Option<PathBuf>,
     /// Print no progress bar and no summary, only warnings and errors
     #[arg(short, long)]
     pub quiet: bool,
+}
+
+fn parse_seconds(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+        _ => Err("expected a number of seconds > 0".to_string()),
+    }
 }
 
 fn parse_region(s: &str) -> Result<Region, String> {
@@ -344,6 +361,10 @@ pub struct Render {
     pub skip_existing: bool,
     /// `--cache`: where prepared scenes are kept.
     pub cache: Option<PathBuf>,
+    /// `--time-limit`, in seconds.
+    pub time_limit: Option<f64>,
+    /// `--reference`: an image to print the error against, pass by pass.
+    pub reference: Option<PathBuf>,
     pub quiet: bool,
 }
 
@@ -366,6 +387,8 @@ impl RenderArgs {
             pool: pool(self.view.threads)?,
             skip_existing: self.skip_existing,
             cache: self.cache,
+            time_limit: self.time_limit,
+            reference: self.reference,
             quiet: self.quiet,
         })
     }

@@ -1258,3 +1258,66 @@ fn path_mode_on_the_command_line() {
     let brightest = exr.pixels().map(|p| p.0[0]).fold(0.0, f32::max);
     assert!(brightest > 10.0, "{brightest}");
 }
+
+#[test]
+fn time_limit_and_reference_render_in_passes() {
+    let dir = tempfile::tempdir().unwrap();
+    let cornell = scene("cornell-box.toml");
+    let reference = from_crate("../tracer-core/tests/data/cornell-box-mitsuba.exr");
+    // A limit far beyond the render: every pass, and the image of a plain
+    // render; each pass's error against Mitsuba's image falls.
+    let small = ["--samples", "8", "--threads", "2"];
+    let mut args = vec!["render", &cornell, "-o", "plain.png"];
+    args.extend(small);
+    assert!(tracer(dir.path(), &args).status.success());
+    let mut args = vec![
+        "render",
+        &cornell,
+        "-o",
+        "passes.png",
+        "--time-limit",
+        "600",
+    ];
+    args.extend(["--reference", &reference]);
+    args.extend(small);
+    let out = tracer(dir.path(), &args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(rgb(&dir.path().join("plain.png")) == rgb(&dir.path().join("passes.png")));
+    let errors: Vec<f64> = stderr
+        .lines()
+        .filter_map(|l| l.split("RMSE ").nth(1))
+        .map(|r| r.split(' ').next().unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(errors.len(), 4, "passes of 1, 2, 4, 8: {stderr}");
+    assert!(errors.windows(2).all(|e| e[1] < e[0]), "{errors:?}");
+    // A limit that a tiny render already takes: its first pass, said.
+    let mut args = vec!["render", &cornell, "-o", "cut.png", "--time-limit", "1e-9"];
+    args.extend(["--samples", "64"]);
+    let out = tracer(dir.path(), &args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains("stopped at 1 of 64 samples"), "{stderr}");
+    // Whitted mode has no passes; a reference of another size is refused.
+    let shadows = scene("shadows.toml");
+    let out = tracer(dir.path(), &["render", &shadows, "--time-limit", "5"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("needs path mode"));
+    let mut args = vec![
+        "render",
+        &cornell,
+        "--reference",
+        &reference,
+        "--width",
+        "64",
+    ];
+    args.extend(["-o", "wrong.png"]);
+    let out = tracer(dir.path(), &args);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("256x256, but the render is 64x64"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("wrong.png").exists());
+}

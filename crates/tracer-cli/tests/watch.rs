@@ -560,3 +560,32 @@ fn an_output_that_is_a_texture_the_scene_reads_is_not_written() {
     watching.expect_line("refusing to overwrite", START);
     assert_eq!(std::fs::read(&texture).unwrap(), before);
 }
+
+#[test]
+fn a_path_traced_scene_is_shown_pass_by_pass_and_an_edit_stops_it() {
+    // The Cornell box at 64 paths a pixel on one thread: passes of 1, 2,
+    // 4, ... samples, each written whole; an edit starts again at once.
+    let dir = tempfile::tempdir().unwrap();
+    let cornell = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml"),
+    )
+    .unwrap();
+    let small = cornell
+        .replace("width = 256", "width = 48")
+        .replace("height = 256", "height = 48");
+    write(dir.path().join("scene.toml"), &small);
+    let mut watching = Watching::start(dir.path());
+    watching.expect_line("1 of 64 samples a pixel", START);
+    watching.expect_line("2 of 64 samples a pixel", START);
+    watching.expect_line("rendered", START);
+    assert!(image::open(dir.path().join("out.png")).is_ok());
+    // A long render, stopped by an edit within the time an edit is given.
+    write(
+        dir.path().join("scene.toml"),
+        &small.replace("samples = 64", "samples = 65536"),
+    );
+    watching.expect_line("4 of 65536 samples a pixel", WITHIN);
+    write(dir.path().join("scene.toml"), &small);
+    watching.expect_line("1 of 64 samples a pixel", WITHIN);
+    watching.expect_line("rendered", START);
+}

@@ -117,7 +117,7 @@ mod tests {
     fn passes_double_the_samples_up_to_the_last() {
         let all: Vec<Range<u32>> = passes(20).collect();
         assert_eq!(all, [0..1, 1..2, 2..4, 4..8, 8..16, 16..20]);
-        assert_eq!(passes(1).collect::<Vec<_>>(), [0..1]);
+        assert_eq!(passes(1).collect::<Vec<_>>(), vec![0..1]);
         assert_eq!(passes(64).last(), Some(32..64));
     }
 }

@@ -8,6 +8,7 @@ pub mod gamma_fit;
 pub mod merge;
 pub mod new;
 pub mod pack;
+pub mod passes;
 pub mod render;
 pub mod schema;
 pub mod watch;

@@ -3,15 +3,19 @@
 //! loads (or reads the scene kept by `--cache`), warns, renders on the one
 //! thread pool, writes and (unless quiet) sums up the same way.
 
+use super::passes::{self, Plan};
 use crate::args::Render;
 use crate::console::note;
 use crate::progress::Progress;
 use crate::report;
 use anyhow::Result;
 use std::path::Path;
+use std::sync::atomic::AtomicBool;
 use tracer_pipeline::cache::{CacheEntry, Cached, SceneCache};
 use tracer_pipeline::output::{check_not_an_input, ImageFormat, PendingOutput};
-use tracer_pipeline::{default_output, tiles, Error, Input, Part, Rendered, ShadedStats, Summary};
+use tracer_pipeline::{
+    default_output, tiles, Error, Input, Part, PreparedScene, Rendered, ShadedStats, Summary,
+};
 
 pub fn run(args: &Render) -> Result<()> {
     let output = args
@@ -56,13 +60,21 @@ pub fn run(args: &Render) -> Result<()> {
             return Ok(());
         }
     }
+    let plan = plan(args, &scene, size)?;
     let rows = region.map_or(size.1, |r| r.height());
-    let progress = Progress::new(rows.into(), args.quiet);
+    // In passes, each pass says what it did instead.
+    let progress = Progress::new(rows.into(), args.quiet || plan.is_some());
     let name = args.input.name();
     let rows_done = |n| progress.rows_done(n);
-    let rendered = args
-        .pool
-        .install(|| rendered(scene, entry.as_ref(), &options, args.quiet, &rows_done));
+    let rendered = args.pool.install(|| {
+        let how = How {
+            options: &options,
+            quiet: args.quiet,
+            rows_done: &rows_done,
+            plan: plan.as_ref(),
+        };
+        rendered(scene, entry.as_ref(), how)
+    });
     progress.finish();
     let rendered = rendered?;
     // A float file keeps the values over 1: nothing is made white.
@@ -162,19 +174,21 @@ fn open(
     })
 }
 
+/// How the opened scene is rendered: with what options, quietly or not,
+/// reporting rows done, and in passes or not.
+struct How<'a> {
+    options: &'a tracer_pipeline::Options,
+    quiet: bool,
+    rows_done: &'a (dyn Fn(u32) + Sync),
+    plan: Option<&'a Plan>,
+}
+
 /// The render of the opened scene; a scene loaded for `--cache` is
 /// prepared and kept first.
-fn rendered(
-    scene: Opened,
-    entry: Option<&CacheEntry>,
-    options: &tracer_pipeline::Options,
-    quiet: bool,
-    rows_done: &(dyn Fn(u32) + Sync),
-) -> Result<Rendered, Error> {
+fn rendered(scene: Opened, entry: Option<&CacheEntry>, how: How) -> Result<Rendered, Error> {
+    let options = how.options;
     match (scene.source, entry, &scene.digest) {
-        (Source::Kept(cached), _, _) => {
-            tracer_pipeline::render_prepared(&cached.prepared, options, rows_done)
-        }
+        (Source::Kept(cached), _, _) => render_prepared(&cached.prepared, &how),
         (Source::Loaded(loaded), Some(entry), Some(digest)) => {
             let files_read = loaded.files_read.clone();
             let prepared = tracer_pipeline::prepare_taking(loaded, options, "--cache")?;
@@ -184,15 +198,70 @@ fn rendered(
                 &files_read,
                 digest,
                 &scene.warnings,
-                quiet,
+                how.quiet,
             );
-            tracer_pipeline::render_prepared(&prepared, options, rows_done)
+            render_prepared(&prepared, &how)
+        }
+        (Source::Loaded(loaded), _, _) if how.plan.is_some() => {
+            let prepared = tracer_pipeline::prepare_taking(loaded, options, "--time-limit")?;
+            render_prepared(&prepared, &how)
         }
         // Taken: a large mesh's triangles are let go before its BVH is built.
         (Source::Loaded(loaded), _, _) => {
-            tracer_pipeline::render_taking(loaded, options, rows_done)
+            tracer_pipeline::render_taking(loaded, options, how.rows_done)
         }
     }
+}
+
+/// A prepared scene rendered at once, or in passes by the plan.
+fn render_prepared(prepared: &PreparedScene, how: &How) -> Result<Rendered, Error> {
+    let Some(plan) = how.plan else {
+        return tracer_pipeline::render_prepared(prepared, how.options, how.rows_done);
+    };
+    let never = AtomicBool::new(false);
+    let mut on_pass = passes::on_pass(plan, how.quiet);
+    let rendered =
+        tracer_pipeline::render_prepared_progressive(prepared, how.options, &never, &mut on_pass)?;
+    Ok(rendered.expect("never cancelled"))
+}
+
+/// The plan of a render in passes, when one is asked for: `--time-limit`,
+/// `--reference`, or the scene's `[render] time_limit` (path mode only;
+/// left out for a region or tile, whose pixels must be the whole render's).
+fn plan(args: &Render, scene: &Opened, size: (u32, u32)) -> Result<Option<Plan>, Error> {
+    let (path_traced, scene_limit) = match &scene.source {
+        Source::Loaded(loaded) => (loaded.is_path_traced(&args.options), loaded.time_limit()),
+        Source::Kept(cached) => (
+            cached.prepared.is_path_traced(),
+            cached.prepared.time_limit(),
+        ),
+    };
+    for (option, given) in [
+        ("--time-limit", args.time_limit.is_some()),
+        ("--reference", args.reference.is_some()),
+    ] {
+        if given && !path_traced {
+            return Err(Error::NeedsPathMode { option });
+        }
+    }
+    let scene_limit = scene_limit.filter(|_| path_traced);
+    if scene_limit.is_some() && args.time_limit.is_none() && scene.region.is_some() {
+        note!("note: the scene's time_limit is not used for a region or tile: every sample is rendered, so that the parts merge into the whole render");
+    }
+    let time_limit = args
+        .time_limit
+        .or(scene_limit.filter(|_| scene.region.is_none()));
+    let reference = args
+        .reference
+        .as_deref()
+        .map(|path| tracer_pipeline::reference::read_reference(path, size))
+        .transpose()?;
+    Ok(
+        (time_limit.is_some() || reference.is_some()).then_some(Plan {
+            time_limit,
+            reference,
+        }),
+    )
 }
 
 /// The scene kept in `entry`, if it is there and can be used; a kept

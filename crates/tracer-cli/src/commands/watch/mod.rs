@@ -92,6 +92,9 @@ fn render_passes(args: &Watch, loaded: &Loaded, changes: &Changes, server: Optio
         None => vec![(full, false)],
     };
     for (options, is_preview) in passes {
+        if !is_preview && loaded.is_path_traced(&options) {
+            return render_in_passes(args, loaded, changes, server);
+        }
         let start = Instant::now();
         let cancel = changes.pending();
         let rendered = args
@@ -99,7 +102,11 @@ fn render_passes(args: &Watch, loaded: &Loaded, changes: &Changes, server: Optio
             .install(|| tracer_pipeline::render_cancellable(loaded, &options, &|_| {}, cancel));
         match rendered {
             Ok(Some(rendered)) => {
-                let pass = Pass { is_preview, start };
+                let pass = Pass {
+                    is_preview,
+                    start,
+                    samples: None,
+                };
                 if let Err(e) = write(args, loaded, rendered, pass, server) {
                     note!("error: {e:#}");
                     return;
@@ -112,6 +119,41 @@ fn render_passes(args: &Watch, loaded: &Loaded, changes: &Changes, server: Optio
                 return;
             }
         }
+    }
+}
+
+/// A path-traced scene's full render in passes of doubling samples per
+/// pixel, each written whole and shown with the samples done so far; an
+/// edit stops it at once.
+fn render_in_passes(args: &Watch, loaded: &Loaded, changes: &Changes, server: Option<&Server>) {
+    let start = Instant::now();
+    let cancel = changes.pending();
+    let mut failed = None;
+    let mut on_pass = |pass: tracer_pipeline::Pass| {
+        let rendered = Rendered {
+            image: pass.picture.clone(),
+            summary: Summary::Shaded(pass.stats.clone()),
+        };
+        let pass = Pass {
+            is_preview: false,
+            start,
+            samples: Some((pass.samples, pass.total)),
+        };
+        match write(args, loaded, rendered, pass, server) {
+            Ok(()) => true,
+            Err(e) => {
+                failed = Some(e);
+                false
+            }
+        }
+    };
+    let rendered = args.pool.install(|| {
+        tracer_pipeline::render_progressive(loaded, &args.options, "watch", cancel, &mut on_pass)
+    });
+    if let Some(e) = failed {
+        note!("error: {e:#}");
+    } else if let Err(e) = rendered {
+        note!("error: {e:#}");
     }
 }
 
@@ -134,6 +176,8 @@ fn preview_options(loaded: &Loaded, full: &Options) -> Option<Options> {
 struct Pass {
     is_preview: bool,
     start: Instant,
+    /// In path mode, the samples per pixel done, of how many.
+    samples: Option<(u32, u32)>,
 }
 
 /// Writes a pass to the output (a preview blown up to the full size, so a
@@ -157,6 +201,8 @@ fn write(
         .map_err(Error::from)?;
     if pass.is_preview {
         note!("preview in {seconds:.3} s");
+    } else if let Some((done, total)) = pass.samples.filter(|(d, t)| d < t) {
+        note!("{done} of {total} samples a pixel in {seconds:.3} s");
     } else {
         let threads = args.pool.current_num_threads();
         note!(
@@ -179,6 +225,8 @@ fn write(
             "height": height,
             "seconds": seconds,
             "mrays": mrays,
+            "samples": pass.samples.map(|s| s.0),
+            "total_samples": pass.samples.map(|s| s.1),
         });
         server.image(png, info);
     }

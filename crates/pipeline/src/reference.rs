@@ -1,0 +1,58 @@
+//! `--reference`: an image to measure a render's error against, as pbrt's
+//! `--mse-reference-image`, so equal-time comparisons need no other tool.
+
+use crate::Error;
+use std::path::Path;
+use tracer_core::LinearImage;
+
+/// Largest reference file read: a float EXR of the largest image a render
+/// makes is about 3 GiB; references are of renders far smaller.
+const MAX_REFERENCE_BYTES: u64 = 1 << 30;
+
+/// The linear values of the image at `path` (any format the `image` crate
+/// reads; an EXR or HDR keeps them as rendered), which must be
+/// `width` x `height`.
+pub fn read_reference(path: &Path, (width, height): (u32, u32)) -> Result<LinearImage, Error> {
+    let bad = |message: String| Error::Reference {
+        path: path.to_path_buf(),
+        message,
+    };
+    let bytes = scene_format::read::read_capped(path, MAX_REFERENCE_BYTES)
+        .map_err(|e| bad(e.to_string()))?;
+    let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| bad(e.to_string()))?;
+    // What the decoder may take: a float image of the render's size, with
+    // room for its alpha, and no more (a file's header may claim any size).
+    let mut limits = image::Limits::default();
+    limits.max_alloc = Some(u64::from(width) * u64::from(height) * 32 + (1 << 20));
+    reader.limits(limits);
+    let image = reader
+        .decode()
+        .map_err(|e| bad(format!("not a readable image: {e}")))?
+        .into_rgb32f();
+    if image.dimensions() != (width, height) {
+        return Err(bad(format!(
+            "{}x{}, but the render is {width}x{height}; expected an image of the render's size",
+            image.width(),
+            image.height()
+        )));
+    }
+    let mut linear = LinearImage::new(width, height);
+    for (pixel, p) in linear.pixels.iter_mut().zip(image.pixels()) {
+        *pixel = glam::Vec3::from(p.0);
+    }
+    Ok(linear)
+}
+
+/// The root mean square of the difference of `a` and `b` (of one size), over
+/// every pixel and channel.
+pub fn rmse(a: &LinearImage, b: &LinearImage) -> f64 {
+    let sum: f64 = a
+        .pixels
+        .iter()
+        .zip(&b.pixels)
+        .map(|(x, y)| f64::from((*x - *y).length_squared()))
+        .sum();
+    (sum / (3 * a.pixels.len().max(1)) as f64).sqrt()
+}
