@@ -3,7 +3,7 @@
 //! ones are what this code makes.
 
 use anyhow::{Context, Result};
-use image::{Rgb, RgbImage};
+use image::{Rgb, Rgb32FImage, RgbImage};
 use std::fmt::Write;
 use std::path::Path;
 
@@ -11,6 +11,9 @@ use std::path::Path;
 pub enum Asset {
     /// Compared by its pixels: a PNG's bytes may change with the encoder.
     Image(RgbImage),
+    /// A Radiance HDR's linear values, compared as its file stores them
+    /// (RGBE: an 8-bit mantissa per channel).
+    Hdr(Rgb32FImage),
     Text(String),
 }
 
@@ -18,6 +21,7 @@ pub enum Asset {
 pub fn all() -> Vec<(&'static str, Asset)> {
     vec![
         ("scenes/textures/grid.png", Asset::Image(grid())),
+        ("scenes/textures/studio.hdr", Asset::Hdr(studio())),
         ("scenes/meshes/bullseye.png", Asset::Image(bullseye())),
         ("scenes/meshes/labelled-box.obj", Asset::Text(box_obj())),
         (
@@ -33,6 +37,7 @@ pub fn write_all(root: &Path) -> Result<()> {
         let path = root.join(path);
         match asset {
             Asset::Image(image) => image.save(&path),
+            Asset::Hdr(image) => image.save(&path),
             Asset::Text(text) => std::fs::write(&path, text).map_err(Into::into),
         }
         .with_context(|| format!("writing {}", path.display()))?;
@@ -50,11 +55,60 @@ pub fn stale(root: &Path) -> Vec<&'static str> {
                 Asset::Image(image) => {
                     image::open(&path).map(|i| i.to_rgb8()).ok().as_ref() != Some(image)
                 }
+                Asset::Hdr(image) => {
+                    let stored = image::open(&path).map(|i| i.to_rgb32f()).ok();
+                    stored.as_ref() != Some(&as_stored(image))
+                }
                 Asset::Text(text) => std::fs::read_to_string(&path).ok().as_ref() != Some(text),
             }
         })
         .map(|(path, _)| path)
         .collect()
+}
+
+/// `image` as a Radiance HDR file keeps it.
+fn as_stored(image: &Rgb32FImage) -> Rgb32FImage {
+    let mut bytes = Vec::new();
+    image
+        .write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Hdr)
+        .expect("an HDR in memory");
+    image::load_from_memory(&bytes)
+        .expect("the HDR just written")
+        .to_rgb32f()
+}
+
+/// A photographer's studio as a latitude-longitude environment (512 x 256,
+/// linear radiance; row 0 straight up, the centre column toward -z): a sky
+/// fading from a blue zenith to a warm horizon over a dark floor, a large
+/// warm softbox up and to the right (toward +x, radiance 24), a smaller
+/// cool one to the left (6) and a strip light behind the camera (4), so
+/// that metals and glass show sharp and blurred reflections.
+fn studio() -> Rgb32FImage {
+    let (w, h) = (512u32, 256u32);
+    Rgb32FImage::from_fn(w, h, |x, y| {
+        let (u, v) = ((x as f32 + 0.5) / w as f32, (y as f32 + 0.5) / h as f32);
+        let inside = |(u0, u1): (f32, f32), (v0, v1): (f32, f32)| {
+            (u0..u1).contains(&u) && (v0..v1).contains(&v)
+        };
+        if inside((0.66, 0.76), (0.18, 0.3)) {
+            return Rgb([24.0, 22.0, 19.0]);
+        }
+        if inside((0.2, 0.26), (0.28, 0.36)) {
+            return Rgb([5.0, 6.0, 7.5]);
+        }
+        if inside((0.96, 1.0), (0.3, 0.42)) || inside((0.0, 0.04), (0.3, 0.42)) {
+            return Rgb([4.0, 4.0, 4.0]);
+        }
+        let up = (std::f32::consts::PI * v).cos();
+        if up >= 0.0 {
+            // Zenith (up = 1) to horizon (up = 0).
+            let (zenith, horizon) = ([0.25, 0.38, 0.7], [0.95, 0.85, 0.7]);
+            Rgb(std::array::from_fn(|c| horizon[c] + (zenith[c] - horizon[c]) * up))
+        } else {
+            let floor = 0.18 + 0.12 * (1.0 + up);
+            Rgb([floor, 0.9 * floor, 0.8 * floor])
+        }
+    })
 }
 
 /// A 64 x 48 picture that shows its orientation: red grows to the right,

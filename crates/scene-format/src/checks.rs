@@ -29,7 +29,8 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
     let mut warnings = mesh_warnings(scene);
     let path_mode = scene.render.integrator == Integrator::Path;
     if path_mode {
-        if scene.lights.is_empty() && !emits(scene) && scene.render.background == [0.0; 3] {
+        let dark = scene.render.background == [0.0; 3] && scene.environment.is_none();
+        if scene.lights.is_empty() && !emits(scene) && dark {
             warnings.push(Diagnostic::new(
                 "lights",
                 "no lights, no emissive material and a black background: nothing gives off light, so the image is black; add [[lights]] or a material with `emission`",
@@ -65,8 +66,14 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
         }
     }
     if path_mode {
-        path_materials(&mut warnings, &materials);
+        let lab: Vec<(KeyPath, &crate::Material)> = materials
+            .iter()
+            .filter(|(_, m)| !m.is_physical())
+            .map(|(p, m)| (p.clone(), *m))
+            .collect();
+        path_materials(&mut warnings, &lab);
     }
+    environment_shape(&mut warnings, scene);
     for (path, m) in &materials {
         over_one(&mut warnings, path, m);
         unseen_texture(&mut warnings, path, m);
@@ -104,6 +111,23 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
         ));
     }
     warnings
+}
+
+/// An environment image that is not twice as wide as it is high: not a
+/// latitude-longitude image, so its directions would come out stretched.
+fn environment_shape(warnings: &mut Vec<Diagnostic>, scene: &SceneFile) {
+    let Some(data) = scene.environment.as_ref().and_then(|e| e.data.as_ref()) else {
+        return;
+    };
+    if u64::from(data.width) != 2 * u64::from(data.height) {
+        warnings.push(Diagnostic::new(
+            "environment.image",
+            format!(
+                "{}x{}: a latitude-longitude image is twice as wide as it is high (360 by 180 degrees); this one is read as one anyway, its directions stretched",
+                data.width, data.height
+            ),
+        ));
+    }
 }
 
 /// Whether some material of the scene gives off light.
@@ -212,10 +236,12 @@ fn unseen_texture(warnings: &mut Vec<Diagnostic>, path: &KeyPath, m: &crate::Mat
 
 /// Colour channels above 1: 0-255 habits (`diffuse = [200, 0, 0]`).
 fn over_one(warnings: &mut Vec<Diagnostic>, path: &KeyPath, m: &crate::Material) {
+    let base_color = m.base_color.unwrap_or_default();
     for (key, c) in [
         ("ambient", m.ambient),
         ("diffuse", m.diffuse),
         ("specular", m.specular),
+        ("base_color", base_color),
     ] {
         if c.iter().any(|&x| x > 1.0) {
             warnings.push(Diagnostic::new(

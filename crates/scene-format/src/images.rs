@@ -17,6 +17,76 @@ const MAX_IMAGE_SIDE: u32 = 4 * crate::validate::MAX_IMAGE_SIDE;
 /// Most memory the decoder may take for one image.
 const MAX_DECODE_BYTES: u64 = 2 << 30;
 
+/// Most texels an environment image may have: 8192 x 4096, a studio HDR's
+/// usual size (400 MB as the floats it is kept in).
+pub const MAX_ENVIRONMENT_TEXELS: u64 = 1 << 25;
+
+/// Reads the image of `environment` (if it names one) from `source`,
+/// relative to `base`: a Radiance HDR or an OpenEXR file, kept as linear
+/// floats. A file that cannot be read or decoded, or is too large, gives a
+/// diagnostic at `environment.image`.
+pub fn load_environment(
+    environment: &mut crate::model::Environment,
+    base: &Path,
+    source: &dyn Source,
+) -> Vec<Diagnostic> {
+    let Some(name) = environment.image.clone() else {
+        return Vec::new();
+    };
+    let path = KeyPath::root().key("environment").key("image");
+    match read_environment(source, &base.join(&name)) {
+        Ok(data) => {
+            environment.data = Some(Arc::new(data));
+            Vec::new()
+        }
+        Err(e) => vec![Diagnostic::new(path, format!("cannot load `{name}`: {e}"))],
+    }
+}
+
+/// The texels of the HDR or EXR file at `path` of `source`, linear.
+fn read_environment(source: &dyn Source, path: &Path) -> Result<ImageData, String> {
+    use image::ImageFormat;
+    let bytes = source
+        .read(path, MAX_IMAGE_BYTES)
+        .map_err(|e| e.to_string())?;
+    let format = image::guess_format(&bytes).ok();
+    if !matches!(format, Some(ImageFormat::Hdr | ImageFormat::OpenExr)) {
+        return Err(
+            "expected a Radiance .hdr or an OpenEXR .exr image (linear light); the file is neither"
+                .to_string(),
+        );
+    }
+    let mut reader = image::ImageReader::new(Cursor::new(&bytes));
+    reader.set_format(format.expect("matched above"));
+    let (width, height) = reader
+        .into_dimensions()
+        .map_err(|e| format!("not a readable image: {e}"))?;
+    // Counted before decoding: the header's claim decides the memory.
+    if u64::from(width) * u64::from(height) > MAX_ENVIRONMENT_TEXELS {
+        return Err(format!(
+            "{width}x{height} texels; expected at most {MAX_ENVIRONMENT_TEXELS} (8192x4096)"
+        ));
+    }
+    let mut reader = image::ImageReader::new(Cursor::new(&bytes));
+    reader.set_format(format.expect("matched above"));
+    let mut limits = image::Limits::default();
+    limits.max_alloc = Some(MAX_DECODE_BYTES);
+    reader.limits(limits);
+    let image = reader
+        .decode()
+        .map_err(|e| format!("not a readable image: {e}"))?
+        .into_rgb32f();
+    let texels: Vec<[f32; 3]> = image.pixels().map(|p| p.0).collect();
+    if texels.iter().flatten().any(|x| !x.is_finite() || *x < 0.0) {
+        return Err("has texels that are negative or not finite numbers; expected radiance >= 0".to_string());
+    }
+    Ok(ImageData {
+        width,
+        height,
+        texels,
+    })
+}
+
 /// Images read so far, by path (as joined to the folder of the file that
 /// names it), or why they could not be.
 #[derive(Debug, Default)]

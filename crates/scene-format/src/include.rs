@@ -432,6 +432,10 @@ impl Loader<'_> {
         mut scene: SceneFile,
     ) -> Result<(SceneFile, Origins), SceneError> {
         self.read_files(&mut own, base);
+        if let Some(environment) = scene.environment.as_mut() {
+            let problems = images::load_environment(environment, base, self.source);
+            self.problems[own.file].meshes.extend(problems);
+        }
         self.parts.push(own);
         self.merge(&mut scene);
         let merged = crate::validate::validate(&scene);
@@ -479,7 +483,7 @@ impl Loader<'_> {
 /// only the scene file sets them.
 fn scene_only_keys(text: &str, format: Format) -> Option<Vec<Diagnostic>> {
     let tree = crate::span_tree::tree(text, format)?;
-    let found: Vec<Diagnostic> = ["camera", "render"]
+    let found: Vec<Diagnostic> = ["camera", "render", "environment"]
         .iter()
         .filter_map(|key| {
             let at = tree.locate(&KeyPath::root().key(key));

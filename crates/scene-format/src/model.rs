@@ -33,6 +33,12 @@ pub struct SceneFile {
     /// The objects, each with exactly one shape key. Default: none.
     #[serde(default)]
     pub objects: Vec<Object>,
+    /// Light arriving from every direction around the scene, from far away:
+    /// a latitude-longitude HDR image or one colour. In path mode it is a
+    /// light; in Whitted mode it is what a ray that leaves the scene sees.
+    /// Default: none (`[render] background` instead).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub environment: Option<Environment>,
     /// Files whose materials, lights and objects join the scene's (before
     /// its own, in list order), each a path relative to this file, TOML or
     /// JSON by its extension. An included file holds only `materials`,
@@ -44,6 +50,39 @@ pub struct SceneFile {
     /// use a `#:schema` comment instead). The tracer ignores it.
     #[serde(rename = "$schema", default, skip_serializing_if = "Option::is_none")]
     pub schema: Option<String>,
+}
+
+/// The light around the scene: exactly one of `image` and `color`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Environment {
+    /// A latitude-longitude (equirectangular) image of linear radiance, a
+    /// Radiance `.hdr` or an OpenEXR `.exr` file, relative to the scene
+    /// file's folder: its top row is straight up (+y), its middle row the
+    /// horizon, and its centre column looks along -z (turned by `rotate`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub image: Option<String>,
+    /// One radiance (linear, channels >= 0) from every direction: a uniform
+    /// sky.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(inner(range(min = 0)))]
+    pub color: Option<Color>,
+    /// What the radiance is multiplied by (>= 0). Default 1.
+    #[serde(default = "one")]
+    #[schemars(range(min = 0))]
+    pub strength: f32,
+    /// Degrees the image is turned about the up axis (+y), counter-clockwise
+    /// seen from above. Default 0.
+    #[serde(default)]
+    pub rotate: f32,
+    /// The image's texels, read at load time (not part of the file format).
+    #[serde(skip)]
+    #[schemars(skip)]
+    pub data: Option<Arc<ImageData>>,
+}
+
+fn one() -> f32 {
+    1.0
 }
 
 /// A pinhole camera (or a thin lens with `aperture`).
@@ -269,8 +308,14 @@ fn white() -> Color {
     [1.0, 1.0, 1.0]
 }
 
-/// A Blinn-Phong material; every key left out is 0 (black, no reflection,
-/// opaque), except `ior` (1.5, glass).
+/// A material of one of two kinds. The lab's Blinn-Phong material:
+/// `ambient`, `diffuse`, `specular`, `shininess`, `reflectance`,
+/// `transmittance`, `fresnel`, `absorption`; every key left out is 0
+/// (black, no reflection, opaque). Or a physically based one (the names of
+/// glTF 2.0 and Blender's Principled BSDF): `base_color`, `metallic`,
+/// `roughness`, `transmission`. Both kinds take `ior` (1.5 when left out),
+/// `emission` and `texture`; keys of both kinds in one material are an
+/// error.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Material {
@@ -321,6 +366,29 @@ pub struct Material {
     /// per channel: [0, 0.5, 1] tints toward red. Default [0, 0, 0].
     #[schemars(inner(range(min = 0)))]
     pub absorption: Color,
+    /// Physically based: the colour (linear, channels from 0 to 1) of a
+    /// dielectric's diffuse base, or a metal's reflection at normal
+    /// incidence (Schlick's approximation); a texture table multiplies it.
+    /// Default [0.8, 0.8, 0.8].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(inner(range(min = 0, max = 1)))]
+    pub base_color: Option<Color>,
+    /// Physically based: 0 a dielectric (plastic, paint, glass), 1 a metal;
+    /// between, a mix of the two. Default 0.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(range(min = 0, max = 1))]
+    pub metallic: Option<f32>,
+    /// Physically based: 0 a smooth mirror-like surface, 1 a very rough
+    /// one (GGX microfacets of alpha = roughness^2). Default 0.5.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(range(min = 0, max = 1))]
+    pub roughness: Option<f32>,
+    /// Physically based: 0 opaque, 1 a dielectric that lets light through
+    /// (glass, smooth or frosted by `roughness`), tinted by `base_color`.
+    /// Default 0.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(range(min = 0, max = 1))]
+    pub transmission: Option<f32>,
 }
 
 impl Default for Material {
@@ -337,14 +405,57 @@ impl Default for Material {
             fresnel: false,
             absorption: [0.0; 3],
             emission: [0.0; 3],
+            base_color: None,
+            metallic: None,
+            roughness: None,
+            transmission: None,
         }
     }
 }
+
+/// The physically based material's defaults.
+pub const DEFAULT_BASE_COLOR: Color = [0.8, 0.8, 0.8];
+pub const DEFAULT_ROUGHNESS: f32 = 0.5;
 
 impl Material {
     /// Whether the material gives off light.
     pub fn is_emissive(&self) -> bool {
         self.emission.iter().any(|&c| c > 0.0)
+    }
+
+    /// The physically based keys it has, by name.
+    pub fn physical_keys(&self) -> Vec<&'static str> {
+        [
+            ("base_color", self.base_color.is_some()),
+            ("metallic", self.metallic.is_some()),
+            ("roughness", self.roughness.is_some()),
+            ("transmission", self.transmission.is_some()),
+        ]
+        .into_iter()
+        .filter_map(|(key, set)| set.then_some(key))
+        .collect()
+    }
+
+    /// Whether it is the physically based kind.
+    pub fn is_physical(&self) -> bool {
+        !self.physical_keys().is_empty()
+    }
+
+    /// The lab's keys it sets to other than their defaults, by name.
+    pub fn lab_keys(&self) -> Vec<&'static str> {
+        [
+            ("ambient", self.ambient != [0.0; 3]),
+            ("diffuse", self.diffuse != [0.0; 3]),
+            ("specular", self.specular != [0.0; 3]),
+            ("shininess", self.shininess != 0.0),
+            ("reflectance", self.reflectance != 0.0),
+            ("transmittance", self.transmittance != 0.0),
+            ("fresnel", self.fresnel),
+            ("absorption", self.absorption != [0.0; 3]),
+        ]
+        .into_iter()
+        .filter_map(|(key, set)| set.then_some(key))
+        .collect()
     }
 }
 

@@ -67,6 +67,9 @@ pub fn validate(scene: &SceneFile) -> Vec<Diagnostic> {
     for (name, material) in &scene.materials {
         v.material(&root.key("materials").key(name), material);
     }
+    if let Some(environment) = &scene.environment {
+        v.environment(&root.key("environment"), environment);
+    }
     for (i, object) in scene.objects.iter().enumerate() {
         v.object(&root.key("objects").index(i), object, scene);
     }
@@ -323,6 +326,57 @@ impl Validator {
             self.texture(&path.key("texture"), t);
         }
         self.transmission(path, m);
+        self.physical(path, m);
+    }
+
+    /// The physically based keys: fractions within 0..1, a colour, and no
+    /// key of the lab's kind beside them.
+    fn physical(&mut self, path: &KeyPath, m: &Material) {
+        if let Some(c) = m.base_color {
+            self.color(path.key("base_color"), c);
+        }
+        for (key, value) in [
+            ("metallic", m.metallic),
+            ("roughness", m.roughness),
+            ("transmission", m.transmission),
+        ] {
+            let Some(x) = value else { continue };
+            let key = path.key(key);
+            if self.finite(&key, x) && !(0.0..=1.0).contains(&x) {
+                self.error(key, format!("expected a number from 0 to 1, found {}", num(x)));
+            }
+        }
+        let (physical, lab) = (m.physical_keys(), m.lab_keys());
+        if let (Some(first), Some(other)) = (physical.first(), lab.first()) {
+            self.error(
+                path.key(first),
+                format!(
+                    "expected one kind of material: physically based (`base_color`, `metallic`, `roughness`, `transmission`) or the lab's Blinn-Phong (`ambient`, `diffuse`, `specular`, `shininess`, `reflectance`, `transmittance`, `fresnel`, `absorption`); found `{first}` with the lab's `{other}`"
+                ),
+            );
+        }
+    }
+
+    /// `[environment]`: an image or a colour (exactly one), its strength
+    /// and turn.
+    fn environment(&mut self, path: &KeyPath, e: &Environment) {
+        match (&e.image, e.color) {
+            (Some(_), Some(_)) => self.error(
+                path.key("color"),
+                "expected either `image` or `color`, found both; an environment is an image or one colour",
+            ),
+            (None, None) => self.error(
+                path.clone(),
+                "expected `image` (a latitude-longitude .hdr or .exr file) or `color`; found neither",
+            ),
+            (None, Some(c)) => self.color(path.key("color"), c),
+            (Some(_), None) => {}
+        }
+        let strength = path.key("strength");
+        if self.finite(&strength, e.strength) && e.strength < 0.0 {
+            self.error(strength, format!("expected a number >= 0, found {}", num(e.strength)));
+        }
+        self.finite(path.key("rotate"), e.rotate);
     }
 
     /// The glass keys: `transmittance` within 0..1 and, unless `fresnel`

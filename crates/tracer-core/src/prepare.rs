@@ -6,6 +6,7 @@ use crate::geometry::{
     Instance, Object, Placement, Plane, Shape, SharedMesh, Sphere, Triangle, UvMap,
 };
 use crate::image::{Encoding, Saturation};
+use crate::light::environment::Environment;
 use crate::light::Light;
 use crate::material::{Glass, Material, Phong};
 use crate::scene::{Integrator, Scene, SceneParts, TraceSettings};
@@ -73,6 +74,7 @@ pub fn parts(file: &fmt::SceneFile) -> Result<SceneParts, PrepareError> {
         trace: trace_settings(&file.render),
         encoding: encoding(&file.render),
         samples: file.render.samples,
+        environment: environment(file)?,
     })
 }
 
@@ -166,6 +168,25 @@ fn camera(c: &fmt::Camera) -> Camera {
     };
     let focus = c.focus_distance.unwrap_or_else(|| (look_at - eye).length());
     camera.with_lens(c.aperture, focus)
+}
+
+/// The file's `[environment]`: its image (read at load time) or colour.
+fn environment(file: &fmt::SceneFile) -> Result<Option<Arc<Environment>>, PrepareError> {
+    let Some(e) = &file.environment else {
+        return Ok(None);
+    };
+    let environment = match (&e.data, e.color) {
+        (Some(data), _) => {
+            Environment::image(data.width, data.height, &data.texels, e.strength, e.rotate)
+        }
+        (None, Some(color)) => Environment::uniform(Vec3::from(color) * e.strength),
+        (None, None) => {
+            return Err(PrepareError::ImageNotLoaded {
+                path: "environment.image".to_string(),
+            })
+        }
+    };
+    Ok(Some(Arc::new(environment)))
 }
 
 fn light(l: &fmt::Light) -> Light {

@@ -7,6 +7,7 @@ use crate::geometry::{Object, Shape, SharedMesh, Sphere, SurfaceHit};
 use crate::image::Encoding;
 use crate::integrate::lanes::LaneScene;
 use crate::light::area::AreaShape;
+use crate::light::environment::Environment;
 use crate::light::lights::{AreaLight, Lights, PointSource};
 use crate::light::Light;
 use crate::material::{Material, Phong};
@@ -69,9 +70,12 @@ pub struct Scene {
     /// go; not serialized: a scene read back shades one ray at a time).
     #[serde(skip)]
     lanes: Option<Box<LaneScene>>,
-    /// Path mode's lights: point lights and emitting surfaces, chosen by
-    /// power (empty in Whitted mode). Boxed: most scenes leave it empty.
+    /// Path mode's lights: point lights, emitting surfaces and the
+    /// environment, chosen by power (empty in Whitted mode). Boxed: most
+    /// scenes leave it empty.
     path_lights: Box<Lights>,
+    /// The light around the scene, if any: what rays that leave it see.
+    environment: Option<Arc<Environment>>,
     /// Whether the objects were let go (`Scene::lean`).
     #[serde(serialize_with = "only_lean")]
     lean: bool,
@@ -128,6 +132,9 @@ pub struct SceneParts {
     pub encoding: Encoding,
     /// Samples per pixel of a render of the whole scene.
     pub samples: u32,
+    /// The light around the scene: what rays that leave it see (instead of
+    /// the background), and in path mode a light.
+    pub environment: Option<Arc<Environment>>,
 }
 
 impl Scene {
@@ -153,19 +160,21 @@ impl Scene {
         let bounds = bvh.bounds();
         let accel = Accel::Bvh(bvh);
         let transparency = parts.materials.iter().any(Material::is_transparent);
-        let lanes = if path_mode {
+        // The lanes see the background colour only.
+        let lanes = if path_mode || parts.environment.is_some() {
             None
         } else {
             LaneScene::new(&parts.objects, &parts.materials, &parts.lights).map(Box::new)
         };
         let path_lights = Box::new(if path_mode {
-            path_lights(&parts)
+            path_lights(&parts, bounds)
         } else {
             Lights::default()
         });
         Scene {
             lanes,
             path_lights,
+            environment: parts.environment,
             primitives: unique_primitives(&parts.objects),
             bounds,
             lean: false,
@@ -259,6 +268,21 @@ impl Scene {
     /// Path mode's lights (empty in Whitted mode).
     pub fn path_lights(&self) -> &Lights {
         &self.path_lights
+    }
+
+    /// The light around the scene, if any.
+    pub fn environment(&self) -> Option<&Environment> {
+        self.environment.as_deref()
+    }
+
+    /// What a ray leaving the scene along unit `dir` sees: the environment,
+    /// or the background colour.
+    #[inline(always)]
+    pub fn background(&self, dir: Vec3) -> Vec3 {
+        match &self.environment {
+            Some(environment) => environment.radiance(dir),
+            None => self.trace.background,
+        }
     }
 
     pub fn trace_settings(&self) -> &TraceSettings {
@@ -368,10 +392,11 @@ fn sphere_lights_as_emitters(parts: &mut SceneParts) {
     }
 }
 
-/// The lights path mode samples: the point lights, and every emitting
-/// triangle and sphere (an instance's emitting triangles placed in the
-/// world). Planes cannot be sampled: validation refuses emissive ones.
-fn path_lights(parts: &SceneParts) -> Lights {
+/// The lights path mode samples: the point lights, every emitting triangle
+/// and sphere (an instance's emitting triangles placed in the world), and
+/// the environment around the scene's `bounds`. Planes cannot be sampled:
+/// validation refuses emissive ones.
+fn path_lights(parts: &SceneParts, bounds: Option<(Vec3, Vec3)>) -> Lights {
     let points = parts
         .lights
         .iter()
@@ -419,7 +444,9 @@ fn path_lights(parts: &SceneParts) -> Lights {
         }
     }
     areas.extend(flat_lights(&triangles));
-    Lights::new(points, areas, &sphere_objects)
+    let radius = bounds.map_or(1.0, |(lo, hi)| ((hi - lo).length() / 2.0).max(1e-3));
+    let environment = parts.environment.clone().map(|e| (e, radius));
+    Lights::new(points, areas, &sphere_objects, environment)
 }
 
 /// Emitting triangles as area lights, each pair that is a quad's two

@@ -693,6 +693,7 @@ mod tests {
             },
             encoding: Encoding::default(),
             samples: 1,
+            environment: None,
         }
     }
 

@@ -151,7 +151,7 @@ impl<'a> PathTracer<'a> {
         loop {
             self.stats.nearest += 1;
             let Some(hit) = scene.closest_hit(&ray, EPSILON, f32::INFINITY) else {
-                radiance += throughput * scene.trace_settings().background;
+                radiance += throughput * self.escaped(ray.dir(), &bounce);
                 break;
             };
             let material = scene.material(hit.material);
@@ -234,6 +234,25 @@ impl<'a> PathTracer<'a> {
         let lights = self.scene.path_lights();
         let light_pdf = lights.pdf_hit(bounce.from, p, cos, emission, hit.object);
         emission * power_heuristic(bounce.pdf, light_pdf)
+    }
+
+    /// The light arriving along `dir` from outside the scene: the
+    /// environment, weighted against the light sample that could have
+    /// found it, or the background colour (no light sample finds it).
+    fn escaped(&self, dir: Vec3, bounce: &Bounce) -> Vec3 {
+        let Some(environment) = self.scene.environment() else {
+            return self.scene.trace_settings().background;
+        };
+        let radiance = environment.radiance(dir);
+        match self.strategy {
+            _ if bounce.specular => radiance,
+            Strategy::Mis => {
+                let light_pdf = self.scene.path_lights().pdf_environment(dir);
+                radiance * power_heuristic(bounce.pdf, light_pdf)
+            }
+            Strategy::Lights => Vec3::ZERO,
+            Strategy::Bsdf => radiance,
+        }
     }
 
     /// Next-event estimation: the light a sampled point of a light (picked

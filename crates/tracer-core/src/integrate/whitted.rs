@@ -257,7 +257,7 @@ impl<'a> Whitted<'a> {
         let scene = self.scene;
         let Some(hit) = hit else {
             // With the lab's black background this adds nothing, as in the lab.
-            return energy * scene.trace_settings().background;
+            return energy * scene.background(ray.dir());
         };
         match scene.material(hit.material) {
             Material::Phong(m) => self.phong(m, ray, hit, energy, depth),

@@ -6,6 +6,8 @@
 
 use super::alias::AliasTable;
 use super::area::AreaShape;
+use super::environment::Environment;
+use std::sync::Arc;
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 use std::f32::consts::PI;
@@ -41,12 +43,14 @@ pub struct LightSample {
     pub point: bool,
 }
 
-/// The point lights then the area lights, and the table that picks one.
+/// The point lights, the area lights and the environment, and the table
+/// that picks one.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Lights {
     points: Vec<PointSource>,
     areas: Vec<AreaLight>,
-    /// Over `points` then `areas`; None without light.
+    environment: Option<Arc<Environment>>,
+    /// Over `points`, `areas`, then the environment; None without light.
     table: Option<AliasTable>,
     /// pi / the total power (of luminance): a triangle's density by area
     /// is its radiance's luminance times this.
@@ -62,18 +66,29 @@ pub fn luminance(c: Vec3) -> f32 {
 }
 
 impl Lights {
-    /// The lights of `points` and `areas`, where `sphere_objects[k]` is the
-    /// scene object of the k-th sphere in `areas` (in order).
-    pub fn new(points: Vec<PointSource>, areas: Vec<AreaLight>, sphere_objects: &[u32]) -> Lights {
+    /// The lights of `points`, `areas` and the `environment` around a scene
+    /// of `radius` (its power is pi radius^2 times its radiance over the
+    /// sphere, as pbrt-v4 weighs it), where `sphere_objects[k]` is the scene
+    /// object of the k-th sphere in `areas` (in order).
+    pub fn new(
+        points: Vec<PointSource>,
+        areas: Vec<AreaLight>,
+        sphere_objects: &[u32],
+        environment: Option<(Arc<Environment>, f32)>,
+    ) -> Lights {
         let point_power = |p: &PointSource| 4.0 * PI as f64 * f64::from(luminance(p.intensity));
         // One-sided: a surface of radiance L and area A gives off pi L A.
         let area_power = |a: &AreaLight| {
             PI as f64 * f64::from(luminance(a.radiance)) * f64::from(a.shape.area())
         };
+        let environment_power = environment.as_ref().map(|(e, radius)| {
+            PI as f64 * f64::from(*radius).powi(2) * f64::from(e.luminance_integral())
+        });
         let weights: Vec<f64> = points
             .iter()
             .map(point_power)
             .chain(areas.iter().map(area_power))
+            .chain(environment_power)
             .collect();
         let total: f64 = weights.iter().sum();
         let spheres = areas
@@ -90,6 +105,7 @@ impl Lights {
             per_area: (PI as f64 / total) as f32,
             points,
             areas,
+            environment: environment.map(|(e, _)| e),
             spheres,
         }
     }
@@ -126,7 +142,16 @@ impl Lights {
                 point: true,
             });
         }
-        let light = &self.areas[i - self.points.len()];
+        let Some(light) = self.areas.get(i - self.points.len()) else {
+            let s = self.environment.as_ref()?.sample(u)?;
+            return Some(LightSample {
+                wi: s.wi,
+                distance: f32::INFINITY,
+                radiance: s.radiance,
+                pdf: pmf * s.pdf,
+                point: false,
+            });
+        };
         let s = light.shape.sample(from, u)?;
         Some(LightSample {
             wi: s.wi,
@@ -135,6 +160,17 @@ impl Lights {
             pdf: pmf * s.pdf,
             point: false,
         })
+    }
+
+    /// The density `sample` gives direction `dir` toward the environment.
+    #[inline(always)]
+    pub fn pdf_environment(&self, dir: Vec3) -> f32 {
+        match (&self.table, &self.environment) {
+            (Some(table), Some(environment)) => {
+                table.pmf(table.len() - 1) * environment.pdf(dir)
+            }
+            _ => 0.0,
+        }
     }
 
     /// The density `sample` gives the direction from `from` that meets an

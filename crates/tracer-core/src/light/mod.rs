@@ -6,6 +6,8 @@
 
 pub mod alias;
 pub mod area;
+pub mod distribution;
+pub mod environment;
 pub mod lights;
 
 use glam::Vec3;

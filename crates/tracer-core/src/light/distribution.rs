@@ -1,0 +1,140 @@
+//! Drawing a point of the unit square in proportion to a piecewise-constant
+//! function over a grid of cells (an environment image's luminance): a
+//! row from the rows' totals, then a column from that row's values, each by
+//! inverting a cumulative sum.
+
+use glam::Vec2;
+use serde::{Deserialize, Serialize};
+
+/// One dimension: a piecewise-constant function over n equal cells.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+struct Distribution1D {
+    /// The cumulative sums, normalised: n + 1 of them, 0 first, 1 last.
+    cdf: Vec<f32>,
+    /// The function's integral over [0, 1] (its mean).
+    integral: f32,
+}
+
+impl Distribution1D {
+    /// The distribution of `values` (each >= 0); all zeros are uniform.
+    fn new(values: &[f32]) -> Distribution1D {
+        let n = values.len();
+        let mut sums = Vec::with_capacity(n + 1);
+        let mut acc = 0.0f64;
+        sums.push(0.0);
+        for &v in values {
+            acc += f64::from(v) / n as f64;
+            sums.push(acc);
+        }
+        let cdf = if acc > 0.0 {
+            sums.iter().map(|&s| (s / acc) as f32).collect()
+        } else {
+            (0..=n).map(|k| k as f32 / n as f32).collect()
+        };
+        Distribution1D {
+            cdf,
+            integral: acc as f32,
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.cdf.len() - 1
+    }
+
+    /// The point of [0, 1) that `u` maps to, and its cell.
+    #[inline(always)]
+    fn sample(&self, u: f32) -> (f32, usize) {
+        let n = self.len();
+        // The last cell whose cumulative sum is at most u.
+        let cell = self.cdf.partition_point(|&c| c <= u).clamp(1, n) - 1;
+        let (lo, hi) = (self.cdf[cell], self.cdf[cell + 1]);
+        let within = if hi > lo { (u - lo) / (hi - lo) } else { 0.5 };
+        (((cell as f32 + within) / n as f32).min(1.0 - f32::EPSILON), cell)
+    }
+
+    /// The density of cell `cell` (of the point's x in [0, 1)).
+    #[inline(always)]
+    fn density(&self, cell: usize) -> f32 {
+        (self.cdf[cell + 1] - self.cdf[cell]) * self.len() as f32
+    }
+}
+
+/// A piecewise-constant density over the unit square, `width` x `height`
+/// cells, row 0 at v = 0.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Distribution2D {
+    rows: Vec<Distribution1D>,
+    marginal: Distribution1D,
+}
+
+impl Distribution2D {
+    /// The distribution of `values`, row by row, `width` a row.
+    pub fn new(values: &[f32], width: usize) -> Distribution2D {
+        let rows: Vec<Distribution1D> = values.chunks(width).map(Distribution1D::new).collect();
+        let totals: Vec<f32> = rows.iter().map(|r| r.integral).collect();
+        Distribution2D {
+            marginal: Distribution1D::new(&totals),
+            rows,
+        }
+    }
+
+    /// A point of the square drawn by `u`, and its density.
+    #[inline(always)]
+    pub fn sample(&self, u: Vec2) -> (Vec2, f32) {
+        let (v, row) = self.marginal.sample(u.y);
+        let (x, column) = self.rows[row].sample(u.x);
+        let density = self.marginal.density(row) * self.rows[row].density(column);
+        (Vec2::new(x, v), density)
+    }
+
+    /// The density at point `p` of the square.
+    #[inline(always)]
+    pub fn density(&self, p: Vec2) -> f32 {
+        let height = self.rows.len();
+        let row = ((p.y * height as f32) as usize).min(height - 1);
+        let width = self.rows[row].len();
+        let column = ((p.x * width as f32) as usize).min(width - 1);
+        self.marginal.density(row) * self.rows[row].density(column)
+    }
+
+    /// The function's mean over the square.
+    pub fn mean(&self) -> f32 {
+        self.marginal.integral
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cells_are_drawn_in_proportion_to_their_values() {
+        // 2 x 2 cells of values 1, 3 (top) and 0, 4 (bottom): total 8.
+        let d = Distribution2D::new(&[1.0, 3.0, 0.0, 4.0], 2);
+        assert!((d.mean() - 2.0).abs() < 1e-6);
+        let n = 200;
+        let mut counts = [0usize; 4];
+        for i in 0..n {
+            for j in 0..n {
+                let u = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+                let (p, density) = d.sample(u);
+                let cell = (p.y * 2.0) as usize * 2 + (p.x * 2.0) as usize;
+                counts[cell] += 1;
+                assert!((density - d.density(p)).abs() < 1e-5, "{p} {density}");
+            }
+        }
+        let shares = counts.map(|c| c as f32 / (n * n) as f32);
+        for (share, expected) in shares.iter().zip([1.0 / 8.0, 3.0 / 8.0, 0.0, 4.0 / 8.0]) {
+            assert!((share - expected).abs() < 0.005, "{shares:?}");
+        }
+        // The density is the value over the mean: 4 / 2 = 2 in the last cell.
+        assert!((d.density(Vec2::new(0.75, 0.75)) - 2.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn a_zero_function_is_drawn_uniformly() {
+        let d = Distribution2D::new(&[0.0; 6], 3);
+        let (p, density) = d.sample(Vec2::new(0.5, 0.5));
+        assert!((density - 1.0).abs() < 1e-6 && (0.0..1.0).contains(&p.x));
+    }
+}
