@@ -17,6 +17,8 @@ mod lambert;
 mod phong;
 mod specular;
 
+pub mod microfacet;
+
 pub use frame::Frame;
 pub use lambert::Lambert;
 pub use phong::BlinnPhong;
