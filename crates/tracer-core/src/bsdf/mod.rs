@@ -17,6 +17,7 @@ mod lambert;
 mod phong;
 mod specular;
 
+pub mod conductor;
 pub mod microfacet;
 
 pub use frame::Frame;
