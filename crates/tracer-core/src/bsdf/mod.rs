@@ -18,6 +18,7 @@ mod phong;
 mod specular;
 
 pub mod conductor;
+pub mod dielectric;
 pub mod microfacet;
 
 pub use frame::Frame;
