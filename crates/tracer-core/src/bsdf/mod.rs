@@ -20,6 +20,7 @@ mod specular;
 pub mod conductor;
 pub mod dielectric;
 pub mod microfacet;
+pub mod specular_albedo;
 
 pub use frame::Frame;
 pub use lambert::Lambert;
