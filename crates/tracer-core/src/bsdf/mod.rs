@@ -20,6 +20,7 @@ mod specular;
 pub mod conductor;
 pub mod dielectric;
 pub mod microfacet;
+pub mod plastic;
 pub mod specular_albedo;
 
 pub use frame::Frame;
