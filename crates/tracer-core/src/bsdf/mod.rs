@@ -21,6 +21,7 @@ pub mod conductor;
 pub mod dielectric;
 pub mod microfacet;
 pub mod plastic;
+pub mod principled;
 pub mod specular_albedo;
 
 pub use frame::Frame;
