@@ -603,6 +603,11 @@ fn a_rough_conductor_loses_what_single_scattering_says() {
     // pbrt-v4 and Mitsuba 3): the mean weight of a white rough metal is
     // GGX's single-scattering albedo, below 1 the rougher and the more
     // grazing.
+    // The integral's own check: at alpha 1 and normal incidence, D = 1 / pi
+    // and G2 = 2c / (1 + c) (c = cos_i), so E = int G2 / (4 pi) dwi =
+    // int_0^1 c / (1 + c) dc = 1 - ln 2 exactly.
+    let exact = 1.0 - 2f64.ln();
+    assert!((ggx_albedo(1.0, 0.0, 1.0) - exact).abs() < 1e-5);
     println!("alpha theta_o   BSDF mean +- s.e.   integral");
     for alpha in [0.1f32, 0.3, 0.6, 1.0] {
         for theta in [0.0f32, 0.8, 1.3, 1.5] {
