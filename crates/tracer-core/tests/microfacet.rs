@@ -601,8 +601,7 @@ fn layer_albedo(cos_o: f64, alpha: f64, f0: f64, n: usize) -> f64 {
 fn a_rough_conductor_loses_what_single_scattering_says() {
     // Light that scatters more than once among the facets is lost (as in
     // pbrt-v4 and Mitsuba 3): the mean weight of a white rough metal is
-    // GGX's single-scattering albedo, below 1 the rougher and the more
-    // grazing.
+    // GGX's single-scattering albedo, the lower the rougher.
     // The integral's own check: at alpha 1 and normal incidence, D = 1 / pi
     // and G2 = 2c / (1 + c) (c = cos_i), so E = int G2 / (4 pi) dwi =
     // int_0^1 c / (1 + c) dc = 1 - ln 2 exactly.
