@@ -17,6 +17,13 @@ mod lambert;
 mod phong;
 mod specular;
 
+pub mod conductor;
+pub mod dielectric;
+pub mod microfacet;
+pub mod plastic;
+pub mod principled;
+pub mod specular_albedo;
+
 pub use frame::Frame;
 pub use lambert::Lambert;
 pub use phong::BlinnPhong;
