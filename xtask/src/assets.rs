@@ -70,7 +70,10 @@ pub fn stale(root: &Path) -> Vec<&'static str> {
 fn as_stored(image: &Rgb32FImage) -> Rgb32FImage {
     let mut bytes = Vec::new();
     image
-        .write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Hdr)
+        .write_to(
+            &mut std::io::Cursor::new(&mut bytes),
+            image::ImageFormat::Hdr,
+        )
         .expect("an HDR in memory");
     image::load_from_memory(&bytes)
         .expect("the HDR just written")
@@ -78,11 +81,11 @@ fn as_stored(image: &Rgb32FImage) -> Rgb32FImage {
 }
 
 /// A photographer's studio as a latitude-longitude environment (512 x 256,
-/// linear radiance; row 0 straight up, the centre column toward -z): a sky
-/// fading from a blue zenith to a warm horizon over a dark floor, a large
-/// warm softbox up and to the right (toward +x, radiance 24), a smaller
-/// cool one to the left (6) and a strip light behind the camera (4), so
-/// that metals and glass show sharp and blurred reflections.
+/// linear radiance; row 0 straight up, the centre column toward -z): dim
+/// grey walls over a darker floor, a large warm softbox up and to the right
+/// (toward +x, radiance 30), a smaller cool one up to the left (8) and a
+/// strip light behind the camera (6), so that metals and glass show sharp
+/// and blurred reflections of bright shapes on a dark ground.
 fn studio() -> Rgb32FImage {
     let (w, h) = (512u32, 256u32);
     Rgb32FImage::from_fn(w, h, |x, y| {
@@ -90,23 +93,23 @@ fn studio() -> Rgb32FImage {
         let inside = |(u0, u1): (f32, f32), (v0, v1): (f32, f32)| {
             (u0..u1).contains(&u) && (v0..v1).contains(&v)
         };
-        if inside((0.66, 0.76), (0.18, 0.3)) {
-            return Rgb([24.0, 22.0, 19.0]);
+        if inside((0.64, 0.76), (0.16, 0.3)) {
+            return Rgb([30.0, 27.0, 23.0]);
         }
-        if inside((0.2, 0.26), (0.28, 0.36)) {
-            return Rgb([5.0, 6.0, 7.5]);
+        if inside((0.22, 0.29), (0.24, 0.34)) {
+            return Rgb([6.5, 7.5, 9.0]);
         }
-        if inside((0.96, 1.0), (0.3, 0.42)) || inside((0.0, 0.04), (0.3, 0.42)) {
-            return Rgb([4.0, 4.0, 4.0]);
+        if inside((0.96, 1.0), (0.3, 0.44)) || inside((0.0, 0.04), (0.3, 0.44)) {
+            return Rgb([6.0, 6.0, 6.0]);
         }
         let up = (std::f32::consts::PI * v).cos();
         if up >= 0.0 {
-            // Zenith (up = 1) to horizon (up = 0).
-            let (zenith, horizon) = ([0.25, 0.38, 0.7], [0.95, 0.85, 0.7]);
-            Rgb(std::array::from_fn(|c| horizon[c] + (zenith[c] - horizon[c]) * up))
+            // A little lighter toward the ceiling.
+            let grey = 0.09 + 0.06 * up;
+            Rgb([grey, grey, 1.05 * grey])
         } else {
-            let floor = 0.18 + 0.12 * (1.0 + up);
-            Rgb([floor, 0.9 * floor, 0.8 * floor])
+            let floor = 0.04 + 0.02 * (1.0 + up);
+            Rgb([floor, 0.95 * floor, 0.9 * floor])
         }
     })
 }

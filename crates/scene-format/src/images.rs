@@ -78,7 +78,10 @@ fn read_environment(source: &dyn Source, path: &Path) -> Result<ImageData, Strin
         .into_rgb32f();
     let texels: Vec<[f32; 3]> = image.pixels().map(|p| p.0).collect();
     if texels.iter().flatten().any(|x| !x.is_finite() || *x < 0.0) {
-        return Err("has texels that are negative or not finite numbers; expected radiance >= 0".to_string());
+        return Err(
+            "has texels that are negative or not finite numbers; expected radiance >= 0"
+                .to_string(),
+        );
     }
     Ok(ImageData {
         width,

@@ -343,8 +343,17 @@ impl Validator {
             let Some(x) = value else { continue };
             let key = path.key(key);
             if self.finite(&key, x) && !(0.0..=1.0).contains(&x) {
-                self.error(key, format!("expected a number from 0 to 1, found {}", num(x)));
+                self.error(
+                    key,
+                    format!("expected a number from 0 to 1, found {}", num(x)),
+                );
             }
+        }
+        if let (true, Some(TextureRef::Named(name))) = (m.is_physical(), &m.texture) {
+            self.error(
+                path.key("texture"),
+                format!("expected an image or checker texture table on a physically based material, found the lab's `{name}`, which multiplies the lab's local colour; try {{ image = \"...\" }}"),
+            );
         }
         let (physical, lab) = (m.physical_keys(), m.lab_keys());
         if let (Some(first), Some(other)) = (physical.first(), lab.first()) {
@@ -374,7 +383,10 @@ impl Validator {
         }
         let strength = path.key("strength");
         if self.finite(&strength, e.strength) && e.strength < 0.0 {
-            self.error(strength, format!("expected a number >= 0, found {}", num(e.strength)));
+            self.error(
+                strength,
+                format!("expected a number >= 0, found {}", num(e.strength)),
+            );
         }
         self.finite(path.key("rotate"), e.rotate);
     }

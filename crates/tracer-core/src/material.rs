@@ -16,26 +16,129 @@ pub enum Material {
     Phong(Phong),
     /// A surface that lets light through, bent by Snell's law.
     Glass(Glass),
+    /// A physically based material (glTF's and Blender's names).
+    Principled(Box<PrincipledMaterial>),
 }
 
 impl Material {
     /// Whether some light passes through the surface (it does not block
     /// shadow rays outright).
     pub fn is_transparent(&self) -> bool {
-        matches!(self, Material::Glass(g) if g.transmittance > 0.0)
+        matches!(self.lab(), Material::Glass(g) if g.transmittance > 0.0)
     }
 
-    /// The lab's surface colours (glass's seen from outside).
-    pub fn surface(&self) -> &Phong {
+    /// The material as the lab's tracer shades it: itself, or a physically
+    /// based material's Whitted-mode reading (`PrincipledMaterial::lab`).
+    pub fn lab(&self) -> &Material {
         match self {
+            Material::Principled(p) => &p.lab,
+            lab => lab,
+        }
+    }
+
+    /// The lab's surface colours (glass's seen from outside; a physically
+    /// based material's Whitted-mode reading of them).
+    pub fn surface(&self) -> &Phong {
+        match self.lab() {
             Material::Phong(p) => p,
             Material::Glass(g) => &g.surface,
+            Material::Principled(_) => unreachable!("a lab reading is the lab's kind"),
         }
     }
 
     /// The radiance given off on the front side.
     pub fn emission(&self) -> Vec3 {
-        self.surface().emission
+        match self {
+            Material::Principled(p) => p.emission,
+            _ => self.surface().emission,
+        }
+    }
+}
+
+/// A physically based material: its parameters (`bsdf::principled`), its
+/// emission and colour texture, and how Whitted mode shades it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PrincipledMaterial {
+    pub base_color: Vec3,
+    pub metallic: f32,
+    pub roughness: f32,
+    pub ior: f32,
+    pub transmission: f32,
+    pub emission: Vec3,
+    /// Multiplies `base_color` at each hit.
+    pub color_texture: Option<ColorTexture>,
+    /// Whitted mode's reading (`PrincipledMaterial::new`): the lab's kind.
+    pub lab: Material,
+}
+
+impl PrincipledMaterial {
+    /// The material of these parameters, with its Whitted-mode reading, a
+    /// documented approximation (the README's table): the diffuse colour
+    /// is `base_color` times the dielectric's opaque share; the highlight's
+    /// colour is the reflection at normal incidence (`base_color` for a
+    /// metal, the Fresnel F0 of `ior` for a dielectric), its exponent the
+    /// Blinn-Phong equivalent of GGX's alpha, 2 / alpha^2 - 2; a metal is a
+    /// mirror of `metallic (1 - roughness)^2`; with `transmission` it is
+    /// Fresnel glass of that transmittance.
+    pub fn new(p: crate::bsdf::principled::Principled, emission: Vec3) -> PrincipledMaterial {
+        let opaque = (1.0 - p.metallic) * (1.0 - p.transmission);
+        let f0 = ((p.ior - 1.0) / (p.ior + 1.0)).powi(2);
+        let alpha = (p.roughness * p.roughness).max(1e-3);
+        let surface = Phong {
+            ambient: Vec3::ZERO,
+            diffuse: p.base_color * opaque,
+            specular: Vec3::splat(f0).lerp(p.base_color, p.metallic),
+            shininess: (2.0 / (alpha * alpha) - 2.0).clamp(0.0, 1e4),
+            reflectance: p.metallic * (1.0 - p.roughness).powi(2),
+            texture: None,
+            color_texture: None,
+            emission,
+        };
+        let transmittance = (1.0 - p.metallic) * p.transmission;
+        let lab = if transmittance > 0.0 {
+            Material::Glass(Glass {
+                surface,
+                transmittance,
+                ior: p.ior,
+                fresnel: true,
+                absorption: Vec3::ZERO,
+            })
+        } else {
+            Material::Phong(surface)
+        };
+        PrincipledMaterial {
+            base_color: p.base_color,
+            metallic: p.metallic,
+            roughness: p.roughness,
+            ior: p.ior,
+            transmission: p.transmission,
+            emission,
+            color_texture: None,
+            lab,
+        }
+    }
+
+    /// Its parameters, for its BSDF.
+    pub fn params(&self) -> crate::bsdf::principled::Principled {
+        crate::bsdf::principled::Principled {
+            base_color: self.base_color,
+            metallic: self.metallic,
+            roughness: self.roughness,
+            ior: self.ior,
+            transmission: self.transmission,
+        }
+    }
+
+    /// The same material with a colour texture on `base_color` (and on the
+    /// diffuse colour of its Whitted-mode reading).
+    pub fn with_color_texture(mut self, texture: ColorTexture) -> PrincipledMaterial {
+        match &mut self.lab {
+            Material::Phong(p) => p.color_texture = Some(texture.clone()),
+            Material::Glass(g) => g.surface.color_texture = Some(texture.clone()),
+            Material::Principled(_) => {}
+        }
+        self.color_texture = Some(texture);
+        self
     }
 }
 

@@ -25,6 +25,11 @@ pub fn refract(dir: Vec3, normal: Vec3, eta: f32) -> Option<Vec3> {
 /// reflectances; 1 past the critical angle. What is not reflected is
 /// transmitted.
 pub fn fresnel_reflectance(cos_i: f32, eta: f32) -> f32 {
+    if eta == 1.0 {
+        // No interface: in f32, 1 - cos^2 rounds to 1 at grazing angles,
+        // which would read as total internal reflection.
+        return 0.0;
+    }
     let cos_i = cos_i.clamp(0.0, 1.0);
     let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
     if sin2_t >= 1.0 {

@@ -1,6 +1,7 @@
 //! From a validated scene file to the scene a render reads: the one place
 //! where the core reads the file format's types.
 
+use crate::bsdf::principled::Principled;
 use crate::camera::Camera;
 use crate::geometry::{
     Instance, Object, Placement, Plane, Shape, SharedMesh, Sphere, Triangle, UvMap,
@@ -8,7 +9,7 @@ use crate::geometry::{
 use crate::image::{Encoding, Saturation};
 use crate::light::environment::Environment;
 use crate::light::Light;
-use crate::material::{Glass, Material, Phong};
+use crate::material::{Glass, Material, Phong, PrincipledMaterial};
 use crate::scene::{Integrator, Scene, SceneParts, TraceSettings};
 use crate::texture::{Builtin, ColorTexture, ImageTexels, Texture, Wrap};
 use glam::{Vec2, Vec3};
@@ -712,6 +713,9 @@ impl<'a> MaterialTable<'a> {
         m: &fmt::Material,
         texture: Option<&fmt::TextureRef>,
     ) -> Result<Material, PrepareError> {
+        if m.is_physical() {
+            return self.principled(path, m, texture);
+        }
         let surface = Phong {
             ambient: m.ambient.into(),
             diffuse: m.diffuse.into(),
@@ -733,6 +737,30 @@ impl<'a> MaterialTable<'a> {
             fresnel: m.fresnel,
             absorption: m.absorption.into(),
         }))
+    }
+
+    /// A physically based material, with the object's texture if it has
+    /// one, else the material's own, on its base colour (validation keeps
+    /// the lab's built-in textures off it).
+    fn principled(
+        &mut self,
+        path: &str,
+        m: &fmt::Material,
+        texture: Option<&fmt::TextureRef>,
+    ) -> Result<Material, PrepareError> {
+        let params = Principled {
+            base_color: m.base_color.unwrap_or(fmt::DEFAULT_BASE_COLOR).into(),
+            metallic: m.metallic.unwrap_or(0.0),
+            roughness: m.roughness.unwrap_or(fmt::DEFAULT_ROUGHNESS),
+            ior: m.ior,
+            transmission: m.transmission.unwrap_or(0.0),
+        };
+        let mut material = PrincipledMaterial::new(params, m.emission.into());
+        let texture = texture.or(m.texture.as_ref());
+        if let Some(Texturing::Color(t)) = texture.map(|t| self.texture(path, t)).transpose()? {
+            material = material.with_color_texture(t);
+        }
+        Ok(Material::Principled(Box::new(material)))
     }
 
     /// The index of object `o`'s material, with the object's texture applied.

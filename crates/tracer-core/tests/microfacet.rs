@@ -548,7 +548,8 @@ fn ggx_albedo(alpha: f64, theta_o: f64, f0: f64) -> f64 {
             let h = [wo[0] + wi[0], wo[1] + wi[1], wo[2] + wi[2]];
             let len = dot(h, h).sqrt();
             let f = f0 + (1.0 - f0) * (1.0 - dot(wo, h) / len).powi(5);
-            let g2 = 1.0 / (1.0 + ggx_lambda(a2, wo[2]) + ggx_lambda(a2, ct));
+            // Smith's separable shadowing-masking, G1(wo) G1(wi).
+            let g2 = 1.0 / ((1.0 + ggx_lambda(a2, wo[2])) * (1.0 + ggx_lambda(a2, ct)));
             sum += ggx_d(a2, h[2] / len) * g2 * f / (4.0 * wo[2]) * st;
         }
     }
@@ -589,7 +590,7 @@ fn layer_albedo(cos_o: f64, alpha: f64, f0: f64, n: usize) -> f64 {
             let c = dot(wo, m);
             let wi_z = 2.0 * c * ct - cos_o;
             if c > 0.0 && wi_z > 0.0 {
-                let g2 = 1.0 / (1.0 + ggx_lambda(a2, cos_o) + ggx_lambda(a2, wi_z));
+                let g2 = 1.0 / ((1.0 + ggx_lambda(a2, cos_o)) * (1.0 + ggx_lambda(a2, wi_z)));
                 sum += ggx_d(a2, ct) * g2 * fresnel(c) * c / cos_o * st * jacobian;
             }
         }

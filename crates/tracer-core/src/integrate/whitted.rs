@@ -225,9 +225,9 @@ impl<'a> Whitted<'a> {
     /// Whether the shading of `hit` lights it (and casts shadow rays):
     /// Blinn-Phong, and glass seen from outside.
     fn shaded_locally(&self, hit: &SurfaceHit) -> bool {
-        match self.scene.material(hit.material) {
-            Material::Phong(_) => true,
+        match self.scene.material(hit.material).lab() {
             Material::Glass(_) => hit.front_face,
+            _ => true,
         }
     }
 
@@ -259,9 +259,10 @@ impl<'a> Whitted<'a> {
             // With the lab's black background this adds nothing, as in the lab.
             return energy * scene.background(ray.dir());
         };
-        match scene.material(hit.material) {
-            Material::Phong(m) => self.phong(m, ray, hit, energy, depth),
+        // A physically based material is shaded by its lab reading.
+        match scene.material(hit.material).lab() {
             Material::Glass(g) => self.glass(g, ray, hit, energy, depth),
+            m => self.phong(m.surface(), ray, hit, energy, depth),
         }
     }
 
@@ -420,7 +421,7 @@ impl<'a> Whitted<'a> {
             let Some(hit) = scene.closest_hit(&ray, EPSILON, left) else {
                 return Some(through);
             };
-            let Material::Glass(g) = scene.material(hit.material) else {
+            let Material::Glass(g) = scene.material(hit.material).lab() else {
                 return None;
             };
             let passes = g.shadow_transmission(ray.dir(), &hit);
@@ -462,7 +463,7 @@ pub fn refracted_path(scene: &Scene, ray: &Ray, max: usize) -> Vec<Ray> {
         let Some(hit) = scene.closest_hit(&last, EPSILON, f32::INFINITY) else {
             break;
         };
-        let Material::Glass(g) = scene.material(hit.material) else {
+        let Material::Glass(g) = scene.material(hit.material).lab() else {
             break;
         };
         let Some((dir, _)) = g.split(last.dir(), &hit).transmitted else {

@@ -49,7 +49,10 @@ impl Distribution1D {
         let cell = self.cdf.partition_point(|&c| c <= u).clamp(1, n) - 1;
         let (lo, hi) = (self.cdf[cell], self.cdf[cell + 1]);
         let within = if hi > lo { (u - lo) / (hi - lo) } else { 0.5 };
-        (((cell as f32 + within) / n as f32).min(1.0 - f32::EPSILON), cell)
+        (
+            ((cell as f32 + within) / n as f32).min(1.0 - f32::EPSILON),
+            cell,
+        )
     }
 
     /// The density of cell `cell` (of the point's x in [0, 1)).

@@ -191,7 +191,10 @@ impl Environment {
 pub fn direction_to_uv(d: Vec3) -> Vec2 {
     let v = d.y.clamp(-1.0, 1.0).acos() / PI;
     let u = d.x.atan2(-d.z) / (2.0 * PI) + 0.5;
-    Vec2::new(u.clamp(0.0, 1.0 - f32::EPSILON), v.clamp(0.0, 1.0 - f32::EPSILON))
+    Vec2::new(
+        u.clamp(0.0, 1.0 - f32::EPSILON),
+        v.clamp(0.0, 1.0 - f32::EPSILON),
+    )
 }
 
 /// The direction of point `uv` of the square, and the sine of its angle
@@ -216,7 +219,11 @@ mod tests {
         let (d, _) = uv_to_direction(Vec2::new(0.75, 0.5));
         assert!((d - Vec3::X).length() < 1e-6, "{d}");
         assert!((uv_to_direction(Vec2::new(0.3, 0.0)).0 - Vec3::Y).length() < 1e-6);
-        for uv in [Vec2::new(0.1, 0.2), Vec2::new(0.6, 0.9), Vec2::new(0.99, 0.5)] {
+        for uv in [
+            Vec2::new(0.1, 0.2),
+            Vec2::new(0.6, 0.9),
+            Vec2::new(0.99, 0.5),
+        ] {
             let back = direction_to_uv(uv_to_direction(uv).0);
             assert!((back - uv).length() < 1e-5, "{uv} -> {back}");
         }

@@ -7,10 +7,10 @@
 use super::alias::AliasTable;
 use super::area::AreaShape;
 use super::environment::Environment;
-use std::sync::Arc;
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 use std::f32::consts::PI;
+use std::sync::Arc;
 
 /// An emitting surface: its shape and radiance.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -166,9 +166,7 @@ impl Lights {
     #[inline(always)]
     pub fn pdf_environment(&self, dir: Vec3) -> f32 {
         match (&self.table, &self.environment) {
-            (Some(table), Some(environment)) => {
-                table.pmf(table.len() - 1) * environment.pdf(dir)
-            }
+            (Some(table), Some(environment)) => table.pmf(table.len() - 1) * environment.pdf(dir),
             _ => 0.0,
         }
     }
