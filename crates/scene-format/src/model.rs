@@ -38,7 +38,7 @@ pub struct SceneFile {
     /// light; in Whitted mode it is what a ray that leaves the scene sees.
     /// Default: none (`[render] background` instead).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub environment: Option<Environment>,
+    pub environment: Option<Box<Environment>>,
     /// Files whose materials, lights and objects join the scene's (before
     /// its own, in list order), each a path relative to this file, TOML or
     /// JSON by its extension. An included file holds only `materials`,

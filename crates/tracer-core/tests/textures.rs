@@ -197,10 +197,7 @@ fn face_dir() -> tempfile::TempDir {
 }
 
 fn phong(m: &Material) -> &Phong {
-    match m {
-        Material::Phong(p) => p,
-        Material::Glass(g) => &g.surface,
-    }
+    m.surface()
 }
 
 #[test]
