@@ -15,6 +15,10 @@ pub struct Environment {
     kind: Kind,
     /// cos and sin of the turn about +y (counter-clockwise from above).
     turn: (f32, f32),
+    /// Directions drawn uniformly over the sphere rather than by the
+    /// image's luminance (tests compare the two).
+    #[serde(default)]
+    uniform: bool,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -52,6 +56,7 @@ impl Environment {
         Environment {
             kind: Kind::Uniform(radiance),
             turn: (1.0, 0.0),
+            uniform: true,
         }
     }
 
@@ -87,6 +92,16 @@ impl Environment {
                 distribution,
             },
             turn: (angle.cos(), angle.sin()),
+            uniform: false,
+        }
+    }
+
+    /// The same environment, its directions drawn uniformly over the
+    /// sphere: the baseline its importance sampling is measured against.
+    pub fn sampled_uniformly(self) -> Environment {
+        Environment {
+            uniform: true,
+            ..self
         }
     }
 
@@ -130,17 +145,7 @@ impl Environment {
     #[inline(always)]
     pub fn sample(&self, u: Vec2) -> Option<EnvironmentSample> {
         match &self.kind {
-            Kind::Uniform(radiance) => {
-                let z = 1.0 - 2.0 * u.x;
-                let r = (1.0 - z * z).max(0.0).sqrt();
-                let phi = 2.0 * PI * u.y;
-                Some(EnvironmentSample {
-                    wi: Vec3::new(r * phi.cos(), r * phi.sin(), z),
-                    radiance: *radiance,
-                    pdf: 1.0 / (4.0 * PI),
-                })
-            }
-            Kind::Image { distribution, .. } => {
+            Kind::Image { distribution, .. } if !self.uniform => {
                 let (uv, density) = distribution.sample(u);
                 let (dir, sin) = uv_to_direction(uv);
                 if density <= 0.0 || sin <= 0.0 {
@@ -153,6 +158,18 @@ impl Environment {
                     pdf: density / (2.0 * PI * PI * sin),
                 })
             }
+            // One colour (or an image sampled uniformly, for comparison).
+            _ => {
+                let z = 1.0 - 2.0 * u.x;
+                let r = (1.0 - z * z).max(0.0).sqrt();
+                let phi = 2.0 * PI * u.y;
+                let wi = Vec3::new(r * phi.cos(), r * phi.sin(), z);
+                Some(EnvironmentSample {
+                    wi,
+                    radiance: self.radiance(wi),
+                    pdf: 1.0 / (4.0 * PI),
+                })
+            }
         }
     }
 
@@ -160,8 +177,7 @@ impl Environment {
     #[inline(always)]
     pub fn pdf(&self, dir: Vec3) -> f32 {
         match &self.kind {
-            Kind::Uniform(_) => 1.0 / (4.0 * PI),
-            Kind::Image { distribution, .. } => {
+            Kind::Image { distribution, .. } if !self.uniform => {
                 let own = self.to_own(dir);
                 let sin = (1.0 - own.y * own.y).max(0.0).sqrt();
                 if sin <= 0.0 {
@@ -169,6 +185,7 @@ impl Environment {
                 }
                 distribution.density(direction_to_uv(own)) / (2.0 * PI * PI * sin)
             }
+            _ => 1.0 / (4.0 * PI),
         }
     }
 
