@@ -154,6 +154,14 @@ const CASES: &[Case] = &[
     case("samples-whitted-too-many.toml", "render.samples", 6, 11, "expected 1 to 4096 samples, found 8192; more are allowed with integrator = \"path\""),
     case("samples-path-too-many.toml", "render.samples", 7, 11, "expected 1 to 65536 samples, found 100000"),
     case("time-limit-negative.toml", "render.time_limit", 7, 14, "expected seconds > 0, found -5"),
+    case("metallic-above-one.toml", "materials.gold.metallic", 7, 12, "expected a number from 0 to 1, found 1.5"),
+    case("roughness-negative.toml", "materials.paint.roughness", 6, 13, "expected a number from 0 to 1, found -0.2"),
+    case("transmission-above-one.toml", "materials.glass.transmission", 6, 16, "expected a number from 0 to 1, found 2"),
+    case("material-two-kinds.toml", "materials.odd.metallic", 7, 12, "expected one kind of material: physically based (`base_color`, `metallic`, `roughness`, `transmission`) or the lab's Blinn-Phong"),
+    case("environment-image-and-color.toml", "environment.color", 6, 9, "expected either `image` or `color`, found both"),
+    case("environment-image-missing.toml", "environment.image", 6, 9, "cannot load `no-such-sky.hdr`"),
+    case("environment-empty.toml", "environment", 5, 1, "expected `image` (a latitude-longitude .hdr or .exr file) or `color`; found neither"),
+    case("physical-lab-texture.toml", "materials.striped.texture", 7, 11, "expected an image or checker texture table on a physically based material"),
 ];
 
 fn bad_dir() -> PathBuf {

@@ -1321,3 +1321,58 @@ fn time_limit_and_reference_render_in_passes() {
     );
     assert!(!dir.path().join("wrong.png").exists());
 }
+
+#[test]
+fn environment_images_are_checked_and_physically_based_scenes_render_in_both_modes() {
+    let dir = tempfile::tempdir().unwrap();
+    // A sky three times as wide as high: read, with a warning.
+    let wide = image::Rgb32FImage::from_pixel(24, 8, image::Rgb([0.5, 0.6, 0.9]));
+    wide.save(dir.path().join("wide.hdr")).unwrap();
+    let png = image::RgbImage::from_pixel(16, 8, image::Rgb([100, 150, 250]));
+    png.save(dir.path().join("sky.png")).unwrap();
+    let scene = |sky: &str| {
+        format!(
+            "[camera]\neye = [0, 1, 5]\nlook_at = [0, 0.5, 0]\nwidth = 24\nheight = 16\n\
+             [render]\nintegrator = \"path\"\nsamples = 4\n\
+             [environment]\nimage = \"{sky}\"\n\
+             [[objects]]\nsphere = {{ center = [0, 0.5, 0], radius = 0.5 }}\n\
+             material = {{ base_color = [0.9, 0.6, 0.2], metallic = 1, roughness = 0.3 }}\n\
+             [[objects]]\nsphere = {{ center = [1.2, 0.5, 0], radius = 0.5 }}\n\
+             material = {{ transmission = 1, roughness = 0.1 }}\n"
+        )
+    };
+    std::fs::write(dir.path().join("wide.toml"), scene("wide.hdr")).unwrap();
+    std::fs::write(dir.path().join("png.toml"), scene("sky.png")).unwrap();
+    let out = tracer(dir.path(), &["render", "wide.toml"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("24x8: a latitude-longitude image is twice as wide"),
+        "{stderr}"
+    );
+    // Whitted mode shades the same materials by their lab reading.
+    let out = tracer(
+        dir.path(),
+        &[
+            "render",
+            "wide.toml",
+            "--integrator",
+            "whitted",
+            "-o",
+            "w.png",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = tracer(dir.path(), &["render", "png.toml"]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("png.toml:10:9")
+            && stderr.contains("expected a Radiance .hdr or an OpenEXR .exr"),
+        "{stderr}"
+    );
+}
