@@ -106,7 +106,7 @@ fn the_goldens_hold_the_labs_hand_worked_values() {
     assert_eq!(px("shadows", 100, 150), [70, 70, 70]);
     // The lab's scenes are all 500x400; the scenes beyond the lab (checked
     // by the physics tests of tracer-core) are not.
-    const BEYOND_LAB: [&str; 11] = [
+    const BEYOND_LAB: [&str; 12] = [
         "antialiasing",
         "bench-bunny",
         "boxes",
@@ -117,6 +117,7 @@ fn the_goldens_hold_the_labs_hand_worked_values() {
         "showcase",
         "smooth-mesh",
         "soft-shadows",
+        "studio-bunny",
         "textures",
     ];
     let cases = golden::scene_cases(&root().join("scenes")).unwrap();
@@ -205,6 +206,34 @@ fn the_global_illumination_golden_shows_the_global_look() {
     assert!(grey(corner) < 0.6 * grey(middle), "{corner:?} {middle:?}");
     let (caustic, beside) = (mean(160, 175, 185, 190), mean(100, 175, 125, 190));
     assert!(grey(caustic) > 1.2 * grey(beside), "{caustic:?} {beside:?}");
+}
+
+/// `studio-bunny.toml`'s golden, by numbers: the bunny is gold (a metal
+/// whose reflection takes its base colour, blue at most 3/4 of red), the
+/// frosted glass and the far floor stay grey, and the floor just in front
+/// of the bunny's feet takes the gold's colour (light bounced off it).
+#[test]
+fn the_studio_bunny_golden_is_gold_on_grey() {
+    let golden = real_golden("studio-bunny");
+    let blue_over_red = |x0: u32, y0: u32, x1: u32, y1: u32| {
+        let (mut red, mut blue) = (0.0f64, 0.0f64);
+        for y in y0..y1 {
+            for x in x0..x1 {
+                let [r, _, b] = golden.get_pixel(x, y).0;
+                (red, blue) = (red + f64::from(r), blue + f64::from(b));
+            }
+        }
+        blue / red
+    };
+    let bunny = blue_over_red(150, 160, 230, 210);
+    let (glass, far_floor) = (
+        blue_over_red(290, 140, 340, 190),
+        blue_over_red(20, 90, 80, 110),
+    );
+    let feet = blue_over_red(130, 288, 220, 299);
+    assert!(bunny < 0.75, "{bunny}");
+    assert!(glass > 0.9 && far_floor > 0.9, "{glass} {far_floor}");
+    assert!(feet < far_floor - 0.03, "{feet} vs {far_floor}");
 }
 
 /// The floor of `textures.toml`, worked out from its camera: eye (0, 3, 9)
