@@ -1,0 +1,36 @@
+//! `tracer compare`: an image against an image or a scene's render (the
+//! numbers, a heat-map, the mistakes that explain the difference), or with
+//! `--report` a class's images against their scenes.
+
+mod comparison;
+mod diagnose;
+mod flip;
+mod input;
+mod metrics;
+mod pair;
+
+use crate::console::note;
+use crate::error::{self, Outcome};
+use input::BadInput;
+use tracer_cli::compare_args::CompareArgs;
+
+pub fn run(args: &CompareArgs) -> Outcome {
+    let result = match (&args.image, &args.reference) {
+        (Some(image), Some(reference)) => {
+            pair::run(image, reference, args.output.as_deref(), args.tolerance)
+        }
+        _ => Err(BadInput("--report is not written yet".to_string()).into()),
+    };
+    match result {
+        Ok(true) => Outcome::Ok,
+        // Exit 1: not within tolerance, as a golden that fails its check.
+        Ok(false) => Outcome::Failure,
+        Err(e) => match e.downcast_ref::<BadInput>() {
+            Some(bad) => {
+                note!("error: {bad}");
+                Outcome::BadInput
+            }
+            None => error::finish(Err(e)),
+        },
+    }
+}
