@@ -187,31 +187,31 @@ fn render_scenes(
 
 /// The summary on stdout: one line per image, worst first.
 fn table(entries: &[Entry], scenes: usize) -> String {
-    let width = entries
-        .iter()
-        .map(|e| e.path.display().to_string().chars().count())
-        .max()
-        .unwrap_or(0)
-        .max(5);
+    let widest = |text: &dyn Fn(&Entry) -> String, least: usize| {
+        entries
+            .iter()
+            .map(|e| text(e).chars().count())
+            .fold(least, usize::max)
+    };
+    let width = widest(&|e| e.path.display().to_string(), 5);
+    let scene_width = widest(&|e| e.scene.clone(), 5);
     let mut out = format!(
-        "{:>11}  {:>6}  {:<width$}  scene, mistakes\n",
-        "off", "FLIP", "image"
+        "{:>11}  {:>6}  {:<width$}  {:<scene_width$}  mistakes\n",
+        "off", "FLIP", "image", "scene"
     );
     for e in entries {
         let flip = e
             .comparison
             .flip_mean()
             .map_or("-".to_string(), |f| format!("{f:.4}"));
-        let mut line = format!(
-            "{:>11}  {flip:>6}  {:<width$}  {}",
+        let line = format!(
+            "{:>11}  {flip:>6}  {:<width$}  {:<scene_width$}  {}",
             percent(e.comparison.share()),
             e.path.display().to_string(),
-            e.scene
+            e.scene,
+            e.comparison.words().join(", ")
         );
-        for word in e.comparison.words() {
-            let _ = write!(line, ", {word}");
-        }
-        out += &line;
+        out += line.trim_end();
         out.push('\n');
     }
     let within = entries
