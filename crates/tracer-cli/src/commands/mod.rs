@@ -4,6 +4,7 @@ pub mod calib_chart;
 pub mod check;
 pub mod completions;
 pub mod convert;
+pub mod explain;
 pub mod gamma_fit;
 pub mod merge;
 pub mod new;
