@@ -33,6 +33,17 @@ pub fn run(args: &Explain) -> Result<()> {
     console::stdout(&text)
 }
 
+/// Pixel (x, y)'s tree as text, its first sample's: what the live page of
+/// `tracer watch --serve` shows for a click.
+pub fn tree_text(
+    loaded: &tracer_pipeline::Loaded,
+    options: &tracer_pipeline::Options,
+    (x, y): (u32, u32),
+) -> Result<String, tracer_pipeline::Error> {
+    let pixel = tracer_pipeline::explain::explain(loaded, options, (x, y), 0)?;
+    Ok(text(&pixel, (x, y), &loaded.name.display().to_string()))
+}
+
 /// The JSON of an explained pixel. Fixed: `version`, `pixel` ([X, Y]),
 /// `rgb8`, `linear` and `ray` (with `origin`, `direction` and `hit`).
 fn json(pixel: &ExplainedPixel, (x, y): (u32, u32)) -> serde_json::Value {
