@@ -35,6 +35,17 @@ pub enum Error {
     /// An option of path mode's passes for a scene in Whitted mode.
     #[error("{option}: needs path mode, which renders in passes (integrator = \"path\" in [render], or --integrator path); Whitted mode renders in one")]
     NeedsPathMode { option: &'static str },
+    /// A pixel outside the image.
+    #[error("pixel ({x}, {y}) is outside the {width}x{height} image; expected X from 0 to {} and Y from 0 to {} (X counts columns from the left, Y rows from the top)", width - 1, height - 1)]
+    Pixel {
+        x: u32,
+        y: u32,
+        width: u32,
+        height: u32,
+    },
+    /// A sample number beyond the pixel's samples.
+    #[error("--sample {sample}: the scene renders {samples} sample(s) a pixel; expected 0 to {}", samples - 1)]
+    Sample { sample: u32, samples: u32 },
     /// A `--reference` image that cannot be read or is not the render's size.
     #[error("--reference {}: {message}", path.display())]
     Reference { path: PathBuf, message: String },
@@ -73,6 +84,8 @@ impl Error {
             | Error::Samples(_)
             | Error::Reference { .. }
             | Error::NeedsPathMode { .. }
+            | Error::Pixel { .. }
+            | Error::Sample { .. }
             | Error::Part(_)
             | Error::Prepare { .. }
             | Error::Measurements { .. } => true,

@@ -9,6 +9,7 @@
 
 pub mod cache;
 mod error;
+pub mod explain;
 pub mod lab;
 mod limits;
 mod load;

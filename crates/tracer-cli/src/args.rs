@@ -100,6 +100,65 @@ fn parse_tile(s: &str) -> Result<(u32, u32), String> {
     Ok((i, n))
 }
 
+/// Explain one pixel: why it has its colour, in the lab's numbers and
+/// order: the primary ray (from the projection matrix, lab 1.2.3), each
+/// object tested along it, the nearest hit, each light's ambient, diffuse
+/// and specular terms and its shadow ray, the mirror and refracted rays,
+/// then the saturation rule, gamma and the 8-bit value, which is the
+/// rendered pixel's. In path mode: one sample's path, its light and BSDF
+/// samples and their MIS weights
+///
+/// X counts columns from the left and Y rows from the top of the written
+/// image: (0, 0) is its top-left pixel, as image viewers count.
+#[derive(Args)]
+pub struct ExplainArgs {
+    /// Scene file (.toml or .json, or a .zip archive made by `tracer pack`)
+    pub scene: PathBuf,
+    /// The pixel's column, from 0 at the image's left
+    pub x: u32,
+    /// The pixel's row, from 0 at the image's top
+    pub y: u32,
+    /// Which of the pixel's samples to trace (0 is the first) [default: 0]
+    #[arg(long, value_name = "K", default_value_t = 0)]
+    pub sample: u32,
+    /// Print the tree as JSON instead: its structure is in the README
+    /// ("Learning with the tracer"), its `version` raised when a field
+    /// changes meaning
+    #[arg(long)]
+    pub json: bool,
+    /// Display gamma, overriding the scene's `[render] gamma`
+    #[arg(long, value_name = "G", allow_negative_numbers = true)]
+    pub gamma: Option<f32>,
+    #[command(flatten)]
+    pub view: ViewArgs,
+}
+
+/// `tracer explain`, resolved.
+pub struct Explain {
+    pub input: Input,
+    pub x: u32,
+    pub y: u32,
+    pub sample: u32,
+    pub json: bool,
+    pub options: Options,
+}
+
+impl ExplainArgs {
+    pub fn resolve(self) -> anyhow::Result<Explain> {
+        Ok(Explain {
+            input: Input::File(self.scene),
+            x: self.x,
+            y: self.y,
+            sample: self.sample,
+            json: self.json,
+            options: Options {
+                gamma: checked(self.gamma)?,
+                ..self.view.options()
+            },
+        })
+    }
+}
+
 /// Merge render-farm tiles (.exr files of `tracer render --tile` or
 /// `--region`) into the whole image; they must come from one scene and
 /// options and cover the image exactly once.

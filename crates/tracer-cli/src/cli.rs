@@ -24,6 +24,7 @@ pub enum Command {
     Watch(args::WatchArgs),
     Pack(args::PackArgs),
     Merge(args::MergeArgs),
+    Explain(args::ExplainArgs),
     /// Print the JSON Schema of scene files (3D and 2D canvas), for editor
     /// completion and checking (e.g. `tracer schema > schema.json`)
     Schema,

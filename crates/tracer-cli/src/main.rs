@@ -29,6 +29,9 @@ fn main() -> ExitCode {
         }
         Command::Pack(args) => error::finish(commands::pack::run(&args)),
         Command::Merge(args) => error::finish(commands::merge::run(&args)),
+        Command::Explain(args) => {
+            error::finish(args.resolve().and_then(|a| commands::explain::run(&a)))
+        }
         Command::Schema => error::finish(commands::schema::run()),
         Command::New(args) => commands::new::run(&args),
         Command::Convert(args) => error::finish(commands::convert::run(&args)),

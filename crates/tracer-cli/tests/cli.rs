@@ -1376,3 +1376,74 @@ fn environment_images_are_checked_and_physically_based_scenes_render_in_both_mod
         "{stderr}"
     );
 }
+
+#[test]
+fn explain_prints_the_tree_and_its_json_has_the_fixed_keys() {
+    let dir = tempfile::tempdir().unwrap();
+    let illumination = scene("illumination.toml");
+    let out = tracer(dir.path(), &["explain", &illumination, "250", "200"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for words in [
+        "primary ray",
+        "N.L",
+        "(N.H)^n",
+        "shadow ray",
+        "gamma 2.2",
+        "(192, 112, 112)",
+    ] {
+        assert!(text.contains(words), "{words}: {text}");
+    }
+    // The image's pixel is what explain says it is.
+    let png = dir.path().join("i.png");
+    tracer(dir.path(), &["render", &illumination, "-o", "i.png"]);
+    assert_eq!(rgb(&png).get_pixel(250, 200).0, [192, 112, 112]);
+    let out = tracer(
+        dir.path(),
+        &["explain", &illumination, "250", "200", "--json"],
+    );
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["version"], 1);
+    assert_eq!(json["pixel"], serde_json::json!([250, 200]));
+    assert_eq!(json["rgb8"], serde_json::json!([192, 112, 112]));
+    assert_eq!(json["linear"].as_array().unwrap().len(), 3);
+    let ray = &json["ray"];
+    assert_eq!(ray["origin"], serde_json::json!([0.0, 0.0, 10.0]));
+    let direction: Vec<f64> = serde_json::from_value(ray["direction"].clone()).unwrap();
+    let length = direction.iter().map(|d| d * d).sum::<f64>().sqrt();
+    assert!((length - 1.0).abs() < 1e-6, "{length}");
+    for key in ["t", "point", "normal"] {
+        assert!(
+            ray["hit"][key].is_number() || ray["hit"][key].is_array(),
+            "{key}"
+        );
+    }
+    // A ray that misses has a null hit; a pixel outside is bad input.
+    let out = tracer(dir.path(), &["explain", &illumination, "0", "0", "--json"]);
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(json["ray"]["hit"].is_null());
+    let out = tracer(dir.path(), &["explain", &illumination, "500", "0"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("500x400"));
+    // Path mode: the path's light and BSDF samples and their MIS weights.
+    let out = tracer(
+        dir.path(),
+        &[
+            "explain",
+            &scene("cornell-box.toml"),
+            "128",
+            "100",
+            "--sample",
+            "3",
+        ],
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("light sample") && text.contains("MIS weight"),
+        "{text}"
+    );
+}

@@ -589,3 +589,42 @@ fn a_path_traced_scene_is_shown_pass_by_pass_and_an_edit_stops_it() {
     watching.expect_line("1 of 64 samples a pixel", WITHIN);
     watching.expect_line("rendered", START);
 }
+
+#[test]
+fn a_click_on_the_live_page_shows_that_pixel_s_tree() {
+    let (_dir, _scene_path, _watching, port) = serving_a_scene();
+    // The endpoint alone: a pixel's tree, a bad query refused.
+    assert_eq!(
+        status_of(port, &get("/explain?x=32&y=24")),
+        "HTTP/1.1 200 OK"
+    );
+    assert_eq!(
+        status_of(port, &get("/explain?x=a&y=2")),
+        "HTTP/1.1 400 Bad Request"
+    );
+    assert_eq!(
+        status_of(port, &get("/explain?x=640&y=2")),
+        "HTTP/1.1 422 Unprocessable Entity"
+    );
+    let Some(mut page) = Browser::open(&format!("http://127.0.0.1:{port}/")) else {
+        return;
+    };
+    page.wait_for(
+        "byId('image').complete && byId('image').naturalWidth === 64",
+        START,
+    );
+    // A click in pixel (32, 24) (the image is shown at its own size;
+    // Chromium rounds a click's coordinates to whole CSS pixels).
+    page.eval(
+        "(() => { const i = byId('image'); const r = i.getBoundingClientRect(); \
+         i.dispatchEvent(new MouseEvent('click', { clientX: Math.ceil(r.left + 32), clientY: Math.ceil(r.top + 24), bubbles: true })); })()",
+    );
+    page.wait_for("document.body.dataset.explained === '32,24'", WITHIN);
+    let tree = page.eval("byId('explain').textContent");
+    let tree = tree.as_str().expect("text");
+    assert!(
+        tree.contains("pixel (32, 24)") && tree.contains("primary ray"),
+        "{tree}"
+    );
+    assert!(tree.contains("N.L"), "{tree}");
+}

@@ -12,6 +12,7 @@ pub mod accel;
 pub mod aov;
 pub mod bsdf;
 pub mod camera;
+pub mod explain;
 pub mod film;
 mod gamma_table;
 pub mod geometry;
@@ -34,7 +35,8 @@ pub use integrate::RayStats;
 pub use prepare::{prepare, PrepareError};
 pub use ray::Ray;
 pub use render::{
-    render, render_cancellable, render_into, sample_rays, Output, Region, RenderJob, Rendered,
+    pixel_sample, render, render_cancellable, render_into, sample_rays, Output, Region, RenderJob,
+    Rendered,
 };
 pub use scene::Scene;
 

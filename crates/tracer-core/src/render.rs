@@ -207,6 +207,27 @@ pub fn sample_rays(scene: &Scene, job: &RenderJob, mut f: impl FnMut(&Ray)) {
     }
 }
 
+/// Sample `s` of pixel (i, j) of a Whitted-mode render at `samples` per
+/// pixel, as the render makes it: its image point, its lens point, its
+/// primary ray and the random numbers its shading draws (`explain` traces
+/// it again, one ray at a time).
+pub fn pixel_sample(
+    scene: &Scene,
+    samples: u32,
+    (i, j): (u32, u32),
+    s: u32,
+) -> (Vec2, Vec2, Ray, Rng) {
+    let never = AtomicBool::new(false);
+    let job = RenderJob::full(scene).with_samples(samples);
+    let pixel = PixelRenderer::new(scene, &job, &never);
+    let (at, lens, rng) = if pixel.samples == 1 {
+        pixel.centre_point(i, j)
+    } else {
+        pixel.sample_point((i, j, pixel.lens_order_of(i, j)), s)
+    };
+    (at, lens, scene.camera().lens_ray(at.x, at.y, lens), rng)
+}
+
 /// Rows in one band, the unit of parallel work: small enough that the two
 /// halves of the image, cheap sky and costly mesh, spread evenly on threads.
 const BAND_ROWS: u32 = 8;

@@ -5,6 +5,7 @@ pub mod check;
 pub mod compare;
 pub mod completions;
 pub mod convert;
+pub mod explain;
 pub mod gamma_fit;
 pub mod merge;
 pub mod new;

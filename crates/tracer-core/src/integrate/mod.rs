@@ -4,6 +4,7 @@
 
 pub(crate) mod lanes;
 pub mod path;
+pub mod record;
 pub mod whitted;
 
 /// How many rays of each kind a render traced.

@@ -8,6 +8,7 @@
 //! seen directly; 1 adds direct light; each more one bounce of indirect
 //! light.
 
+use super::record::{PathEvent, PathEventKind, Recorder, Silent};
 use super::RayStats;
 use crate::bsdf::Bsdf;
 use crate::geometry::SurfaceHit;
@@ -43,13 +44,15 @@ pub enum Strategy {
 }
 
 /// Traces paths through one scene, counting rays; one per thread.
-pub struct PathTracer<'a> {
+pub struct PathTracer<'a, R: Recorder = Silent> {
     scene: &'a Scene,
     max_depth: u32,
     /// Which set of scramblings the samples use (0 for renders).
     seed: u32,
     strategy: Strategy,
     pub stats: RayStats,
+    /// Told what each bounce does (`record.rs`): nothing for renders.
+    pub rec: R,
 }
 
 /// What the last bounce knows of the direction it sent the path in.
@@ -65,12 +68,20 @@ struct Bounce {
 
 impl<'a> PathTracer<'a> {
     pub fn new(scene: &'a Scene) -> Self {
+        PathTracer::with_recorder(scene, Silent)
+    }
+}
+
+impl<'a, R: Recorder> PathTracer<'a, R> {
+    /// A tracer that tells `rec` what each bounce does.
+    pub fn with_recorder(scene: &'a Scene, rec: R) -> Self {
         PathTracer {
             scene,
             max_depth: scene.trace_settings().max_depth,
             seed: 0,
             strategy: Strategy::Mis,
             stats: RayStats::default(),
+            rec,
         }
     }
 
@@ -112,26 +123,38 @@ impl<'a> PathTracer<'a> {
         sum: &mut PixelSum,
         cancelled: impl Fn() -> bool,
     ) {
-        let camera = self.scene.camera();
         let mut sampler = PixelSampler::new(i, j, self.seed);
         for s in samples {
             if s % 64 == 63 && cancelled() {
                 break;
             }
-            sampler.start(s);
-            let at = Vec2::new(i as f32, j as f32) + sampler.get2();
-            let lens = match camera.lens {
-                Some(_) => concentric_disk(sampler.get2()),
-                None => Vec2::ZERO,
-            };
-            let ray = camera.lens_ray(at.x, at.y, lens);
-            let radiance = self.radiance(ray, &mut sampler);
+            let radiance = self.sample(&mut sampler, (i, j), s);
             if radiance.is_finite() {
                 sum.add(radiance);
             } else {
                 self.stats.dropped += 1;
             }
         }
+    }
+
+    /// Sample `s` of pixel (i, j): its camera ray and path's radiance, its
+    /// numbers from `sampler` (the pixel's).
+    #[inline(always)]
+    pub fn sample(&mut self, sampler: &mut PixelSampler, (i, j): (u32, u32), s: u32) -> Vec3 {
+        let camera = self.scene.camera();
+        sampler.start(s);
+        let at = Vec2::new(i as f32, j as f32) + sampler.get2();
+        let lens = match camera.lens {
+            Some(_) => concentric_disk(sampler.get2()),
+            None => Vec2::ZERO,
+        };
+        let ray = camera.lens_ray(at.x, at.y, lens);
+        self.radiance(ray, sampler)
+    }
+
+    /// The seed of its samples' scramblings.
+    pub fn seed(&self) -> u32 {
+        self.seed
     }
 
     /// The radiance arriving along `ray` (from its origin), one path's
@@ -151,7 +174,14 @@ impl<'a> PathTracer<'a> {
         loop {
             self.stats.nearest += 1;
             let Some(hit) = scene.closest_hit(&ray, EPSILON, f32::INFINITY) else {
-                radiance += throughput * self.escaped(ray.dir(), &bounce);
+                let (escaped, weight) = self.escaped(ray.dir(), &bounce);
+                let added = throughput * (escaped * weight);
+                radiance += added;
+                let kind = PathEventKind::Escaped {
+                    radiance: escaped,
+                    weight,
+                };
+                self.record(kind, throughput, added);
                 break;
             };
             let material = scene.material(hit.material);
@@ -162,7 +192,24 @@ impl<'a> PathTracer<'a> {
                 }
             }
             let p = ray.at(hit.t);
-            radiance += throughput * self.emitted(material, &hit, &ray, p, &bounce);
+            let vertex = PathEventKind::Vertex {
+                depth,
+                point: p,
+                normal: hit.shading_normal,
+                material: hit.material,
+                front_face: hit.front_face,
+            };
+            self.record(vertex, throughput, Vec3::ZERO);
+            let (emitted, weight) = self.emitted(material, &hit, &ray, p, &bounce);
+            if emitted != Vec3::ZERO {
+                let added = throughput * (emitted * weight);
+                radiance += added;
+                let kind = PathEventKind::Emitted {
+                    radiance: emitted,
+                    weight,
+                };
+                self.record(kind, throughput, added);
+            }
             if depth == self.max_depth {
                 break;
             }
@@ -176,12 +223,19 @@ impl<'a> PathTracer<'a> {
             };
             let (pick, u) = (sampler.get1(), sampler.get2());
             if bsdf.has_smooth_lobes() && self.strategy != Strategy::Bsdf {
-                radiance += throughput * self.light_sample(&bsdf, from, pick, u);
+                radiance += self.light_sample(&bsdf, from, (pick, u), throughput);
             }
             let (lobe, u) = (sampler.get1(), sampler.get2());
             let Some(sample) = bsdf.sample(lobe, u) else {
                 break;
             };
+            let kind = PathEventKind::BsdfSample {
+                wi: sample.wi,
+                weight: sample.weight,
+                pdf: sample.pdf,
+                specular: sample.specular,
+            };
+            self.record(kind, throughput, Vec3::ZERO);
             throughput *= sample.weight;
             // Without the weight's eta^2: the roulette looks at energy.
             eta_scale /= sample.eta * sample.eta;
@@ -194,7 +248,13 @@ impl<'a> PathTracer<'a> {
             if depth >= ROULETTE_DEPTH {
                 let q = (throughput * eta_scale).max_element();
                 if q < 1.0 {
-                    if survive >= q {
+                    let survived = survive < q;
+                    let kind = PathEventKind::Roulette {
+                        survive: q,
+                        survived,
+                    };
+                    self.record(kind, throughput, Vec3::ZERO);
+                    if !survived {
                         break;
                     }
                     throughput /= q;
@@ -208,8 +268,19 @@ impl<'a> PathTracer<'a> {
         radiance
     }
 
-    /// The light emitted toward the path by the surface it met at `p`,
-    /// weighted against the light sample that could have found it: whole
+    /// Tells the recorder of `kind`, the throughput before it and what it
+    /// added.
+    #[inline(always)]
+    fn record(&mut self, kind: PathEventKind, throughput: Vec3, added: Vec3) {
+        self.rec.path(PathEvent {
+            kind,
+            throughput,
+            added,
+        });
+    }
+
+    /// The light emitted toward the path by the surface it met at `p`, and
+    /// its weight against the light sample that could have found it: 1
     /// after the camera or a specular bounce, which no light sample can
     /// take.
     fn emitted(
@@ -219,67 +290,89 @@ impl<'a> PathTracer<'a> {
         ray: &Ray,
         p: Vec3,
         bounce: &Bounce,
-    ) -> Vec3 {
+    ) -> (Vec3, f32) {
         let emission = material.emission();
         if emission == Vec3::ZERO || !hit.front_face {
-            return Vec3::ZERO;
+            return (Vec3::ZERO, 0.0);
         }
         match self.strategy {
-            _ if bounce.specular => return emission,
+            _ if bounce.specular => return (emission, 1.0),
             Strategy::Mis => {}
-            Strategy::Lights => return Vec3::ZERO,
-            Strategy::Bsdf => return emission,
+            Strategy::Lights => return (emission, 0.0),
+            Strategy::Bsdf => return (emission, 1.0),
         }
         let cos = -ray.dir().dot(hit.geometric_normal);
         let lights = self.scene.path_lights();
         let light_pdf = lights.pdf_hit(bounce.from, p, cos, emission, hit.object);
-        emission * power_heuristic(bounce.pdf, light_pdf)
+        (emission, power_heuristic(bounce.pdf, light_pdf))
     }
 
-    /// The light arriving along `dir` from outside the scene: the
-    /// environment, weighted against the light sample that could have
+    /// The light arriving along `dir` from outside the scene, and its
+    /// weight: the environment, against the light sample that could have
     /// found it, or the background colour (no light sample finds it).
-    fn escaped(&self, dir: Vec3, bounce: &Bounce) -> Vec3 {
+    fn escaped(&self, dir: Vec3, bounce: &Bounce) -> (Vec3, f32) {
         let Some(environment) = self.scene.environment() else {
-            return self.scene.trace_settings().background;
+            return (self.scene.trace_settings().background, 1.0);
         };
         let radiance = environment.radiance(dir);
-        match self.strategy {
-            _ if bounce.specular => radiance,
+        let weight = match self.strategy {
+            _ if bounce.specular => 1.0,
             Strategy::Mis => {
                 let light_pdf = self.scene.path_lights().pdf_environment(dir);
-                radiance * power_heuristic(bounce.pdf, light_pdf)
+                power_heuristic(bounce.pdf, light_pdf)
             }
-            Strategy::Lights => Vec3::ZERO,
-            Strategy::Bsdf => radiance,
-        }
+            Strategy::Lights => 0.0,
+            Strategy::Bsdf => 1.0,
+        };
+        (radiance, weight)
     }
 
-    /// Next-event estimation: the light a sampled point of a light (picked
-    /// by `pick`, drawn by `u`) sends through `bsdf` at `from`, if nothing
-    /// is in the way, weighted against the BSDF sample that could have
-    /// found it.
-    fn light_sample(&mut self, bsdf: &Bsdf, from: Vec3, pick: f32, u: Vec2) -> Vec3 {
+    /// Next-event estimation: what a sampled point of a light (picked by
+    /// `pick`, drawn by `u`) sends through `bsdf` at `from`, if nothing is
+    /// in the way, weighted against the BSDF sample that could have found
+    /// it, times the path's `throughput`.
+    fn light_sample(
+        &mut self,
+        bsdf: &Bsdf,
+        from: Vec3,
+        (pick, u): (f32, Vec2),
+        throughput: Vec3,
+    ) -> Vec3 {
         let lights = self.scene.path_lights();
         let Some(light) = lights.sample(from, pick, u) else {
+            self.record(PathEventKind::NoLightPoint, throughput, Vec3::ZERO);
             return Vec3::ZERO;
         };
         let (f, bsdf_pdf) = bsdf.eval(light.wi);
-        if f == Vec3::ZERO || light.pdf.is_nan() || light.pdf <= 0.0 {
-            return Vec3::ZERO;
-        }
-        self.stats.shadow += 1;
-        let shadow = Ray::new(from, light.wi);
-        let reach = light.distance * (1.0 - SHADOW_SHORTEN);
-        if self.scene.occluded(&shadow, EPSILON, reach) {
-            return Vec3::ZERO;
-        }
+        let unlit = f == Vec3::ZERO || light.pdf.is_nan() || light.pdf <= 0.0;
+        let blocked = !unlit && {
+            self.stats.shadow += 1;
+            let shadow = Ray::new(from, light.wi);
+            let reach = light.distance * (1.0 - SHADOW_SHORTEN);
+            self.scene.occluded(&shadow, EPSILON, reach)
+        };
         let weight = if light.point || self.strategy == Strategy::Lights {
             1.0
         } else {
             power_heuristic(light.pdf, bsdf_pdf)
         };
-        f * light.radiance * (weight / light.pdf)
+        let added = if blocked || unlit {
+            Vec3::ZERO
+        } else {
+            throughput * (f * light.radiance * (weight / light.pdf))
+        };
+        let kind = PathEventKind::LightSample {
+            wi: light.wi,
+            distance: light.distance,
+            radiance: light.radiance,
+            light_pdf: light.pdf,
+            f_cos: f,
+            bsdf_pdf,
+            weight,
+            blocked,
+        };
+        self.record(kind, throughput, added);
+        added
     }
 }
 

@@ -2,6 +2,7 @@
 //! and mirror recursion with energy (lab sections 4 and 5); beyond the
 //! lab, refraction through glass and sphere lights' soft shadows.
 
+use super::record::{LightTerm, RayKind, Recorder, ShadowRay, Silent};
 use super::RayStats;
 use crate::accel::PACKET;
 use crate::geometry::SurfaceHit;
@@ -140,9 +141,13 @@ impl Ahead {
 
 /// Traces rays through one scene, counting them; one per thread, reseeded
 /// for each pixel sample so that soft shadows are the same on every run.
-pub struct Whitted<'a> {
+/// What it computes is told to `rec` (`record.rs`): nothing for renders.
+pub struct Whitted<'a, R: Recorder = Silent> {
     scene: &'a Scene,
     pub stats: RayStats,
+    pub rec: R,
+    /// Why the next ray is traced, for the recorder.
+    next_kind: RayKind,
     rng: Rng,
     /// The shadow rays searched ahead for each sample of a packet
     /// (`trace_samples`), and which sample is being shaded (none: no
@@ -153,9 +158,18 @@ pub struct Whitted<'a> {
 
 impl<'a> Whitted<'a> {
     pub fn new(scene: &'a Scene) -> Self {
+        Whitted::with_recorder(scene, Silent)
+    }
+}
+
+impl<'a, R: Recorder> Whitted<'a, R> {
+    /// A tracer that tells `rec` what it computes.
+    pub fn with_recorder(scene: &'a Scene, rec: R) -> Self {
         Whitted {
             scene,
             stats: RayStats::default(),
+            rec,
+            next_kind: RayKind::Primary,
             rng: Rng::new(0),
             ahead: [Ahead::NONE; PACKET],
             shading: None,
@@ -255,15 +269,28 @@ impl<'a> Whitted<'a> {
     ) -> Vec3 {
         self.stats.nearest += 1;
         let scene = self.scene;
+        let kind = std::mem::replace(&mut self.next_kind, RayKind::Primary);
+        self.rec.ray(kind, ray, energy, depth);
+        self.rec.hit(hit);
         let Some(hit) = hit else {
             // With the lab's black background this adds nothing, as in the lab.
-            return energy * scene.background(ray.dir());
+            let colour = energy * scene.background(ray.dir());
+            self.rec.end_ray(colour);
+            return colour;
         };
         // A physically based material is shaded by its lab reading.
-        match scene.material(hit.material).lab() {
+        let colour = match scene.material(hit.material).lab() {
             Material::Glass(g) => self.glass(g, ray, hit, energy, depth),
             m => self.phong(m.surface(), ray, hit, energy, depth),
-        }
+        };
+        self.rec.end_ray(colour);
+        colour
+    }
+
+    /// `trace` of a ray traced for `kind`.
+    fn trace_as(&mut self, kind: RayKind, ray: &Ray, energy: f32, depth: u32) -> Vec3 {
+        self.next_kind = kind;
+        self.trace(ray, energy, depth)
     }
 
     /// Whether a ray of `energy` at `depth` may spawn another (lab 5.3).
@@ -284,7 +311,12 @@ impl<'a> Whitted<'a> {
         }
         if m.reflectance > 0.0 && self.may_recurse(energy, depth) {
             let reflected = ray.reflected(p, n);
-            colour += self.trace(&reflected, energy * m.reflectance, depth + 1);
+            colour += self.trace_as(
+                RayKind::Reflected,
+                &reflected,
+                energy * m.reflectance,
+                depth + 1,
+            );
         }
         colour
     }
@@ -309,10 +341,12 @@ impl<'a> Whitted<'a> {
         if self.may_recurse(energy, depth) {
             if split.reflected > 0.0 {
                 let reflected = ray.reflected(p, hit.shading_normal);
-                colour += self.trace(&reflected, energy * split.reflected, depth + 1);
+                let energy = energy * split.reflected;
+                colour += self.trace_as(RayKind::Reflected, &reflected, energy, depth + 1);
             }
             if let Some((dir, share)) = split.transmitted {
-                colour += self.trace(&Ray::new(p, dir), energy * share, depth + 1);
+                let refracted = Ray::new(p, dir);
+                colour += self.trace_as(RayKind::Refracted, &refracted, energy * share, depth + 1);
             }
         }
         if !hit.front_face {
@@ -330,8 +364,15 @@ impl<'a> Whitted<'a> {
         let terms = Terms::at(m, hit);
         let local = self.local_colour(&terms, ray, p, hit);
         match &m.texture {
-            Some(texture) => local * texture.texel(hit.uv),
-            None => local,
+            Some(texture) => {
+                let texel = texture.texel(hit.uv);
+                self.rec.local(local, Some(texel));
+                local * texel
+            }
+            None => {
+                self.rec.local(local, None);
+                local
+            }
         }
     }
 
@@ -341,13 +382,14 @@ impl<'a> Whitted<'a> {
     fn local_colour(&mut self, m: &Terms, ray: &Ray, p: Vec3, hit: &SurfaceHit) -> Vec3 {
         let at = Shaded::new(p, ray, hit);
         let mut colour = Vec3::ZERO;
-        for light in self.scene.lights() {
+        for (k, light) in self.scene.lights().iter().enumerate() {
             colour += light.color() * m.ambient;
+            self.rec.ambient(k, light.color() * m.ambient);
             match light {
                 Light::Point(light) => {
-                    self.direct(m, &at, light.position, light.color, &mut colour);
+                    self.direct(m, &at, (k, light.position), light.color, &mut colour);
                 }
-                Light::Sphere(light) => colour += self.sphere_light(m, &at, light),
+                Light::Sphere(light) => colour += self.sphere_light(m, &at, (k, light)),
             }
         }
         colour
@@ -356,14 +398,14 @@ impl<'a> Whitted<'a> {
     /// Diffuse and specular of a sphere light: the mean over
     /// `light_samples` points of its disk, stratified, each with its own
     /// shadow ray.
-    fn sphere_light(&mut self, m: &Terms, at: &Shaded, light: &SphereLight) -> Vec3 {
+    fn sphere_light(&mut self, m: &Terms, at: &Shaded, (k, light): (usize, &SphereLight)) -> Vec3 {
         let samples = self.scene.trace_settings().light_samples.max(1);
         let strata = Strata::new(samples);
         let mut sum = Vec3::ZERO;
         for s in 0..samples {
             let disk = concentric_disk(strata.point(s, self.rng.square()));
             let from = light.point_seen_from(at.p, disk);
-            self.direct(m, at, from, light.color, &mut sum);
+            self.direct(m, at, (k, from), light.color, &mut sum);
         }
         sum / samples as f32
     }
@@ -375,7 +417,27 @@ impl<'a> Whitted<'a> {
     /// pieces the processor cannot forward from those writes (a fifth of
     /// its time at 1.1M; reflectance2 renders 13 % faster).
     #[inline(always)]
-    fn direct(&mut self, m: &Terms, at: &Shaded, from: Vec3, color: Vec3, colour: &mut Vec3) {
+    fn direct(
+        &mut self,
+        m: &Terms,
+        at: &Shaded,
+        (light, from): (usize, Vec3),
+        color: Vec3,
+        colour: &mut Vec3,
+    ) {
+        let term = LightTerm {
+            light,
+            from,
+            color,
+            l: (from - at.p).normalize(),
+            n_dot_l: at.n.dot((from - at.p).normalize()),
+            shadow: None,
+            h: None,
+            n_dot_h: None,
+            n_dot_h_pow: None,
+            diffuse: Vec3::ZERO,
+            specular: Vec3::ZERO,
+        };
         let Some(LightRay {
             l,
             cos_a,
@@ -383,20 +445,45 @@ impl<'a> Whitted<'a> {
             length,
         }) = LightRay::new(at, from)
         else {
+            self.rec.light(&term);
             return;
         };
-        let Some(through) = self.shadow(&shadow, length) else {
+        let passes = self.shadow(&shadow, length);
+        let term = LightTerm {
+            l,
+            n_dot_l: cos_a,
+            shadow: Some(ShadowRay {
+                origin: shadow.origin(),
+                direction: shadow.dir(),
+                length,
+                passes,
+            }),
+            ..term
+        };
+        let Some(through) = passes else {
+            self.rec.light(&term);
             return;
         };
         // 1 exactly unless glass is in the way: the lab's arithmetic stays.
         let color = color * through;
-        *colour += color * m.diffuse * cos_a;
+        let diffuse = color * m.diffuse * cos_a;
+        *colour += diffuse;
         let h = (l + at.view).normalize();
         let cos_b = at.n.dot(h);
         // No specular colour adds nothing: powf is skipped, the sum is the same.
+        let mut term = LightTerm {
+            diffuse,
+            h: Some(h),
+            n_dot_h: Some(cos_b),
+            ..term
+        };
         if cos_b > COS_THRESHOLD && m.specular != Vec3::ZERO {
-            *colour += color * m.specular * cos_b.powf(m.shininess);
+            let power = cos_b.powf(m.shininess);
+            let specular = color * m.specular * power;
+            *colour += specular;
+            (term.n_dot_h_pow, term.specular) = (Some(power), specular);
         }
+        self.rec.light(&term);
     }
 
     /// What reaches along `ray` over `distance`: `None` when something

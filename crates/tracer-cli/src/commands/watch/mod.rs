@@ -41,6 +41,13 @@ pub fn run(args: &Watch) -> Result<()> {
                 last_read.clone_from(&loaded.files_read);
                 changes.watch(&loaded.files_read);
                 report::warnings(&loaded, &args.options);
+                if let Some(server) = &server {
+                    let (scene, options) = (loaded.clone(), args.options);
+                    server.explain_with(std::sync::Arc::new(move |x, y| {
+                        crate::commands::explain::tree_text(&scene, &options, (x, y))
+                            .map_err(|e| e.to_string())
+                    }));
+                }
                 // Writing over a texture the scene reads would render
                 // again and again.
                 match check_not_an_input(&args.output, &loaded.files_read) {

@@ -32,9 +32,15 @@ const CLIENT_QUEUE: usize = 16;
 /// How often an idle event stream gets a comment, which finds vanished clients.
 const KEEP_ALIVE: Duration = Duration::from_secs(15);
 
+/// What the live page asks of a clicked pixel: its tree as text, or why
+/// not (shown as it is).
+pub type Explainer = Arc<dyn Fn(u32, u32) -> Result<String, String> + Send + Sync>;
+
 /// What the page shows: the latest image and the events that describe it.
 #[derive(Default)]
 struct State {
+    /// The current scene's explainer (none until a scene has loaded).
+    explain: Option<Explainer>,
     png: Option<Bytes>,
     /// The last render's event and the last error's (None once fixed):
     /// sent to a page as soon as it connects.
@@ -84,6 +90,11 @@ impl Server {
         if state.error_event.take().is_some() {
             state.broadcast(&event("fixed", &serde_json::json!({})));
         }
+    }
+
+    /// What a click on the image explains: the scene now shown.
+    pub fn explain_with(&self, explainer: Explainer) {
+        self.state.lock().expect("the page's state").explain = Some(explainer);
     }
 
     /// A scene error, as `tracer check` prints it (without colours).
@@ -155,8 +166,46 @@ async fn respond(
             None => plain(StatusCode::NOT_FOUND, "no image yet"),
         },
         "/events" => events(&state),
+        "/explain" => explain(request.uri().query(), &state).await,
         _ => plain(StatusCode::NOT_FOUND, "not found"),
     })
+}
+
+/// `/explain?x=X&y=Y`: the tree of pixel (X, Y) of the scene shown, worked
+/// out on a thread of the blocking pool (a large scene takes a moment to
+/// prepare), as text.
+async fn explain(query: Option<&str>, state: &Mutex<State>) -> Reply {
+    let Some((x, y)) = query.and_then(pixel_of) else {
+        return plain(
+            StatusCode::BAD_REQUEST,
+            "expected /explain?x=X&y=Y, whole numbers",
+        );
+    };
+    let Some(explainer) = state.lock().expect("the page's state").explain.clone() else {
+        return plain(StatusCode::NOT_FOUND, "no scene yet");
+    };
+    match tokio::task::spawn_blocking(move || explainer(x, y)).await {
+        Ok(Ok(text)) => bytes("text/plain; charset=utf-8", Bytes::from(text)),
+        Ok(Err(why)) => {
+            let mut reply = bytes("text/plain; charset=utf-8", Bytes::from(why));
+            *reply.status_mut() = StatusCode::UNPROCESSABLE_ENTITY;
+            reply
+        }
+        Err(_) => plain(StatusCode::INTERNAL_SERVER_ERROR, "the explanation failed"),
+    }
+}
+
+/// X and Y of a query `x=X&y=Y` (in either order).
+fn pixel_of(query: &str) -> Option<(u32, u32)> {
+    let (mut x, mut y) = (None, None);
+    for pair in query.split('&') {
+        match pair.split_once('=')? {
+            ("x", value) => x = Some(value.parse().ok()?),
+            ("y", value) => y = Some(value.parse().ok()?),
+            _ => return None,
+        }
+    }
+    Some((x?, y?))
 }
 
 fn bytes(content_type: &str, body: Bytes) -> Reply {

@@ -1,0 +1,92 @@
+//! `tracer explain`: one pixel's sample traced again by the render's own
+//! integrator, with every ray, hit, light term and weight kept
+//! (`tracer_core::explain`), and the pixel as the render writes it.
+
+use crate::load::Loaded;
+use crate::options::Options;
+use crate::Error;
+use glam::Vec3;
+use scene_format::SceneKind;
+use std::sync::atomic::AtomicBool;
+pub use tracer_core::explain::{Explanation, Lit, Outcome, RayNode, Trace};
+pub use tracer_core::image::Saturation;
+use tracer_core::image::{encode_pixel, Encoding};
+pub use tracer_core::integrate::record::{PathEvent, PathEventKind, RayKind};
+use tracer_core::{Region, RenderJob};
+
+/// A pixel explained: one sample's tree, and the pixel the render writes.
+#[derive(Debug, Clone)]
+pub struct ExplainedPixel {
+    pub explanation: Explanation,
+    /// The image's size.
+    pub size: (u32, u32),
+    /// The pixel's linear colour (the mean of its samples) and its 8-bit
+    /// value, by `encoding`: the rendered pixel, bit for bit.
+    pub linear: Vec3,
+    pub rgb8: [u8; 3],
+    pub encoding: Encoding,
+    /// Whether the scene is path traced.
+    pub path_traced: bool,
+}
+
+/// Pixel (x, y) (x from the left, y from the top, of the written image)
+/// of `loaded` rendered with `options`, its sample `sample` explained.
+pub fn explain(
+    loaded: &Loaded,
+    options: &Options,
+    (x, y): (u32, u32),
+    sample: u32,
+) -> Result<ExplainedPixel, Error> {
+    let SceneKind::Scene3d(file) = &loaded.kind else {
+        return Err(Error::CanvasOption {
+            scene: loaded.name.clone(),
+            option: "explain",
+        });
+    };
+    let file = options.apply(file)?;
+    let (width, height) = (file.camera.width, file.camera.height);
+    if x >= width || y >= height {
+        return Err(Error::Pixel {
+            x,
+            y,
+            width,
+            height,
+        });
+    }
+    let samples = file.render.samples;
+    if sample >= samples {
+        return Err(Error::Sample { sample, samples });
+    }
+    // Not lean: the tree lists the primitives each ray was tested against.
+    let scene = tracer_core::prepare(&file).map_err(|e| Error::Prepare {
+        scene: loaded.name.clone(),
+        message: e.to_string(),
+    })?;
+    let explanation = tracer_core::explain::explain(&scene, (x, y), samples, sample);
+    let job = RenderJob {
+        region: Region {
+            x0: x,
+            y0: y,
+            x1: x + 1,
+            y1: y + 1,
+        },
+        ..RenderJob::full(&scene)
+    };
+    let never = AtomicBool::new(false);
+    let pixel = tracer_core::render_cancellable(&scene, &job, &|_| {}, &never)
+        .expect("never cancelled")
+        .image
+        .pixels[0];
+    let mut encoding = *scene.encoding();
+    if let Some(gamma) = options.gamma {
+        encoding.gamma = gamma.get();
+    }
+    Ok(ExplainedPixel {
+        explanation,
+        size: (width, height),
+        linear: pixel,
+        rgb8: encode_pixel(pixel, &encoding),
+        encoding,
+        path_traced: scene.trace_settings().integrator == tracer_core::scene::Integrator::Path,
+    })
+}

@@ -1,0 +1,326 @@
+//! Why a pixel has its colour: one sample of it traced again by the
+//! render's own integrator, with a recorder (`integrate::record`) that
+//! keeps every ray, hit, light term and weight. Plain data (serde), for
+//! `tracer explain` to print as text or JSON.
+
+use crate::geometry::{Shape, SurfaceHit};
+use crate::integrate::path::PathTracer;
+use crate::integrate::record::{LightTerm, PathEvent, RayKind, Recorder};
+use crate::integrate::whitted::Whitted;
+use crate::ray::Ray;
+use crate::sampler::PixelSampler;
+use crate::scene::{Integrator, Scene};
+use crate::EPSILON;
+use glam::{Vec2, Vec3};
+use serde::Serialize;
+
+/// Most primitives listed as tested along a ray: beyond, a mesh's
+/// thousands of triangles would bury the tree.
+pub const MAX_TESTED: usize = 64;
+
+/// One sample of one pixel, explained.
+#[derive(Debug, Clone, Serialize)]
+pub struct Explanation {
+    /// Which sample of the pixel, of how many.
+    pub sample: u32,
+    pub samples: u32,
+    /// The image point the primary ray goes through (a pixel's centre is
+    /// (i + 0.5, j + 0.5)), and the lens point (0, 0 for a pinhole).
+    pub image_point: Vec2,
+    pub lens_point: Vec2,
+    /// The camera's projection matrix P = [u v o] (lab 1.2.3): the
+    /// primary ray's direction is P (x, y, 1), normalised.
+    pub projection: [Vec3; 3],
+    /// The sample's colour (linear, before the pixel's mean).
+    pub colour: Vec3,
+    pub trace: Trace,
+}
+
+/// What the integrator did with the sample.
+#[derive(Debug, Clone, Serialize)]
+#[serde(tag = "integrator", rename_all = "lowercase")]
+pub enum Trace {
+    /// The lab's ray tree, from the primary ray.
+    Whitted { ray: RayNode },
+    /// A path's events, in order.
+    Path {
+        ray: RayNode,
+        events: Vec<PathEvent>,
+    },
+}
+
+/// One ray of the tree and what it brought back.
+#[derive(Debug, Clone, Serialize)]
+pub struct RayNode {
+    pub kind: RayKind,
+    pub origin: Vec3,
+    /// Unit length.
+    pub direction: Vec3,
+    pub energy: f32,
+    pub depth: u32,
+    /// Each primitive tested along the ray (when there are at most
+    /// `MAX_TESTED`): its distance, or why it was not the hit.
+    pub tested: Option<Vec<Tested>>,
+    pub hit: Option<Hit>,
+    /// Each light's ambient term (lab 4.2), in `[[lights]]` order.
+    pub ambient: Vec<(usize, Vec3)>,
+    /// Each light's diffuse and specular terms (a sphere light's, one per
+    /// point of it), and what blocked a shadow ray.
+    pub lights: Vec<Lit>,
+    /// The sum of the terms, and the lab texture that multiplied it.
+    pub local: Option<Vec3>,
+    pub texture: Option<Vec3>,
+    /// The reflected and refracted rays.
+    pub children: Vec<RayNode>,
+    /// The ray's colour, times its energy, children included.
+    pub colour: Vec3,
+}
+
+/// A light's terms at a hit.
+#[derive(Debug, Clone, Serialize)]
+pub struct Lit {
+    #[serde(flatten)]
+    pub term: LightTerm,
+    /// The primitive a blocked shadow ray met first, and where.
+    pub blocked_by: Option<Blocker>,
+}
+
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Blocker {
+    pub object: usize,
+    pub t: f32,
+}
+
+/// The nearest hit of a ray.
+#[derive(Debug, Clone, Serialize)]
+pub struct Hit {
+    pub t: f32,
+    pub point: Vec3,
+    /// The shading normal (unit; the lab's: never turned toward the ray).
+    pub normal: Vec3,
+    /// Whether the ray met the side the normal points to.
+    pub front_face: bool,
+    pub object: usize,
+    pub material: usize,
+    pub uv: Vec2,
+}
+
+/// A primitive tested along a ray.
+#[derive(Debug, Clone, Serialize)]
+pub struct Tested {
+    pub object: usize,
+    #[serde(flatten)]
+    pub outcome: Outcome,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(tag = "outcome", rename_all = "lowercase")]
+pub enum Outcome {
+    /// The ray's nearest hit, at distance t.
+    Nearest { t: f32 },
+    /// Met beyond the nearest hit.
+    Farther { t: f32 },
+    /// Met only behind the ray's origin (or within its epsilon of it).
+    Behind { t: f32 },
+    /// Not met.
+    Missed,
+}
+
+/// The recorder that builds the tree.
+struct TreeRecorder<'a> {
+    scene: &'a Scene,
+    /// The rays begun and not yet ended, innermost last.
+    open: Vec<RayNode>,
+    done: Option<RayNode>,
+    events: Vec<PathEvent>,
+}
+
+impl Recorder for TreeRecorder<'_> {
+    fn ray(&mut self, kind: RayKind, ray: &Ray, energy: f32, depth: u32) {
+        self.open.push(RayNode {
+            kind,
+            origin: ray.origin(),
+            direction: ray.dir(),
+            energy,
+            depth,
+            tested: None,
+            hit: None,
+            ambient: Vec::new(),
+            lights: Vec::new(),
+            local: None,
+            texture: None,
+            children: Vec::new(),
+            colour: Vec3::ZERO,
+        });
+    }
+
+    fn hit(&mut self, hit: Option<&SurfaceHit>) {
+        let scene = self.scene;
+        let Some(node) = self.open.last_mut() else {
+            return;
+        };
+        let ray = Ray::new(node.origin, node.direction);
+        node.tested = tested(scene, &ray, hit.map(|h| (h.object, h.t)));
+        node.hit = hit.map(|h| Hit {
+            t: h.t,
+            point: ray.at(h.t),
+            normal: h.shading_normal,
+            front_face: h.front_face,
+            object: h.object,
+            material: h.material,
+            uv: h.uv,
+        });
+    }
+
+    fn ambient(&mut self, light: usize, term: Vec3) {
+        if let Some(node) = self.open.last_mut() {
+            node.ambient.push((light, term));
+        }
+    }
+
+    fn light(&mut self, term: &LightTerm) {
+        let blocked_by = term.shadow.filter(|s| s.passes.is_none()).and_then(|s| {
+            let ray = Ray::new(s.origin, s.direction);
+            let hit = self.scene.closest_hit(&ray, EPSILON, s.length)?;
+            Some(Blocker {
+                object: hit.object,
+                t: hit.t,
+            })
+        });
+        if let Some(node) = self.open.last_mut() {
+            node.lights.push(Lit {
+                term: *term,
+                blocked_by,
+            });
+        }
+    }
+
+    fn local(&mut self, colour: Vec3, texture: Option<Vec3>) {
+        if let Some(node) = self.open.last_mut() {
+            (node.local, node.texture) = (Some(colour), texture);
+        }
+    }
+
+    fn end_ray(&mut self, colour: Vec3) {
+        let Some(mut node) = self.open.pop() else {
+            return;
+        };
+        node.colour = colour;
+        match self.open.last_mut() {
+            Some(parent) => parent.children.push(node),
+            None => self.done = Some(node),
+        }
+    }
+
+    fn path(&mut self, event: PathEvent) {
+        self.events.push(event);
+    }
+}
+
+/// Each primitive along `ray` (when there are few enough), against the
+/// nearest hit `nearest` (object, t): its distance, or why not. A lean
+/// scene (its objects let go) lists none.
+fn tested(scene: &Scene, ray: &Ray, nearest: Option<(usize, f32)>) -> Option<Vec<Tested>> {
+    let objects = scene.objects();
+    if objects.is_empty() || objects.len() > MAX_TESTED {
+        return None;
+    }
+    let tests = objects.iter().enumerate().map(|(k, o)| {
+        let forward = o.surface_hit(k, ray, EPSILON, f32::INFINITY).map(|h| h.t);
+        let outcome = match (forward, nearest) {
+            (Some(t), Some((n, _))) if n == k => Outcome::Nearest { t },
+            (Some(t), _) => Outcome::Farther { t },
+            (None, _) => match behind(&o.shape, ray) {
+                Some(t) => Outcome::Behind { t },
+                None => Outcome::Missed,
+            },
+        };
+        Tested { object: k, outcome }
+    });
+    Some(tests.collect())
+}
+
+/// The distance at which the line of `ray` meets `shape` behind its
+/// origin (or within the epsilon of it), if it does.
+fn behind(shape: &Shape, ray: &Ray) -> Option<f32> {
+    let t = match shape {
+        Shape::Sphere(s) => s.intersect(ray, f32::NEG_INFINITY, EPSILON),
+        Shape::Triangle(t) => t.intersect(ray, f32::NEG_INFINITY, EPSILON).map(|h| h.t),
+        Shape::Plane(p) => p.intersect(ray, f32::NEG_INFINITY, EPSILON),
+        Shape::Instance(_) => None,
+    };
+    t.filter(|t| t.is_finite())
+}
+
+/// Sample `sample` of pixel (i, j) of `scene` rendered at `samples` a
+/// pixel, traced again with the scene's integrator, explained. Lists the
+/// primitives tested along each ray only for a scene that holds its
+/// objects (`Scene::new`, not `Scene::lean`).
+pub fn explain(scene: &Scene, (i, j): (u32, u32), samples: u32, sample: u32) -> Explanation {
+    let camera = scene.camera();
+    let projection = [
+        camera.projection.x_axis,
+        camera.projection.y_axis,
+        camera.projection.z_axis,
+    ];
+    let recorder = TreeRecorder {
+        scene,
+        open: Vec::new(),
+        done: None,
+        events: Vec::new(),
+    };
+    match scene.trace_settings().integrator {
+        Integrator::Whitted => {
+            let (image_point, lens_point, ray, rng) =
+                crate::pixel_sample(scene, samples, (i, j), sample);
+            let mut tracer = Whitted::with_recorder(scene, recorder);
+            tracer.reseed(rng);
+            let colour = tracer.trace(&ray, 1.0, 0);
+            let tree = tracer.rec.done.expect("the primary ray ended");
+            Explanation {
+                sample,
+                samples,
+                image_point,
+                lens_point,
+                projection,
+                colour,
+                trace: Trace::Whitted { ray: tree },
+            }
+        }
+        Integrator::Path => {
+            let mut tracer = PathTracer::with_recorder(scene, recorder);
+            let mut sampler = PixelSampler::new(i, j, tracer.seed());
+            let colour = tracer.sample(&mut sampler, (i, j), sample);
+            // The camera's ray, as `sample` made it: the first of its numbers.
+            let mut again = PixelSampler::new(i, j, tracer.seed());
+            again.start(sample);
+            let image_point = Vec2::new(i as f32, j as f32) + again.get2();
+            let lens_point = match camera.lens {
+                Some(_) => crate::sampling::concentric_disk(again.get2()),
+                None => Vec2::ZERO,
+            };
+            let ray = camera.lens_ray(image_point.x, image_point.y, lens_point);
+            let mut first = TreeRecorder {
+                scene,
+                open: Vec::new(),
+                done: None,
+                events: Vec::new(),
+            };
+            first.ray(RayKind::Primary, &ray, 1.0, 0);
+            first.hit(scene.closest_hit(&ray, EPSILON, f32::INFINITY).as_ref());
+            first.end_ray(colour);
+            Explanation {
+                sample,
+                samples,
+                image_point,
+                lens_point,
+                projection,
+                colour,
+                trace: Trace::Path {
+                    ray: first.done.expect("the primary ray ended"),
+                    events: tracer.rec.events,
+                },
+            }
+        }
+    }
+}
