@@ -29,6 +29,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import cornell_box as box  # noqa: E402
 
 NOT_INSTALLED = 3
+# Pixels of an image, for paths/s (materials.py renders another scene).
+PIXELS = box.SIZE**2
 
 
 def not_installed(message):
@@ -58,7 +60,7 @@ def timed(render):
 def report(args, renderer, spp, seconds, cpu, **extra):
     line = {"renderer": renderer, "spp": spp, "threads": args.threads, "seed": args.seed,
             "seconds": round(seconds, 4), "cpu_s": round(cpu, 4),
-            "paths_per_s": round(box.SIZE**2 * spp / seconds), "out": args.out}
+            "paths_per_s": round(PIXELS * spp / seconds), "out": args.out}
     print(json.dumps(line | extra))
 
 

@@ -1,13 +1,15 @@
 //! `cargo xtask bench --only path`: the path tracer on Mitsuba 3's Cornell
-//! box (`scenes/cornell-box.toml`) against Mitsuba 3 and Blender Cycles at
-//! equal time, on 1 and 2 threads. Each renderer renders at doubling
+//! box (`scenes/cornell-box.toml`) against Mitsuba 3 and Blender Cycles, and
+//! on `scenes/materials.toml` against Mitsuba 3, at equal time, on 1 and 2
+//! threads. Each renderer renders at doubling
 //! samples per pixel until a render takes the time budget; its RMSE against
-//! the same high-sample reference (Mitsuba's, `path_peers::REFERENCE`) at
+//! the same high-sample reference (Mitsuba's, the scene's `reference`) at
 //! the budget, and the time it takes to reach RMSE 0.01, are read off its
-//! error curve in log-log. The peers run through `xtask/peers/cornell.py`
-//! (`path_peers`); one that is not installed is skipped with one line.
+//! error curve in log-log. The peers run through the scene's script in
+//! `xtask/peers/` (`path_peers`); one that is not installed is skipped with
+//! one line.
 
-use super::path_peers::{self, FloatImage, Peer, Point, Runner};
+use super::path_peers::{self, BenchScene, FloatImage, Point, Runner};
 use super::rusage;
 use super::THREADS;
 use anyhow::{Context, Result};
@@ -34,12 +36,15 @@ const PEER_SPP: (u32, u32) = (64, 4096);
 /// One renderer's curve on one thread count.
 #[derive(Debug, Clone)]
 pub struct Curve {
+    pub scene: &'static str,
     pub renderer: String,
     pub threads: usize,
     pub points: Vec<Point>,
     /// CPU seconds over wall seconds of its last render, against the
     /// thread count: below it, the machine was busy with something else.
     pub cpu_share: f64,
+    /// The image's pixels.
+    pub pixels: f64,
 }
 
 impl Curve {
@@ -54,7 +59,7 @@ impl Curve {
     /// Paths per second of its last render, in millions.
     fn mpaths(&self) -> f64 {
         let last = self.points.last().expect("a curve has points");
-        256.0 * 256.0 * f64::from(last.spp) / last.seconds / 1e6
+        self.pixels * f64::from(last.spp) / last.seconds / 1e6
     }
 }
 
@@ -62,16 +67,37 @@ fn thread_slot(threads: usize) -> usize {
     THREADS.iter().position(|&t| t == threads).unwrap_or(0)
 }
 
-/// Our curve and every installed peer's, on each thread count.
+/// The scenes measured, in the report's order.
+const SCENES: [BenchScene; 2] = [path_peers::CORNELL_BOX, path_peers::MATERIALS];
+
+/// Our curve and every installed peer's, on each scene and thread count.
 pub fn measure(root: &Path, dir: &Path) -> Result<Vec<Curve>> {
-    let reference = path_peers::read_image(&root.join(path_peers::REFERENCE))?;
-    let scene = cornell_box(root)?;
-    let runner = Runner::new(root);
+    let mut curves = Vec::new();
+    for bench in SCENES {
+        curves.extend(measure_scene(root, dir, bench)?);
+    }
+    Ok(curves)
+}
+
+fn measure_scene(root: &Path, dir: &Path, bench: BenchScene) -> Result<Vec<Curve>> {
+    let reference = path_peers::read_image(&root.join(bench.reference))?;
+    let scene = load(&root.join(bench.scene))?;
+    let runner = Runner::new(root, bench.script);
+    let pixels = f64::from(reference.width) * f64::from(reference.height);
     let mut curves = Vec::new();
     for (slot, &threads) in THREADS.iter().enumerate() {
-        eprintln!("bench: path tracing the Cornell box on {threads} thread(s) ...");
-        curves.push(ours(&scene, threads, BUDGET_S[slot], &reference)?);
-        for peer in Peer::ALL {
+        eprintln!(
+            "bench: path tracing {} on {threads} thread(s) ...",
+            bench.scene
+        );
+        curves.push(ours(
+            bench.scene,
+            &scene,
+            threads,
+            BUDGET_S[slot],
+            &reference,
+        )?);
+        for &peer in bench.peers {
             eprintln!("bench: {} on {threads} thread(s) ...", peer.name());
             let (start, max) = PEER_SPP;
             let points = path_peers::until_budget(
@@ -86,10 +112,12 @@ pub fn measure(root: &Path, dir: &Path) -> Result<Vec<Curve>> {
             )?;
             if let Some(points) = points {
                 curves.push(Curve {
+                    scene: bench.scene,
                     renderer: peer.name(),
                     threads,
                     points,
                     cpu_share: f64::NAN,
+                    pixels,
                 });
             }
         }
@@ -97,17 +125,22 @@ pub fn measure(root: &Path, dir: &Path) -> Result<Vec<Curve>> {
     Ok(curves)
 }
 
-/// The Cornell box, prepared as `tracer render` prepares it.
-fn cornell_box(root: &Path) -> Result<Scene> {
-    let path = root.join("scenes/cornell-box.toml");
-    let file = scene_format::load_path(&path).with_context(|| path.display().to_string())?;
+/// The scene, prepared as `tracer render` prepares it.
+fn load(path: &Path) -> Result<Scene> {
+    let file = scene_format::load_path(path).with_context(|| path.display().to_string())?;
     Ok(tracer_core::prepare(&file)?)
 }
 
 /// Our renders at doubling samples per pixel on `threads` threads, until
 /// one takes `budget_s`: the render alone is timed (the scene is prepared
 /// once, as a peer's load and compilation are left out of its time).
-fn ours(scene: &Scene, threads: usize, budget_s: f64, reference: &FloatImage) -> Result<Curve> {
+fn ours(
+    name: &'static str,
+    scene: &Scene,
+    threads: usize,
+    budget_s: f64,
+    reference: &FloatImage,
+) -> Result<Curve> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()?;
@@ -149,20 +182,36 @@ fn ours(scene: &Scene, threads: usize, budget_s: f64, reference: &FloatImage) ->
         }
         spp *= 2;
     }
+    let camera = scene.camera();
     Ok(Curve {
+        scene: name,
         renderer: "tracer (ours)".into(),
         threads,
         points,
         cpu_share,
+        pixels: f64::from(camera.width) * f64::from(camera.height),
     })
 }
 
-/// The table of every curve, and ours against the best peer at equal time.
+/// The table of every curve, and ours against the best peer at equal time,
+/// scene by scene.
 pub fn report(curves: &[Curve]) {
+    for bench in SCENES {
+        let mine: Vec<Curve> = curves
+            .iter()
+            .filter(|c| c.scene == bench.scene)
+            .cloned()
+            .collect();
+        report_scene(&bench, &mine);
+    }
+}
+
+fn report_scene(bench: &BenchScene, curves: &[Curve]) {
     println!();
-    println!("Path tracing: Mitsuba 3's Cornell box, 256x256, max depth 7 (Mitsuba's 8, Cycles' 6 bounces), box filter;");
+    println!("Path tracing: {}, box filter;", bench.title);
     println!(
-        "RMSE against Mitsuba's 32768-sample reference (its own noise 0.0004), at equal time."
+        "RMSE against Mitsuba's high-sample reference (its own noise {}), at equal time.",
+        bench.reference_noise
     );
     for &threads in &THREADS {
         let slot = thread_slot(threads);

@@ -1,6 +1,6 @@
-//! The path tracer's peers on the Cornell box: Mitsuba 3 and Blender Cycles,
-//! run by `xtask/peers/cornell.py` at a given samples per pixel and thread
-//! count (its render-only seconds and its EXR), the RMSE between two images,
+//! The path tracer's peers on a bench scene: Mitsuba 3 and Blender Cycles,
+//! run by the scene's script in `xtask/peers/` at a given samples per pixel
+//! and thread count (its render-only seconds and its EXR), the RMSE between two images,
 //! and, at equal time, the RMSE a peer reaches within a time budget and the
 //! time it takes to reach a given RMSE.
 
@@ -10,12 +10,41 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
-/// The script, relative to the workspace root.
-pub const SCRIPT: &str = "xtask/peers/cornell.py";
+/// A scene the path tracer is measured on, with the script that renders
+/// it in the peers and the peers' reference image (paths relative to the
+/// workspace root; the reference's README says how it was made).
+#[derive(Debug, Clone, Copy)]
+pub struct BenchScene {
+    /// What the report's heading says of it.
+    pub title: &'static str,
+    pub scene: &'static str,
+    pub script: &'static str,
+    pub reference: &'static str,
+    /// Its reference's own noise, as an RMSE.
+    pub reference_noise: f64,
+    /// The peers its script renders it in.
+    pub peers: &'static [Peer],
+}
 
-/// Mitsuba's high-sample image of the Cornell box, relative to the
-/// workspace root (its README says how it was made).
-pub const REFERENCE: &str = "crates/tracer-core/tests/data/cornell-box-mitsuba.exr";
+/// Mitsuba 3's Cornell box.
+pub const CORNELL_BOX: BenchScene = BenchScene {
+    title: "Mitsuba 3's Cornell box, 256x256, max depth 7 (Mitsuba's 8, Cycles' 6 bounces)",
+    scene: "scenes/cornell-box.toml",
+    script: "xtask/peers/cornell.py",
+    reference: "crates/tracer-core/tests/data/cornell-box-mitsuba.exr",
+    reference_noise: 0.0004,
+    peers: &Peer::ALL,
+};
+
+/// Rough and smooth metal and glass under a studio environment.
+pub const MATERIALS: BenchScene = BenchScene {
+    title: "scenes/materials.toml, 480x240, rough metal and glass in an environment, max depth 8 (Mitsuba's 9)",
+    scene: "scenes/materials.toml",
+    script: "xtask/peers/materials.py",
+    reference: "crates/tracer-core/tests/data/materials-mitsuba.exr",
+    reference_noise: 0.0061,
+    peers: &[Peer::ALL[0], Peer::ALL[1], Peer::ALL[2]],
+};
 
 /// The script's exit status for a renderer that is not installed (its one
 /// line on stderr says which, and how to install it).
@@ -69,7 +98,7 @@ impl Peer {
     }
 }
 
-/// How the script is started: `python3 xtask/peers/cornell.py` (tests
+/// How the script is started: `python3 xtask/peers/cornell.py`, say (tests
 /// put a stand-in in its place).
 #[derive(Debug, Clone)]
 pub struct Runner {
@@ -82,10 +111,10 @@ pub struct Runner {
 }
 
 impl Runner {
-    pub fn new(root: &Path) -> Runner {
+    pub fn new(root: &Path, script: &str) -> Runner {
         Runner {
             program: "python3".into(),
-            args: vec![root.join(SCRIPT).to_string_lossy().into_owned()],
+            args: vec![root.join(script).to_string_lossy().into_owned()],
             timeout: Duration::from_secs(600),
         }
     }
@@ -145,7 +174,7 @@ pub struct Run {
     pub image: FloatImage,
 }
 
-/// Renders the Cornell box with `peer` into `dir`; None, after the
+/// Renders the runner's scene with `peer` into `dir`; None, after the
 /// script's one line saying why, when the peer is not installed.
 pub fn run(
     runner: &Runner,
@@ -393,7 +422,7 @@ mod tests {
     #[test]
     fn the_tests_reference_reads_as_the_cornell_box() {
         // Half floats, ZIP: what the path tracer's tests compare with.
-        let path = crate::workspace_root().join(REFERENCE);
+        let path = crate::workspace_root().join(CORNELL_BOX.reference);
         let r = read_image(&path).unwrap();
         assert_eq!((r.width, r.height), (256, 256));
         let mean = r.rgb.iter().map(|&x| f64::from(x)).sum::<f64>() / r.rgb.len() as f64;
