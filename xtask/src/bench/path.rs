@@ -25,9 +25,6 @@ pub const PATH: &str = "path";
 /// `THREADS`: about Mitsuba's time for 256 samples per pixel.
 const BUDGET_S: [f64; 2] = [8.0, 4.0];
 
-/// The RMSE whose time to reach is reported.
-const TARGET_RMSE: f64 = 0.01;
-
 /// The samples per pixel our curve starts at, and its largest.
 const OUR_SPP: (u32, u32) = (16, 4096);
 /// The peers' (below 64 their start-up dominates, and their times are noise).
@@ -52,8 +49,9 @@ impl Curve {
         path_peers::rmse_at(&self.points, BUDGET_S[thread_slot(self.threads)])
     }
 
-    pub fn seconds_to_target(&self) -> Option<f64> {
-        path_peers::seconds_to(&self.points, TARGET_RMSE)
+    /// The seconds to reach `target` RMSE.
+    pub fn seconds_to(&self, target: f64) -> Option<f64> {
+        path_peers::seconds_to(&self.points, target)
     }
 
     /// Paths per second of its last render, in millions.
@@ -220,7 +218,12 @@ fn report_scene(bench: &BenchScene, curves: &[Curve]) {
         println!("{threads} thread(s), budget {:.0} s:", BUDGET_S[slot]);
         println!(
             "  {:<36} {:>10} {:>9} {:>13} {:>15} {:>14}",
-            "renderer", "last spp", "Mpaths/s", "RMSE at 256", "RMSE at budget", "s to RMSE 0.01"
+            "renderer",
+            "last spp",
+            "Mpaths/s",
+            "RMSE at 256",
+            "RMSE at budget",
+            format!("s to RMSE {}", bench.target_rmse)
         );
         for c in &mine {
             let at_256 = rmse_at_samples(&c.points, 256);
@@ -231,7 +234,7 @@ fn report_scene(bench: &BenchScene, curves: &[Curve]) {
                 c.mpaths(),
                 show(at_256, 4),
                 show(c.rmse_at_budget(), 4),
-                show(c.seconds_to_target(), 2),
+                show(c.seconds_to(bench.target_rmse), 2),
             );
         }
         let ours = mine.iter().find(|c| c.renderer.starts_with("tracer"));
