@@ -71,6 +71,8 @@ const SCENES: [BenchScene; 2] = [path_peers::CORNELL_BOX, path_peers::MATERIALS]
 /// Our curve and every installed peer's, on each scene and thread count.
 pub fn measure(root: &Path, dir: &Path) -> Result<Vec<Curve>> {
     let mut curves = Vec::new();
+    let peers: Vec<_> = SCENES.iter().flat_map(|b| b.peers).copied().collect();
+    path_peers::install_missing(&peers);
     for bench in SCENES {
         curves.extend(measure_scene(root, dir, bench)?);
     }

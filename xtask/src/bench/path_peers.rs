@@ -94,6 +94,15 @@ impl Peer {
         }
     }
 
+    /// The Python module the peer's script imports, and the pip packages
+    /// that provide it (and what the script needs beside it).
+    fn python_module(&self) -> (&'static str, &'static [&'static str]) {
+        match self {
+            Peer::Mitsuba { .. } => ("mitsuba", &["mitsuba", "numpy"]),
+            Peer::Cycles => ("bpy", &["bpy"]),
+        }
+    }
+
     fn args(&self) -> Vec<&'static str> {
         match *self {
             Peer::Mitsuba { variant, sampler } => {
@@ -122,6 +131,43 @@ impl Runner {
             program: "python3".into(),
             args: vec![root.join(script).to_string_lossy().into_owned()],
             timeout: Duration::from_secs(600),
+        }
+    }
+}
+
+/// Installs with pip the Python module of each of `peers` that `python3`
+/// cannot import. One that cannot be installed (no pip, no network, a
+/// Python its wheels do not support) is said in one line; its runs are then
+/// skipped by the script's own line.
+pub fn install_missing(peers: &[Peer]) {
+    let mut tried = Vec::new();
+    for peer in peers {
+        let (module, packages) = peer.python_module();
+        if tried.contains(&module) {
+            continue;
+        }
+        tried.push(module);
+        let mut import = Command::new("python3");
+        import.args(["-c", &format!("import {module}")]);
+        if matches!(output_within(&mut import, Duration::from_secs(60)), Ok((s, ..)) if s.success())
+        {
+            continue;
+        }
+        eprintln!(
+            "bench: {} is missing: pip install {} ...",
+            peer.name(),
+            packages.join(" ")
+        );
+        let mut pip = Command::new("python3");
+        pip.args(["-m", "pip", "install", "--quiet"]).args(packages);
+        match output_within(&mut pip, Duration::from_secs(1200)) {
+            Ok((status, ..)) if status.success() => {}
+            Ok((status, _, stderr)) => eprintln!(
+                "bench: pip install {} failed ({status}): {}",
+                packages.join(" "),
+                stderr.trim_end().lines().last().unwrap_or("")
+            ),
+            Err(e) => eprintln!("bench: pip install {}: {e:#}", packages.join(" ")),
         }
     }
 }
