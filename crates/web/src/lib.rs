@@ -28,8 +28,10 @@ struct State {
     files: Memory,
     /// The last call's answer.
     result: Vec<u8>,
-    /// The full image's size and the rays of the last render.
+    /// The size of the last image rendered, of the scene's full image,
+    /// and the rays traced.
     size: (u32, u32),
+    full: (u32, u32),
     rays: f64,
 }
 
@@ -84,10 +86,12 @@ pub unsafe extern "C" fn tracer_add_file(
 
 /// Loads the scene file at `path` of the folder and renders the pixels
 /// `x0..x1` by `y0..y1` of its image (all of it when `x1` is 0), as
-/// `tracer render` makes them; `width`, when not 0, renders the same view
-/// that wide (a preview), with `samples` (when not 0) samples a pixel.
-/// 0 with the region's RGBA pixels as the result; 1 with the error's JSON.
-/// The full image's size is then [`tracer_width`] x [`tracer_height`].
+/// `tracer render` makes them; `shrink`, when above 1, renders the same
+/// view that many times narrower (a preview), and `samples` (when not 0)
+/// overrides the samples a pixel. 0 with the region's RGBA pixels as the
+/// result; 1 with the error's JSON. The image's size is then
+/// [`tracer_width`] x [`tracer_height`], the scene's
+/// [`tracer_full_width`] x [`tracer_full_height`].
 ///
 /// # Safety
 /// `path`, `path_len` are those of a buffer of `tracer_alloc`.
@@ -95,7 +99,7 @@ pub unsafe extern "C" fn tracer_add_file(
 pub unsafe extern "C" fn tracer_render(
     path: *const u8,
     path_len: usize,
-    width: u32,
+    shrink: u32,
     samples: u32,
     x0: u32,
     y0: u32,
@@ -105,7 +109,7 @@ pub unsafe extern "C" fn tracer_render(
     // SAFETY: as the caller promises.
     let path = String::from_utf8_lossy(unsafe { bytes(path, path_len) }).into_owned();
     let request = Request {
-        width: (width > 0).then_some(width),
+        shrink: (shrink > 1).then_some(shrink),
         samples: (samples > 0).then_some(samples),
         region: (x1 > 0).then_some(Region { x0, y0, x1, y1 }),
     };
@@ -113,6 +117,7 @@ pub unsafe extern "C" fn tracer_render(
     match done {
         Ok(image) => STATE.with_borrow_mut(|s| {
             s.size = image.size;
+            s.full = image.full;
             s.rays = image.rays as f64;
             s.result = image.rgba;
             0
@@ -121,16 +126,28 @@ pub unsafe extern "C" fn tracer_render(
     }
 }
 
-/// The full image's width of the last render.
+/// The width of the last render's image.
 #[no_mangle]
 pub extern "C" fn tracer_width() -> u32 {
     STATE.with_borrow(|s| s.size.0)
 }
 
-/// The full image's height of the last render.
+/// The height of the last render's image.
 #[no_mangle]
 pub extern "C" fn tracer_height() -> u32 {
     STATE.with_borrow(|s| s.size.1)
+}
+
+/// The width of the last render's scene at its own size.
+#[no_mangle]
+pub extern "C" fn tracer_full_width() -> u32 {
+    STATE.with_borrow(|s| s.full.0)
+}
+
+/// The height of the last render's scene at its own size.
+#[no_mangle]
+pub extern "C" fn tracer_full_height() -> u32 {
+    STATE.with_borrow(|s| s.full.1)
 }
 
 /// The rays the last render traced (primary, shadow, reflected...).
@@ -169,19 +186,20 @@ fn fail(json: String) -> u32 {
 /// What to render of a scene.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Request {
-    /// A preview's width (the height follows).
-    pub width: Option<u32>,
+    /// A preview: the image this many times narrower (the height follows).
+    pub shrink: Option<u32>,
     pub samples: Option<u32>,
     /// The pixels to render; the whole image when None.
     pub region: Option<Region>,
 }
 
-/// A region rendered: its RGBA pixels (alpha 255), the full image's size,
-/// and the rays traced.
+/// A region rendered: its RGBA pixels (alpha 255), the image's size, the
+/// scene's own size, and the rays traced.
 #[derive(Debug, Clone)]
 pub struct RegionImage {
     pub rgba: Vec<u8>,
     pub size: (u32, u32),
+    pub full: (u32, u32),
     pub rays: u64,
 }
 
@@ -191,9 +209,10 @@ pub struct RegionImage {
 pub fn render(files: &Memory, path: &Path, request: &Request) -> Result<RegionImage, String> {
     let loaded = load(files, path)?;
     let is_canvas = matches!(loaded.kind, scene_format::SceneKind::Canvas(_));
+    let full = loaded.size();
     let mut options = Options::default();
     if !is_canvas {
-        options.width = request.width;
+        options.width = request.shrink.map(|k| (full.0 / k).max(1));
         options.samples = request.samples;
     }
     let size = tracer_pipeline::image_size(&loaded, &options).map_err(|e| error_json(&e))?;
@@ -203,6 +222,10 @@ pub fn render(files: &Memory, path: &Path, request: &Request) -> Result<RegionIm
         x1: size.0,
         y1: size.1,
     });
+    // Checked here for a canvas too, which is cropped below.
+    let region = Part::Region(region)
+        .region(size)
+        .map_err(|e| error_json(&e))?;
     // A canvas is drawn whole (it takes no region, and is quick); a 3D
     // scene renders only its region, whose pixels are the whole image's.
     if !is_canvas {
@@ -228,7 +251,12 @@ pub fn render(files: &Memory, path: &Path, request: &Request) -> Result<RegionIm
             rgba.extend_from_slice(&[p[0], p[1], p[2], 255]);
         }
     }
-    Ok(RegionImage { rgba, size, rays })
+    Ok(RegionImage {
+        rgba,
+        size,
+        full,
+        rays,
+    })
 }
 
 /// The scene at `path`: from the folder, or from the archive `path` is.
