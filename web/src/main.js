@@ -115,7 +115,8 @@ async function render() {
   const mine = ++generation;
   busy = true;
   const files = folderFiles();
-  const base = { scene: scene.name, files, samples: 0 };
+  const base = { scene: scene.name, files, samples: 0, panic: window.tracerPage.panicNext };
+  window.tracerPage.panicNext = false;
   canvas.dataset.state = "rendering";
   // The quarter-size preview (one sample a pixel) tells the errors and the
   // image's size quickly; the full image follows across every worker.
@@ -298,6 +299,8 @@ window.tracerPage = {
   view,
   renders: 0,
   lastRender: null,
+  // For tests: the next render's workers panic inside the wasm.
+  panicNext: false,
   // For tests and scripts: files put into the scene's folder as if dropped.
   addFiles: (files) =>
     addFiles(Object.entries(files).map(([name, text]) => new File([text], name))),

@@ -34,6 +34,7 @@ function result(t) {
 
 function run(job) {
   const t = instance ? instance.exports : fresh();
+  if (job.panic) t.tracer_panic();
   t.tracer_clear_files();
   const buffers = [];
   try {

@@ -22,20 +22,25 @@ fn page() -> SocketAddr {
     })
 }
 
-/// Chromium, or `None` with a notice; under CI a missing Chromium fails.
+/// Chromium, or `None` with a notice when it or the wasm toolchain is
+/// missing; under CI (`.ci/run` installs both) that fails instead.
 fn chromium() -> Option<PathBuf> {
     let found = xtask::golden::browser::find_chromium();
-    if found.is_none() {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "CI is set but Chromium is missing: .ci/run installs Debian's `chromium` package"
-        );
-        let _ = writeln!(
-            std::io::stderr(),
-            "SKIPPED: the playground's tests need Chromium (Debian: apt-get install chromium)"
-        );
-    }
-    found
+    let toolchain = xtask::web::toolchain::find();
+    let missing = match (&found, &toolchain) {
+        (None, _) => "Chromium (Debian: apt-get install chromium)".to_string(),
+        (_, Err(e)) => format!("{e:#}"),
+        _ => return found,
+    };
+    assert!(
+        std::env::var_os("CI").is_none(),
+        "CI is set but the playground's tests cannot run: {missing}"
+    );
+    let _ = writeln!(
+        std::io::stderr(),
+        "SKIPPED: the playground's tests need {missing}"
+    );
+    None
 }
 
 /// The page at `query_and_fragment` (e.g. `?workers=2`), its first render done.
@@ -260,4 +265,28 @@ fn a_dropped_obj_renders() {
     .unwrap();
     let text = status(&mut page);
     assert!(text.contains("missing.obj"), "{text}");
+}
+
+#[test]
+fn a_panic_in_the_wasm_shows_as_an_error_and_the_next_edit_renders() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    let text = eval(&mut page, "tracerPage.view.state.doc.toString()");
+    let text = text.as_str().unwrap().to_string();
+    eval(&mut page, "tracerPage.panicNext = true");
+    type_text(&mut page, &format!("{text}# edited\n"));
+    page.wait_for(
+        "document.getElementById('image').dataset.state === 'error'",
+        RENDER,
+    )
+    .unwrap();
+    let shown = status(&mut page);
+    assert!(
+        shown.contains("the tracer panicked") && shown.contains("asked for by tracer_panic"),
+        "{shown}"
+    );
+    type_text(&mut page, &text);
+    wait_done(&mut page);
+    assert_golden(&mut page, "reflectance2");
 }

@@ -276,6 +276,13 @@ fn load(files: &Memory, path: &Path) -> Result<Loaded, String> {
     tracer_pipeline::load_from(&archive, archive.scene()).map_err(scene_error)
 }
 
+/// Panics: the page's tests check that a panic shows as an error and that
+/// the next render works (the worker makes a fresh instance).
+#[no_mangle]
+pub extern "C" fn tracer_panic() {
+    panic!("a panic asked for by tracer_panic");
+}
+
 #[cfg(target_arch = "wasm32")]
 mod panic {
     #[link(wasm_import_module = "env")]
