@@ -112,6 +112,9 @@ pub fn build(root: &Path, target_dir: &Path, toolchain: &Toolchain) -> Result<Pa
         TARGET,
     ]);
     command.arg("--target-dir").arg(target_dir);
+    // 128-bit SIMD (every current browser has it): glam's vectors use it as
+    // they use SSE2 natively.
+    command.env("RUSTFLAGS", "-C target-feature=+simd128");
     if let Toolchain::Debian { linker } = toolchain {
         command
             .env_remove("RUSTUP_TOOLCHAIN")
