@@ -36,6 +36,7 @@ const view = new EditorView({
   parent: document.getElementById("editor"),
   extensions: [
     basicSetup,
+    EditorView.lineWrapping,
     lintGutter(),
     language.of(languageOf(scene.name)),
     EditorView.updateListener.of((update) => {
@@ -323,7 +324,7 @@ async function start() {
   for (const s of scenesIndex) {
     const option = document.createElement("option");
     option.value = s.path;
-    option.textContent = s.lab ? `${s.path} (lab ${s.lab})` : s.path;
+    option.textContent = s.lab ? `${s.path} (lab)` : s.path;
     menu.append(option);
   }
   const other = document.createElement("option");

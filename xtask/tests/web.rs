@@ -354,3 +354,26 @@ fn every_scene_of_the_menu_renders_as_its_golden_within_maths_last_bits() {
         assert!(!lab, "the lab's {name} differs: {differing:?}");
     }
 }
+
+/// Not a check: writes the README's screenshot, docs/playground.png
+/// (`cargo test --release -p xtask --test web -- --ignored screenshot`).
+#[test]
+#[ignore]
+fn screenshot_for_the_readme() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    eval(
+        &mut page,
+        "(() => { const m = document.getElementById('scene-menu'); \
+         m.value = 'textures.toml'; m.dispatchEvent(new Event('change')); })()",
+    );
+    page.wait_for(
+        "document.getElementById('image').dataset.state === 'done' && \
+         tracerPage.lastRender.scene === 'textures.toml'",
+        RENDER,
+    )
+    .unwrap();
+    let png = page.screenshot().unwrap();
+    std::fs::write(xtask::workspace_root().join("docs/playground.png"), png).unwrap();
+}
