@@ -338,7 +338,7 @@ fn every_scene_of_the_menu_renders_as_its_golden_within_maths_last_bits() {
     // Where wasm's maths library (Rust's libm) rounds a last bit otherwise
     // than glibc's: powf in the gamma at a code's step (one level of one
     // channel), sin and cos in the lens' and the lights' samples (a ray a
-    // hair apart). A few pixels by a level or two; see docs/web.md.
+    // hair apart). A few pixels by a level; README, In the browser.
     let _ = writeln!(
         std::io::stderr(),
         "differing from their goldens: {differing:?}"
