@@ -9,6 +9,7 @@ import { toml } from "@codemirror/legacy-modes/mode/toml";
 import { json } from "@codemirror/lang-json";
 import { setDiagnostics, lintGutter } from "@codemirror/lint";
 import { decodeShare, encodeShare } from "./share.js";
+import { zip } from "./zip.js";
 
 const DEBOUNCE_MS = 300;
 const PREVIEW_SHRINK = 4;
@@ -283,7 +284,7 @@ document.getElementById("share").addEventListener("click", async () => {
   const extra = [...scene.files.keys()].filter((f) => !own || !own.files.includes(f));
   let note = "Link copied: it holds the scene's text.";
   if (scene.archive || extra.length) {
-    note = "Link copied, but it holds only the scene's text: this scene reads files the link cannot carry; share the scene as a .zip (tracer pack) instead.";
+    note = "Link copied, but it holds only the scene's text: this scene reads files the link cannot carry; share it as a .zip instead (Download .zip).";
   }
   try {
     await navigator.clipboard.writeText(link);
@@ -294,14 +295,30 @@ document.getElementById("share").addEventListener("click", async () => {
 });
 
 document.getElementById("download-png").addEventListener("click", () => {
-  canvas.toBlob((blob) => {
-    const a = document.createElement("a");
-    a.href = URL.createObjectURL(blob);
-    a.download = scene.name.replace(/^.*\//, "").replace(/\.[^.]*$/, "") + ".png";
-    a.click();
-    setTimeout(() => URL.revokeObjectURL(a.href), 1000);
-  }, "image/png");
+  canvas.toBlob((blob) => download(blob, `${stem()}.png`), "image/png");
 });
+
+// The scene as a `tracer pack` archive: its text, its files, the manifest.
+// A dropped archive is itself.
+function sceneZip() {
+  if (scene.archive) return scene.archive;
+  const manifest = `scene = ${JSON.stringify(scene.name)}\n`;
+  return zip([["tracer-pack.toml", new TextEncoder().encode(manifest)], ...folderFiles()]);
+}
+
+function download(blob, name) {
+  const a = document.createElement("a");
+  a.href = URL.createObjectURL(blob);
+  a.download = name;
+  a.click();
+  setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+}
+
+const stem = () => scene.name.replace(/^.*\//, "").replace(/\.[^.]*$/, "");
+
+document.getElementById("download-zip").addEventListener("click", () =>
+  download(new Blob([sceneZip()], { type: "application/zip" }), `${stem()}.zip`),
+);
 
 // ---- Start ------------------------------------------------------------
 
@@ -314,6 +331,12 @@ window.tracerPage = {
   // For tests and scripts: files put into the scene's folder as if dropped.
   addFiles: (files) =>
     addFiles(Object.entries(files).map(([name, text]) => new File([text], name))),
+  // The scene's archive, base64 (what Download .zip saves).
+  sceneZipBase64: () => {
+    let s = "";
+    for (const b of sceneZip()) s += String.fromCharCode(b);
+    return btoa(s);
+  },
 };
 
 async function start() {

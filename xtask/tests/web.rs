@@ -149,6 +149,35 @@ fn a_scene_with_files_from_the_menu_renders_as_its_golden_on_three_workers() {
     .unwrap();
     wait_done(&mut page);
     assert_golden(&mut page, "textures");
+    // Its archive (Download .zip) renders with `tracer render` as the page shows it.
+    let zip = eval(&mut page, "tracerPage.sceneZipBase64()");
+    let zip = xtask::web::browser::base64_decode(zip.as_str().unwrap()).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("textures.zip");
+    std::fs::write(&path, zip).unwrap();
+    let loaded = tracer_pipeline::load(&tracer_pipeline::Input::File(path)).unwrap();
+    let rendered = tracer_pipeline::render(&loaded, &Default::default(), &|_| {}).unwrap();
+    let shown = page.canvas_image().unwrap();
+    let rgb = rendered.image.to_rgb8();
+    assert!(
+        rgb.pixels()
+            .zip(shown.pixels())
+            .all(|(a, b)| a.0 == b.0[..3]),
+        "the archive renders otherwise"
+    );
+    // Dropped back into the page, the archive renders as it is.
+    eval(
+        &mut page,
+        "(() => { const b64 = tracerPage.sceneZipBase64(); \
+         tracerPage.addFiles({'t.zip': Uint8Array.from(atob(b64), c => c.charCodeAt(0))}); })()",
+    );
+    page.wait_for(
+        "document.getElementById('status').textContent.startsWith('t.zip: 480x320')",
+        RENDER,
+    )
+    .unwrap();
+    wait_done(&mut page);
+    assert_golden(&mut page, "textures");
 }
 
 #[test]

@@ -183,7 +183,7 @@ fn devtools_url(stderr: std::process::ChildStderr) -> Result<String> {
     bail!("Chromium did not open its DevTools socket")
 }
 
-fn base64_decode(text: &str) -> Result<Vec<u8>> {
+pub fn base64_decode(text: &str) -> Result<Vec<u8>> {
     let value = |c: u8| -> Result<u32> {
         Ok(match c {
             b'A'..=b'Z' => c - b'A',
