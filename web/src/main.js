@@ -13,6 +13,8 @@ import { zip } from "./zip.js";
 
 const DEBOUNCE_MS = 300;
 const PREVIEW_SHRINK = 4;
+// Above this many pixels a preview is not blown up to the image's size.
+const HUGE_PIXELS = 4096 * 4096;
 
 const menu = document.getElementById("scene-menu");
 const canvas = document.getElementById("image");
@@ -127,16 +129,21 @@ async function render() {
   if (!preview.ok) return showError(preview.error);
   showProblems([]);
   const { fullWidth, fullHeight } = preview;
-  if (canvas.width !== fullWidth || canvas.height !== fullHeight) {
-    canvas.width = fullWidth;
-    canvas.height = fullHeight;
+  // A huge image's canvas takes seconds of the page's own thread to make:
+  // its preview is shown at its own size, the canvas made full size once
+  // the full image is there (an edit meanwhile cancels it cheaply).
+  const huge = fullWidth * fullHeight > HUGE_PIXELS;
+  const [showWidth, showHeight] = huge ? [preview.width, preview.height] : [fullWidth, fullHeight];
+  if (canvas.width !== showWidth || canvas.height !== showHeight) {
+    canvas.width = showWidth;
+    canvas.height = showHeight;
   }
-  const ctx = canvas.getContext("2d");
+  let ctx = canvas.getContext("2d");
   const small = new ImageData(new Uint8ClampedArray(preview.rgba), preview.width, preview.height);
   const bitmap = await createImageBitmap(small);
   if (mine !== generation) return;
   ctx.imageSmoothingEnabled = false;
-  ctx.drawImage(bitmap, 0, 0, fullWidth, fullHeight);
+  ctx.drawImage(bitmap, 0, 0, showWidth, showHeight);
   status.className = "";
   status.textContent = `${scene.name}: preview shown, rendering ${fullWidth}x${fullHeight} on ${pool.length} worker(s)…`;
 
@@ -147,6 +154,11 @@ async function render() {
     regions.map((region, i) =>
       runJob(pool[i], { ...base, id: mine, shrink: 0, region }).then((answer) => {
         if (mine === generation && answer.ok) {
+          if (huge && canvas.width !== fullWidth) {
+            canvas.width = fullWidth;
+            canvas.height = fullHeight;
+            ctx = canvas.getContext("2d");
+          }
           const [x0, y0, x1, y1] = region;
           ctx.putImageData(new ImageData(new Uint8ClampedArray(answer.rgba), x1 - x0, y1 - y0), x0, y0);
           rays += answer.rays;

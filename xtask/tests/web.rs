@@ -406,3 +406,38 @@ fn screenshot_for_the_readme() {
     let png = page.screenshot().unwrap();
     std::fs::write(xtask::workspace_root().join("docs/playground.png"), png).unwrap();
 }
+
+#[test]
+fn an_edit_cancels_a_long_render() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    let text = eval(&mut page, "tracerPage.view.state.doc.toString()");
+    let text = text.as_str().unwrap().to_string();
+    // Minutes of work even as a preview: 16384x16384 at 4096 samples.
+    let long = text
+        .replacen("width = 500", "width = 16384", 1)
+        .replacen("height = 400", "height = 16384", 1)
+        .replacen("[render]", "[render]\nsamples = 4096", 1);
+    type_text(&mut page, &long);
+    // Past the debounce: the workers are busy with it.
+    std::thread::sleep(Duration::from_secs(2));
+    assert_eq!(
+        eval(&mut page, "document.getElementById('image').dataset.state"),
+        "rendering"
+    );
+    // Its preview (a quarter as wide) is shown at its own size: a canvas of
+    // 16384x16384 would hold up the page for seconds.
+    page.wait_for("document.getElementById('image').width === 4096", RENDER)
+        .unwrap();
+    let start = std::time::Instant::now();
+    type_text(&mut page, &text);
+    wait_done(&mut page);
+    // The long render's workers stopped at once: the next render runs alone.
+    assert!(
+        start.elapsed() < Duration::from_secs(5),
+        "{:?}",
+        start.elapsed()
+    );
+    assert_golden(&mut page, "reflectance2");
+}
