@@ -403,6 +403,20 @@ fn screenshot_for_the_readme() {
         RENDER,
     )
     .unwrap();
+    // A mistake typed in: marked at its line, the last good image kept.
+    let text = eval(&mut page, "tracerPage.view.state.doc.toString()");
+    let bad = text
+        .as_str()
+        .unwrap()
+        .replacen("fov = 55", "fov = 55\nfvo = 2", 1);
+    type_text(&mut page, &bad);
+    page.wait_for(
+        "document.getElementById('image').dataset.state === 'error'",
+        RENDER,
+    )
+    .unwrap();
+    // The editor's marks are drawn on its next frame.
+    std::thread::sleep(Duration::from_millis(500));
     let png = page.screenshot().unwrap();
     std::fs::write(xtask::workspace_root().join("docs/playground.png"), png).unwrap();
 }
