@@ -44,7 +44,11 @@ const view = new EditorView({
     language.of(languageOf(scene.name)),
     EditorView.updateListener.of((update) => {
       if (update.docChanged && !settingText) {
-        scene.archive = null;
+        if (scene.archive) {
+          // The text typed over an archive's note is a scene of its own.
+          scene.archive = null;
+          scene.name = "scene.toml";
+        }
         schedule();
       }
     }),
