@@ -161,3 +161,28 @@ fn write_scenes(scenes: &Path, out: &Path) -> Result<()> {
 pub fn default_out() -> PathBuf {
     crate::target_dir().join("web")
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_menu_lists_the_lab_first_then_every_scene_with_its_files() {
+        let scenes = crate::workspace_root().join("scenes");
+        let entries = scene_entries(&scenes).unwrap();
+        let paths: Vec<&str> = entries.iter().map(|e| e.path.as_str()).collect();
+        assert_eq!(paths[..12], LAB_SCENES);
+        assert!(entries[..12].iter().all(|e| e.lab));
+        assert!(entries[12..].iter().all(|e| !e.lab));
+        let rest = &paths[12..];
+        assert!(rest.windows(2).all(|w| w[0] < w[1]), "{rest:?}");
+        assert_eq!(
+            paths.len(),
+            crate::golden::scene_files(&scenes).unwrap().len()
+        );
+        let files = |path: &str| &entries.iter().find(|e| e.path == path).unwrap().files;
+        assert_eq!(files("bench/bunny.toml"), &["bench/bunny.obj"]);
+        assert!(files("textures.toml").contains(&"meshes/labelled-box.mtl".to_string()));
+        assert!(files("reflectance2.toml").is_empty());
+    }
+}
