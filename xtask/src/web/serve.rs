@@ -1,6 +1,9 @@
 //! `cargo xtask web --serve`: a tiny static file server for trying the page
 //! (workers and wasm are not allowed from `file://`). GET only, files of the
-//! one folder only, on the address given (127.0.0.1 by default).
+//! one folder only, on the address given (127.0.0.1 by default). Not the
+//! `tracer watch --serve` server: that one answers three fixed paths from
+//! memory (the page, the image, the events) and reads no files; this one
+//! only reads files, for a few local tabs and the tests.
 
 use anyhow::{Context, Result};
 use std::io::{BufRead, BufReader, Write};
