@@ -455,3 +455,28 @@ fn an_edit_cancels_a_long_render() {
     );
     assert_golden(&mut page, "reflectance2");
 }
+
+#[test]
+fn a_dropped_json_scene_renders_as_its_toml() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    let root = xtask::workspace_root();
+    let text = std::fs::read_to_string(root.join("scenes/reflectance2.toml")).unwrap();
+    let value: toml::Value = toml::from_str(&text).unwrap();
+    let json = serde_json::to_string_pretty(&value).unwrap();
+    let files = serde_json::json!({ "final.json": json });
+    eval(&mut page, &format!("tracerPage.addFiles({files})"));
+    page.wait_for(
+        "document.getElementById('status').textContent.startsWith('final.json: 500x400')",
+        RENDER,
+    )
+    .unwrap();
+    wait_done(&mut page);
+    assert_golden(&mut page, "reflectance2");
+    // The editor holds it, as JSON.
+    let shown = eval(&mut page, "tracerPage.view.state.doc.toString()");
+    assert_eq!(shown.as_str().unwrap(), json);
+    let menu = eval(&mut page, "document.getElementById('scene-menu').value");
+    assert_eq!(menu, "");
+}
