@@ -357,7 +357,11 @@ window.tracerPage = {
 
 async function start() {
   [wasmModule, scenesIndex] = await Promise.all([
-    WebAssembly.compileStreaming(fetch("tracer_web.wasm")),
+    // Bytes first: compileStreaming refuses a server that does not call
+    // the file application/wasm, and some static servers do not.
+    fetch("tracer_web.wasm")
+      .then((r) => r.arrayBuffer())
+      .then((bytes) => WebAssembly.compile(bytes)),
     fetch("scenes/index.json").then((r) => r.json()),
   ]);
   for (const s of scenesIndex) {
