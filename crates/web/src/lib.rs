@@ -245,9 +245,15 @@ pub fn render(files: &Memory, path: &Path, request: &Request) -> Result<RegionIm
     };
     let (w, h) = (region.x1 - region.x0, region.y1 - region.y0);
     let mut rgba = Vec::with_capacity((w * h * 4) as usize);
-    for y in 0..h {
-        for x in 0..w {
-            let p = rgb.get_pixel(x + x_off, y + y_off).0;
+    let row_bytes = rgb.width() as usize * 3;
+    for row in rgb
+        .as_raw()
+        .chunks_exact(row_bytes)
+        .skip(y_off as usize)
+        .take(h as usize)
+    {
+        let row = &row[x_off as usize * 3..(x_off + w) as usize * 3];
+        for p in row.chunks_exact(3) {
             rgba.extend_from_slice(&[p[0], p[1], p[2], 255]);
         }
     }
