@@ -25,6 +25,7 @@ enum Command {
     /// compare with a single render, bit for bit (docs/farm.md)
     FarmTest(xtask::farm::FarmArgs),
     Man(ManArgs),
+    Web(WebArgs),
     /// Write docs/gallery.md: every scene's golden image with its file name
     /// and the command that renders it
     Gallery,
@@ -42,6 +43,20 @@ struct ManArgs {
     /// The folder to write them in [default: target/man]
     #[arg(long, value_name = "DIR")]
     out: Option<std::path::PathBuf>,
+}
+
+/// Build the browser playground: one folder of static files (docs: README, In the browser)
+///
+/// The page, its bundled scripts, the tracer built for wasm32 and every scene
+/// of scenes/ with the files it reads. Any static web server can host it.
+#[derive(Args)]
+struct WebArgs {
+    /// The folder to write [default: target/web]
+    #[arg(long, value_name = "DIR")]
+    out: Option<std::path::PathBuf>,
+    /// Then serve it for trying, on ADDR [default: 127.0.0.1:8000]
+    #[arg(long, value_name = "ADDR", num_args = 0..=1, default_missing_value = "127.0.0.1:8000")]
+    serve: Option<String>,
 }
 
 /// Check every scene's render against its golden image in golden/
@@ -69,6 +84,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => xtask::bench::run(&args).map(|()| ExitCode::SUCCESS),
         Command::FarmTest(args) => xtask::farm::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Man(args) => man(&args),
+        Command::Web(args) => web(&args),
         Command::Gallery => gallery(),
         Command::PeakOf { command } => {
             xtask::bench::memory::peak_of(&command).map(|()| ExitCode::SUCCESS)
@@ -115,5 +131,19 @@ fn man(args: &ManArgs) -> anyhow::Result<ExitCode> {
 fn gallery() -> anyhow::Result<ExitCode> {
     let path = xtask::gallery::write(&xtask::workspace_root())?;
     println!("wrote {}", path.display());
+    Ok(ExitCode::SUCCESS)
+}
+
+fn web(args: &WebArgs) -> anyhow::Result<ExitCode> {
+    let out = args.out.clone().unwrap_or_else(xtask::web::default_out);
+    xtask::web::build(&xtask::workspace_root(), &out)?;
+    println!("the page is in {}", out.display());
+    if let Some(addr) = &args.serve {
+        let bound = xtask::web::serve::start(&out, addr)?;
+        println!("serving it at http://{bound}/ (Ctrl-C stops)");
+        loop {
+            std::thread::park();
+        }
+    }
     Ok(ExitCode::SUCCESS)
 }

@@ -5,5 +5,6 @@
 pub mod calib;
 pub mod canvas;
 pub mod gamma_fit;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod gamma_plot;
 pub mod measurements;

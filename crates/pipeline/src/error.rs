@@ -61,7 +61,8 @@ pub enum Error {
     /// A measurements file that is missing or malformed.
     #[error("{}: {message}", file.display())]
     Measurements { file: PathBuf, message: String },
-    /// The gamma plot could not be drawn.
+    /// The gamma plot could not be drawn (no plot in the browser build).
+    #[cfg(not(target_arch = "wasm32"))]
     #[error(transparent)]
     Plot(#[from] lab_tools::gamma_plot::PlotError),
     /// An output file could not be written.
@@ -92,6 +93,7 @@ impl Error {
             Error::Output(e) => e.is_bad_input(),
             Error::Pack(e) => e.is_bad_input(),
             Error::Tile(e) => e.is_bad_input(),
+            #[cfg(not(target_arch = "wasm32"))]
             Error::Plot(_) => false,
         }
     }

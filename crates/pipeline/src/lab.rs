@@ -9,6 +9,7 @@ use lab_tools::measurements::{normalised_points, parse_measurements, Measurement
 use std::path::Path;
 
 pub use lab_tools::calib::DEFAULT_CHART_SIZE;
+#[cfg(not(target_arch = "wasm32"))]
 pub use lab_tools::gamma_plot::DEFAULT_SIZE as DEFAULT_PLOT_SIZE;
 
 /// Largest chart side; a display is far smaller.
@@ -63,6 +64,7 @@ pub fn fit_gamma(csv: &Path) -> Result<GammaReport, Error> {
 }
 
 /// The plot of a fit, [`DEFAULT_PLOT_SIZE`] pixels.
+#[cfg(not(target_arch = "wasm32"))]
 pub fn gamma_plot(report: &GammaReport) -> Result<RgbImage, Error> {
     let (width, height) = DEFAULT_PLOT_SIZE;
     Ok(lab_tools::gamma_plot::plot_gamma(

@@ -3,7 +3,7 @@
 
 use crate::limits;
 use scene_format::{Diagnostic, Format, Origins, SceneError, SceneKind};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// The scene rendered when none is given: the lab's final scene (table
 /// 1.10). A copy of `scenes/reflectance2.toml` (a test keeps them equal):
@@ -112,6 +112,21 @@ pub fn load(input: &Input) -> Result<Loaded, SceneError> {
             files_read: Vec::new(),
         },
     };
+    checked(name, loaded)
+}
+
+/// [`load`] of the scene file at `path` in `source` (a folder held in
+/// memory: the browser build), named by its path in messages.
+pub fn load_from(
+    source: &dyn scene_format::source::Source,
+    path: &Path,
+) -> Result<Loaded, SceneError> {
+    let loaded = scene_format::load_from(source, path)?;
+    checked(source.name(path), loaded)
+}
+
+/// A scene read, checked against the tracer's limits, with its warnings.
+fn checked(name: PathBuf, loaded: scene_format::LoadedScene) -> Result<Loaded, SceneError> {
     if let SceneKind::Scene3d(file) = &loaded.kind {
         let diagnostics = limits::check(file);
         if !diagnostics.is_empty() {
@@ -135,7 +150,6 @@ pub fn load(input: &Input) -> Result<Loaded, SceneError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::path::Path;
 
     fn repository_scene(name: &str) -> PathBuf {
         Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -3,6 +3,7 @@
 //! the core through here (and names the core's `Aov` list), so a change of
 //! that API stays in this file.
 
+use crate::clock::Instant;
 use crate::options::{Aov, Gamma, Options};
 use crate::rendered::{Picture, ShadedStats};
 use crate::Error;
@@ -10,7 +11,6 @@ use scene_format::SceneFile;
 use std::borrow::Cow;
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
-use std::time::Instant;
 use tracer_core::image::Saturation;
 use tracer_core::{Output, Region, RenderJob, Scene};
 

@@ -42,11 +42,20 @@ fn check(meta: &std::fs::Metadata, cap: u64) -> io::Result<()> {
     if !meta.is_file() {
         return refuse("is not a regular file (a device, a pipe or a socket)".to_string());
     }
-    if meta.len() > cap {
-        return refuse(format!(
-            "is {}; files of this kind are read up to {}",
-            size(meta.len()),
-            size(cap)
+    check_size(meta.len(), cap)
+}
+
+/// An `InvalidInput` error unless a file of `len` bytes is within `cap`:
+/// the one message for every source of files (disk, memory).
+pub(crate) fn check_size(len: u64, cap: u64) -> io::Result<()> {
+    if len > cap {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!(
+                "is {}; files of this kind are read up to {}",
+                size(len),
+                size(cap)
+            ),
         ));
     }
     Ok(())

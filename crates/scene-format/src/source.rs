@@ -260,6 +260,66 @@ impl Source for Archive {
     }
 }
 
+/// Files held in memory, by path (relative, `/`-separated, as in a
+/// folder): what the browser build (crates/web) reads a scene from, the
+/// files given by the page. The same caps apply as on the file system.
+#[derive(Debug, Default)]
+pub struct Memory {
+    files: std::collections::BTreeMap<PathBuf, Vec<u8>>,
+    read: Record,
+}
+
+impl Memory {
+    pub fn new() -> Self {
+        Memory::default()
+    }
+
+    /// Adds (or replaces) the file at `path`; a path that climbs out of
+    /// the folder (`../x`, `/x`) is refused.
+    pub fn insert(&mut self, path: &Path, bytes: Vec<u8>) -> io::Result<()> {
+        let key = normalize(path)
+            .filter(|p| !p.as_os_str().is_empty())
+            .ok_or_else(|| not_found("leaves the folder"))?;
+        self.files.insert(key, bytes);
+        Ok(())
+    }
+
+    /// Every file's path, in name order.
+    pub fn paths(&self) -> Vec<PathBuf> {
+        self.files.keys().cloned().collect()
+    }
+}
+
+impl Source for Memory {
+    fn open(&self, path: &Path, cap: u64) -> io::Result<Box<dyn BufRead + '_>> {
+        let key = normalize(path).ok_or_else(|| not_found("leaves the folder"))?;
+        let Some(bytes) = self.files.get(&key) else {
+            if self.files.keys().any(|k| k.starts_with(&key)) {
+                return Err(io::Error::new(
+                    io::ErrorKind::InvalidInput,
+                    "is a folder, not a file",
+                ));
+            }
+            return Err(not_found("no such file"));
+        };
+        crate::read::check_size(bytes.len() as u64, cap)?;
+        self.read.add(path);
+        Ok(Box::new(Cursor::new(bytes.as_slice())))
+    }
+
+    fn name(&self, path: &Path) -> PathBuf {
+        path.to_path_buf()
+    }
+
+    fn identity(&self, path: &Path) -> PathBuf {
+        normalize(path).unwrap_or_else(|| path.to_path_buf())
+    }
+
+    fn files_read(&self) -> Vec<PathBuf> {
+        self.read.0.borrow().clone()
+    }
+}
+
 /// `path` with `.` and `a/..` taken out, or `None` when it is absolute or
 /// climbs above its start.
 pub fn normalize(path: &Path) -> Option<PathBuf> {
@@ -312,6 +372,33 @@ fn not_found(message: &str) -> io::Error {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn files_in_memory_are_read_like_a_folder_with_the_same_caps() {
+        let mut memory = Memory::new();
+        memory
+            .insert(Path::new("meshes/a.obj"), b"v 0 0 0".to_vec())
+            .unwrap();
+        assert!(memory.insert(Path::new("../x.obj"), Vec::new()).is_err());
+        let read = memory
+            .read(Path::new("scenes/../meshes/./a.obj"), 100)
+            .unwrap();
+        assert_eq!(read, b"v 0 0 0");
+        let big = memory.read(Path::new("meshes/a.obj"), 4).unwrap_err();
+        assert_eq!(big.kind(), io::ErrorKind::InvalidInput);
+        assert_eq!(
+            big.to_string(),
+            "is 7 bytes; files of this kind are read up to 4 bytes"
+        );
+        let folder = memory.read(Path::new("meshes"), 100).unwrap_err();
+        assert_eq!(folder.to_string(), "is a folder, not a file");
+        let missing = memory.read(Path::new("b.obj"), 100).unwrap_err();
+        assert_eq!(missing.kind(), io::ErrorKind::NotFound);
+        assert_eq!(
+            memory.files_read(),
+            [PathBuf::from("scenes/../meshes/./a.obj")]
+        );
+    }
 
     #[test]
     fn paths_climbing_out_are_not_normalized() {

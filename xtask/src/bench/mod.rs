@@ -41,6 +41,7 @@ mod process;
 pub(crate) mod rusage;
 mod scenes;
 mod stats;
+mod web;
 
 pub use pov_scene::pov_scene;
 pub use scenes::subdivide;
@@ -67,7 +68,8 @@ pub struct BenchArgs {
     /// measurements (instancing: peak memory of 1 and 1,000 bunnies;
     /// packets: primary rays at 16 samples per pixel against Embree's
     /// packet kernels on the same rays; path: the path tracer on the Cornell
-    /// box against Mitsuba 3 and Cycles at equal time)
+    /// box against Mitsuba 3 and Cycles at equal time; web: the playground
+    /// in headless Chromium against native, one thread, and its workers)
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
 }
@@ -102,14 +104,15 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let only = |name: &str| args.only.is_empty() || args.only.iter().any(|o| o == name);
     if !args.only.is_empty() {
         if let Some(unknown) = args.only.iter().find(|o| {
-            ![INSTANCING, PACKETS, path::PATH].contains(&o.as_str())
+            ![INSTANCING, PACKETS, path::PATH, web::WEB].contains(&o.as_str())
                 && !scenes.iter().any(|s| s.name == *o)
         }) {
             let names: Vec<&str> = scenes.iter().map(|s| s.name).collect();
             bail!(
-                "--only: no scene `{unknown}` (the scenes: {}; or {INSTANCING}, {PACKETS}, {})",
+                "--only: no scene `{unknown}` (the scenes: {}; or {INSTANCING}, {PACKETS}, {}, {})",
                 names.join(", "),
-                path::PATH
+                path::PATH,
+                web::WEB
             );
         }
         scenes.retain(|s| only(s.name));
@@ -180,6 +183,11 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     if only(INSTANCING) {
         memory::report(&memory::measure(&root, embree.as_deref())?);
+    }
+    if only(web::WEB) {
+        if let Some(figures) = web::measure(&root, args.reps)? {
+            web::report(&figures);
+        }
     }
     if only(path::PATH) {
         path::report(&path::measure(&root, out_dir.path())?);

@@ -1,0 +1,44 @@
+//! Errors as the page reads them: JSON with the text `tracer check` prints
+//! (the same code makes it) and each problem's file, line and column, for
+//! the editor to mark.
+
+use scene_format::SceneError;
+use serde_json::{json, Value};
+use tracer_pipeline::Error;
+
+/// `{"text": ..., "problems": [{"file", "line", "column", "key", "message"}]}`;
+/// `line` and `column` (1-based) are null where a problem has no place.
+pub fn error_json(error: &Error) -> String {
+    let problems = match error {
+        Error::Scene(e) => problems(e),
+        _ => Vec::new(),
+    };
+    json!({ "text": error.to_string(), "problems": problems }).to_string()
+}
+
+/// An error with no place: a file the page gave that cannot be read.
+pub fn message_json(text: &str) -> String {
+    json!({ "text": text, "problems": [] }).to_string()
+}
+
+fn problems(error: &SceneError) -> Vec<Value> {
+    let mut out = Vec::new();
+    for file_error in error.files() {
+        let SceneError::Invalid {
+            file, diagnostics, ..
+        } = file_error
+        else {
+            continue;
+        };
+        for d in diagnostics {
+            out.push(json!({
+                "file": file.to_string_lossy(),
+                "line": d.location.map(|l| l.line),
+                "column": d.location.map(|l| l.column),
+                "key": d.path.to_string(),
+                "message": d.message,
+            }));
+        }
+    }
+    out
+}

@@ -1,0 +1,309 @@
+//! The tracer in a browser tab: the pipeline's load and render behind a
+//! small C ABI, for `wasm32-unknown-unknown` (`cargo xtask web`).
+//!
+//! Why a hand-written ABI and not wasm-bindgen: the page needs half a dozen
+//! calls that pass bytes (files in, RGBA or JSON out); wasm-bindgen would
+//! need its `wasm-bindgen-cli` at exactly the crate's version, installed
+//! with `cargo install` (minutes of build on these machines, and a second
+//! pin to keep in step), for no gain here.
+//!
+//! The page owns memory it passes in through [`tracer_alloc`] /
+//! [`tracer_free`]; a call's answer (RGBA pixels or an error as JSON) stays
+//! in this module's result buffer until the next call
+//! ([`tracer_result_ptr`], [`tracer_result_len`]). One instance runs one
+//! call at a time (a Web Worker each): no threads inside the wasm.
+
+use scene_format::source::{Archive, Memory, Source};
+use std::cell::RefCell;
+use std::path::Path;
+use tracer_pipeline::{Loaded, Options, Part, Region, Summary};
+
+mod answer;
+pub use answer::error_json;
+
+/// What one instance holds between calls.
+#[derive(Default)]
+struct State {
+    /// The scene's folder, as the page gave it.
+    files: Memory,
+    /// The last call's answer.
+    result: Vec<u8>,
+    /// The size of the last image rendered, of the scene's full image,
+    /// and the rays traced.
+    size: (u32, u32),
+    full: (u32, u32),
+    rays: f64,
+}
+
+thread_local! {
+    static STATE: RefCell<State> = RefCell::new(State::default());
+}
+
+/// A buffer of `len` bytes for the page to fill; give it back with
+/// [`tracer_free`].
+#[no_mangle]
+pub extern "C" fn tracer_alloc(len: usize) -> *mut u8 {
+    Box::into_raw(vec![0u8; len].into_boxed_slice()).cast()
+}
+
+/// Frees a buffer of [`tracer_alloc`].
+///
+/// # Safety
+/// `ptr` and `len` are those of one buffer of `tracer_alloc`, freed once.
+#[no_mangle]
+pub unsafe extern "C" fn tracer_free(ptr: *mut u8, len: usize) {
+    // SAFETY: the caller passes back a boxed slice made by tracer_alloc.
+    drop(unsafe { Box::from_raw(std::ptr::slice_from_raw_parts_mut(ptr, len)) });
+}
+
+/// Empties the scene's folder.
+#[no_mangle]
+pub extern "C" fn tracer_clear_files() {
+    STATE.with_borrow_mut(|s| s.files = Memory::new());
+}
+
+/// Adds a file to the scene's folder at `path` (UTF-8, relative); 0 when
+/// done, 1 with the error's JSON as the result.
+///
+/// # Safety
+/// The pointers and lengths are those of buffers of `tracer_alloc`.
+#[no_mangle]
+pub unsafe extern "C" fn tracer_add_file(
+    path: *const u8,
+    path_len: usize,
+    data: *const u8,
+    data_len: usize,
+) -> u32 {
+    // SAFETY: as the caller promises.
+    let (path, data) = unsafe { (bytes(path, path_len), bytes(data, data_len)) };
+    let path = String::from_utf8_lossy(path).into_owned();
+    let added = STATE.with_borrow_mut(|s| s.files.insert(Path::new(&path), data.to_vec()));
+    match added {
+        Ok(()) => 0,
+        Err(e) => fail(answer::message_json(&format!("{path}: {e}"))),
+    }
+}
+
+/// Loads the scene file at `path` of the folder and renders the pixels
+/// `x0..x1` by `y0..y1` of its image (all of it when `x1` is 0), as
+/// `tracer render` makes them; `shrink`, when above 1, renders the same
+/// view that many times narrower (a preview), and `samples` (when not 0)
+/// overrides the samples a pixel. 0 with the region's RGBA pixels as the
+/// result; 1 with the error's JSON. The image's size is then
+/// [`tracer_width`] x [`tracer_height`], the scene's
+/// [`tracer_full_width`] x [`tracer_full_height`].
+///
+/// # Safety
+/// `path`, `path_len` are those of a buffer of `tracer_alloc`.
+#[no_mangle]
+pub unsafe extern "C" fn tracer_render(
+    path: *const u8,
+    path_len: usize,
+    shrink: u32,
+    samples: u32,
+    x0: u32,
+    y0: u32,
+    x1: u32,
+    y1: u32,
+) -> u32 {
+    // SAFETY: as the caller promises.
+    let path = String::from_utf8_lossy(unsafe { bytes(path, path_len) }).into_owned();
+    let request = Request {
+        shrink: (shrink > 1).then_some(shrink),
+        samples: (samples > 0).then_some(samples),
+        region: (x1 > 0).then_some(Region { x0, y0, x1, y1 }),
+    };
+    let done = STATE.with_borrow(|s| render(&s.files, Path::new(&path), &request));
+    match done {
+        Ok(image) => STATE.with_borrow_mut(|s| {
+            s.size = image.size;
+            s.full = image.full;
+            s.rays = image.rays as f64;
+            s.result = image.rgba;
+            0
+        }),
+        Err(json) => fail(json),
+    }
+}
+
+/// The width of the last render's image.
+#[no_mangle]
+pub extern "C" fn tracer_width() -> u32 {
+    STATE.with_borrow(|s| s.size.0)
+}
+
+/// The height of the last render's image.
+#[no_mangle]
+pub extern "C" fn tracer_height() -> u32 {
+    STATE.with_borrow(|s| s.size.1)
+}
+
+/// The width of the last render's scene at its own size.
+#[no_mangle]
+pub extern "C" fn tracer_full_width() -> u32 {
+    STATE.with_borrow(|s| s.full.0)
+}
+
+/// The height of the last render's scene at its own size.
+#[no_mangle]
+pub extern "C" fn tracer_full_height() -> u32 {
+    STATE.with_borrow(|s| s.full.1)
+}
+
+/// The rays the last render traced (primary, shadow, reflected...).
+#[no_mangle]
+pub extern "C" fn tracer_rays() -> f64 {
+    STATE.with_borrow(|s| s.rays)
+}
+
+/// Where the last call's answer is.
+#[no_mangle]
+pub extern "C" fn tracer_result_ptr() -> *const u8 {
+    STATE.with_borrow(|s| s.result.as_ptr())
+}
+
+/// How long the last call's answer is.
+#[no_mangle]
+pub extern "C" fn tracer_result_len() -> usize {
+    STATE.with_borrow(|s| s.result.len())
+}
+
+/// # Safety
+/// As for `std::slice::from_raw_parts`; a null or empty buffer is empty.
+unsafe fn bytes<'a>(ptr: *const u8, len: usize) -> &'a [u8] {
+    if ptr.is_null() || len == 0 {
+        return &[];
+    }
+    // SAFETY: as the caller promises.
+    unsafe { std::slice::from_raw_parts(ptr, len) }
+}
+
+fn fail(json: String) -> u32 {
+    STATE.with_borrow_mut(|s| s.result = json.into_bytes());
+    1
+}
+
+/// What to render of a scene.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Request {
+    /// A preview: the image this many times narrower (the height follows).
+    pub shrink: Option<u32>,
+    pub samples: Option<u32>,
+    /// The pixels to render; the whole image when None.
+    pub region: Option<Region>,
+}
+
+/// A region rendered: its RGBA pixels (alpha 255), the image's size, the
+/// scene's own size, and the rays traced.
+#[derive(Debug, Clone)]
+pub struct RegionImage {
+    pub rgba: Vec<u8>,
+    pub size: (u32, u32),
+    pub full: (u32, u32),
+    pub rays: u64,
+}
+
+/// Loads the scene at `path` of `files` (a `.zip` from `tracer pack`
+/// holds its own folder) and renders `request`'s region through the
+/// pipeline; an error as the page's JSON.
+pub fn render(files: &Memory, path: &Path, request: &Request) -> Result<RegionImage, String> {
+    let loaded = load(files, path)?;
+    let is_canvas = matches!(loaded.kind, scene_format::SceneKind::Canvas(_));
+    let full = loaded.size();
+    let mut options = Options::default();
+    if !is_canvas {
+        options.width = request.shrink.map(|k| (full.0 / k).max(1));
+        options.samples = request.samples;
+    }
+    let size = tracer_pipeline::image_size(&loaded, &options).map_err(|e| error_json(&e))?;
+    let region = request.region.unwrap_or(Region {
+        x0: 0,
+        y0: 0,
+        x1: size.0,
+        y1: size.1,
+    });
+    // Checked here for a canvas too, which is cropped below.
+    let region = Part::Region(region)
+        .region(size)
+        .map_err(|e| error_json(&e))?;
+    // A canvas is drawn whole (it takes no region, and is quick); a 3D
+    // scene renders only its region, whose pixels are the whole image's.
+    if !is_canvas {
+        options.part = Some(Part::Region(region));
+    }
+    let rendered =
+        tracer_pipeline::render(&loaded, &options, &|_| {}).map_err(|e| error_json(&e))?;
+    let rays = match &rendered.summary {
+        Summary::Shaded(stats) => stats.rays,
+        _ => 0,
+    };
+    let rgb = rendered.image.to_rgb8();
+    let (x_off, y_off) = if is_canvas {
+        (region.x0, region.y0)
+    } else {
+        (0, 0)
+    };
+    let (w, h) = (region.x1 - region.x0, region.y1 - region.y0);
+    let mut rgba = Vec::with_capacity((w * h * 4) as usize);
+    let row_bytes = rgb.width() as usize * 3;
+    for row in rgb
+        .as_raw()
+        .chunks_exact(row_bytes)
+        .skip(y_off as usize)
+        .take(h as usize)
+    {
+        let row = &row[x_off as usize * 3..(x_off + w) as usize * 3];
+        for p in row.chunks_exact(3) {
+            rgba.extend_from_slice(&[p[0], p[1], p[2], 255]);
+        }
+    }
+    Ok(RegionImage {
+        rgba,
+        size,
+        full,
+        rays,
+    })
+}
+
+/// The scene at `path`: from the folder, or from the archive `path` is.
+fn load(files: &Memory, path: &Path) -> Result<Loaded, String> {
+    let is_zip = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("zip"));
+    let scene_error = |e| error_json(&tracer_pipeline::Error::Scene(e));
+    if !is_zip {
+        return tracer_pipeline::load_from(files, path).map_err(scene_error);
+    }
+    let bytes = files
+        .read(path, scene_format::source::MAX_ARCHIVE_BYTES)
+        .map_err(|e| answer::message_json(&format!("{}: {e}", path.display())))?;
+    let archive = Archive::from_bytes(path, bytes)
+        .map_err(|e| answer::message_json(&format!("{}: {e}", path.display())))?;
+    tracer_pipeline::load_from(&archive, archive.scene()).map_err(scene_error)
+}
+
+/// Panics: the page's tests check that a panic shows as an error and that
+/// the next render works (the worker makes a fresh instance).
+#[no_mangle]
+pub extern "C" fn tracer_panic() {
+    panic!("a panic asked for by tracer_panic");
+}
+
+#[cfg(target_arch = "wasm32")]
+mod panic {
+    #[link(wasm_import_module = "env")]
+    extern "C" {
+        /// The page's record of a panic's message, before the trap.
+        fn tracer_panicked(ptr: *const u8, len: usize);
+    }
+
+    /// The panic's message goes to the page (a trap alone says nothing).
+    #[no_mangle]
+    pub extern "C" fn tracer_init() {
+        std::panic::set_hook(Box::new(|info| {
+            let text = info.to_string();
+            // SAFETY: the page reads the bytes during the call.
+            unsafe { tracer_panicked(text.as_ptr(), text.len()) };
+        }));
+    }
+}

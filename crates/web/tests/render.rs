@@ -1,0 +1,145 @@
+//! The browser build's render, natively: the same image as `tracer render`,
+//! bands merged into the whole image bit for bit, errors located.
+
+use scene_format::source::Memory;
+use std::path::{Path, PathBuf};
+use tracer_pipeline::{Input, Options, Region};
+use tracer_web::{render, Request};
+
+fn scenes() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
+}
+
+/// The scene at `name` under scenes/ with the files it reads, in memory.
+fn folder(name: &str) -> Memory {
+    let path = scenes().join(name);
+    let loaded = tracer_pipeline::load(&Input::File(path.clone())).unwrap();
+    let mut memory = Memory::new();
+    for file in loaded.files_read {
+        let relative = file.strip_prefix(scenes()).unwrap();
+        memory
+            .insert(relative, std::fs::read(&file).unwrap())
+            .unwrap();
+    }
+    memory
+}
+
+fn native_rgba(name: &str) -> Vec<u8> {
+    let loaded = tracer_pipeline::load(&Input::File(scenes().join(name))).unwrap();
+    let rgb = tracer_pipeline::render(&loaded, &Options::default(), &|_| {})
+        .unwrap()
+        .image
+        .to_rgb8();
+    rgb.pixels().flat_map(|p| [p[0], p[1], p[2], 255]).collect()
+}
+
+#[test]
+fn bands_of_a_scene_with_files_merge_into_tracer_render_s_image() {
+    let name = "textures.toml";
+    let files = folder(name);
+    let whole = render(&files, Path::new(name), &Request::default()).unwrap();
+    assert_eq!(whole.size, (480, 320));
+    assert_eq!(whole.full, (480, 320));
+    assert!(whole.rays > 480 * 320, "{}", whole.rays);
+    assert!(
+        whole.rgba == native_rgba(name),
+        "differs from tracer render"
+    );
+    let mut merged = Vec::new();
+    for (y0, y1) in [(0, 100), (100, 101), (101, 320)] {
+        let region = Region {
+            x0: 0,
+            y0,
+            x1: 480,
+            y1,
+        };
+        let request = Request {
+            region: Some(region),
+            ..Request::default()
+        };
+        let band = render(&files, Path::new(name), &request).unwrap();
+        assert_eq!(band.rgba.len(), (480 * (y1 - y0) * 4) as usize);
+        merged.extend(band.rgba);
+    }
+    assert!(merged == whole.rgba, "the merged bands differ");
+}
+
+#[test]
+fn a_preview_is_the_same_view_narrower_and_a_canvas_is_cropped() {
+    let files = folder("reflectance2.toml");
+    let request = Request {
+        shrink: Some(4),
+        samples: Some(1),
+        region: None,
+    };
+    let preview = render(&files, Path::new("reflectance2.toml"), &request).unwrap();
+    assert_eq!((preview.size, preview.full), ((125, 100), (500, 400)));
+    let files = folder("robot.toml");
+    let region = Region {
+        x0: 10,
+        y0: 20,
+        x1: 30,
+        y1: 25,
+    };
+    let request = Request {
+        region: Some(region),
+        ..Request::default()
+    };
+    let part = render(&files, Path::new("robot.toml"), &request).unwrap();
+    let whole = native_rgba("robot.toml");
+    let width = part.full.0 as usize;
+    let expected: Vec<u8> = (20..25)
+        .flat_map(|y| whole[(y * width + 10) * 4..(y * width + 30) * 4].to_vec())
+        .collect();
+    assert_eq!(part.rgba, expected);
+}
+
+#[test]
+fn errors_are_json_with_the_words_and_places_of_tracer_check() {
+    let mut files = Memory::new();
+    let text = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\nfvo = 50\n";
+    files.insert(Path::new("s.toml"), text.into()).unwrap();
+    let json = render(&files, Path::new("s.toml"), &Request::default()).unwrap_err();
+    let value: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let loaded = tracer_pipeline::load_from(&files, Path::new("s.toml")).unwrap_err();
+    assert_eq!(value["text"], loaded.to_string());
+    assert!(
+        value["text"].as_str().unwrap().contains("s.toml:4:1"),
+        "{json}"
+    );
+    let problem = &value["problems"][0];
+    assert_eq!(problem["file"], "s.toml");
+    assert_eq!(
+        (problem["line"].clone(), problem["column"].clone()),
+        (4.into(), 1.into())
+    );
+    assert_eq!(problem["key"], "camera.fvo");
+    // A region outside the image is refused, not a panic.
+    files
+        .insert(Path::new("s.toml"), text.replace("fvo", "fov").into())
+        .unwrap();
+    let request = Request {
+        region: Some(Region {
+            x0: 0,
+            y0: 0,
+            x1: 501,
+            y1: 1,
+        }),
+        ..Request::default()
+    };
+    let json = render(&files, Path::new("s.toml"), &request).unwrap_err();
+    assert!(json.contains("outside the 500x400 image"), "{json}");
+}
+
+#[test]
+fn a_packed_archive_renders_as_its_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let zip = dir.path().join("t.zip");
+    tracer_pipeline::pack::pack(&scenes().join("textures.toml"), &zip).unwrap();
+    let mut files = Memory::new();
+    files
+        .insert(Path::new("t.zip"), std::fs::read(&zip).unwrap())
+        .unwrap();
+    let image = render(&files, Path::new("t.zip"), &Request::default()).unwrap();
+    assert!(image.rgba == native_rgba("textures.toml"));
+}

@@ -1,0 +1,387 @@
+// The playground: an editor holding a scene file, the image the tracer's
+// wasm renders of it in Web Workers, the scenes of scenes/ in a menu, files
+// dropped in as the scene's folder, and links that carry the scene's text.
+
+import { EditorView, basicSetup } from "codemirror";
+import { Compartment } from "@codemirror/state";
+import { StreamLanguage } from "@codemirror/language";
+import { toml } from "@codemirror/legacy-modes/mode/toml";
+import { json } from "@codemirror/lang-json";
+import { setDiagnostics, lintGutter } from "@codemirror/lint";
+import { decodeShare, encodeShare } from "./share.js";
+import { zip } from "./zip.js";
+
+const DEBOUNCE_MS = 300;
+const PREVIEW_SHRINK = 4;
+// Above this many pixels a preview is not blown up to the image's size.
+const HUGE_PIXELS = 4096 * 4096;
+
+const menu = document.getElementById("scene-menu");
+const canvas = document.getElementById("image");
+const status = document.getElementById("status");
+const folderNote = document.getElementById("folder");
+const params = new URLSearchParams(location.search);
+// `?workers=N` (tests, the bench) overrides one worker per core.
+const workerCount = Math.max(1, Number(params.get("workers")) || navigator.hardwareConcurrency || 1);
+
+// The scene: its path in the folder (the name messages give it), and the
+// folder's other files, path -> bytes. `archive` is set when the scene is
+// a dropped `tracer pack` archive, rendered as it is.
+const scene = { name: "reflectance2.toml", files: new Map(), archive: null };
+let scenesIndex = [];
+let wasmModule = null;
+
+const language = new Compartment();
+const languageOf = (name) =>
+  name.toLowerCase().endsWith(".json") ? json() : StreamLanguage.define(toml);
+
+const view = new EditorView({
+  parent: document.getElementById("editor"),
+  extensions: [
+    basicSetup,
+    EditorView.lineWrapping,
+    lintGutter(),
+    language.of(languageOf(scene.name)),
+    EditorView.updateListener.of((update) => {
+      if (update.docChanged && !settingText) {
+        if (scene.archive) {
+          // The text typed over an archive's note is a scene of its own.
+          scene.archive = null;
+          scene.name = "scene.toml";
+        }
+        schedule();
+      }
+    }),
+  ],
+});
+let settingText = false;
+
+function setText(text, name) {
+  settingText = true;
+  view.dispatch({
+    changes: { from: 0, to: view.state.doc.length, insert: text },
+    effects: language.reconfigure(languageOf(name)),
+  });
+  settingText = false;
+}
+
+// ---- Workers ----------------------------------------------------------
+
+let pool = [];
+let busy = false;
+let generation = 0;
+
+function makePool() {
+  pool = Array.from({ length: workerCount }, () => {
+    const worker = new Worker("worker.js", { type: "module" });
+    worker.postMessage({ module: wasmModule });
+    return worker;
+  });
+}
+
+// Renders `job` (a region) in `worker`; resolves with the worker's answer.
+function runJob(worker, job) {
+  return new Promise((resolve) => {
+    worker.onmessage = (event) => resolve(event.data);
+    worker.postMessage(job);
+  });
+}
+
+// Ends the render in flight: its workers are stopped mid-render.
+function cancel() {
+  generation += 1;
+  if (busy) {
+    pool.forEach((w) => w.terminate());
+    makePool();
+    busy = false;
+  }
+}
+
+let timer = null;
+function schedule() {
+  clearTimeout(timer);
+  cancel();
+  canvas.dataset.state = "rendering";
+  timer = setTimeout(render, DEBOUNCE_MS);
+}
+
+function folderFiles() {
+  const files = [...scene.files];
+  if (scene.archive) files.push([scene.name, scene.archive]);
+  else files.push([scene.name, new TextEncoder().encode(view.state.doc.toString())]);
+  return files;
+}
+
+// Bands of whole rows, as `tracer render --tile I/N` cuts them.
+function bands(width, height, count) {
+  const n = Math.max(1, Math.min(count, height));
+  const row = (i) => Math.floor((i * height) / n);
+  return Array.from({ length: n }, (_, i) => [0, row(i), width, row(i + 1)]);
+}
+
+async function render() {
+  const mine = ++generation;
+  busy = true;
+  const files = folderFiles();
+  const base = { scene: scene.name, files, samples: 0, panic: window.tracerPage.panicNext };
+  window.tracerPage.panicNext = false;
+  canvas.dataset.state = "rendering";
+  // The quarter-size preview (one sample a pixel) tells the errors and the
+  // image's size quickly; the full image follows across every worker.
+  const preview = await runJob(pool[0], { ...base, id: mine, shrink: PREVIEW_SHRINK, samples: 1, region: null });
+  if (mine !== generation) return;
+  if (!preview.ok) return showError(preview.error);
+  showProblems([]);
+  const { fullWidth, fullHeight } = preview;
+  // A huge image's canvas takes seconds of the page's own thread to make:
+  // its preview is shown at its own size, the canvas made full size once
+  // the full image is there (an edit meanwhile cancels it cheaply).
+  const huge = fullWidth * fullHeight > HUGE_PIXELS;
+  const [showWidth, showHeight] = huge ? [preview.width, preview.height] : [fullWidth, fullHeight];
+  if (canvas.width !== showWidth || canvas.height !== showHeight) {
+    canvas.width = showWidth;
+    canvas.height = showHeight;
+  }
+  let ctx = canvas.getContext("2d");
+  const small = new ImageData(new Uint8ClampedArray(preview.rgba), preview.width, preview.height);
+  const bitmap = await createImageBitmap(small);
+  if (mine !== generation) return;
+  ctx.imageSmoothingEnabled = false;
+  ctx.drawImage(bitmap, 0, 0, showWidth, showHeight);
+  status.className = "";
+  status.textContent = `${scene.name}: preview shown, rendering ${fullWidth}x${fullHeight} on ${pool.length} worker(s)…`;
+
+  const start = performance.now();
+  const regions = bands(fullWidth, fullHeight, pool.length);
+  let rays = 0;
+  const answers = await Promise.all(
+    regions.map((region, i) =>
+      runJob(pool[i], { ...base, id: mine, shrink: 0, region }).then((answer) => {
+        if (mine === generation && answer.ok) {
+          if (huge && canvas.width !== fullWidth) {
+            canvas.width = fullWidth;
+            canvas.height = fullHeight;
+            ctx = canvas.getContext("2d");
+          }
+          const [x0, y0, x1, y1] = region;
+          ctx.putImageData(new ImageData(new Uint8ClampedArray(answer.rgba), x1 - x0, y1 - y0), x0, y0);
+          rays += answer.rays;
+        }
+        return answer;
+      }),
+    ),
+  );
+  if (mine !== generation) return;
+  busy = false;
+  const failed = answers.find((a) => !a.ok);
+  if (failed) return showError(failed.error);
+  const seconds = (performance.now() - start) / 1000;
+  const mrays = rays / seconds / 1e6;
+  window.tracerPage.lastRender = {
+    scene: scene.name,
+    seconds,
+    // The slowest worker's own time in the wasm (the bench's figure).
+    workerSeconds: Math.max(...answers.map((a) => a.ms)) / 1000,
+    rays,
+    workers: regions.length,
+    width: fullWidth,
+    height: fullHeight,
+  };
+  status.textContent = `${scene.name}: ${fullWidth}x${fullHeight} in ${seconds.toFixed(2)} s, ${mrays.toFixed(2)} Mrays/s (${regions.length} worker${regions.length === 1 ? "" : "s"})`;
+  canvas.dataset.state = "done";
+  window.tracerPage.renders += 1;
+}
+
+// ---- Errors -----------------------------------------------------------
+
+function showError(error) {
+  busy = false;
+  status.className = "error";
+  status.textContent = error.text;
+  canvas.dataset.state = "error";
+  showProblems(error.problems.filter((p) => p.file === scene.name && p.line));
+}
+
+// Marks each problem of the scene's own text at its line and column.
+function showProblems(problems) {
+  const doc = view.state.doc;
+  const diagnostics = problems.map((p) => {
+    const line = doc.line(Math.min(p.line, doc.lines));
+    const from = Math.min(line.from + Math.max(0, (p.column || 1) - 1), line.to);
+    const to = Math.max(from + 1, Math.min(line.to, doc.length));
+    return { from, to: Math.min(to, doc.length), severity: "error", message: p.message };
+  });
+  view.dispatch(setDiagnostics(view.state, diagnostics));
+}
+
+// ---- Scenes, files ----------------------------------------------------
+
+async function fetchBytes(path) {
+  const response = await fetch(path);
+  if (!response.ok) throw new Error(`${path}: ${response.status}`);
+  return new Uint8Array(await response.arrayBuffer());
+}
+
+// The scene of the menu at `path` (under scenes/) with the files it reads.
+async function openScene(path, text) {
+  const entry = scenesIndex.find((s) => s.path === path);
+  const files = new Map();
+  if (entry) {
+    await Promise.all(entry.files.map(async (f) => files.set(f, await fetchBytes(`scenes/${f}`))));
+  }
+  const body = text ?? new TextDecoder().decode(await fetchBytes(`scenes/${path}`));
+  scene.name = path;
+  scene.files = files;
+  scene.archive = null;
+  menu.value = entry ? path : "";
+  setText(body, path);
+  showFolder();
+  schedule();
+}
+
+function showFolder() {
+  const names = [...scene.files.keys()];
+  folderNote.textContent = names.length ? `Files of the scene: ${names.join(", ")}` : "";
+}
+
+const SCENE_FILE = /\.(toml|json)$/i;
+
+// Files dropped or picked: a scene file (or a `tracer pack` archive) among
+// them starts a new folder; other files join the scene's folder.
+async function addFiles(list) {
+  const entries = await Promise.all(
+    [...list].map(async (f) => [f.name, new Uint8Array(await f.arrayBuffer())]),
+  );
+  const zip = entries.find(([n]) => /\.zip$/i.test(n));
+  const sceneFile = entries.find(([n]) => SCENE_FILE.test(n));
+  if (zip) {
+    scene.name = zip[0];
+    scene.files = new Map();
+    scene.archive = zip[1];
+    menu.value = "";
+    setText(`# ${zip[0]}: a scene packed by \`tracer pack\`, rendered as it is.\n# Edit here to render this text instead.\n`, "x.toml");
+  } else {
+    if (sceneFile) scene.files = new Map();
+    for (const [name, bytes] of entries) {
+      if (name !== sceneFile?.[0]) scene.files.set(name, bytes);
+    }
+    if (sceneFile) {
+      scene.name = sceneFile[0];
+      menu.value = "";
+      setText(new TextDecoder().decode(sceneFile[1]), sceneFile[0]);
+    }
+  }
+  showFolder();
+  schedule();
+}
+
+document.getElementById("pick-files").addEventListener("change", (e) => addFiles(e.target.files));
+document.addEventListener("dragover", (e) => {
+  e.preventDefault();
+  document.body.classList.add("dragging");
+});
+document.addEventListener("dragleave", () => document.body.classList.remove("dragging"));
+document.addEventListener("drop", (e) => {
+  e.preventDefault();
+  document.body.classList.remove("dragging");
+  addFiles(e.dataTransfer.files);
+});
+
+menu.addEventListener("change", () => openScene(menu.value));
+
+// ---- Share, download --------------------------------------------------
+
+document.getElementById("share").addEventListener("click", async () => {
+  const text = view.state.doc.toString();
+  const link = `${location.origin}${location.pathname}${location.search}#${await encodeShare(scene.name, text)}`;
+  document.getElementById("share").dataset.link = link;
+  history.replaceState(null, "", link);
+  const own = scenesIndex.find((s) => s.path === scene.name);
+  const extra = [...scene.files.keys()].filter((f) => !own || !own.files.includes(f));
+  let note = "Link copied: it holds the scene's text.";
+  if (scene.archive || extra.length) {
+    note = "Link copied, but it holds only the scene's text: this scene reads files the link cannot carry; share it as a .zip instead (Download .zip).";
+  }
+  try {
+    await navigator.clipboard.writeText(link);
+  } catch {
+    note = `Copy this link: ${link}`;
+  }
+  if (canvas.dataset.state !== "error") status.textContent = note;
+});
+
+document.getElementById("download-png").addEventListener("click", () => {
+  canvas.toBlob((blob) => download(blob, `${stem()}.png`), "image/png");
+});
+
+// The scene as a `tracer pack` archive: its text, its files, the manifest.
+// A dropped archive is itself.
+function sceneZip() {
+  if (scene.archive) return scene.archive;
+  const manifest = `scene = ${JSON.stringify(scene.name)}\n`;
+  return zip([["tracer-pack.toml", new TextEncoder().encode(manifest)], ...folderFiles()]);
+}
+
+function download(blob, name) {
+  const a = document.createElement("a");
+  a.href = URL.createObjectURL(blob);
+  a.download = name;
+  a.click();
+  setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+}
+
+const stem = () => scene.name.replace(/^.*\//, "").replace(/\.[^.]*$/, "");
+
+document.getElementById("download-zip").addEventListener("click", () =>
+  download(new Blob([sceneZip()], { type: "application/zip" }), `${stem()}.zip`),
+);
+
+// ---- Start ------------------------------------------------------------
+
+window.tracerPage = {
+  view,
+  renders: 0,
+  lastRender: null,
+  // For tests: the next render's workers panic inside the wasm.
+  panicNext: false,
+  // For tests and scripts: files put into the scene's folder as if dropped.
+  addFiles: (files) =>
+    addFiles(Object.entries(files).map(([name, text]) => new File([text], name))),
+  // The scene's archive, base64 (what Download .zip saves).
+  sceneZipBase64: () => {
+    let s = "";
+    for (const b of sceneZip()) s += String.fromCharCode(b);
+    return btoa(s);
+  },
+};
+
+async function start() {
+  [wasmModule, scenesIndex] = await Promise.all([
+    // Bytes first: compileStreaming refuses a server that does not call
+    // the file application/wasm, and some static servers do not.
+    fetch("tracer_web.wasm")
+      .then((r) => r.arrayBuffer())
+      .then((bytes) => WebAssembly.compile(bytes)),
+    fetch("scenes/index.json").then((r) => r.json()),
+  ]);
+  for (const s of scenesIndex) {
+    const option = document.createElement("option");
+    option.value = s.path;
+    option.textContent = s.lab ? `${s.path} (lab)` : s.path;
+    menu.append(option);
+  }
+  const other = document.createElement("option");
+  other.value = "";
+  other.textContent = "(your scene)";
+  menu.append(other);
+  makePool();
+  const shared = location.hash.length > 1 ? await decodeShare(location.hash.slice(1)) : null;
+  if (shared) await openScene(shared.name, shared.text);
+  else await openScene("reflectance2.toml");
+}
+
+start().catch((e) => {
+  status.className = "error";
+  status.textContent = `The page could not start: ${e}`;
+  canvas.dataset.state = "error";
+});

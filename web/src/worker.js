@@ -1,0 +1,96 @@
+// One render worker: an instance of the tracer's wasm (crates/web) that
+// renders one region of a scene per message. A panic inside the wasm traps;
+// the instance is then dropped and the next job makes a fresh one.
+
+let module = null;
+let instance = null;
+let panicked = null;
+
+function fresh() {
+  panicked = null;
+  const imports = {
+    env: {
+      tracer_panicked(ptr, len) {
+        const bytes = new Uint8Array(instance.exports.memory.buffer, ptr, len);
+        panicked = new TextDecoder().decode(bytes.slice());
+      },
+    },
+  };
+  instance = new WebAssembly.Instance(module, imports);
+  instance.exports.tracer_init();
+  return instance.exports;
+}
+
+// Copies `bytes` into a buffer of the wasm's memory.
+function put(t, bytes) {
+  const ptr = t.tracer_alloc(bytes.length);
+  new Uint8Array(t.memory.buffer, ptr, bytes.length).set(bytes);
+  return [ptr, bytes.length];
+}
+
+function result(t) {
+  return new Uint8Array(t.memory.buffer, t.tracer_result_ptr(), t.tracer_result_len()).slice();
+}
+
+function run(job) {
+  const t = instance ? instance.exports : fresh();
+  if (job.panic) t.tracer_panic();
+  t.tracer_clear_files();
+  const buffers = [];
+  try {
+    for (const [path, bytes] of job.files) {
+      const p = put(t, new TextEncoder().encode(path));
+      const d = put(t, bytes);
+      buffers.push(p, d);
+      if (t.tracer_add_file(p[0], p[1], d[0], d[1]) !== 0) {
+        return { ok: false, error: JSON.parse(new TextDecoder().decode(result(t))) };
+      }
+    }
+    const name = put(t, new TextEncoder().encode(job.scene));
+    buffers.push(name);
+    const [x0, y0, x1, y1] = job.region || [0, 0, 0, 0];
+    const start = performance.now();
+    const rc = t.tracer_render(name[0], name[1], job.shrink, job.samples, x0, y0, x1, y1);
+    const ms = performance.now() - start;
+    if (rc !== 0) {
+      return { ok: false, error: JSON.parse(new TextDecoder().decode(result(t))) };
+    }
+    return {
+      ok: true,
+      rgba: result(t).buffer,
+      width: t.tracer_width(),
+      height: t.tracer_height(),
+      fullWidth: t.tracer_full_width(),
+      fullHeight: t.tracer_full_height(),
+      rays: t.tracer_rays(),
+      ms,
+    };
+  } catch (e) {
+    instance = null;
+    throw e;
+  } finally {
+    // A trapped instance is not used again, so its buffers need no freeing.
+    if (instance) {
+      for (const [ptr, len] of buffers) t.tracer_free(ptr, len);
+    }
+  }
+}
+
+self.onmessage = (event) => {
+  const message = event.data;
+  if (message.module) {
+    module = message.module;
+    return;
+  }
+  let answer;
+  try {
+    answer = run(message);
+  } catch (e) {
+    // A trap (a panic, or memory exhausted): say so, and start afresh.
+    instance = null;
+    const why = panicked ? `the tracer panicked: ${panicked}` : `the tracer failed: ${e}`;
+    answer = { ok: false, error: { text: why, problems: [] } };
+  }
+  answer.id = message.id;
+  self.postMessage(answer, answer.rgba ? [answer.rgba] : []);
+};

@@ -1,0 +1,482 @@
+//! The playground in headless Chromium: `cargo xtask web` builds the page
+//! (crates/web for wasm32, the bundled scripts, the scenes), a static server
+//! serves it, and each test scripts the live page over DevTools.
+
+use serde_json::Value;
+use std::io::Write;
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::sync::OnceLock;
+use std::time::Duration;
+use xtask::web::browser::Browser;
+
+const RENDER: Duration = Duration::from_secs(120);
+
+/// The page, built once for all the tests, and its server's address.
+fn page() -> SocketAddr {
+    static PAGE: OnceLock<SocketAddr> = OnceLock::new();
+    *PAGE.get_or_init(|| {
+        let out = xtask::target_dir().join("web-test");
+        xtask::web::build(&xtask::workspace_root(), &out).expect("cargo xtask web");
+        xtask::web::serve::start(&out, "127.0.0.1:0").expect("serve")
+    })
+}
+
+/// Chromium, or `None` with a notice when it or the wasm toolchain is
+/// missing; under CI (`.ci/run` installs both) that fails instead.
+fn chromium() -> Option<PathBuf> {
+    let found = xtask::golden::browser::find_chromium();
+    let toolchain = xtask::web::toolchain::find();
+    let missing = match (&found, &toolchain) {
+        (None, _) => "Chromium (Debian: apt-get install chromium)".to_string(),
+        (_, Err(e)) => format!("{e:#}"),
+        _ => return found,
+    };
+    assert!(
+        std::env::var_os("CI").is_none(),
+        "CI is set but the playground's tests cannot run: {missing}"
+    );
+    let _ = writeln!(
+        std::io::stderr(),
+        "SKIPPED: the playground's tests need {missing}"
+    );
+    None
+}
+
+/// The page at `query_and_fragment` (e.g. `?workers=2`), its first render done.
+fn open(query_and_fragment: &str) -> Option<Browser> {
+    let chromium = chromium()?;
+    let url = format!("http://{}/{query_and_fragment}", page());
+    let mut browser = Browser::open(&chromium, &url).unwrap();
+    wait_done(&mut browser);
+    Some(browser)
+}
+
+fn wait_done(browser: &mut Browser) {
+    browser
+        .wait_for(
+            "document.getElementById('image').dataset.state === 'done'",
+            RENDER,
+        )
+        .unwrap();
+}
+
+fn eval(browser: &mut Browser, expression: &str) -> Value {
+    browser.eval(expression).unwrap()
+}
+
+/// Replaces the editor's text, as typing would.
+fn type_text(browser: &mut Browser, text: &str) {
+    let text = serde_json::to_string(text).unwrap();
+    eval(
+        browser,
+        &format!(
+            "(() => {{ const v = tracerPage.view; \
+             v.dispatch({{changes: {{from: 0, to: v.state.doc.length, insert: {text}}}}}); }})()"
+        ),
+    );
+}
+
+fn status(browser: &mut Browser) -> String {
+    eval(browser, "document.getElementById('status').textContent")
+        .as_str()
+        .unwrap()
+        .to_string()
+}
+
+/// The canvas equals `golden/NAME.png` bit for bit.
+fn assert_golden(browser: &mut Browser, name: &str) {
+    let shown = browser.canvas_image().unwrap();
+    let golden = image::open(xtask::workspace_root().join(format!("golden/{name}.png")))
+        .unwrap()
+        .to_rgb8();
+    assert_eq!(shown.dimensions(), golden.dimensions(), "{name}");
+    let differing = shown
+        .pixels()
+        .zip(golden.pixels())
+        .filter(|(s, g)| s.0[..3] != g.0[..3] || s.0[3] != 255)
+        .count();
+    assert_eq!(differing, 0, "{name}: pixels differing from the golden");
+}
+
+#[test]
+fn the_default_scene_renders_as_its_golden_and_the_menu_lists_every_scene() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    assert_golden(&mut page, "reflectance2");
+    assert!(
+        status(&mut page).contains("Mrays/s"),
+        "{}",
+        status(&mut page)
+    );
+    let options = eval(
+        &mut page,
+        "[...document.getElementById('scene-menu').options].map(o => o.value)",
+    );
+    let options: Vec<&str> = options
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    // The lab's tables first, in the lab's order; then every other scene.
+    assert_eq!(options[..12], xtask::web::LAB_SCENES);
+    let scenes = xtask::golden::scene_files(&xtask::workspace_root().join("scenes")).unwrap();
+    assert_eq!(options.len(), scenes.len() + 1, "{options:?}");
+    assert!(options.contains(&"bench/bunny.toml"), "{options:?}");
+    assert_eq!(
+        eval(&mut page, "document.getElementById('scene-menu').value"),
+        "reflectance2.toml"
+    );
+}
+
+#[test]
+fn a_scene_with_files_from_the_menu_renders_as_its_golden_on_three_workers() {
+    // Three bands of uneven height: the merge must still be the one image.
+    let Some(mut page) = open("?workers=3") else {
+        return;
+    };
+    eval(
+        &mut page,
+        "(() => { const m = document.getElementById('scene-menu'); \
+         m.value = 'textures.toml'; m.dispatchEvent(new Event('change')); })()",
+    );
+    page.wait_for(
+        "document.getElementById('status').textContent.startsWith('textures.toml: 480x320')",
+        RENDER,
+    )
+    .unwrap();
+    wait_done(&mut page);
+    assert_golden(&mut page, "textures");
+    // Its archive (Download .zip) renders with `tracer render` as the page shows it.
+    let zip = eval(&mut page, "tracerPage.sceneZipBase64()");
+    let zip = xtask::web::browser::base64_decode(zip.as_str().unwrap()).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("textures.zip");
+    std::fs::write(&path, zip).unwrap();
+    let loaded = tracer_pipeline::load(&tracer_pipeline::Input::File(path)).unwrap();
+    let rendered = tracer_pipeline::render(&loaded, &Default::default(), &|_| {}).unwrap();
+    let shown = page.canvas_image().unwrap();
+    let rgb = rendered.image.to_rgb8();
+    assert!(
+        rgb.pixels()
+            .zip(shown.pixels())
+            .all(|(a, b)| a.0 == b.0[..3]),
+        "the archive renders otherwise"
+    );
+    // Dropped back into the page, the archive renders as it is.
+    eval(
+        &mut page,
+        "(() => { const b64 = tracerPage.sceneZipBase64(); \
+         tracerPage.addFiles({'t.zip': Uint8Array.from(atob(b64), c => c.charCodeAt(0))}); })()",
+    );
+    page.wait_for(
+        "document.getElementById('status').textContent.startsWith('t.zip: 480x320')",
+        RENDER,
+    )
+    .unwrap();
+    wait_done(&mut page);
+    assert_golden(&mut page, "textures");
+}
+
+#[test]
+fn an_error_shows_at_its_line_and_goes_when_fixed() {
+    let Some(mut page) = open("?workers=1") else {
+        return;
+    };
+    let good = eval(&mut page, "tracerPage.view.state.doc.toString()");
+    let good = good.as_str().unwrap().to_string();
+    let bad = good.replacen("fov = 50", "fvo = 50", 1);
+    assert_ne!(bad, good);
+    let line = bad.lines().position(|l| l.starts_with("fvo")).unwrap() + 1;
+    type_text(&mut page, &bad);
+    page.wait_for(
+        "document.getElementById('image').dataset.state === 'error'",
+        RENDER,
+    )
+    .unwrap();
+    let text = status(&mut page);
+    // Worded as `tracer check` words it, at its line and column.
+    assert!(
+        text.contains(&format!("reflectance2.toml:{line}:1")),
+        "{text}"
+    );
+    assert!(text.contains("unknown key `fvo`"), "{text}");
+    assert!(text.contains("did you mean `fov`?"), "{text}");
+    // The editor marks that line.
+    let marked = eval(
+        &mut page,
+        "[...document.querySelectorAll('.cm-line')].findIndex(l => l.querySelector('.cm-lintRange-error')) + 1",
+    );
+    assert_eq!(marked, Value::from(line));
+    type_text(&mut page, &good);
+    wait_done(&mut page);
+    let marks = eval(
+        &mut page,
+        "document.querySelectorAll('.cm-lintRange-error').length",
+    );
+    assert_eq!(marks, Value::from(0));
+    assert_golden(&mut page, "reflectance2");
+}
+
+#[test]
+fn a_share_link_opens_with_its_scene() {
+    let Some(mut page) = open("?workers=1") else {
+        return;
+    };
+    let text = eval(&mut page, "tracerPage.view.state.doc.toString()");
+    let edited = text
+        .as_str()
+        .unwrap()
+        .replacen("width = 500", "width = 250", 1)
+        .replacen("height = 400", "height = 200", 1)
+        + "# shared ünïcode\n";
+    type_text(&mut page, &edited);
+    wait_done(&mut page);
+    eval(&mut page, "document.getElementById('share').click()");
+    page.wait_for(
+        "!!document.getElementById('share').dataset.link",
+        Duration::from_secs(10),
+    )
+    .unwrap();
+    let link = eval(&mut page, "document.getElementById('share').dataset.link");
+    let link = link.as_str().unwrap().to_string();
+    assert!(link.contains("#scene=reflectance2.toml&text="), "{link}");
+    drop(page);
+    let mut opened = Browser::open(&chromium().unwrap(), &link).unwrap();
+    wait_done(&mut opened);
+    let shown = eval(&mut opened, "tracerPage.view.state.doc.toString()");
+    assert_eq!(shown.as_str().unwrap(), edited);
+    assert_eq!(
+        eval(
+            &mut opened,
+            "[tracerPage.lastRender.width, tracerPage.lastRender.height]"
+        ),
+        serde_json::json!([250, 200])
+    );
+}
+
+#[test]
+fn a_dropped_obj_renders() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    // A square of two triangles filling the view's centre, lit from the eye.
+    let obj = "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n";
+    let scene = "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nwidth = 64\nheight = 48\n\
+                 [[lights]]\nposition = [0, 0, 5]\n\
+                 [[objects]]\nmesh = { obj = \"square.obj\" }\n\
+                 material = { diffuse = [0.8, 0, 0] }\n";
+    let files = serde_json::json!({ "square.obj": obj, "dropped.toml": scene });
+    eval(&mut page, &format!("tracerPage.addFiles({files})"));
+    page.wait_for(
+        "document.getElementById('status').textContent.startsWith('dropped.toml: 64x48')",
+        RENDER,
+    )
+    .unwrap();
+    wait_done(&mut page);
+    let shown = page.canvas_image().unwrap();
+    assert_eq!(shown.dimensions(), (64, 48));
+    let centre = shown.get_pixel(32, 24).0;
+    assert!(centre[0] > 150 && centre[1] == 0, "{centre:?}");
+    assert_eq!(shown.get_pixel(0, 0).0, [0, 0, 0, 255]);
+    // The file the scene reads is named: without it, the error says so.
+    eval(
+        &mut page,
+        "tracerPage.addFiles({'dropped.toml': \
+         tracerPage.view.state.doc.toString().replace('square.obj', 'missing.obj')})",
+    );
+    page.wait_for(
+        "document.getElementById('image').dataset.state === 'error'",
+        RENDER,
+    )
+    .unwrap();
+    let text = status(&mut page);
+    assert!(text.contains("missing.obj"), "{text}");
+}
+
+#[test]
+fn a_panic_in_the_wasm_shows_as_an_error_and_the_next_edit_renders() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    let text = eval(&mut page, "tracerPage.view.state.doc.toString()");
+    let text = text.as_str().unwrap().to_string();
+    eval(&mut page, "tracerPage.panicNext = true");
+    type_text(&mut page, &format!("{text}# edited\n"));
+    page.wait_for(
+        "document.getElementById('image').dataset.state === 'error'",
+        RENDER,
+    )
+    .unwrap();
+    let shown = status(&mut page);
+    assert!(
+        shown.contains("the tracer panicked") && shown.contains("asked for by tracer_panic"),
+        "{shown}"
+    );
+    type_text(&mut page, &text);
+    wait_done(&mut page);
+    assert_golden(&mut page, "reflectance2");
+}
+
+#[test]
+fn every_scene_of_the_menu_renders_as_its_golden_within_maths_last_bits() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    let scenes = xtask::web::scene_entries(&xtask::workspace_root().join("scenes")).unwrap();
+    let mut differing = Vec::new();
+    for (rep, scene) in scenes.iter().enumerate() {
+        let path = serde_json::to_string(&scene.path).unwrap();
+        eval(
+            &mut page,
+            &format!(
+                "(() => {{ const m = document.getElementById('scene-menu'); \
+                 m.value = {path}; m.dispatchEvent(new Event('change')); }})()"
+            ),
+        );
+        page.wait_for(
+            &format!(
+                "document.getElementById('image').dataset.state === 'done' && \
+                 tracerPage.lastRender.scene === {path} && tracerPage.renders > {}",
+                rep + 1
+            ),
+            RENDER,
+        )
+        .unwrap();
+        let name = scene.path.trim_end_matches(".toml").replace('/', "-");
+        let shown = page.canvas_image().unwrap();
+        let golden = image::open(xtask::workspace_root().join(format!("golden/{name}.png")))
+            .unwrap()
+            .to_rgb8();
+        assert_eq!(shown.dimensions(), golden.dimensions(), "{name}");
+        let mut count = 0;
+        let mut most = 0;
+        for (s, g) in shown.pixels().zip(golden.pixels()) {
+            if s.0[..3] != g.0[..3] {
+                count += 1;
+                let step = (0..3).map(|c| s[c].abs_diff(g[c])).max().unwrap_or(0);
+                most = most.max(step);
+            }
+        }
+        if count > 0 {
+            differing.push((name, count, most));
+        }
+    }
+    // Where wasm's maths library (Rust's libm) rounds a last bit otherwise
+    // than glibc's: powf in the gamma at a code's step (one level of one
+    // channel), sin and cos in the lens' and the lights' samples (a ray a
+    // hair apart). A few pixels by a level; README, In the browser.
+    let _ = writeln!(
+        std::io::stderr(),
+        "differing from their goldens: {differing:?}"
+    );
+    assert!(differing.iter().all(|d| d.2 <= 2), "{differing:?}");
+    // A handful of pixels in all; the lab's tables (gamma 2.2) all equal.
+    let total: usize = differing.iter().map(|d| d.1).sum();
+    assert!(total <= 16, "{differing:?}");
+    for (name, ..) in &differing {
+        let lab = xtask::web::LAB_SCENES
+            .iter()
+            .any(|l| l.trim_end_matches(".toml") == name);
+        assert!(!lab, "the lab's {name} differs: {differing:?}");
+    }
+}
+
+/// Not a check: writes the README's screenshot, docs/playground.png
+/// (`cargo test --release -p xtask --test web -- --ignored screenshot`).
+#[test]
+#[ignore]
+fn screenshot_for_the_readme() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    eval(
+        &mut page,
+        "(() => { const m = document.getElementById('scene-menu'); \
+         m.value = 'textures.toml'; m.dispatchEvent(new Event('change')); })()",
+    );
+    page.wait_for(
+        "document.getElementById('image').dataset.state === 'done' && \
+         tracerPage.lastRender.scene === 'textures.toml'",
+        RENDER,
+    )
+    .unwrap();
+    // A mistake typed in: marked at its line, the last good image kept.
+    let text = eval(&mut page, "tracerPage.view.state.doc.toString()");
+    let bad = text
+        .as_str()
+        .unwrap()
+        .replacen("fov = 55", "fov = 55\nfvo = 2", 1);
+    type_text(&mut page, &bad);
+    page.wait_for(
+        "document.getElementById('image').dataset.state === 'error'",
+        RENDER,
+    )
+    .unwrap();
+    // The editor's marks are drawn on its next frame.
+    std::thread::sleep(Duration::from_millis(500));
+    let png = page.screenshot().unwrap();
+    std::fs::write(xtask::workspace_root().join("docs/playground.png"), png).unwrap();
+}
+
+#[test]
+fn an_edit_cancels_a_long_render() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    let text = eval(&mut page, "tracerPage.view.state.doc.toString()");
+    let text = text.as_str().unwrap().to_string();
+    // Minutes of work even as a preview: 16384x16384 at 4096 samples.
+    let long = text
+        .replacen("width = 500", "width = 16384", 1)
+        .replacen("height = 400", "height = 16384", 1)
+        .replacen("[render]", "[render]\nsamples = 4096", 1);
+    type_text(&mut page, &long);
+    // Past the debounce: the workers are busy with it.
+    std::thread::sleep(Duration::from_secs(2));
+    assert_eq!(
+        eval(&mut page, "document.getElementById('image').dataset.state"),
+        "rendering"
+    );
+    // Its preview (a quarter as wide) is shown at its own size: a canvas of
+    // 16384x16384 would hold up the page for seconds.
+    page.wait_for("document.getElementById('image').width === 4096", RENDER)
+        .unwrap();
+    let start = std::time::Instant::now();
+    type_text(&mut page, &text);
+    wait_done(&mut page);
+    // The long render's workers stopped at once: the next render runs alone.
+    assert!(
+        start.elapsed() < Duration::from_secs(5),
+        "{:?}",
+        start.elapsed()
+    );
+    assert_golden(&mut page, "reflectance2");
+}
+
+#[test]
+fn a_dropped_json_scene_renders_as_its_toml() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    let root = xtask::workspace_root();
+    let text = std::fs::read_to_string(root.join("scenes/reflectance2.toml")).unwrap();
+    let value: toml::Value = toml::from_str(&text).unwrap();
+    let json = serde_json::to_string_pretty(&value).unwrap();
+    let files = serde_json::json!({ "final.json": json });
+    eval(&mut page, &format!("tracerPage.addFiles({files})"));
+    page.wait_for(
+        "document.getElementById('status').textContent.startsWith('final.json: 500x400')",
+        RENDER,
+    )
+    .unwrap();
+    wait_done(&mut page);
+    assert_golden(&mut page, "reflectance2");
+    // The editor holds it, as JSON.
+    let shown = eval(&mut page, "tracerPage.view.state.doc.toString()");
+    assert_eq!(shown.as_str().unwrap(), json);
+    let menu = eval(&mut page, "document.getElementById('scene-menu').value");
+    assert_eq!(menu, "");
+}
