@@ -3,6 +3,7 @@
 //! from, so that a problem found in the merged scene is shown in the file
 //! and at the line that wrote it.
 
+use crate::budget::Budget;
 use crate::diagnostic::Diagnostic;
 use crate::error::SceneError;
 use crate::images::{self, ImageCache};
@@ -214,6 +215,7 @@ pub(crate) fn resolve(
         seen: HashMap::new(),
         parts: Vec::new(),
         images: ImageCache::default(),
+        budget: Budget::default(),
     };
     let include = std::mem::take(&mut scene.include);
     loader.includes(0, base(path), &include);
@@ -249,6 +251,8 @@ struct Loader<'s> {
     parts: Vec<Part>,
     /// Texture images read so far, each file once.
     images: ImageCache,
+    /// The triangles the meshes not yet read may still make.
+    budget: Budget,
 }
 
 impl Loader<'_> {
@@ -415,7 +419,8 @@ impl Loader<'_> {
     /// Reads the meshes and texture images of `part`, relative to `base`.
     fn read_files(&mut self, part: &mut Part, base: &Path) {
         let images = &mut self.images;
-        let meshes = obj::load_object_meshes(&mut part.objects, base, self.source, images);
+        let read = (&mut *images, &mut self.budget);
+        let meshes = obj::load_object_meshes(&mut part.objects, base, self.source, read);
         let items = (&mut part.materials, part.objects.as_mut_slice());
         let textures = images::load_part_images(items, base, self.source, images);
         let problems = &mut self.problems[part.file].meshes;
