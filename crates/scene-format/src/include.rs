@@ -216,6 +216,7 @@ pub(crate) fn resolve(
         parts: Vec::new(),
         images: ImageCache::default(),
         budget: Budget::default(),
+        first_places: Default::default(),
     };
     let include = std::mem::take(&mut scene.include);
     loader.includes(0, base(path), &include);
@@ -253,6 +254,8 @@ struct Loader<'s> {
     images: ImageCache,
     /// The triangles the meshes not yet read may still make.
     budget: Budget,
+    /// Where each file included twice was first included (`first_place`).
+    first_places: std::cell::RefCell<HashMap<PathBuf, String>>,
 }
 
 impl Loader<'_> {
@@ -339,12 +342,23 @@ impl Loader<'_> {
                 chain.join(" -> ")
             ));
         }
-        let &(including, k) = self.seen.get(identity)?;
         Some(format!(
             "`{entry}` is included already, at {}; a file is included once",
+            self.first_place(identity)?
+        ))
+    }
+
+    /// "`name`:line:column" of the entry that first included `identity`,
+    /// worked out once: each costs a walk of the including file's text, so
+    /// a file named 10,000 times would take quadratic time.
+    fn first_place(&self, identity: &PathBuf) -> Option<String> {
+        let &(including, k) = self.seen.get(identity)?;
+        let mut places = self.first_places.borrow_mut();
+        let place = places.entry(identity.clone()).or_insert_with(|| {
             self.origins
                 .place(including, &KeyPath::root().key("include").index(k))
-        ))
+        });
+        Some(place.clone())
     }
 
     /// Reads and parses an included file; its problems are reported at
@@ -545,6 +559,25 @@ mod tests {
             message,
             "`./s.toml` includes itself (s.toml -> a.toml -> s.toml); it is the scene file"
         );
+    }
+
+    #[test]
+    fn a_file_named_many_times_is_reported_in_linear_time() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(
+            dir.path().join("a.toml"),
+            "[materials.m]\ndiffuse = [1, 1, 1]\n",
+        )
+        .unwrap();
+        let names = vec!["\"a.toml\""; 10_000].join(", ");
+        let scene = dir.path().join("s.toml");
+        std::fs::write(&scene, format!("include = [{names}]\n{CAMERA}")).unwrap();
+        let start = std::time::Instant::now();
+        let (file, path, message) = first(&load_file(&scene).unwrap_err());
+        assert!(start.elapsed().as_secs() < 2, "{:?}", start.elapsed());
+        assert_eq!((file.as_str(), path.as_str()), ("s.toml", "include[1]"));
+        assert!(message.contains("included already, at"), "{message}");
+        assert!(message.contains("s.toml:1:12"), "{message}");
     }
 
     #[test]
