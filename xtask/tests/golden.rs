@@ -106,11 +106,12 @@ fn the_goldens_hold_the_labs_hand_worked_values() {
     assert_eq!(px("shadows", 100, 150), [70, 70, 70]);
     // The lab's scenes are all 500x400; the scenes beyond the lab (checked
     // by the physics tests of tracer-core) are not.
-    const BEYOND_LAB: [&str; 12] = [
+    const BEYOND_LAB: [&str; 13] = [
         "antialiasing",
         "bench-bunny",
         "boxes",
         "cornell-box",
+        "ellipsoids",
         "global-illumination",
         "depth-of-field",
         "glass",
@@ -252,6 +253,25 @@ fn the_textures_golden_puts_the_checker_squares_where_the_camera_does() {
     assert!(dark(238) && dark(239), "left of x = 0");
     assert!(light(240) && light(241) && light(315), "from x = 0 to 1");
     assert!(dark(318) && dark(319), "right of x = 1");
+}
+
+/// The red ellipsoid of `ellipsoids.toml` (semi-axes a = 2.4, b = 1.2,
+/// c = 1, centred on the view axis D = 10 away): its outline is the cone
+/// from the eye tangent to it, half-angles atan(a / sqrt(D^2 - c^2)) and
+/// atan(b / ...), so with the focal length f = 240 / tan 25 = 514.7 pixels
+/// it is 2 f a / sqrt(99) = 248.3 pixels wide and 124.1 high.
+#[test]
+fn the_ellipsoids_golden_outlines_the_ellipse_the_axes_give() {
+    let image = real_golden("ellipsoids");
+    let red = |i, j| {
+        let [r, g, _] = image.get_pixel(i, j).0;
+        r > g.saturating_add(40)
+    };
+    let span = |cells: Vec<u32>| cells.last().unwrap() - cells.first().unwrap() + 1;
+    let width = span((0..480).filter(|&i| red(i, 180)).collect());
+    let height = span((0..360).filter(|&j| red(240, j)).collect());
+    assert!(width.abs_diff(248) <= 1, "width {width}");
+    assert!(height.abs_diff(124) <= 1, "height {height}");
 }
 
 #[test]

@@ -3,7 +3,7 @@
 use std::path::Path;
 
 /// Every command of `tracer`, as the README lists them (help excluded).
-const PAGES: [&str; 13] = [
+const PAGES: [&str; 15] = [
     "tracer-new",
     "tracer-convert",
     "tracer",
@@ -17,6 +17,8 @@ const PAGES: [&str; 13] = [
     "tracer-merge",
     "tracer-schema",
     "tracer-completions",
+    "tracer-compare",
+    "tracer-explain",
 ];
 
 fn page(dir: &Path, name: &str) -> String {

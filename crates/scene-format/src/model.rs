@@ -527,8 +527,8 @@ pub struct Object {
     /// Where the shape goes: a list of steps `[{ translate = [..] },
     /// { rotate = [..] }, { scale = .. }]` (the lab's matrix product: the
     /// last step acts first), or the table `{ translate, rotate, scale }`
-    /// (scale, then rotate, then translate). A sphere's steps scale all axes
-    /// alike. Left out: the shape as written.
+    /// (scale, then rotate, then translate). A sphere scaled unevenly is an
+    /// ellipsoid. Left out: the shape as written.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub transform: Option<Transform>,
     /// A material's name (a key of `materials`) or an inline material

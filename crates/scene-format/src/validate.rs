@@ -490,7 +490,7 @@ impl Validator {
             ),
         }
         if let Some(t) = &o.transform {
-            self.transform(&path.key("transform"), t, o.sphere.is_some());
+            self.transform(&path.key("transform"), t);
         }
         if let Some(uv) = &o.uv {
             self.triangle_uv(&path.key("uv"), uv, o.triangle.is_some());
@@ -541,12 +541,12 @@ impl Validator {
         }
     }
 
-    fn transform(&mut self, path: &KeyPath, t: &Transform, on_sphere: bool) {
+    fn transform(&mut self, path: &KeyPath, t: &Transform) {
         match t {
             Transform::Table(t) => {
                 self.point(path.key("translate"), t.translate);
                 self.finite_vec(path.key("rotate"), t.rotate);
-                self.scale(&path.key("scale"), t.scale, on_sphere);
+                self.scale(&path.key("scale"), t.scale);
             }
             Transform::Steps(steps) => {
                 for (k, step) in steps.iter().enumerate() {
@@ -554,17 +554,16 @@ impl Validator {
                     match *step {
                         TransformStep::Translate(v) => _ = self.point(path.key("translate"), v),
                         TransformStep::Rotate(v) => _ = self.finite_vec(path.key("rotate"), v),
-                        TransformStep::Scale(s) => self.scale(&path.key("scale"), s, on_sphere),
+                        TransformStep::Scale(s) => self.scale(&path.key("scale"), s),
                     }
                 }
             }
         }
     }
 
-    /// A transform's scale: finite, non-zero, within `SCALE_RANGE`; on a
-    /// sphere the same size on every axis (rotations, translations and
-    /// such scales keep a sphere a sphere; any other would make an ellipsoid).
-    fn scale(&mut self, path: &KeyPath, scale: Scale, on_sphere: bool) {
+    /// A transform's scale: finite, non-zero, within `SCALE_RANGE` (on a
+    /// sphere, uneven factors make an ellipsoid).
+    fn scale(&mut self, path: &KeyPath, scale: Scale) {
         let s = scale.per_axis();
         let (lo, hi) = SCALE_RANGE;
         if !self.finite_vec(path, s) {
@@ -577,14 +576,6 @@ impl Validator {
                 path,
                 format!(
                     "expected factors from {lo:e} to {hi:e} (or their negatives), found {}; single-precision tracing would flatten or overflow the shape",
-                    show(s)
-                ),
-            );
-        } else if on_sphere && s.iter().any(|x| x.abs() != s[0].abs()) {
-            self.error(
-                path,
-                format!(
-                    "expected one factor for all axes on a sphere (it would not stay a sphere), found {}",
                     show(s)
                 ),
             );

@@ -31,6 +31,7 @@ pub enum Command {
     New(tool_args::NewArgs),
     Convert(tool_args::ConvertArgs),
     Completions(tool_args::CompletionsArgs),
+    Compare(crate::compare_args::CompareArgs),
 }
 
 /// The clap definition of `tracer`, for completions and man pages.

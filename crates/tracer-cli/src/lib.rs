@@ -4,6 +4,7 @@
 
 pub mod args;
 mod cli;
+pub mod compare_args;
 pub mod tool_args;
 
 pub use cli::{command, Cli, Command};

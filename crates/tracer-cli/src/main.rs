@@ -36,6 +36,7 @@ fn main() -> ExitCode {
         Command::New(args) => commands::new::run(&args),
         Command::Convert(args) => error::finish(commands::convert::run(&args)),
         Command::Completions(args) => error::finish(commands::completions::run(&args)),
+        Command::Compare(args) => commands::compare::run(&args),
     };
     outcome.into()
 }

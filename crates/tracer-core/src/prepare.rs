@@ -299,22 +299,36 @@ fn place_triangle(vertices: [Vec3; 3], uv: UvMap, placement: &Placement) -> Opti
     (area != Vec3::ZERO).then_some((Shape::Triangle(triangle), uv))
 }
 
-/// A sphere carried by `placement`, which validation keeps to rotations,
-/// translations and scales alike on every axis: its centre moves, its
-/// radius scales, and its texture turns with it.
+/// A sphere carried by `placement`: its centre moves; under rotations,
+/// translations and even scales its radius scales and its texture turns
+/// with it; under any other linear map it becomes an ellipsoid.
 fn place_sphere(sphere: &Sphere, placement: &Placement) -> Sphere {
     let linear = placement.linear();
+    let center = placement.apply(sphere.center);
     if linear == glam::Mat3::IDENTITY {
-        return Sphere::new(placement.apply(sphere.center), sphere.radius);
+        return Sphere::new(center, sphere.radius);
     }
     let scale = linear.x_axis.length();
+    if !is_even_scale(linear, scale) {
+        return Sphere::ellipsoid(center, sphere.radius, linear);
+    }
     let turn = linear * (1.0 / scale);
     Sphere {
-        center: placement.apply(sphere.center),
+        center,
         radius: sphere.radius * scale,
         // Orthonormal: its inverse, world to texture, is its transpose.
         texture_frame: Some(Box::new(turn.transpose())),
+        stretch: None,
     }
+}
+
+/// Whether `linear` is a rotation (or mirror) times `scale` on every axis:
+/// its columns orthogonal and all of length `scale`, to float rounding.
+fn is_even_scale(linear: glam::Mat3, scale: f32) -> bool {
+    let gram = linear.transpose() * linear;
+    let off = gram - glam::Mat3::from_diagonal(glam::Vec3::splat(scale * scale));
+    let tolerance = 1e-5 * scale * scale;
+    off.to_cols_array().iter().all(|x| x.abs() <= tolerance)
 }
 
 /// The uv map of a triangle whose corners have texture coordinates `uv`:

@@ -6,7 +6,7 @@ use crate::camera::Camera;
 use crate::geometry::{Object, Shape, SharedMesh, Sphere, SurfaceHit};
 use crate::image::Encoding;
 use crate::integrate::lanes::LaneScene;
-use crate::light::area::AreaShape;
+use crate::light::area::{AreaShape, EllipsoidLight};
 use crate::light::environment::Environment;
 use crate::light::lights::{AreaLight, Lights, PointSource};
 use crate::light::Light;
@@ -435,11 +435,7 @@ fn path_lights(parts: &SceneParts, bounds: Option<(Vec3, Vec3)>) -> Lights {
         }
         if let Shape::Sphere(s) = &object.shape {
             let radiance = emission(object.material);
-            if radiance != Vec3::ZERO {
-                let shape = AreaShape::Sphere {
-                    center: s.center,
-                    radius: s.radius,
-                };
+            if let Some(shape) = round_light(s).filter(|_| radiance != Vec3::ZERO) {
                 areas.push(AreaLight { shape, radiance });
                 sphere_objects.push(index as u32);
             }
@@ -449,6 +445,21 @@ fn path_lights(parts: &SceneParts, bounds: Option<(Vec3, Vec3)>) -> Lights {
     let radius = bounds.map_or(1.0, |(lo, hi)| ((hi - lo).length() / 2.0).max(1e-3));
     let environment = parts.environment.clone().map(|e| (e, radius));
     Lights::new(points, areas, &sphere_objects, environment)
+}
+
+/// An emitting sphere's or ellipsoid's shape as a light; None for an
+/// ellipsoid squashed flat (validation keeps scales from zero).
+fn round_light(s: &Sphere) -> Option<AreaShape> {
+    match &s.stretch {
+        None => Some(AreaShape::Sphere {
+            center: s.center,
+            radius: s.radius,
+        }),
+        Some(m) => {
+            let light = EllipsoidLight::new(s.center, s.radius, m.inverse())?;
+            Some(AreaShape::Ellipsoid(Box::new(light)))
+        }
+    }
 }
 
 /// Emitting triangles as area lights, each pair that is a quad's two

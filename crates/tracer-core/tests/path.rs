@@ -274,8 +274,8 @@ type PixelFilter = fn(usize) -> bool;
 
 #[test]
 fn light_samples_bsdf_samples_and_mis_converge_to_the_same_mean() {
-    // A glossy floor and a matte sphere lit by a square and a sphere that
-    // emit: each way of finding light is unbiased on its own, so the
+    // A glossy floor and a matte sphere lit by a square, a sphere and an
+    // ellipsoid that emit: each way of finding light is unbiased on its own, so the
     // three images have the same mean, within 3 standard errors of the
     // difference, over the whole image and each quarter of it (4).
     let scene = scene_from(
@@ -286,6 +286,8 @@ fn light_samples_bsdf_samples_and_mis_converge_to_the_same_mean() {
          [materials.matte]\ndiffuse = [0.7, 0.5, 0.3]\n\
          [[objects]]\nquad = { corner = [-0.5, 2.5, -0.5], edge_u = [1, 0, 0], edge_v = [0, 0, 1] }\nmaterial = \"glow\"\n\
          [[objects]]\nsphere = { center = [1.5, 0.8, -1], radius = 0.2 }\nmaterial = \"warm\"\n\
+         [[objects]]\nsphere = { center = [0, 0, 0], radius = 0.25 }\nmaterial = { emission = [1, 2, 5] }\n\
+         transform = { scale = [2.5, 0.6, 1], rotate = [0, 20, 30], translate = [-1.3, 1.3, -0.8] }\n\
          [[objects]]\nsphere = { center = [-0.4, 0.5, 0], radius = 0.5 }\nmaterial = \"matte\"\n\
          [[objects]]\nquad = { corner = [-10, 0, 10], edge_u = [20, 0, 0], edge_v = [0, 0, -20] }\nmaterial = \"floor\"\n",
     );

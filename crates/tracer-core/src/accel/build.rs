@@ -92,10 +92,10 @@ impl BuildPrim {
                 }
             }
             Shape::Sphere(s) => {
-                let (c, r) = (Vec3A::from(s.center), Vec3A::splat(s.radius));
+                let (min, max) = s.bounds();
                 Aabb {
-                    min: c - r,
-                    max: c + r,
+                    min: min.into(),
+                    max: max.into(),
                 }
             }
             // Instances are the primitives of a tree of their own (`instances.rs`).

@@ -444,7 +444,13 @@ mod tests {
         let mut objects = Vec::new();
         for i in 0..n {
             let c = rng.vec(5.0);
-            let shape = if i % 10 == 0 {
+            let shape = if i % 20 == 10 {
+                // An ellipsoid, stretched and turned.
+                let axes = Vec3::new(1.0, 0.2, 0.5) + rng.vec(1.0).abs();
+                let turn = glam::Mat3::from_axis_angle(rng.vec(1.0).normalize(), rng.next() * 3.0);
+                let linear = turn * glam::Mat3::from_diagonal(axes);
+                Shape::Sphere(Sphere::ellipsoid(c, 0.05 + 0.2 * rng.next().abs(), linear))
+            } else if i % 10 == 0 {
                 Shape::Sphere(Sphere::new(c, 0.05 + 0.3 * rng.next().abs()))
             } else {
                 Shape::Triangle(Triangle::new(c, c + rng.vec(0.6), c + rng.vec(0.6)))

@@ -47,14 +47,15 @@ impl SurfaceHit {
         object: usize,
         material: usize,
     ) -> SurfaceHit {
-        let normal = sphere.normal(ray.at(t));
+        let point = ray.at(t);
+        let normal = sphere.normal(point);
         SurfaceHit {
             t,
             object,
             material,
             geometric_normal: normal,
             shading_normal: normal,
-            uv: sphere.uv(normal),
+            uv: sphere.uv(point, normal),
             front_face: ray.dir().dot(normal) < 0.0,
             shadow_offset: Vec3::ZERO,
         }

@@ -90,7 +90,7 @@ impl Shape {
     /// an instance's padded world box.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
         match self {
-            Shape::Sphere(s) => Some((s.center - s.radius, s.center + s.radius)),
+            Shape::Sphere(s) => Some(s.bounds()),
             Shape::Triangle(t) => Some((t.v0.min(t.v1).min(t.v2), t.v0.max(t.v1).max(t.v2))),
             Shape::Plane(_) => None,
             Shape::Instance(i) => Some(i.bounds()),

@@ -86,7 +86,7 @@ impl LaneScene {
             // The shape first: an instance's own `material` is not an index
             // the scene checks.
             let (prim, surface) = match &object.shape {
-                Shape::Sphere(s) => (
+                Shape::Sphere(s) if s.stretch.is_none() => (
                     Prim::Sphere {
                         center: s.center,
                         radius2: s.radius * s.radius,

@@ -1,10 +1,11 @@
 //! The shapes of area lights, and how a point of each is drawn as seen
 //! from a shaded point: a triangle or a parallelogram (a quad, a box's
 //! face) by its area, a sphere by the cone of directions it fills (its
-//! visible cap, with no samples wasted on the far side).
+//! visible cap, with no samples wasted on the far side), an ellipsoid by
+//! the area of the round sphere it stretches.
 
 use crate::bsdf::Frame;
-use glam::{Vec2, Vec3};
+use glam::{Mat3, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 use std::f32::consts::PI;
 
@@ -32,6 +33,81 @@ pub enum AreaShape {
     },
     /// Emits outward.
     Sphere { center: Vec3, radius: f32 },
+    /// Emits outward. Boxed: its maps would make every light larger.
+    Ellipsoid(Box<EllipsoidLight>),
+}
+
+/// The sphere of `radius` about the origin carried by `linear` to
+/// `center`. Its points are drawn uniformly on that round sphere and
+/// carried: their density by area is the round one over the stretch of
+/// area there, |det A| |A^-T q| at the round sphere's unit normal q.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EllipsoidLight {
+    center: Vec3,
+    radius: f32,
+    linear: Mat3,
+    inverse: Mat3,
+    det: f32,
+    area: f32,
+}
+
+impl EllipsoidLight {
+    /// None when `linear` has no inverse.
+    pub fn new(center: Vec3, radius: f32, linear: Mat3) -> Option<EllipsoidLight> {
+        let det = linear.determinant().abs();
+        if !(det.is_finite() && det > 0.0) {
+            return None;
+        }
+        let mut light = EllipsoidLight {
+            center,
+            radius,
+            linear,
+            inverse: linear.inverse(),
+            det,
+            area: 0.0,
+        };
+        light.area = light.measure_area();
+        Some(light)
+    }
+
+    /// How much area grows where the round sphere's unit normal is `q`.
+    fn stretch(&self, q: Vec3) -> f32 {
+        self.det * (self.inverse.transpose() * q).length()
+    }
+
+    /// The area: the round sphere's times the mean stretch, over 4096
+    /// points spread evenly on it (a spiral of equal areas). Used only to
+    /// weigh the light among the others: a tenth of a percent is plenty.
+    fn measure_area(&self) -> f32 {
+        const N: usize = 4096;
+        let golden = PI * (3.0 - 5.0f32.sqrt());
+        let sum: f64 = (0..N)
+            .map(|k| {
+                let z = 1.0 - (2 * k + 1) as f32 / N as f32;
+                let r = (1.0 - z * z).max(0.0).sqrt();
+                let phi = golden * k as f32;
+                f64::from(self.stretch(Vec3::new(r * phi.cos(), r * phi.sin(), z)))
+            })
+            .sum();
+        (4.0 * PI * self.radius * self.radius) * (sum / N as f64) as f32
+    }
+
+    /// The density by area at surface point `point`.
+    fn area_pdf(&self, point: Vec3) -> f32 {
+        let q = (self.inverse * (point - self.center)).normalize_or_zero();
+        1.0 / (4.0 * PI * self.radius * self.radius * self.stretch(q))
+    }
+
+    fn sample(&self, from: Vec3, u: Vec2) -> Option<AreaPoint> {
+        let z = 1.0 - 2.0 * u.x;
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        let phi = 2.0 * PI * u.y;
+        let q = Vec3::new(r * phi.cos(), r * phi.sin(), z);
+        let point = self.center + self.radius * (self.linear * q);
+        let normal = (self.inverse.transpose() * q).normalize();
+        let area = 4.0 * PI * self.radius * self.radius * self.stretch(q);
+        flat_point(point, normal, area, from)
+    }
 }
 
 /// A point drawn on an area light, seen from a shaded point.
@@ -77,6 +153,7 @@ impl AreaShape {
         match self {
             AreaShape::Triangle { area, .. } | AreaShape::Parallelogram { area, .. } => *area,
             AreaShape::Sphere { radius, .. } => 4.0 * PI * radius * radius,
+            AreaShape::Ellipsoid(e) => e.area,
         }
     }
 
@@ -104,6 +181,7 @@ impl AreaShape {
                 area,
             } => flat_point(*corner + u.x * *e1 + u.y * *e2, *normal, *area, from),
             AreaShape::Sphere { center, radius } => sphere_sample(*center, *radius, from, u),
+            AreaShape::Ellipsoid(e) => e.sample(from, u),
         }
     }
 
@@ -123,12 +201,19 @@ impl AreaShape {
                 let cone = Cone::of(*center, *radius, from);
                 cone.map_or(0.0, |c| 1.0 / (2.0 * PI * c.one_minus_cos_max))
             }
+            AreaShape::Ellipsoid(e) => {
+                if cos <= 0.0 {
+                    return 0.0;
+                }
+                e.area_pdf(point) * (point - from).length_squared() / cos
+            }
         }
     }
 }
 
-/// `point` of a flat light of unit `normal` and `area`, drawn uniformly by
-/// area, seen from `from`: its density by solid angle is d^2 / (cos A).
+/// `point` of a light of unit `normal` there, drawn with density 1 / `area`
+/// by area (uniformly on a flat light), seen from `from`: its density by
+/// solid angle is d^2 / (cos A).
 /// None when it faces away.
 #[inline(always)]
 fn flat_point(point: Vec3, normal: Vec3, area: f32, from: Vec3) -> Option<AreaPoint> {
@@ -280,5 +365,42 @@ mod tests {
         }
         // From inside, nothing: the sphere emits outward.
         assert!(sphere.sample(center, Vec2::splat(0.5)).is_none());
+    }
+
+    #[test]
+    fn an_ellipsoid_s_area_and_density_agree_with_its_samples() {
+        // Semi-axes 3, 1, 1: area 2 pi (1 + 3 e^-1 asin e), e^2 = 8/9.
+        let linear = Mat3::from_diagonal(Vec3::new(3.0, 1.0, 1.0));
+        let e = EllipsoidLight::new(Vec3::new(0.0, 0.0, 10.0), 1.0, linear).unwrap();
+        let ecc = (8.0f32 / 9.0).sqrt();
+        let exact = 2.0 * PI * (1.0 + 3.0 / ecc * ecc.asin());
+        assert!((e.area / exact - 1.0).abs() < 1e-3, "{} vs {exact}", e.area);
+        // The solid angle the samples report (the mean of 1/pdf over all
+        // draws, facing ones counted) equals the ellipsoid's silhouette
+        // seen from far, pi * 3 * 1 / d^2, within a few percent; and each
+        // sample's density is the one pdf() gives its point.
+        let shape = AreaShape::Ellipsoid(Box::new(e));
+        let n = 256;
+        let mut solid_angle = 0.0f64;
+        for i in 0..n {
+            for j in 0..n {
+                let u = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+                let Some(s) = shape.sample(Vec3::ZERO, u) else {
+                    continue;
+                };
+                let q = s.point - Vec3::new(0.0, 0.0, 10.0);
+                assert!(((q.x / 3.0).powi(2) + q.y * q.y + q.z * q.z - 1.0).abs() < 1e-4);
+                let normal = Vec3::new(q.x / 9.0, q.y, q.z).normalize();
+                let cos = -s.wi.dot(normal);
+                assert!((shape.pdf(Vec3::ZERO, s.point, cos) / s.pdf - 1.0).abs() < 1e-3);
+                solid_angle += 1.0 / f64::from(s.pdf);
+            }
+        }
+        let solid_angle = solid_angle / f64::from(n * n);
+        let expected = f64::from(3.0 * PI / 100.0);
+        assert!(
+            (solid_angle / expected - 1.0).abs() < 0.03,
+            "{solid_angle} vs {expected}"
+        );
     }
 }

@@ -55,7 +55,7 @@ pub struct Lights {
     /// pi / the total power (of luminance): a triangle's density by area
     /// is its radiance's luminance times this.
     per_area: f32,
-    /// (object, index into `areas`) of each emissive sphere, by object,
+    /// (object, index into `areas`) of each emissive sphere or ellipsoid, by object,
     /// to find its density when a path meets it.
     spheres: Vec<(u32, u32)>,
 }
@@ -94,7 +94,7 @@ impl Lights {
         let spheres = areas
             .iter()
             .enumerate()
-            .filter(|(_, a)| matches!(a.shape, AreaShape::Sphere { .. }))
+            .filter(|(_, a)| matches!(a.shape, AreaShape::Sphere { .. } | AreaShape::Ellipsoid(_)))
             .zip(sphere_objects)
             .map(|((k, _), &object)| (object, k as u32))
             .collect::<Vec<_>>();

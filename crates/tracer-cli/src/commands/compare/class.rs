@@ -1,0 +1,272 @@
+//! `tracer compare --report DIR`: a class's images against the scenes they
+//! are named after, each scene rendered once; the report written whole.
+//!
+//! The naming rule: an image (.png, .jpg, .jpeg, in DIR or its folders) is
+//! of the scene whose name is its file stem, or the part of its stem before
+//! a `-` (the longest such name wins: `illumination-ambient-bob.png` is of
+//! `illumination-ambient`, not `illumination`); failing that, the same of
+//! its folder's name (`illumination/bob.png`). A scene's name is its path
+//! below the scenes' folder without the extension, `-` for `/`, as the
+//! goldens are named (`bench/bunny.toml` is `bench-bunny`).
+
+use super::comparison::Comparison;
+use super::input::{self, BadInput, Reference};
+use super::page::{self, Entry};
+use super::pair::percent;
+use crate::console::{self, note};
+use anyhow::Result;
+use rayon::prelude::*;
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use tracer_pipeline::Input;
+
+/// The extensions of the images compared.
+const IMAGE_EXTENSIONS: [&str; 3] = ["png", "jpg", "jpeg"];
+/// The extensions of scene files.
+const SCENE_EXTENSIONS: [&str; 2] = ["toml", "json"];
+
+/// Compares and writes the report; true when every image is within tolerance.
+pub fn run(dir: &Path, scenes: &Path, out: &Path, tolerance: u8) -> Result<bool> {
+    page::check_out(out)?;
+    let names = scene_names(scenes)?;
+    let (matched, unmatched) = submissions(dir, out, &names)?;
+    for path in &unmatched {
+        note!("skipped: {} is named after no scene", path.display());
+    }
+    if matched.is_empty() {
+        return Err(BadInput(format!(
+            "{}: no image is named after a scene of {} (e.g. illumination.png, \
+             alice/illumination.png or illumination-alice.png)",
+            dir.display(),
+            scenes.display()
+        ))
+        .into());
+    }
+    let references = render_scenes(&matched, &names)?;
+    let images = matched
+        .iter()
+        .map(|(path, _)| input::read_image(path))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut entries: Vec<Entry> = matched
+        .into_par_iter()
+        .zip(images)
+        .map(|((path, scene), image)| {
+            let reference = &references[&scene];
+            let comparison = Comparison::new(&image, &reference.image, reference.gamma, tolerance);
+            Entry {
+                path,
+                scene,
+                image,
+                comparison,
+            }
+        })
+        .collect();
+    entries.sort_by(|a, b| Comparison::worse_first(&a.comparison, &b.comparison));
+    page::write(out, &entries, &references, &unmatched, tolerance)?;
+    console::stdout(&table(&entries, references.len()))?;
+    note!("report -> {}", out.join("index.html").display());
+    Ok(entries.iter().all(|e| e.comparison.within_tolerance()))
+}
+
+/// Every scene file below `scenes` by its name.
+fn scene_names(scenes: &Path) -> Result<BTreeMap<String, PathBuf>> {
+    let mut names = BTreeMap::new();
+    for path in files(scenes, &SCENE_EXTENSIONS)? {
+        let name = relative_name(&path, scenes);
+        if let Some(other) = names.insert(name.clone(), path.clone()) {
+            return Err(BadInput(format!(
+                "{} and {} are both named `{name}`: one image name cannot tell them apart",
+                other.display(),
+                path.display()
+            ))
+            .into());
+        }
+    }
+    Ok(names)
+}
+
+/// `bench/bunny.toml` below `root`: `bench-bunny`.
+fn relative_name(path: &Path, root: &Path) -> String {
+    let relative = path.strip_prefix(root).unwrap_or(path).with_extension("");
+    let parts: Vec<String> = relative
+        .components()
+        .map(|c| c.as_os_str().to_string_lossy().into_owned())
+        .collect();
+    parts.join("-")
+}
+
+/// The images below `dir` (not in `out`) with their scene's name, and
+/// those named after no scene, in path order.
+#[allow(clippy::type_complexity)]
+fn submissions(
+    dir: &Path,
+    out: &Path,
+    names: &BTreeMap<String, PathBuf>,
+) -> Result<(Vec<(PathBuf, String)>, Vec<PathBuf>)> {
+    let out = out.canonicalize().ok();
+    let mut matched = Vec::new();
+    let mut unmatched = Vec::new();
+    for path in files(dir, &IMAGE_EXTENSIONS)? {
+        // A report written into DIR earlier is not a submission.
+        if out
+            .as_ref()
+            .is_some_and(|o| path.canonicalize().is_ok_and(|p| p.starts_with(o)))
+        {
+            continue;
+        }
+        match scene_of(&path, names) {
+            Some(scene) => matched.push((path, scene.to_string())),
+            None => unmatched.push(path),
+        }
+    }
+    Ok((matched, unmatched))
+}
+
+/// The scene `path` is named after (see the module's rule).
+pub fn scene_of<'a>(path: &Path, names: &'a BTreeMap<String, PathBuf>) -> Option<&'a str> {
+    let stem = path.file_stem()?.to_str()?;
+    let folder = path.parent()?.file_name().and_then(|f| f.to_str());
+    longest_name(stem, names).or_else(|| longest_name(folder?, names))
+}
+
+/// The longest scene name that is `word` or the part of it before a `-`.
+fn longest_name<'a>(word: &str, names: &'a BTreeMap<String, PathBuf>) -> Option<&'a str> {
+    let prefixes = word.match_indices('-').map(|(i, _)| &word[..i]);
+    std::iter::once(word)
+        .chain(prefixes)
+        .filter_map(|candidate| names.get_key_value(candidate))
+        .map(|(name, _)| name.as_str())
+        .max_by_key(|name| name.len())
+}
+
+/// The files below `dir` with one of `extensions` (any case), in path
+/// order; hidden files and folders are left out.
+fn files(dir: &Path, extensions: &[&str]) -> Result<Vec<PathBuf>> {
+    if !dir.is_dir() {
+        return Err(BadInput(format!("{}: not a folder", dir.display())).into());
+    }
+    let hidden =
+        |e: &walkdir::DirEntry| e.depth() > 0 && e.file_name().to_string_lossy().starts_with('.');
+    let mut found = Vec::new();
+    for entry in walkdir::WalkDir::new(dir)
+        .sort_by_file_name()
+        .into_iter()
+        .filter_entry(|e| !hidden(e))
+    {
+        let entry = entry.map_err(|e| BadInput(format!("cannot read {}: {e}", dir.display())))?;
+        let wanted = entry
+            .path()
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| extensions.iter().any(|x| e.eq_ignore_ascii_case(x)));
+        if wanted && entry.file_type().is_file() {
+            found.push(entry.into_path());
+        }
+    }
+    Ok(found)
+}
+
+/// Each scene the images name, rendered once.
+fn render_scenes(
+    matched: &[(PathBuf, String)],
+    names: &BTreeMap<String, PathBuf>,
+) -> Result<BTreeMap<String, Reference>> {
+    let mut references = BTreeMap::new();
+    for (_, scene) in matched {
+        if references.contains_key(scene) {
+            continue;
+        }
+        let path = &names[scene];
+        note!("rendering {}", path.display());
+        let loaded = tracer_pipeline::load(&Input::File(path.clone()))?;
+        references.insert(scene.clone(), input::render(&loaded)?);
+    }
+    Ok(references)
+}
+
+/// The summary on stdout: one line per image, worst first.
+fn table(entries: &[Entry], scenes: usize) -> String {
+    let widest = |text: &dyn Fn(&Entry) -> String, least: usize| {
+        entries
+            .iter()
+            .map(|e| text(e).chars().count())
+            .fold(least, usize::max)
+    };
+    let width = widest(&|e| e.path.display().to_string(), 5);
+    let scene_width = widest(&|e| e.scene.clone(), 5);
+    let mut out = format!(
+        "{:>11}  {:>6}  {:<width$}  {:<scene_width$}  mistakes\n",
+        "off", "FLIP", "image", "scene"
+    );
+    for e in entries {
+        let flip = e
+            .comparison
+            .flip_mean()
+            .map_or("-".to_string(), |f| format!("{f:.4}"));
+        let line = format!(
+            "{:>11}  {flip:>6}  {:<width$}  {:<scene_width$}  {}",
+            percent(e.comparison.share()),
+            e.path.display().to_string(),
+            e.scene,
+            e.comparison.words().join(", ")
+        );
+        out += line.trim_end();
+        out.push('\n');
+    }
+    let within = entries
+        .iter()
+        .filter(|e| e.comparison.within_tolerance())
+        .count();
+    let _ = writeln!(
+        out,
+        "{} image{} against {scenes} scene{}: {within} within tolerance, {} not",
+        entries.len(),
+        if entries.len() == 1 { "" } else { "s" },
+        if scenes == 1 { "" } else { "s" },
+        entries.len() - within
+    );
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names(list: &[&str]) -> BTreeMap<String, PathBuf> {
+        list.iter()
+            .map(|n| (n.to_string(), PathBuf::from(format!("{n}.toml"))))
+            .collect()
+    }
+
+    #[test]
+    fn an_image_is_of_the_longest_scene_name_it_starts_with() {
+        let names = names(&["illumination", "illumination-ambient", "bench-bunny"]);
+        let scene = |p: &str| scene_of(Path::new(p), &names);
+        assert_eq!(scene("class/illumination.png"), Some("illumination"));
+        assert_eq!(scene("alice/illumination.png"), Some("illumination"));
+        assert_eq!(scene("illumination-alice.png"), Some("illumination"));
+        assert_eq!(
+            scene("illumination-ambient-bob.png"),
+            Some("illumination-ambient")
+        );
+        assert_eq!(scene("bench-bunny-carol.jpg"), Some("bench-bunny"));
+        assert_eq!(scene("illumination/dave.png"), Some("illumination"));
+        // A name must end where a `-` or the stem does.
+        assert_eq!(scene("illuminationx.png"), None);
+        assert_eq!(scene("x/alice.png"), None);
+    }
+
+    #[test]
+    fn a_scene_in_a_folder_is_named_as_its_golden() {
+        let root = Path::new("scenes");
+        assert_eq!(
+            relative_name(Path::new("scenes/bench/bunny.toml"), root),
+            "bench-bunny"
+        );
+        assert_eq!(
+            relative_name(Path::new("scenes/texture.json"), root),
+            "texture"
+        );
+    }
+}

@@ -1,0 +1,367 @@
+//! The usual mistakes behind a difference, each tried by undoing it: the
+//! image flipped back, re-encoded, resampled, its channels swapped back.
+//! A mistake is named only when undoing it clearly explains the difference:
+//! at least [`MIN_DIFFERING`] pixels were off, and [`FACTOR`] times fewer
+//! are off once it is undone (none, when the image is exactly that mistake).
+
+use super::metrics::channel_difference;
+use image::RgbImage;
+
+/// Fewer differing pixels than this are a detail, not a mistake to name.
+pub const MIN_DIFFERING: u64 = 10;
+/// How many times fewer pixels must be off once a mistake is undone.
+pub const FACTOR: u64 = 10;
+/// The gamma tried when the reference's is not known (an image) or is 1.
+const USUAL_GAMMA: f32 = 2.2;
+/// The half-pixel test counts only pixels off by more than this many
+/// levels, before and after: resampling at the corners only approximates
+/// what a render there gives (a smooth or anti-aliased edge comes out a
+/// little softer), and a coarser count ignores that.
+const HALF_PIXEL_LEVELS: u8 = 16;
+
+/// A mistake that explains a difference.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Fault {
+    /// Left and right swapped.
+    Mirror,
+    /// Top and bottom swapped.
+    UpsideDown,
+    /// `c^(1/gamma)` applied once too often.
+    GammaTwice(f32),
+    /// No gamma: the linear values written.
+    GammaMissing(f32),
+    /// Sampled at the pixels' corners: the content moved half a pixel
+    /// right (`right`) or left, and down (`down`) or up.
+    HalfPixel { right: bool, down: bool },
+    /// The content moved by one whole pixel (`dx` right, `dy` down).
+    OnePixel { dx: i8, dy: i8 },
+    /// Red and blue swapped (BGR).
+    Swapped,
+}
+
+/// A mistake found: pixels off by more than `levels` before and after
+/// undoing it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Finding {
+    pub fault: Fault,
+    pub before: u64,
+    pub after: u64,
+    pub levels: u8,
+}
+
+impl Finding {
+    /// The word scripts look for, which the message starts with.
+    pub fn word(&self) -> &'static str {
+        match self.fault {
+            Fault::Mirror => "mirror",
+            Fault::UpsideDown => "upside down",
+            Fault::GammaTwice(_) | Fault::GammaMissing(_) => "gamma",
+            Fault::HalfPixel { .. } => "half a pixel",
+            Fault::OnePixel { .. } => "one pixel",
+            Fault::Swapped => "swapped",
+        }
+    }
+
+    /// The finding in words: what is wrong, how undoing it fares, and
+    /// where the mistake usually is.
+    pub fn message(&self) -> String {
+        let (what, undone, hint) = self.words();
+        format!(
+            "{}: {what}. {undone}, {} off by more than {} of 255 instead of {}. {hint}",
+            self.word(),
+            pixels(self.after),
+            self.levels,
+            self.before
+        )
+    }
+
+    fn words(&self) -> (String, String, String) {
+        match self.fault {
+            Fault::Mirror => (
+                "the image is the reference's mirror image (left and right swapped)".into(),
+                "Flipped back".into(),
+                "The lab's camera puts world +x on the image's left, where most other \
+                 renderers put it on the right: check the camera's horizontal axis."
+                    .into(),
+            ),
+            Fault::UpsideDown => (
+                "the image is the reference upside down".into(),
+                "Flipped back".into(),
+                "Image rows run from the top (y = 0 is the top row): check the sign of \
+                 the camera's vertical axis."
+                    .into(),
+            ),
+            Fault::GammaTwice(g) => (
+                "gamma is applied twice".into(),
+                format!("With one c^(1/{g}) undone"),
+                format!("Encode once, as the last step: c^(1/{g}) before the 8-bit truncation."),
+            ),
+            Fault::GammaMissing(g) => (
+                "no gamma is applied, the image holds the linear values".into(),
+                format!("Encoded with c^(1/{g})"),
+                format!("Encode with c^(1/{g}) before the 8-bit truncation."),
+            ),
+            Fault::HalfPixel { right, down } => (
+                format!(
+                    "the image is shifted by half a pixel ({} and {}), as when its rays go \
+                     through the pixels' corners, not their centres",
+                    if right { "right" } else { "left" },
+                    if down { "down" } else { "up" }
+                ),
+                "Against the reference resampled at the corners".into(),
+                "Aim each ray at the pixel's centre, (x + 0.5, y + 0.5).".into(),
+            ),
+            Fault::OnePixel { dx, dy } => (
+                format!("the image is shifted by one pixel ({})", direction(dx, dy)),
+                "Shifted back".into(),
+                "Look for an off-by-one in the pixel loops or the ray's pixel coordinates.".into(),
+            ),
+            Fault::Swapped => (
+                "the red and blue channels are swapped (BGR instead of RGB)".into(),
+                "Swapped back".into(),
+                "Write the channels in the order red, green, blue.".into(),
+            ),
+        }
+    }
+}
+
+/// "1 pixel", "2 pixels".
+pub fn pixels(n: u64) -> String {
+    format!("{n} pixel{}", if n == 1 { "" } else { "s" })
+}
+
+fn direction(dx: i8, dy: i8) -> String {
+    let horizontal = match dx {
+        1 => Some("right"),
+        -1 => Some("left"),
+        _ => None,
+    };
+    let vertical = match dy {
+        1 => Some("down"),
+        -1 => Some("up"),
+        _ => None,
+    };
+    let words: Vec<&str> = [horizontal, vertical].into_iter().flatten().collect();
+    words.join(" and ")
+}
+
+/// The message for images of different sizes, which are compared no further.
+pub fn size_message((w, h): (u32, u32), (rw, rh): (u32, u32)) -> String {
+    let relation = if (w, h) == (rh, rw) {
+        " (width and height swapped)".to_string()
+    } else if u64::from(w) * 2 == u64::from(rw) && u64::from(h) * 2 == u64::from(rh) {
+        " (half its width and height)".to_string()
+    } else if u64::from(w) == u64::from(rw) * 2 && u64::from(h) == u64::from(rh) * 2 {
+        " (twice its width and height)".to_string()
+    } else {
+        String::new()
+    };
+    format!(
+        "size: the image is {w}x{h} pixels, the reference {rw}x{rh}{relation}; images of \
+         different sizes are compared no further. Render at the reference's size \
+         (tracer render --width {rw} --height {rh})."
+    )
+}
+
+/// The images as functions of (x, y), clamped at the borders.
+#[derive(Clone, Copy)]
+struct Pair<'a> {
+    image: &'a RgbImage,
+    reference: &'a RgbImage,
+    tolerance: u8,
+}
+
+impl Pair<'_> {
+    fn size(&self) -> (u32, u32) {
+        self.image.dimensions()
+    }
+
+    fn reference_at(&self, x: i64, y: i64) -> [u8; 3] {
+        let (w, h) = self.size();
+        let x = x.clamp(0, i64::from(w) - 1) as u32;
+        let y = y.clamp(0, i64::from(h) - 1) as u32;
+        self.reference.get_pixel(x, y).0
+    }
+
+    /// How many pixels `error` (of x, y) puts beyond the tolerance.
+    fn count(&self, error: impl Fn(u32, u32) -> u8) -> u64 {
+        let (w, h) = self.size();
+        let mut count = 0;
+        for y in 0..h {
+            for x in 0..w {
+                count += u64::from(error(x, y) > self.tolerance);
+            }
+        }
+        count
+    }
+
+    /// Pixels off once the image is mapped pixel by pixel through `undo`.
+    fn off_after(&self, undo: impl Fn(u32, u32) -> [u8; 3]) -> u64 {
+        self.count(|x, y| channel_difference(undo(x, y), self.reference.get_pixel(x, y).0))
+    }
+}
+
+/// The mistakes that explain the difference of `image` and `reference`
+/// (of one size), `before` pixels being off; `gamma` is the reference's.
+pub fn diagnose(
+    image: &RgbImage,
+    reference: &RgbImage,
+    gamma: Option<f32>,
+    tolerance: u8,
+    before: u64,
+) -> Vec<Finding> {
+    if before < MIN_DIFFERING {
+        return Vec::new();
+    }
+    let pair = Pair {
+        image,
+        reference,
+        tolerance,
+    };
+    let finding = |(fault, after)| Finding {
+        fault,
+        before,
+        after,
+        levels: tolerance,
+    };
+    let gamma = gamma
+        .filter(|g| (g - 1.0).abs() > 0.05)
+        .unwrap_or(USUAL_GAMMA);
+    let (after_one_pixel, one_pixel) = one_pixel(&pair);
+    let mut found: Vec<Finding> = [
+        (Fault::Mirror, mirror(&pair)),
+        (Fault::UpsideDown, upside_down(&pair)),
+        (Fault::GammaTwice(gamma), gamma_twice(&pair, gamma)),
+        (Fault::GammaMissing(gamma), gamma_missing(&pair, gamma)),
+        (one_pixel, after_one_pixel),
+        (Fault::Swapped, swapped(&pair)),
+    ]
+    .into_iter()
+    .map(finding)
+    .filter(Finding::explains)
+    .collect();
+    // A whole pixel's shift also passes the half-pixel test: name it alone.
+    if !found
+        .iter()
+        .any(|f| matches!(f.fault, Fault::OnePixel { .. }))
+    {
+        found.extend(half_pixel(&pair).filter(Finding::explains));
+    }
+    found
+}
+
+impl Finding {
+    fn explains(&self) -> bool {
+        self.before >= MIN_DIFFERING && self.after * FACTOR <= self.before
+    }
+}
+
+fn mirror(p: &Pair) -> u64 {
+    let w = p.size().0;
+    p.off_after(|x, y| p.image.get_pixel(w - 1 - x, y).0)
+}
+
+fn upside_down(p: &Pair) -> u64 {
+    let h = p.size().1;
+    p.off_after(|x, y| p.image.get_pixel(x, h - 1 - y).0)
+}
+
+fn swapped(p: &Pair) -> u64 {
+    p.off_after(|x, y| {
+        let [r, g, b] = p.image.get_pixel(x, y).0;
+        [b, g, r]
+    })
+}
+
+/// `c^gamma` of each 8-bit level, taken at the level's middle (the tracer
+/// truncates), rounded: it undoes one encoding and, unlike `c^(1/gamma)`,
+/// does not blow up the 8-bit steps of dark values.
+fn decoding(gamma: f32) -> [u8; 256] {
+    std::array::from_fn(|v| {
+        let c = (v as f32 + 0.5) / 255.0;
+        (255.0 * c.powf(gamma)).round().min(255.0) as u8
+    })
+}
+
+/// Encoded twice: the image decoded once matches the reference.
+fn gamma_twice(p: &Pair, gamma: f32) -> u64 {
+    let table = decoding(gamma);
+    p.off_after(|x, y| p.image.get_pixel(x, y).0.map(|c| table[usize::from(c)]))
+}
+
+/// Not encoded: the image matches the reference decoded.
+fn gamma_missing(p: &Pair, gamma: f32) -> u64 {
+    let table = decoding(gamma);
+    p.count(|x, y| {
+        let reference = p.reference.get_pixel(x, y).0.map(|c| table[usize::from(c)]);
+        channel_difference(p.image.get_pixel(x, y).0, reference)
+    })
+}
+
+/// The best of the eight shifts by one pixel, and the shift.
+fn one_pixel(p: &Pair) -> (u64, Fault) {
+    let shifts = (-1i8..=1).flat_map(|dy| (-1i8..=1).map(move |dx| (dx, dy)));
+    shifts
+        .filter(|&shift| shift != (0, 0))
+        .map(|(dx, dy)| {
+            let after = p.count(|x, y| {
+                let moved =
+                    p.reference_at(i64::from(x) - i64::from(dx), i64::from(y) - i64::from(dy));
+                channel_difference(p.image.get_pixel(x, y).0, moved)
+            });
+            (after, Fault::OnePixel { dx, dy })
+        })
+        .min_by_key(|&(after, _)| after)
+        .expect("eight shifts")
+}
+
+/// A pixel sampled at a corner, against the reference's four pixels
+/// around that corner: their mean (smooth or anti-aliased images), or the
+/// nearest of them (one sample a pixel: a hard edge keeps one side's
+/// colour). The best of the four corners, counted at [`HALF_PIXEL_LEVELS`].
+fn half_pixel(p: &Pair) -> Option<Finding> {
+    let p = Pair {
+        tolerance: p.tolerance.max(HALF_PIXEL_LEVELS),
+        ..*p
+    };
+    let before = p.off_after(|x, y| p.image.get_pixel(x, y).0);
+    let (after, fault) = [(-1, -1), (0, -1), (-1, 0), (0, 0)]
+        .into_iter()
+        .map(|(ox, oy)| {
+            let after = p.count(|x, y| {
+                let (x0, y0) = (i64::from(x) + ox, i64::from(y) + oy);
+                let block =
+                    [(0, 0), (1, 0), (0, 1), (1, 1)].map(|(i, j)| p.reference_at(x0 + i, y0 + j));
+                corner_error(p.image.get_pixel(x, y).0, &block)
+            });
+            // The block's centre is half a pixel left of the pixel's for ox = -1:
+            // the image shows there what the reference shows left of it.
+            (
+                after,
+                Fault::HalfPixel {
+                    right: ox == -1,
+                    down: oy == -1,
+                },
+            )
+        })
+        .min_by_key(|&(after, _)| after)?;
+    Some(Finding {
+        fault,
+        before,
+        after,
+        levels: p.tolerance,
+    })
+}
+
+fn corner_error(pixel: [u8; 3], block: &[[u8; 3]; 4]) -> u8 {
+    let mean: [u8; 3] = std::array::from_fn(|c| {
+        let sum: u16 = block.iter().map(|b| u16::from(b[c])).sum();
+        ((sum + 2) / 4) as u8
+    });
+    let nearest = block
+        .iter()
+        .map(|&b| channel_difference(pixel, b))
+        .min()
+        .unwrap_or(0);
+    nearest.min(channel_difference(pixel, mean))
+}

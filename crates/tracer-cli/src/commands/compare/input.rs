@@ -1,0 +1,121 @@
+//! What `tracer compare` reads: 8-bit images, and scenes rendered as
+//! `tracer render` renders them.
+
+use crate::progress::Progress;
+use image::{DynamicImage, RgbImage};
+use std::fmt;
+use std::path::{Path, PathBuf};
+use tracer_pipeline::{Input, Loaded, Options};
+
+/// Largest image file read, as for a scene's texture images.
+const MAX_IMAGE_BYTES: u64 = 256 * 1024 * 1024;
+
+/// The user's mistake: a missing file, a file that is not an image, a
+/// folder with nothing to compare (exit 2).
+#[derive(Debug)]
+pub struct BadInput(pub String);
+
+impl fmt::Display for BadInput {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for BadInput {}
+
+/// The 8-bit RGB image at `path` (PNG or JPEG; 16 bits read as the tracer
+/// writes them, alpha dropped).
+pub fn read_image(path: &Path) -> Result<RgbImage, BadInput> {
+    let bad = |message: String| BadInput(format!("{}: {message}", path.display()));
+    let bytes = scene_format::read::read_capped(path, MAX_IMAGE_BYTES)
+        .map_err(|e| bad(format!("cannot read the image: {e}")))?;
+    let reader = image::ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| bad(e.to_string()))?;
+    if reader.format().is_none() {
+        return Err(bad(
+            "not an image (expected a .png or .jpg file)".to_string()
+        ));
+    }
+    let image = reader
+        .decode()
+        .map_err(|e| bad(format!("not a readable image: {e}")))?;
+    to_rgb8(image).map_err(bad)
+}
+
+/// The 8-bit values of `image`; float images are refused, their linear
+/// values are not what a PNG of the scene holds.
+fn to_rgb8(image: DynamicImage) -> Result<RgbImage, String> {
+    match image {
+        DynamicImage::ImageRgb32F(_) | DynamicImage::ImageRgba32F(_) => Err(
+            "a float image holds linear values, not the 8-bit ones compared; \
+             render to .png instead"
+                .to_string(),
+        ),
+        DynamicImage::ImageRgb16(_)
+        | DynamicImage::ImageRgba16(_)
+        | DynamicImage::ImageLuma16(_)
+        | DynamicImage::ImageLumaA16(_) => Ok(from_16_bits(&image)),
+        other => Ok(other.into_rgb8()),
+    }
+}
+
+/// A 16-bit image's 8-bit values as the tracer truncates them: a 16-bit
+/// value divided by 257 (the `image` crate rounds instead).
+fn from_16_bits(image: &DynamicImage) -> RgbImage {
+    let wide = image.to_rgb16();
+    let narrow = wide.as_raw().iter().map(|&v| (v / 257) as u8).collect();
+    RgbImage::from_raw(wide.width(), wide.height(), narrow)
+        .expect("the buffer holds exactly width * height pixels")
+}
+
+/// Whether `path` names a scene file rather than an image, by extension.
+pub fn is_scene(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| ["toml", "json", "zip"].contains(&e.to_ascii_lowercase().as_str()))
+}
+
+/// A reference: its 8-bit image and the display gamma that made it.
+pub struct Reference {
+    pub image: RgbImage,
+    /// The scene's gamma; `None` for a reference image, whose gamma is
+    /// not known.
+    pub gamma: Option<f32>,
+    /// The scene file, for `tracer explain`; `None` for an image.
+    pub scene: Option<PathBuf>,
+    /// Every file read for it.
+    pub files_read: Vec<PathBuf>,
+}
+
+/// The reference at `path`: an image, or a scene loaded and rendered.
+pub fn read_reference(path: &Path) -> anyhow::Result<Reference> {
+    if !is_scene(path) {
+        return Ok(Reference {
+            image: read_image(path)?,
+            gamma: None,
+            scene: None,
+            files_read: vec![path.to_path_buf()],
+        });
+    }
+    let loaded = tracer_pipeline::load(&Input::File(path.to_path_buf()))?;
+    render(&loaded)
+}
+
+/// `loaded` rendered with the scene's own settings, as `tracer render`
+/// renders it to a PNG, with its warnings and a progress bar on stderr.
+pub fn render(loaded: &Loaded) -> anyhow::Result<Reference> {
+    let options = Options::default();
+    crate::report::warnings(loaded, &options);
+    let (_, rows) = tracer_pipeline::image_size(loaded, &options)?;
+    let progress = Progress::new(rows.into(), false);
+    let rendered = tracer_pipeline::render(loaded, &options, &|n| progress.rows_done(n));
+    progress.finish();
+    let picture = rendered?.image;
+    Ok(Reference {
+        image: picture.to_rgb8(),
+        gamma: Some(picture.encoding.gamma),
+        scene: Some(loaded.name.clone()),
+        files_read: loaded.files_read.clone(),
+    })
+}

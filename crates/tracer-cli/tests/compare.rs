@@ -1,0 +1,684 @@
+//! `tracer compare`: an image against an image or a scene, the mistakes it
+//! names (and does not name), the class report, bad input.
+
+mod common;
+
+use common::tracer;
+use image::{Rgb, RgbImage};
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+/// A lab scene, by its path as an argument for `tracer`.
+fn scene(name: &str) -> String {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../scenes/{name}"));
+    p.to_str().unwrap().to_string()
+}
+
+fn scenes_dir() -> String {
+    scene("")
+}
+
+/// The words that start a diagnosis line (the first five are the ones
+/// scripts look for).
+const WORDS: [&str; 7] = [
+    "size",
+    "mirror",
+    "gamma",
+    "half a pixel",
+    "swapped",
+    "upside down",
+    "one pixel",
+];
+
+fn stdout_of(out: &Output) -> String {
+    String::from_utf8(out.stdout.clone()).unwrap()
+}
+
+fn stderr_of(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// `tracer render SCENE -o OUT ARGS` in `dir`; the image read back.
+fn render(dir: &Path, scene_file: &str, out: &str, args: &[&str]) -> RgbImage {
+    let mut all = vec!["render", scene_file, "-o", out, "--quiet"];
+    all.extend_from_slice(args);
+    let run = tracer(dir, &all);
+    assert!(run.status.success(), "{}", stderr_of(&run));
+    image::open(dir.join(out)).unwrap().into_rgb8()
+}
+
+/// `tracer compare IMAGE REFERENCE` in `dir`.
+fn compare(dir: &Path, image: &str, reference: &str) -> Output {
+    tracer(dir, &["compare", image, reference])
+}
+
+/// The diagnosis lines of a compare's stdout: those starting with a word.
+fn diagnoses(stdout: &str) -> Vec<String> {
+    stdout
+        .lines()
+        .filter(|l| WORDS.iter().any(|w| l.starts_with(&format!("{w}: "))))
+        .map(str::to_string)
+        .collect()
+}
+
+/// `image` saved as `name` in `dir`.
+fn save(dir: &Path, name: &str, image: &RgbImage) -> String {
+    image.save(dir.join(name)).unwrap();
+    name.to_string()
+}
+
+/// A compare that exits 1 and names exactly one mistake, which starts with `word`.
+fn assert_named(out: &Output, word: &str) -> String {
+    let stdout = stdout_of(out);
+    assert_eq!(out.status.code(), Some(1), "{stdout}{}", stderr_of(out));
+    let found = diagnoses(&stdout);
+    assert_eq!(found.len(), 1, "{stdout}");
+    assert!(found[0].starts_with(&format!("{word}: ")), "{stdout}");
+    found[0].clone()
+}
+
+fn mirrored(image: &RgbImage) -> RgbImage {
+    image::imageops::flip_horizontal(image)
+}
+
+fn channels_swapped(image: &RgbImage) -> RgbImage {
+    let mut out = image.clone();
+    for p in out.pixels_mut() {
+        p.0.swap(0, 2);
+    }
+    out
+}
+
+/// A deterministic stream of numbers in 0..n (xorshift).
+struct Noise(u64);
+
+impl Noise {
+    fn below(&mut self, n: u64) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0 % n
+    }
+}
+
+/// Every channel of every pixel moved by up to +-10 levels.
+fn noisy(image: &RgbImage) -> RgbImage {
+    let mut noise = Noise(0x2545_f491_4f6c_dd1d);
+    let mut out = image.clone();
+    for p in out.pixels_mut() {
+        for c in p.0.iter_mut() {
+            *c = (i64::from(*c) + noise.below(21) as i64 - 10).clamp(0, 255) as u8;
+        }
+    }
+    out
+}
+
+/// 2000 pixels of random colours at random places.
+fn speckled(image: &RgbImage) -> RgbImage {
+    let mut noise = Noise(0x9e37_79b9_7f4a_7c15);
+    let mut out = image.clone();
+    for _ in 0..2000 {
+        let x = noise.below(u64::from(out.width())) as u32;
+        let y = noise.below(u64::from(out.height())) as u32;
+        let colour = [0; 3].map(|_| noise.below(256) as u8);
+        out.put_pixel(x, y, Rgb(colour));
+    }
+    out
+}
+
+#[test]
+fn an_identical_image_exits_0_against_its_scene_and_as_an_image() {
+    let dir = tempfile::tempdir().unwrap();
+    render(dir.path(), &scene("illumination.toml"), "mine.png", &[]);
+    let out = compare(dir.path(), "mine.png", &scene("illumination.toml"));
+    let stdout = stdout_of(&out);
+    assert_eq!(out.status.code(), Some(0), "{stdout}{}", stderr_of(&out));
+    assert!(stdout.contains("(0 of 200000)"), "{stdout}");
+    assert!(stdout.contains("PSNR       infinite"), "{stdout}");
+    assert!(stdout.contains("FLIP       0.0000"), "{stdout}");
+    assert!(stdout.ends_with("within tolerance: no pixel is off by more than 2 of 255\n"));
+    assert!(diagnoses(&stdout).is_empty(), "{stdout}");
+    let copy = save(
+        dir.path(),
+        "copy.png",
+        &image::open(dir.path().join("mine.png"))
+            .unwrap()
+            .into_rgb8(),
+    );
+    assert_eq!(
+        compare(dir.path(), "mine.png", &copy).status.code(),
+        Some(0)
+    );
+}
+
+#[test]
+fn a_planted_one_pixel_error_is_found_at_its_place_and_named_nothing_else() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_file = scene("illumination.toml");
+    let mut image = render(dir.path(), &scene_file, "mine.png", &[]);
+    // x counts columns from the left, y rows from the top.
+    image.put_pixel(123, 45, Rgb([255, 0, 255]));
+    let name = save(dir.path(), "planted.png", &image);
+    let out = compare(dir.path(), &name, &scene_file);
+    let stdout = stdout_of(&out);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    assert!(stdout.contains("(1 of 200000)"), "{stdout}");
+    assert!(
+        stdout.contains(
+            "largest    255 of 255 at (123, 45): image (255, 0, 255), reference (0, 0, 0)"
+        ),
+        "{stdout}"
+    );
+    let explain = format!("  (123, 45)  image (255, 0, 255), reference (0, 0, 0)  tracer explain {scene_file} 123 45\n");
+    assert!(stdout.contains(&explain), "{stdout}");
+    assert!(diagnoses(&stdout).is_empty(), "{stdout}");
+    assert!(stdout.ends_with("not within tolerance: 1 pixel off by more than 2 of 255\n"));
+
+    // Off by 5 levels: beyond the default tolerance, within --tolerance 5.
+    let mut image = image::open(dir.path().join("mine.png"))
+        .unwrap()
+        .into_rgb8();
+    let Rgb([r, g, b]) = *image.get_pixel(250, 200);
+    image.put_pixel(250, 200, Rgb([r.saturating_sub(5), g, b]));
+    let name = save(dir.path(), "five.png", &image);
+    assert_eq!(
+        compare(dir.path(), &name, &scene_file).status.code(),
+        Some(1)
+    );
+    let loose = tracer(
+        dir.path(),
+        &["compare", &name, &scene_file, "--tolerance", "5"],
+    );
+    assert_eq!(loose.status.code(), Some(0), "{}", stdout_of(&loose));
+}
+
+#[test]
+fn gamma_applied_twice_or_not_at_all_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_file = scene("illumination.toml");
+    // c^(1/2.2) twice is c^(1/4.84).
+    render(dir.path(), &scene_file, "twice.png", &["--gamma", "4.84"]);
+    let line = assert_named(&compare(dir.path(), "twice.png", &scene_file), "gamma");
+    assert!(line.contains("gamma is applied twice"), "{line}");
+    render(dir.path(), &scene_file, "linear.png", &["--gamma", "1"]);
+    let line = assert_named(&compare(dir.path(), "linear.png", &scene_file), "gamma");
+    assert!(line.contains("no gamma is applied"), "{line}");
+}
+
+#[test]
+fn a_mirror_image_is_named_and_so_is_one_upside_down() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_file = scene("reflectance2.toml");
+    let image = render(dir.path(), &scene_file, "mine.png", &[]);
+    let name = save(dir.path(), "mirror.png", &mirrored(&image));
+    let line = assert_named(&compare(dir.path(), &name, &scene_file), "mirror");
+    assert!(line.contains("+x on the image's left"), "{line}");
+    let name = save(
+        dir.path(),
+        "flipped.png",
+        &image::imageops::flip_vertical(&image),
+    );
+    assert_named(&compare(dir.path(), &name, &scene_file), "upside down");
+}
+
+#[test]
+fn swapped_channels_are_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_file = scene("reflectance2.toml");
+    let image = render(dir.path(), &scene_file, "mine.png", &[]);
+    let name = save(dir.path(), "bgr.png", &channels_swapped(&image));
+    let line = assert_named(&compare(dir.path(), &name, &scene_file), "swapped");
+    assert!(line.contains("BGR"), "{line}");
+}
+
+/// The illumination scene with the camera turned by half a pixel right
+/// and down: each ray goes where a pixel corner's would.
+fn half_pixel_scene(dir: &Path) -> String {
+    let text = std::fs::read_to_string(scene("illumination.toml")).unwrap();
+    // 10 units away, 50 degrees across 500 pixels.
+    let half = 10.0 * 25f64.to_radians().tan() / 500.0;
+    let turned = text.replace(
+        "look_at = [0, 0, 0]",
+        &format!("look_at = [{half}, {}, 0]", -half),
+    );
+    assert_ne!(turned, text);
+    std::fs::write(dir.join("corner.toml"), turned).unwrap();
+    "corner.toml".to_string()
+}
+
+#[test]
+fn a_half_pixel_shift_is_named_and_a_whole_pixel_shift_told_apart() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_file = scene("illumination.toml");
+    let corner = half_pixel_scene(dir.path());
+    render(dir.path(), &corner, "corner.png", &[]);
+    let line = assert_named(
+        &compare(dir.path(), "corner.png", &scene_file),
+        "half a pixel",
+    );
+    assert!(line.contains("corners, not their centres"), "{line}");
+    // Anti-aliased (16 samples a pixel, the reference too), still found.
+    render(dir.path(), &corner, "corner16.png", &["--samples", "16"]);
+    render(
+        dir.path(),
+        &scene_file,
+        "centre16.png",
+        &["--samples", "16"],
+    );
+    assert_named(
+        &compare(dir.path(), "corner16.png", "centre16.png"),
+        "half a pixel",
+    );
+    // A whole pixel is another mistake.
+    let image = render(dir.path(), &scene_file, "mine.png", &[]);
+    let mut shifted = RgbImage::new(image.width(), image.height());
+    image::imageops::replace(&mut shifted, &image, 1, 0);
+    let name = save(dir.path(), "shifted.png", &shifted);
+    let line = assert_named(&compare(dir.path(), &name, &scene_file), "one pixel");
+    assert!(line.contains("(right)"), "{line}");
+}
+
+#[test]
+fn a_different_size_is_named_and_compared_no_further() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_file = scene("illumination.toml");
+    render(dir.path(), &scene_file, "small.png", &["--width", "250"]);
+    let out = tracer(
+        dir.path(),
+        &["compare", "small.png", &scene_file, "-o", "heat.png"],
+    );
+    let line = assert_named(&out, "size");
+    assert!(
+        line.contains("250x200 pixels, the reference 500x400 (half its width and height)"),
+        "{line}"
+    );
+    assert!(stderr_of(&out).contains("no heat-map: the sizes differ"));
+    assert!(!dir.path().join("heat.png").exists());
+    assert_eq!(leftovers(dir.path()), Vec::<String>::new());
+}
+
+#[test]
+fn plain_noise_is_not_taken_for_a_mistake() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["illumination.toml", "reflectance2.toml", "texture.toml"] {
+        let scene_file = scene(name);
+        let image = render(dir.path(), &scene_file, "mine.png", &[]);
+        for (kind, changed) in [("noisy", noisy(&image)), ("speckled", speckled(&image))] {
+            let file = save(dir.path(), &format!("{kind}.png"), &changed);
+            let out = compare(dir.path(), &file, &scene_file);
+            let stdout = stdout_of(&out);
+            assert_eq!(out.status.code(), Some(1), "{name} {kind}: {stdout}");
+            assert!(stdout.contains("of the pixels"), "{stdout}");
+            assert!(diagnoses(&stdout).is_empty(), "{name} {kind}: {stdout}");
+        }
+    }
+}
+
+#[test]
+fn the_heat_map_is_flips_error_in_magma_and_written_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_file = scene("illumination.toml");
+    let mut image = render(dir.path(), &scene_file, "mine.png", &[]);
+    for x in 100..110 {
+        image.put_pixel(x, 50, Rgb([255, 255, 255]));
+    }
+    save(dir.path(), "line.png", &image);
+    let out = tracer(
+        dir.path(),
+        &["compare", "line.png", &scene_file, "-o", "heat.png"],
+    );
+    assert_eq!(out.status.code(), Some(1));
+    let map = image::open(dir.path().join("heat.png"))
+        .unwrap()
+        .into_rgb8();
+    assert_eq!(map.dimensions(), (500, 400));
+    // Magma: near black where nothing differs, bright on the planted line.
+    let brightness = |p: &Rgb<u8>| p.0.iter().map(|&c| u32::from(c)).sum::<u32>();
+    assert!(brightness(map.get_pixel(400, 350)) < 30);
+    assert!(brightness(map.get_pixel(105, 50)) > 300);
+    assert_eq!(leftovers(dir.path()), Vec::<String>::new());
+}
+
+/// Temporary output files left in `dir`.
+fn leftovers(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .filter(|n| n.starts_with(".tracer-"))
+        .collect()
+}
+
+#[test]
+fn bad_input_exits_2_without_a_heat_map() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_file = scene("illumination.toml");
+    render(dir.path(), &scene_file, "mine.png", &[]);
+    std::fs::write(dir.path().join("text.png"), "not an image at all").unwrap();
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(
+        &bad,
+        "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\nfvo = 50\n",
+    )
+    .unwrap();
+    let cases: [(&[&str], &str); 5] = [
+        (&["text.png", "mine.png"], "text.png: not an image"),
+        (&["mine.png", "text.png"], "text.png: not an image"),
+        (
+            &["missing.png", "mine.png"],
+            "missing.png: cannot read the image",
+        ),
+        (&["mine.png", "missing.toml"], "missing.toml"),
+        (&["mine.png", "bad.toml"], "unknown key `fvo` in [camera]"),
+    ];
+    for (args, message) in cases {
+        let mut all = vec!["compare"];
+        all.extend_from_slice(args);
+        all.extend_from_slice(&["-o", "heat.png"]);
+        let out = tracer(dir.path(), &all);
+        let stderr = stderr_of(&out);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(message), "{args:?}: {stderr}");
+        assert!(!dir.path().join("heat.png").exists(), "{args:?}");
+        assert_eq!(leftovers(dir.path()), Vec::<String>::new());
+    }
+}
+
+#[test]
+fn a_reference_scene_with_errors_is_shown_as_tracer_check_shows_it() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("bad.toml"),
+        "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\nfvo = 50\n",
+    )
+    .unwrap();
+    RgbImage::new(4, 4)
+        .save(dir.path().join("mine.png"))
+        .unwrap();
+    let check = stderr_of(&tracer(dir.path(), &["check", "bad.toml"]));
+    let located = check
+        .strip_suffix("1 of 1 scene file failed the check\n")
+        .expect("check's last line");
+    assert!(located.contains("bad.toml:4:1"), "{check}");
+    let out = compare(dir.path(), "mine.png", "bad.toml");
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(stderr_of(&out), located);
+    assert_eq!(stdout_of(&out), "");
+}
+
+/// A class of five: two lab scenes, each image with its planted fault (or
+/// none), named by each of the rules, and a file named after no scene.
+fn planted_class(dir: &Path) -> Vec<(&'static str, f64)> {
+    let class = dir.join("class");
+    std::fs::create_dir_all(class.join("alice")).unwrap();
+    std::fs::create_dir_all(class.join("carol")).unwrap();
+    let illumination = render(dir, &scene("illumination.toml"), "i.png", &[]);
+    let reflectance = render(dir, &scene("reflectance2.toml"), "r.png", &[]);
+    render(
+        dir,
+        &scene("illumination.toml"),
+        "class/illumination-erin.png",
+        &["--width", "250"],
+    );
+    save(&class, "alice/illumination.png", &mirrored(&illumination));
+    save(&class, "illumination-bob.png", &illumination);
+    save(
+        &class,
+        "carol/reflectance2.png",
+        &channels_swapped(&reflectance),
+    );
+    let mut one = reflectance.clone();
+    one.put_pixel(7, 8, Rgb([255, 255, 255]));
+    save(&class, "reflectance2-dave.png", &one);
+    save(&class, "notes.png", &one);
+    // Worst first: another size counts as every pixel off.
+    vec![
+        ("class/illumination-erin.png", 1.0),
+        ("class/carol/reflectance2.png", 0.142495),
+        ("class/alice/illumination.png", 0.114650),
+        ("class/reflectance2-dave.png", 0.000005),
+        ("class/illumination-bob.png", 0.0),
+    ]
+}
+
+#[test]
+fn the_report_lists_a_planted_class_worst_first() {
+    let dir = tempfile::tempdir().unwrap();
+    let expected = planted_class(dir.path());
+    let scenes = scenes_dir();
+    let args = ["compare", "--report", "class", "--scenes", &scenes];
+    let out = tracer(dir.path(), &args);
+    let (stdout, stderr) = (stdout_of(&out), stderr_of(&out));
+    assert_eq!(out.status.code(), Some(1), "{stdout}{stderr}");
+    // Each scene rendered once, for all its images.
+    for name in ["illumination", "reflectance2"] {
+        let line = format!("rendering {scenes}{name}.toml");
+        assert_eq!(stderr.matches(&line).count(), 1, "{stderr}");
+    }
+    assert!(
+        stderr.contains("skipped: class/notes.png is named after no scene"),
+        "{stderr}"
+    );
+
+    let report = dir.path().join("report");
+    let csv = std::fs::read_to_string(report.join("report.csv")).unwrap();
+    let mut rows = csv.lines();
+    assert_eq!(
+        rows.next(),
+        Some("image,scene,differing,largest,x,y,psnr_db,flip,mistakes")
+    );
+    let rows: Vec<Vec<&str>> = rows.map(|r| r.split(',').collect()).collect();
+    let found: Vec<(&str, f64)> = rows.iter().map(|r| (r[0], r[2].parse().unwrap())).collect();
+    assert_eq!(found.len(), expected.len(), "{csv}");
+    for ((path, share), (want, want_share)) in found.iter().zip(&expected) {
+        assert_eq!(path, want, "{csv}");
+        assert!((share - want_share).abs() < 1e-6, "{csv}");
+    }
+    let mistakes: Vec<&str> = rows.iter().map(|r| r[8]).collect();
+    assert_eq!(mistakes, ["size", "swapped", "mirror", "", ""]);
+    assert_eq!(rows[3][3..6], ["255", "7", "8"]);
+
+    // The same order on stdout and on the page.
+    let order = |text: &str| -> Vec<usize> {
+        expected
+            .iter()
+            .map(|(p, _)| text.find(p).unwrap_or_else(|| panic!("{p}: {text}")))
+            .collect()
+    };
+    let is_sorted = |v: &[usize]| v.windows(2).all(|w| w[0] < w[1]);
+    assert!(is_sorted(&order(&stdout)), "{stdout}");
+    let page = std::fs::read_to_string(report.join("index.html")).unwrap();
+    let sections = &page[page.find("<section").unwrap()..];
+    assert!(is_sorted(&order(sections)), "{page}");
+    assert!(page.contains("5 images compared: 1 within tolerance, 4 not"));
+    for file in [
+        "reference-illumination.png",
+        "reference-reflectance2.png",
+        "1-image.png",
+        "2-heatmap.png",
+        "5-heatmap.png",
+    ] {
+        assert!(report.join(file).is_file(), "{file}");
+    }
+    // Another size has no heat-map.
+    assert!(!report.join("1-heatmap.png").exists());
+
+    // An earlier report is replaced, and nothing is left beside it.
+    std::fs::remove_file(dir.path().join("class/illumination-erin.png")).unwrap();
+    let again = tracer(dir.path(), &args);
+    assert_eq!(again.status.code(), Some(1), "{}", stderr_of(&again));
+    let csv = std::fs::read_to_string(report.join("report.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 5, "{csv}");
+    assert!(!report.join("5-image.png").exists());
+    assert_eq!(leftovers(dir.path()), Vec::<String>::new());
+}
+
+#[test]
+fn a_bad_class_or_scene_exits_2_and_writes_no_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenes = dir.path().join("scenes");
+    std::fs::create_dir_all(dir.path().join("class")).unwrap();
+    std::fs::create_dir_all(&scenes).unwrap();
+    std::fs::write(
+        scenes.join("bad.toml"),
+        "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\nfvo = 50\n",
+    )
+    .unwrap();
+    std::fs::copy(scene("illumination.toml"), scenes.join("illumination.toml")).unwrap();
+    RgbImage::new(4, 4)
+        .save(dir.path().join("class/bad-alice.png"))
+        .unwrap();
+    let run = || tracer(dir.path(), &["compare", "--report", "class", "-o", "out"]);
+
+    let out = run();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr_of(&out).contains("bad.toml:4:1"),
+        "{}",
+        stderr_of(&out)
+    );
+
+    std::fs::remove_file(dir.path().join("class/bad-alice.png")).unwrap();
+    std::fs::write(
+        dir.path().join("class/illumination-bob.png"),
+        "not an image",
+    )
+    .unwrap();
+    let out = run();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr_of(&out).contains("illumination-bob.png: not an image"),
+        "{}",
+        stderr_of(&out)
+    );
+
+    std::fs::remove_file(dir.path().join("class/illumination-bob.png")).unwrap();
+    let out = run();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr_of(&out).contains("no image is named after a scene"),
+        "{}",
+        stderr_of(&out)
+    );
+    assert!(!dir.path().join("out").exists());
+
+    // A folder that is not a report is not replaced.
+    render(
+        dir.path(),
+        &scene("illumination.toml"),
+        "class/illumination.png",
+        &[],
+    );
+    std::fs::create_dir(dir.path().join("out")).unwrap();
+    std::fs::write(dir.path().join("out/keep.txt"), "mine").unwrap();
+    let out = run();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr_of(&out).contains("is not a report"),
+        "{}",
+        stderr_of(&out)
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("out/keep.txt")).unwrap(),
+        "mine"
+    );
+    assert_eq!(leftovers(dir.path()), Vec::<String>::new());
+}
+
+/// Chromium, or `None` with a notice; under CI (env `CI` set) a missing
+/// Chromium fails the test: `.ci/run` installs it.
+fn chromium() -> Option<PathBuf> {
+    let named = std::env::var_os("CHROMIUM").filter(|p| !p.is_empty());
+    let found = named.map(PathBuf::from).or_else(|| {
+        ["/usr/bin/chromium", "/usr/bin/chromium-browser"]
+            .map(PathBuf::from)
+            .into_iter()
+            .find(|p| p.is_file())
+    });
+    if found.is_none() {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "CI is set but Chromium is missing: .ci/run installs Debian's `chromium` package"
+        );
+        eprintln!("SKIPPED: the browser check of the compare report needs Chromium");
+    }
+    found
+}
+
+/// The page's DOM once it loaded and its script ran, as headless Chromium
+/// dumps it.
+fn dump_dom(chromium: &Path, page: &Path) -> String {
+    let profile = tempfile::tempdir().unwrap();
+    let mut child = Command::new(chromium)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-dev-shm-usage",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--virtual-time-budget=10000",
+            "--dump-dom",
+        ])
+        .arg(format!("--user-data-dir={}", profile.path().display()))
+        .arg(format!("file://{}", page.canonicalize().unwrap().display()).replace(' ', "%20"))
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("start chromium");
+    let mut stdout = child.stdout.take().unwrap();
+    let reader = std::thread::spawn(move || {
+        let mut dom = String::new();
+        stdout.read_to_string(&mut dom).map(|_| dom)
+    });
+    let end = Instant::now() + Duration::from_secs(120);
+    while child.try_wait().unwrap().is_none() {
+        if Instant::now() > end {
+            let _ = child.kill();
+            panic!("Chromium did not finish within 120 s");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    reader.join().unwrap().unwrap()
+}
+
+/// An attribute of the page's `image-check` element, as its script set it.
+fn image_check<'a>(dom: &'a str, name: &str) -> &'a str {
+    let tag = &dom[dom.find("id=\"image-check\"").expect("the check element")..];
+    let tag = &tag[..tag.find('>').unwrap()];
+    let key = format!("{name}=\"");
+    let start = tag.find(&key).unwrap_or_else(|| panic!("no {name}: {tag}")) + key.len();
+    &tag[start..start + tag[start..].find('"').unwrap()]
+}
+
+#[test]
+fn every_image_of_the_report_loads_in_chromium() {
+    let Some(chromium) = chromium() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    planted_class(dir.path());
+    let scenes = scenes_dir();
+    let out = tracer(
+        dir.path(),
+        &[
+            "compare",
+            "--report",
+            "class",
+            "--scenes",
+            &scenes,
+            "-o",
+            "my report",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", stderr_of(&out));
+    let dom = dump_dom(&chromium, &dir.path().join("my report/index.html"));
+    // Each image, its reference, and the heat-maps of the four of its size.
+    assert_eq!(image_check(&dom, "data-total"), "14", "{dom}");
+    assert_eq!(image_check(&dom, "data-loaded"), "14", "{dom}");
+    // The check notices an image that does not load.
+    std::fs::remove_file(dir.path().join("my report/3-heatmap.png")).unwrap();
+    let dom = dump_dom(&chromium, &dir.path().join("my report/index.html"));
+    assert_eq!(image_check(&dom, "data-loaded"), "13", "{dom}");
+    assert_eq!(image_check(&dom, "data-failed"), "3-heatmap.png");
+}
