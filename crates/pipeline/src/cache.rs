@@ -9,7 +9,11 @@
 //! read from and their digest (the tiles' digest), checked again before the
 //! entry is used, so a changed mesh, texture or included file is never
 //! rendered from an old entry. Entries are written as images are, whole or
-//! not at all (`PendingFile`), with a checksum of their bytes.
+//! not at all (`PendingFile`), with a checksum of their bytes keyed by the
+//! entry's name: an entry proves it was written by this build for this
+//! scene and these options (another scene's entry copied under this name
+//! fails it). Only a regular file of bounded size is read, and what it
+//! holds is checked (`PreparedScene::check`) before it is used.
 
 use crate::load::Input;
 use crate::options::Options;
@@ -22,7 +26,10 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// What an entry starts with: the format, before the checksum and the data.
-const MAGIC: &[u8] = b"tracer prepared scene 1\n";
+const MAGIC: &[u8] = b"tracer prepared scene 2\n";
+/// Largest entry read: a scene of the most primitives the tracer builds
+/// takes about 1.5 GB kept.
+const MAX_ENTRY_BYTES: u64 = 4 << 30;
 /// Bytes of the checksum (BLAKE3) after the magic.
 const CHECKSUM: usize = 32;
 
@@ -36,6 +43,8 @@ pub struct SceneCache {
 #[derive(Debug, Clone)]
 pub struct CacheEntry {
     pub path: PathBuf,
+    /// The hash the name is made of, the key of the entry's checksum.
+    key: [u8; 32],
 }
 
 /// A scene prepared by an earlier render and kept, with what that render
@@ -119,9 +128,11 @@ impl SceneCache {
             ..*options
         };
         add(&mut hash, format!("{options:?}").as_bytes());
-        let name = format!("{}.prepared", &hash.finalize().to_hex()[..32]);
+        let key = hash.finalize();
+        let name = format!("{}.prepared", &key.to_hex()[..32]);
         Some(CacheEntry {
             path: self.dir.join(name),
+            key: *key.as_bytes(),
         })
     }
 }
@@ -131,15 +142,22 @@ impl CacheEntry {
     /// cannot be used (damaged, or a file the scene was read from changed).
     pub fn read(&self, input: &Input, options: &Options) -> Result<Option<Cached>, String> {
         let start = Instant::now();
-        let bytes = match std::fs::read(&self.path) {
+        // A regular file only, of bounded size: a FIFO would hang the
+        // render, a link to /dev/zero would be read until memory runs out.
+        let bytes = match scene_format::read::read_capped(&self.path, MAX_ENTRY_BYTES) {
             Ok(bytes) => bytes,
             // None yet (or no folder, where a file stands: said when kept).
             Err(e) if matches!(e.kind(), ErrorKind::NotFound | ErrorKind::NotADirectory) => {
                 return Ok(None)
             }
-            Err(e) => return Err(format!("cannot read it: {e}")),
+            Err(e) => return Err(format!("cannot read it: it {e}")),
         };
-        let stored = decode(&bytes)?;
+        let stored = decode(&bytes, &self.key)?;
+        stored
+            .prepared
+            .scene
+            .check_kept()
+            .map_err(|why| format!("it holds an inconsistent scene ({why})"))?;
         let size = stored.prepared.size();
         let digest =
             digest_of(input, &stored.files_read, options, size).map_err(|e| e.to_string())?;
@@ -182,7 +200,7 @@ impl CacheEntry {
             postcard::to_allocvec(&stored).map_err(|e| CacheError::Encode(e.to_string()))?;
         let mut bytes = Vec::with_capacity(MAGIC.len() + CHECKSUM + payload.len());
         bytes.extend_from_slice(MAGIC);
-        bytes.extend_from_slice(blake3::hash(&payload).as_bytes());
+        bytes.extend_from_slice(blake3::keyed_hash(&self.key, &payload).as_bytes());
         bytes.extend_from_slice(&payload);
         let dir = self.path.parent().unwrap_or(Path::new("."));
         std::fs::create_dir_all(dir).map_err(|source| CacheError::Folder {
@@ -196,16 +214,72 @@ impl CacheEntry {
     }
 }
 
-/// An entry's data, its format and checksum checked.
-fn decode(bytes: &[u8]) -> Result<Stored, String> {
-    let damaged = || "it is damaged or of another format".to_string();
+/// The prepared scene of an entry's payload (its checksum left aside),
+/// checked as a render would use it: the `cache` fuzz target's way in.
+pub fn decode_payload(payload: &[u8]) -> Result<PreparedScene, String> {
+    let stored: Stored = postcard::from_bytes(payload).map_err(|e| e.to_string())?;
+    stored.prepared.scene.check_kept()?;
+    Ok(stored.prepared)
+}
+
+/// An entry's data, its format and checksum (keyed by `key`) checked.
+fn decode(bytes: &[u8], key: &[u8; 32]) -> Result<Stored, String> {
+    let damaged =
+        || "it is damaged, of another format, or written for another scene or build".to_string();
     let rest = bytes.strip_prefix(MAGIC).ok_or_else(damaged)?;
     if rest.len() < CHECKSUM {
         return Err(damaged());
     }
     let (checksum, payload) = rest.split_at(CHECKSUM);
-    if blake3::hash(payload).as_bytes() != checksum {
+    if blake3::keyed_hash(key, payload).as_bytes() != checksum {
         return Err(damaged());
     }
     postcard::from_bytes(payload).map_err(|_| damaged())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Bytes of a kept scene changed one at a time and signed again, as a
+    /// writer with the key could: each is refused or renders, never a panic.
+    #[test]
+    fn a_signed_entry_with_changed_bytes_is_refused_or_renders() {
+        let dir = tempfile::tempdir().unwrap();
+        let scene =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/boxes.toml");
+        let input = Input::File(scene);
+        let options = Options {
+            width: Some(24),
+            ..Options::default()
+        };
+        let loaded = crate::load(&input).unwrap();
+        let files_read = loaded.files_read.clone();
+        let digest = crate::tiles::digest(&input, &loaded, &options).unwrap();
+        let prepared = crate::prepare_taking(loaded, &options, "--cache").unwrap();
+        let entry = SceneCache::new(dir.path().into())
+            .entry(&input, &options)
+            .unwrap();
+        entry.write(&prepared, &files_read, &digest, &[]).unwrap();
+        let bytes = std::fs::read(&entry.path).unwrap();
+        let payload = &bytes[MAGIC.len() + CHECKSUM..];
+        let (mut refused, mut rendered) = (0, 0);
+        for at in (0..payload.len()).step_by(payload.len() / 400 + 1) {
+            for flip in [1u8, 0x80, 0xff] {
+                let mut changed = payload.to_vec();
+                changed[at] ^= flip;
+                match decode_payload(&changed) {
+                    Ok(kept) => {
+                        crate::render_prepared(&kept, &options, &|_| {}).unwrap();
+                        rendered += 1;
+                    }
+                    Err(_) => refused += 1,
+                }
+            }
+        }
+        assert!(
+            refused > 0 && rendered > 0,
+            "{refused} refused, {rendered} rendered"
+        );
+    }
 }

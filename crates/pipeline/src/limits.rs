@@ -11,8 +11,9 @@ use tracer_core::prepare::{self, MeshBox};
 /// [`BYTES_PER_PRIMITIVE`] at its peak (the triangles, the object list and
 /// the BVH build), so 20 million take about 3.4 GB: room to spare on the
 /// lab's machines (this one has 24 GiB shared by 2 cores), and renders of
-/// that size already take minutes there.
-pub const MAX_PRIMITIVES: usize = 20_000_000;
+/// that size already take minutes there. The mesh readers count their
+/// triangles against the same number before building any.
+pub const MAX_PRIMITIVES: usize = scene_format::MAX_TRIANGLES;
 
 /// Peak memory per primitive while preparing, measured: 20 copies of the
 /// bunny (1.39M triangles) peak at 219 MB more than one (70k). (They were

@@ -187,3 +187,49 @@ fn a_scene_with_instances_is_not_kept() {
                 .is_none()
     );
 }
+
+#[cfg(unix)]
+#[test]
+fn an_entry_that_is_not_a_regular_file_is_refused_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = triangle_scene(dir.path(), TRIANGLE);
+    let cache = SceneCache::new(dir.path().join("kept"));
+    let options = Options::default();
+    let entry = cache.entry(&input, &options).unwrap();
+    std::fs::create_dir_all(dir.path().join("kept")).unwrap();
+    // A FIFO would wait for a writer for ever; /dev/zero never ends.
+    let made = std::process::Command::new("mkfifo")
+        .arg(&entry.path)
+        .status()
+        .unwrap();
+    assert!(made.success());
+    let why = entry.read(&input, &options).unwrap_err();
+    assert!(why.contains("not a regular file"), "{why}");
+    std::fs::remove_file(&entry.path).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", &entry.path).unwrap();
+    let why = entry.read(&input, &options).unwrap_err();
+    assert!(why.contains("not a regular file"), "{why}");
+}
+
+#[test]
+fn another_scenes_entry_under_this_name_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    std::fs::create_dir_all(&a).unwrap();
+    std::fs::create_dir_all(&b).unwrap();
+    let in_a = triangle_scene(&a, TRIANGLE);
+    let in_b = triangle_scene(&b, &TRIANGLE.replace("v 0 1 0", "v 0 2 0"));
+    let cache = SceneCache::new(dir.path().join("kept"));
+    let options = Options::default();
+    keep(&cache, &in_a, &options).unwrap();
+    keep(&cache, &in_b, &options).unwrap();
+    let (entry_a, entry_b) = (
+        cache.entry(&in_a, &options).unwrap(),
+        cache.entry(&in_b, &options).unwrap(),
+    );
+    // B's entry, whole and with its files unchanged, under A's name.
+    std::fs::copy(&entry_b.path, &entry_a.path).unwrap();
+    assert!(entry_b.read(&in_b, &options).unwrap().is_some());
+    let why = entry_a.read(&in_a, &options).unwrap_err();
+    assert!(why.contains("another scene"), "{why}");
+}

@@ -16,6 +16,11 @@ pub const MAX_IMAGE_BYTES: u64 = crate::read::MAX_OBJ_BYTES / 4;
 const MAX_IMAGE_SIDE: u32 = 4 * crate::validate::MAX_IMAGE_SIDE;
 /// Most memory the decoder may take for one image.
 const MAX_DECODE_BYTES: u64 = 2 << 30;
+/// Most texels a texture image may have: 8192 x 8192, 768 MB as the
+/// floats it is kept in. Counted from the header before decoding: a small
+/// PNG may claim 40000 x 40000 of one grey byte each, whose floats alone
+/// would take 19 GB.
+pub const MAX_TEXTURE_TEXELS: u64 = 1 << 26;
 
 /// Most texels an environment image may have: 8192 x 4096, a studio HDR's
 /// usual size (400 MB as the floats it is kept in).
@@ -193,8 +198,21 @@ fn decode(bytes: &[u8]) -> Result<ImageData, String> {
     if !matches!(format, Some(ImageFormat::Png | ImageFormat::Jpeg)) {
         return Err("expected a PNG or JPEG image; the file is neither".to_string());
     }
-    let mut reader = image::ImageReader::new(Cursor::new(bytes));
-    reader.set_format(format.expect("matched above"));
+    let format = format.expect("matched above");
+    let reader = || {
+        let mut reader = image::ImageReader::new(Cursor::new(bytes));
+        reader.set_format(format);
+        reader
+    };
+    let (width, height) = reader()
+        .into_dimensions()
+        .map_err(|e| format!("not a readable image: {e}"))?;
+    if u64::from(width) * u64::from(height) > MAX_TEXTURE_TEXELS {
+        return Err(format!(
+            "{width}x{height} texels; expected at most {MAX_TEXTURE_TEXELS} (8192x8192)"
+        ));
+    }
+    let mut reader = reader();
     let mut limits = image::Limits::default();
     limits.max_image_width = Some(MAX_IMAGE_SIDE);
     limits.max_image_height = Some(MAX_IMAGE_SIDE);
@@ -203,11 +221,14 @@ fn decode(bytes: &[u8]) -> Result<ImageData, String> {
     let image = reader
         .decode()
         .map_err(|e| format!("not a readable image: {e}"))?;
-    let rgb = image.to_rgb32f();
+    // The decoded bytes go before the floats are copied out.
+    let rgb = image.into_rgb32f();
+    let (width, height) = rgb.dimensions();
+    let floats = rgb.into_raw();
     Ok(ImageData {
-        width: rgb.width(),
-        height: rgb.height(),
-        texels: rgb.pixels().map(|p| p.0).collect(),
+        width,
+        height,
+        texels: floats.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
     })
 }
 
@@ -231,6 +252,53 @@ mod tests {
         assert_eq!(data.texels[0], [0.0, 0.2, 1.0]);
         assert_eq!(data.texels[1], [1.0, 0.0, 0.0]);
         assert_eq!(data.texels[3], [0.4, 0.8, 0.6]);
+    }
+
+    /// The start of a PNG (signature and header) of `width` x `height`
+    /// grey bytes, its pixels left out.
+    fn png_header(width: u32, height: u32) -> Vec<u8> {
+        let mut chunk = b"IHDR".to_vec();
+        chunk.extend(width.to_be_bytes());
+        chunk.extend(height.to_be_bytes());
+        chunk.extend([8, 0, 0, 0, 0]);
+        let mut bytes = b"\x89PNG\r\n\x1a\n".to_vec();
+        bytes.extend(13u32.to_be_bytes());
+        bytes.extend(&chunk);
+        bytes.extend(crc32(&chunk).to_be_bytes());
+        // An empty IDAT: the decoder reads the header up to the first.
+        bytes.extend(0u32.to_be_bytes());
+        bytes.extend(b"IDAT");
+        bytes.extend(crc32(b"IDAT").to_be_bytes());
+        bytes
+    }
+
+    fn crc32(bytes: &[u8]) -> u32 {
+        let mut crc = !0u32;
+        for &b in bytes {
+            crc ^= u32::from(b);
+            for _ in 0..8 {
+                crc = if crc & 1 == 1 {
+                    (crc >> 1) ^ 0xEDB8_8320
+                } else {
+                    crc >> 1
+                };
+            }
+        }
+        !crc
+    }
+
+    #[test]
+    fn the_cap_counts_the_texels_kept_before_decoding() {
+        // 40000 x 40000 grey passes the decoder's memory limit (1.6 GB)
+        // but would take 19 GB as floats; 16384 x 16384 would take 3.2 GB.
+        for (width, height) in [(40000, 40000), (16384, 16384), (8193, 8192)] {
+            let error = decode(&png_header(width, height)).unwrap_err();
+            let expected = format!("{width}x{height} texels; expected at most 67108864");
+            assert!(error.starts_with(&expected), "{error}");
+        }
+        // At the cap the header is read on: its missing pixels are the fault.
+        let error = decode(&png_header(8192, 8192)).unwrap_err();
+        assert!(error.contains("not a readable image"), "{error}");
     }
 
     #[test]

@@ -3,6 +3,7 @@
 //! from, so that a problem found in the merged scene is shown in the file
 //! and at the line that wrote it.
 
+use crate::budget::Budget;
 use crate::diagnostic::Diagnostic;
 use crate::error::SceneError;
 use crate::images::{self, ImageCache};
@@ -214,6 +215,8 @@ pub(crate) fn resolve(
         seen: HashMap::new(),
         parts: Vec::new(),
         images: ImageCache::default(),
+        budget: Budget::default(),
+        first_places: Default::default(),
     };
     let include = std::mem::take(&mut scene.include);
     loader.includes(0, base(path), &include);
@@ -249,6 +252,10 @@ struct Loader<'s> {
     parts: Vec<Part>,
     /// Texture images read so far, each file once.
     images: ImageCache,
+    /// The triangles the meshes not yet read may still make.
+    budget: Budget,
+    /// Where each file included twice was first included (`first_place`).
+    first_places: std::cell::RefCell<HashMap<PathBuf, String>>,
 }
 
 impl Loader<'_> {
@@ -335,12 +342,23 @@ impl Loader<'_> {
                 chain.join(" -> ")
             ));
         }
-        let &(including, k) = self.seen.get(identity)?;
         Some(format!(
             "`{entry}` is included already, at {}; a file is included once",
+            self.first_place(identity)?
+        ))
+    }
+
+    /// "`name`:line:column" of the entry that first included `identity`,
+    /// worked out once: each costs a walk of the including file's text, so
+    /// a file named 10,000 times would take quadratic time.
+    fn first_place(&self, identity: &PathBuf) -> Option<String> {
+        let &(including, k) = self.seen.get(identity)?;
+        let mut places = self.first_places.borrow_mut();
+        let place = places.entry(identity.clone()).or_insert_with(|| {
             self.origins
                 .place(including, &KeyPath::root().key("include").index(k))
-        ))
+        });
+        Some(place.clone())
     }
 
     /// Reads and parses an included file; its problems are reported at
@@ -415,7 +433,8 @@ impl Loader<'_> {
     /// Reads the meshes and texture images of `part`, relative to `base`.
     fn read_files(&mut self, part: &mut Part, base: &Path) {
         let images = &mut self.images;
-        let meshes = obj::load_object_meshes(&mut part.objects, base, self.source, images);
+        let read = (&mut *images, &mut self.budget);
+        let meshes = obj::load_object_meshes(&mut part.objects, base, self.source, read);
         let items = (&mut part.materials, part.objects.as_mut_slice());
         let textures = images::load_part_images(items, base, self.source, images);
         let problems = &mut self.problems[part.file].meshes;
@@ -540,6 +559,25 @@ mod tests {
             message,
             "`./s.toml` includes itself (s.toml -> a.toml -> s.toml); it is the scene file"
         );
+    }
+
+    #[test]
+    fn a_file_named_many_times_is_reported_in_linear_time() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(
+            dir.path().join("a.toml"),
+            "[materials.m]\ndiffuse = [1, 1, 1]\n",
+        )
+        .unwrap();
+        let names = vec!["\"a.toml\""; 10_000].join(", ");
+        let scene = dir.path().join("s.toml");
+        std::fs::write(&scene, format!("include = [{names}]\n{CAMERA}")).unwrap();
+        let start = std::time::Instant::now();
+        let (file, path, message) = first(&load_file(&scene).unwrap_err());
+        assert!(start.elapsed().as_secs() < 2, "{:?}", start.elapsed());
+        assert_eq!((file.as_str(), path.as_str()), ("s.toml", "include[1]"));
+        assert!(message.contains("included already, at"), "{message}");
+        assert!(message.contains("s.toml:1:12"), "{message}");
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! The scene file format of the tracer: plain data read from TOML or JSON,
 //! validated, with errors that say where. No rendering here.
 
+pub mod budget;
 pub mod canvas;
 pub mod checks;
 pub mod diagnostic;
@@ -26,6 +27,7 @@ pub mod span_tree;
 mod suggest;
 pub mod validate;
 
+pub use budget::{Budget, MAX_TRIANGLES};
 pub use canvas::CanvasFile;
 pub use checks::warnings;
 pub use diagnostic::{Diagnostic, Location};

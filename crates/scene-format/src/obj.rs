@@ -1,6 +1,7 @@
 //! Wavefront OBJ meshes: read (`obj_text.rs`), triangulated, degenerate
 //! faces left out and counted.
 
+use crate::budget::Budget;
 use crate::diagnostic::Diagnostic;
 use crate::images::ImageCache;
 use crate::model::{MeshData, MeshFormat, Object, SceneFile, Vec3};
@@ -16,16 +17,19 @@ use std::sync::Arc;
 /// Reads the mesh file (OBJ or PLY) of every mesh of `objects` from
 /// `source`, relative to `base` (the folder of the file that lists them).
 /// Every file that cannot be read gives a diagnostic at
-/// `objects[i].mesh.obj` (or `.ply`), `i` an index of `objects`. The images of their MTL files are read through `images`.
+/// `objects[i].mesh.obj` (or `.ply`), `i` an index of `objects`. The images of their MTL files are read through `images`;
+/// the triangles of the files read are taken from `budget`.
 pub fn load_object_meshes(
     objects: &mut [Object],
     base: &Path,
     source: &dyn Source,
-    images: &mut ImageCache,
+    (images, budget): (&mut ImageCache, &mut Budget),
 ) -> Vec<Diagnostic> {
     let mut diagnostics = Vec::new();
-    // A file used by several objects is read once and shared.
-    let mut read: HashMap<PathBuf, Arc<MeshData>> = HashMap::new();
+    // A file used by several objects is read once and shared; one that
+    // failed is not read again (a zip bomb named a thousand times would
+    // be inflated a thousand times).
+    let mut read: HashMap<PathBuf, Result<Arc<MeshData>, String>> = HashMap::new();
     for (i, object) in objects.iter_mut().enumerate() {
         let Some(mesh) = object.mesh.as_mut() else {
             continue;
@@ -35,20 +39,15 @@ pub fn load_object_meshes(
             continue;
         };
         let path = base.join(file);
-        if let Some(data) = read.get(&path) {
-            mesh.data = Some(data.clone());
-            continue;
-        }
-        let loaded = match format {
-            MeshFormat::Obj => read_obj_from(source, &path, images),
-            MeshFormat::Ply => crate::ply::read_ply_from(source, &path),
-        };
-        match loaded {
-            Ok(data) => {
-                let data = Arc::new(data);
-                read.insert(path, data.clone());
-                mesh.data = Some(data);
+        let loaded = read.entry(path).or_insert_with_key(|path| {
+            match format {
+                MeshFormat::Obj => read_obj_within(source, path, images, budget),
+                MeshFormat::Ply => crate::ply::read_ply_within(source, path, budget),
             }
+            .map(Arc::new)
+        });
+        match loaded {
+            Ok(data) => mesh.data = Some(data.clone()),
             Err(message) => diagnostics.push(Diagnostic::new(
                 format!("objects[{i}].mesh.{}", format.key()),
                 format!("cannot load `{file}`: {message}"),
@@ -101,7 +100,17 @@ pub fn read_obj_from(
     path: &Path,
     images: &mut ImageCache,
 ) -> Result<MeshData, String> {
-    read_obj_lines(source, path, images).map_err(|failure| {
+    read_obj_within(source, path, images, &mut Budget::default())
+}
+
+/// [`read_obj_from`], its faces' triangles taken from `budget`.
+pub fn read_obj_within(
+    source: &dyn Source,
+    path: &Path,
+    images: &mut ImageCache,
+    budget: &mut Budget,
+) -> Result<MeshData, String> {
+    read_obj_lines(source, path, images, budget).map_err(|failure| {
         let name = path.file_name().unwrap_or(path.as_os_str());
         let name = name.to_string_lossy();
         let scanned = bad_line_in(source, path);
@@ -136,6 +145,7 @@ fn read_obj_lines(
     source: &dyn Source,
     path: &Path,
     images: &mut ImageCache,
+    budget: &mut Budget,
 ) -> Result<MeshData, ObjFailure> {
     let mut bytes = Vec::new();
     source
@@ -143,7 +153,7 @@ fn read_obj_lines(
         .and_then(|mut file| file.read_to_end(&mut bytes))
         .map_err(|e| e.to_string())?;
     let mut libraries = Libraries::new(path.parent().unwrap_or(Path::new("")), source);
-    let parsed = obj_text::parse(&bytes, &mut libraries);
+    let parsed = obj_text::parse(&bytes, &mut libraries, budget);
     drop(bytes);
     let text = parsed.map_err(|e| ObjFailure {
         message: format!("not a valid OBJ file: {}", e.what),
@@ -638,7 +648,11 @@ mod tests {
             }
             // The faces' vertices are checked when the triangles are made.
             let mut data = MeshData::default();
-            match obj_text::parse(obj.as_bytes(), &mut obj_text::NoLibraries) {
+            match obj_text::parse(
+                obj.as_bytes(),
+                &mut obj_text::NoLibraries,
+                &mut Budget::default(),
+            ) {
                 Ok(text) if add_triangles(&text, &mut data).is_ok() => read += 1,
                 _ => refused += 1,
             }
@@ -648,6 +662,61 @@ mod tests {
             read > 100 && refused > 100,
             "{read} read, {refused} refused"
         );
+    }
+
+    /// A folder that counts the files opened.
+    #[derive(Default)]
+    struct Counting {
+        folder: Folder,
+        opened: std::cell::Cell<usize>,
+    }
+
+    impl Source for Counting {
+        fn open(&self, path: &Path, cap: u64) -> std::io::Result<Box<dyn BufRead + '_>> {
+            self.opened.set(self.opened.get() + 1);
+            self.folder.open(path, cap)
+        }
+        fn name(&self, path: &Path) -> PathBuf {
+            self.folder.name(path)
+        }
+        fn identity(&self, path: &Path) -> PathBuf {
+            self.folder.identity(path)
+        }
+        fn files_read(&self) -> Vec<PathBuf> {
+            self.folder.files_read()
+        }
+    }
+
+    #[test]
+    fn a_file_that_failed_is_not_read_again_for_each_object() {
+        let dir = tempfile::tempdir().unwrap();
+        write(dir.path(), "bad.obj", "v 0 0 0\nf 1 2 3\n");
+        let text = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n".to_string()
+            + &"[[objects]]\nmesh = { obj = \"bad.obj\" }\n".repeat(50);
+        let mut scene = crate::load_str(&text, crate::Format::Toml, Path::new("s.toml")).unwrap();
+        let source = Counting::default();
+        let read = (&mut ImageCache::default(), &mut Budget::default());
+        let diagnostics = load_object_meshes(&mut scene.objects, dir.path(), &source, read);
+        // Each object is told, but the file was read once (and scanned
+        // once more for its bad line).
+        assert_eq!(diagnostics.len(), 50);
+        assert!(source.opened.get() <= 2, "{} opens", source.opened.get());
+    }
+
+    #[test]
+    fn polygons_are_counted_against_the_budget_before_they_are_built() {
+        let dir = tempfile::tempdir().unwrap();
+        let corners: String = (1..=1000).map(|i| format!(" {}", i % 3 + 1)).collect();
+        let path = write(
+            dir.path(),
+            "many.obj",
+            &format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nf{corners}\n"),
+        );
+        let (source, images) = (Folder::new(), &mut ImageCache::default());
+        let error = read_obj_within(&source, &path, images, &mut Budget::of(997)).unwrap_err();
+        assert!(error.contains(crate::budget::TOO_MANY), "{error}");
+        assert!(error.contains("`many.obj:4`"), "{error}");
+        assert!(read_obj_within(&source, &path, images, &mut Budget::of(998)).is_ok());
     }
 
     #[test]

@@ -8,6 +8,7 @@
 //! vertices a face) and a face of fewer than 3 vertices is an error (tobj
 //! left it out).
 
+use crate::budget::Budget;
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -63,11 +64,19 @@ impl MaterialLibraries for NoLibraries {
 pub(crate) fn parse(
     bytes: &[u8],
     libraries: &mut dyn MaterialLibraries,
+    budget: &mut Budget,
 ) -> Result<ObjText, ObjError> {
-    let mut parser = Parser::default();
+    let mut parser = Parser {
+        budget,
+        text: ObjText::default(),
+        materials: HashMap::new(),
+        material_count: 0,
+        material: None,
+        face: Vec::new(),
+    };
     // A guess from typical files (shared vertices, about 38 bytes a
     // triangle), so the lists seldom grow and copy.
-    let triangles = bytes.len() / 38;
+    let triangles = (bytes.len() / 38).min(crate::budget::MAX_TRIANGLES);
     parser.text.positions.reserve(triangles / 2);
     parser.text.triangles.reserve(triangles);
     let mut start = 0;
@@ -83,8 +92,9 @@ pub(crate) fn parse(
     Ok(parser.text)
 }
 
-#[derive(Default)]
-struct Parser {
+struct Parser<'b> {
+    /// The scene's triangles left: a face's are taken before they are made.
+    budget: &'b mut Budget,
     text: ObjText,
     /// Every material name the libraries gave so far, to its index (a
     /// later library's material of the same name wins, as in tobj).
@@ -96,7 +106,7 @@ struct Parser {
     face: Vec<Corner>,
 }
 
-impl Parser {
+impl Parser<'_> {
     fn line(
         &mut self,
         line: &[u8],
@@ -167,6 +177,7 @@ impl Parser {
         if self.face.len() < 3 {
             return Err("face parse error");
         }
+        self.budget.take(self.face.len() - 2)?;
         for k in 1..self.face.len() - 1 {
             let triangle = [self.face[0], self.face[k], self.face[k + 1]];
             self.text.triangles.push(triangle);
@@ -324,7 +335,7 @@ mod tests {
     use super::*;
 
     fn text(obj: &str) -> Result<ObjText, ObjError> {
-        parse(obj.as_bytes(), &mut NoLibraries)
+        parse(obj.as_bytes(), &mut NoLibraries, &mut Budget::default())
     }
 
     /// The fast path must give `str::parse`'s bits, or leave the word to it.
@@ -426,7 +437,7 @@ mod tests {
         }
         let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nmtllib my lib.mtl\nf 1 2 3\n\
                    usemtl blue\nf 1 2 3\nusemtl none\nf 1 2 3\nusemtl red \nf 1 2 3\n";
-        let t = parse(obj.as_bytes(), &mut Two).unwrap();
+        let t = parse(obj.as_bytes(), &mut Two, &mut Budget::default()).unwrap();
         assert_eq!(t.triangle_materials, [None, None, Some(1), None, Some(0)]);
     }
 }

@@ -99,6 +99,11 @@ impl Source for Folder {
 pub struct Archive {
     file: PathBuf,
     zip: Mutex<zip::ZipArchive<Box<dyn ReadSeek>>>,
+    /// Bytes inflated so far, and the most allowed: a few times the sum of
+    /// the entries' sizes, so a scene that reads one entry again and again
+    /// (a bomb named by a thousand files) is stopped.
+    inflated: std::cell::Cell<u64>,
+    inflate_limit: u64,
     /// The scene file inside: named by the manifest, or the only top-level
     /// `.toml`/`.json` entry.
     scene: PathBuf,
@@ -109,6 +114,10 @@ pub struct Archive {
 pub trait ReadSeek: Read + Seek + Send {}
 
 impl<T: Read + Seek + Send> ReadSeek for T {}
+
+/// How many times over a scene may read its archive's entries: an OBJ is
+/// read, scanned for its bad line and for its first degenerate face.
+const INFLATE_TIMES: u128 = 4;
 
 /// The entry naming the scene file of an archive made by `tracer pack`.
 pub const MANIFEST: &str = "tracer-pack.toml";
@@ -135,10 +144,16 @@ impl Archive {
     }
 
     fn read_from(file: &Path, reader: Box<dyn ReadSeek>) -> io::Result<Archive> {
-        let zip = zip::ZipArchive::new(reader).map_err(bad)?;
+        let zip = zip::ZipArchive::new(reader).map_err(zip_error)?;
+        let sizes = zip.decompressed_size().unwrap_or(u128::MAX);
+        let inflate_limit = u64::try_from(sizes.saturating_mul(INFLATE_TIMES))
+            .unwrap_or(u64::MAX)
+            .max(1 << 20);
         let mut archive = Archive {
             file: file.to_path_buf(),
             zip: Mutex::new(zip),
+            inflated: std::cell::Cell::new(0),
+            inflate_limit,
             scene: PathBuf::new(),
             read: Record::default(),
         };
@@ -212,7 +227,7 @@ impl Archive {
             Err(zip::result::ZipError::FileNotFound) => {
                 return Err(not_found("no such file in the archive"))
             }
-            Err(e) => return Err(bad(e)),
+            Err(e) => return Err(zip_error(e)),
         };
         if entry.is_dir() {
             return Err(io::Error::new(
@@ -229,10 +244,22 @@ impl Archive {
                 ),
             ));
         }
-        // The declared size may lie (a zip bomb): never read past the cap.
+        let declared = entry.size();
+        let inflated = self.inflated.get().saturating_add(declared);
+        if inflated > self.inflate_limit {
+            return Err(bad(format!(
+                "the scene reads the archive's entries more than {INFLATE_TIMES} times over \
+                 ({inflated} bytes inflated); expected each file to be named once"
+            )));
+        }
+        self.inflated.set(inflated);
+        // The declared size may lie (a zip bomb): never inflate past it.
         let mut bytes = Vec::new();
-        entry.take(cap + 1).read_to_end(&mut bytes)?;
-        if bytes.len() as u64 > cap {
+        entry
+            .take(declared + 1)
+            .read_to_end(&mut bytes)
+            .map_err(|e| bad(format!("the entry cannot be inflated: {e}")))?;
+        if bytes.len() as u64 > declared {
             return Err(bad("an entry holds more than its declared size"));
         }
         Ok(bytes)
@@ -359,6 +386,18 @@ fn entry_name(path: &Path) -> Option<String> {
         .map(|c| c.as_os_str().to_string_lossy().into_owned())
         .collect();
     (!parts.is_empty()).then(|| parts.join("/"))
+}
+
+/// A zip error for a reader: a cut or damaged archive says so, where the
+/// zip crate says only "i/o error".
+fn zip_error(e: zip::result::ZipError) -> io::Error {
+    use zip::result::ZipError;
+    match e {
+        ZipError::Io(_) | ZipError::InvalidArchive(_) => bad(format!(
+            "the archive is damaged or cut short ({e}); expected a whole zip file"
+        )),
+        other => bad(other),
+    }
 }
 
 fn bad(e: impl ToString) -> io::Error {

@@ -131,3 +131,98 @@ fn entries_are_read_up_to_the_cap() {
     let error = archive.read(obj, 10).unwrap_err();
     assert_eq!(error.kind(), std::io::ErrorKind::InvalidInput);
 }
+
+/// The message of a scene that fails to load.
+fn failure(path: &Path) -> String {
+    load_file(path).unwrap_err().to_string()
+}
+
+#[test]
+fn an_archive_cut_short_says_so() {
+    let (dir, path) = packed("[materials.red]\ndiffuse = [1, 0, 0]\n");
+    let bytes = std::fs::read(&path).unwrap();
+    for keep in [bytes.len() - 5, bytes.len() / 2, 30] {
+        let cut = dir.path().join("cut.zip");
+        std::fs::write(&cut, &bytes[..keep]).unwrap();
+        let message = failure(&cut);
+        assert!(
+            message.contains("damaged or cut short"),
+            "{keep}: {message}"
+        );
+    }
+}
+
+/// A zip archive of `entries` (name, bytes), deflated.
+fn deflated(dir: &Path, entries: &[(&str, &[u8])]) -> PathBuf {
+    let path = dir.join("bomb.zip");
+    let mut zip = zip::ZipWriter::new(std::fs::File::create(&path).unwrap());
+    let options = zip::write::SimpleFileOptions::default()
+        .compression_method(zip::CompressionMethod::Deflated);
+    for (entry, bytes) in entries {
+        zip.start_file(*entry, options).unwrap();
+        zip.write_all(bytes).unwrap();
+    }
+    zip.finish().unwrap();
+    path
+}
+
+#[test]
+fn an_entry_is_never_inflated_past_its_declared_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
+                 [[objects]]\nmesh = { obj = \"m.obj\" }\n";
+    let junk = vec![b'#'; 50 << 20];
+    let path = deflated(
+        dir.path(),
+        &[("s.toml", scene.as_bytes()), ("m.obj", &junk)],
+    );
+    // The entry's sizes (local header and central directory) say 100 bytes.
+    let mut bytes = std::fs::read(&path).unwrap();
+    let size = (50u32 << 20).to_le_bytes();
+    let mut patched = 0;
+    for at in 0..bytes.len() - 4 {
+        if bytes[at..at + 4] == size {
+            bytes[at..at + 4].copy_from_slice(&100u32.to_le_bytes());
+            patched += 1;
+        }
+    }
+    assert_eq!(patched, 2);
+    std::fs::write(&path, bytes).unwrap();
+    let start = std::time::Instant::now();
+    let message = failure(&path);
+    assert!(message.contains("more than its declared size"), "{message}");
+    assert!(start.elapsed().as_millis() < 500, "{:?}", start.elapsed());
+}
+
+#[test]
+fn a_bomb_named_by_many_files_is_inflated_a_few_times_at_most() {
+    let dir = tempfile::tempdir().unwrap();
+    // 200 OBJ files, each naming one 32 MiB MTL of comments: 6 GiB to
+    // inflate if each read it.
+    let mut scene = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n".to_string();
+    let obj = format!("mtllib bomb.mtl\n{TRIANGLE}");
+    let names: Vec<String> = (0..200).map(|i| format!("m{i}.obj")).collect();
+    for name in &names {
+        scene += &format!("[[objects]]\nmesh = {{ obj = \"{name}\" }}\n");
+    }
+    let bomb = vec![b'#'; 32 << 20];
+    let mut entries: Vec<(&str, &[u8])> = vec![("s.toml", scene.as_bytes()), ("bomb.mtl", &bomb)];
+    entries.extend(names.iter().map(|n| (n.as_str(), obj.as_bytes())));
+    let path = deflated(dir.path(), &entries);
+    let start = std::time::Instant::now();
+    let loaded = load_file(&path);
+    assert!(start.elapsed().as_secs() < 10, "{:?}", start.elapsed());
+    let SceneKind::Scene3d(scene) = loaded.unwrap().kind else {
+        panic!("expected a 3D scene");
+    };
+    // The MTL is a warning of the later objects: read no more.
+    let last = scene.objects[199]
+        .mesh
+        .as_ref()
+        .unwrap()
+        .data
+        .as_ref()
+        .unwrap();
+    let warning = last.material_warnings.join("\n");
+    assert!(warning.contains("more than 4 times over"), "{warning}");
+}

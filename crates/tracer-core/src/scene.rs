@@ -16,6 +16,8 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
+mod kept;
+
 /// The recursion settings of the lab's `rayTrace` (lab 5.3), and how
 /// finely sphere lights are sampled.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -211,6 +211,16 @@ impl ColorTexture {
     }
 }
 
+impl ImageTexels {
+    /// Whether an image read back from a file (`--cache`) has the texels
+    /// its size says.
+    pub(crate) fn is_whole(&self) -> bool {
+        self.width > 0
+            && self.height > 0
+            && self.texels.len() as u64 == u64::from(self.width) * u64::from(self.height)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

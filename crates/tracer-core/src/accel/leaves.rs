@@ -22,6 +22,10 @@ pub(super) struct SpherePrim {
 pub(super) const SPHERE_LEAF: u32 = 1 << 30;
 
 impl SpherePrim {
+    pub(super) fn material(&self) -> u32 {
+        self.material
+    }
+
     /// The hit at distance `t`, as `Object::surface_hit` gives it.
     pub(super) fn hit(&self, ray: &Ray, t: f32) -> SurfaceHit {
         let (id, material) = (self.id as usize, self.material as usize);

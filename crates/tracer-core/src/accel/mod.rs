@@ -19,6 +19,7 @@
 mod as_bytes;
 pub mod brute_force;
 mod build;
+mod check;
 mod flat;
 mod instances;
 mod leaves;

@@ -69,6 +69,12 @@ impl Tri4 {
     }
 
     /// A block with every lane unused.
+    /// Each lane's material, and whether the lane holds a triangle (an
+    /// unused lane's infinite `edge_scale` never lets a ray hit it).
+    pub(super) fn lane_materials(&self) -> [(u32, bool); 4] {
+        std::array::from_fn(|lane| (self.material[lane], self.edge_scale[lane].is_finite()))
+    }
+
     pub(super) const EMPTY: Tri4 = Tri4 {
         v0: [Vec4::ZERO; 3],
         e1: [Vec4::ZERO; 3],

@@ -73,6 +73,18 @@ impl AliasTable {
     }
 }
 
+impl AliasTable {
+    /// Whether a table read back from a file (`--cache`) can be sampled:
+    /// its lists of one length, not empty, every alias within them.
+    pub(crate) fn is_whole(&self) -> bool {
+        let n = self.pmf.len();
+        n > 0
+            && self.keep.len() == n
+            && self.alias.len() == n
+            && self.alias.iter().all(|&a| (a as usize) < n)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -106,6 +106,23 @@ impl Distribution2D {
     }
 }
 
+impl Distribution1D {
+    /// Whether a distribution read back from a file has `n` cells.
+    fn is_whole(&self, n: usize) -> bool {
+        n > 0 && self.cdf.len() == n + 1
+    }
+}
+
+impl Distribution2D {
+    /// Whether a distribution read back from a file (`--cache`) has
+    /// `width` x `height` cells, so every draw stays within its lists.
+    pub(crate) fn is_whole(&self, width: usize, height: usize) -> bool {
+        self.marginal.is_whole(height)
+            && self.rows.len() == height
+            && self.rows.iter().all(|r| r.is_whole(width))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -224,6 +224,28 @@ pub fn uv_to_direction(uv: Vec2) -> (Vec3, f32) {
     (Vec3::new(sin * phi.sin(), cos, -sin * phi.cos()), sin)
 }
 
+impl Environment {
+    /// Whether an environment read back from a file (`--cache`) has the
+    /// texels and the distribution its size says.
+    pub(crate) fn is_whole(&self) -> bool {
+        match &self.kind {
+            Kind::Uniform(_) => true,
+            Kind::Image {
+                width,
+                height,
+                texels,
+                distribution,
+            } => {
+                let (w, h) = (*width as usize, *height as usize);
+                w > 0
+                    && h > 0
+                    && texels.len() as u64 == u64::from(*width) * u64::from(*height)
+                    && distribution.is_whole(w, h)
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

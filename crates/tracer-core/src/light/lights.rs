@@ -194,3 +194,27 @@ impl Lights {
         per_area * (point - from).length_squared() / cos
     }
 }
+
+impl Lights {
+    /// Why lights read back from a file (`--cache`) cannot be sampled, if
+    /// so: a table of another length than the lights, an index past them.
+    pub(crate) fn check(&self) -> Result<(), String> {
+        let n = self.points.len() + self.areas.len() + usize::from(self.environment.is_some());
+        if let Some(table) = &self.table {
+            if !table.is_whole() || table.len() != n {
+                return Err(format!("a light table of {} for {n} lights", table.len()));
+            }
+        }
+        if let Some(&(_, k)) = self
+            .spheres
+            .iter()
+            .find(|s| s.1 as usize >= self.areas.len())
+        {
+            return Err(format!("sphere light {k} of {}", self.areas.len()));
+        }
+        match &self.environment {
+            Some(e) if !e.is_whole() => Err("an environment of the wrong size".into()),
+            _ => Ok(()),
+        }
+    }
+}
