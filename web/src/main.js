@@ -20,6 +20,7 @@ const menu = document.getElementById("scene-menu");
 const canvas = document.getElementById("image");
 const status = document.getElementById("status");
 const folderNote = document.getElementById("folder");
+const explainPanel = document.getElementById("explain");
 const params = new URLSearchParams(location.search);
 // `?workers=N` (tests, the bench) overrides one worker per core.
 const workerCount = Math.max(1, Number(params.get("workers")) || navigator.hardwareConcurrency || 1);
@@ -133,6 +134,7 @@ async function render() {
   if (!preview.ok) return showError(preview.error);
   showProblems([]);
   const { fullWidth, fullHeight } = preview;
+  imageSize = [fullWidth, fullHeight];
   // A huge image's canvas takes seconds of the page's own thread to make:
   // its preview is shown at its own size, the canvas made full size once
   // the full image is there (an edit meanwhile cancels it cheaply).
@@ -191,6 +193,42 @@ async function render() {
   canvas.dataset.state = "done";
   window.tracerPage.renders += 1;
 }
+
+// ---- Explain a pixel --------------------------------------------------
+
+// The scene's image size (the canvas holds only a preview of a huge one).
+let imageSize = null;
+// Its own worker: a render's edit does not stop it, nor it a render.
+let explainWorker = null;
+let explainBusy = false;
+
+// A click on the image: that pixel's tree, as `tracer explain` prints it.
+canvas.addEventListener("click", async (event) => {
+  if (!wasmModule) return;
+  // The canvas may be shown smaller than it is (CSS): scale the click to
+  // the full image's pixels, (0, 0) its top-left.
+  const rect = canvas.getBoundingClientRect();
+  const [width, height] = imageSize || [canvas.width, canvas.height];
+  const clamp = (v, n) => Math.min(n - 1, Math.max(0, Math.floor(v)));
+  const x = clamp(((event.clientX - rect.left) / rect.width) * width, width);
+  const y = clamp(((event.clientY - rect.top) / rect.height) * height, height);
+  // A click while one is explained starts afresh rather than waiting.
+  if (explainBusy) explainWorker.terminate();
+  if (explainBusy || !explainWorker) {
+    explainWorker = new Worker("worker.js", { type: "module" });
+    explainWorker.postMessage({ module: wasmModule });
+  }
+  explainBusy = true;
+  explainPanel.dataset.pixel = `${x},${y}`;
+  explainPanel.dataset.state = "computing";
+  explainPanel.textContent = `Pixel (${x}, ${y}): explaining…`;
+  const answer = await runJob(explainWorker, { scene: scene.name, files: folderFiles(), explain: [x, y] });
+  // A later click owns the panel now.
+  if (explainPanel.dataset.pixel !== `${x},${y}` || explainPanel.dataset.state !== "computing") return;
+  explainBusy = false;
+  explainPanel.dataset.state = answer.ok ? "done" : "error";
+  explainPanel.textContent = `Pixel (${x}, ${y})\n\n${answer.ok ? answer.text : answer.error.text}`;
+});
 
 // ---- Errors -----------------------------------------------------------
 

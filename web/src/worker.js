@@ -1,5 +1,5 @@
 // One render worker: an instance of the tracer's wasm (crates/web) that
-// renders one region of a scene per message. A panic inside the wasm traps;
+// renders one region of a scene per message, or explains one pixel. A panic inside the wasm traps;
 // the instance is then dropped and the next job makes a fresh one.
 
 let module = null;
@@ -48,6 +48,13 @@ function run(job) {
     }
     const name = put(t, new TextEncoder().encode(job.scene));
     buffers.push(name);
+    if (job.explain) {
+      // One pixel's tree, as `tracer explain` prints it.
+      const [x, y] = job.explain;
+      const rc = t.tracer_explain(name[0], name[1], x, y);
+      const answer = new TextDecoder().decode(result(t));
+      return rc === 0 ? { ok: true, text: answer } : { ok: false, error: JSON.parse(answer) };
+    }
     const [x0, y0, x1, y1] = job.region || [0, 0, 0, 0];
     const start = performance.now();
     const rc = t.tracer_render(name[0], name[1], job.shrink, job.samples, x0, y0, x1, y1);

@@ -480,3 +480,74 @@ fn a_dropped_json_scene_renders_as_its_toml() {
     let menu = eval(&mut page, "document.getElementById('scene-menu').value");
     assert_eq!(menu, "");
 }
+
+#[test]
+fn a_click_on_the_image_explains_that_pixel_as_tracer_explain_does() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    eval(
+        &mut page,
+        "(() => { const m = document.getElementById('scene-menu'); \
+         m.value = 'illumination.toml'; m.dispatchEvent(new Event('change')); })()",
+    );
+    page.wait_for(
+        "document.getElementById('image').dataset.state === 'done' && \
+         tracerPage.lastRender.scene === 'illumination.toml'",
+        RENDER,
+    )
+    .unwrap();
+    // Shown at half its size: the click must be scaled to the image's pixels.
+    let rect = eval(
+        &mut page,
+        "(() => { const c = document.getElementById('image'); c.style.width = '250px'; \
+         c.scrollIntoView(); const r = c.getBoundingClientRect(); \
+         return [r.left, r.top, r.width, r.height]; })()",
+    );
+    let rect: Vec<f64> = serde_json::from_value(rect).unwrap();
+    assert_eq!(rect[2..], [250.0, 200.0], "{rect:?}");
+    // At (215, 225), on the sphere's lit side (the light is to the lower
+    // left). Chromium drops a click's fraction of a CSS pixel, two image
+    // pixels wide here: the page may name a neighbour, but no farther.
+    let at = |i: usize, p: f64| (rect[i] + (p + 0.5) / 2.0).round();
+    let (cx, cy) = (at(0, 215.0), at(1, 225.0));
+    for kind in ["mousePressed", "mouseReleased"] {
+        page.call(
+            "Input.dispatchMouseEvent",
+            serde_json::json!({ "type": kind, "x": cx, "y": cy, "button": "left", "clickCount": 1 }),
+        )
+        .unwrap();
+    }
+    page.wait_for(
+        "document.getElementById('explain').dataset.state === 'done'",
+        RENDER,
+    )
+    .unwrap();
+    let text = eval(&mut page, "document.getElementById('explain').textContent");
+    let text = text.as_str().unwrap();
+    let named = eval(
+        &mut page,
+        "document.getElementById('explain').dataset.pixel",
+    );
+    let (x, y): (u32, u32) = {
+        let (x, y) = named.as_str().unwrap().split_once(',').unwrap();
+        (x.parse().unwrap(), y.parse().unwrap())
+    };
+    // Unscaled, the click would name about (107, 112).
+    assert!(x.abs_diff(215) <= 1 && y.abs_diff(225) <= 1, "({x}, {y})");
+    assert!(text.starts_with(&format!("Pixel ({x}, {y})\n")), "{text}");
+    assert!(
+        text.contains(&format!("pixel ({x}, {y}) of illumination.toml (500x400;")),
+        "{text}"
+    );
+    assert!(text.contains("nearest hit: object 0"), "{text}");
+    // Its 8-bit value is the pixel the page shows there.
+    let [r, g, b, _] = page.canvas_image().unwrap().get_pixel(x, y).0;
+    assert!(r > 50, "not the lit sphere: ({r}, {g}, {b})");
+    assert!(
+        text.contains(&format!(
+            "(int)(c * 255) = ({r}, {g}, {b}), the rendered pixel"
+        )),
+        "({r}, {g}, {b}) not in\n{text}"
+    );
+}

@@ -11,6 +11,7 @@ pub mod cache;
 mod clock;
 mod error;
 pub mod explain;
+pub mod explain_text;
 pub mod lab;
 mod limits;
 mod load;

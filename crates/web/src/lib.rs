@@ -1,5 +1,5 @@
-//! The tracer in a browser tab: the pipeline's load and render behind a
-//! small C ABI, for `wasm32-unknown-unknown` (`cargo xtask web`).
+//! The tracer in a browser tab: the pipeline's load, render and explain
+//! behind a small C ABI, for `wasm32-unknown-unknown` (`cargo xtask web`).
 //!
 //! Why a hand-written ABI and not wasm-bindgen: the page needs half a dozen
 //! calls that pass bytes (files in, RGBA or JSON out); wasm-bindgen would
@@ -8,9 +8,9 @@
 //! pin to keep in step), for no gain here.
 //!
 //! The page owns memory it passes in through [`tracer_alloc`] /
-//! [`tracer_free`]; a call's answer (RGBA pixels or an error as JSON) stays
-//! in this module's result buffer until the next call
-//! ([`tracer_result_ptr`], [`tracer_result_len`]). One instance runs one
+//! [`tracer_free`]; a call's answer (RGBA pixels, an explained pixel's
+//! text, or an error as JSON) stays in this module's result buffer until
+//! the next call ([`tracer_result_ptr`], [`tracer_result_len`]). One instance runs one
 //! call at a time (a Web Worker each): no threads inside the wasm.
 
 use scene_format::source::{Archive, Memory, Source};
@@ -120,6 +120,27 @@ pub unsafe extern "C" fn tracer_render(
             s.full = image.full;
             s.rays = image.rays as f64;
             s.result = image.rgba;
+            0
+        }),
+        Err(json) => fail(json),
+    }
+}
+
+/// Loads the scene file at `path` of the folder and explains pixel (x, y)
+/// of its image at its full size (x from the left, y from the top): the
+/// text `tracer explain SCENE X Y` prints, by the pipeline's one formatter.
+/// 0 with the text (UTF-8) as the result; 1 with the error's JSON.
+///
+/// # Safety
+/// `path`, `path_len` are those of a buffer of `tracer_alloc`.
+#[no_mangle]
+pub unsafe extern "C" fn tracer_explain(path: *const u8, path_len: usize, x: u32, y: u32) -> u32 {
+    // SAFETY: as the caller promises.
+    let path = String::from_utf8_lossy(unsafe { bytes(path, path_len) }).into_owned();
+    let done = STATE.with_borrow(|s| explain(&s.files, Path::new(&path), (x, y)));
+    match done {
+        Ok(text) => STATE.with_borrow_mut(|s| {
+            s.result = text.into_bytes();
             0
         }),
         Err(json) => fail(json),
@@ -263,6 +284,15 @@ pub fn render(files: &Memory, path: &Path, request: &Request) -> Result<RegionIm
         full,
         rays,
     })
+}
+
+/// Pixel (x, y) of the scene at `path` of `files` explained, as `tracer
+/// explain` prints it (its default options: the scene's own size and
+/// samples); an error as the page's JSON.
+pub fn explain(files: &Memory, path: &Path, (x, y): (u32, u32)) -> Result<String, String> {
+    let loaded = load(files, path)?;
+    tracer_pipeline::explain_text::tree_text(&loaded, &Options::default(), (x, y))
+        .map_err(|e| error_json(&e))
 }
 
 /// The scene at `path`: from the folder, or from the archive `path` is.
