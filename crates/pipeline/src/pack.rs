@@ -33,10 +33,10 @@ pub enum PackError {
     NotZip(PathBuf),
     #[error("{}: the scene is an archive already; pack its scene file", .0.display())]
     AlreadyPacked(PathBuf),
-    #[error("{}: cannot read it to pack it: {source}", file.display())]
+    #[error("{}: cannot read it to pack it: {error}", file.display())]
     Read {
         file: PathBuf,
-        source: std::io::Error,
+        error: std::io::Error,
     },
     #[error("{}: the packed scene would not load (an absolute path in it?):\n{message}", file.display())]
     Unreadable { file: PathBuf, message: String },
@@ -54,7 +54,7 @@ impl PackError {
             PackError::NotZip(_) | PackError::AlreadyPacked(_) | PackError::Unreadable { .. } => {
                 true
             }
-            PackError::Read { source, .. } => source.kind() != std::io::ErrorKind::Other,
+            PackError::Read { error, .. } => error.kind() != std::io::ErrorKind::Other,
             PackError::Zip { .. } => false,
         }
     }
@@ -134,9 +134,9 @@ fn archive(output: &Path, files: &[PathBuf], names: &[String]) -> Result<Vec<u8>
     zip.write_all(text.as_bytes())
         .map_err(|e| zip_error(e.into()))?;
     for (file, name) in files.iter().zip(names) {
-        let bytes = read_capped(file, MAX_OBJ_BYTES).map_err(|source| PackError::Read {
+        let bytes = read_capped(file, MAX_OBJ_BYTES).map_err(|error| PackError::Read {
             file: file.clone(),
-            source,
+            error,
         })?;
         let options = options.large_file(bytes.len() as u64 >= u32::MAX as u64);
         zip.start_file(name.as_str(), options).map_err(zip_error)?;
