@@ -35,6 +35,8 @@ pub enum PackError {
     NotZip(PathBuf),
     #[error("{}: the scene is an archive already; pack its scene file", .0.display())]
     AlreadyPacked(PathBuf),
+    #[error("{}: a packed scene (zip archive) is not converted; convert the .toml or .json scene file it holds (unzip it)", .0.display())]
+    NotConverted(PathBuf),
     #[error("{}: cannot read it to pack it: {error}", file.display())]
     Read {
         file: PathBuf,
@@ -63,6 +65,7 @@ impl PackError {
         match self {
             PackError::NotZip(_)
             | PackError::AlreadyPacked(_)
+            | PackError::NotConverted(_)
             | PackError::Unreadable { .. }
             | PackError::Outside { .. } => true,
             PackError::Read { error, .. } => error.kind() != std::io::ErrorKind::Other,
