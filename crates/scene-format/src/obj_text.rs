@@ -78,6 +78,7 @@ pub(crate) fn parse(
         material: None,
         face: Vec::new(),
         line: 0,
+        clip_work: crate::polygon::CLIP_WORK,
     };
     // A guess from typical files (shared vertices, about 38 bytes a
     // triangle), so the lists seldom grow and copy.
@@ -112,6 +113,8 @@ struct Parser<'b> {
     face: Vec<Corner>,
     /// The line being read, counted from 1.
     line: usize,
+    /// What ear clipping may still spend on this file.
+    clip_work: u64,
 }
 
 impl Parser<'_> {
@@ -193,7 +196,7 @@ impl Parser<'_> {
             let points: Vec<[f32; 3]> = (self.face.iter())
                 .map(|c| self.text.positions[c.v as usize])
                 .collect();
-            let (cut, trouble) = crate::polygon::triangulate(&points);
+            let (cut, trouble) = crate::polygon::triangulate(&points, &mut self.clip_work);
             if let Some(trouble) = trouble {
                 self.text.polygon_troubles += 1;
                 (self.text.first_polygon_trouble).get_or_insert((self.line, trouble));

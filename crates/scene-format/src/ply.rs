@@ -275,6 +275,7 @@ fn triangles(vertices: &[PlyVertex], faces: &Faces) -> Result<MeshData, String> 
     };
     let mut data = MeshData::default();
     let mut start = 0;
+    let mut clip_work = crate::polygon::CLIP_WORK;
     for (f, &end) in faces.ends.iter().enumerate() {
         let face = &faces.corners[start..end as usize];
         start = end as usize;
@@ -284,7 +285,7 @@ fn triangles(vertices: &[PlyVertex], faces: &Faces) -> Result<MeshData, String> 
             let points = (face.iter())
                 .map(|&i| position(i).map(|v| v.position))
                 .collect::<Result<Vec<_>, _>>()?;
-            let (cut, trouble) = crate::polygon::triangulate(&points);
+            let (cut, trouble) = crate::polygon::triangulate(&points, &mut clip_work);
             if let Some(trouble) = trouble {
                 data.polygon_troubles += 1;
                 (data.first_polygon_trouble).get_or_insert((format!(" face {f}"), trouble.says()));

@@ -5,9 +5,13 @@
 //! not cover its own notch. A face that cannot be cut (degenerate,
 //! self-intersecting, or too large to check) keeps the fan, with a warning.
 
-/// Corners a concave face may have to be cut by ear clipping (quadratic in
-/// the corners); a larger one is fanned, with a warning.
+/// Corners a concave face may have to be cut by ear clipping (cubic in the
+/// corners at worst); a larger one is fanned, with a warning.
 pub const MAX_CLIPPED_CORNERS: usize = 1024;
+/// Steps (corner against corner) of ear clipping one mesh file may take in
+/// all, at worst about a second: a file of many hostile concave faces is not
+/// cut for minutes; the faces past it are fanned, with a warning.
+pub const CLIP_WORK: u64 = 400_000_000;
 
 /// Why a face was fanned though it may not be convex.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -16,7 +20,7 @@ pub enum Trouble {
     Degenerate,
     /// Its edges cross each other.
     SelfIntersecting,
-    /// More than `MAX_CLIPPED_CORNERS` corners.
+    /// More than `MAX_CLIPPED_CORNERS` corners, or past the file's `CLIP_WORK`.
     TooManyCorners,
 }
 
@@ -26,14 +30,18 @@ impl Trouble {
         match self {
             Trouble::Degenerate => "degenerate (its corners span no area)",
             Trouble::SelfIntersecting => "self-intersecting",
-            Trouble::TooManyCorners => "concave with too many corners to cut",
+            Trouble::TooManyCorners => {
+                "concave with too many corners to cut (or past the file's many such faces)"
+            }
         }
     }
 }
 
 /// The triangles of the face with corners `points`, as indices into them,
 /// `points.len() - 2` of them, and why the fan was kept if it may be wrong.
-pub fn triangulate(points: &[[f32; 3]]) -> (Vec<[usize; 3]>, Option<Trouble>) {
+/// `work_left` (start it at `CLIP_WORK` for each file) is what ear clipping
+/// may still spend.
+pub fn triangulate(points: &[[f32; 3]], work_left: &mut u64) -> (Vec<[usize; 3]>, Option<Trouble>) {
     let n = points.len();
     let fan = || (1..n.saturating_sub(1)).map(|k| [0, k, k + 1]).collect();
     if n <= 3 {
@@ -86,9 +94,12 @@ pub fn triangulate(points: &[[f32; 3]]) -> (Vec<[usize; 3]>, Option<Trouble>) {
     if is_convex(&flat) {
         return (fan(), None);
     }
-    if n > MAX_CLIPPED_CORNERS {
+    // Its worst case charged before it is tried.
+    let work = (n as u64).pow(3);
+    if n > MAX_CLIPPED_CORNERS || work > *work_left {
         return (fan(), Some(Trouble::TooManyCorners));
     }
+    *work_left -= work;
     if self_intersects(&flat) {
         return (fan(), Some(Trouble::SelfIntersecting));
     }
@@ -212,7 +223,7 @@ mod tests {
             [1.0, 1.0],
             [1.0, 2.0],
         ]);
-        let (triangles, trouble) = triangulate(&l);
+        let (triangles, trouble) = triangulate(&l, &mut CLIP_WORK.clone());
         assert_eq!(trouble, None);
         assert_eq!(triangles.len(), 4);
         let area: f64 = triangles.iter().map(|&t| area2(t, &l)).sum::<f64>() / 2.0;
@@ -239,7 +250,7 @@ mod tests {
                 [r * a.cos(), r * a.sin(), 0.0]
             })
             .collect();
-        let (triangles, trouble) = triangulate(&star);
+        let (triangles, trouble) = triangulate(&star, &mut CLIP_WORK.clone());
         assert_eq!(trouble, None);
         assert_eq!(triangles.len(), 8);
         // Shoelace area of the star.
@@ -272,24 +283,57 @@ mod tests {
             [1.0, 1.0, 0.0],
             [0.0, 1.0, 0.1],
         ];
-        assert_eq!(triangulate(&quad), (vec![[0, 1, 2], [0, 2, 3]], None));
+        assert_eq!(
+            triangulate(&quad, &mut CLIP_WORK.clone()),
+            (vec![[0, 1, 2], [0, 2, 3]], None)
+        );
         // Facing the other way, and with a corner on a straight edge.
         let mut reversed = quad;
         reversed.reverse();
-        assert_eq!(triangulate(&reversed).0, vec![[0, 1, 2], [0, 2, 3]]);
+        assert_eq!(
+            triangulate(&reversed, &mut CLIP_WORK.clone()).0,
+            vec![[0, 1, 2], [0, 2, 3]]
+        );
         let hexagon = flat(&[[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0]]);
-        assert_eq!(triangulate(&hexagon).1, None);
-        assert_eq!(triangulate(&hexagon).0[0], [0, 1, 2]);
+        assert_eq!(triangulate(&hexagon, &mut CLIP_WORK.clone()).1, None);
+        assert_eq!(
+            triangulate(&hexagon, &mut CLIP_WORK.clone()).0[0],
+            [0, 1, 2]
+        );
+    }
+
+    #[test]
+    fn concave_faces_past_the_work_are_fanned_and_said() {
+        let l = flat(&[
+            [0.0, 2.0],
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 2.0],
+        ]);
+        let mut work = 216 + 215;
+        assert_eq!(triangulate(&l, &mut work).1, None);
+        assert_eq!(work, 215);
+        let (triangles, trouble) = triangulate(&l, &mut work);
+        assert_eq!(trouble, Some(Trouble::TooManyCorners));
+        assert_eq!(triangles[0], [0, 1, 2]);
+        // Convex faces cost nothing.
+        let square = flat(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]);
+        assert_eq!(triangulate(&square, &mut 0).1, None);
     }
 
     #[test]
     fn a_self_intersecting_or_degenerate_polygon_is_fanned_and_said() {
         let bow_tie = flat(&[[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0], [-0.5, 0.5]]);
-        let (triangles, trouble) = triangulate(&bow_tie);
+        let (triangles, trouble) = triangulate(&bow_tie, &mut CLIP_WORK.clone());
         assert_eq!(trouble, Some(Trouble::SelfIntersecting));
         assert_eq!(triangles, vec![[0, 1, 2], [0, 2, 3], [0, 3, 4]]);
         let line = flat(&[[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [3.0, 0.0]]);
-        assert_eq!(triangulate(&line).1, Some(Trouble::Degenerate));
+        assert_eq!(
+            triangulate(&line, &mut CLIP_WORK.clone()).1,
+            Some(Trouble::Degenerate)
+        );
         // A pentagram: every corner turns left, twice around.
         let pentagram: Vec<[f32; 3]> = (0..5)
             .map(|k| {
@@ -297,6 +341,9 @@ mod tests {
                 [a.cos(), a.sin(), 0.0]
             })
             .collect();
-        assert_eq!(triangulate(&pentagram).1, Some(Trouble::SelfIntersecting));
+        assert_eq!(
+            triangulate(&pentagram, &mut CLIP_WORK.clone()).1,
+            Some(Trouble::SelfIntersecting)
+        );
     }
 }
