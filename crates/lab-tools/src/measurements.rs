@@ -121,6 +121,24 @@ fn check_header_width(line: u64, n: usize) -> Result<usize, MeasurementError> {
     }
 }
 
+/// Most characters of a field a message shows: a field of megabytes (a
+/// binary file read as CSV) would otherwise fill the terminal.
+const SHOWN_CHARS: usize = 40;
+
+/// A field as a message shows it: its first `SHOWN_CHARS` characters,
+/// control characters escaped.
+fn shown(text: &str) -> String {
+    let count = text.chars().count();
+    if count <= SHOWN_CHARS {
+        return scene_format::excerpt::escape_controls(text);
+    }
+    let start: String = text.chars().take(SHOWN_CHARS).collect();
+    format!(
+        "{}... ({count} characters)",
+        scene_format::excerpt::escape_controls(&start)
+    )
+}
+
 fn parse_row(line: u64, fields: &[&str], width: usize) -> Result<Measurement, MeasurementError> {
     if fields.len() > width {
         return Err(error_at(
@@ -138,7 +156,7 @@ fn parse_row(line: u64, fields: &[&str], width: usize) -> Result<Measurement, Me
             Ok(x) if x.is_finite() => Ok(x),
             _ => Err(error_at(
                 line,
-                format!("{name}: expected a number, found `{text}`"),
+                format!("{name}: expected a number, found `{}`", shown(text)),
             )),
         }
     };
@@ -283,6 +301,23 @@ mod tests {
 
     fn error_of(text: &str) -> String {
         parse_measurements(text).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn a_huge_field_is_shown_cut_short() {
+        let huge = "x".repeat(5 << 20);
+        let message = error_of(&format!("0,1\n0.5,{huge}\n1,9\n"));
+        assert_eq!(
+            message,
+            format!(
+                "row 2: luminance: expected a number, found `{}... (5242880 characters)`",
+                "x".repeat(40)
+            )
+        );
+        assert_eq!(
+            error_of("0,1\n0.5,\u{1b}[2J\n1,9\n"),
+            "row 2: luminance: expected a number, found `\\u{1b}[2J`"
+        );
     }
 
     #[test]

@@ -81,11 +81,8 @@ struct ToStore<'a> {
 /// Why a kept scene could not be kept.
 #[derive(Debug, thiserror::Error)]
 pub enum CacheError {
-    #[error("{}: cannot make the folder: {source}", dir.display())]
-    Folder {
-        dir: PathBuf,
-        source: std::io::Error,
-    },
+    #[error("{}: cannot make the folder: {error}", dir.display())]
+    Folder { dir: PathBuf, error: std::io::Error },
     #[error(transparent)]
     Write(#[from] OutputError),
     #[error("a scene with instances is not kept (each instance would hold its own copy of the shared mesh)")]
@@ -203,9 +200,9 @@ impl CacheEntry {
         bytes.extend_from_slice(blake3::keyed_hash(&self.key, &payload).as_bytes());
         bytes.extend_from_slice(&payload);
         let dir = self.path.parent().unwrap_or(Path::new("."));
-        std::fs::create_dir_all(dir).map_err(|source| CacheError::Folder {
+        std::fs::create_dir_all(dir).map_err(|error| CacheError::Folder {
             dir: dir.to_path_buf(),
-            source,
+            error,
         })?;
         // As an image is written: whole or not at all, readable by others
         // as a new file is, and no temporary file left by Ctrl-C.

@@ -6,7 +6,9 @@
 //! its path below the deepest folder that holds them all, so a mesh at
 //! `../meshes/x.obj` from the scene is still there from the stored scene,
 //! and no entry is absolute or climbs with `..`. The entry `tracer-pack.toml`
-//! names the scene file.
+//! names the scene file. A file named by an OBJ's `mtllib` or an MTL's
+//! `map_Kd` must lie below the folder of the scene's own files: a model
+//! from the internet does not take `/etc/passwd` into the archive.
 
 use crate::load::{load, Input};
 use crate::output::{check_not_an_input, OutputError, PendingFile};
@@ -33,10 +35,20 @@ pub enum PackError {
     NotZip(PathBuf),
     #[error("{}: the scene is an archive already; pack its scene file", .0.display())]
     AlreadyPacked(PathBuf),
-    #[error("{}: cannot read it to pack it: {source}", file.display())]
+    #[error("{}: a packed scene (zip archive) is not converted; convert the .toml or .json scene file it holds (unzip it)", .0.display())]
+    NotConverted(PathBuf),
+    #[error("{}: cannot read it to pack it: {error}", file.display())]
     Read {
         file: PathBuf,
-        source: std::io::Error,
+        error: std::io::Error,
+    },
+    #[error("{}:{line}: `{keyword}` names {}, outside {} where the scene's own files are; a pack holds only those", file.display(), named.display(), root.display())]
+    Outside {
+        file: PathBuf,
+        line: usize,
+        keyword: &'static str,
+        named: PathBuf,
+        root: PathBuf,
     },
     #[error("{}: the packed scene would not load (an absolute path in it?):\n{message}", file.display())]
     Unreadable { file: PathBuf, message: String },
@@ -51,10 +63,12 @@ impl PackError {
     /// Whether the user's input is at fault rather than the machine.
     pub fn is_bad_input(&self) -> bool {
         match self {
-            PackError::NotZip(_) | PackError::AlreadyPacked(_) | PackError::Unreadable { .. } => {
-                true
-            }
-            PackError::Read { source, .. } => source.kind() != std::io::ErrorKind::Other,
+            PackError::NotZip(_)
+            | PackError::AlreadyPacked(_)
+            | PackError::NotConverted(_)
+            | PackError::Unreadable { .. }
+            | PackError::Outside { .. } => true,
+            PackError::Read { error, .. } => error.kind() != std::io::ErrorKind::Other,
             PackError::Zip { .. } => false,
         }
     }
@@ -75,6 +89,7 @@ pub fn pack(scene: &Path, output: &Path) -> Result<Packed, Error> {
     let pending = PendingFile::create(output)?;
     let loaded = load(&Input::File(scene.to_path_buf()))?;
     check_not_an_input(output, &loaded.files_read)?;
+    check_references(&loaded.files_read)?;
     let names = entry_names(&loaded.files_read).map_err(|source| OutputError::Write {
         path: output.to_path_buf(),
         source,
@@ -96,6 +111,67 @@ pub fn pack(scene: &Path, output: &Path) -> Result<Packed, Error> {
         entries: stored,
         bytes: size,
     })
+}
+
+/// Refuses a file named by an OBJ's `mtllib` or an MTL's `map_Kd` that
+/// lies outside the folder holding the scene's own files (the scene, its
+/// includes, its meshes and images): an OBJ from the internet naming
+/// `/etc/passwd` or `../../../.ssh/id_rsa` would otherwise be packed with it.
+fn check_references(files: &[PathBuf]) -> Result<(), PackError> {
+    let absolute = |f: &Path| std::path::absolute(f).map(|a| lexical(&a)).ok();
+    // Every name on a reference line that resolves to a file read, with
+    // where it was named.
+    let mut named = Vec::new();
+    for file in files {
+        let keyword = match file.extension().and_then(|e| e.to_str()) {
+            Some(e) if e.eq_ignore_ascii_case("obj") => "mtllib",
+            Some(e) if e.eq_ignore_ascii_case("mtl") => "map_Kd",
+            _ => continue,
+        };
+        let Ok(bytes) = read_capped(file, MAX_OBJ_BYTES) else {
+            continue;
+        };
+        let folder = file.parent().unwrap_or(Path::new("."));
+        let text = String::from_utf8_lossy(&bytes);
+        for (n, line) in text.lines().enumerate() {
+            let Some(rest) = line.trim_start().strip_prefix(keyword) else {
+                continue;
+            };
+            // A name may hold spaces, and `map_Kd` options come before it:
+            // the whole rest and each word are tried.
+            let rest = rest.trim();
+            for name in std::iter::once(rest).chain(rest.split_whitespace()) {
+                if let Some(path) = absolute(&folder.join(name)) {
+                    named.push((file.clone(), n + 1, keyword, path));
+                }
+            }
+        }
+    }
+    let read: Vec<PathBuf> = files.iter().filter_map(|f| absolute(f)).collect();
+    let own: Vec<PathBuf> = read
+        .iter()
+        .filter(|f| !named.iter().any(|(_, _, _, p)| p == *f))
+        .cloned()
+        .collect();
+    let Some(first) = own.first() else {
+        return Ok(());
+    };
+    let mut root = first.parent().unwrap_or(Path::new("/")).to_path_buf();
+    for path in &own[1..] {
+        while !path.starts_with(&root) && root.pop() {}
+    }
+    for (file, line, keyword, path) in named {
+        if read.contains(&path) && !path.starts_with(&root) {
+            return Err(PackError::Outside {
+                file,
+                line,
+                keyword,
+                named: path,
+                root,
+            });
+        }
+    }
+    Ok(())
 }
 
 /// Loads the scene from the archive's bytes, as `tracer render` will: a
@@ -134,9 +210,9 @@ fn archive(output: &Path, files: &[PathBuf], names: &[String]) -> Result<Vec<u8>
     zip.write_all(text.as_bytes())
         .map_err(|e| zip_error(e.into()))?;
     for (file, name) in files.iter().zip(names) {
-        let bytes = read_capped(file, MAX_OBJ_BYTES).map_err(|source| PackError::Read {
+        let bytes = read_capped(file, MAX_OBJ_BYTES).map_err(|error| PackError::Read {
             file: file.clone(),
-            source,
+            error,
         })?;
         let options = options.large_file(bytes.len() as u64 >= u32::MAX as u64);
         zip.start_file(name.as_str(), options).map_err(zip_error)?;

@@ -25,17 +25,33 @@ const GAMMA: &str = "tracer:gamma";
 const SATURATION: &str = "tracer:saturation";
 /// "I/N" for a tile made with `--tile`, to name a missing one.
 const TILE: &str = "tracer:tile";
+/// BLAKE3 of the other attributes, the windows and the pixels, written
+/// with them: a tile flipped, cut or edited after it was written fails it.
+const CHECKSUM: &str = "tracer:checksum";
+/// Largest tile file read: the floats of the largest image, uncompressed.
+const MAX_TILE_BYTES: u64 = 4 << 30;
 
 /// Why tiles could not be read or merged; each names the file at fault.
 #[derive(Debug, thiserror::Error)]
 pub enum TileError {
-    #[error("{}: cannot read it: {source}", path.display())]
+    /// (`error`, not `source`: the message holds it, and a source would
+    /// be printed a second time after it.)
+    #[error("{}: cannot read it: {error}", path.display())]
     Read {
         path: PathBuf,
-        source: std::io::Error,
+        error: std::io::Error,
     },
     #[error("{}: not a tile of `tracer render --tile/--region -o TILE.exr`: {reason}", path.display())]
     NotATile { path: PathBuf, reason: String },
+    #[error("{}: the tile is damaged: {reason}", path.display())]
+    Damaged { path: PathBuf, reason: String },
+    #[error("{}: a tile of a {}x{} image, not of the {}x{} image of {} (the same digest: edited?)", path.display(), size.0, size.1, expected.0, expected.1, first.display())]
+    OtherSize {
+        path: PathBuf,
+        size: (u32, u32),
+        first: PathBuf,
+        expected: (u32, u32),
+    },
     #[error("{}: a tile of another scene or other render options (digest {}...), not of the {others} other tile{} (digest {}...)", path.display(), &digest[..12], if *others == 1 { "" } else { "s" }, &expected[..12])]
     Foreign {
         path: PathBuf,
@@ -69,10 +85,12 @@ impl TileError {
     /// Whether the user gave a wrong tile (exit 2) rather than the machine failing.
     pub fn is_bad_input(&self) -> bool {
         match self {
-            TileError::Read { source, .. } => {
-                source.kind() == std::io::ErrorKind::NotFound
-                    || source.kind() == std::io::ErrorKind::PermissionDenied
-            }
+            TileError::Read { error, .. } => matches!(
+                error.kind(),
+                std::io::ErrorKind::NotFound
+                    | std::io::ErrorKind::PermissionDenied
+                    | std::io::ErrorKind::InvalidInput
+            ),
             TileError::Encode(_) => false,
             _ => true,
         }
@@ -101,15 +119,15 @@ pub(crate) fn digest_of(
 ) -> Result<String, TileError> {
     let mut hash = blake3::Hasher::new();
     // Another release may render other values: its tiles do not mix.
-    let version = concat!("tracer tile 2, version ", env!("CARGO_PKG_VERSION"));
+    let version = concat!("tracer tile 3, version ", env!("CARGO_PKG_VERSION"));
     add(&mut hash, version.as_bytes());
     if *input == Input::DefaultScene {
         add(&mut hash, crate::load::DEFAULT_SCENE.as_bytes());
     }
     for path in files_read {
-        add_file(&mut hash, path).map_err(|source| TileError::Read {
+        add_file(&mut hash, path).map_err(|error| TileError::Read {
             path: path.clone(),
-            source,
+            error,
         })?;
     }
     let options = Options {
@@ -194,6 +212,8 @@ pub fn encode(
             AttributeValue::Text(Text::from(format!("{index}/{count}").as_str())),
         );
     }
+    let sum = checksum(digest, &picture.encoding, tile, (region, size), linear);
+    put(CHECKSUM, AttributeValue::Text(Text::from(sum.as_str())));
     let layer = Layer::new(
         (width, linear.height as usize),
         attributes,
@@ -215,16 +235,46 @@ pub fn encode(
     Ok(bytes.into_inner())
 }
 
-/// Reads the tile at `path`.
+/// BLAKE3, in hex, of what a tile says: its digest, encoding, tile number,
+/// region, image size and pixels (their f32 bits, little-endian).
+fn checksum(
+    digest: &str,
+    encoding: &Encoding,
+    tile: Option<(u32, u32)>,
+    (region, size): (Region, (u32, u32)),
+    linear: &LinearImage,
+) -> String {
+    let mut hash = blake3::Hasher::new();
+    add(&mut hash, digest.as_bytes());
+    let saturation = matches!(encoding.saturation, Saturation::White);
+    let said = format!(
+        "{} {saturation} {tile:?} {region:?} {size:?} {}x{}",
+        encoding.gamma.to_bits(),
+        linear.width,
+        linear.height
+    );
+    add(&mut hash, said.as_bytes());
+    for c in &linear.pixels {
+        for x in c.to_array() {
+            hash.update(&x.to_le_bytes());
+        }
+    }
+    hash.finalize().to_hex().to_string()
+}
+
+/// Reads the tile at `path`: a regular file of bounded size, its windows
+/// checked before any pixel is allocated, its checksum and pixels after.
 pub fn read(path: &Path) -> Result<Tile, TileError> {
-    let bytes = std::fs::read(path).map_err(|source| TileError::Read {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let bytes =
+        scene_format::read::read_capped(path, MAX_TILE_BYTES).map_err(|error| TileError::Read {
+            path: path.to_path_buf(),
+            error,
+        })?;
     let not_a_tile = |reason: String| TileError::NotATile {
         path: path.to_path_buf(),
         reason,
     };
+    check_windows(&bytes).map_err(not_a_tile)?;
     let image = exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
@@ -254,6 +304,11 @@ pub fn read(path: &Path) -> Result<Tile, TileError> {
         Some("clamp") => Saturation::Clamp,
         _ => return Err(not_a_tile(format!("no `{SATURATION}` attribute"))),
     };
+    let sum = text(CHECKSUM).ok_or_else(|| {
+        not_a_tile(format!(
+            "no `{CHECKSUM}` attribute (a tile of an older tracer: render it again)"
+        ))
+    })?;
     let tile = text(TILE).and_then(|t| {
         let (i, n) = t.split_once('/')?;
         Some((i.parse().ok()?, n.parse().ok()?))
@@ -278,14 +333,55 @@ pub fn read(path: &Path) -> Result<Tile, TileError> {
             "its data window leaves its display window".to_string(),
         ));
     }
+    let encoding = Encoding { gamma, saturation };
+    let damaged = |reason: &str| TileError::Damaged {
+        path: path.to_path_buf(),
+        reason: reason.to_string(),
+    };
+    if checksum(&digest, &encoding, tile, (region, size), &linear) != sum {
+        return Err(damaged(
+            "its pixels or attributes are not those it was written with (its checksum fails)",
+        ));
+    }
+    if linear.pixels.iter().any(|c| !c.is_finite()) {
+        return Err(damaged("it holds pixels that are not finite numbers"));
+    }
     Ok(Tile {
         digest,
         size,
         region,
         linear,
-        encoding: Encoding { gamma, saturation },
+        encoding,
         tile,
     })
+}
+
+/// Checks every layer's display and data window against the largest image
+/// the tracer renders, from the header alone: a small file may claim a
+/// window of 100000 x 100000, whose pixels would take 120 GB.
+fn check_windows(bytes: &[u8]) -> Result<(), String> {
+    use scene_format::validate::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE};
+    let meta = exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(bytes), false)
+        .map_err(|e| format!("not an RGB OpenEXR file ({e})"))?;
+    for header in &meta.headers {
+        let display = header.shared_attributes.display_window.size;
+        for (what, w, h) in [
+            ("display", display.width(), display.height()),
+            (
+                "data",
+                header.layer_size.width(),
+                header.layer_size.height(),
+            ),
+        ] {
+            let side = MAX_IMAGE_SIDE as usize;
+            if w > side || h > side || (w as u64) * (h as u64) > MAX_IMAGE_PIXELS {
+                return Err(format!(
+                    "its {what} window is {w}x{h}; expected at most {side} pixels a side and {MAX_IMAGE_PIXELS} in all"
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Whether the file at `path` is already the tile of `region` with
@@ -317,29 +413,39 @@ pub fn merge(tiles: &[(PathBuf, Tile)]) -> Result<Picture, TileError> {
             others: same,
         });
     }
+    let first_path = &tiles[0].0;
+    if let Some((path, tile)) = tiles.iter().find(|(_, t)| t.size != first.size) {
+        return Err(TileError::OtherSize {
+            path: path.clone(),
+            size: tile.size,
+            first: first_path.clone(),
+            expected: first.size,
+        });
+    }
     let (width, height) = first.size;
-    let mut owner = vec![usize::MAX; width as usize * height as usize];
+    // u32: the owner of each of up to 2^28 pixels, a gigabyte at most.
+    let mut owner = vec![u32::MAX; width as usize * height as usize];
     let mut linear = LinearImage::new(width, height);
     for (n, (path, tile)) in tiles.iter().enumerate() {
         let r = tile.region;
         for y in r.y0..r.y1 {
             for x in r.x0..r.x1 {
                 let at = (y * width + x) as usize;
-                if owner[at] != usize::MAX {
+                if owner[at] != u32::MAX {
                     return Err(TileError::Overlap {
                         path: path.clone(),
-                        other: tiles[owner[at]].0.clone(),
+                        other: tiles[owner[at] as usize].0.clone(),
                         x,
                         y,
                     });
                 }
-                owner[at] = n;
+                owner[at] = n as u32;
                 let from = ((y - r.y0) * tile.linear.width + (x - r.x0)) as usize;
                 linear.pixels[at] = tile.linear.pixels[from];
             }
         }
     }
-    if let Some(at) = owner.iter().position(|&o| o == usize::MAX) {
+    if let Some(at) = owner.iter().position(|&o| o == u32::MAX) {
         let (x, y) = (at as u32 % width, at as u32 / width);
         return Err(TileError::Missing {
             what: missing_tile(tiles, (x, y)),

@@ -223,3 +223,67 @@ fn a_scene_naming_a_mesh_by_its_absolute_path_is_not_packed_broken() {
     assert!(error.is_bad_input());
     assert!(!archive.exists());
 }
+
+#[test]
+fn an_obj_or_mtl_naming_a_file_outside_the_scene_is_not_packed() {
+    let dir = tempfile::tempdir().unwrap();
+    let outside = dir.path().join("secret");
+    std::fs::create_dir(&outside).unwrap();
+    std::fs::write(outside.join("passwd.mtl"), "newmtl m\nKd 1 0 0\n").unwrap();
+    let scene_dir = dir.path().join("scene");
+    std::fs::create_dir(&scene_dir).unwrap();
+    image::RgbImage::new(2, 2)
+        .save(outside.join("key.png"))
+        .unwrap();
+    let lib = outside.join("passwd.mtl");
+    let cases = [
+        // An absolute `mtllib`, and one that climbs out with `..`.
+        (
+            format!("mtllib {}\n", lib.display()),
+            "own.mtl",
+            String::new(),
+        ),
+        (
+            "mtllib ../secret/passwd.mtl\n".to_string(),
+            "own.mtl",
+            String::new(),
+        ),
+        // An MTL inside whose `map_Kd` climbs out.
+        (
+            "mtllib own.mtl\n".to_string(),
+            "own.mtl",
+            "newmtl m\nmap_Kd ../secret/key.png\n".to_string(),
+        ),
+    ];
+    for (i, (head, mtl_name, mtl)) in cases.iter().enumerate() {
+        std::fs::write(scene_dir.join(mtl_name), mtl).unwrap();
+        std::fs::write(
+            scene_dir.join("m.obj"),
+            format!("{head}usemtl m\n{TRIANGLE}"),
+        )
+        .unwrap();
+        let scene = scene_dir.join("s.toml");
+        std::fs::write(
+            &scene,
+            "[camera]\neye = [0, 0, 6]\nlook_at = [0, 0, 0]\n\
+             [[objects]]\nmesh = { obj = \"m.obj\" }\n",
+        )
+        .unwrap();
+        let archive = dir.path().join("s.zip");
+        let error = pack(&scene, &archive).unwrap_err();
+        let message = error.to_string();
+        let (file, line, keyword, named) = match i {
+            2 => ("own.mtl", 2, "map_Kd", outside.join("key.png")),
+            _ => ("m.obj", 1, "mtllib", lib.clone()),
+        };
+        let at = format!(
+            "{}:{line}: `{keyword}` names {}",
+            scene_dir.join(file).display(),
+            named.display()
+        );
+        assert!(message.starts_with(&at), "{i}: {message}");
+        assert!(message.contains("outside"), "{message}");
+        assert!(error.is_bad_input());
+        assert!(!archive.exists());
+    }
+}

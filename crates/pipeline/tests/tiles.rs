@@ -277,3 +277,122 @@ fn a_file_that_is_not_a_tile_is_refused_naming_it() {
         "{err}"
     );
 }
+
+/// A tile of `size` holding `region`, every pixel `value`, written to
+/// `dir/name`.
+fn made_tile(dir: &Path, name: &str, size: (u32, u32), region: Region, value: f32) -> PathBuf {
+    let mut linear =
+        tracer_pipeline::LinearImage::new(region.x1 - region.x0, region.y1 - region.y0);
+    linear.pixels.fill(glam::Vec3::splat(value));
+    let picture = Picture {
+        linear,
+        encoding: tracer_core::image::Encoding::default(),
+    };
+    let digest = "d".repeat(64);
+    let bytes = tiles::encode(&picture, region, size, &digest, None).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, bytes).unwrap();
+    path
+}
+
+fn region(x0: u32, y0: u32, x1: u32, y1: u32) -> Region {
+    Region { x0, y0, x1, y1 }
+}
+
+#[test]
+fn windows_beyond_the_largest_image_are_refused_from_the_header() {
+    let dir = tempfile::tempdir().unwrap();
+    // 100000 x 100000 would take 120 GB as floats.
+    let huge = made_tile(
+        dir.path(),
+        "huge.exr",
+        (100_000, 100_000),
+        region(0, 0, 2, 2),
+        0.5,
+    );
+    let err = tiles::read(&huge).unwrap_err();
+    assert!(err.is_bad_input());
+    assert!(
+        err.to_string().contains("display window is 100000x100000"),
+        "{err}"
+    );
+    let wide = made_tile(
+        dir.path(),
+        "wide.exr",
+        (20_000, 1),
+        region(0, 0, 20_000, 1),
+        0.5,
+    );
+    let err = tiles::read(&wide).unwrap_err();
+    assert!(err.to_string().contains("window is 20000x1"), "{err}");
+}
+
+#[test]
+fn tiles_of_one_digest_and_other_sizes_are_refused_not_merged() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = made_tile(dir.path(), "a.exr", (4, 4), region(0, 0, 4, 2), 0.5);
+    let b = made_tile(dir.path(), "b.exr", (8, 8), region(0, 2, 8, 8), 0.5);
+    let err = tiles::merge(&read_all(&[a, b.clone()])).unwrap_err();
+    assert!(matches!(err, TileError::OtherSize { .. }), "{err}");
+    assert!(err
+        .to_string()
+        .starts_with(&format!("{}: a tile of a 8x8 image", b.display())));
+}
+
+#[test]
+fn tiles_with_values_that_are_not_finite_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    for value in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+        let path = made_tile(dir.path(), "bad.exr", (4, 4), region(0, 0, 4, 4), value);
+        let err = tiles::read(&path).unwrap_err();
+        assert!(err.to_string().contains("not finite"), "{value}: {err}");
+        assert!(err.is_bad_input());
+    }
+}
+
+#[test]
+fn a_tile_with_a_byte_changed_is_refused_and_rendered_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = write_tile(dir.path(), &dof(), &options(None), 1, 3);
+    let good = tiles::read(&path).unwrap();
+    assert!(tiles::is_done(&path, &good.digest, good.region));
+    let bytes = std::fs::read(&path).unwrap();
+    let (mut damaged, mut other) = (0, 0);
+    // Every byte past the header's first part, flipped in turn: never read
+    // back as a tile.
+    for at in (bytes.len() / 3..bytes.len()).step_by(7) {
+        let mut flipped = bytes.clone();
+        flipped[at] ^= 0x10;
+        std::fs::write(&path, &flipped).unwrap();
+        match tiles::read(&path) {
+            Ok(_) => panic!("byte {at} flipped, read as a tile"),
+            Err(TileError::Damaged { .. }) => damaged += 1,
+            Err(_) => other += 1,
+        }
+        assert!(!tiles::is_done(&path, &good.digest, good.region));
+    }
+    assert!(damaged > 0, "{damaged} damaged, {other} unreadable");
+}
+
+#[cfg(unix)]
+#[test]
+fn a_tile_that_is_not_a_regular_file_is_refused_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("fifo.exr");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap();
+    assert!(made.success());
+    let zero = dir.path().join("zero.exr");
+    std::os::unix::fs::symlink("/dev/zero", &zero).unwrap();
+    for path in [fifo, zero, dir.path().to_path_buf()] {
+        let err = tiles::read(&path).unwrap_err();
+        assert!(err.is_bad_input(), "{err}");
+        let message = err.to_string();
+        assert!(
+            message.contains("not a regular file") || message.contains("is a folder"),
+            "{message}"
+        );
+    }
+}

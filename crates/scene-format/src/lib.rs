@@ -19,6 +19,7 @@ pub mod obj;
 mod obj_text;
 mod parse;
 pub mod ply;
+pub mod polygon;
 pub mod read;
 pub mod schema;
 pub mod source;

@@ -666,6 +666,12 @@ pub struct MeshData {
     pub skipped_degenerate: usize,
     /// The file's line (OBJ) of the first face left out, when a scan found it.
     pub first_degenerate_line: Option<usize>,
+    /// Faces of more than 3 corners fanned though they may not be convex
+    /// (degenerate, self-intersecting: see `polygon`).
+    pub polygon_troubles: usize,
+    /// Where the first is (`line 7` of an OBJ, `face 3` of a PLY) and what
+    /// it is.
+    pub first_polygon_trouble: Option<(String, &'static str)>,
     /// The materials of the OBJ's MTL files (`mtllib`), as scene materials
     /// (Kd diffuse, Ka ambient, Ks specular, Ns shininess, map_Kd an image
     /// texture, 1 - d or Tr transmittance, Ni ior).

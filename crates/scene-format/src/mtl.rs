@@ -6,6 +6,7 @@
 use crate::images::ImageCache;
 use crate::model::{ImageTexture, Material, TextureRef, TextureScale, Wrap};
 use crate::source::Source;
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 /// The MTL files an OBJ asked for, in its order: each with its path and
@@ -70,15 +71,55 @@ impl crate::obj_text::MaterialLibraries for Libraries<'_> {
         let result = self
             .source
             .open(&path, crate::read::MAX_OBJ_BYTES)
-            .map_err(|e| e.to_string())
             .and_then(|mut file| {
-                tobj::load_mtl_buf(&mut file).map_err(|e| format!("not a valid MTL file: {e}"))
+                let mut bytes = Vec::new();
+                file.read_to_end(&mut bytes).map(|_| bytes)
             })
-            .map(|(materials, _)| materials);
+            .map_err(|e| e.to_string())
+            .and_then(|bytes| parse_mtl(&bytes));
         let names = result.iter().flatten().map(|m| m.name.clone()).collect();
         self.read.push((path, result));
         names
     }
+}
+
+/// The materials of one MTL file's bytes, as an OBJ's `mtllib` gives them:
+/// its `map_Kd` images read from `source` relative to `folder`, its
+/// problems as warnings. (The fuzz target's way in.)
+pub fn read_mtl_bytes(
+    bytes: &[u8],
+    folder: &Path,
+    source: &dyn Source,
+    images: &mut ImageCache,
+) -> Result<ObjMaterials, String> {
+    let found = parse_mtl(bytes)?;
+    let mut out = ObjMaterials::default();
+    for m in &found {
+        let material = scene_material(m, folder, (source, images), &mut out);
+        out.materials.push(material);
+    }
+    Ok(out)
+}
+
+/// The materials of an MTL file's bytes, read by tobj once the lines it
+/// would panic on are refused: a colour (`Ka`, `Kd`, `Ks`, `Ke`) of fewer
+/// than 3 numbers (tobj 4.0.5 unwraps them; found by the `mtl` fuzz target).
+fn parse_mtl(bytes: &[u8]) -> Result<Vec<tobj::Material>, String> {
+    for (n, line) in String::from_utf8_lossy(bytes).lines().enumerate() {
+        let mut words = line.split_whitespace();
+        if let Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")) = words.next() {
+            let found = words.take(3).count();
+            if found < 3 {
+                return Err(format!(
+                    "not a valid MTL file: line {}: `{key}` needs 3 numbers, found {found}",
+                    n + 1
+                ));
+            }
+        }
+    }
+    tobj::load_mtl_buf(&mut std::io::Cursor::new(bytes))
+        .map(|(materials, _)| materials)
+        .map_err(|e| format!("not a valid MTL file: {e}"))
 }
 
 fn file_name(path: &Path) -> String {
@@ -200,6 +241,24 @@ mod tests {
     use crate::images::ImageCache;
     use crate::obj::read_obj_from;
     use crate::source::{Folder, Source};
+
+    #[test]
+    fn a_colour_of_fewer_than_three_numbers_is_a_warning_not_a_panic() {
+        // tobj 4.0.5 panicked on each of these (the `mtl` fuzz target).
+        for colour in ["Ka 0.1", "Kd", "Ks 1 2", "  Ke 1\r"] {
+            let dir = tempfile::tempdir().unwrap();
+            let obj = "mtllib b.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n";
+            std::fs::write(dir.path().join("m.obj"), obj).unwrap();
+            let mtl = format!("newmtl m\nNs 20\n{colour}\n");
+            std::fs::write(dir.path().join("b.mtl"), mtl).unwrap();
+            let obj = dir.path().join("m.obj");
+            let data = read_obj_from(&Folder::new(), &obj, &mut ImageCache::default()).unwrap();
+            let w = &data.material_warnings;
+            assert_eq!(w.len(), 1, "{w:?}");
+            assert!(w[0].contains("line 3: `K"), "{}", w[0]);
+            assert!(w[0].contains("needs 3 numbers"), "{}", w[0]);
+        }
+    }
 
     #[test]
     fn faces_keep_their_material_across_libraries_one_of_them_missing() {

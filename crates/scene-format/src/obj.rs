@@ -83,6 +83,18 @@ pub fn mesh_warnings(scene: &SceneFile) -> Vec<Diagnostic> {
             let key = object.mesh.as_ref().map_or("obj", |m| m.key());
             warnings.push(Diagnostic::new(format!("objects[{i}].mesh.{key}"), message));
         }
+        if let (Some((at, what)), Some(mesh)) = (&data.first_polygon_trouble, &object.mesh) {
+            let name = Path::new(mesh.path()).file_name().unwrap_or_default();
+            let message = format!(
+                "{} faces of more than 3 corners cut as fans from their first corner, which may not be their shape; the first at `{}{at}` is {what}",
+                data.polygon_troubles,
+                name.to_string_lossy()
+            );
+            warnings.push(Diagnostic::new(
+                format!("objects[{i}].mesh.{}", mesh.key()),
+                message,
+            ));
+        }
     }
     warnings
 }
@@ -163,6 +175,9 @@ fn read_obj_lines(
     let mut data = MeshData {
         materials: found.materials,
         material_warnings: found.warnings,
+        polygon_troubles: text.polygon_troubles,
+        first_polygon_trouble: (text.first_polygon_trouble)
+            .map(|(line, trouble)| (format!(":{line}"), trouble.says())),
         ..MeshData::default()
     };
     let first_degenerate =
@@ -738,5 +753,37 @@ mod tests {
         assert!(read_obj(&out_of_range).is_err());
         let empty = write(dir.path(), "empty.obj", "v 0 0 0\n");
         assert!(read_obj(&empty).unwrap_err().contains("at least one face"));
+    }
+}
+
+#[cfg(test)]
+mod polygon_tests {
+    use super::*;
+
+    #[test]
+    fn a_concave_face_keeps_its_shape_and_a_crossed_one_is_said_with_its_line() {
+        let dir = tempfile::tempdir().unwrap();
+        // An L (area 3, its notch the square (1..2, 1..2)) from a corner
+        // whose fan covered the notch; then a bow tie on line 14.
+        let text = "v 0 2 0\nv 0 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\nv 1 2 0\nf 1 2 3 4 5 6\n\
+                    v 0 0 1\nv 1 1 1\nv 1 0 1\nv 0 1 1\nv -0.5 0.5 1\n\n\
+                    f 7 8 9 10 11\n";
+        let path = dir.path().join("l.obj");
+        std::fs::write(&path, text).unwrap();
+        let data = read_obj(&path).unwrap();
+        assert_eq!(data.triangles.len(), 4 + 3);
+        let area: f32 = data.triangles[..4]
+            .iter()
+            .map(|[a, b, c]| {
+                let (e, f) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
+                (e[0] * f[1] - e[1] * f[0]).abs() / 2.0
+            })
+            .sum();
+        assert_eq!(area, 3.0);
+        assert_eq!(data.polygon_troubles, 1);
+        assert_eq!(
+            data.first_polygon_trouble,
+            Some((":14".to_string(), "self-intersecting"))
+        );
     }
 }

@@ -35,6 +35,10 @@ pub(crate) struct ObjText {
     /// Each triangle's material (its face's `usemtl`) among the materials
     /// the `mtllib` lines before it gave, when any did; else empty.
     pub triangle_materials: Vec<Option<u32>>,
+    /// Faces fanned though they may not be convex (see `polygon`), and the
+    /// line and trouble of the first.
+    pub polygon_troubles: usize,
+    pub first_polygon_trouble: Option<(usize, crate::polygon::Trouble)>,
 }
 
 /// Why a file is not a valid OBJ, and the line (counted from 1) it is on.
@@ -73,6 +77,8 @@ pub(crate) fn parse(
         material_count: 0,
         material: None,
         face: Vec::new(),
+        line: 0,
+        clip_work: crate::polygon::CLIP_WORK,
     };
     // A guess from typical files (shared vertices, about 38 bytes a
     // triangle), so the lists seldom grow and copy.
@@ -84,6 +90,7 @@ pub(crate) fn parse(
         .chain([bytes.len()])
         .enumerate()
     {
+        parser.line = i + 1;
         parser
             .line(&bytes[start..end], libraries)
             .map_err(|what| ObjError { what, line: i + 1 })?;
@@ -104,6 +111,10 @@ struct Parser<'b> {
     material: Option<u32>,
     /// Corners of the face being read, reused from face to face.
     face: Vec<Corner>,
+    /// The line being read, counted from 1.
+    line: usize,
+    /// What ear clipping may still spend on this file.
+    clip_work: u64,
 }
 
 impl Parser<'_> {
@@ -178,8 +189,22 @@ impl Parser<'_> {
             return Err("face parse error");
         }
         self.budget.take(self.face.len() - 2)?;
-        for k in 1..self.face.len() - 1 {
-            let triangle = [self.face[0], self.face[k], self.face[k + 1]];
+        let cut = if self.face.len() == 3 {
+            vec![[0, 1, 2]]
+        } else {
+            // `corner` checked each index against the positions read.
+            let points: Vec<[f32; 3]> = (self.face.iter())
+                .map(|c| self.text.positions[c.v as usize])
+                .collect();
+            let (cut, trouble) = crate::polygon::triangulate(&points, &mut self.clip_work);
+            if let Some(trouble) = trouble {
+                self.text.polygon_troubles += 1;
+                (self.text.first_polygon_trouble).get_or_insert((self.line, trouble));
+            }
+            cut
+        };
+        for [a, b, c] in cut {
+            let triangle = [self.face[a], self.face[b], self.face[c]];
             self.text.triangles.push(triangle);
             if !self.materials.is_empty() {
                 self.text.triangle_materials.push(self.material);

@@ -257,8 +257,8 @@ fn ends_early(element: &ElementDef, i: usize) -> String {
     )
 }
 
-/// The mesh of the file's vertices and faces, each face a fan from its
-/// first vertex (a convex polygon's triangulation).
+/// The mesh of the file's vertices and faces, each face cut into triangles
+/// as `polygon` says (a convex one as a fan from its first vertex).
 fn triangles(vertices: &[PlyVertex], faces: &Faces) -> Result<MeshData, String> {
     let position = |i: u32| -> Result<&PlyVertex, String> {
         let v = vertices.get(i as usize).ok_or_else(|| {
@@ -275,11 +275,25 @@ fn triangles(vertices: &[PlyVertex], faces: &Faces) -> Result<MeshData, String> 
     };
     let mut data = MeshData::default();
     let mut start = 0;
-    for &end in &faces.ends {
+    let mut clip_work = crate::polygon::CLIP_WORK;
+    for (f, &end) in faces.ends.iter().enumerate() {
         let face = &faces.corners[start..end as usize];
         start = end as usize;
-        for k in 1..face.len() - 1 {
-            let ids = [face[0], face[k], face[k + 1]];
+        let cut = if face.len() == 3 {
+            vec![[0, 1, 2]]
+        } else {
+            let points = (face.iter())
+                .map(|&i| position(i).map(|v| v.position))
+                .collect::<Result<Vec<_>, _>>()?;
+            let (cut, trouble) = crate::polygon::triangulate(&points, &mut clip_work);
+            if let Some(trouble) = trouble {
+                data.polygon_troubles += 1;
+                (data.first_polygon_trouble).get_or_insert((format!(" face {f}"), trouble.says()));
+            }
+            cut
+        };
+        for [a, b, c] in cut {
+            let ids = [face[a], face[b], face[c]];
             let corners = [position(ids[0])?, position(ids[1])?, position(ids[2])?];
             let triangle = corners.map(|v| v.position);
             if is_degenerate(&triangle) {
@@ -424,6 +438,30 @@ mod tests {
         assert_eq!(data.indices, [[0, 1, 2], [0, 2, 3]]);
         assert_eq!(data.skipped_degenerate, 1);
         assert!(data.normals.is_empty() && data.uvs.is_empty());
+    }
+
+    #[test]
+    fn a_concave_face_keeps_its_shape_and_a_crossed_one_is_said() {
+        let header = "ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\n\
+                      property float y\nproperty float z\nelement face 2\n\
+                      property list uchar int vertex_indices\nend_header\n";
+        // An L of area 3 from a corner whose fan covered its notch, then a
+        // bow tie (face 1).
+        let l = "0 2 0\n0 0 0\n2 0 0\n2 1 0\n1 1 0\n1 2 0\n";
+        let data = read(format!("{header}{l}6 0 1 2 3 4 5\n4 0 2 1 3\n").as_bytes()).unwrap();
+        let area: f32 = data.triangles[..4]
+            .iter()
+            .map(|[a, b, c]| {
+                let (e, f) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
+                (e[0] * f[1] - e[1] * f[0]).abs() / 2.0
+            })
+            .sum();
+        assert_eq!(area, 3.0);
+        assert_eq!(data.polygon_troubles, 1);
+        assert_eq!(
+            data.first_polygon_trouble,
+            Some((" face 1".to_string(), "self-intersecting"))
+        );
     }
 
     #[test]

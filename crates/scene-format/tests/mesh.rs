@@ -130,3 +130,24 @@ fn a_scale_of_the_wrong_type_says_what_is_expected() {
     assert!(message.contains("a number (one factor"), "{message}");
     assert!(message.contains("s.toml:6:"), "{message}");
 }
+
+#[test]
+fn a_self_intersecting_face_is_a_warning_naming_its_line() {
+    let dir = tempfile::tempdir().unwrap();
+    // A bow tie on line 6: fanned, and said.
+    write(
+        dir.path(),
+        "tie.obj",
+        "v 0 0 0\nv 1 1 0\nv 1 0 0\nv 0 1 0\nv -0.5 0.5 0\nf 1 2 3 4 5\n",
+    );
+    let scene = format!("{HEAD}[[objects]]\nmesh = {{ obj = \"tie.obj\" }}\n");
+    let file = load_path(&write(dir.path(), "scene.toml", &scene)).unwrap();
+    let warnings = mesh_warnings(&file);
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert_eq!(warnings[0].path.to_string(), "objects[0].mesh.obj");
+    assert_eq!(
+        warnings[0].message,
+        "1 faces of more than 3 corners cut as fans from their first corner, which may not be \
+         their shape; the first at `tie.obj:6` is self-intersecting"
+    );
+}

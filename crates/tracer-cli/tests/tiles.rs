@@ -325,3 +325,37 @@ fn a_cache_that_cannot_be_written_is_a_warning_and_the_render_goes_on() {
     );
     assert!(dir.path().join("a.png").exists());
 }
+
+#[test]
+fn skip_existing_renders_a_damaged_tile_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scenes().join("depth-of-field.toml");
+    let tile = ["--tile", "1/2", "-o", "t.exr", "--skip-existing"];
+    ok(&render(dir.path(), &scene, &tile));
+    let path = dir.path().join("t.exr");
+    let good = std::fs::read(&path).unwrap();
+    // A byte of the pixels flipped, as a bad disk or copy would.
+    let mut bytes = good.clone();
+    let at = bytes.len() - 20;
+    bytes[at] ^= 0x10;
+    std::fs::write(&path, &bytes).unwrap();
+    let out = render(dir.path(), &scene, &tile);
+    ok(&out);
+    assert!(!stderr(&out).contains("skipped"), "{}", stderr(&out));
+    // Rendered again: the same pixels as first written.
+    std::fs::write(dir.path().join("good.exr"), &good).unwrap();
+    assert_eq!(floats(&path), floats(&dir.path().join("good.exr")));
+    assert!(std::fs::read(&path).unwrap() != bytes);
+}
+
+#[test]
+fn merge_of_a_folder_is_exit_2_with_the_reason_once() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("tiles.exr")).unwrap();
+    let out = merge(dir.path(), &["tiles.exr".to_string()], "m.png");
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let message = stderr(&out);
+    assert_eq!(message.matches("is a folder").count(), 1, "{message}");
+    assert!(message.contains("tiles.exr"), "{message}");
+    assert!(!dir.path().join("m.png").exists());
+}

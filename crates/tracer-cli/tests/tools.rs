@@ -271,3 +271,28 @@ fn new_never_overwrites_and_writes_json_too() {
     assert_eq!(json.schema.take().as_deref(), Some("./schema.json"));
     assert_eq!(json, toml);
 }
+
+#[test]
+fn convert_of_a_packed_scene_is_exit_2_saying_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let boxes = scenes_dir().join("boxes.toml");
+    let packed = tracer(
+        dir.path(),
+        &["pack", boxes.to_str().unwrap(), "-o", "b.zip"],
+    );
+    assert!(packed.status.success());
+    for args in [
+        &["convert", "b.zip"][..],
+        &["convert", "b.zip", "-o", "b.json"],
+    ] {
+        let out = tracer(dir.path(), args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let message = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            message.contains("b.zip: a packed scene (zip archive) is not converted"),
+            "{message}"
+        );
+        assert!(!message.contains("UTF-8"), "{message}");
+        assert!(!dir.path().join("b.json").exists());
+    }
+}

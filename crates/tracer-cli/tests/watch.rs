@@ -628,3 +628,62 @@ fn a_click_on_the_live_page_shows_that_pixel_s_tree() {
     );
     assert!(tree.contains("N.L"), "{tree}");
 }
+
+#[test]
+fn idle_slow_and_never_reading_clients_do_not_starve_the_page() {
+    use std::io::{Read, Write};
+    let (_dir, _, _watching, port) = serving_a_scene();
+    let connect = || std::net::TcpStream::connect(("127.0.0.1", port)).expect("connect");
+    let mut held = Vec::new();
+    // Idle connections, more than the old limit of 32 by far.
+    for _ in 0..200 {
+        held.push(connect());
+    }
+    // Clients sending their head a byte at a time, and event streams never read.
+    let mut slow = Vec::new();
+    for _ in 0..100 {
+        let mut stream = connect();
+        let _ = stream.write_all(b"G");
+        slow.push(stream);
+    }
+    for _ in 0..40 {
+        let mut stream = connect();
+        let _ = stream.write_all(&get("/events"));
+        held.push(stream);
+    }
+    let asked = std::time::Instant::now();
+    assert_eq!(status_of(port, &get("/")), "HTTP/1.1 200 OK");
+    assert!(
+        asked.elapsed() < Duration::from_secs(2),
+        "{:?}",
+        asked.elapsed()
+    );
+    // A byte a second does not keep a slow head open past its timeout.
+    for second in 0..5 {
+        std::thread::sleep(Duration::from_secs(1));
+        for stream in &mut slow {
+            let _ = stream.write_all(if second % 2 == 0 { b"E" } else { b"T" });
+        }
+    }
+    let mut closed = 0;
+    for stream in held.iter_mut().take(200).chain(&mut slow) {
+        stream
+            .set_read_timeout(Some(Duration::from_millis(200)))
+            .unwrap();
+        let mut byte = [0u8; 1];
+        // Closed by the server: end of stream or reset; open: a timeout.
+        match stream.read(&mut byte) {
+            Ok(0) => closed += 1,
+            Err(e) if e.kind() == std::io::ErrorKind::ConnectionReset => closed += 1,
+            _ => {}
+        }
+    }
+    assert_eq!(closed, 300, "idle and slow connections left open");
+    let asked = std::time::Instant::now();
+    assert_eq!(status_of(port, &get("/image.png")), "HTTP/1.1 200 OK");
+    assert!(
+        asked.elapsed() < Duration::from_secs(2),
+        "{:?}",
+        asked.elapsed()
+    );
+}

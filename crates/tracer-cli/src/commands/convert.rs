@@ -8,6 +8,15 @@ use tracer_cli::tool_args::ConvertArgs;
 use tracer_pipeline::output::{self, PendingFile};
 
 pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
+    // An archive loads as a scene, but its bytes are not a scene's text.
+    if args
+        .scene
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("zip"))
+    {
+        let error = tracer_pipeline::pack::PackError::NotConverted(args.scene.clone());
+        return Err(tracer_pipeline::Error::from(error).into());
+    }
     let to = match &args.output {
         Some(path) => format_of(path)?,
         None => other(format_of(&args.scene)?),

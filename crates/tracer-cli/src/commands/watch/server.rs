@@ -12,6 +12,7 @@ use hyper::body::{Body, Frame, Incoming};
 use hyper::{Method, Request, Response, StatusCode};
 use hyper_util::rt::{TokioIo, TokioTimer};
 use std::convert::Infallible;
+use std::future::Future;
 use std::net::SocketAddr;
 use std::pin::Pin;
 use std::sync::{Arc, Mutex};
@@ -21,12 +22,21 @@ use tokio::sync::{mpsc, Semaphore};
 
 /// The page: one file, no external resources.
 const PAGE: &str = include_str!("page.html");
-/// Connections served at once; more wait to be accepted.
-const MAX_CONNECTIONS: usize = 32;
+/// Connections served at once; one more is closed as soon as it is
+/// accepted (rather than left waiting in the backlog, where a crowd of
+/// idle clients would keep a page waiting for ever).
+const MAX_CONNECTIONS: usize = 512;
+/// Event streams open at once (a page holds one): more are answered 503,
+/// so never-reading streams cannot take every connection.
+const MAX_EVENT_STREAMS: usize = 64;
 /// Bytes of a request's head (request line and headers).
 const MAX_HEAD_BYTES: usize = 8 * 1024;
-/// Time a client has to send its request's head.
-const HEAD_TIMEOUT: Duration = Duration::from_secs(5);
+/// Time a client has to send its request's head, counted from when the
+/// connection waits for one: an idle or byte-a-second client is closed.
+const HEAD_TIMEOUT: Duration = Duration::from_secs(3);
+/// Time a write may wait on a client that does not read before the
+/// connection is dropped.
+const WRITE_TIMEOUT: Duration = Duration::from_secs(5);
 /// Events queued for one client before it counts as too slow and is dropped.
 const CLIENT_QUEUE: usize = 16;
 /// How often an idle event stream gets a comment, which finds vanished clients.
@@ -115,10 +125,11 @@ async fn serve(listener: tokio::net::TcpListener, state: Arc<Mutex<State>>) {
     let slots = Arc::new(Semaphore::new(MAX_CONNECTIONS));
     tokio::spawn(keep_alive(state.clone()));
     loop {
-        let Ok(slot) = slots.clone().acquire_owned().await else {
-            return;
-        };
         let Ok((stream, _)) = listener.accept().await else {
+            continue;
+        };
+        let Ok(slot) = slots.clone().try_acquire_owned() else {
+            // Full: closed at once (dropped), the client told by the close.
             continue;
         };
         let state = state.clone();
@@ -128,7 +139,7 @@ async fn serve(listener: tokio::net::TcpListener, state: Arc<Mutex<State>>) {
                 .timer(TokioTimer::new())
                 .header_read_timeout(HEAD_TIMEOUT)
                 .max_buf_size(MAX_HEAD_BYTES)
-                .serve_connection(TokioIo::new(stream), service)
+                .serve_connection(TokioIo::new(WriteTimeout::new(stream)), service)
                 .await;
             drop(slot);
         });
@@ -229,6 +240,10 @@ fn plain(status: StatusCode, text: &'static str) -> Reply {
 fn events(state: &Mutex<State>) -> Reply {
     let (send, receive) = mpsc::channel(CLIENT_QUEUE);
     let mut state = state.lock().expect("the page's state");
+    state.clients.retain(|c| !c.is_closed());
+    if state.clients.len() >= MAX_EVENT_STREAMS {
+        return plain(StatusCode::SERVICE_UNAVAILABLE, "too many live pages open");
+    }
     for current in [&state.render_event, &state.error_event]
         .into_iter()
         .flatten()
@@ -256,5 +271,75 @@ impl Body for EventStream {
         cx: &mut TaskContext<'_>,
     ) -> Poll<Option<Result<Frame<Bytes>, Infallible>>> {
         self.0.poll_recv(cx).map(|e| e.map(|b| Ok(Frame::data(b))))
+    }
+}
+
+/// A connection whose writes fail after waiting `WRITE_TIMEOUT` on a
+/// client that does not read: its task ends and its slot is freed.
+struct WriteTimeout {
+    stream: tokio::net::TcpStream,
+    /// Set when a write first waits; cleared when one goes through.
+    deadline: Option<Pin<Box<tokio::time::Sleep>>>,
+}
+
+impl WriteTimeout {
+    fn new(stream: tokio::net::TcpStream) -> WriteTimeout {
+        WriteTimeout {
+            stream,
+            deadline: None,
+        }
+    }
+
+    /// `result` of a write, or an error once the writes waited too long.
+    fn timed<T>(
+        &mut self,
+        cx: &mut TaskContext<'_>,
+        result: Poll<std::io::Result<T>>,
+    ) -> Poll<std::io::Result<T>> {
+        if result.is_ready() {
+            self.deadline = None;
+            return result;
+        }
+        let deadline = self
+            .deadline
+            .get_or_insert_with(|| Box::pin(tokio::time::sleep(WRITE_TIMEOUT)));
+        match deadline.as_mut().poll(cx) {
+            Poll::Ready(()) => Poll::Ready(Err(std::io::ErrorKind::TimedOut.into())),
+            Poll::Pending => Poll::Pending,
+        }
+    }
+}
+
+impl tokio::io::AsyncRead for WriteTimeout {
+    fn poll_read(
+        mut self: Pin<&mut Self>,
+        cx: &mut TaskContext<'_>,
+        buf: &mut tokio::io::ReadBuf<'_>,
+    ) -> Poll<std::io::Result<()>> {
+        Pin::new(&mut self.stream).poll_read(cx, buf)
+    }
+}
+
+impl tokio::io::AsyncWrite for WriteTimeout {
+    fn poll_write(
+        mut self: Pin<&mut Self>,
+        cx: &mut TaskContext<'_>,
+        buf: &[u8],
+    ) -> Poll<std::io::Result<usize>> {
+        let result = Pin::new(&mut self.stream).poll_write(cx, buf);
+        self.timed(cx, result)
+    }
+
+    fn poll_flush(mut self: Pin<&mut Self>, cx: &mut TaskContext<'_>) -> Poll<std::io::Result<()>> {
+        let result = Pin::new(&mut self.stream).poll_flush(cx);
+        self.timed(cx, result)
+    }
+
+    fn poll_shutdown(
+        mut self: Pin<&mut Self>,
+        cx: &mut TaskContext<'_>,
+    ) -> Poll<std::io::Result<()>> {
+        let result = Pin::new(&mut self.stream).poll_shutdown(cx);
+        self.timed(cx, result)
     }
 }
