@@ -61,6 +61,32 @@ fn wait_done(browser: &mut Browser) {
         .unwrap();
 }
 
+/// Picks `scene` (a path under scenes/) in the menu, as a user does.
+fn choose_scene(browser: &mut Browser, scene: &str) {
+    let path = serde_json::to_string(scene).unwrap();
+    eval(
+        browser,
+        &format!(
+            "(() => {{ const m = document.getElementById('scene-menu'); \
+             m.value = {path}; m.dispatchEvent(new Event('change')); }})()"
+        ),
+    );
+}
+
+/// Picks `scene` and waits until its render is done.
+fn render_scene(browser: &mut Browser, scene: &str) {
+    choose_scene(browser, scene);
+    browser
+        .wait_for(
+            &format!(
+                "document.getElementById('image').dataset.state === 'done' && \
+                 tracerPage.lastRender.scene === '{scene}'"
+            ),
+            RENDER,
+        )
+        .unwrap();
+}
+
 fn eval(browser: &mut Browser, expression: &str) -> Value {
     browser.eval(expression).unwrap()
 }
@@ -137,11 +163,7 @@ fn a_scene_with_files_from_the_menu_renders_as_its_golden_on_three_workers() {
     let Some(mut page) = open("?workers=3") else {
         return;
     };
-    eval(
-        &mut page,
-        "(() => { const m = document.getElementById('scene-menu'); \
-         m.value = 'textures.toml'; m.dispatchEvent(new Event('change')); })()",
-    );
+    choose_scene(&mut page, "textures.toml");
     page.wait_for(
         "document.getElementById('status').textContent.startsWith('textures.toml: 480x320')",
         RENDER,
@@ -329,13 +351,7 @@ fn every_scene_of_the_menu_renders_as_its_golden_within_maths_last_bits() {
     let mut differing = Vec::new();
     for (rep, scene) in scenes.iter().enumerate() {
         let path = serde_json::to_string(&scene.path).unwrap();
-        eval(
-            &mut page,
-            &format!(
-                "(() => {{ const m = document.getElementById('scene-menu'); \
-                 m.value = {path}; m.dispatchEvent(new Event('change')); }})()"
-            ),
-        );
+        choose_scene(&mut page, &scene.path);
         page.wait_for(
             &format!(
                 "document.getElementById('image').dataset.state === 'done' && \
@@ -392,17 +408,7 @@ fn screenshot_for_the_readme() {
     let Some(mut page) = open("?workers=2") else {
         return;
     };
-    eval(
-        &mut page,
-        "(() => { const m = document.getElementById('scene-menu'); \
-         m.value = 'textures.toml'; m.dispatchEvent(new Event('change')); })()",
-    );
-    page.wait_for(
-        "document.getElementById('image').dataset.state === 'done' && \
-         tracerPage.lastRender.scene === 'textures.toml'",
-        RENDER,
-    )
-    .unwrap();
+    render_scene(&mut page, "textures.toml");
     // A mistake typed in: marked at its line, the last good image kept.
     let text = eval(&mut page, "tracerPage.view.state.doc.toString()");
     let bad = text
@@ -486,17 +492,7 @@ fn a_click_on_the_image_explains_that_pixel_as_tracer_explain_does() {
     let Some(mut page) = open("?workers=2") else {
         return;
     };
-    eval(
-        &mut page,
-        "(() => { const m = document.getElementById('scene-menu'); \
-         m.value = 'illumination.toml'; m.dispatchEvent(new Event('change')); })()",
-    );
-    page.wait_for(
-        "document.getElementById('image').dataset.state === 'done' && \
-         tracerPage.lastRender.scene === 'illumination.toml'",
-        RENDER,
-    )
-    .unwrap();
+    render_scene(&mut page, "illumination.toml");
     // Shown at half its size: the click must be scaled to the image's pixels.
     let rect = eval(
         &mut page,
