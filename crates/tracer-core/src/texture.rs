@@ -8,10 +8,42 @@ use std::sync::Arc;
 
 /// An RGB texture, row 0 at the top (v = 0).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "TextureData")]
 pub struct Texture {
     pub width: u32,
     pub height: u32,
     texels: Vec<Vec3>,
+}
+
+/// A texture as stored (in a `--cache` entry), checked before it becomes a
+/// `Texture`: a lookup assumes at least one texel and `width * height` of
+/// them (the cache's fuzz target found an empty one panicking).
+#[derive(Deserialize)]
+struct TextureData {
+    width: u32,
+    height: u32,
+    texels: Vec<Vec3>,
+}
+
+impl TryFrom<TextureData> for Texture {
+    type Error = String;
+
+    fn try_from(t: TextureData) -> Result<Texture, String> {
+        let count = u64::from(t.width) * u64::from(t.height);
+        if count == 0 || count != t.texels.len() as u64 {
+            return Err(format!(
+                "a texture of {}x{} with {} texels",
+                t.width,
+                t.height,
+                t.texels.len()
+            ));
+        }
+        Ok(Texture {
+            width: t.width,
+            height: t.height,
+            texels: t.texels,
+        })
+    }
 }
 
 /// The textures built into the tracer, by the name a scene file gives them.
@@ -224,6 +256,24 @@ impl ImageTexels {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_stored_texture_without_texels_or_of_another_count_is_refused() {
+        let stored = |width: u32, height: u32, count: usize| {
+            let t = TextureData {
+                width,
+                height,
+                texels: vec![Vec3::ONE; count],
+            };
+            Texture::try_from(t)
+        };
+        assert!(stored(0, 1, 0).is_err());
+        assert!(stored(1, 0, 0).is_err());
+        assert!(stored(2, 2, 3).is_err());
+        assert!(stored(u32::MAX, u32::MAX, 1).is_err());
+        let t = stored(2, 1, 2).unwrap();
+        assert_eq!(t.texel(Vec2::new(0.9, 0.5)), Vec3::ONE);
+    }
 
     #[test]
     fn stripes_have_the_exact_row_layout() {
