@@ -772,14 +772,7 @@ mod polygon_tests {
         std::fs::write(&path, text).unwrap();
         let data = read_obj(&path).unwrap();
         assert_eq!(data.triangles.len(), 4 + 3);
-        let area: f32 = data.triangles[..4]
-            .iter()
-            .map(|[a, b, c]| {
-                let (e, f) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
-                (e[0] * f[1] - e[1] * f[0]).abs() / 2.0
-            })
-            .sum();
-        assert_eq!(area, 3.0);
+        assert_eq!(crate::polygon::flat_area(&data.triangles[..4]), 3.0);
         assert_eq!(data.polygon_troubles, 1);
         assert_eq!(
             data.first_polygon_trouble,

@@ -449,14 +449,7 @@ mod tests {
         // bow tie (face 1).
         let l = "0 2 0\n0 0 0\n2 0 0\n2 1 0\n1 1 0\n1 2 0\n";
         let data = read(format!("{header}{l}6 0 1 2 3 4 5\n4 0 2 1 3\n").as_bytes()).unwrap();
-        let area: f32 = data.triangles[..4]
-            .iter()
-            .map(|[a, b, c]| {
-                let (e, f) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
-                (e[0] * f[1] - e[1] * f[0]).abs() / 2.0
-            })
-            .sum();
-        assert_eq!(area, 3.0);
+        assert_eq!(crate::polygon::flat_area(&data.triangles[..4]), 3.0);
         assert_eq!(data.polygon_troubles, 1);
         assert_eq!(
             data.first_polygon_trouble,

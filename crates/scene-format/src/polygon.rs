@@ -183,6 +183,19 @@ fn clip_ears(flat: &[[f64; 2]]) -> Option<Vec<[usize; 3]>> {
     Some(out)
 }
 
+/// The summed area of triangles lying in the plane z = 0: what the
+/// readers' tests check a cut polygon by.
+#[cfg(test)]
+pub(crate) fn flat_area(triangles: &[[[f32; 3]; 3]]) -> f32 {
+    triangles
+        .iter()
+        .map(|[a, b, c]| {
+            let (e, f) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
+            (e[0] * f[1] - e[1] * f[0]).abs() / 2.0
+        })
+        .sum()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
