@@ -292,6 +292,54 @@ impl Part {
         }
     }
 
+    /// For a leaf of its node: its least cost (block tests times box area)
+    /// as 1, 2, .. `lanes` lanes of the node, each cut by the cheapest
+    /// binned split of the part it divides (`least_costs`); None for a
+    /// part that is not a leaf or too large to be worth the search.
+    ///
+    /// The greedy SAH charges a split a node's visit, but a split within
+    /// the node being built costs only a box test, which its SIMD lanes
+    /// take anyway: the walls of a room, one leaf whose box is the room
+    /// (every ray inside it tested every wall), become flat leaves a ray
+    /// meets one or two of. A split may pay only with the splits after it
+    /// (two walls of four cut off leave two blocks), so the cost looks
+    /// ahead over the lanes.
+    pub(super) fn costs_within_node(&self, items: &[BuildPrim], lanes: usize) -> Option<Vec<f32>> {
+        let eligible = matches!(self.cut, Cut::Leaf)
+            && (2..=MAX_LEAF).contains(&self.len())
+            && self.depth < MAX_DEPTH;
+        if !eligible || !self.may_split_cheaper(items) {
+            return None;
+        }
+        let mut run = items[self.start..self.end].to_vec();
+        Some(least_costs(&mut run, &self.rebased(), lanes))
+    }
+
+    /// Whether some split of the part into lanes might cost less than the
+    /// part as one leaf: each lane costs at least a block's test over the
+    /// box of its largest primitive, and two lanes hold the largest and
+    /// some other. Most leaves of a mesh fail this, which spares their
+    /// search (it doubled the 70k bunny's build).
+    fn may_split_cheaper(&self, items: &[BuildPrim]) -> bool {
+        let (mut least, mut most) = (f32::INFINITY, 0.0f32);
+        for p in &items[self.start..self.end] {
+            let area = p.bounds().half_area();
+            (least, most) = (least.min(area), most.max(area));
+        }
+        BLOCK_COST * (least + most) < self.extent.bounds.half_area() * lane_cost(self)
+    }
+
+    /// The same part cut by its cheapest binned split, to be split within
+    /// its node (see `costs_within_node`).
+    pub(super) fn cut_within_node(&self, items: &[BuildPrim]) -> Option<Part> {
+        let run = &items[self.start..self.end];
+        let s = best_split(run, &self.extent.bounds, &self.extent.centroids)?;
+        Some(Part {
+            cut: Cut::Bins(s),
+            ..*self
+        })
+    }
+
     /// Divides the part by its cut, reordering its items: the two halves,
     /// each with its own cut decided; None for a leaf.
     pub(super) fn split(&self, items: &mut [BuildPrim]) -> Option<[Part; 2]> {
@@ -311,6 +359,55 @@ impl Part {
             Part::new(items, self.start, mid, left, depth),
             Part::new(items, mid, self.end, right, depth),
         ])
+    }
+}
+
+/// The least cost (block tests times box area) of `part` of `run` as 1,
+/// 2, .. `lanes` leaves, each cut by the cheapest binned split of the part
+/// it divides; reorders `run`.
+fn least_costs(run: &mut [BuildPrim], part: &Part, lanes: usize) -> Vec<f32> {
+    let leaf = part.extent.bounds.half_area() * lane_cost(part);
+    let mut costs = vec![leaf; lanes];
+    let split = (lanes > 1 && part.len() > 1)
+        .then(|| {
+            best_split(
+                &run[part.start..part.end],
+                &part.extent.bounds,
+                &part.extent.centroids,
+            )
+        })
+        .flatten();
+    let Some(s) = split else {
+        return costs;
+    };
+    let (mid, left, right) = partition(&mut run[part.start..part.end], &part.extent, &s);
+    let side = |start, end, extent| Part {
+        start,
+        end,
+        extent,
+        depth: part.depth + 1,
+        cut: Cut::Leaf,
+    };
+    let mid = part.start + mid;
+    let left = least_costs(run, &side(part.start, mid, left), lanes - 1);
+    let right = least_costs(run, &side(mid, part.end, right), lanes - 1);
+    for n in 2..=lanes {
+        // n lanes: a for the left side, n - a for the right.
+        for a in 1..n {
+            costs[n - 1] = costs[n - 1].min(left[a - 1] + right[n - a - 1]);
+        }
+    }
+    costs
+}
+
+/// The cost of testing a leaf lane's primitives: triangles go four at a
+/// time, spheres one by one (each about a block's test). The greedy SAH
+/// costs spheres as blocks of four (`leaf_cost`): the lab's trees.
+fn lane_cost(part: &Part) -> f32 {
+    if part.extent.spheres > 0 {
+        part.len() as f32 * BLOCK_COST
+    } else {
+        leaf_cost(part.len())
     }
 }
 
