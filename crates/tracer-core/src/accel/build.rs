@@ -308,25 +308,10 @@ impl Part {
         let eligible = matches!(self.cut, Cut::Leaf)
             && (2..=MAX_LEAF).contains(&self.len())
             && self.depth < MAX_DEPTH;
-        if !eligible || !self.may_split_cheaper(items) {
-            return None;
-        }
-        let mut run = items[self.start..self.end].to_vec();
-        Some(least_costs(&mut run, &self.rebased(), lanes))
-    }
-
-    /// Whether some split of the part into lanes might cost less than the
-    /// part as one leaf: each lane costs at least a block's test over the
-    /// box of its largest primitive, and two lanes hold the largest and
-    /// some other. Most leaves of a mesh fail this, which spares their
-    /// search (it doubled the 70k bunny's build).
-    fn may_split_cheaper(&self, items: &[BuildPrim]) -> bool {
-        let (mut least, mut most) = (f32::INFINITY, 0.0f32);
-        for p in &items[self.start..self.end] {
-            let area = p.bounds().half_area();
-            (least, most) = (least.min(area), most.max(area));
-        }
-        BLOCK_COST * (least + most) < self.extent.bounds.half_area() * lane_cost(self)
+        eligible.then(|| {
+            let mut run = items[self.start..self.end].to_vec();
+            least_costs(&mut run, &self.rebased(), lanes)
+        })
     }
 
     /// The same part cut by its cheapest binned split, to be split within
