@@ -276,16 +276,22 @@ impl Body for EventStream {
 
 /// A connection whose writes fail after waiting `WRITE_TIMEOUT` on a
 /// client that does not read: its task ends and its slot is freed.
-struct WriteTimeout {
-    stream: tokio::net::TcpStream,
+struct WriteTimeout<S = tokio::net::TcpStream> {
+    stream: S,
+    limit: Duration,
     /// Set when a write first waits; cleared when one goes through.
     deadline: Option<Pin<Box<tokio::time::Sleep>>>,
 }
 
-impl WriteTimeout {
-    fn new(stream: tokio::net::TcpStream) -> WriteTimeout {
+impl<S> WriteTimeout<S> {
+    fn new(stream: S) -> WriteTimeout<S> {
+        WriteTimeout::with_limit(stream, WRITE_TIMEOUT)
+    }
+
+    fn with_limit(stream: S, limit: Duration) -> WriteTimeout<S> {
         WriteTimeout {
             stream,
+            limit,
             deadline: None,
         }
     }
@@ -300,9 +306,10 @@ impl WriteTimeout {
             self.deadline = None;
             return result;
         }
+        let limit = self.limit;
         let deadline = self
             .deadline
-            .get_or_insert_with(|| Box::pin(tokio::time::sleep(WRITE_TIMEOUT)));
+            .get_or_insert_with(|| Box::pin(tokio::time::sleep(limit)));
         match deadline.as_mut().poll(cx) {
             Poll::Ready(()) => Poll::Ready(Err(std::io::ErrorKind::TimedOut.into())),
             Poll::Pending => Poll::Pending,
@@ -310,7 +317,7 @@ impl WriteTimeout {
     }
 }
 
-impl tokio::io::AsyncRead for WriteTimeout {
+impl<S: tokio::io::AsyncRead + Unpin> tokio::io::AsyncRead for WriteTimeout<S> {
     fn poll_read(
         mut self: Pin<&mut Self>,
         cx: &mut TaskContext<'_>,
@@ -320,7 +327,7 @@ impl tokio::io::AsyncRead for WriteTimeout {
     }
 }
 
-impl tokio::io::AsyncWrite for WriteTimeout {
+impl<S: tokio::io::AsyncWrite + Unpin> tokio::io::AsyncWrite for WriteTimeout<S> {
     fn poll_write(
         mut self: Pin<&mut Self>,
         cx: &mut TaskContext<'_>,
@@ -341,5 +348,110 @@ impl tokio::io::AsyncWrite for WriteTimeout {
     ) -> Poll<std::io::Result<()>> {
         let result = Pin::new(&mut self.stream).poll_shutdown(cx);
         self.timed(cx, result)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::{Read, Write};
+    use tokio::io::AsyncWriteExt;
+
+    /// The status line of the answer to GET `path`, and the stream, left
+    /// open (an event stream's answer never ends).
+    fn get(addr: SocketAddr, path: &str) -> (String, std::net::TcpStream) {
+        let mut stream = std::net::TcpStream::connect(addr).expect("connect");
+        stream
+            .set_read_timeout(Some(Duration::from_secs(10)))
+            .unwrap();
+        let request = format!("GET {path} HTTP/1.1\r\nHost: localhost\r\n\r\n");
+        stream.write_all(request.as_bytes()).unwrap();
+        let mut line = Vec::new();
+        let mut byte = [0u8; 1];
+        while !line.ends_with(b"\r\n") && stream.read(&mut byte).unwrap_or(0) == 1 {
+            line.push(byte[0]);
+        }
+        (
+            String::from_utf8_lossy(&line).trim_end().to_string(),
+            stream,
+        )
+    }
+
+    #[test]
+    fn event_streams_past_the_limit_are_refused_and_the_page_still_served() {
+        let server = Server::start("127.0.0.1:0".parse().unwrap()).unwrap();
+        let streams: Vec<_> = (0..MAX_EVENT_STREAMS)
+            .map(|_| {
+                let (status, stream) = get(server.addr, "/events");
+                assert_eq!(status, "HTTP/1.1 200 OK");
+                stream
+            })
+            .collect();
+        let (status, _) = get(server.addr, "/events");
+        assert_eq!(status, "HTTP/1.1 503 Service Unavailable");
+        assert_eq!(get(server.addr, "/").0, "HTTP/1.1 200 OK");
+        drop(streams);
+    }
+
+    /// Writes of 64 bytes for `for_time` through a `WriteTimeout` of
+    /// 200 ms to a peer of a 64-byte buffer that reads every `read_every`
+    /// (never, if None): the first error, or Ok (an error of kind Other if
+    /// a write never ended).
+    fn write_to_a_peer(read_every: Option<Duration>, for_time: Duration) -> std::io::Result<()> {
+        let runtime = tokio::runtime::Builder::new_current_thread()
+            .enable_time()
+            .build()
+            .unwrap();
+        runtime.block_on(async {
+            let (near, mut far) = tokio::io::duplex(64);
+            let mut conn = WriteTimeout::with_limit(near, Duration::from_millis(200));
+            // Held open and never read, or read by a task of its own.
+            let _unread = match read_every {
+                None => Some(far),
+                Some(every) => {
+                    tokio::spawn(async move {
+                        use tokio::io::AsyncReadExt;
+                        let mut buf = [0u8; 64];
+                        while far.read(&mut buf).await.unwrap_or(0) > 0 {
+                            tokio::time::sleep(every).await;
+                        }
+                    });
+                    None
+                }
+            };
+            let writes = async {
+                let start = tokio::time::Instant::now();
+                while start.elapsed() < for_time {
+                    conn.write_all(&[7u8; 64]).await?;
+                }
+                Ok(())
+            };
+            // A write that waits for ever fails the test rather than hangs it.
+            let hung = std::io::Error::other("a write waited for ever");
+            let bound = for_time + Duration::from_secs(2);
+            tokio::time::timeout(bound, writes)
+                .await
+                .unwrap_or(Err(hung))
+        })
+    }
+
+    #[test]
+    fn a_client_that_does_not_read_is_dropped_after_the_write_timeout() {
+        let start = std::time::Instant::now();
+        let result = write_to_a_peer(None, Duration::from_secs(5));
+        let err = result.expect_err("writes to a peer that never reads went on");
+        assert_eq!(err.kind(), std::io::ErrorKind::TimedOut);
+        let waited = start.elapsed();
+        assert!(
+            waited >= Duration::from_millis(200) && waited < Duration::from_secs(3),
+            "{waited:?}"
+        );
+    }
+
+    #[test]
+    fn a_slow_reader_is_kept_while_each_write_goes_through_in_time() {
+        // A read every 50 ms, each write waiting less than the 200 ms limit.
+        let result = write_to_a_peer(Some(Duration::from_millis(50)), Duration::from_secs(1));
+        assert!(result.is_ok(), "{result:?}");
     }
 }
