@@ -1,6 +1,7 @@
 //! A bounding volume hierarchy over all the scene's shapes: built top-down
 //! with the binned surface area heuristic (`build.rs`) into 8-wide nodes
-//! (`wide.rs`) whose boxes a ray tests in SIMD lanes; leaves of triangles
+//! (`wide.rs`) whose boxes a ray tests in SIMD lanes, free lanes going to
+//! leaves a split within the node makes cheaper; leaves of triangles
 //! in blocks of four tested at once (`tri4.rs`), or of spheres; traversed
 //! nearest child first; shadow rays stop at the first hit. Planes are
 //! infinite, so no box holds them: they are kept in a list tested beside
