@@ -1,33 +1,18 @@
 //! The report opened in a real browser: headless Chromium loads
 //! `index.html` from disk, and every image on it must load.
 
+use headless::{dump_dom, image_check, ImageCheck};
 use image::{Rgb, RgbImage};
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
-use xtask::golden::browser::{dump_dom, find_chromium, image_check, ImageCheck};
 use xtask::golden::manifest::Manifest;
 use xtask::golden::{self, Case};
 
 const TIMEOUT: Duration = Duration::from_secs(120);
 
-/// Chromium, or `None` with a notice. Under CI (env `CI` set) a missing
-/// Chromium fails the test: `.ci/run` installs it.
+/// Chromium, or `None` with a notice (an error under CI).
 fn chromium() -> Option<PathBuf> {
-    let found = find_chromium();
-    if found.is_none() {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "CI is set but Chromium is missing: .ci/run installs Debian's `chromium` package"
-        );
-        // Straight to the stderr handle: libtest captures eprintln! of passing tests.
-        let _ = writeln!(
-            std::io::stderr(),
-            "SKIPPED: the browser check of the golden report needs Chromium \
-             (Debian: apt-get install chromium; or set CHROMIUM=/path/to/binary)"
-        );
-    }
-    found
+    headless::chromium_for_test("the browser check of the golden report")
 }
 
 fn load(chromium: &Path, index: &Path) -> ImageCheck {

@@ -2,13 +2,13 @@
 //! (crates/web for wasm32, the bundled scripts, the scenes), a static server
 //! serves it, and each test scripts the live page over DevTools.
 
+use headless::Browser;
 use serde_json::Value;
 use std::io::Write;
 use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::sync::OnceLock;
 use std::time::Duration;
-use xtask::web::browser::Browser;
 
 const RENDER: Duration = Duration::from_secs(120);
 
@@ -25,7 +25,7 @@ fn page() -> SocketAddr {
 /// Chromium, or `None` with a notice when it or the wasm toolchain is
 /// missing; under CI (`.ci/run` installs both) that fails instead.
 fn chromium() -> Option<PathBuf> {
-    let found = xtask::golden::browser::find_chromium();
+    let found = headless::find_chromium();
     let toolchain = xtask::web::toolchain::find();
     let missing = match (&found, &toolchain) {
         (None, _) => "Chromium (Debian: apt-get install chromium)".to_string(),
@@ -41,6 +41,18 @@ fn chromium() -> Option<PathBuf> {
         "SKIPPED: the playground's tests need {missing}"
     );
     None
+}
+
+/// The image canvas's pixels, as the page encodes them in a PNG, decoded.
+fn canvas_image(page: &mut Browser) -> anyhow::Result<image::RgbaImage> {
+    use anyhow::Context;
+    let url = page.eval("document.getElementById('image').toDataURL('image/png')")?;
+    let url = url.as_str().context("no data URL")?;
+    let b64 = url
+        .strip_prefix("data:image/png;base64,")
+        .context("not a PNG data URL")?;
+    let bytes = headless::base64_decode(b64)?;
+    Ok(image::load_from_memory(&bytes)?.to_rgba8())
 }
 
 /// The page at `query_and_fragment` (e.g. `?workers=2`), its first render done.
@@ -112,7 +124,7 @@ fn status(browser: &mut Browser) -> String {
 
 /// The canvas equals `golden/NAME.png` bit for bit.
 fn assert_golden(browser: &mut Browser, name: &str) {
-    let shown = browser.canvas_image().unwrap();
+    let shown = canvas_image(browser).unwrap();
     let golden = image::open(xtask::workspace_root().join(format!("golden/{name}.png")))
         .unwrap()
         .to_rgb8();
@@ -173,13 +185,13 @@ fn a_scene_with_files_from_the_menu_renders_as_its_golden_on_three_workers() {
     assert_golden(&mut page, "textures");
     // Its archive (Download .zip) renders with `tracer render` as the page shows it.
     let zip = eval(&mut page, "tracerPage.sceneZipBase64()");
-    let zip = xtask::web::browser::base64_decode(zip.as_str().unwrap()).unwrap();
+    let zip = headless::base64_decode(zip.as_str().unwrap()).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("textures.zip");
     std::fs::write(&path, zip).unwrap();
     let loaded = tracer_pipeline::load(&tracer_pipeline::Input::File(path)).unwrap();
     let rendered = tracer_pipeline::render(&loaded, &Default::default(), &|_| {}).unwrap();
-    let shown = page.canvas_image().unwrap();
+    let shown = canvas_image(&mut page).unwrap();
     let rgb = rendered.image.to_rgb8();
     assert!(
         rgb.pixels()
@@ -298,7 +310,7 @@ fn a_dropped_obj_renders() {
     )
     .unwrap();
     wait_done(&mut page);
-    let shown = page.canvas_image().unwrap();
+    let shown = canvas_image(&mut page).unwrap();
     assert_eq!(shown.dimensions(), (64, 48));
     let centre = shown.get_pixel(32, 24).0;
     assert!(centre[0] > 150 && centre[1] == 0, "{centre:?}");
@@ -362,7 +374,7 @@ fn every_scene_of_the_menu_renders_as_its_golden_within_maths_last_bits() {
         )
         .unwrap();
         let name = scene.path.trim_end_matches(".toml").replace('/', "-");
-        let shown = page.canvas_image().unwrap();
+        let shown = canvas_image(&mut page).unwrap();
         let golden = image::open(xtask::workspace_root().join(format!("golden/{name}.png")))
             .unwrap()
             .to_rgb8();
@@ -538,7 +550,7 @@ fn a_click_on_the_image_explains_that_pixel_as_tracer_explain_does() {
     );
     assert!(text.contains("nearest hit: object 0"), "{text}");
     // Its 8-bit value is the pixel the page shows there.
-    let [r, g, b, _] = page.canvas_image().unwrap().get_pixel(x, y).0;
+    let [r, g, b, _] = canvas_image(&mut page).unwrap().get_pixel(x, y).0;
     assert!(r > 50, "not the lit sphere: ({r}, {g}, {b})");
     assert!(
         text.contains(&format!(

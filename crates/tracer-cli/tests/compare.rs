@@ -5,10 +5,10 @@ mod common;
 
 use common::tracer;
 use image::{Rgb, RgbImage};
-use std::io::Read;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Output;
+use std::time::Duration;
 
 /// A lab scene, by its path as an argument for `tracer`.
 fn scene(name: &str) -> String {
@@ -586,76 +586,20 @@ fn a_bad_class_or_scene_exits_2_and_writes_no_report() {
     assert_eq!(leftovers(dir.path()), Vec::<String>::new());
 }
 
-/// Chromium, or `None` with a notice; under CI (env `CI` set) a missing
-/// Chromium fails the test: `.ci/run` installs it.
-fn chromium() -> Option<PathBuf> {
-    let named = std::env::var_os("CHROMIUM").filter(|p| !p.is_empty());
-    let found = named.map(PathBuf::from).or_else(|| {
-        ["/usr/bin/chromium", "/usr/bin/chromium-browser"]
-            .map(PathBuf::from)
-            .into_iter()
-            .find(|p| p.is_file())
-    });
-    if found.is_none() {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "CI is set but Chromium is missing: .ci/run installs Debian's `chromium` package"
-        );
-        eprintln!("SKIPPED: the browser check of the compare report needs Chromium");
-    }
-    found
-}
-
-/// The page's DOM once it loaded and its script ran, as headless Chromium
-/// dumps it.
-fn dump_dom(chromium: &Path, page: &Path) -> String {
-    let profile = tempfile::tempdir().unwrap();
-    let mut child = Command::new(chromium)
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--disable-dev-shm-usage",
-            "--no-first-run",
-            "--disable-background-networking",
-            "--virtual-time-budget=10000",
-            "--dump-dom",
-        ])
-        .arg(format!("--user-data-dir={}", profile.path().display()))
-        .arg(format!("file://{}", page.canonicalize().unwrap().display()).replace(' ', "%20"))
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("start chromium");
-    let mut stdout = child.stdout.take().unwrap();
-    let reader = std::thread::spawn(move || {
-        let mut dom = String::new();
-        stdout.read_to_string(&mut dom).map(|_| dom)
-    });
-    let end = Instant::now() + Duration::from_secs(120);
-    while child.try_wait().unwrap().is_none() {
-        if Instant::now() > end {
-            let _ = child.kill();
-            panic!("Chromium did not finish within 120 s");
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    }
-    reader.join().unwrap().unwrap()
-}
-
-/// An attribute of the page's `image-check` element, as its script set it.
-fn image_check<'a>(dom: &'a str, name: &str) -> &'a str {
-    let tag = &dom[dom.find("id=\"image-check\"").expect("the check element")..];
-    let tag = &tag[..tag.find('>').unwrap()];
-    let key = format!("{name}=\"");
-    let start = tag.find(&key).unwrap_or_else(|| panic!("no {name}: {tag}")) + key.len();
-    &tag[start..start + tag[start..].find('"').unwrap()]
+/// The report's `index.html` in `dir` as headless Chromium has it once its
+/// script ran: what its image check recorded.
+fn loaded_in_chromium(chromium: &Path, dir: &Path) -> headless::ImageCheck {
+    let page = dir.join("my report/index.html");
+    let dom = headless::dump_dom(chromium, &page, Duration::from_secs(120)).unwrap();
+    headless::image_check(&dom).unwrap_or_else(|e| panic!("{e:#}\n{dom}"))
 }
 
 #[test]
 fn every_image_of_the_report_loads_in_chromium() {
-    let Some(chromium) = chromium() else { return };
+    let Some(chromium) = headless::chromium_for_test("the browser check of the compare report")
+    else {
+        return;
+    };
     let dir = tempfile::tempdir().unwrap();
     planted_class(dir.path());
     let scenes = scenes_dir();
@@ -672,13 +616,12 @@ fn every_image_of_the_report_loads_in_chromium() {
         ],
     );
     assert_eq!(out.status.code(), Some(1), "{}", stderr_of(&out));
-    let dom = dump_dom(&chromium, &dir.path().join("my report/index.html"));
+    let check = loaded_in_chromium(&chromium, dir.path());
     // Each image, its reference, and the heat-maps of the four of its size.
-    assert_eq!(image_check(&dom, "data-total"), "14", "{dom}");
-    assert_eq!(image_check(&dom, "data-loaded"), "14", "{dom}");
+    assert_eq!((check.total, check.loaded), (14, 14), "{check:?}");
     // The check notices an image that does not load.
     std::fs::remove_file(dir.path().join("my report/3-heatmap.png")).unwrap();
-    let dom = dump_dom(&chromium, &dir.path().join("my report/index.html"));
-    assert_eq!(image_check(&dom, "data-loaded"), "13", "{dom}");
-    assert_eq!(image_check(&dom, "data-failed"), "3-heatmap.png");
+    let check = loaded_in_chromium(&chromium, dir.path());
+    assert_eq!((check.total, check.loaded), (14, 13), "{check:?}");
+    assert_eq!(check.failed, ["3-heatmap.png"]);
 }

@@ -2,6 +2,7 @@
 //! file re-render it, a bad edit keeps the last image, Ctrl-C leaves no
 //! temporary file.
 
+use headless::Browser;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -310,165 +311,22 @@ fn a_vanished_or_silent_client_does_not_stall_rendering() {
     );
 }
 
-/// Headless Chromium showing a page, driven over its DevTools socket: the
-/// test reads the live page's DOM while the page stays open.
-struct Browser {
-    child: Child,
-    socket: tungstenite::WebSocket<std::net::TcpStream>,
-    /// The DevTools session attached to the page.
-    session: String,
-    next_id: u64,
-    _profile: tempfile::TempDir,
-}
-
-impl Browser {
-    /// Chromium showing `url`; None when there is no Chromium (an error on CI).
-    fn open(url: &str) -> Option<Browser> {
-        let names = ["chromium", "chromium-browser", "google-chrome"];
-        let chromium = std::env::var("CHROMIUM")
-            .ok()
-            .into_iter()
-            .chain(names.into_iter().map(String::from))
-            .find(|c| Command::new(c).arg("--version").output().is_ok());
-        let Some(chromium) = chromium else {
-            assert!(
-                std::env::var_os("CI").is_none(),
-                "Chromium is missing (Debian: apt-get install chromium)"
-            );
-            eprintln!("skipped: no Chromium");
-            return None;
-        };
-        let profile = tempfile::tempdir().unwrap();
-        let mut child = Command::new(chromium)
-            .args([
-                "--headless",
-                "--no-sandbox",
-                "--disable-gpu",
-                "--disable-dev-shm-usage",
-                "--no-first-run",
-                "--disable-background-networking",
-                "--remote-debugging-port=0",
-            ])
-            .arg(format!("--user-data-dir={}", profile.path().display()))
-            .arg(url)
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("start chromium");
-        let socket_url = devtools_url(child.stderr.take().expect("stderr"));
-        let port: u16 = socket_url
-            .trim_start_matches("ws://127.0.0.1:")
-            .split('/')
-            .next()
-            .and_then(|p| p.parse().ok())
-            .expect("a port");
-        let stream = std::net::TcpStream::connect(("127.0.0.1", port)).expect("devtools");
-        stream.set_read_timeout(Some(START)).unwrap();
-        let (socket, _) = tungstenite::client(socket_url.as_str(), stream).expect("devtools");
-        let mut browser = Browser {
-            child,
-            socket,
-            session: String::new(),
-            next_id: 1,
-            _profile: profile,
-        };
-        browser.session = browser.attach(url);
-        Some(browser)
-    }
-
-    /// Attaches to the page showing `url`, once it is there.
-    fn attach(&mut self, url: &str) -> String {
-        let end = Instant::now() + START;
-        while Instant::now() < end {
-            let targets = self.call("Target.getTargets", serde_json::json!({}));
-            let page = targets["targetInfos"]
-                .as_array()
-                .into_iter()
-                .flatten()
-                .find(|t| t["type"] == "page" && t["url"].as_str() == Some(url));
-            if let Some(id) = page.map(|p| p["targetId"].clone()) {
-                let params = serde_json::json!({ "targetId": id, "flatten": true });
-                let attached = self.call("Target.attachToTarget", params);
-                return attached["sessionId"]
-                    .as_str()
-                    .expect("a session")
-                    .to_string();
-            }
-            std::thread::sleep(Duration::from_millis(100));
-        }
-        panic!("Chromium opened no page at {url}");
-    }
-
-    /// Calls DevTools' `method` (in the page's session once attached) and
-    /// returns its result.
-    fn call(&mut self, method: &str, params: serde_json::Value) -> serde_json::Value {
-        let id = self.next_id;
-        self.next_id += 1;
-        let mut call = serde_json::json!({ "id": id, "method": method, "params": params });
-        if !self.session.is_empty() {
-            call["sessionId"] = self.session.clone().into();
-        }
-        self.socket.send(call.to_string().into()).expect("send");
-        loop {
-            let message = self.socket.read().expect("devtools answer");
-            let Ok(text) = message.to_text() else {
-                continue;
-            };
-            let answer: serde_json::Value = serde_json::from_str(text).expect("json");
-            if answer["id"] == id {
-                return answer["result"].clone();
-            }
-        }
-    }
-
-    /// The value of the JavaScript `expression` in the page.
-    fn eval(&mut self, expression: &str) -> serde_json::Value {
-        let params = serde_json::json!({ "expression": expression, "returnByValue": true });
-        self.call("Runtime.evaluate", params)["result"]["value"].clone()
-    }
-
-    /// Waits up to `limit` for `expression` to be true in the page.
-    fn wait_for(&mut self, expression: &str, limit: Duration) {
-        let end = Instant::now() + limit;
-        while Instant::now() < end {
-            if self.eval(expression) == serde_json::Value::Bool(true) {
-                return;
-            }
-            std::thread::sleep(Duration::from_millis(50));
-        }
-        let body = self.eval("document.body.outerHTML");
-        panic!("{expression} not true within {limit:?}; the page:\n{body}");
-    }
-}
-
-impl Drop for Browser {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-/// The browser's socket in "DevTools listening on ws://..." on Chromium's
-/// stderr, which is drained afterwards.
-fn devtools_url(stderr: std::process::ChildStderr) -> String {
-    let mut lines = BufReader::new(stderr).lines();
-    for line in lines.by_ref().map_while(Result::ok) {
-        if let Some(at) = line.find("ws://") {
-            let url = line[at..].trim().to_string();
-            std::thread::spawn(move || lines.for_each(drop));
-            return url;
-        }
-    }
-    panic!("Chromium did not open its DevTools socket");
+/// Headless Chromium showing `url`, driven over its DevTools socket: the
+/// test reads the live page's DOM while the page stays open. None when
+/// there is no Chromium (an error on CI).
+fn open_page(url: &str) -> Option<Browser> {
+    let chromium = headless::chromium_for_test("the live page's test")?;
+    Some(Browser::open(&chromium, url).expect("Chromium shows the page"))
 }
 
 #[test]
 fn the_page_shows_each_render_and_the_error_without_a_reload() {
     let (_dir, scene_path, _watching, port) = serving_a_scene();
-    let Some(mut page) = Browser::open(&format!("http://127.0.0.1:{port}/")) else {
+    let Some(mut page) = open_page(&format!("http://127.0.0.1:{port}/")) else {
         return;
     };
-    page.wait_for("document.body.dataset.renders === '1'", START);
+    page.wait_for("document.body.dataset.renders === '1'", START)
+        .unwrap();
     let red = "(() => { const c = document.createElement('canvas'); const i = byId('image'); \
                c.width = i.naturalWidth; c.height = i.naturalHeight; \
                const g = c.getContext('2d'); g.drawImage(i, 0, 0); \
@@ -476,7 +334,8 @@ fn the_page_shows_each_render_and_the_error_without_a_reload() {
     page.wait_for(
         "byId('image').complete && byId('image').naturalWidth === 64",
         WITHIN,
-    );
+    )
+    .unwrap();
     let lit = |v: serde_json::Value| -> Vec<bool> {
         v.as_array()
             .expect("rgb")
@@ -484,35 +343,39 @@ fn the_page_shows_each_render_and_the_error_without_a_reload() {
             .map(|c| c.as_u64().unwrap() > 200)
             .collect()
     };
-    assert_eq!(lit(page.eval(red)), [true, false, false]);
+    assert_eq!(lit(page.eval(red).unwrap()), [true, false, false]);
 
     // An edit: the page gets the preview and the full render, no reload.
     write(scene_path.clone(), &scene([0.0, 1.0, 0.0], 1));
-    page.wait_for("document.body.dataset.renders === '3'", WITHIN);
+    page.wait_for("document.body.dataset.renders === '3'", WITHIN)
+        .unwrap();
     page.wait_for(
         "byId('image').complete && byId('image').src.endsWith('render=3')",
         WITHIN,
-    );
-    assert_eq!(lit(page.eval(red)), [false, true, false]);
-    assert_eq!(page.eval("document.body.dataset.error"), "hidden");
+    )
+    .unwrap();
+    assert_eq!(lit(page.eval(red).unwrap()), [false, true, false]);
+    assert_eq!(page.eval("document.body.dataset.error").unwrap(), "hidden");
 
     // A bad edit: the error as `tracer check` prints it, the image kept.
     write(
         scene_path.clone(),
         "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 500\n",
     );
-    page.wait_for("document.body.dataset.error === 'shown'", WITHIN);
-    let error = page.eval("byId('error').textContent");
+    page.wait_for("document.body.dataset.error === 'shown'", WITHIN)
+        .unwrap();
+    let error = page.eval("byId('error').textContent").unwrap();
     let error = error.as_str().expect("text");
     assert!(error.contains("scene.toml:4:7"), "{error}");
     assert!(error.contains("fov = 500"), "{error}");
-    assert_eq!(page.eval("document.body.dataset.renders"), "3");
-    assert_eq!(lit(page.eval(red)), [false, true, false]);
+    assert_eq!(page.eval("document.body.dataset.renders").unwrap(), "3");
+    assert_eq!(lit(page.eval(red).unwrap()), [false, true, false]);
 
     // Fixed: the panel goes, the new image comes.
     write(scene_path, &scene([0.0, 0.0, 1.0], 1));
-    page.wait_for("document.body.dataset.renders === '5'", WITHIN);
-    assert_eq!(page.eval("document.body.dataset.error"), "hidden");
+    page.wait_for("document.body.dataset.renders === '5'", WITHIN)
+        .unwrap();
+    assert_eq!(page.eval("document.body.dataset.error").unwrap(), "hidden");
 }
 
 #[test]
@@ -606,21 +469,24 @@ fn a_click_on_the_live_page_shows_that_pixel_s_tree() {
         status_of(port, &get("/explain?x=640&y=2")),
         "HTTP/1.1 422 Unprocessable Entity"
     );
-    let Some(mut page) = Browser::open(&format!("http://127.0.0.1:{port}/")) else {
+    let Some(mut page) = open_page(&format!("http://127.0.0.1:{port}/")) else {
         return;
     };
     page.wait_for(
         "byId('image').complete && byId('image').naturalWidth === 64",
         START,
-    );
+    )
+    .unwrap();
     // A click in pixel (32, 24) (the image is shown at its own size;
     // Chromium rounds a click's coordinates to whole CSS pixels).
     page.eval(
         "(() => { const i = byId('image'); const r = i.getBoundingClientRect(); \
          i.dispatchEvent(new MouseEvent('click', { clientX: Math.ceil(r.left + 32), clientY: Math.ceil(r.top + 24), bubbles: true })); })()",
-    );
-    page.wait_for("document.body.dataset.explained === '32,24'", WITHIN);
-    let tree = page.eval("byId('explain').textContent");
+    )
+    .unwrap();
+    page.wait_for("document.body.dataset.explained === '32,24'", WITHIN)
+        .unwrap();
+    let tree = page.eval("byId('explain').textContent").unwrap();
     let tree = tree.as_str().expect("text");
     assert!(
         tree.contains("pixel (32, 24)") && tree.contains("primary ray"),

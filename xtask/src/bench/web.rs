@@ -4,8 +4,8 @@
 //! their ratio; and the page's speed-up with a worker per core.
 
 use super::stats::median;
-use crate::web::browser::Browser;
 use anyhow::{Context, Result};
+use headless::Browser;
 use std::path::Path;
 use std::time::{Duration, Instant};
 use tracer_pipeline::{Input, Options};
@@ -32,7 +32,7 @@ pub struct Figures {
 /// Measures every scene, `reps` runs each; None (with a notice) when
 /// Chromium or the wasm toolchain is missing.
 pub fn measure(root: &Path, reps: usize) -> Result<Option<Vec<Figures>>> {
-    let Some(chromium) = crate::golden::browser::find_chromium() else {
+    let Some(chromium) = headless::find_chromium() else {
         eprintln!("bench: skipping web: no Chromium (Debian: apt-get install chromium)");
         return Ok(None);
     };

@@ -1,9 +1,8 @@
 //! `cargo xtask golden`: every image the project makes, rendered in-process
 //! and compared with its reference PNG in `golden/`; the HTML report
-//! (`report.rs`) and its check in a browser (`browser.rs`).
+//! (`report.rs`), which `xtask/tests/browser.rs` loads in headless Chromium.
 
 pub mod bless;
-pub mod browser;
 pub mod cases;
 pub mod check;
 pub mod compare;

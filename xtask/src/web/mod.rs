@@ -3,7 +3,6 @@
 //! web/package-lock.json), crates/web built for wasm32, and every scene of
 //! scenes/ with the files it reads, listed in `scenes/index.json`.
 
-pub mod browser;
 pub mod serve;
 pub mod toolchain;
 

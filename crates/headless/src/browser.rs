@@ -1,5 +1,5 @@
-//! Headless Chromium showing a page, driven over its DevTools socket: the
-//! playground's tests and bench read and script the live page.
+//! Headless Chromium showing a page, driven over its DevTools socket: a
+//! test or the bench reads and scripts the live page.
 
 use anyhow::{bail, Context, Result};
 use std::io::{BufRead, BufReader};
@@ -18,7 +18,7 @@ pub struct Browser {
 }
 
 impl Browser {
-    /// Chromium (`crate::golden::browser::find_chromium`) showing `url`.
+    /// Chromium (`chromium`, see `crate::find_chromium`) showing `url`.
     pub fn open(chromium: &std::path::Path, url: &str) -> Result<Browser> {
         let profile = tempfile::tempdir()?;
         let mut child = Command::new(chromium)
@@ -137,19 +137,10 @@ impl Browser {
             }
             std::thread::sleep(Duration::from_millis(50));
         }
-        let status = self.eval("document.getElementById('status')?.textContent")?;
-        bail!("{expression} not true within {limit:?}; the status: {status}")
-    }
-
-    /// The image canvas's pixels as a PNG, decoded.
-    pub fn canvas_image(&mut self) -> Result<image::RgbaImage> {
-        let url = self.eval("document.getElementById('image').toDataURL('image/png')")?;
-        let url = url.as_str().context("no data URL")?;
-        let b64 = url
-            .strip_prefix("data:image/png;base64,")
-            .context("not a PNG data URL")?;
-        let bytes = base64_decode(b64)?;
-        Ok(image::load_from_memory(&bytes)?.to_rgba8())
+        let body = self.eval("document.body?.outerHTML")?;
+        let body = body.as_str().unwrap_or_default();
+        let shown: String = body.chars().take(4000).collect();
+        bail!("{expression} not true within {limit:?}; the page's body:\n{shown}")
     }
 
     /// A screenshot of the page, PNG bytes.

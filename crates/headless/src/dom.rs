@@ -1,26 +1,11 @@
-//! Loading the report in a real browser: headless Chromium dumps the page's
-//! DOM after its script has recorded which images loaded.
+//! A local page loaded by headless Chromium, which prints its DOM once the
+//! page's scripts ran; and what a report page's image check recorded in it.
 
 use anyhow::{bail, Context, Result};
 use std::io::Read;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
-
-/// Names Chromium goes by, Debian's first; `CHROMIUM` names a binary explicitly.
-const NAMES: [&str; 3] = ["chromium", "chromium-browser", "google-chrome"];
-
-/// The Chromium binary, if there is one.
-pub fn find_chromium() -> Option<PathBuf> {
-    if let Some(path) = std::env::var_os("CHROMIUM").filter(|p| !p.is_empty()) {
-        return Some(PathBuf::from(path));
-    }
-    let dirs: Vec<PathBuf> = std::env::split_paths(&std::env::var_os("PATH")?).collect();
-    NAMES
-        .iter()
-        .flat_map(|name| dirs.iter().map(move |dir| dir.join(name)))
-        .find(|path| path.is_file())
-}
 
 /// The DOM of `page` (a local HTML file) as Chromium has it once the page has
 /// loaded and its scripts ran.
