@@ -52,6 +52,11 @@ pub struct Options {
     /// Only a part of the image (`--region`, `--tile`): its pixels are
     /// those of the whole image, bit for bit.
     pub part: Option<Part>,
+    /// Every image point the camera samples moved by (x, y) pixels, for a
+    /// shaded 3D image: `tracer compare` renders a reference through the
+    /// pixels' corners (-0.5 or 0.5) to recognise a tracer that aims
+    /// there. No command-line option sets it.
+    pub pixel_shift: Option<[f32; 2]>,
 }
 
 /// A part of the image to render, checked against the image's size.

@@ -166,7 +166,7 @@ fn render_3d(
     let region = options.part.map(|p| p.region(size)).transpose()?;
     match options.aov {
         None => {
-            let shaded = scene3d::shade(file, name, options.gamma, region, rows_done, cancel)?;
+            let shaded = scene3d::shade(file, name, options, region, rows_done, cancel)?;
             Ok(shaded.map(|(image, stats)| Rendered {
                 image,
                 summary: Summary::Shaded(stats),

@@ -46,20 +46,30 @@ impl PreparedScene {
     }
 }
 
-/// The shaded image, with the scene's gamma (or `gamma`) and saturation
-/// rule for its encoding; `rows_done(0)` once the scene is prepared, then
+/// The shaded image, with the scene's gamma (or `options.gamma`) and
+/// saturation rule for its encoding, its pixels moved by
+/// `options.pixel_shift`; `rows_done(0)` once the scene is prepared, then
 /// `rows_done(n)` from the render threads as `n` more rows are done.
 pub(crate) fn shade(
     file: Cow<SceneFile>,
     name: &Path,
-    gamma: Option<Gamma>,
+    options: &Options,
     region: Option<Region>,
     rows_done: &(dyn Fn(u32) + Sync),
     cancel: &AtomicBool,
 ) -> Result<Option<(Picture, ShadedStats)>, Error> {
-    let prepared = prepare_shaded(file, name)?;
+    let mut prepared = prepare_shaded(file, name)?;
+    if let Some([x, y]) = options.pixel_shift {
+        prepared.scene.shift_pixels(glam::Vec2::new(x, y));
+    }
     rows_done(0);
-    Ok(shade_prepared(&prepared, gamma, region, rows_done, cancel))
+    Ok(shade_prepared(
+        &prepared,
+        options.gamma,
+        region,
+        rows_done,
+        cancel,
+    ))
 }
 
 /// The scene of `file`, prepared and lean (see `prepare_releasing`).

@@ -217,6 +217,7 @@ impl ViewArgs {
             part: None,
             // Set from the output's format once it is known.
             raw_depth: false,
+            pixel_shift: None,
         }
     }
 }

@@ -280,6 +280,35 @@ fn a_half_pixel_shift_is_named_and_a_whole_pixel_shift_told_apart() {
     assert!(line.contains("(right)"), "{line}");
 }
 
+/// `scene_file` rendered as a tracer that aims each ray at a corner of
+/// its pixel renders it (every sample moved by `shift` pixels), saved as
+/// `out` in `dir`.
+fn render_through_corner(dir: &Path, scene_file: &str, shift: [f32; 2], out: &str) -> String {
+    let input = tracer_pipeline::Input::File(PathBuf::from(scene_file));
+    let loaded = tracer_pipeline::load(&input).unwrap();
+    let options = tracer_pipeline::Options {
+        pixel_shift: Some(shift),
+        ..Default::default()
+    };
+    let rendered = tracer_pipeline::render(&loaded, &options, &|_| {}).unwrap();
+    save(dir, out, &rendered.image.to_rgb8())
+}
+
+#[test]
+fn a_half_pixel_shift_is_named_against_a_scene_textured_and_anti_aliased() {
+    let dir = tempfile::tempdir().unwrap();
+    // Image textures, four samples a pixel: resampling the reference image
+    // at the corners cannot stand in for a render there.
+    let scene_file = scene("textures.toml");
+    let left_up = render_through_corner(dir.path(), &scene_file, [-0.5, -0.5], "mine.png");
+    let line = assert_named(&compare(dir.path(), &left_up, &scene_file), "half a pixel");
+    assert!(line.contains("(right and down)"), "{line}");
+    assert!(line.contains(", 0 pixels off"), "{line}");
+    let right_up = render_through_corner(dir.path(), &scene_file, [0.5, -0.5], "mine2.png");
+    let line = assert_named(&compare(dir.path(), &right_up, &scene_file), "half a pixel");
+    assert!(line.contains("(left and down)"), "{line}");
+}
+
 #[test]
 fn a_different_size_is_named_and_compared_no_further() {
     let dir = tempfile::tempdir().unwrap();

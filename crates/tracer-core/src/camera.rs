@@ -109,6 +109,16 @@ impl Camera {
         Ray::new(origin, (focus - origin).normalize())
     }
 
+    /// The same camera with every image point moved by `by` pixels: the
+    /// ray through (fx, fy) is the one through (fx + by.x, fy + by.y) here
+    /// (to rounding). `tracer compare` renders a reference through the
+    /// pixels' corners so, to recognise a tracer that aims there.
+    pub fn with_pixel_shift(self, by: Vec2) -> Camera {
+        let mut projection = self.projection;
+        projection.z_axis += by.x * projection.x_axis + by.y * projection.y_axis;
+        Camera { projection, ..self }
+    }
+
     /// The ray through image point (fx, fy); a pixel's centre is (i + 0.5, j + 0.5).
     #[inline(always)]
     pub fn ray(&self, fx: f32, fy: f32) -> Ray {
@@ -297,5 +307,20 @@ mod tests {
         let no_lens = lab_camera().with_lens(0.0, 4.0);
         assert_eq!(no_lens.lens, None);
         assert_eq!(no_lens.lens_ray(3.5, 4.5, Vec2::X), no_lens.ray(3.5, 4.5));
+    }
+
+    #[test]
+    fn a_pixel_shift_moves_every_ray_by_that_much_of_the_image() {
+        let cam = lab_camera();
+        let shifted = cam.clone().with_pixel_shift(Vec2::new(-0.5, 0.5));
+        for (fx, fy) in [(0.5, 0.5), (250.0, 200.0), (499.5, 399.5), (17.25, 301.0)] {
+            let expected = cam.ray(fx - 0.5, fy + 0.5).dir();
+            let found = shifted.ray(fx, fy).dir();
+            assert!(
+                (found - expected).length() < 1e-6,
+                "{fx},{fy}: {found} {expected}"
+            );
+        }
+        assert_eq!(cam.clone().with_pixel_shift(Vec2::ZERO), cam);
     }
 }

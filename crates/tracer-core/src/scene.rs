@@ -12,7 +12,7 @@ use crate::light::lights::{AreaLight, Lights, PointSource};
 use crate::light::Light;
 use crate::material::{Material, Phong};
 use crate::ray::Ray;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
@@ -243,6 +243,12 @@ impl Scene {
 
     pub fn camera(&self) -> &Camera {
         &self.camera
+    }
+
+    /// Moves every image point the camera samples by `by` pixels (see
+    /// `Camera::with_pixel_shift`).
+    pub fn shift_pixels(&mut self, by: Vec2) {
+        self.camera = self.camera.clone().with_pixel_shift(by);
     }
 
     /// The primitives: a mesh contributes one object per triangle, or one

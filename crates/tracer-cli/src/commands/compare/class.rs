@@ -53,7 +53,7 @@ pub fn run(dir: &Path, scenes: &Path, out: &Path, tolerance: u8) -> Result<bool>
         .zip(images)
         .map(|((path, scene), image)| {
             let reference = &references[&scene];
-            let comparison = Comparison::new(&image, &reference.image, reference.gamma, tolerance);
+            let comparison = Comparison::new(&image, reference, tolerance);
             Entry {
                 path,
                 scene,
@@ -180,7 +180,7 @@ fn render_scenes(
         let path = &names[scene];
         note!("rendering {}", path.display());
         let loaded = tracer_pipeline::load(&Input::File(path.clone()))?;
-        references.insert(scene.clone(), input::render(&loaded)?);
+        references.insert(scene.clone(), input::render(loaded)?);
     }
     Ok(references)
 }

@@ -3,6 +3,7 @@
 
 use super::diagnose::{self, Finding};
 use super::flip::{self, Flip};
+use super::input::Reference;
 use super::metrics::{self, Difference};
 use image::RgbImage;
 
@@ -21,14 +22,10 @@ pub enum Comparison {
 }
 
 impl Comparison {
-    /// `image` against `reference`, whose display gamma is `gamma` when
-    /// known; a pixel is off beyond `tolerance` levels.
-    pub fn new(
-        image: &RgbImage,
-        reference: &RgbImage,
-        gamma: Option<f32>,
-        tolerance: u8,
-    ) -> Comparison {
+    /// `image` against `reference`; a pixel is off beyond `tolerance`
+    /// levels.
+    pub fn new(image: &RgbImage, reference_read: &Reference, tolerance: u8) -> Comparison {
+        let reference = &reference_read.image;
         if image.dimensions() != reference.dimensions() {
             return Comparison::Sizes {
                 image: image.dimensions(),
@@ -36,7 +33,7 @@ impl Comparison {
             };
         }
         let difference = metrics::difference(image, reference, tolerance);
-        let findings = diagnose::diagnose(image, reference, gamma, tolerance, difference.differing);
+        let findings = diagnose::diagnose(image, reference_read, tolerance, difference.differing);
         Comparison::Compared {
             flip: flip::flip(image, reference),
             difference,

@@ -4,6 +4,7 @@
 //! at least [`MIN_DIFFERING`] pixels were off, and [`FACTOR`] times fewer
 //! are off once it is undone (none, when the image is exactly that mistake).
 
+use super::input::{Reference, CORNERS};
 use super::metrics::channel_difference;
 use image::RgbImage;
 
@@ -108,7 +109,7 @@ impl Finding {
                     if right { "right" } else { "left" },
                     if down { "down" } else { "up" }
                 ),
-                "Against the reference resampled at the corners".into(),
+                "Against the reference moved to the corners".into(),
                 "Aim each ray at the pixel's centre, (x + 0.5, y + 0.5).".into(),
             ),
             Fault::OnePixel { dx, dy } => (
@@ -202,20 +203,20 @@ impl Pair<'_> {
 }
 
 /// The mistakes that explain the difference of `image` and `reference`
-/// (of one size), `before` pixels being off; `gamma` is the reference's.
+/// (of one size), `before` pixels being off.
 pub fn diagnose(
     image: &RgbImage,
-    reference: &RgbImage,
-    gamma: Option<f32>,
+    reference_read: &Reference,
     tolerance: u8,
     before: u64,
 ) -> Vec<Finding> {
     if before < MIN_DIFFERING {
         return Vec::new();
     }
+    let gamma = reference_read.gamma;
     let pair = Pair {
         image,
-        reference,
+        reference: &reference_read.image,
         tolerance,
     };
     let finding = |(fault, after)| Finding {
@@ -245,7 +246,11 @@ pub fn diagnose(
         .iter()
         .any(|f| matches!(f.fault, Fault::OnePixel { .. }))
     {
-        found.extend(half_pixel(&pair).filter(Finding::explains));
+        // The renders through the corners cost four renders of the scene:
+        // only when nothing else explained the difference.
+        let rendered = || rendered_half_pixel(&pair, reference_read, before);
+        let half = if found.is_empty() { rendered() } else { None };
+        found.extend(half.or_else(|| half_pixel(&pair)).filter(Finding::explains));
     }
     found
 }
@@ -313,6 +318,38 @@ fn one_pixel(p: &Pair) -> (u64, Fault) {
         })
         .min_by_key(|&(after, _)| after)
         .expect("eight shifts")
+}
+
+/// The image against the reference scene rendered through each corner of
+/// the pixels: exact for any image, textured or anti-aliased as it may
+/// be. None for a reference image or canvas (`half_pixel` then
+/// approximates those renders).
+fn rendered_half_pixel(p: &Pair, reference: &Reference, before: u64) -> Option<Finding> {
+    let mut best: Option<(u64, usize)> = None;
+    for k in 0..CORNERS.len() {
+        let corner = reference.through_corner(k)?;
+        if corner.dimensions() != p.image.dimensions() {
+            return None;
+        }
+        let after =
+            p.count(|x, y| channel_difference(p.image.get_pixel(x, y).0, corner.get_pixel(x, y).0));
+        if best.is_none_or(|(least, _)| after < least) {
+            best = Some((after, k));
+        }
+    }
+    let (after, k) = best?;
+    // Aimed at the corner left of the centre (x - 0.5), a pixel shows what
+    // the reference shows left of it: the content moved right.
+    let [x, y] = CORNERS[k];
+    Some(Finding {
+        fault: Fault::HalfPixel {
+            right: x < 0.0,
+            down: y < 0.0,
+        },
+        before,
+        after,
+        levels: p.tolerance,
+    })
 }
 
 /// A pixel sampled at a corner, against the reference's four pixels

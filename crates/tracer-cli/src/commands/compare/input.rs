@@ -1,10 +1,13 @@
 //! What `tracer compare` reads: 8-bit images, and scenes rendered as
 //! `tracer render` renders them.
 
+use crate::console::note;
 use crate::progress::Progress;
 use image::{DynamicImage, RgbImage};
+use scene_format::SceneKind;
 use std::fmt;
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 use tracer_pipeline::{Input, Loaded, Options};
 
 /// Largest image file read, as for a scene's texture images.
@@ -86,6 +89,40 @@ pub struct Reference {
     pub scene: Option<PathBuf>,
     /// Every file read for it.
     pub files_read: Vec<PathBuf>,
+    /// A 3D scene's, to render it again through the pixels' corners.
+    loaded: Option<Loaded>,
+    /// Those renders (`through_corner`), made when first asked for.
+    corners: [OnceLock<Option<RgbImage>>; 4],
+}
+
+/// The four corners of a pixel a tracer may aim its rays at instead of
+/// the centre, as pixel shifts: left and up, right and up, left and down,
+/// right and down.
+pub const CORNERS: [[f32; 2]; 4] = [[-0.5, -0.5], [0.5, -0.5], [-0.5, 0.5], [0.5, 0.5]];
+
+impl Reference {
+    /// The reference scene rendered through corner `k` of [`CORNERS`] of
+    /// each pixel rather than its centre: what a tracer that aims there
+    /// makes. None for a reference image or a canvas, or if the render
+    /// fails (the reference itself rendered).
+    pub fn through_corner(&self, k: usize) -> Option<&RgbImage> {
+        let render = || {
+            let loaded = self.loaded.as_ref()?;
+            if k == 0 {
+                note!(
+                    "the half-pixel test: {} rendered through the pixels' corners",
+                    loaded.name.display()
+                );
+            }
+            let options = Options {
+                pixel_shift: Some(CORNERS[k]),
+                ..Options::default()
+            };
+            let rendered = tracer_pipeline::render(loaded, &options, &|_| {}).ok()?;
+            Some(rendered.image.to_rgb8())
+        };
+        self.corners[k].get_or_init(render).as_ref()
+    }
 }
 
 /// The reference at `path`: an image, or a scene loaded and rendered.
@@ -96,20 +133,22 @@ pub fn read_reference(path: &Path) -> anyhow::Result<Reference> {
             gamma: None,
             scene: None,
             files_read: vec![path.to_path_buf()],
+            loaded: None,
+            corners: Default::default(),
         });
     }
     let loaded = tracer_pipeline::load(&Input::File(path.to_path_buf()))?;
-    render(&loaded)
+    render(loaded)
 }
 
 /// `loaded` rendered with the scene's own settings, as `tracer render`
 /// renders it to a PNG, with its warnings and a progress bar on stderr.
-pub fn render(loaded: &Loaded) -> anyhow::Result<Reference> {
+pub fn render(loaded: Loaded) -> anyhow::Result<Reference> {
     let options = Options::default();
-    crate::report::warnings(loaded, &options);
-    let (_, rows) = tracer_pipeline::image_size(loaded, &options)?;
+    crate::report::warnings(&loaded, &options);
+    let (_, rows) = tracer_pipeline::image_size(&loaded, &options)?;
     let progress = Progress::new(rows.into(), false);
-    let rendered = tracer_pipeline::render(loaded, &options, &|n| progress.rows_done(n));
+    let rendered = tracer_pipeline::render(&loaded, &options, &|n| progress.rows_done(n));
     progress.finish();
     let picture = rendered?.image;
     Ok(Reference {
@@ -117,5 +156,7 @@ pub fn render(loaded: &Loaded) -> anyhow::Result<Reference> {
         gamma: Some(picture.encoding.gamma),
         scene: Some(loaded.name.clone()),
         files_read: loaded.files_read.clone(),
+        loaded: matches!(loaded.kind, SceneKind::Scene3d(_)).then_some(loaded),
+        corners: Default::default(),
     })
 }

@@ -27,12 +27,7 @@ pub fn run(image: &Path, reference: &Path, heat_map: Option<&Path>, tolerance: u
     if let Some(pending) = &pending {
         check_not_an_input(pending.path(), &reference_read.files_read).map_err(Error::from)?;
     }
-    let comparison = Comparison::new(
-        &picture,
-        &reference_read.image,
-        reference_read.gamma,
-        tolerance,
-    );
+    let comparison = Comparison::new(&picture, &reference_read, tolerance);
     match (pending, comparison.heat_map()) {
         (Some(pending), Some(map)) => {
             let path = pending.path().to_path_buf();
