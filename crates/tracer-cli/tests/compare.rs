@@ -233,6 +233,37 @@ fn swapped_channels_are_named() {
     assert!(line.contains("BGR"), "{line}");
 }
 
+#[test]
+fn two_mistakes_at_once_are_both_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_file = scene("reflectance2.toml");
+    // Mirrored and written BGR: undoing either alone leaves most pixels off.
+    let image = render(dir.path(), &scene_file, "mine.png", &[]);
+    let name = save(dir.path(), "both.png", &channels_swapped(&mirrored(&image)));
+    let out = compare(dir.path(), &name, &scene_file);
+    let found = diagnoses(&stdout_of(&out));
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(found.len(), 2, "{found:?}");
+    assert!(found[0].starts_with("mirror: "), "{found:?}");
+    assert!(found[0].contains("and with the channels swapped back too, 0 pixels off"));
+    assert!(found[1].starts_with("swapped: "), "{found:?}");
+    assert!(found[1].contains("and with the image flipped back too, 0 pixels off"));
+    // Upside down with no gamma: the linear values, flipped.
+    render(dir.path(), &scene_file, "linear.png", &["--gamma", "1"]);
+    let linear = image::open(dir.path().join("linear.png"))
+        .unwrap()
+        .into_rgb8();
+    let name = save(
+        dir.path(),
+        "flipped.png",
+        &image::imageops::flip_vertical(&linear),
+    );
+    let found = diagnoses(&stdout_of(&compare(dir.path(), &name, &scene_file)));
+    let words: Vec<_> = found.iter().map(|f| f.split(':').next().unwrap()).collect();
+    assert_eq!(words, ["upside down", "gamma"], "{found:?}");
+    assert!(found[1].contains("no gamma is applied"), "{found:?}");
+}
+
 /// The illumination scene with the camera turned by half a pixel right
 /// and down: each ray goes where a pixel corner's would.
 fn half_pixel_scene(dir: &Path) -> String {

@@ -41,32 +41,55 @@ pub enum Fault {
 }
 
 /// A mistake found: pixels off by more than `levels` before and after
-/// undoing it.
+/// undoing it (and `with`, a second mistake found together with it).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Finding {
     pub fault: Fault,
     pub before: u64,
     pub after: u64,
     pub levels: u8,
+    pub with: Option<Fault>,
 }
 
 impl Finding {
     /// The word scripts look for, which the message starts with.
     pub fn word(&self) -> &'static str {
-        match self.fault {
-            Fault::Mirror => "mirror",
-            Fault::UpsideDown => "upside down",
-            Fault::GammaTwice(_) | Fault::GammaMissing(_) => "gamma",
-            Fault::HalfPixel { .. } => "half a pixel",
-            Fault::OnePixel { .. } => "one pixel",
-            Fault::Swapped => "swapped",
-        }
+        word_of(self.fault)
     }
+}
 
+/// A mistake's word.
+fn word_of(fault: Fault) -> &'static str {
+    match fault {
+        Fault::Mirror => "mirror",
+        Fault::UpsideDown => "upside down",
+        Fault::GammaTwice(_) | Fault::GammaMissing(_) => "gamma",
+        Fault::HalfPixel { .. } => "half a pixel",
+        Fault::OnePixel { .. } => "one pixel",
+        Fault::Swapped => "swapped",
+    }
+}
+
+/// A mistake undone, in words: "with ... too" in a finding of two.
+fn undoing(fault: Fault) -> &'static str {
+    match fault {
+        Fault::Mirror => "the image flipped back",
+        Fault::UpsideDown => "the image turned upright",
+        Fault::GammaTwice(_) => "one gamma encoding undone",
+        Fault::GammaMissing(_) => "the gamma encoding applied",
+        Fault::Swapped => "the channels swapped back",
+        Fault::HalfPixel { .. } | Fault::OnePixel { .. } => "the shift undone",
+    }
+}
+
+impl Finding {
     /// The finding in words: what is wrong, how undoing it fares, and
     /// where the mistake usually is.
     pub fn message(&self) -> String {
-        let (what, undone, hint) = self.words();
+        let (what, mut undone, hint) = self.words();
+        if let Some(other) = self.with {
+            undone = format!("{undone}, and with {} too", undoing(other));
+        }
         format!(
             "{}: {what}. {undone}, {} off by more than {} of 255 instead of {}. {hint}",
             self.word(),
@@ -224,23 +247,32 @@ pub fn diagnose(
         before,
         after,
         levels: tolerance,
+        with: None,
     };
     let gamma = gamma
         .filter(|g| (g - 1.0).abs() > 0.05)
         .unwrap_or(USUAL_GAMMA);
+    let table = decoding(gamma);
+    let undone = |fault| Undo::of(fault, &table).off(&pair);
     let (after_one_pixel, one_pixel) = one_pixel(&pair);
     let mut found: Vec<Finding> = [
-        (Fault::Mirror, mirror(&pair)),
-        (Fault::UpsideDown, upside_down(&pair)),
-        (Fault::GammaTwice(gamma), gamma_twice(&pair, gamma)),
-        (Fault::GammaMissing(gamma), gamma_missing(&pair, gamma)),
+        (Fault::Mirror, undone(Fault::Mirror)),
+        (Fault::UpsideDown, undone(Fault::UpsideDown)),
+        (Fault::GammaTwice(gamma), undone(Fault::GammaTwice(gamma))),
+        (
+            Fault::GammaMissing(gamma),
+            undone(Fault::GammaMissing(gamma)),
+        ),
         (one_pixel, after_one_pixel),
-        (Fault::Swapped, swapped(&pair)),
+        (Fault::Swapped, undone(Fault::Swapped)),
     ]
     .into_iter()
     .map(finding)
     .filter(Finding::explains)
     .collect();
+    if found.is_empty() {
+        found = two_at_once(&pair, gamma, &table, before);
+    }
     // A whole pixel's shift also passes the half-pixel test: name it alone.
     if !found
         .iter()
@@ -261,23 +293,6 @@ impl Finding {
     }
 }
 
-fn mirror(p: &Pair) -> u64 {
-    let w = p.size().0;
-    p.off_after(|x, y| p.image.get_pixel(w - 1 - x, y).0)
-}
-
-fn upside_down(p: &Pair) -> u64 {
-    let h = p.size().1;
-    p.off_after(|x, y| p.image.get_pixel(x, h - 1 - y).0)
-}
-
-fn swapped(p: &Pair) -> u64 {
-    p.off_after(|x, y| {
-        let [r, g, b] = p.image.get_pixel(x, y).0;
-        [b, g, r]
-    })
-}
-
 /// `c^gamma` of each 8-bit level, taken at the level's middle (the tracer
 /// truncates), rounded: it undoes one encoding and, unlike `c^(1/gamma)`,
 /// does not blow up the 8-bit steps of dark values.
@@ -288,19 +303,114 @@ fn decoding(gamma: f32) -> [u8; 256] {
     })
 }
 
-/// Encoded twice: the image decoded once matches the reference.
-fn gamma_twice(p: &Pair, gamma: f32) -> u64 {
-    let table = decoding(gamma);
-    p.off_after(|x, y| p.image.get_pixel(x, y).0.map(|c| table[usize::from(c)]))
+/// What undoing some of the mistakes does: the image read mirrored or
+/// upside down, decoded once (gamma applied twice) or its channels swapped
+/// back, the reference decoded (gamma missing: the image holds linear
+/// values). Each undoes one `Fault`; two together undo two mistakes made
+/// at once. The parts commute: the order they are undone in is no matter.
+#[derive(Clone, Copy, Default)]
+struct Undo<'t> {
+    mirror: bool,
+    upside_down: bool,
+    swap: bool,
+    image_decoding: Option<&'t [u8; 256]>,
+    reference_decoding: Option<&'t [u8; 256]>,
 }
 
-/// Not encoded: the image matches the reference decoded.
-fn gamma_missing(p: &Pair, gamma: f32) -> u64 {
-    let table = decoding(gamma);
-    p.count(|x, y| {
-        let reference = p.reference.get_pixel(x, y).0.map(|c| table[usize::from(c)]);
-        channel_difference(p.image.get_pixel(x, y).0, reference)
-    })
+impl<'t> Undo<'t> {
+    /// The undoing of `fault` (`table` decodes one gamma encoding); the
+    /// shifts are no pixel-by-pixel map: nothing for them.
+    fn of(fault: Fault, table: &'t [u8; 256]) -> Undo<'t> {
+        let none = Undo::default();
+        match fault {
+            Fault::Mirror => Undo {
+                mirror: true,
+                ..none
+            },
+            Fault::UpsideDown => Undo {
+                upside_down: true,
+                ..none
+            },
+            Fault::Swapped => Undo { swap: true, ..none },
+            Fault::GammaTwice(_) => Undo {
+                image_decoding: Some(table),
+                ..none
+            },
+            Fault::GammaMissing(_) => Undo {
+                reference_decoding: Some(table),
+                ..none
+            },
+            Fault::HalfPixel { .. } | Fault::OnePixel { .. } => none,
+        }
+    }
+
+    /// Both undone.
+    fn and(self, other: Undo<'t>) -> Undo<'t> {
+        Undo {
+            mirror: self.mirror || other.mirror,
+            upside_down: self.upside_down || other.upside_down,
+            swap: self.swap || other.swap,
+            image_decoding: self.image_decoding.or(other.image_decoding),
+            reference_decoding: self.reference_decoding.or(other.reference_decoding),
+        }
+    }
+
+    /// Pixels still off once undone.
+    fn off(&self, p: &Pair) -> u64 {
+        let (w, h) = p.size();
+        let decode = |c: [u8; 3], table: Option<&[u8; 256]>| match table {
+            Some(t) => c.map(|v| t[usize::from(v)]),
+            None => c,
+        };
+        p.count(|x, y| {
+            let from_x = if self.mirror { w - 1 - x } else { x };
+            let from_y = if self.upside_down { h - 1 - y } else { y };
+            let mut pixel = decode(p.image.get_pixel(from_x, from_y).0, self.image_decoding);
+            if self.swap {
+                pixel.swap(0, 2);
+            }
+            let reference = decode(p.reference.get_pixel(x, y).0, self.reference_decoding);
+            channel_difference(pixel, reference)
+        })
+    }
+}
+
+/// Two mistakes made at once, where neither alone explains the
+/// difference: the pair whose undoing leaves fewest pixels off, named as
+/// two findings (each `with` the other) if it explains the difference.
+/// Gamma twice and gamma missing exclude each other.
+fn two_at_once(p: &Pair, gamma: f32, table: &[u8; 256], before: u64) -> Vec<Finding> {
+    let faults = [
+        Fault::Mirror,
+        Fault::UpsideDown,
+        Fault::GammaTwice(gamma),
+        Fault::GammaMissing(gamma),
+        Fault::Swapped,
+    ];
+    let both_gammas = |a, b| matches!((a, b), (Fault::GammaTwice(_), Fault::GammaMissing(_)));
+    let mut best: Option<(u64, Fault, Fault)> = None;
+    for (i, &a) in faults.iter().enumerate() {
+        for &b in faults[i + 1..].iter().filter(|&&b| !both_gammas(a, b)) {
+            let after = Undo::of(a, table).and(Undo::of(b, table)).off(p);
+            if best.is_none_or(|(least, ..)| after < least) {
+                best = Some((after, a, b));
+            }
+        }
+    }
+    let Some((after, a, b)) = best else {
+        return Vec::new();
+    };
+    let finding = |fault, with| Finding {
+        fault,
+        before,
+        after,
+        levels: p.tolerance,
+        with: Some(with),
+    };
+    [finding(a, b), finding(b, a)]
+        .into_iter()
+        .filter(Finding::explains)
+        .collect()
 }
 
 /// The best of the eight shifts by one pixel, and the shift.
@@ -349,6 +459,7 @@ fn rendered_half_pixel(p: &Pair, reference: &Reference, before: u64) -> Option<F
         before,
         after,
         levels: p.tolerance,
+        with: None,
     })
 }
 
@@ -387,6 +498,7 @@ fn half_pixel(p: &Pair) -> Option<Finding> {
         before,
         after,
         levels: p.tolerance,
+        with: None,
     })
 }
 
