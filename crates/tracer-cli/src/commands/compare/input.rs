@@ -89,7 +89,8 @@ pub struct Reference {
     pub scene: Option<PathBuf>,
     /// Every file read for it.
     pub files_read: Vec<PathBuf>,
-    /// A 3D scene's, to render it again through the pixels' corners.
+    /// The scene, to render it again through the pixels' corners (see
+    /// `renders_through_corners`).
     loaded: Option<Loaded>,
     /// Those renders (`through_corner`), made when first asked for.
     corners: [OnceLock<Option<RgbImage>>; 4],
@@ -156,7 +157,14 @@ pub fn render(loaded: Loaded) -> anyhow::Result<Reference> {
         gamma: Some(picture.encoding.gamma),
         scene: Some(loaded.name.clone()),
         files_read: loaded.files_read.clone(),
-        loaded: matches!(loaded.kind, SceneKind::Scene3d(_)).then_some(loaded),
+        loaded: renders_through_corners(&loaded).then_some(loaded),
         corners: Default::default(),
     })
+}
+
+/// Whether the half-pixel test renders `loaded` through the pixels'
+/// corners: a 3D scene, not path traced (its noise would hide the shift,
+/// and four more renders of it take long).
+fn renders_through_corners(loaded: &Loaded) -> bool {
+    matches!(loaded.kind, SceneKind::Scene3d(_)) && !loaded.is_path_traced(&Options::default())
 }
