@@ -341,6 +341,31 @@ fn a_half_pixel_shift_is_named_against_a_scene_textured_and_anti_aliased() {
 }
 
 #[test]
+fn a_path_traced_reference_is_said_to_be_one_draw_of_its_noise() {
+    let dir = tempfile::tempdir().unwrap();
+    // The Cornell box, small: 64x64 pixels, 16 paths each.
+    let text = std::fs::read_to_string(scene("cornell-box.toml")).unwrap();
+    let small = text
+        .replace("width = 256", "width = 64")
+        .replace("height = 256", "height = 64")
+        .replace("samples = 64", "samples = 16");
+    std::fs::write(dir.path().join("box.toml"), small).unwrap();
+    let scene_file = "box.toml";
+    // Fewer paths: other noise, most pixels off, and no mistake named.
+    render(dir.path(), scene_file, "fewer.png", &["--samples", "4"]);
+    let out = compare(dir.path(), "fewer.png", scene_file);
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(diagnoses(&stdout_of(&out)), Vec::<String>::new());
+    let note = "the reference is path traced (16 paths a pixel)";
+    assert!(stderr_of(&out).contains(note), "{}", stderr_of(&out));
+    // The same render (the samples are the same on every run): no note.
+    render(dir.path(), scene_file, "same.png", &[]);
+    let out = compare(dir.path(), "same.png", scene_file);
+    assert_eq!(out.status.code(), Some(0), "{}", stdout_of(&out));
+    assert!(!stderr_of(&out).contains(note));
+}
+
+#[test]
 fn a_different_size_is_named_and_compared_no_further() {
     let dir = tempfile::tempdir().unwrap();
     let scene_file = scene("illumination.toml");

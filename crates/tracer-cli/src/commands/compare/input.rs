@@ -89,6 +89,9 @@ pub struct Reference {
     pub scene: Option<PathBuf>,
     /// Every file read for it.
     pub files_read: Vec<PathBuf>,
+    /// A path-traced scene's paths a pixel: its image is one draw of its
+    /// noise, which no other render repeats.
+    pub path_samples: Option<u32>,
     /// The scene, to render it again through the pixels' corners (see
     /// `renders_through_corners`).
     loaded: Option<Loaded>,
@@ -134,6 +137,7 @@ pub fn read_reference(path: &Path) -> anyhow::Result<Reference> {
             gamma: None,
             scene: None,
             files_read: vec![path.to_path_buf()],
+            path_samples: None,
             loaded: None,
             corners: Default::default(),
         });
@@ -157,6 +161,7 @@ pub fn render(loaded: Loaded) -> anyhow::Result<Reference> {
         gamma: Some(picture.encoding.gamma),
         scene: Some(loaded.name.clone()),
         files_read: loaded.files_read.clone(),
+        path_samples: path_samples(&loaded),
         loaded: renders_through_corners(&loaded).then_some(loaded),
         corners: Default::default(),
     })
@@ -167,4 +172,14 @@ pub fn render(loaded: Loaded) -> anyhow::Result<Reference> {
 /// and four more renders of it take long).
 fn renders_through_corners(loaded: &Loaded) -> bool {
     matches!(loaded.kind, SceneKind::Scene3d(_)) && !loaded.is_path_traced(&Options::default())
+}
+
+/// The paths a pixel of a path-traced scene.
+fn path_samples(loaded: &Loaded) -> Option<u32> {
+    match &loaded.kind {
+        SceneKind::Scene3d(file) if loaded.is_path_traced(&Options::default()) => {
+            Some(file.render.samples)
+        }
+        _ => None,
+    }
 }

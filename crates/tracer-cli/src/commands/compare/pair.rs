@@ -40,6 +40,15 @@ pub fn run(image: &Path, reference: &Path, heat_map: Option<&Path>, tolerance: u
         }
         (None, _) => {}
     }
+    if let Some(paths) = reference_read.path_samples {
+        if !comparison.within_tolerance() {
+            note!(
+                "the reference is path traced ({paths} paths a pixel): another render's \
+                 noise differs from its noise pixel by pixel. Judge by PSNR and FLIP, or \
+                 render both with more paths (--samples)"
+            );
+        }
+    }
     let names = Names {
         image,
         reference,
