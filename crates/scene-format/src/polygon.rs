@@ -223,19 +223,23 @@ mod tests {
         xy.iter().map(|&[x, y]| [x, y, 0.0]).collect()
     }
 
-    #[test]
-    fn an_l_covers_its_area_and_not_its_notch() {
-        // An L of area 3: the unit squares (0,0), (1,0), (0,1); its notch
-        // is the square (1,1). The fan from corner 0 covers the notch's
-        // lower part.
-        let l = flat(&[
+    /// An L of area 3: the unit squares (0,0), (1,0), (0,1); its notch is
+    /// the square (1,1).
+    fn l_shape() -> Vec<[f32; 3]> {
+        flat(&[
             [0.0, 2.0],
             [0.0, 0.0],
             [2.0, 0.0],
             [2.0, 1.0],
             [1.0, 1.0],
             [1.0, 2.0],
-        ]);
+        ])
+    }
+
+    #[test]
+    fn an_l_covers_its_area_and_not_its_notch() {
+        // The fan from corner 0 would cover the notch's lower part.
+        let l = l_shape();
         let (triangles, trouble) = triangulate(&l, &mut CLIP_WORK.clone());
         assert_eq!(trouble, None);
         assert_eq!(triangles.len(), 4);
@@ -317,14 +321,7 @@ mod tests {
 
     #[test]
     fn concave_faces_past_the_work_are_fanned_and_said() {
-        let l = flat(&[
-            [0.0, 2.0],
-            [0.0, 0.0],
-            [2.0, 0.0],
-            [2.0, 1.0],
-            [1.0, 1.0],
-            [1.0, 2.0],
-        ]);
+        let l = l_shape();
         let mut work = 216 + 215;
         assert_eq!(triangulate(&l, &mut work).1, None);
         assert_eq!(work, 215);

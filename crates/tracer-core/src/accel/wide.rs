@@ -192,8 +192,14 @@ fn write(
     } else {
         for (lane, p) in lanes.iter().enumerate().filter(|(_, p)| !p.is_leaf()) {
             let run = &mut items[p.start..p.end];
-            let below = Fork::Below;
-            let (child, count) = write(run, base + p.start, p.rebased(), nodes, below, root_area);
+            let (child, count) = write(
+                run,
+                base + p.start,
+                p.rebased(),
+                nodes,
+                Fork::Below,
+                root_area,
+            );
             node.set(lane, child, count);
         }
     }
@@ -226,13 +232,12 @@ fn write_subtrees_in_parallel(
         .into_par_iter()
         .map(|(run, p, mut subtree)| {
             (!p.is_leaf()).then(|| {
-                let below = Fork::Below;
                 let (_, count) = write(
                     run,
                     base + p.start,
                     p.rebased(),
                     &mut subtree,
-                    below,
+                    Fork::Below,
                     root_area,
                 );
                 (subtree, count)

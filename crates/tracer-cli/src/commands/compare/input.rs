@@ -92,8 +92,8 @@ pub struct Reference {
     /// A path-traced scene's paths a pixel: its image is one draw of its
     /// noise, which no other render repeats.
     pub path_samples: Option<u32>,
-    /// The scene, to render it again through the pixels' corners (see
-    /// `renders_through_corners`).
+    /// The scene, to render it again through the pixels' corners: a 3D
+    /// scene not path traced.
     loaded: Option<Loaded>,
     /// Those renders (`through_corner`), made when first asked for.
     corners: [OnceLock<Option<RgbImage>>; 4],
@@ -156,22 +156,19 @@ pub fn render(loaded: Loaded) -> anyhow::Result<Reference> {
     let rendered = tracer_pipeline::render(&loaded, &options, &|n| progress.rows_done(n));
     progress.finish();
     let picture = rendered?.image;
+    // A path-traced scene's noise would hide a shift of half a pixel, and
+    // four more renders of it take long: not rendered through the corners.
+    let path_samples = path_samples(&loaded);
+    let through_corners = matches!(loaded.kind, SceneKind::Scene3d(_)) && path_samples.is_none();
     Ok(Reference {
         image: picture.to_rgb8(),
         gamma: Some(picture.encoding.gamma),
         scene: Some(loaded.name.clone()),
         files_read: loaded.files_read.clone(),
-        path_samples: path_samples(&loaded),
-        loaded: renders_through_corners(&loaded).then_some(loaded),
+        path_samples,
+        loaded: through_corners.then_some(loaded),
         corners: Default::default(),
     })
-}
-
-/// Whether the half-pixel test renders `loaded` through the pixels'
-/// corners: a 3D scene, not path traced (its noise would hide the shift,
-/// and four more renders of it take long).
-fn renders_through_corners(loaded: &Loaded) -> bool {
-    matches!(loaded.kind, SceneKind::Scene3d(_)) && !loaded.is_path_traced(&Options::default())
 }
 
 /// The paths a pixel of a path-traced scene.
