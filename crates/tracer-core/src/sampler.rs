@@ -47,6 +47,13 @@ impl PixelSampler {
         self.dimension = 0;
     }
 
+    /// Passes over `requests` 1D or 2D requests without drawing them: the
+    /// requests after them get the numbers they would have had.
+    #[inline(always)]
+    pub fn skip(&mut self, requests: u32) {
+        self.dimension += requests;
+    }
+
     /// The next dimension's hash: the pixel's, mixed with the dimension.
     #[inline(always)]
     fn next_hash(&mut self) -> u64 {
@@ -279,5 +286,9 @@ mod tests {
         let mut other = PixelSampler::new(5, 9, 1);
         other.start(17);
         assert_ne!(first.0, other.get2(), "another seed, other numbers");
+        let mut skipping = PixelSampler::new(5, 9, 0);
+        skipping.start(17);
+        skipping.skip(2);
+        assert_eq!(first.2, skipping.get2(), "a skipped request is passed over");
     }
 }

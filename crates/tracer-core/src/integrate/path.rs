@@ -221,9 +221,13 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             } else {
                 p
             };
-            let (pick, u) = (sampler.get1(), sampler.get2());
             if bsdf.has_smooth_lobes() && self.strategy != Strategy::Bsdf {
+                let (pick, u) = (sampler.get1(), sampler.get2());
                 radiance += self.light_sample(&bsdf, from, (pick, u), throughput);
+            } else {
+                // The light sample's two requests, unused: every later
+                // bounce keeps its numbers whatever this one was.
+                sampler.skip(2);
             }
             let (lobe, u) = (sampler.get1(), sampler.get2());
             let Some(sample) = bsdf.sample(lobe, u) else {
@@ -244,8 +248,10 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
                 pdf: sample.pdf,
                 specular: sample.specular,
             };
-            let survive = sampler.get1();
-            if depth >= ROULETTE_DEPTH {
+            if depth < ROULETTE_DEPTH {
+                sampler.skip(1);
+            } else {
+                let survive = sampler.get1();
                 let q = (throughput * eta_scale).max_element();
                 if q < 1.0 {
                     let survived = survive < q;
