@@ -66,6 +66,11 @@ fn read_environment(source: &dyn Source, path: &Path) -> Result<ImageData, Strin
     let (width, height) = reader
         .into_dimensions()
         .map_err(|e| format!("not a readable image: {e}"))?;
+    if width == 0 || height == 0 {
+        return Err(format!(
+            "{width}x{height} texels: the image is empty; expected at least 1x1"
+        ));
+    }
     // Counted before decoding: the header's claim decides the memory.
     if u64::from(width) * u64::from(height) > MAX_ENVIRONMENT_TEXELS {
         return Err(format!(
@@ -82,6 +87,12 @@ fn read_environment(source: &dyn Source, path: &Path) -> Result<ImageData, Strin
         .map_err(|e| format!("not a readable image: {e}"))?
         .into_rgb32f();
     let texels: Vec<[f32; 3]> = image.pixels().map(|p| p.0).collect();
+    if texels.len() as u64 != u64::from(width) * u64::from(height) {
+        return Err(format!(
+            "{width}x{height} texels in its header, {} decoded; expected as many as it declares",
+            texels.len()
+        ));
+    }
     if texels.iter().flatten().any(|x| !x.is_finite() || *x < 0.0) {
         return Err(
             "has texels that are negative or not finite numbers; expected radiance >= 0"
@@ -207,6 +218,11 @@ fn decode(bytes: &[u8]) -> Result<ImageData, String> {
     let (width, height) = reader()
         .into_dimensions()
         .map_err(|e| format!("not a readable image: {e}"))?;
+    if width == 0 || height == 0 {
+        return Err(format!(
+            "{width}x{height} texels: the image is empty; expected at least 1x1"
+        ));
+    }
     if u64::from(width) * u64::from(height) > MAX_TEXTURE_TEXELS {
         return Err(format!(
             "{width}x{height} texels; expected at most {MAX_TEXTURE_TEXELS} (8192x8192)"
