@@ -192,12 +192,12 @@ impl Validator {
                     show(c.look_at)
                 ),
             );
-        } else if length(c.up) == 0.0 {
+        } else if c.up == [0.0; 3] {
             self.error(
                 path.key("up"),
                 format!("expected a non-zero vector, found {}", show(c.up)),
             );
-        } else if length(cross(c.up, view)) <= 1e-6 * length(c.up) * length(view) {
+        } else if parallel(c.up, view) {
             self.error(
                 path.key("up"),
                 format!(
@@ -768,6 +768,49 @@ fn cross(a: Vec3, b: Vec3) -> Vec3 {
     ]
 }
 
+/// Whether `a` and `b` are parallel to within 1e-6 radians, in f64: any
+/// finite single-precision vectors (an `up` of 1e20 or of 1e-25) are
+/// compared without overflow or underflow.
+fn parallel(a: Vec3, b: Vec3) -> bool {
+    let [a, b] = [a, b].map(|v| v.map(f64::from));
+    let cross = [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ];
+    let length = |v: [f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    length(cross) <= 1e-6 * length(a) * length(b)
+}
+
 fn length(v: Vec3) -> f32 {
     (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::{load_str, Format};
+    use std::path::Path;
+
+    /// The first error of a camera looking down -z with `up`, if any.
+    fn up_error(up: &str) -> Option<String> {
+        let text = format!("[camera]\neye = [0, 0, 4]\nlook_at = [0, 0, 0]\nup = {up}\n");
+        let error = load_str(&text, Format::Toml, Path::new("up.toml")).err()?;
+        Some(error.diagnostics()[0].message.clone())
+    }
+
+    #[test]
+    fn an_up_of_any_finite_size_is_judged_by_its_direction_alone() {
+        // Far above or below 1, where an f32 cross product overflows or
+        // underflows: across the view, fine; along it, parallel.
+        for size in ["1e20", "3e38", "1e-25", "1e-44"] {
+            assert_eq!(up_error(&format!("[0, {size}, 0]")), None, "{size}");
+            let along = up_error(&format!("[0, 0, {size}]")).expect("refused");
+            assert!(
+                along.contains("not parallel to the view"),
+                "{size}: {along}"
+            );
+        }
+        let zero = up_error("[0, 0, 0]").expect("refused");
+        assert!(zero.contains("expected a non-zero vector"), "{zero}");
+    }
 }

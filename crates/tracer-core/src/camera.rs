@@ -32,12 +32,33 @@ pub struct Lens {
     pub forward: Vec3,
 }
 
+/// `v` times the power of two that brings its largest component into
+/// [1, 2): the same direction, exactly (`v` unchanged when zero or not
+/// finite).
+fn power_of_two_scaled(v: Vec3) -> Vec3 {
+    let largest = v.abs().max_element();
+    if largest == 0.0 || !largest.is_finite() {
+        return v;
+    }
+    if !largest.is_normal() {
+        // Subnormal: first into the normal range.
+        return power_of_two_scaled(v * 2f32.powi(64));
+    }
+    let exponent = ((largest.to_bits() >> 23) & 0xff) as i32 - 127;
+    // In two steps, each factor a normal float (2^-127 alone is not).
+    let half = -exponent / 2;
+    v * 2f32.powi(half) * 2f32.powi(-exponent - half)
+}
+
 impl Camera {
     /// `fov` is the horizontal field of view in degrees. The caller makes
     /// sure `look_at != eye` and `up` is not parallel to the view.
     pub fn new(eye: Vec3, look_at: Vec3, up: Vec3, fov: f32, width: u32, height: u32) -> Self {
         let look = look_at - eye;
-        let u = up.cross(look).normalize();
+        // Any non-zero `up` the file allows (1e19 or 1e-25) works: scaled
+        // by a power of two, exactly, to about 1, its cross product neither
+        // overflows nor underflows, and the usual ones give the same bits.
+        let u = power_of_two_scaled(up).cross(look).normalize();
         let v = u.cross(look).normalize();
         let (w, h) = (width as f32, height as f32);
         let focal = w / (2.0 * (fov.to_radians() / 2.0).tan());
@@ -171,6 +192,21 @@ mod tests {
                     "P[{r}][{c}] = {got}, expected {expected}"
                 );
             }
+        }
+    }
+
+    #[test]
+    fn any_up_the_file_allows_gives_the_same_camera() {
+        let camera = |up: Vec3| Camera::new(Vec3::new(0.0, 1.0, 4.0), Vec3::Y, up, 60.0, 32, 32);
+        let usual = camera(Vec3::Y).projection;
+        // Powers of two of any size: the same bits.
+        for scale in [2f32.powi(100), 2f32.powi(-100), 2f32.powi(-140)] {
+            assert_eq!(camera(Vec3::Y * scale).projection, usual, "{scale:e}");
+        }
+        // Once overflowing or underflowing: the same camera, to rounding.
+        for scale in [1e19, 3e38, 1e-25, 1e-44] {
+            let p = camera(Vec3::Y * scale).projection;
+            assert!(p.abs_diff_eq(usual, 1e-4), "{scale:e}: {p} against {usual}");
         }
     }
 
