@@ -297,8 +297,8 @@ pub struct Light {
     #[serde(default = "white")]
     #[schemars(inner(range(min = 0)))]
     pub color: Color,
-    /// 0 is the lab's point light; above 0 a sphere light of this radius,
-    /// which casts soft shadows. Default 0.
+    /// 0 is the lab's point light; above 0 a sphere light of this radius
+    /// (from 1e-4 to 1e6), which casts soft shadows. Default 0.
     #[serde(default)]
     #[schemars(range(min = 0))]
     pub radius: f32,

@@ -62,7 +62,7 @@ pub fn validate(scene: &SceneFile) -> Vec<Diagnostic> {
         let path = root.key("lights").index(i);
         v.point(path.key("position"), light.position);
         v.color(path.key("color"), light.color);
-        v.length(path.key("radius"), light.radius, "a radius");
+        v.light_radius(&path, light);
     }
     for (name, material) in &scene.materials {
         v.material(&root.key("materials").key(name), material);
@@ -619,6 +619,39 @@ impl Validator {
         }
     }
 
+    /// A light's radius: 0 (a point) or a sphere's, whose radiance in path
+    /// mode, its color over pi r^2, a float must hold (else it would light
+    /// nothing, silently).
+    fn light_radius(&mut self, path: &KeyPath, light: &crate::Light) {
+        let r = light.radius;
+        self.length(path.key("radius"), r, "a radius");
+        if !(r > 0.0 && r.is_finite()) {
+            return;
+        }
+        if r < MIN_RADIUS {
+            self.error(
+                &path.key("radius"),
+                format!(
+                    "expected 0 (a point light) or a radius from {MIN_RADIUS:e}, found {}; single-precision tracing cannot handle a smaller sphere",
+                    num(r)
+                ),
+            );
+            return;
+        }
+        let brightest = light.color.into_iter().fold(0.0f32, f32::max);
+        let radiance = brightest / (std::f32::consts::PI * r * r);
+        if !radiance.is_finite() {
+            self.error(
+                &path.key("color"),
+                format!(
+                    "expected a color that a sphere of radius {} can give off: as a sphere light its radiance, color / (pi radius^2), is {brightest:e} / {:e}, more than single precision holds",
+                    num(r),
+                    std::f32::consts::PI * r * r
+                ),
+            );
+        }
+    }
+
     fn shape(&mut self, path: &KeyPath, shape: &ShapeRef) {
         match shape {
             ShapeRef::Mesh(m) => self.mesh(&path.key("mesh"), m),
@@ -812,5 +845,39 @@ mod tests {
         }
         let zero = up_error("[0, 0, 0]").expect("refused");
         assert!(zero.contains("expected a non-zero vector"), "{zero}");
+    }
+
+    /// The first error of a scene with one light of `light` (TOML keys).
+    fn light_error(light: &str) -> Option<(String, String)> {
+        let text = format!(
+            "[camera]\neye = [0, 0, 4]\nlook_at = [0, 0, 0]\n[[lights]]\nposition = [0, 2, 0]\n{light}\n"
+        );
+        let error = load_str(&text, Format::Toml, Path::new("l.toml")).err()?;
+        let d = &error.diagnostics()[0];
+        Some((d.path.to_string(), d.message.clone()))
+    }
+
+    #[test]
+    fn a_sphere_light_too_small_or_too_bright_for_a_float_is_refused() {
+        for fine in [
+            "radius = 0",
+            "radius = 1e-4",
+            "radius = 0.5\ncolor = [1e30, 1, 1]",
+        ] {
+            assert_eq!(light_error(fine), None, "{fine}");
+        }
+        // Its radiance, 1 / (pi 1e-40), would be infinite: black, silently.
+        let (key, message) = light_error("radius = 1e-20").expect("refused");
+        assert_eq!(key, "lights[0].radius");
+        assert!(
+            message.contains("expected 0 (a point light) or a radius from 1e-4"),
+            "{message}"
+        );
+        let (key, message) = light_error("radius = 1e-4\ncolor = [1e32, 1, 1]").expect("refused");
+        assert_eq!(key, "lights[0].color");
+        assert!(
+            message.contains("more than single precision holds"),
+            "{message}"
+        );
     }
 }
