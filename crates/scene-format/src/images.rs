@@ -41,8 +41,18 @@ pub fn load_environment(
     let path = KeyPath::root().key("environment").key("image");
     match read_environment(source, &base.join(&name)) {
         Ok(data) => {
+            let brightest = data.texels.iter().flatten().fold(0.0f32, |a, &b| a.max(b));
+            let overflow = crate::validate::environment_overflow(
+                brightest,
+                environment.strength,
+                "its brightest texel",
+            );
             environment.data = Some(Arc::new(data));
-            Vec::new()
+            let strength = KeyPath::root().key("environment").key("strength");
+            overflow
+                .map(|m| Diagnostic::new(strength, m))
+                .into_iter()
+                .collect()
         }
         Err(e) => vec![Diagnostic::new(path, format!("cannot load `{name}`: {e}"))],
     }

@@ -387,6 +387,13 @@ impl Validator {
                 strength,
                 format!("expected a number >= 0, found {}", num(e.strength)),
             );
+        } else if let (Some(c), None) = (e.color, &e.image) {
+            let brightest = c.into_iter().fold(0.0f32, f32::max);
+            if let Some(message) =
+                environment_overflow(brightest, e.strength, "its colour's largest channel")
+            {
+                self.error(strength, message);
+            }
         }
         self.finite(path.key("rotate"), e.rotate);
     }
@@ -801,6 +808,18 @@ fn cross(a: Vec3, b: Vec3) -> Vec3 {
     ]
 }
 
+/// Why an environment whose brightest radiance is `brightest` times
+/// `strength` cannot be rendered: past the largest float every path that
+/// sees it would be infinite, and left out (a black image). None if it can.
+pub(crate) fn environment_overflow(brightest: f32, strength: f32, what: &str) -> Option<String> {
+    (brightest * strength).is_infinite().then(|| {
+        format!(
+            "expected a strength that leaves the light finite: {what}, {brightest:e}, times {}, is more than single precision holds",
+            num(strength)
+        )
+    })
+}
+
 /// Whether `a` and `b` are parallel to within 1e-6 radians, in f64: any
 /// finite single-precision vectors (an `up` of 1e20 or of 1e-25) are
 /// compared without overflow or underflow.
@@ -878,6 +897,26 @@ mod tests {
         assert!(
             message.contains("more than single precision holds"),
             "{message}"
+        );
+    }
+
+    #[test]
+    fn an_environment_brighter_than_a_float_is_refused_at_its_strength() {
+        let text = |color: &str, strength: &str| {
+            format!(
+                "[camera]\neye = [0, 0, 4]\nlook_at = [0, 0, 0]\n[environment]\ncolor = {color}\nstrength = {strength}\n"
+            )
+        };
+        let load = |t: &str| load_str(t, Format::Toml, Path::new("e.toml"));
+        assert!(load(&text("[3e38, 1, 1]", "1")).is_ok());
+        // Every path that sees it would be infinite, and left out: black.
+        let error = load(&text("[3e38, 1, 1]", "10")).expect_err("refused");
+        let d = &error.diagnostics()[0];
+        assert_eq!(d.path.to_string(), "environment.strength");
+        assert!(
+            d.message.contains("more than single precision holds"),
+            "{}",
+            d.message
         );
     }
 }
