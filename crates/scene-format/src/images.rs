@@ -22,6 +22,12 @@ const MAX_DECODE_BYTES: u64 = 2 << 30;
 /// would take 19 GB.
 pub const MAX_TEXTURE_TEXELS: u64 = 1 << 26;
 
+/// Most texels the texture images of one scene may have together: one
+/// 8192 x 8192 image, or many smaller ones (each file counted once,
+/// however many textures name it). Without it, a packed scene of a few KB
+/// naming a few well-compressed 8192 x 8192 PNGs took 1.6 GB each.
+pub const MAX_SCENE_TEXELS: u64 = MAX_TEXTURE_TEXELS;
+
 /// Most texels an environment image may have: 8192 x 4096, a studio HDR's
 /// usual size (400 MB as the floats it is kept in).
 pub const MAX_ENVIRONMENT_TEXELS: u64 = 1 << 25;
@@ -96,7 +102,7 @@ fn read_environment(source: &dyn Source, path: &Path) -> Result<ImageData, Strin
         .decode()
         .map_err(|e| format!("not a readable image: {e}"))?
         .into_rgb32f();
-    let texels: Vec<[f32; 3]> = image.pixels().map(|p| p.0).collect();
+    let texels = texels_of(image.into_raw());
     if texels.len() as u64 != u64::from(width) * u64::from(height) {
         return Err(format!(
             "{width}x{height} texels in its header, {} decoded; expected as many as it declares",
@@ -116,20 +122,49 @@ fn read_environment(source: &dyn Source, path: &Path) -> Result<ImageData, Strin
     })
 }
 
-/// Images read so far, by path (as joined to the folder of the file that
-/// names it), or why they could not be.
-#[derive(Debug, Default)]
+/// Images read so far for one scene, by path (as joined to the folder of
+/// the file that names it), or why they could not be; and the texels the
+/// scene's budget has left.
+#[derive(Debug)]
 pub struct ImageCache {
     read: HashMap<PathBuf, Result<Arc<ImageData>, String>>,
+    texels_left: u64,
+}
+
+impl Default for ImageCache {
+    fn default() -> Self {
+        ImageCache {
+            read: HashMap::new(),
+            texels_left: MAX_SCENE_TEXELS,
+        }
+    }
 }
 
 impl ImageCache {
-    /// The image at `path` of `source`, read on first use.
+    /// A cache whose scene may read `texels` texels (tests use few).
+    pub fn with_budget(texels: u64) -> ImageCache {
+        ImageCache {
+            texels_left: texels,
+            ..ImageCache::default()
+        }
+    }
+
+    /// The image at `path` of `source`, read on first use, if the scene's
+    /// budget has room for its texels.
     pub fn get(&mut self, source: &dyn Source, path: &Path) -> Result<Arc<ImageData>, String> {
-        self.read
-            .entry(path.to_path_buf())
-            .or_insert_with(|| read_image_from(source, path).map(Arc::new))
-            .clone()
+        if let Some(read) = self.read.get(path) {
+            return read.clone();
+        }
+        let read = source
+            .read(path, MAX_IMAGE_BYTES)
+            .map_err(|e| e.to_string())
+            .and_then(|bytes| decode(&bytes, self.texels_left))
+            .map(Arc::new);
+        if let Ok(image) = &read {
+            self.texels_left -= u64::from(image.width) * u64::from(image.height);
+        }
+        self.read.insert(path.to_path_buf(), read.clone());
+        read
     }
 }
 
@@ -209,11 +244,12 @@ pub fn read_image_from(source: &dyn Source, path: &Path) -> Result<ImageData, St
     let bytes = source
         .read(path, MAX_IMAGE_BYTES)
         .map_err(|e| e.to_string())?;
-    decode(&bytes)
+    decode(&bytes, MAX_SCENE_TEXELS)
 }
 
-/// PNG or JPEG bytes as texels, told apart by their content.
-fn decode(bytes: &[u8]) -> Result<ImageData, String> {
+/// PNG or JPEG bytes as texels, told apart by their content, if they are
+/// at most `texels_left` (what the scene's budget has left).
+fn decode(bytes: &[u8], texels_left: u64) -> Result<ImageData, String> {
     use image::ImageFormat;
     let format = image::guess_format(bytes).ok();
     if !matches!(format, Some(ImageFormat::Png | ImageFormat::Jpeg)) {
@@ -233,9 +269,15 @@ fn decode(bytes: &[u8]) -> Result<ImageData, String> {
             "{width}x{height} texels: the image is empty; expected at least 1x1"
         ));
     }
-    if u64::from(width) * u64::from(height) > MAX_TEXTURE_TEXELS {
+    let texels = u64::from(width) * u64::from(height);
+    if texels > MAX_TEXTURE_TEXELS {
         return Err(format!(
             "{width}x{height} texels; expected at most {MAX_TEXTURE_TEXELS} (8192x8192)"
+        ));
+    }
+    if texels > texels_left {
+        return Err(format!(
+            "{width}x{height} texels, more than the {texels_left} left of the {MAX_SCENE_TEXELS} (8192x8192) the texture images of one scene may have together"
         ));
     }
     let mut reader = reader();
@@ -247,15 +289,22 @@ fn decode(bytes: &[u8]) -> Result<ImageData, String> {
     let image = reader
         .decode()
         .map_err(|e| format!("not a readable image: {e}"))?;
-    // The decoded bytes go before the floats are copied out.
+    // The decoded bytes go before the floats are made.
     let rgb = image.into_rgb32f();
     let (width, height) = rgb.dimensions();
-    let floats = rgb.into_raw();
     Ok(ImageData {
         width,
         height,
-        texels: floats.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
+        texels: texels_of(rgb.into_raw()),
     })
+}
+
+/// Interleaved RGB floats as texels, in the same memory (a copy only if
+/// the allocation cannot be taken over): the texels of an 8192 x 8192
+/// image are 805 MB, and a copy doubled that at its peak.
+fn texels_of(floats: Vec<f32>) -> Vec<[f32; 3]> {
+    bytemuck::allocation::try_cast_vec(floats)
+        .unwrap_or_else(|(_, floats)| floats.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
 }
 
 #[cfg(test)]
@@ -273,7 +322,7 @@ mod tests {
     #[test]
     fn png_texels_are_read_row_by_row_from_the_top_as_stored() {
         let bytes = png(2, 2, &[0, 51, 255, 255, 0, 0, 1, 2, 3, 102, 204, 153]);
-        let data = decode(&bytes).unwrap();
+        let data = decode(&bytes, MAX_SCENE_TEXELS).unwrap();
         assert_eq!((data.width, data.height), (2, 2));
         assert_eq!(data.texels[0], [0.0, 0.2, 1.0]);
         assert_eq!(data.texels[1], [1.0, 0.0, 0.0]);
@@ -318,26 +367,56 @@ mod tests {
         // 40000 x 40000 grey passes the decoder's memory limit (1.6 GB)
         // but would take 19 GB as floats; 16384 x 16384 would take 3.2 GB.
         for (width, height) in [(40000, 40000), (16384, 16384), (8193, 8192)] {
-            let error = decode(&png_header(width, height)).unwrap_err();
+            let error = decode(&png_header(width, height), MAX_SCENE_TEXELS).unwrap_err();
             let expected = format!("{width}x{height} texels; expected at most 67108864");
             assert!(error.starts_with(&expected), "{error}");
         }
         // At the cap the header is read on: its missing pixels are the fault.
-        let error = decode(&png_header(8192, 8192)).unwrap_err();
+        let error = decode(&png_header(8192, 8192), MAX_SCENE_TEXELS).unwrap_err();
         assert!(error.contains("not a readable image"), "{error}");
     }
 
     #[test]
     fn other_files_are_refused_with_a_reason() {
-        let bad = decode(b"P6 1 1 255 abc").unwrap_err();
+        let bad = decode(b"P6 1 1 255 abc", MAX_SCENE_TEXELS).unwrap_err();
         assert!(bad.contains("expected a PNG or JPEG"), "{bad}");
         // A PNG signature followed by garbage.
         let truncated = png(2, 2, &[0; 12])[..20].to_vec();
-        assert!(decode(&truncated)
+        assert!(decode(&truncated, MAX_SCENE_TEXELS)
             .unwrap_err()
             .contains("not a readable image"));
         let dir = tempfile::tempdir().unwrap();
         let missing = read_image(&dir.path().join("none.png")).unwrap_err();
         assert!(missing.contains("No such file"), "{missing}");
+    }
+
+    #[test]
+    fn the_images_of_a_scene_share_one_budget_of_texels() {
+        let dir = tempfile::tempdir().unwrap();
+        let write = |name: &str| {
+            let path = dir.path().join(name);
+            std::fs::write(&path, png(4, 4, &[128; 48])).unwrap();
+            path
+        };
+        let (a, b) = (write("a.png"), write("b.png"));
+        let mut cache = ImageCache::with_budget(20);
+        let folder = Folder::new();
+        assert!(cache.get(&folder, &a).is_ok());
+        // The same file again costs nothing more.
+        assert!(cache.get(&folder, &a).is_ok());
+        let refused = cache.get(&folder, &b).unwrap_err();
+        assert!(
+            refused.contains("4x4 texels, more than the 4 left of the"),
+            "{refused}"
+        );
+    }
+
+    #[test]
+    fn texels_take_over_the_decoded_floats() {
+        let floats = vec![0.0, 0.5, 1.0, 0.25, 0.75, 2.0];
+        let at = floats.as_ptr();
+        let texels = texels_of(floats);
+        assert_eq!(texels, [[0.0, 0.5, 1.0], [0.25, 0.75, 2.0]]);
+        assert_eq!(texels.as_ptr().cast::<f32>(), at, "no copy");
     }
 }
