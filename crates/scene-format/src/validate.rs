@@ -637,7 +637,7 @@ impl Validator {
         }
         if r < MIN_RADIUS {
             self.error(
-                &path.key("radius"),
+                path.key("radius"),
                 format!(
                     "expected 0 (a point light) or a radius from {MIN_RADIUS:e}, found {}; single-precision tracing cannot handle a smaller sphere",
                     num(r)
@@ -649,7 +649,7 @@ impl Validator {
         let radiance = brightest / (std::f32::consts::PI * r * r);
         if !radiance.is_finite() {
             self.error(
-                &path.key("color"),
+                path.key("color"),
                 format!(
                     "expected a color that a sphere of radius {} can give off: as a sphere light its radiance, color / (pi radius^2), is {brightest:e} / {:e}, more than single precision holds",
                     num(r),
