@@ -74,6 +74,12 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
         path_materials(&mut warnings, &lab);
     }
     environment_shape(&mut warnings, scene);
+    if scene.environment.is_some() && scene.render.background != [0.0; 3] {
+        warnings.push(Diagnostic::new(
+            "render.background",
+            "not used: with an [environment], rays that leave the scene see the environment instead",
+        ));
+    }
     for (path, m) in &materials {
         over_one(&mut warnings, path, m);
         unseen_texture(&mut warnings, path, m);
@@ -395,5 +401,23 @@ mod tests {
         assert!(!unseen(&format!("ambient = [0.1, 0, 0], {checker}")));
         // The lab's stripes multiply the specular too.
         assert!(!unseen("specular = [1, 1, 1], texture = \"lab-stripes\""));
+    }
+
+    #[test]
+    fn a_background_beside_an_environment_is_said_to_be_unused() {
+        let text = |background: &str| {
+            format!(
+                "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n[render]\nbackground = {background}\n[environment]\ncolor = [1, 1, 1]\n[[objects]]\nsphere = {{ center = [0, 0, 0], radius = 1 }}\n"
+            )
+        };
+        let unused = |background: &str| {
+            let scene =
+                load_str(&text(background), Format::Toml, Path::new("t.toml")).expect("loads");
+            warnings(&scene).iter().any(|d| {
+                d.path.to_string() == "render.background" && d.message.starts_with("not used")
+            })
+        };
+        assert!(unused("[0.2, 0.3, 0.4]"));
+        assert!(!unused("[0, 0, 0]"), "the default is not the user's");
     }
 }
