@@ -269,7 +269,7 @@ fn path_text(out: &mut String, events: &[PathEvent]) {
                 if specular { " (a specular lobe)" } else { "" }
             ),
             PathEventKind::NoLightPoint => {
-                "  light sample: no point of the light picked faces this point".to_string()
+                "  light sample: the light picked has no point that can light this one (it faces away, or its sample came to nothing)".to_string()
             }
             PathEventKind::Roulette { survive, survived } => format!(
                 "  Russian roulette: goes on with probability {survive:.4}: {}",
@@ -285,6 +285,12 @@ fn encoding_text(out: &mut String, pixel: &ExplainedPixel) {
     let e = &pixel.explanation;
     let c = pixel.linear;
     let _ = writeln!(out, "this sample's colour = {}", v3(e.colour));
+    if !e.colour.is_finite() {
+        let _ = writeln!(
+            out,
+            "  not a finite number: the render leaves this sample out of the pixel (and counts it)"
+        );
+    }
     let _ = writeln!(
         out,
         "pixel colour (linear) = {} {}",
