@@ -38,6 +38,12 @@ pub fn read_reference(path: &Path, (width, height): (u32, u32)) -> Result<Linear
             image.height()
         )));
     }
+    if image.pixels().flat_map(|p| p.0).any(|x| !x.is_finite()) {
+        return Err(bad(
+            "has values that are not finite numbers (NaN or infinite); expected a rendered image"
+                .to_string(),
+        ));
+    }
     let mut linear = LinearImage::new(width, height);
     for (pixel, p) in linear.pixels.iter_mut().zip(image.pixels()) {
         *pixel = glam::Vec3::from(p.0);
@@ -52,7 +58,47 @@ pub fn rmse(a: &LinearImage, b: &LinearImage) -> f64 {
         .pixels
         .iter()
         .zip(&b.pixels)
-        .map(|(x, y)| f64::from((*x - *y).length_squared()))
+        // In f64: the square of a difference of large floats overflows f32.
+        .map(|(x, y)| (x.as_dvec3() - y.as_dvec3()).length_squared())
         .sum();
     (sum / (3 * a.pixels.len().max(1)) as f64).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    fn image(pixels: &[Vec3]) -> LinearImage {
+        let mut image = LinearImage::new(pixels.len() as u32, 1);
+        image.pixels.copy_from_slice(pixels);
+        image
+    }
+
+    #[test]
+    fn the_error_of_large_values_is_finite() {
+        // Their difference squared, 1e60, is past the largest f32.
+        let a = image(&[Vec3::splat(1e30), Vec3::ZERO]);
+        let b = image(&[Vec3::ZERO, Vec3::ZERO]);
+        let expected = (3.0 * 1e60f64 / 6.0).sqrt();
+        assert!(
+            (rmse(&a, &b) / expected - 1.0).abs() < 1e-6,
+            "{}",
+            rmse(&a, &b)
+        );
+        assert_eq!(rmse(&b, &b), 0.0);
+    }
+
+    #[test]
+    fn a_reference_with_values_that_are_not_numbers_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("nan.exr");
+        let floats = vec![0.5f32, f32::NAN, 0.5, 0.25, 0.25, 0.25];
+        image::Rgb32FImage::from_raw(2, 1, floats)
+            .unwrap()
+            .save(&path)
+            .unwrap();
+        let error = read_reference(&path, (2, 1)).unwrap_err().to_string();
+        assert!(error.contains("not finite numbers"), "{error}");
+    }
 }

@@ -55,6 +55,12 @@ pub fn on_pass(plan: &Plan, quiet: bool) -> impl FnMut(Pass) -> bool + '_ {
         let estimate = this_pass * f64::from(next) / f64::from(added.max(1));
         let fits = elapsed + estimate <= limit;
         if next > 0 && !fits {
+            // 1e-300 as that, not as three hundred digits.
+            let limit = if (1e-3..1e7).contains(&limit) {
+                format!("{limit}")
+            } else {
+                format!("{limit:e}")
+            };
             note!(
                 "stopped at {} of {} samples a pixel: the next pass ({next} more, about {estimate:.1} s) would end after the time limit of {limit} s",
                 pass.samples,
