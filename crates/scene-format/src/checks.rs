@@ -414,7 +414,7 @@ mod tests {
             let scene =
                 load_str(&text(background), Format::Toml, Path::new("t.toml")).expect("loads");
             warnings(&scene).iter().any(|d| {
-                d.path.to_string() == "render.background" && d.message.starts_with("not used")
+                d.path == "render.background" && d.message.starts_with("not used")
             })
         };
         assert!(unused("[0.2, 0.3, 0.4]"));
