@@ -413,9 +413,9 @@ mod tests {
         let unused = |background: &str| {
             let scene =
                 load_str(&text(background), Format::Toml, Path::new("t.toml")).expect("loads");
-            warnings(&scene).iter().any(|d| {
-                d.path == "render.background" && d.message.starts_with("not used")
-            })
+            warnings(&scene)
+                .iter()
+                .any(|d| d.path == "render.background" && d.message.starts_with("not used"))
         };
         assert!(unused("[0.2, 0.3, 0.4]"));
         assert!(!unused("[0, 0, 0]"), "the default is not the user's");

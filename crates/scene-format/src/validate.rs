@@ -752,14 +752,21 @@ impl Validator {
             }
         }
         if length(cross(q.edge_u, q.edge_v)) == 0.0 {
-            self.error(
-                p.key("edge_v"),
+            // Parallel, or so short that the area underflows single precision.
+            let message = if parallel(q.edge_u, q.edge_v) {
                 format!(
                     "expected an edge not parallel to `edge_u` ({}), found {}; the quad is degenerate (zero area)",
                     show(q.edge_u),
                     show(q.edge_v)
-                ),
-            );
+                )
+            } else {
+                format!(
+                    "expected longer edges: with `edge_u` {} and this one, {}, the quad's area is too small for single precision (it rounds to 0)",
+                    show(q.edge_u),
+                    show(q.edge_v)
+                )
+            };
+            self.error(p.key("edge_v"), message);
             return;
         }
         let far = add(add(q.corner, q.edge_u), q.edge_v);
@@ -918,5 +925,20 @@ mod tests {
             "{}",
             d.message
         );
+    }
+
+    #[test]
+    fn a_quad_of_no_area_says_whether_its_edges_are_parallel_or_too_short() {
+        let quad = |u: &str, v: &str| {
+            let text = format!(
+                "[camera]\neye = [0, 0, 4]\nlook_at = [0, 0, 0]\n[[objects]]\nquad = {{ corner = [0, 0, 0], edge_u = {u}, edge_v = {v} }}\n"
+            );
+            let error = load_str(&text, Format::Toml, Path::new("q.toml")).expect_err("refused");
+            error.diagnostics()[0].message.clone()
+        };
+        let parallel = quad("[1, 0, 0]", "[2, 0, 0]");
+        assert!(parallel.contains("not parallel to `edge_u`"), "{parallel}");
+        let tiny = quad("[1e-19, 0, 0]", "[0, 0, 1e-19]");
+        assert!(tiny.contains("expected longer edges"), "{tiny}");
     }
 }
