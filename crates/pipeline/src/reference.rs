@@ -29,7 +29,7 @@ pub fn read_reference(path: &Path, (width, height): (u32, u32)) -> Result<Linear
     reader.limits(limits);
     let image = reader
         .decode()
-        .map_err(|e| bad(format!("not a readable image: {e}")))?
+        .map_err(|e| bad(scene_format::images::unreadable(e)))?
         .into_rgb32f();
     if image.dimensions() != (width, height) {
         return Err(bad(format!(

@@ -79,9 +79,7 @@ fn read_environment(source: &dyn Source, path: &Path) -> Result<ImageData, Strin
     }
     let mut reader = image::ImageReader::new(Cursor::new(&bytes));
     reader.set_format(format.expect("matched above"));
-    let (width, height) = reader
-        .into_dimensions()
-        .map_err(|e| format!("not a readable image: {e}"))?;
+    let (width, height) = reader.into_dimensions().map_err(unreadable)?;
     if width == 0 || height == 0 {
         return Err(format!(
             "{width}x{height} texels: the image is empty; expected at least 1x1"
@@ -98,10 +96,7 @@ fn read_environment(source: &dyn Source, path: &Path) -> Result<ImageData, Strin
     let mut limits = image::Limits::default();
     limits.max_alloc = Some(MAX_DECODE_BYTES);
     reader.limits(limits);
-    let image = reader
-        .decode()
-        .map_err(|e| format!("not a readable image: {e}"))?
-        .into_rgb32f();
+    let image = reader.decode().map_err(unreadable)?.into_rgb32f();
     let texels = texels_of(image.into_raw());
     if texels.len() as u64 != u64::from(width) * u64::from(height) {
         return Err(format!(
@@ -120,6 +115,18 @@ fn read_environment(source: &dyn Source, path: &Path) -> Result<ImageData, Strin
         height,
         texels,
     })
+}
+
+/// Why the decoder could not read an image, as a reader says it: a file
+/// that ends early is said to, where the decoder said "failed to fill
+/// whole buffer".
+pub fn unreadable(e: image::ImageError) -> String {
+    match e {
+        image::ImageError::IoError(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
+            "not a readable image: it ends before the pixels its header declares".to_string()
+        }
+        e => format!("not a readable image: {e}"),
+    }
 }
 
 /// Images read so far for one scene, by path (as joined to the folder of
@@ -261,9 +268,7 @@ fn decode(bytes: &[u8], texels_left: u64) -> Result<ImageData, String> {
         reader.set_format(format);
         reader
     };
-    let (width, height) = reader()
-        .into_dimensions()
-        .map_err(|e| format!("not a readable image: {e}"))?;
+    let (width, height) = reader().into_dimensions().map_err(unreadable)?;
     if width == 0 || height == 0 {
         return Err(format!(
             "{width}x{height} texels: the image is empty; expected at least 1x1"
@@ -286,9 +291,7 @@ fn decode(bytes: &[u8], texels_left: u64) -> Result<ImageData, String> {
     limits.max_image_height = Some(MAX_IMAGE_SIDE);
     limits.max_alloc = Some(MAX_DECODE_BYTES);
     reader.limits(limits);
-    let image = reader
-        .decode()
-        .map_err(|e| format!("not a readable image: {e}"))?;
+    let image = reader.decode().map_err(unreadable)?;
     // The decoded bytes go before the floats are made.
     let rgb = image.into_rgb32f();
     let (width, height) = rgb.dimensions();
@@ -418,5 +421,15 @@ mod tests {
         let texels = texels_of(floats);
         assert_eq!(texels, [[0.0, 0.5, 1.0], [0.25, 0.75, 2.0]]);
         assert_eq!(texels.as_ptr().cast::<f32>(), at, "no copy");
+    }
+
+    #[test]
+    fn an_image_cut_short_is_said_to_end_before_its_pixels() {
+        let whole = png(8, 8, &[77; 192]);
+        let error = decode(&whole[..whole.len() - 40], MAX_SCENE_TEXELS).unwrap_err();
+        assert!(
+            error.contains("ends before the pixels its header declares"),
+            "{error}"
+        );
     }
 }

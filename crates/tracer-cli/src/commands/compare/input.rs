@@ -42,7 +42,7 @@ pub fn read_image(path: &Path) -> Result<RgbImage, BadInput> {
     }
     let image = reader
         .decode()
-        .map_err(|e| bad(format!("not a readable image: {e}")))?;
+        .map_err(|e| bad(scene_format::images::unreadable(e)))?;
     to_rgb8(image).map_err(bad)
 }
 
