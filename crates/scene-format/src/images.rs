@@ -3,7 +3,7 @@
 
 use crate::diagnostic::Diagnostic;
 use crate::key_path::KeyPath;
-use crate::model::{ImageData, Material, Object, TextureRef};
+use crate::model::{ImageData, Material, Object, Texels, TextureRef};
 use crate::source::{Folder, Source};
 use std::collections::{BTreeMap, HashMap};
 use std::io::Cursor;
@@ -16,16 +16,16 @@ pub const MAX_IMAGE_BYTES: u64 = crate::read::MAX_OBJ_BYTES / 4;
 const MAX_IMAGE_SIDE: u32 = 4 * crate::validate::MAX_IMAGE_SIDE;
 /// Most memory the decoder may take for one image.
 const MAX_DECODE_BYTES: u64 = 2 << 30;
-/// Most texels a texture image may have: 8192 x 8192, 768 MB as the
-/// floats it is kept in. Counted from the header before decoding: a small
-/// PNG may claim 40000 x 40000 of one grey byte each, whose floats alone
-/// would take 19 GB.
+/// Most texels a texture image may have: 8192 x 8192, 201 MB as the bytes
+/// of an 8-bit image, 805 MB as the floats of a 16-bit one. Counted from
+/// the header before decoding: a small PNG may claim 40000 x 40000 of one
+/// grey byte each, whose floats alone would take 19 GB.
 pub const MAX_TEXTURE_TEXELS: u64 = 1 << 26;
 
 /// Most texels the texture images of one scene may have together: one
 /// 8192 x 8192 image, or many smaller ones (each file counted once,
 /// however many textures name it). Without it, a packed scene of a few KB
-/// naming a few well-compressed 8192 x 8192 PNGs took 1.6 GB each.
+/// naming a few well-compressed 8192 x 8192 PNGs took 1.6 GB for each.
 pub const MAX_SCENE_TEXELS: u64 = MAX_TEXTURE_TEXELS;
 
 /// Most texels an environment image may have: 8192 x 4096, a studio HDR's
@@ -47,7 +47,8 @@ pub fn load_environment(
     let path = KeyPath::root().key("environment").key("image");
     match read_environment(source, &base.join(&name)) {
         Ok(data) => {
-            let brightest = data.texels.iter().flatten().fold(0.0f32, |a, &b| a.max(b));
+            let floats = data.texels.to_floats();
+            let brightest = floats.iter().flatten().fold(0.0f32, |a, &b| a.max(b));
             let overflow = crate::validate::environment_overflow(
                 brightest,
                 environment.strength,
@@ -113,7 +114,7 @@ fn read_environment(source: &dyn Source, path: &Path) -> Result<ImageData, Strin
     Ok(ImageData {
         width,
         height,
-        texels,
+        texels: Texels::Floats(texels),
     })
 }
 
@@ -292,22 +293,38 @@ fn decode(bytes: &[u8], texels_left: u64) -> Result<ImageData, String> {
     limits.max_alloc = Some(MAX_DECODE_BYTES);
     reader.limits(limits);
     let image = reader.decode().map_err(unreadable)?;
-    // The decoded bytes go before the floats are made.
-    let rgb = image.into_rgb32f();
-    let (width, height) = rgb.dimensions();
+    let (width, height) = (image.width(), image.height());
+    // 8-bit images keep their bytes; others become floats (the decoded
+    // samples go before the floats are made).
+    let eight_bit = matches!(
+        image.color(),
+        image::ColorType::L8
+            | image::ColorType::La8
+            | image::ColorType::Rgb8
+            | image::ColorType::Rgba8
+    );
+    let texels = if eight_bit {
+        Texels::Bytes(texels_of(image.into_rgb8().into_raw()))
+    } else {
+        Texels::Floats(texels_of(image.into_rgb32f().into_raw()))
+    };
     Ok(ImageData {
         width,
         height,
-        texels: texels_of(rgb.into_raw()),
+        texels,
     })
 }
 
-/// Interleaved RGB floats as texels, in the same memory (a copy only if
-/// the allocation cannot be taken over): the texels of an 8192 x 8192
-/// image are 805 MB, and a copy doubled that at its peak.
-fn texels_of(floats: Vec<f32>) -> Vec<[f32; 3]> {
-    bytemuck::allocation::try_cast_vec(floats)
-        .unwrap_or_else(|(_, floats)| floats.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
+/// Interleaved RGB samples as texels, in the same memory (a copy only if
+/// the allocation cannot be taken over): the float texels of an 8192 x
+/// 8192 image are 805 MB, and a copy doubled that at its peak.
+fn texels_of<T: bytemuck::Pod>(samples: Vec<T>) -> Vec<[T; 3]> {
+    bytemuck::allocation::try_cast_vec(samples).unwrap_or_else(|(_, samples)| {
+        samples
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect()
+    })
 }
 
 #[cfg(test)]
@@ -327,9 +344,11 @@ mod tests {
         let bytes = png(2, 2, &[0, 51, 255, 255, 0, 0, 1, 2, 3, 102, 204, 153]);
         let data = decode(&bytes, MAX_SCENE_TEXELS).unwrap();
         assert_eq!((data.width, data.height), (2, 2));
-        assert_eq!(data.texels[0], [0.0, 0.2, 1.0]);
-        assert_eq!(data.texels[1], [1.0, 0.0, 0.0]);
-        assert_eq!(data.texels[3], [0.4, 0.8, 0.6]);
+        assert_eq!(data.texels.at(0), [0.0, 0.2, 1.0]);
+        assert_eq!(data.texels.at(1), [1.0, 0.0, 0.0]);
+        assert_eq!(data.texels.at(3), [0.4, 0.8, 0.6]);
+        // An 8-bit image keeps its bytes, a quarter of the floats' memory.
+        assert!(matches!(data.texels, Texels::Bytes(_)));
     }
 
     /// The start of a PNG (signature and header) of `width` x `height`

@@ -964,7 +964,45 @@ pub enum Wrap {
 pub struct ImageData {
     pub width: u32,
     pub height: u32,
-    pub texels: Vec<[f32; 3]>,
+    pub texels: Texels,
+}
+
+/// Texels as their file holds them: an 8-bit image's bytes (v / 255 each,
+/// a quarter of the memory of floats), or floats (16-bit and HDR images).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Texels {
+    Bytes(Vec<[u8; 3]>),
+    Floats(Vec<[f32; 3]>),
+}
+
+impl Texels {
+    pub fn len(&self) -> usize {
+        match self {
+            Texels::Bytes(t) => t.len(),
+            Texels::Floats(t) => t.len(),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Texel `i` as values from 0 to 1 (a byte's v / 255, as the image
+    /// crate reads it).
+    pub fn at(&self, i: usize) -> [f32; 3] {
+        match self {
+            Texels::Bytes(t) => t[i].map(|v| f32::from(v) / 255.0),
+            Texels::Floats(t) => t[i],
+        }
+    }
+
+    /// Every texel as floats (a copy for bytes).
+    pub fn to_floats(&self) -> std::borrow::Cow<'_, [[f32; 3]]> {
+        match self {
+            Texels::Bytes(_) => (0..self.len()).map(|i| self.at(i)).collect(),
+            Texels::Floats(t) => std::borrow::Cow::Borrowed(t),
+        }
+    }
 }
 
 /// The keys of a texture table, read before it is known which kind it is.

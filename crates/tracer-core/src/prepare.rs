@@ -177,9 +177,13 @@ fn environment(file: &fmt::SceneFile) -> Result<Option<Arc<Environment>>, Prepar
         return Ok(None);
     };
     let environment = match (&e.data, e.color) {
-        (Some(data), _) => {
-            Environment::image(data.width, data.height, &data.texels, e.strength, e.rotate)
-        }
+        (Some(data), _) => Environment::image(
+            data.width,
+            data.height,
+            &data.texels.to_floats(),
+            e.strength,
+            e.rotate,
+        ),
         (None, Some(color)) => Environment::uniform(Vec3::from(color) * e.strength),
         (None, None) => {
             return Err(PrepareError::ImageNotLoaded {
@@ -662,11 +666,14 @@ impl<'a> MaterialTable<'a> {
                     .images
                     .entry(Arc::as_ptr(data) as usize)
                     .or_insert_with(|| {
-                        Arc::new(ImageTexels::from_srgb(
-                            data.width,
-                            data.height,
-                            &data.texels,
-                        ))
+                        Arc::new(match &data.texels {
+                            fmt::Texels::Bytes(t) => {
+                                ImageTexels::from_srgb8(data.width, data.height, t)
+                            }
+                            fmt::Texels::Floats(t) => {
+                                ImageTexels::from_srgb(data.width, data.height, t)
+                            }
+                        })
                     })
                     .clone();
                 Ok(Texturing::Color(ColorTexture::Image {

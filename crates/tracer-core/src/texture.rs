@@ -163,19 +163,57 @@ impl Wrap {
 pub struct ImageTexels {
     width: u32,
     height: u32,
-    texels: Vec<Vec3>,
+    texels: Linear,
 }
+
+/// An image's linear texels: an 8-bit image's sRGB bytes, decoded at each
+/// look-up by a table (a quarter of the memory of floats, the same
+/// values), or floats.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+enum Linear {
+    Srgb8(Vec<[u8; 3]>),
+    Floats(Vec<Vec3>),
+}
+
+impl Linear {
+    fn len(&self) -> usize {
+        match self {
+            Linear::Srgb8(t) => t.len(),
+            Linear::Floats(t) => t.len(),
+        }
+    }
+}
+
+/// srgb_to_linear(v / 255) for each byte v: the values an 8-bit image's
+/// floats (v / 255, as the image crate reads them) decode to.
+static SRGB8_TO_LINEAR: std::sync::LazyLock<[f32; 256]> =
+    std::sync::LazyLock::new(|| std::array::from_fn(|v| srgb_to_linear(v as f32 / 255.0)));
 
 impl ImageTexels {
     /// The image of sRGB-encoded texels (0 to 1, row by row from the top),
     /// decoded to linear. Panics unless there are `width * height` (> 0).
     pub fn from_srgb(width: u32, height: u32, srgb: &[[f32; 3]]) -> Self {
-        assert!(width > 0 && height > 0, "an empty image");
-        assert_eq!(srgb.len(), width as usize * height as usize, "texel count");
         let texels = srgb
             .iter()
             .map(|c| Vec3::from(c.map(srgb_to_linear)))
             .collect();
+        ImageTexels::new(width, height, Linear::Floats(texels))
+    }
+
+    /// The image of 8-bit sRGB texels (row by row from the top): the same
+    /// as `from_srgb` of their values / 255, in a quarter of the memory.
+    /// Panics unless there are `width * height` (> 0).
+    pub fn from_srgb8(width: u32, height: u32, srgb: &[[u8; 3]]) -> Self {
+        ImageTexels::new(width, height, Linear::Srgb8(srgb.to_vec()))
+    }
+
+    fn new(width: u32, height: u32, texels: Linear) -> Self {
+        assert!(width > 0 && height > 0, "an empty image");
+        assert_eq!(
+            texels.len(),
+            width as usize * height as usize,
+            "texel count"
+        );
         ImageTexels {
             width,
             height,
@@ -187,7 +225,11 @@ impl ImageTexels {
     fn texel(&self, x: i64, y: i64, wrap: Wrap) -> Vec3 {
         let x = wrap.index(x, i64::from(self.width));
         let y = wrap.index(y, i64::from(self.height));
-        self.texels[(y * i64::from(self.width) + x) as usize]
+        let i = (y * i64::from(self.width) + x) as usize;
+        match &self.texels {
+            Linear::Srgb8(t) => Vec3::from(t[i].map(|v| SRGB8_TO_LINEAR[usize::from(v)])),
+            Linear::Floats(t) => t[i],
+        }
     }
 
     /// The bilinear interpolation of the four texels around `uv`, u from
@@ -346,6 +388,30 @@ mod tests {
 
     /// Four texels in a row, greys 0.1 to 0.4 (linear: `from_srgb` decodes,
     /// so the texels are given encoded).
+    #[test]
+    fn an_8_bit_image_reads_as_its_floats_bit_for_bit() {
+        let bytes: Vec<[u8; 3]> = (0..=255u8).map(|v| [v, 255 - v, v / 2]).collect();
+        let floats: Vec<[f32; 3]> = bytes
+            .iter()
+            .map(|b| b.map(|v| f32::from(v) / 255.0))
+            .collect();
+        let (eight, float) = (
+            ImageTexels::from_srgb8(256, 1, &bytes),
+            ImageTexels::from_srgb(256, 1, &floats),
+        );
+        for x in 0..256 {
+            let (a, b) = (
+                eight.texel(x, 0, Wrap::Clamp),
+                float.texel(x, 0, Wrap::Clamp),
+            );
+            assert_eq!(
+                a.to_array().map(f32::to_bits),
+                b.to_array().map(f32::to_bits),
+                "{x}"
+            );
+        }
+    }
+
     fn four_in_a_row() -> ImageTexels {
         let encoded: Vec<[f32; 3]> = [0.1, 0.2, 0.3, 0.4]
             .iter()
