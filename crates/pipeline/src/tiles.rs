@@ -52,7 +52,7 @@ pub enum TileError {
         first: PathBuf,
         expected: (u32, u32),
     },
-    #[error("{}: a tile of another scene or other render options (digest {}...), not of the {others} other tile{} (digest {}...)", path.display(), &digest[..12], if *others == 1 { "" } else { "s" }, &expected[..12])]
+    #[error("{}: a tile of another scene or other render options (digest {}...), not of the {others} other tile{} (digest {}...)", path.display(), start(digest), if *others == 1 { "" } else { "s" }, start(expected))]
     Foreign {
         path: PathBuf,
         digest: String,
@@ -296,7 +296,8 @@ pub fn read(path: &Path) -> Result<Tile, TileError> {
     };
     let digest = text(DIGEST).ok_or_else(|| not_a_tile(format!("no `{DIGEST}` attribute")))?;
     let gamma = match other.get(&Text::from(GAMMA)) {
-        Some(AttributeValue::F32(g)) => *g,
+        Some(AttributeValue::F32(g)) if g.is_finite() && *g > 0.0 => *g,
+        Some(_) => return Err(not_a_tile(format!("its `{GAMMA}` is not a number > 0"))),
         _ => return Err(not_a_tile(format!("no `{GAMMA}` attribute"))),
     };
     let saturation = match text(SATURATION).as_deref() {
@@ -423,6 +424,17 @@ pub fn merge(tiles: &[(PathBuf, Tile)]) -> Result<Picture, TileError> {
         });
     }
     let (width, height) = first.size;
+    // Before the image is allocated: one 1-pixel tile of a 16384x16384
+    // image took 4 GB to be found wanting.
+    if let Some((x, y)) = first_uncovered(tiles, (width, height)) {
+        return Err(TileError::Missing {
+            what: missing_tile(tiles, (x, y)),
+            x,
+            y,
+            width,
+            height,
+        });
+    }
     // u32: the owner of each of up to 2^28 pixels, a gigabyte at most.
     let mut owner = vec![u32::MAX; width as usize * height as usize];
     let mut linear = LinearImage::new(width, height);
@@ -461,6 +473,39 @@ pub fn merge(tiles: &[(PathBuf, Tile)]) -> Result<Picture, TileError> {
     })
 }
 
+/// The first pixel, row by row, that no tile holds: each row's tiles
+/// sorted by where they start, and the first gap between them.
+fn first_uncovered(tiles: &[(PathBuf, Tile)], (width, height): (u32, u32)) -> Option<(u32, u32)> {
+    let mut spans: Vec<(u32, u32)> = Vec::new();
+    for y in 0..height {
+        spans.clear();
+        let across = tiles.iter().map(|(_, t)| t.region);
+        spans.extend(
+            across
+                .filter(|r| (r.y0..r.y1).contains(&y))
+                .map(|r| (r.x0, r.x1)),
+        );
+        spans.sort_unstable();
+        let mut x = 0;
+        for &(x0, x1) in &spans {
+            if x0 > x {
+                break;
+            }
+            x = x.max(x1);
+        }
+        if x < width {
+            return Some((x, y));
+        }
+    }
+    None
+}
+
+/// The first 12 characters of a digest, for a message (a forged one may
+/// be shorter, or not ASCII).
+fn start(digest: &str) -> String {
+    digest.chars().take(12).collect()
+}
+
 /// The digest most tiles carry (the first tile's on a tie): the odd one
 /// out is the foreign tile.
 fn majority_digest(tiles: &[(PathBuf, Tile)]) -> String {
@@ -494,4 +539,67 @@ fn missing_tile(tiles: &[(PathBuf, Tile)], (x, y): (u32, u32)) -> String {
         .map_or("a part".to_string(), |(i, r)| {
             format!("tile {i}/{count} (rows {}..{})", r.y0, r.y1)
         })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A tile of a `size` image holding `region`, of digest `digest`.
+    fn tile(digest: &str, size: (u32, u32), region: Region) -> (PathBuf, Tile) {
+        let linear = LinearImage::new(region.x1 - region.x0, region.y1 - region.y0);
+        let encoding = Encoding {
+            gamma: 1.0,
+            saturation: Saturation::Clamp,
+        };
+        let tile = Tile {
+            digest: digest.to_string(),
+            size,
+            region,
+            linear,
+            encoding,
+            tile: None,
+        };
+        (PathBuf::from(format!("{digest}.exr")), tile)
+    }
+
+    fn region(x0: u32, y0: u32, x1: u32, y1: u32) -> Region {
+        Region { x0, y0, x1, y1 }
+    }
+
+    #[test]
+    fn a_forged_short_or_wide_digest_is_named_without_a_panic() {
+        let whole = region(0, 0, 2, 1);
+        for odd in ["abc", "ééééééééééééé"] {
+            let tiles = [
+                tile(&"x".repeat(64), (2, 1), whole),
+                tile(&"x".repeat(64), (2, 1), whole),
+                tile(odd, (2, 1), whole),
+            ];
+            let error = merge(&tiles).unwrap_err().to_string();
+            assert!(error.contains("a tile of another scene"), "{error}");
+        }
+    }
+
+    #[test]
+    fn a_missing_pixel_is_found_before_the_image_is_made() {
+        // One pixel of a 2^28-pixel image: found without its 3 GB.
+        let tiles = [tile("d", (16384, 16384), region(0, 0, 1, 1))];
+        let error = merge(&tiles).unwrap_err();
+        assert!(
+            matches!(error, TileError::Missing { x: 1, y: 0, .. }),
+            "{error}"
+        );
+        let tiles = [
+            tile("d", (4, 2), region(0, 0, 4, 1)),
+            tile("d", (4, 2), region(0, 1, 2, 2)),
+            tile("d", (4, 2), region(3, 1, 4, 2)),
+        ];
+        let error = merge(&tiles).unwrap_err();
+        assert!(
+            matches!(error, TileError::Missing { x: 2, y: 1, .. }),
+            "{error}"
+        );
+        assert_eq!(first_uncovered(&tiles[..2], (4, 2)), Some((2, 1)));
+    }
 }
