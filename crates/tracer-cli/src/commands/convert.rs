@@ -111,6 +111,11 @@ fn to_toml(mut value: serde_json::Value) -> anyhow::Result<String> {
     let table = value.as_object_mut().expect("checked by the caller");
     let directive = match table.get(SCHEMA_KEY) {
         Some(serde_json::Value::String(path)) => {
+            // On the directive's one line, a line break would start TOML
+            // of its own: keys the JSON file never had.
+            if path.chars().any(char::is_control) {
+                bail!("`{SCHEMA_KEY}` holds a line break or another control character; expected the path of a schema file");
+            }
             let line = format!("{SCHEMA_DIRECTIVE}{path}\n");
             table.remove(SCHEMA_KEY);
             line
@@ -189,5 +194,21 @@ fn one_line(value: &serde_json::Value) -> String {
             format!("[{}]", items.join(", "))
         }
         other => other.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_schema_with_a_line_break_cannot_write_toml_of_its_own() {
+        let json = r#"{"$schema": "x\n[render]\nsamples = 4096\n#", "camera": {"eye": [0, 0, 1]}}"#;
+        let error = convert(json, Format::Json, Format::Toml)
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("holds a line break"), "{error}");
+        let fine = convert(r#"{"$schema": "../s.json"}"#, Format::Json, Format::Toml).unwrap();
+        assert_eq!(fine, "#:schema ../s.json\n");
     }
 }
