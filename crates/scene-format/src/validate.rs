@@ -479,7 +479,7 @@ impl Validator {
             let known = BuiltinTexture::ALL.map(BuiltinTexture::name);
             self.error(
                 path,
-                format!("unknown texture `{name}`; {}", hint(name, &known)),
+                format!("unknown texture `{}`; {}", shown(name), hint(name, &known)),
             );
         }
     }
@@ -506,7 +506,7 @@ impl Validator {
             Some(MaterialRef::Named(name)) if !scene.materials.contains_key(name) => {
                 let expected = if scene.materials.is_empty() {
                     "expected a name from [materials], but none are defined".to_string()
-                } else if self.hints < MAX_HINTS {
+                } else if self.hints < MAX_HINTS && name.len() <= MAX_NAME_SHOWN {
                     self.hints += 1;
                     let known = self
                         .material_names
@@ -520,7 +520,7 @@ impl Validator {
                 };
                 self.error(
                     path.key("material"),
-                    format!("unknown material `{name}`; {expected}"),
+                    format!("unknown material `{}`; {expected}", shown(name)),
                 );
             }
             Some(MaterialRef::Inline(m)) => self.material(&path.key("material"), m),
@@ -815,6 +815,19 @@ fn cross(a: Vec3, b: Vec3) -> Vec3 {
     ]
 }
 
+/// The longest name a message quotes whole, in bytes: a file of one 30 MB
+/// name wrote 30 MB of message.
+const MAX_NAME_SHOWN: usize = 64;
+
+/// `name` as a message quotes it: whole, or its start and its length.
+fn shown(name: &str) -> String {
+    if name.len() <= MAX_NAME_SHOWN {
+        return name.to_string();
+    }
+    let start: String = name.chars().take(40).collect();
+    format!("{start}... ({} bytes)", name.len())
+}
+
 /// Why an environment whose brightest radiance is `brightest` times
 /// `strength` cannot be rendered: past the largest float every path that
 /// sees it would be infinite, and left out (a black image). None if it can.
@@ -940,5 +953,17 @@ mod tests {
         assert!(parallel.contains("not parallel to `edge_u`"), "{parallel}");
         let tiny = quad("[1e-19, 0, 0]", "[0, 0, 1e-19]");
         assert!(tiny.contains("expected longer edges"), "{tiny}");
+    }
+
+    #[test]
+    fn a_long_unknown_name_is_quoted_by_its_start() {
+        let name = "h".repeat(100_000);
+        let text = format!(
+            "[camera]\neye = [0, 0, 4]\nlook_at = [0, 0, 0]\n[materials.red]\ndiffuse = [1, 0, 0]\n[[objects]]\nsphere = {{ center = [0, 0, 0], radius = 1 }}\nmaterial = \"{name}\"\n"
+        );
+        let error = load_str(&text, Format::Toml, Path::new("m.toml")).expect_err("refused");
+        let message = &error.diagnostics()[0].message;
+        assert!(message.len() < 200, "{} bytes", message.len());
+        assert!(message.contains("... (100000 bytes)"), "{message}");
     }
 }
