@@ -169,7 +169,8 @@ impl ImageCache {
             .and_then(|bytes| decode(&bytes, self.texels_left))
             .map(Arc::new);
         if let Ok(image) = &read {
-            self.texels_left -= u64::from(image.width) * u64::from(image.height);
+            let texels = u64::from(image.width) * u64::from(image.height);
+            self.texels_left = self.texels_left.saturating_sub(texels);
         }
         self.read.insert(path.to_path_buf(), read.clone());
         read
