@@ -382,6 +382,27 @@ fn a_different_size_is_named_and_compared_no_further() {
     assert!(stderr_of(&out).contains("no heat-map: the sizes differ"));
     assert!(!dir.path().join("heat.png").exists());
     assert_eq!(leftovers(dir.path()), Vec::<String>::new());
+    // Known from the camera, not rendered: a 16384x16384 scene took 3.9 GB
+    // to be found the wrong size.
+    let text = std::fs::read_to_string(&scene_file).unwrap();
+    let huge = text.replacen("width = 500", "width = 16384", 1).replacen(
+        "height = 400",
+        "height = 16384",
+        1,
+    );
+    assert_ne!(huge, text, "the scene's size is written as expected");
+    std::fs::write(dir.path().join("huge.toml"), huge).unwrap();
+    let out = compare(dir.path(), "small.png", "huge.toml");
+    assert!(
+        stdout_of(&out).contains("(a scene not rendered, its camera's 16384x16384)"),
+        "{}",
+        stdout_of(&out)
+    );
+    assert!(
+        !stderr_of(&out).contains("rows"),
+        "no progress: {}",
+        stderr_of(&out)
+    );
 }
 
 #[test]

@@ -180,7 +180,7 @@ fn render_scenes(
         let path = &names[scene];
         note!("rendering {}", path.display());
         let loaded = tracer_pipeline::load(&Input::File(path.clone()))?;
-        references.insert(scene.clone(), input::render(loaded)?);
+        references.insert(scene.clone(), input::render(loaded, None)?);
     }
     Ok(references)
 }

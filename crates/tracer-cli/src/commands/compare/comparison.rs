@@ -26,10 +26,10 @@ impl Comparison {
     /// levels.
     pub fn new(image: &RgbImage, reference_read: &Reference, tolerance: u8) -> Comparison {
         let reference = &reference_read.image;
-        if image.dimensions() != reference.dimensions() {
+        if image.dimensions() != reference_read.size {
             return Comparison::Sizes {
                 image: image.dimensions(),
-                reference: reference.dimensions(),
+                reference: reference_read.size,
             };
         }
         let difference = metrics::difference(image, reference, tolerance);

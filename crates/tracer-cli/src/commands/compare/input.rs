@@ -81,7 +81,11 @@ pub fn is_scene(path: &Path) -> bool {
 
 /// A reference: its 8-bit image and the display gamma that made it.
 pub struct Reference {
+    /// Its pixels; none when a scene's size differs from the image's,
+    /// which then is all that is compared.
     pub image: RgbImage,
+    /// Its size, whether or not it was rendered.
+    pub size: (u32, u32),
     /// The scene's gamma; `None` for a reference image, whose gamma is
     /// not known.
     pub gamma: Option<f32>,
@@ -129,11 +133,15 @@ impl Reference {
     }
 }
 
-/// The reference at `path`: an image, or a scene loaded and rendered.
-pub fn read_reference(path: &Path) -> anyhow::Result<Reference> {
+/// The reference at `path`: an image, or a scene loaded and rendered if
+/// its size is `wanted` (else only its size is known: a scene of 16384^2
+/// pixels is not rendered to be found the wrong size).
+pub fn read_reference(path: &Path, wanted: Option<(u32, u32)>) -> anyhow::Result<Reference> {
     if !is_scene(path) {
+        let image = read_image(path)?;
         return Ok(Reference {
-            image: read_image(path)?,
+            size: image.dimensions(),
+            image,
             gamma: None,
             scene: None,
             files_read: vec![path.to_path_buf()],
@@ -143,15 +151,29 @@ pub fn read_reference(path: &Path) -> anyhow::Result<Reference> {
         });
     }
     let loaded = tracer_pipeline::load(&Input::File(path.to_path_buf()))?;
-    render(loaded)
+    render(loaded, wanted)
 }
 
 /// `loaded` rendered with the scene's own settings, as `tracer render`
-/// renders it to a PNG, with its warnings and a progress bar on stderr.
-pub fn render(loaded: Loaded) -> anyhow::Result<Reference> {
+/// renders it to a PNG, with its warnings and a progress bar on stderr;
+/// not rendered unless its size is `wanted` (or nothing is).
+pub fn render(loaded: Loaded, wanted: Option<(u32, u32)>) -> anyhow::Result<Reference> {
     let options = Options::default();
     crate::report::warnings(&loaded, &options);
-    let (_, rows) = tracer_pipeline::image_size(&loaded, &options)?;
+    let size = tracer_pipeline::image_size(&loaded, &options)?;
+    if wanted.is_some_and(|wanted| wanted != size) {
+        return Ok(Reference {
+            image: RgbImage::new(0, 0),
+            size,
+            gamma: None,
+            scene: Some(loaded.name.clone()),
+            files_read: loaded.files_read.clone(),
+            path_samples: path_samples(&loaded),
+            loaded: None,
+            corners: Default::default(),
+        });
+    }
+    let (_, rows) = size;
     let progress = Progress::new(rows.into(), false);
     let rendered = tracer_pipeline::render(&loaded, &options, &|n| progress.rows_done(n));
     progress.finish();
@@ -161,6 +183,7 @@ pub fn render(loaded: Loaded) -> anyhow::Result<Reference> {
     let path_samples = path_samples(&loaded);
     let through_corners = matches!(loaded.kind, SceneKind::Scene3d(_)) && path_samples.is_none();
     Ok(Reference {
+        size,
         image: picture.to_rgb8(),
         gamma: Some(picture.encoding.gamma),
         scene: Some(loaded.name.clone()),

@@ -23,7 +23,7 @@ pub fn run(image: &Path, reference: &Path, heat_map: Option<&Path>, tolerance: u
         None => None,
     };
     let picture = read_image(image)?;
-    let reference_read = read_reference(reference)?;
+    let reference_read = read_reference(reference, Some(picture.dimensions()))?;
     if let Some(pending) = &pending {
         check_not_an_input(pending.path(), &reference_read.files_read).map_err(Error::from)?;
     }
@@ -70,11 +70,12 @@ struct Names<'a> {
 /// The report on stdout.
 fn text(names: &Names, comparison: &Comparison, tolerance: u8) -> String {
     let (w, h) = names.image_size;
-    let (rw, rh) = names.reference_read.image.dimensions();
-    let rendered = if names.reference_read.scene.is_some() {
-        "rendered, "
-    } else {
-        ""
+    let (rw, rh) = names.reference_read.size;
+    let read = names.reference_read;
+    let rendered = match (&read.scene, read.image.dimensions() == read.size) {
+        (Some(_), true) => "rendered, ",
+        (Some(_), false) => "a scene not rendered, its camera's ",
+        (None, _) => "",
     };
     let mut out = format!(
         "image      {} ({w}x{h})\nreference  {} ({rendered}{rw}x{rh})\n",
