@@ -386,8 +386,6 @@ mod tests {
         }
     }
 
-    /// Four texels in a row, greys 0.1 to 0.4 (linear: `from_srgb` decodes,
-    /// so the texels are given encoded).
     #[test]
     fn an_8_bit_image_reads_as_its_floats_bit_for_bit() {
         let bytes: Vec<[u8; 3]> = (0..=255u8).map(|v| [v, 255 - v, v / 2]).collect();
@@ -412,6 +410,8 @@ mod tests {
         }
     }
 
+    /// Four texels in a row, greys 0.1 to 0.4 (linear: `from_srgb` decodes,
+    /// so the texels are given encoded).
     fn four_in_a_row() -> ImageTexels {
         let encoded: Vec<[f32; 3]> = [0.1, 0.2, 0.3, 0.4]
             .iter()
