@@ -646,20 +646,6 @@ fn a_bad_class_or_scene_exits_2_and_writes_no_report() {
     );
 
     std::fs::remove_file(dir.path().join("class/bad-alice.png")).unwrap();
-    std::fs::write(
-        dir.path().join("class/illumination-bob.png"),
-        "not an image",
-    )
-    .unwrap();
-    let out = run();
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr_of(&out).contains("illumination-bob.png: not an image"),
-        "{}",
-        stderr_of(&out)
-    );
-
-    std::fs::remove_file(dir.path().join("class/illumination-bob.png")).unwrap();
     let out = run();
     assert_eq!(out.status.code(), Some(2));
     assert!(
@@ -690,6 +676,72 @@ fn a_bad_class_or_scene_exits_2_and_writes_no_report() {
         "mine"
     );
     assert_eq!(leftovers(dir.path()), Vec::<String>::new());
+}
+
+#[test]
+fn an_unreadable_image_is_reported_beside_the_others_and_a_pipe_is_skipped() {
+    let dir = tempfile::tempdir().unwrap();
+    let class = dir.path().join("class");
+    std::fs::create_dir_all(&class).unwrap();
+    render(
+        dir.path(),
+        &scene("illumination.toml"),
+        "class/illumination-alice.png",
+        &[],
+    );
+    std::fs::write(class.join("illumination-bob.png"), "not an image").unwrap();
+    // A link to a file is read; a pipe would block a read for ever.
+    std::os::unix::fs::symlink(
+        "illumination-alice.png",
+        class.join("illumination-carol.png"),
+    )
+    .unwrap();
+    let fifo = class.join("illumination-dave.png");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap();
+    assert!(made.success());
+    let scenes = scenes_dir();
+    let out = tracer(
+        dir.path(),
+        &["compare", "--report", "class", "--scenes", &scenes],
+    );
+    let (stdout, stderr) = (stdout_of(&out), stderr_of(&out));
+    // Not all within tolerance: exit 1, and the report is written.
+    assert_eq!(out.status.code(), Some(1), "{stdout}{stderr}");
+    assert!(
+        stderr.contains("skipped: class/illumination-dave.png is not a file"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("not compared: class/illumination-bob.png: not an image"),
+        "{stderr}"
+    );
+    assert!(
+        stdout.contains("2 images against 1 scene: 2 within tolerance, 0 not; 1 unreadable"),
+        "{stdout}"
+    );
+    let report = dir.path().join("report");
+    let csv = std::fs::read_to_string(report.join("report.csv")).unwrap();
+    let rows: Vec<&str> = csv.lines().skip(1).collect();
+    assert_eq!(rows.len(), 3, "{csv}");
+    assert!(
+        rows[0].starts_with("class/illumination-alice.png,illumination,0.000000"),
+        "{csv}"
+    );
+    assert!(
+        rows[1].starts_with("class/illumination-carol.png,illumination,0.000000"),
+        "{csv}"
+    );
+    assert_eq!(
+        rows[2],
+        "class/illumination-bob.png,illumination,,,,,,,\
+         unreadable: not an image (expected a .png or .jpg file)"
+    );
+    let page = std::fs::read_to_string(report.join("index.html")).unwrap();
+    assert!(page.contains("2 images compared: 2 within tolerance, 0 not; 1 unreadable"));
+    assert!(page.contains("Not compared: unreadable"), "{page}");
 }
 
 /// The report's `index.html` in `dir` as headless Chromium has it once its

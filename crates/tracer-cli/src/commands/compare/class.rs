@@ -11,10 +11,11 @@
 
 use super::comparison::Comparison;
 use super::input::{self, BadInput, Reference};
-use super::page::{self, Entry};
+use super::page::{self, Class, Entry, Unreadable};
 use super::pair::percent;
 use crate::console::{self, note};
 use anyhow::Result;
+use image::RgbImage;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -43,15 +44,11 @@ pub fn run(dir: &Path, scenes: &Path, out: &Path, tolerance: u8) -> Result<bool>
         ))
         .into());
     }
-    let references = render_scenes(&matched, &names)?;
-    let images = matched
-        .iter()
-        .map(|(path, _)| input::read_image(path))
-        .collect::<Result<Vec<_>, _>>()?;
-    let mut entries: Vec<Entry> = matched
+    let (readable, unreadable) = read_images(matched);
+    let references = render_scenes(&readable, &names)?;
+    let mut entries: Vec<Entry> = readable
         .into_par_iter()
-        .zip(images)
-        .map(|((path, scene), image)| {
+        .map(|(path, scene, image)| {
             let reference = &references[&scene];
             let comparison = Comparison::new(&image, reference, tolerance);
             Entry {
@@ -63,10 +60,38 @@ pub fn run(dir: &Path, scenes: &Path, out: &Path, tolerance: u8) -> Result<bool>
         })
         .collect();
     entries.sort_by(|a, b| Comparison::worse_first(&a.comparison, &b.comparison));
-    page::write(out, &entries, &references, &unmatched, tolerance)?;
-    console::stdout(&table(&entries, references.len()))?;
+    let class = Class {
+        entries,
+        unreadable,
+        unmatched,
+    };
+    page::write(out, &class, &references, tolerance)?;
+    console::stdout(&table(&class, references.len()))?;
     note!("report -> {}", out.join("index.html").display());
-    Ok(entries.iter().all(|e| e.comparison.within_tolerance()))
+    Ok(class.unreadable.is_empty()
+        && class
+            .entries
+            .iter()
+            .all(|e| e.comparison.within_tolerance()))
+}
+
+/// The images read, and those that could not be: one student's broken
+/// file is reported beside the others' results, not the end of the report.
+fn read_images(
+    matched: Vec<(PathBuf, String)>,
+) -> (Vec<(PathBuf, String, RgbImage)>, Vec<Unreadable>) {
+    let mut readable = Vec::new();
+    let mut unreadable = Vec::new();
+    for (path, scene) in matched {
+        match input::image_at(&path) {
+            Ok(image) => readable.push((path, scene, image)),
+            Err(why) => {
+                note!("not compared: {}: {why}", path.display());
+                unreadable.push(Unreadable { path, scene, why });
+            }
+        }
+    }
+    (readable, unreadable)
 }
 
 /// Every scene file below `scenes` by its name.
@@ -141,7 +166,8 @@ fn longest_name<'a>(word: &str, names: &'a BTreeMap<String, PathBuf>) -> Option<
 }
 
 /// The files below `dir` with one of `extensions` (any case), in path
-/// order; hidden files and folders are left out.
+/// order; hidden files and folders are left out, and so (said on
+/// stderr) is anything else than a file or a link to one.
 fn files(dir: &Path, extensions: &[&str]) -> Result<Vec<PathBuf>> {
     if !dir.is_dir() {
         return Err(BadInput(format!("{}: not a folder", dir.display())).into());
@@ -160,8 +186,14 @@ fn files(dir: &Path, extensions: &[&str]) -> Result<Vec<PathBuf>> {
             .extension()
             .and_then(|e| e.to_str())
             .is_some_and(|e| extensions.iter().any(|x| e.eq_ignore_ascii_case(x)));
-        if wanted && entry.file_type().is_file() {
+        if !wanted || entry.file_type().is_dir() {
+            continue;
+        }
+        // A link is followed to a file; a pipe or device would never end.
+        if std::fs::metadata(entry.path()).is_ok_and(|m| m.is_file()) {
             found.push(entry.into_path());
+        } else {
+            note!("skipped: {} is not a file", entry.path().display());
         }
     }
     Ok(found)
@@ -169,11 +201,11 @@ fn files(dir: &Path, extensions: &[&str]) -> Result<Vec<PathBuf>> {
 
 /// Each scene the images name, rendered once.
 fn render_scenes(
-    matched: &[(PathBuf, String)],
+    matched: &[(PathBuf, String, RgbImage)],
     names: &BTreeMap<String, PathBuf>,
 ) -> Result<BTreeMap<String, Reference>> {
     let mut references = BTreeMap::new();
-    for (_, scene) in matched {
+    for (_, scene, _) in matched {
         if references.contains_key(scene) {
             continue;
         }
@@ -185,40 +217,56 @@ fn render_scenes(
     Ok(references)
 }
 
-/// The summary on stdout: one line per image, worst first.
-fn table(entries: &[Entry], scenes: usize) -> String {
-    let widest = |text: &dyn Fn(&Entry) -> String, least: usize| {
-        entries
-            .iter()
-            .map(|e| text(e).chars().count())
-            .fold(least, usize::max)
-    };
-    let width = widest(&|e| e.path.display().to_string(), 5);
-    let scene_width = widest(&|e| e.scene.clone(), 5);
+/// The summary on stdout: one line per image, worst first, then the
+/// images that could not be read.
+fn table(class: &Class, scenes: usize) -> String {
+    let entries = &class.entries;
+    let shown = |path: &Path| path.display().to_string();
+    let paths = entries
+        .iter()
+        .map(|e| shown(&e.path))
+        .chain(class.unreadable.iter().map(|u| shown(&u.path)));
+    let width = paths.map(|p| p.chars().count()).fold(5, usize::max);
+    let scene_width = entries
+        .iter()
+        .map(|e| &e.scene)
+        .chain(class.unreadable.iter().map(|u| &u.scene))
+        .map(|s| s.chars().count())
+        .fold(5, usize::max);
     let mut out = format!(
         "{:>11}  {:>6}  {:<width$}  {:<scene_width$}  mistakes\n",
         "off", "FLIP", "image", "scene"
     );
+    let mut line = |off: &str, flip: &str, path: &Path, scene: &str, words: &str| {
+        let line = format!(
+            "{off:>11}  {flip:>6}  {:<width$}  {scene:<scene_width$}  {words}",
+            shown(path)
+        );
+        out += line.trim_end();
+        out.push('\n');
+    };
     for e in entries {
         let flip = e
             .comparison
             .flip_mean()
             .map_or("-".to_string(), |f| format!("{f:.4}"));
-        let line = format!(
-            "{:>11}  {flip:>6}  {:<width$}  {:<scene_width$}  {}",
-            percent(e.comparison.share()),
-            e.path.display().to_string(),
-            e.scene,
-            e.comparison.words().join(", ")
+        let words = e.comparison.words().join(", ");
+        line(
+            &percent(e.comparison.share()),
+            &flip,
+            &e.path,
+            &e.scene,
+            &words,
         );
-        out += line.trim_end();
-        out.push('\n');
+    }
+    for u in &class.unreadable {
+        line("unreadable", "-", &u.path, &u.scene, &u.why);
     }
     let within = entries
         .iter()
         .filter(|e| e.comparison.within_tolerance())
         .count();
-    let _ = writeln!(
+    let _ = write!(
         out,
         "{} image{} against {scenes} scene{}: {within} within tolerance, {} not",
         entries.len(),
@@ -226,6 +274,10 @@ fn table(entries: &[Entry], scenes: usize) -> String {
         if scenes == 1 { "" } else { "s" },
         entries.len() - within
     );
+    if !class.unreadable.is_empty() {
+        let _ = write!(out, "; {} unreadable", class.unreadable.len());
+    }
+    out.push('\n');
     out
 }
 

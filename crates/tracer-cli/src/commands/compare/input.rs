@@ -29,21 +29,21 @@ impl std::error::Error for BadInput {}
 /// The 8-bit RGB image at `path` (PNG or JPEG; 16 bits read as the tracer
 /// writes them, alpha dropped).
 pub fn read_image(path: &Path) -> Result<RgbImage, BadInput> {
-    let bad = |message: String| BadInput(format!("{}: {message}", path.display()));
+    image_at(path).map_err(|message| BadInput(format!("{}: {message}", path.display())))
+}
+
+/// [`read_image`], its error without the path.
+pub fn image_at(path: &Path) -> Result<RgbImage, String> {
     let bytes = scene_format::read::read_capped(path, MAX_IMAGE_BYTES)
-        .map_err(|e| bad(format!("cannot read the image: {e}")))?;
+        .map_err(|e| format!("cannot read the image: {e}"))?;
     let reader = image::ImageReader::new(std::io::Cursor::new(bytes))
         .with_guessed_format()
-        .map_err(|e| bad(e.to_string()))?;
+        .map_err(|e| e.to_string())?;
     if reader.format().is_none() {
-        return Err(bad(
-            "not an image (expected a .png or .jpg file)".to_string()
-        ));
+        return Err("not an image (expected a .png or .jpg file)".to_string());
     }
-    let image = reader
-        .decode()
-        .map_err(|e| bad(scene_format::images::unreadable(e)))?;
-    to_rgb8(image).map_err(bad)
+    let image = reader.decode().map_err(scene_format::images::unreadable)?;
+    to_rgb8(image)
 }
 
 /// The 8-bit values of `image`; float images are refused, their linear

@@ -21,6 +21,21 @@ pub struct Entry {
     pub comparison: Comparison,
 }
 
+/// An image of the class that could not be read, and why.
+pub struct Unreadable {
+    pub path: PathBuf,
+    pub scene: String,
+    pub why: String,
+}
+
+/// What the report shows: the images compared, worst first, those that
+/// could not be read and those named after no scene.
+pub struct Class {
+    pub entries: Vec<Entry>,
+    pub unreadable: Vec<Unreadable>,
+    pub unmatched: Vec<PathBuf>,
+}
+
 /// The files that show that `out` is a report, which may be replaced.
 const REPORT_FILES: [&str; 2] = ["index.html", "report.csv"];
 
@@ -58,19 +73,19 @@ fn parent_of(path: &Path) -> &Path {
 /// takes its place, so an old report is never mixed with a new one.
 pub fn write(
     out: &Path,
-    entries: &[Entry],
+    class: &Class,
     references: &BTreeMap<String, Reference>,
-    unmatched: &[PathBuf],
     tolerance: u8,
 ) -> Result<()> {
+    let entries = &class.entries;
     // Everything is encoded before the folder is made: it lives for the
     // few writes only (a signal then would leave it behind).
     let mut files = vec![
         (
             "index.html".to_string(),
-            html(entries, unmatched, tolerance).into_bytes(),
+            html(class, tolerance).into_bytes(),
         ),
-        ("report.csv".to_string(), csv(entries)?),
+        ("report.csv".to_string(), csv(class)?),
     ];
     for (scene, reference) in references {
         files.push((reference_file(scene), png(&reference.image)?));
@@ -136,8 +151,10 @@ fn rank_text(rank: usize, count: usize) -> String {
     format!("{:0digits$}", rank + 1)
 }
 
-/// `report.csv`: a header, then one row per image, worst first.
-fn csv(entries: &[Entry]) -> Result<Vec<u8>> {
+/// `report.csv`: a header, then one row per image, worst first, then
+/// the unreadable ones (their numbers empty, `unreadable: why` their
+/// mistakes).
+fn csv(class: &Class) -> Result<Vec<u8>> {
     let mut writer = csv::Writer::from_writer(Vec::new());
     writer.write_record([
         "image",
@@ -150,8 +167,14 @@ fn csv(entries: &[Entry]) -> Result<Vec<u8>> {
         "flip",
         "mistakes",
     ])?;
-    for e in entries {
+    for e in &class.entries {
         writer.write_record(csv_row(e))?;
+    }
+    for u in &class.unreadable {
+        let mut row = vec![u.path.display().to_string(), u.scene.clone()];
+        row.extend(vec![String::new(); 6]);
+        row.push(format!("unreadable: {}", u.why));
+        writer.write_record(row)?;
     }
     Ok(writer.into_inner().map_err(|e| e.into_error())?)
 }
@@ -185,15 +208,20 @@ fn csv_row(e: &Entry) -> Vec<String> {
 }
 
 /// `index.html`.
-fn html(entries: &[Entry], unmatched: &[PathBuf], tolerance: u8) -> String {
+fn html(class: &Class, tolerance: u8) -> String {
+    let entries = &class.entries;
     let within = entries
         .iter()
         .filter(|e| e.comparison.within_tolerance())
         .count();
+    let unreadable = match class.unreadable.len() {
+        0 => String::new(),
+        n => format!("; {n} unreadable"),
+    };
     let mut page = String::from(HEAD);
     let _ = write!(
         page,
-        "<h1>{} images compared: {within} within tolerance, {} not</h1>\n\
+        "<h1>{} images compared: {within} within tolerance, {} not{unreadable}</h1>\n\
          <p class=\"legend\">Worst first. A pixel is off when a channel differs by more than \
          {tolerance} of 255. The heat-map is FLIP's error (Andersson et al. 2020) in its magma \
          colours: black where no difference shows, through purple and orange to yellow for \
@@ -206,9 +234,22 @@ fn html(entries: &[Entry], unmatched: &[PathBuf], tolerance: u8) -> String {
     for (rank, e) in entries.iter().enumerate() {
         page += &section(rank, entries.len(), e);
     }
-    if !unmatched.is_empty() {
+    if !class.unreadable.is_empty() {
+        page += "<h2 class=\"fail\">Not compared: unreadable</h2>\n<ul>\n";
+        for u in &class.unreadable {
+            let _ = writeln!(
+                page,
+                "<li>{} <span class=\"scene\">({})</span>: {}</li>",
+                escape(&u.path.display().to_string()),
+                escape(&u.scene),
+                escape(&u.why)
+            );
+        }
+        page += "</ul>\n";
+    }
+    if !class.unmatched.is_empty() {
         page += "<h2>Not compared: named after no scene</h2>\n<ul>\n";
-        for path in unmatched {
+        for path in &class.unmatched {
             let _ = writeln!(page, "<li>{}</li>", escape(&path.display().to_string()));
         }
         page += "</ul>\n";
@@ -351,6 +392,7 @@ figure img { width: 100%; image-rendering: pixelated; display: block; }
 table { border-collapse: collapse; background: #fff; font-family: monospace; }
 td, th { padding: 0.1em 0.8em; text-align: left; }
 tr.fail td { color: #b00; }
+h2.fail { color: #b00; }
 #image-check { display: block; margin: 0.5em 0; }
 #image-check.bad { color: #b00; font-weight: bold; }
 </style>
