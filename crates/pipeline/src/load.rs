@@ -115,6 +115,28 @@ pub fn load(input: &Input) -> Result<Loaded, SceneError> {
     checked(name, loaded)
 }
 
+/// What `tracer check` and `tracer convert` read: a scene file as
+/// [`load`] reads it, or a file a scene includes, read on its own.
+pub enum Checked {
+    Whole(Loaded),
+    /// Every file it was read with.
+    Part {
+        files_read: Vec<PathBuf>,
+    },
+}
+
+/// [`load`] of the file at `path`, or, when it has none of a scene's or
+/// a canvas's top-level keys, the file as a scene includes it
+/// ([`scene_format::load_file_or_part`]).
+pub fn load_or_part(path: &Path) -> Result<Checked, SceneError> {
+    match scene_format::load_file_or_part(path)? {
+        scene_format::Checked::Whole(loaded) => {
+            checked(path.to_path_buf(), loaded).map(Checked::Whole)
+        }
+        scene_format::Checked::Part { files_read } => Ok(Checked::Part { files_read }),
+    }
+}
+
 /// [`load`] of the scene file at `path` in `source` (a folder held in
 /// memory: the browser build), named by its path in messages.
 pub fn load_from(

@@ -204,10 +204,21 @@ impl Problems {
 pub(crate) fn resolve(
     source: &dyn Source,
     path: &Path,
-    mut scene: SceneFile,
+    scene: SceneFile,
     origins: Origins,
 ) -> Result<(SceneFile, Origins), SceneError> {
+    resolve_as(source, path, scene, origins, false)
+}
+
+fn resolve_as(
+    source: &dyn Source,
+    path: &Path,
+    mut scene: SceneFile,
+    origins: Origins,
+    part: bool,
+) -> Result<(SceneFile, Origins), SceneError> {
     let mut loader = Loader {
+        part,
         source,
         origins,
         problems: vec![Problems::default()],
@@ -235,6 +246,35 @@ pub(crate) fn resolve(
     loader.finish(own, base(path), scene)
 }
 
+/// A file a scene includes, read on its own as [`resolve`] reads it in a
+/// scene (`tracer check`, `tracer convert`): its includes, meshes and
+/// images, and its values; a material it names may be defined by another
+/// file of the scene, so an unknown name is not a problem here.
+pub(crate) fn resolve_part(
+    source: &dyn Source,
+    path: &Path,
+    part: IncludedFile,
+    origins: Origins,
+) -> Result<Origins, SceneError> {
+    let scene = SceneFile {
+        camera: placeholder_camera(),
+        render: Default::default(),
+        lights: part.lights,
+        materials: part.materials,
+        objects: part.objects,
+        environment: None,
+        include: part.include,
+        schema: part.schema,
+    };
+    resolve_as(source, path, scene, origins, true).map(|(_, origins)| origins)
+}
+
+/// A camera that passes validation, for a file that has none.
+fn placeholder_camera() -> crate::model::Camera {
+    let text = "eye = [0, 0, 1]\nlook_at = [0, 0, 0]\n";
+    toml::from_str(text).expect("a valid camera")
+}
+
 /// The folder paths in a file are relative to.
 fn base(path: &Path) -> &Path {
     path.parent().unwrap_or(Path::new(""))
@@ -242,6 +282,8 @@ fn base(path: &Path) -> &Path {
 
 struct Loader<'s> {
     source: &'s dyn Source,
+    /// Whether the file read is one a scene includes, read on its own.
+    part: bool,
     origins: Origins,
     /// Per file of `origins.files`.
     problems: Vec<Problems>,
@@ -457,7 +499,11 @@ impl Loader<'_> {
         }
         self.parts.push(own);
         self.merge(&mut scene);
-        let merged = crate::validate::validate(&scene);
+        let merged = if self.part {
+            crate::validate::validate_part(&scene)
+        } else {
+            crate::validate::validate(&scene)
+        };
         for d in merged {
             let (i, local) = self.origins.origin(&d.path);
             self.problems[i].paths.push(Diagnostic { path: local, ..d });

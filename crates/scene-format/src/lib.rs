@@ -36,8 +36,8 @@ pub use error::SceneError;
 pub use include::Origins;
 pub use key_path::{KeyPath, Segment};
 pub use load::{
-    load_any, load_any_str, load_bytes, load_file, load_from, load_path, load_str, LoadedScene,
-    SceneKind,
+    load_any, load_any_str, load_bytes, load_file, load_file_or_part, load_from, load_path,
+    load_str, Checked, LoadedScene, SceneKind,
 };
 pub use model::*;
 pub use obj::mesh_warnings;

@@ -153,6 +153,71 @@ pub fn load_from(source: &dyn Source, path: &Path) -> Result<LoadedScene, SceneE
     })
 }
 
+/// What `tracer check` and `tracer convert` read: a whole scene, or a
+/// file a scene includes, read on its own.
+#[derive(Debug, Clone)]
+pub enum Checked {
+    Whole(LoadedScene),
+    /// A file with none of `camera`, `render`, `environment` or `canvas`
+    /// at its top level: every file it was read with.
+    Part {
+        files_read: Vec<PathBuf>,
+    },
+}
+
+/// [`load_file`], or for a file a scene includes (none of `camera`,
+/// `render`, `environment` or `canvas` at its top level), that file with
+/// its includes, meshes and images, its values validated; a material it
+/// names may be defined by another file of the scene.
+pub fn load_file_or_part(path: &Path) -> Result<Checked, SceneError> {
+    let folder = Folder::new();
+    let part = match Format::from_path(path) {
+        Some(format) => folder
+            .read(path, crate::read::MAX_SCENE_BYTES)
+            .ok()
+            .and_then(|bytes| String::from_utf8(bytes).ok())
+            .filter(|text| is_part(without_bom(text), format))
+            .map(|text| (text, format)),
+        None => None,
+    };
+    let Some((text, format)) = part else {
+        // Errors, a zip archive and whole scenes: as a scene.
+        return load_file(path).map(Checked::Whole);
+    };
+    let text = without_bom(&text);
+    let name = folder.name(path);
+    let included: include::IncludedFile =
+        parse::parse(text, format).map_err(|diagnostics| SceneError::Invalid {
+            file: name.clone(),
+            text: text.to_string(),
+            diagnostics,
+        })?;
+    let origins = Origins::single(&name, text, format);
+    include::resolve_part(&folder, path, included, origins)?;
+    Ok(Checked::Part {
+        files_read: folder.files_read(),
+    })
+}
+
+/// Whether text parses to a table that has some of an included file's
+/// keys and none of a scene's or a canvas's (an empty file is a scene
+/// that lacks its camera).
+fn is_part(text: &str, format: Format) -> bool {
+    const WHOLE: [&str; 4] = ["camera", "render", "environment", "canvas"];
+    const PART: [&str; 4] = ["include", "materials", "lights", "objects"];
+    let keys: Vec<String> = match format {
+        Format::Toml => toml::from_str::<toml::Table>(text)
+            .map(|t| t.keys().cloned().collect())
+            .unwrap_or_default(),
+        Format::Json => serde_json::from_str::<serde_json::Value>(text)
+            .ok()
+            .and_then(|v| Some(v.as_object()?.keys().cloned().collect()))
+            .unwrap_or_default(),
+    };
+    let has = |names: &[&str]| keys.iter().any(|k| names.contains(&k.as_str()));
+    has(&PART) && !has(&WHOLE)
+}
+
 /// `load_any` on text; `file` names it in errors.
 pub fn load_any_str(text: &str, format: Format, file: &Path) -> Result<SceneKind, SceneError> {
     let text = without_bom(text);

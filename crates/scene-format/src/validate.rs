@@ -54,7 +54,20 @@ pub const MAX_PATH_SAMPLES: u32 = 65536;
 
 /// All problems found in `scene`, in file order.
 pub fn validate(scene: &SceneFile) -> Vec<Diagnostic> {
-    let mut v = Validator::default();
+    validate_with(scene, Validator::default())
+}
+
+/// [`validate`] of a file a scene includes, read on its own: a material
+/// it names may be defined by another file of the scene.
+pub(crate) fn validate_part(scene: &SceneFile) -> Vec<Diagnostic> {
+    let v = Validator {
+        names_elsewhere: true,
+        ..Validator::default()
+    };
+    validate_with(scene, v)
+}
+
+fn validate_with(scene: &SceneFile, mut v: Validator) -> Vec<Diagnostic> {
     let root = KeyPath::root();
     v.camera(&root.key("camera"), &scene.camera);
     v.render(&root.key("render"), &scene.render);
@@ -95,6 +108,8 @@ struct Validator {
     hints: usize,
     /// The names of `[materials]`, collected once.
     material_names: Option<Vec<String>>,
+    /// Whether a material name may be defined in a file not read.
+    names_elsewhere: bool,
 }
 
 impl Validator {
@@ -503,7 +518,9 @@ impl Validator {
             self.triangle_uv(&path.key("uv"), uv, o.triangle.is_some());
         }
         match &o.material {
-            Some(MaterialRef::Named(name)) if !scene.materials.contains_key(name) => {
+            Some(MaterialRef::Named(name))
+                if !scene.materials.contains_key(name) && !self.names_elsewhere =>
+            {
                 let expected = if scene.materials.is_empty() {
                     "expected a name from [materials], but none are defined".to_string()
                 } else if self.hints < MAX_HINTS && name.len() <= MAX_NAME_SHOWN {

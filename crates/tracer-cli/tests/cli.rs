@@ -1166,6 +1166,70 @@ fn an_error_in_an_included_file_names_it_in_the_report() {
 }
 
 #[test]
+fn an_included_file_is_checked_and_converted_on_its_own() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(
+        d.join("look.toml"),
+        "[materials.red]\ndiffuse = [1, 0, 0]\n",
+    )
+    .unwrap();
+    // `red` is defined by another file of the scene: not a problem alone.
+    let stage = "include = [\"look.toml\"]\n[[objects]]\n\
+                 sphere = { center = [0, 0, 0], radius = 1 }\nmaterial = \"blue\"\n";
+    std::fs::write(d.join("stage.toml"), stage).unwrap();
+    let out = tracer(d, &["check", "look.toml", "stage.toml"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr_of(&out));
+    assert!(
+        stderr_of(&out).contains("ok: stage.toml (a file for a scene to include"),
+        "{}",
+        stderr_of(&out)
+    );
+    let out = tracer(d, &["convert", "stage.toml"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr_of(&out));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("stage.json")).unwrap()).unwrap();
+    assert_eq!(json["include"][0], "look.toml");
+    assert_eq!(json["objects"][0]["material"], "blue");
+
+    // Its values, includes and meshes are still checked, located.
+    std::fs::write(
+        d.join("bad.toml"),
+        "include = [\"none.toml\"]\n[[objects]]\nsphere = { center = [0, 0, 0], radius = -1 }\n",
+    )
+    .unwrap();
+    let out = tracer(d, &["convert", "bad.toml"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr_of(&out).contains("bad.toml:1:12"),
+        "{}",
+        stderr_of(&out)
+    );
+    std::fs::write(
+        d.join("bad.toml"),
+        "[[objects]]\nsphere = { center = [0, 0, 0], radius = -1 }\n",
+    )
+    .unwrap();
+    let out = tracer(d, &["check", "bad.toml"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr_of(&out).contains("bad.toml:2:41"),
+        "{}",
+        stderr_of(&out)
+    );
+    assert!(!d.join("bad.json").exists());
+    // A scene that forgot its camera but sets `render` is still a scene.
+    std::fs::write(d.join("nocam.toml"), "[render]\nsamples = 4\n").unwrap();
+    let out = tracer(d, &["check", "nocam.toml"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr_of(&out).contains("missing key `camera`"),
+        "{}",
+        stderr_of(&out)
+    );
+}
+
+#[test]
 fn check_shows_the_problems_of_each_file_of_a_scene() {
     let dir = tempfile::tempdir().unwrap();
     let scene = from_crate("../scene-format/tests/include/several-files/scene.toml");

@@ -4,18 +4,23 @@ use crate::args::CheckArgs;
 use crate::console::{self, note};
 use crate::error::{scene_outcome, Outcome};
 use crate::report;
-use tracer_pipeline::Input;
+use tracer_pipeline::Checked;
 
 pub fn run(args: &CheckArgs) -> Outcome {
     let color = report::color_wanted();
     let mut outcome = Outcome::Ok;
     let mut bad = 0;
     for scene in &args.scenes {
-        match tracer_pipeline::load(&Input::File(scene.clone())) {
-            Ok(loaded) => {
+        match tracer_pipeline::load_or_part(scene) {
+            Ok(Checked::Whole(loaded)) => {
                 report::warnings(&loaded, &tracer_pipeline::Options::default());
                 note!("ok: {}", scene.display());
             }
+            Ok(Checked::Part { .. }) => note!(
+                "ok: {} (a file for a scene to include: it has no [camera]; \
+                 the materials it names from other files are checked with the scene)",
+                scene.display()
+            ),
             Err(e) => {
                 bad += 1;
                 console::stderr(format_args!("{}", report::render(&e, color)));

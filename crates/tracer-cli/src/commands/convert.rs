@@ -26,9 +26,12 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
         .clone()
         .unwrap_or_else(|| default_output(&args.scene, to));
     // A scene with mistakes is reported as `tracer check` does, not converted.
-    let loaded = scene_format::load_file(&args.scene).map_err(tracer_pipeline::Error::from)?;
-    output::check_not_an_input(&output, &loaded.files_read)
-        .map_err(tracer_pipeline::Error::from)?;
+    let files_read = match scene_format::load_file_or_part(&args.scene) {
+        Ok(scene_format::Checked::Whole(loaded)) => loaded.files_read,
+        Ok(scene_format::Checked::Part { files_read }) => files_read,
+        Err(e) => return Err(tracer_pipeline::Error::from(e).into()),
+    };
+    output::check_not_an_input(&output, &files_read).map_err(tracer_pipeline::Error::from)?;
     let text = std::fs::read_to_string(&args.scene)
         .with_context(|| format!("cannot read {}", args.scene.display()))?;
     let converted = convert(&text, format_of(&args.scene)?, to)?;
