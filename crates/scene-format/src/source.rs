@@ -245,6 +245,7 @@ impl Archive {
             ));
         }
         let declared = entry.size();
+        too_packed(declared, entry.compressed_size())?;
         let inflated = self.inflated.get().saturating_add(declared);
         if inflated > self.inflate_limit {
             return Err(bad(format!(
@@ -254,7 +255,8 @@ impl Archive {
         }
         self.inflated.set(inflated);
         // The declared size may lie (a zip bomb): never inflate past it.
-        let mut bytes = Vec::new();
+        // Reserved whole, as growing by doubling may take twice the bytes.
+        let mut bytes = Vec::with_capacity(usize::try_from(declared).unwrap_or(0));
         entry
             .take(declared + 1)
             .read_to_end(&mut bytes)
@@ -379,6 +381,25 @@ fn safe_entry(name: &str) -> Option<PathBuf> {
     clean.then(|| path.components().collect())
 }
 
+/// An entry larger than this may not pack more than [`MAX_PACKING`] times.
+const BOMB_FLOOR: u64 = 16 * 1024 * 1024;
+/// How many times smaller than its bytes a large entry may be packed:
+/// scene files, meshes and images pack 2 to 20 times; a run of one
+/// character packs a thousand times, a few bytes of archive making
+/// gigabytes of memory.
+const MAX_PACKING: u64 = 200;
+
+/// Refuses a large entry packed far tighter than a scene's files pack.
+fn too_packed(declared: u64, compressed: u64) -> io::Result<()> {
+    if declared > BOMB_FLOOR && declared / compressed.max(1) > MAX_PACKING {
+        return Err(bad(format!(
+            "the entry inflates from {compressed} to {declared} bytes, over {MAX_PACKING} \
+             times; expected a scene's files, which pack far less (a zip bomb?)"
+        )));
+    }
+    Ok(())
+}
+
 /// The zip entry name of a path inside the archive: `/`-separated.
 fn entry_name(path: &Path) -> Option<String> {
     let parts: Vec<String> = normalize(path)?
@@ -411,6 +432,15 @@ fn not_found(message: &str) -> io::Error {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn only_a_large_entry_packed_past_the_limit_is_refused() {
+        assert!(too_packed(BOMB_FLOOR, 1).is_ok());
+        assert!(too_packed(BOMB_FLOOR + 1, (BOMB_FLOOR + 1) / MAX_PACKING).is_ok());
+        let err = too_packed(1 << 30, 1 << 20).unwrap_err();
+        assert!(err.to_string().contains("over 200 times"), "{err}");
+        assert!(too_packed(1 << 30, 0).is_err());
+    }
 
     #[test]
     fn files_in_memory_are_read_like_a_folder_with_the_same_caps() {

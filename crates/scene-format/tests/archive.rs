@@ -205,7 +205,20 @@ fn a_bomb_named_by_many_files_is_inflated_a_few_times_at_most() {
     for name in &names {
         scene += &format!("[[objects]]\nmesh = {{ obj = \"{name}\" }}\n");
     }
-    let bomb = vec![b'#'; 32 << 20];
+    // Comments that pack 10 times, not the thousand of one character
+    // repeated (refused at once: see the next test).
+    let mut seed = 1u32;
+    let bomb: Vec<u8> = (0..32 << 20)
+        .map(|i| match i % 1024 {
+            0 => b'#',
+            1023 => b'\n',
+            k if k < 100 => {
+                seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                b'a' + (seed >> 24) as u8 % 26
+            }
+            _ => b' ',
+        })
+        .collect();
     let mut entries: Vec<(&str, &[u8])> = vec![("s.toml", scene.as_bytes()), ("bomb.mtl", &bomb)];
     entries.extend(names.iter().map(|n| (n.as_str(), obj.as_bytes())));
     let path = deflated(dir.path(), &entries);
@@ -225,4 +238,18 @@ fn a_bomb_named_by_many_files_is_inflated_a_few_times_at_most() {
         .unwrap();
     let warning = last.material_warnings.join("\n");
     assert!(warning.contains("more than 4 times over"), "{warning}");
+}
+
+#[test]
+fn a_large_entry_packed_a_thousand_times_is_refused_before_it_is_inflated() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
+                 [[objects]]\nmesh = { obj = \"m.obj\" }\n";
+    let mut obj = vec![b'#'; 20 << 20];
+    obj.extend_from_slice(format!("\n{TRIANGLE}").as_bytes());
+    let path = deflated(dir.path(), &[("s.toml", scene.as_bytes()), ("m.obj", &obj)]);
+    assert!(std::fs::metadata(&path).unwrap().len() < 100_000);
+    let message = failure(&path);
+    assert!(message.contains("over 200 times"), "{message}");
+    assert!(message.contains("objects[0].mesh.obj"), "{message}");
 }
