@@ -155,7 +155,8 @@ fn expected_words(expected: &str) -> String {
     let e = expected.trim();
     match e {
         "f32" | "f64" => "a number".to_string(),
-        "u32" | "u64" | "usize" => "a whole number >= 0".to_string(),
+        "u32" => "a whole number from 0 to 4294967295".to_string(),
+        "u64" | "usize" => "a whole number >= 0".to_string(),
         "a string" | "a borrowed string" => "a string".to_string(),
         "a sequence" => "an array".to_string(),
         "a map" => "a table".to_string(),
@@ -218,7 +219,15 @@ mod tests {
             camera.key("width"),
             "invalid value: integer `-5`, expected u32",
         );
-        assert_eq!(m, "expected a whole number >= 0, found -5");
+        assert_eq!(m, "expected a whole number from 0 to 4294967295, found -5");
+        let (_, m, _) = rephrase(
+            camera.key("width"),
+            "invalid value: integer `4294967296`, expected u32",
+        );
+        assert_eq!(
+            m,
+            "expected a whole number from 0 to 4294967295, found 4294967296"
+        );
         let (_, m, _) = rephrase(
             camera.key("eye"),
             "invalid length 2, expected an array of length 3",
