@@ -42,7 +42,7 @@ pub enum OutputError {
     #[error("{}: the folder {} does not exist", path.display(), dir.display())]
     NoFolder { path: PathBuf, dir: PathBuf },
     /// The output is an existing folder, device or other non-file.
-    #[error("{}: cannot write an image over a folder or a device", path.display())]
+    #[error("{}: cannot write over a folder or a device; expected a file", path.display())]
     NotAFile { path: PathBuf },
     /// An image with no linear values (a chart, a plot) cannot be a float file.
     #[error("{}: only the 8-bit formats (.png, .jpg) are written for this image, not {}", path.display(), format.name())]

@@ -800,7 +800,7 @@ fn a_bad_output_path_fails_before_the_scene_is_read() {
             "missing/out.png",
             "missing/out.png: the folder missing does not exist",
         ),
-        ("folder.png", "cannot write an image over a folder"),
+        ("folder.png", "cannot write over a folder"),
     ] {
         let out = tracer(d, &["render", "bad.toml", "-o", output]);
         let stderr = stderr_of(&out);

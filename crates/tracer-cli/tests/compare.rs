@@ -456,6 +456,21 @@ fn leftovers(dir: &Path) -> Vec<String> {
         .collect()
 }
 
+/// A PNG of `width` x `height` RGB pixels by its header, with one row of
+/// data: what a decoder sizes its buffer from.
+fn png_header(width: u32, height: u32) -> Vec<u8> {
+    let mut png = Vec::new();
+    RgbImage::new(1, 1)
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .unwrap();
+    // IHDR's type, width and height follow the signature and its length.
+    png[16..20].copy_from_slice(&width.to_be_bytes());
+    png[20..24].copy_from_slice(&height.to_be_bytes());
+    let crc = crc32fast::hash(&png[12..29]);
+    png[29..33].copy_from_slice(&crc.to_be_bytes());
+    png
+}
+
 #[test]
 fn bad_input_exits_2_without_a_heat_map() {
     let dir = tempfile::tempdir().unwrap();
@@ -468,8 +483,13 @@ fn bad_input_exits_2_without_a_heat_map() {
         "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\nfvo = 50\n",
     )
     .unwrap();
-    let cases: [(&[&str], &str); 5] = [
+    std::fs::write(dir.path().join("huge.png"), png_header(100_000, 100_000)).unwrap();
+    let cases: [(&[&str], &str); 6] = [
         (&["text.png", "mine.png"], "text.png: not an image"),
+        (
+            &["huge.png", "mine.png"],
+            "huge.png: 100000x100000 pixels; expected at most 16384 a side",
+        ),
         (&["mine.png", "text.png"], "text.png: not an image"),
         (
             &["missing.png", "mine.png"],

@@ -4,6 +4,7 @@
 use crate::console::note;
 use crate::progress::Progress;
 use image::{DynamicImage, RgbImage};
+use scene_format::validate::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE};
 use scene_format::SceneKind;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -36,12 +37,29 @@ pub fn read_image(path: &Path) -> Result<RgbImage, BadInput> {
 pub fn image_at(path: &Path) -> Result<RgbImage, String> {
     let bytes = scene_format::read::read_capped(path, MAX_IMAGE_BYTES)
         .map_err(|e| format!("cannot read the image: {e}"))?;
-    let reader = image::ImageReader::new(std::io::Cursor::new(bytes))
-        .with_guessed_format()
-        .map_err(|e| e.to_string())?;
-    if reader.format().is_none() {
+    let reader = || {
+        image::ImageReader::new(std::io::Cursor::new(&bytes))
+            .with_guessed_format()
+            .map_err(|e| e.to_string())
+    };
+    if reader()?.format().is_none() {
         return Err("not an image (expected a .png or .jpg file)".to_string());
     }
+    let (width, height) = reader()?
+        .into_dimensions()
+        .map_err(scene_format::images::unreadable)?;
+    if width.max(height) > MAX_IMAGE_SIDE || u64::from(width) * u64::from(height) > MAX_IMAGE_PIXELS
+    {
+        return Err(format!(
+            "{width}x{height} pixels; expected at most {MAX_IMAGE_SIDE} a side and \
+             {MAX_IMAGE_PIXELS} (2^28) in all, the largest image the tracer renders"
+        ));
+    }
+    let mut reader = reader()?;
+    let mut limits = image::Limits::default();
+    // The largest image allowed, at 16 bits in four channels.
+    limits.max_alloc = Some(MAX_IMAGE_PIXELS * 8);
+    reader.limits(limits);
     let image = reader.decode().map_err(scene_format::images::unreadable)?;
     to_rgb8(image)
 }
