@@ -38,6 +38,17 @@ fn toml_syntax(text: &str, e: &toml::de::Error) -> Diagnostic {
     if message == "duplicate key" {
         return duplicate(text, span);
     }
+    if message.starts_with("cannot recurse further") {
+        // The parser's words, and no key: say which value, and the fix.
+        let mut path = key_at(text, span.clone()).path;
+        // `x`, not `x[0][0]...` eighty times.
+        while matches!(path.0.last(), Some(Segment::Index(_))) {
+            path.0.pop();
+        }
+        let message = "arrays or inline tables nested too deep to read; \
+                       expected at most a few levels, as in `triangle = [[0, 0, 0], ...]`";
+        return Diagnostic::new(path, message).at(text, span);
+    }
     Diagnostic::new(KeyPath::root(), message).at(text, span)
 }
 
@@ -66,4 +77,25 @@ fn duplicate(text: &str, span: Range<usize>) -> Diagnostic {
         ),
     };
     Diagnostic::new(at.path, message).at(text, span)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::SceneFile;
+
+    #[test]
+    fn a_value_nested_past_the_parsers_depth_is_named_by_its_key() {
+        let deep = format!("{}{}", "[".repeat(10_000), "]".repeat(10_000));
+        let text = format!("[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\nx = {deep}\n");
+        let d = parse_toml::<SceneFile>(&text).unwrap_err();
+        assert_eq!(d.path.to_string(), "camera.x");
+        assert!(
+            d.message
+                .starts_with("arrays or inline tables nested too deep"),
+            "{}",
+            d.message
+        );
+        assert_eq!(d.location.map(|l| l.line), Some(4));
+    }
 }
