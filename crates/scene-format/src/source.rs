@@ -193,8 +193,17 @@ impl Archive {
         if names.iter().any(|n| n == Path::new(MANIFEST)) {
             let bytes = self.entry(Path::new(MANIFEST), 64 * 1024)?;
             let text = String::from_utf8(bytes).map_err(bad)?;
-            let manifest: Manifest =
-                toml::from_str(&text).map_err(|e| bad(format!("{MANIFEST}: {}", e.message())))?;
+            let manifest: Manifest = toml::from_str(&text).map_err(|e| {
+                let before =
+                    |s: std::ops::Range<usize>| &text.as_bytes()[..s.start.min(text.len())];
+                let line = e
+                    .span()
+                    .map_or(1, |s| 1 + before(s).iter().filter(|&&b| b == b'\n').count());
+                bad(format!(
+                    "{MANIFEST}, line {line}: {}",
+                    e.message().trim_end()
+                ))
+            })?;
             return normalize(Path::new(&manifest.scene)).ok_or_else(|| {
                 bad(format!(
                     "{MANIFEST}: `scene` leaves the archive: {}",

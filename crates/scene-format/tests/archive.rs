@@ -253,3 +253,21 @@ fn a_large_entry_packed_a_thousand_times_is_refused_before_it_is_inflated() {
     assert!(message.contains("over 200 times"), "{message}");
     assert!(message.contains("objects[0].mesh.obj"), "{message}");
 }
+
+#[test]
+fn a_bad_manifest_is_named_with_its_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = zip(
+        dir.path(),
+        "m.zip",
+        &[
+            ("tracer-pack.toml", "# made by hand\nscene = 5\n"),
+            ("s.toml", ""),
+        ],
+    );
+    let message = failure(&path);
+    assert!(
+        message.contains("tracer-pack.toml, line 2: invalid type"),
+        "{message}"
+    );
+}
