@@ -363,6 +363,11 @@ fn a_path_traced_reference_is_said_to_be_one_draw_of_its_noise() {
     let out = compare(dir.path(), "same.png", scene_file);
     assert_eq!(out.status.code(), Some(0), "{}", stdout_of(&out));
     assert!(!stderr_of(&out).contains(note));
+    // Another size is the mistake, not the noise.
+    render(dir.path(), scene_file, "wide.png", &["--width", "65"]);
+    let out = compare(dir.path(), "wide.png", scene_file);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(!stderr_of(&out).contains(note), "{}", stderr_of(&out));
 }
 
 #[test]
