@@ -118,7 +118,7 @@ pub fn load(input: &Input) -> Result<Loaded, SceneError> {
 /// What `tracer check` and `tracer convert` read: a scene file as
 /// [`load`] reads it, or a file a scene includes, read on its own.
 pub enum Checked {
-    Whole(Loaded),
+    Whole(Box<Loaded>),
     /// Every file it was read with.
     Part {
         files_read: Vec<PathBuf>,
@@ -131,7 +131,7 @@ pub enum Checked {
 pub fn load_or_part(path: &Path) -> Result<Checked, SceneError> {
     match scene_format::load_file_or_part(path)? {
         scene_format::Checked::Whole(loaded) => {
-            checked(path.to_path_buf(), loaded).map(Checked::Whole)
+            checked(path.to_path_buf(), *loaded).map(|l| Checked::Whole(Box::new(l)))
         }
         scene_format::Checked::Part { files_read } => Ok(Checked::Part { files_read }),
     }

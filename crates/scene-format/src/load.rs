@@ -157,7 +157,7 @@ pub fn load_from(source: &dyn Source, path: &Path) -> Result<LoadedScene, SceneE
 /// file a scene includes, read on its own.
 #[derive(Debug, Clone)]
 pub enum Checked {
-    Whole(LoadedScene),
+    Whole(Box<LoadedScene>),
     /// A file with none of `camera`, `render`, `environment` or `canvas`
     /// at its top level: every file it was read with.
     Part {
@@ -182,7 +182,7 @@ pub fn load_file_or_part(path: &Path) -> Result<Checked, SceneError> {
     };
     let Some((text, format)) = part else {
         // Errors, a zip archive and whole scenes: as a scene.
-        return load_file(path).map(Checked::Whole);
+        return load_file(path).map(|loaded| Checked::Whole(Box::new(loaded)));
     };
     let text = without_bom(&text);
     let name = folder.name(path);
