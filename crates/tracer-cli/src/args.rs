@@ -330,7 +330,9 @@ pub struct FitArgs {
 #[derive(Args)]
 pub struct CheckArgs {
     /// Scene files (.toml or .json, or .zip archives made by `tracer
-    /// pack`): 3D scenes or 2D canvas scenes
+    /// pack`): 3D scenes, 2D canvas scenes, or files a scene includes
+    /// (checked on their own: their keys, values, includes and meshes; a
+    /// material named from another file is left to the scene)
     #[arg(required = true, value_name = "SCENE")]
     pub scenes: Vec<PathBuf>,
 }
