@@ -26,11 +26,13 @@ pub mod tiles;
 
 pub use error::{scene_error_is_bad_input, Error};
 pub use limits::{BYTES_PER_PRIMITIVE, MAX_PRIMITIVES};
-pub use load::{load, load_from, load_or_part, Checked, Input, Loaded, DEFAULT_SCENE_NAME};
+pub use load::{
+    load, load_from, load_or_part, Checked, Input, Loaded, Warning, DEFAULT_SCENE_NAME,
+};
 pub use options::{tile_region, Aov, Gamma, Options, Part, Region};
 pub use render::{
-    default_output, image_size, prepare_taking, render, render_cancellable, render_prepared,
-    render_prepared_progressive, render_progressive, render_taking,
+    default_output, image_size, next_pass_seconds, prepare_taking, render, render_cancellable,
+    render_prepared, render_prepared_progressive, render_progressive, render_taking,
 };
 pub use rendered::{Picture, Rendered, ShadedStats, Summary, FORCED_WHITE_WARNING};
 pub use scene3d::{Pass, PreparedScene};

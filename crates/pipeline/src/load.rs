@@ -2,7 +2,7 @@
 //! without one; with the files it read and the warnings it gave.
 
 use crate::limits;
-use scene_format::{Diagnostic, Format, Origins, SceneError, SceneKind};
+use scene_format::{Diagnostic, Format, Location, Origins, SceneError, SceneKind};
 use std::path::{Path, PathBuf};
 
 /// The scene rendered when none is given: the lab's final scene (table
@@ -54,6 +54,19 @@ pub struct Loaded {
     pub origins: Origins,
 }
 
+/// A likely mistake of a scene, as shown to its user.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Warning {
+    /// `warning: FILE: `KEY`: MESSAGE`, as `tracer render` prints it.
+    pub text: String,
+    /// The file that holds it, its key path there, and its place in that
+    /// file when found.
+    pub file: PathBuf,
+    pub key: String,
+    pub message: String,
+    pub location: Option<Location>,
+}
+
 impl Loaded {
     /// The warnings of the scene as `options` render it: its own, or those
     /// of its other mode where `--integrator` changes it (the path
@@ -69,6 +82,33 @@ impl Loaded {
             }
             _ => self.warnings.clone(),
         }
+    }
+
+    /// [`Loaded::warnings_for`] as shown: each with its line as `tracer
+    /// render` prints it, in the file that holds it, at its place there.
+    pub fn warning_list(&self, options: &crate::Options) -> Vec<Warning> {
+        let warning = |w: &Diagnostic| {
+            // An object of an included file is named in that file.
+            let (file, path) = self.origins.origin(&w.path);
+            let source = self.origins.files.get(file);
+            let name = match source {
+                Some(f) if file > 0 => f.name.clone(),
+                _ => self.name.clone(),
+            };
+            let location = source.and_then(|f| {
+                let at = scene_format::locate::locate(&f.text, f.format, &path)?;
+                let span = at.key.unwrap_or(at.value);
+                Some(Location::from_offset(&f.text, span.start.min(f.text.len())))
+            });
+            Warning {
+                text: format!("warning: {}: `{path}`: {}", name.display(), w.message),
+                file: name,
+                key: path.to_string(),
+                message: w.message.clone(),
+                location,
+            }
+        };
+        self.warnings_for(options).iter().map(warning).collect()
     }
 
     /// Whether `options` render this scene in path mode.

@@ -127,6 +127,14 @@ pub fn render_prepared_progressive(
     }))
 }
 
+/// About how long the next pass of a render in passes takes, `next` more
+/// samples a pixel, when this one took `this_pass` seconds for `added`:
+/// each sample costs about what the last ones did (what a time limit
+/// stops the render by).
+pub fn next_pass_seconds(this_pass: f64, added: u32, next: u32) -> f64 {
+    this_pass * f64::from(next) / f64::from(added.max(1))
+}
+
 /// `render_prepared_progressive` of a loaded scene (a 3D scene: a canvas is
 /// refused, naming `option`, the option that asked for passes).
 pub fn render_progressive(

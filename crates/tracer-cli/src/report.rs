@@ -186,14 +186,6 @@ pub fn warning_lines(
     loaded: &tracer_pipeline::Loaded,
     options: &tracer_pipeline::Options,
 ) -> Vec<String> {
-    let line = |w: &scene_format::Diagnostic| {
-        // An object of an included file is named in that file.
-        let (file, path) = loaded.origins.origin(&w.path);
-        let name = match loaded.origins.files.get(file) {
-            Some(f) if file > 0 => f.name.display().to_string(),
-            _ => loaded.name.display().to_string(),
-        };
-        format!("warning: {name}: `{path}`: {}", w.message)
-    };
-    loaded.warnings_for(options).iter().map(line).collect()
+    let list = loaded.warning_list(options);
+    list.into_iter().map(|w| w.text).collect()
 }

@@ -42,3 +42,22 @@ fn problems(error: &SceneError) -> Vec<Value> {
     }
     out
 }
+
+/// `{"samples": [done, of], "warnings": [{"text", "file", "line",
+/// "column", "key", "message"}]}`.
+pub fn notes_json(samples: (u32, u32), warnings: &[tracer_pipeline::Warning]) -> String {
+    let warnings: Vec<Value> = warnings
+        .iter()
+        .map(|w| {
+            json!({
+                "text": w.text,
+                "file": w.file.to_string_lossy(),
+                "line": w.location.map(|l| l.line),
+                "column": w.location.map(|l| l.column),
+                "key": w.key,
+                "message": w.message,
+            })
+        })
+        .collect();
+    json!({ "samples": [samples.0, samples.1], "warnings": warnings }).to_string()
+}

@@ -16,9 +16,11 @@
 use scene_format::source::{Archive, Memory, Source};
 use std::cell::RefCell;
 use std::path::Path;
+use std::sync::atomic::AtomicBool;
 use tracer_pipeline::{Loaded, Options, Part, Region, Summary};
 
 mod answer;
+mod page;
 pub use answer::error_json;
 
 /// What one instance holds between calls.
@@ -33,6 +35,9 @@ struct State {
     size: (u32, u32),
     full: (u32, u32),
     rays: f64,
+    /// The last render's samples a pixel, of the scene's, and its
+    /// warnings: JSON for the page ([`tracer_notes_ptr`]).
+    notes: String,
 }
 
 thread_local! {
@@ -113,12 +118,16 @@ pub unsafe extern "C" fn tracer_render(
         samples: (samples > 0).then_some(samples),
         region: (x1 > 0).then_some(Region { x0, y0, x1, y1 }),
     };
-    let done = STATE.with_borrow(|s| render(&s.files, Path::new(&path), &request));
+    let mut clock = page::PassClock::new();
+    let mut on_pass = |pass: PassImage| clock.pass(&pass);
+    let done =
+        STATE.with_borrow(|s| render_passes(&s.files, Path::new(&path), &request, &mut on_pass));
     match done {
         Ok(image) => STATE.with_borrow_mut(|s| {
             s.size = image.size;
             s.full = image.full;
             s.rays = image.rays as f64;
+            s.notes = answer::notes_json(image.samples, &image.warnings);
             s.result = image.rgba;
             0
         }),
@@ -177,6 +186,20 @@ pub extern "C" fn tracer_rays() -> f64 {
     STATE.with_borrow(|s| s.rays)
 }
 
+/// Where the last render's notes are: JSON, `{"samples": [done, of],
+/// "warnings": [...]}` (each warning as an error's problem, with its
+/// `text` as `tracer render` prints it).
+#[no_mangle]
+pub extern "C" fn tracer_notes_ptr() -> *const u8 {
+    STATE.with_borrow(|s| s.notes.as_ptr())
+}
+
+/// How long the last render's notes are.
+#[no_mangle]
+pub extern "C" fn tracer_notes_len() -> usize {
+    STATE.with_borrow(|s| s.notes.len())
+}
+
 /// Where the last call's answer is.
 #[no_mangle]
 pub extern "C" fn tracer_result_ptr() -> *const u8 {
@@ -215,19 +238,47 @@ pub struct Request {
 }
 
 /// A region rendered: its RGBA pixels (alpha 255), the image's size, the
-/// scene's own size, and the rays traced.
+/// scene's own size, the rays traced, the samples a pixel it has of the
+/// scene's, and the scene's warnings.
 #[derive(Debug, Clone)]
 pub struct RegionImage {
     pub rgba: Vec<u8>,
     pub size: (u32, u32),
     pub full: (u32, u32),
     pub rays: u64,
+    pub samples: (u32, u32),
+    pub warnings: Vec<tracer_pipeline::Warning>,
+}
+
+/// A pass of a render in passes (path mode): the region's RGBA pixels so
+/// far, its samples a pixel so far and of all.
+#[derive(Debug, Clone)]
+pub struct PassImage<'a> {
+    pub rgba: &'a [u8],
+    pub samples: u32,
+    pub total: u32,
+    /// The scene's `[render] time_limit`, in seconds.
+    pub time_limit: Option<f64>,
 }
 
 /// Loads the scene at `path` of `files` (a `.zip` from `tracer pack`
 /// holds its own folder) and renders `request`'s region through the
 /// pipeline; an error as the page's JSON.
 pub fn render(files: &Memory, path: &Path, request: &Request) -> Result<RegionImage, String> {
+    render_passes(files, path, request, &mut |_| true)
+}
+
+/// [`render`] in passes, as `tracer render` renders a path-traced scene:
+/// samples 0..1, 1..2, 2..4, ..., `on_pass` called after each with the
+/// region so far (false stops there: the image then has the samples of
+/// that pass). A preview, a canvas and a scene in Whitted mode are one
+/// pass. The last pass is `render`'s image bit for bit.
+pub fn render_passes(
+    files: &Memory,
+    path: &Path,
+    request: &Request,
+    on_pass: &mut dyn FnMut(PassImage) -> bool,
+) -> Result<RegionImage, String> {
     let loaded = load(files, path)?;
     let is_canvas = matches!(loaded.kind, scene_format::SceneKind::Canvas(_));
     let full = loaded.size();
@@ -249,41 +300,98 @@ pub fn render(files: &Memory, path: &Path, request: &Request) -> Result<RegionIm
         .map_err(|e| error_json(&e))?;
     // A canvas is drawn whole (it takes no region, and is quick); a 3D
     // scene renders only its region, whose pixels are the whole image's.
-    if !is_canvas {
-        options.part = Some(Part::Region(region));
-    }
-    let rendered =
-        tracer_pipeline::render(&loaded, &options, &|_| {}).map_err(|e| error_json(&e))?;
-    let rays = match &rendered.summary {
-        Summary::Shaded(stats) => stats.rays,
-        _ => 0,
-    };
-    let rgb = rendered.image.to_rgb8();
-    let (x_off, y_off) = if is_canvas {
+    let crop = if is_canvas {
         (region.x0, region.y0)
     } else {
         (0, 0)
     };
-    let (w, h) = (region.x1 - region.x0, region.y1 - region.y0);
-    let mut rgba = Vec::with_capacity((w * h * 4) as usize);
-    let row_bytes = rgb.width() as usize * 3;
-    for row in rgb
-        .as_raw()
-        .chunks_exact(row_bytes)
-        .skip(y_off as usize)
-        .take(h as usize)
-    {
-        let row = &row[x_off as usize * 3..(x_off + w) as usize * 3];
-        for p in row.chunks_exact(3) {
-            rgba.extend_from_slice(&[p[0], p[1], p[2], 255]);
+    let crop = Crop { at: crop, region };
+    let warnings = loaded.warning_list(&options);
+    let (rendered, samples) = if is_canvas || request.shrink.is_some() {
+        if !is_canvas {
+            options.part = Some(Part::Region(region));
         }
-    }
+        let rendered =
+            tracer_pipeline::render(&loaded, &options, &|_| {}).map_err(|e| error_json(&e))?;
+        (rendered, (1, 1))
+    } else {
+        options.part = Some(Part::Region(region));
+        in_passes(&loaded, &options, &crop, on_pass)?
+    };
+    let rays = match &rendered.summary {
+        Summary::Shaded(stats) => stats.rays,
+        _ => 0,
+    };
     Ok(RegionImage {
-        rgba,
+        rgba: {
+            let rgb = rendered.image.to_rgb8();
+            crop.rgba(rgb.as_raw(), rgb.width())
+        },
         size,
         full,
         rays,
+        samples,
+        warnings,
     })
+}
+
+/// A 3D scene's region rendered in passes: the last pass's image, and its
+/// samples a pixel of all.
+fn in_passes(
+    loaded: &Loaded,
+    options: &Options,
+    crop: &Crop,
+    on_pass: &mut dyn FnMut(PassImage) -> bool,
+) -> Result<(tracer_pipeline::Rendered, (u32, u32)), String> {
+    let never = AtomicBool::new(false);
+    let mut samples = (0, 0);
+    let mut each = |pass: tracer_pipeline::Pass| {
+        samples = (pass.samples, pass.total);
+        let rgb = pass.picture.to_rgb8();
+        on_pass(PassImage {
+            rgba: &crop.rgba(rgb.as_raw(), rgb.width()),
+            samples: pass.samples,
+            total: pass.total,
+            time_limit: loaded.time_limit(),
+        })
+    };
+    let rendered =
+        tracer_pipeline::render_progressive(loaded, options, "the page", &never, &mut each)
+            .map_err(|e| error_json(&e))?
+            .expect("never cancelled");
+    Ok((rendered, samples))
+}
+
+/// Which pixels of a rendered image the page gets: `region`, found at
+/// `at` in the image (a canvas is drawn whole; a 3D region is the image).
+struct Crop {
+    at: (u32, u32),
+    region: Region,
+}
+
+impl Crop {
+    /// The region's pixels of an RGB image `width` wide, as RGBA with
+    /// alpha 255.
+    fn rgba(&self, rgb: &[u8], width: u32) -> Vec<u8> {
+        let (x_off, y_off) = self.at;
+        let (w, h) = (
+            self.region.x1 - self.region.x0,
+            self.region.y1 - self.region.y0,
+        );
+        let mut rgba = Vec::with_capacity((w * h * 4) as usize);
+        let row_bytes = width as usize * 3;
+        for row in rgb
+            .chunks_exact(row_bytes)
+            .skip(y_off as usize)
+            .take(h as usize)
+        {
+            let row = &row[x_off as usize * 3..(x_off + w) as usize * 3];
+            for p in row.chunks_exact(3) {
+                rgba.extend_from_slice(&[p[0], p[1], p[2], 255]);
+            }
+        }
+        rgba
+    }
 }
 
 /// Pixel (x, y) of the scene at `path` of `files` explained, as `tracer

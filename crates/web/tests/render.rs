@@ -4,7 +4,7 @@
 use scene_format::source::Memory;
 use std::path::{Path, PathBuf};
 use tracer_pipeline::{Input, Options, Region};
-use tracer_web::{render, Request};
+use tracer_web::{render, render_passes, Request};
 
 fn scenes() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
@@ -142,4 +142,80 @@ fn a_packed_archive_renders_as_its_scene() {
         .unwrap();
     let image = render(&files, Path::new("t.zip"), &Request::default()).unwrap();
     assert!(image.rgba == native_rgba("textures.toml"));
+}
+
+#[test]
+fn a_path_traced_scene_renders_in_passes_whose_last_is_the_image() {
+    let name = "cornell-box.toml";
+    let files = folder(name);
+    let region = Region {
+        x0: 0,
+        y0: 100,
+        x1: 256,
+        y1: 140,
+    };
+    let request = Request {
+        region: Some(region),
+        ..Request::default()
+    };
+    let mut passes = Vec::new();
+    let whole = render_passes(&files, Path::new(name), &request, &mut |pass| {
+        assert_eq!(pass.rgba.len(), 256 * 40 * 4);
+        passes.push((pass.samples, pass.total, pass.rgba.to_vec()));
+        true
+    })
+    .unwrap();
+    let counts: Vec<u32> = passes.iter().map(|p| p.0).collect();
+    assert_eq!(counts, [1, 2, 4, 8, 16, 32, 64]);
+    assert!(passes.iter().all(|p| p.1 == 64));
+    assert_eq!(whole.samples, (64, 64));
+    let native = native_rgba(name);
+    let rows = &native[256 * 100 * 4..256 * 140 * 4];
+    assert!(whole.rgba == rows, "differs from tracer render");
+    assert!(passes[6].2 == whole.rgba, "the last pass is the image");
+    assert!(passes[0].2 != whole.rgba, "one sample is noisier");
+
+    // Stopped after the second pass: the image of two samples a pixel.
+    let stopped = render_passes(&files, Path::new(name), &request, &mut |pass| {
+        pass.samples < 2
+    })
+    .unwrap();
+    assert_eq!(stopped.samples, (2, 64));
+    assert!(stopped.rgba == passes[1].2);
+}
+
+#[test]
+fn warnings_come_with_the_image_at_their_place() {
+    let text = std::fs::read_to_string(scenes().join("cornell-box.toml")).unwrap();
+    let text = text.replacen(
+        "diffuse = [0.885809, 0.698859, 0.666422]",
+        "diffuse = [200, 180, 170]",
+        1,
+    );
+    let mut files = Memory::new();
+    files
+        .insert(Path::new("box.toml"), text.clone().into_bytes())
+        .unwrap();
+    let request = Request {
+        shrink: Some(8),
+        samples: Some(1),
+        ..Request::default()
+    };
+    let image = render(&files, Path::new("box.toml"), &request).unwrap();
+    let line = 1 + text[..text.find("diffuse = [200").unwrap()]
+        .matches('\n')
+        .count();
+    let warning = image
+        .warnings
+        .iter()
+        .find(|w| w.message.contains("not 0 to 255"))
+        .unwrap_or_else(|| panic!("{:?}", image.warnings));
+    assert_eq!(warning.location.map(|l| l.line), Some(line));
+    assert!(
+        warning
+            .text
+            .starts_with("warning: box.toml: `materials.white"),
+        "{}",
+        warning.text
+    );
 }

@@ -51,8 +51,7 @@ pub fn on_pass(plan: &Plan, quiet: bool) -> impl FnMut(Pass) -> bool + '_ {
         let Some(limit) = plan.time_limit else {
             return true;
         };
-        // The next pass costs about this one's time per sample.
-        let estimate = this_pass * f64::from(next) / f64::from(added.max(1));
+        let estimate = tracer_pipeline::next_pass_seconds(this_pass, added, next);
         let fits = elapsed + estimate <= limit;
         if next > 0 && !fits {
             // 1e-300 as that, not as three hundred digits.

@@ -1,0 +1,105 @@
+//! The page's side of a render in passes: each pass's pixels go to the
+//! page as they are made (the image sharpens while a long path-traced
+//! render runs), and the scene's `time_limit` stops it after the last pass
+//! that fits, by the rule of `tracer render`.
+
+use crate::PassImage;
+
+/// The time of a render in passes, read from the page's clock (the wasm
+/// has none of its own).
+pub struct PassClock {
+    start: f64,
+    pass_start: f64,
+    samples: u32,
+}
+
+impl PassClock {
+    pub fn new() -> PassClock {
+        let now = now_seconds();
+        PassClock {
+            start: now,
+            pass_start: now,
+            samples: 0,
+        }
+    }
+
+    /// Sends `pass` to the page; whether the next pass is to run.
+    pub fn pass(&mut self, pass: &PassImage) -> bool {
+        send(pass);
+        let now = now_seconds();
+        let this_pass = now - self.pass_start;
+        let added = pass.samples - self.samples;
+        (self.pass_start, self.samples) = (now, pass.samples);
+        let next = (2 * pass.samples).min(pass.total) - pass.samples;
+        match pass.time_limit {
+            Some(limit) if next > 0 => {
+                let estimate = tracer_pipeline::next_pass_seconds(this_pass, added, next);
+                now - self.start + estimate <= limit
+            }
+            _ => true,
+        }
+    }
+}
+
+#[cfg(target_arch = "wasm32")]
+mod imports {
+    #[link(wasm_import_module = "env")]
+    extern "C" {
+        /// The page's clock, in milliseconds (`performance.now()`).
+        pub fn tracer_now_ms() -> f64;
+        /// A pass's RGBA pixels of the region, for the page to show.
+        pub fn tracer_pass(samples: u32, total: u32, ptr: *const u8, len: usize);
+    }
+}
+
+#[cfg(target_arch = "wasm32")]
+fn now_seconds() -> f64 {
+    // SAFETY: an import of the page that takes nothing.
+    unsafe { imports::tracer_now_ms() / 1000.0 }
+}
+
+#[cfg(target_arch = "wasm32")]
+fn send(pass: &PassImage) {
+    let rgba = pass.rgba;
+    // SAFETY: the page copies the bytes during the call.
+    unsafe { imports::tracer_pass(pass.samples, pass.total, rgba.as_ptr(), rgba.len()) }
+}
+
+/// Natively (the tests) there is no page: no pass is sent, and the clock
+/// is the process's.
+#[cfg(not(target_arch = "wasm32"))]
+fn now_seconds() -> f64 {
+    use std::sync::OnceLock;
+    use std::time::Instant;
+    static START: OnceLock<Instant> = OnceLock::new();
+    START.get_or_init(Instant::now).elapsed().as_secs_f64()
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+fn send(_: &PassImage) {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pass(samples: u32, total: u32, time_limit: Option<f64>) -> PassImage<'static> {
+        PassImage {
+            rgba: &[],
+            samples,
+            total,
+            time_limit,
+        }
+    }
+
+    #[test]
+    fn a_time_limit_stops_before_a_pass_that_would_end_after_it() {
+        let mut clock = PassClock::new();
+        assert!(clock.pass(&pass(1, 64, None)), "no limit: on to the end");
+        let mut clock = PassClock::new();
+        assert!(clock.pass(&pass(1, 64, Some(1e6))));
+        assert!(!clock.pass(&pass(2, 64, Some(0.0))), "past the limit");
+        // The last pass has no next one to stop.
+        let mut clock = PassClock::new();
+        assert!(clock.pass(&pass(64, 64, Some(0.0))));
+    }
+}
