@@ -19,6 +19,7 @@ const HUGE_PIXELS = 4096 * 4096;
 const menu = document.getElementById("scene-menu");
 const canvas = document.getElementById("image");
 const status = document.getElementById("status");
+const warningsNote = document.getElementById("warnings");
 const folderNote = document.getElementById("folder");
 const explainPanel = document.getElementById("explain");
 const params = new URLSearchParams(location.search);
@@ -80,10 +81,14 @@ function makePool() {
   });
 }
 
-// Renders `job` (a region) in `worker`; resolves with the worker's answer.
-function runJob(worker, job) {
+// Renders `job` (a region) in `worker`; resolves with the worker's answer,
+// calling `onPass` with each pass before the last (a path-traced render).
+function runJob(worker, job, onPass = () => {}) {
   return new Promise((resolve) => {
-    worker.onmessage = (event) => resolve(event.data);
+    worker.onmessage = (event) => {
+      if (event.data.pass) onPass(event.data.pass);
+      else resolve(event.data);
+    };
     worker.postMessage(job);
   });
 }
@@ -103,6 +108,7 @@ function schedule() {
   clearTimeout(timer);
   cancel();
   canvas.dataset.state = "rendering";
+  if (status.className !== "error") status.textContent = `${scene.name}: rendering…`;
   timer = setTimeout(render, DEBOUNCE_MS);
 }
 
@@ -132,7 +138,7 @@ async function render() {
   const preview = await runJob(pool[0], { ...base, id: mine, shrink: PREVIEW_SHRINK, samples: 1, region: null });
   if (mine !== generation) return;
   if (!preview.ok) return showError(preview.error);
-  showProblems([]);
+  showProblems([], preview.notes.warnings);
   const { fullWidth, fullHeight } = preview;
   imageSize = [fullWidth, fullHeight];
   // A huge image's canvas takes seconds of the page's own thread to make:
@@ -155,18 +161,42 @@ async function render() {
 
   const start = performance.now();
   const regions = bands(fullWidth, fullHeight, pool.length);
+  // A path-traced band comes in passes of doubling samples: each shown as
+  // it comes, kept until every band has it, so that the image ends at the
+  // samples all bands reached (a time limit may stop them apart).
+  const passes = regions.map(() => new Map());
+  const reached = regions.map(() => 0);
+  let total = 0;
+  const draw = (i, rgba) => {
+    if (huge && canvas.width !== fullWidth) {
+      canvas.width = fullWidth;
+      canvas.height = fullHeight;
+      ctx = canvas.getContext("2d");
+    }
+    const [x0, y0, x1, y1] = regions[i];
+    ctx.putImageData(new ImageData(new Uint8ClampedArray(rgba), x1 - x0, y1 - y0), x0, y0);
+  };
+  const keep = (i, samples, rgba) => {
+    passes[i].set(samples, rgba);
+    reached[i] = samples;
+    const least = Math.min(...reached);
+    for (const band of passes) for (const s of band.keys()) if (s < least) band.delete(s);
+  };
+  const onPass = (i) => (pass) => {
+    if (mine !== generation) return;
+    keep(i, pass.samples, pass.rgba);
+    total = pass.total;
+    draw(i, pass.rgba);
+    const seconds = ((performance.now() - start) / 1000).toFixed(1);
+    status.textContent = `${scene.name}: rendering ${fullWidth}x${fullHeight} on ${pool.length} worker(s): ${Math.min(...reached)} of ${total} paths a pixel so far, ${seconds} s…`;
+  };
   let rays = 0;
   const answers = await Promise.all(
     regions.map((region, i) =>
-      runJob(pool[i], { ...base, id: mine, shrink: 0, region }).then((answer) => {
+      runJob(pool[i], { ...base, id: mine, shrink: 0, region }, onPass(i)).then((answer) => {
         if (mine === generation && answer.ok) {
-          if (huge && canvas.width !== fullWidth) {
-            canvas.width = fullWidth;
-            canvas.height = fullHeight;
-            ctx = canvas.getContext("2d");
-          }
-          const [x0, y0, x1, y1] = region;
-          ctx.putImageData(new ImageData(new Uint8ClampedArray(answer.rgba), x1 - x0, y1 - y0), x0, y0);
+          keep(i, answer.notes.samples[0], answer.rgba);
+          draw(i, answer.rgba);
           rays += answer.rays;
         }
         return answer;
@@ -177,8 +207,13 @@ async function render() {
   busy = false;
   const failed = answers.find((a) => !a.ok);
   if (failed) return showError(failed.error);
+  const [least, of] = [Math.min(...reached), answers[0].notes.samples[1]];
+  regions.forEach((_, i) => {
+    if (reached[i] !== least) draw(i, passes[i].get(least));
+  });
   const seconds = (performance.now() - start) / 1000;
   const mrays = rays / seconds / 1e6;
+  const pathTraced = answers[0].notes.path;
   window.tracerPage.lastRender = {
     scene: scene.name,
     seconds,
@@ -188,8 +223,15 @@ async function render() {
     workers: regions.length,
     width: fullWidth,
     height: fullHeight,
+    // Path mode: paths a pixel rendered, of the scene's.
+    samples: pathTraced ? [least, of] : null,
   };
-  status.textContent = `${scene.name}: ${fullWidth}x${fullHeight} in ${seconds.toFixed(2)} s, ${mrays.toFixed(2)} Mrays/s (${regions.length} worker${regions.length === 1 ? "" : "s"})`;
+  const paths = pathTraced ? `, ${least} paths a pixel` : "";
+  let text = `${scene.name}: ${fullWidth}x${fullHeight}${paths} in ${seconds.toFixed(2)} s, ${mrays.toFixed(2)} Mrays/s (${regions.length} worker${regions.length === 1 ? "" : "s"})`;
+  if (pathTraced && least < of) {
+    text += `\nstopped at ${least} of ${of} paths a pixel: the next pass would end after the scene's time_limit`;
+  }
+  status.textContent = text;
   canvas.dataset.state = "done";
   window.tracerPage.renders += 1;
 }
@@ -237,18 +279,26 @@ function showError(error) {
   status.className = "error";
   status.textContent = error.text;
   canvas.dataset.state = "error";
-  showProblems(error.problems.filter((p) => p.file === scene.name && p.line));
+  showProblems(error.problems, []);
 }
 
-// Marks each problem of the scene's own text at its line and column.
-function showProblems(problems) {
+// Marks each error and warning of the scene's own text at its line and
+// column; the warnings (of any file) are listed under the status, as
+// `tracer render` prints them.
+function showProblems(errors, warnings) {
+  warningsNote.textContent = warnings.map((w) => w.text).join("\n");
   const doc = view.state.doc;
-  const diagnostics = problems.map((p) => {
+  const mark = (severity) => (p) => {
     const line = doc.line(Math.min(p.line, doc.lines));
     const from = Math.min(line.from + Math.max(0, (p.column || 1) - 1), line.to);
     const to = Math.max(from + 1, Math.min(line.to, doc.length));
-    return { from, to: Math.min(to, doc.length), severity: "error", message: p.message };
-  });
+    return { from, to: Math.min(to, doc.length), severity, message: p.message };
+  };
+  const here = (p) => p.file === scene.name && p.line;
+  const diagnostics = [
+    ...errors.filter(here).map(mark("error")),
+    ...warnings.filter(here).map(mark("warning")),
+  ].sort((a, b) => a.from - b.from);
   view.dispatch(setDiagnostics(view.state, diagnostics));
 }
 
@@ -262,6 +312,8 @@ async function fetchBytes(path) {
 
 // The scene of the menu at `path` (under scenes/) with the files it reads.
 async function openScene(path, text) {
+  // Not done until this scene's render is (scripts wait on it).
+  canvas.dataset.state = "rendering";
   const entry = scenesIndex.find((s) => s.path === path);
   const files = new Map();
   if (entry) {

@@ -5,6 +5,8 @@
 let module = null;
 let instance = null;
 let panicked = null;
+// The job being rendered: its passes are posted with its id.
+let jobId = null;
 
 function fresh() {
   panicked = null;
@@ -13,6 +15,13 @@ function fresh() {
       tracer_panicked(ptr, len) {
         const bytes = new Uint8Array(instance.exports.memory.buffer, ptr, len);
         panicked = new TextDecoder().decode(bytes.slice());
+      },
+      tracer_now_ms: () => performance.now(),
+      // A pass of a path-traced render, its region's pixels so far: shown
+      // while the next pass runs.
+      tracer_pass(samples, total, ptr, len) {
+        const rgba = new Uint8Array(instance.exports.memory.buffer, ptr, len).slice().buffer;
+        self.postMessage({ id: jobId, pass: { samples, total, rgba } }, [rgba]);
       },
     },
   };
@@ -56,14 +65,18 @@ function run(job) {
       return rc === 0 ? { ok: true, text: answer } : { ok: false, error: JSON.parse(answer) };
     }
     const [x0, y0, x1, y1] = job.region || [0, 0, 0, 0];
+    jobId = job.id;
     const start = performance.now();
     const rc = t.tracer_render(name[0], name[1], job.shrink, job.samples, x0, y0, x1, y1);
     const ms = performance.now() - start;
     if (rc !== 0) {
       return { ok: false, error: JSON.parse(new TextDecoder().decode(result(t))) };
     }
+    const notes = new Uint8Array(t.memory.buffer, t.tracer_notes_ptr(), t.tracer_notes_len());
     return {
       ok: true,
+      // Samples a pixel [done, of the scene's], whether path traced, warnings.
+      notes: JSON.parse(new TextDecoder().decode(notes.slice())),
       rgba: result(t).buffer,
       width: t.tracer_width(),
       height: t.tracer_height(),

@@ -559,3 +559,83 @@ fn a_click_on_the_image_explains_that_pixel_as_tracer_explain_does() {
         "({r}, {g}, {b}) not in\n{text}"
     );
 }
+
+#[test]
+fn a_scenes_warnings_show_under_the_image_and_at_their_line() {
+    let Some(mut page) = open("?workers=1") else {
+        return;
+    };
+    let good = eval(&mut page, "tracerPage.view.state.doc.toString()");
+    let good = good.as_str().unwrap().to_string();
+    // Colours on a 0-255 scale: rendered, and warned about as the CLI does.
+    let warned = good.replacen("diffuse = [0, 0.6, 0]", "diffuse = [0, 153, 0]", 1);
+    assert_ne!(warned, good);
+    let line = warned.lines().position(|l| l.contains("153")).unwrap() + 1;
+    type_text(&mut page, &warned);
+    page.wait_for(
+        "document.getElementById('image').dataset.state === 'done' && \
+         document.getElementById('warnings').textContent.includes('0 to 255')",
+        RENDER,
+    )
+    .unwrap();
+    let text = eval(&mut page, "document.getElementById('warnings').textContent");
+    let text = text.as_str().unwrap();
+    assert!(
+        text.starts_with("warning: reflectance2.toml: `materials."),
+        "{text}"
+    );
+    let marked = eval(
+        &mut page,
+        "[...document.querySelectorAll('.cm-line')].findIndex(l => l.querySelector('.cm-lintRange-warning')) + 1",
+    );
+    assert_eq!(marked, Value::from(line));
+    type_text(&mut page, &good);
+    wait_done(&mut page);
+    let text = eval(&mut page, "document.getElementById('warnings').textContent");
+    assert_eq!(text, Value::from(""));
+    assert_golden(&mut page, "reflectance2");
+}
+
+#[test]
+fn a_path_traced_render_shows_its_passes_and_stops_at_its_time_limit() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    render_scene(&mut page, "cornell-box.toml");
+    assert_eq!(
+        eval(&mut page, "tracerPage.lastRender.samples"),
+        serde_json::json!([64, 64])
+    );
+    assert!(status(&mut page).contains("64 paths a pixel in"));
+    let text = eval(&mut page, "tracerPage.view.state.doc.toString()");
+    let text = text.as_str().unwrap().to_string();
+    // Minutes of work at 4096 paths: the time limit stops it.
+    let long = text.replacen("samples = 64", "samples = 4096\ntime_limit = 3", 1);
+    assert_ne!(long, text);
+    type_text(&mut page, &long);
+    // While it runs, each pass is shown and counted.
+    page.wait_for(
+        "document.getElementById('status').textContent.includes('paths a pixel so far')",
+        RENDER,
+    )
+    .unwrap();
+    page.wait_for(
+        "document.getElementById('image').dataset.state === 'done' && \
+         tracerPage.lastRender.samples[1] === 4096",
+        RENDER,
+    )
+    .unwrap();
+    let seconds = eval(&mut page, "tracerPage.lastRender.seconds");
+    let samples = eval(&mut page, "tracerPage.lastRender.samples[0]");
+    let samples = samples.as_u64().unwrap();
+    assert!((1..4096).contains(&samples), "{samples}");
+    assert!(samples.is_power_of_two(), "{samples}");
+    // Stopped before a pass that would end past the limit (the page's own
+    // time also counts its loading and preview).
+    assert!(seconds.as_f64().unwrap() < 10.0, "{seconds}");
+    let text = status(&mut page);
+    assert!(
+        text.contains(&format!("stopped at {samples} of 4096 paths a pixel")),
+        "{text}"
+    );
+}

@@ -43,9 +43,13 @@ fn problems(error: &SceneError) -> Vec<Value> {
     out
 }
 
-/// `{"samples": [done, of], "warnings": [{"text", "file", "line",
-/// "column", "key", "message"}]}`.
-pub fn notes_json(samples: (u32, u32), warnings: &[tracer_pipeline::Warning]) -> String {
+/// `{"samples": [done, of], "path": bool, "warnings": [{"text", "file",
+/// "line", "column", "key", "message"}]}`: `path` when path traced.
+pub fn notes_json(
+    samples: (u32, u32),
+    path: bool,
+    warnings: &[tracer_pipeline::Warning],
+) -> String {
     let warnings: Vec<Value> = warnings
         .iter()
         .map(|w| {
@@ -59,5 +63,5 @@ pub fn notes_json(samples: (u32, u32), warnings: &[tracer_pipeline::Warning]) ->
             })
         })
         .collect();
-    json!({ "samples": [samples.0, samples.1], "warnings": warnings }).to_string()
+    json!({ "samples": [samples.0, samples.1], "path": path, "warnings": warnings }).to_string()
 }

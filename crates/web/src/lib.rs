@@ -127,7 +127,7 @@ pub unsafe extern "C" fn tracer_render(
             s.size = image.size;
             s.full = image.full;
             s.rays = image.rays as f64;
-            s.notes = answer::notes_json(image.samples, &image.warnings);
+            s.notes = answer::notes_json(image.samples, image.path_traced, &image.warnings);
             s.result = image.rgba;
             0
         }),
@@ -247,6 +247,7 @@ pub struct RegionImage {
     pub full: (u32, u32),
     pub rays: u64,
     pub samples: (u32, u32),
+    pub path_traced: bool,
     pub warnings: Vec<tracer_pipeline::Warning>,
 }
 
@@ -331,6 +332,7 @@ pub fn render_passes(
         full,
         rays,
         samples,
+        path_traced: loaded.is_path_traced(&options),
         warnings,
     })
 }

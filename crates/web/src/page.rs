@@ -23,9 +23,12 @@ impl PassClock {
         }
     }
 
-    /// Sends `pass` to the page; whether the next pass is to run.
+    /// Sends `pass` to the page (but the last, which is the render's
+    /// answer); whether the next pass is to run.
     pub fn pass(&mut self, pass: &PassImage) -> bool {
-        send(pass);
+        if pass.samples < pass.total {
+            send(pass);
+        }
         let now = now_seconds();
         let this_pass = now - self.pass_start;
         let added = pass.samples - self.samples;
