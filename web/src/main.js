@@ -269,7 +269,8 @@ canvas.addEventListener("click", async (event) => {
   if (explainPanel.dataset.pixel !== `${x},${y}` || explainPanel.dataset.state !== "computing") return;
   explainBusy = false;
   explainPanel.dataset.state = answer.ok ? "done" : "error";
-  explainPanel.textContent = `Pixel (${x}, ${y})\n\n${answer.ok ? answer.text : answer.error.text}`;
+  // The text names the pixel; an error does not.
+  explainPanel.textContent = answer.ok ? answer.text : `Pixel (${x}, ${y})\n\n${answer.error.text}`;
 });
 
 // ---- Errors -----------------------------------------------------------
