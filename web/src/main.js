@@ -458,7 +458,7 @@ async function start() {
   for (const s of scenesIndex) {
     const option = document.createElement("option");
     option.value = s.path;
-    option.textContent = s.lab ? `${s.path} (lab)` : s.path;
+    option.textContent = s.lab ? `${s.path} (lab)` : s.path_traced ? `${s.path} (path traced)` : s.path;
     menu.append(option);
   }
   const other = document.createElement("option");

@@ -92,6 +92,8 @@ pub struct SceneEntry {
     pub path: String,
     /// Whether it is one of the lab's tables.
     pub lab: bool,
+    /// Whether it is path traced (`integrator = "path"`).
+    pub path_traced: bool,
     /// The files it reads besides itself, paths under scenes/.
     pub files: Vec<String>,
 }
@@ -125,8 +127,10 @@ pub fn scene_entries(scenes: &Path) -> Result<Vec<SceneEntry>> {
             .map(|f| relative(f))
             .collect::<Result<_>>()?;
         let path = relative(&path)?;
+        let path_traced = loaded.is_path_traced(&tracer_pipeline::Options::default());
         entries.push(SceneEntry {
             lab: LAB_SCENES.contains(&path.as_str()),
+            path_traced,
             path,
             files,
         });
@@ -183,5 +187,8 @@ mod tests {
         assert_eq!(files("bench/bunny.toml"), &["bench/bunny.obj"]);
         assert!(files("textures.toml").contains(&"meshes/labelled-box.mtl".to_string()));
         assert!(files("reflectance2.toml").is_empty());
+        let path_traced = |path: &str| entries.iter().find(|e| e.path == path).unwrap().path_traced;
+        assert!(path_traced("cornell-box.toml"));
+        assert!(!path_traced("reflectance2.toml"));
     }
 }
