@@ -82,11 +82,13 @@ function makePool() {
 }
 
 // Renders `job` (a region) in `worker`; resolves with the worker's answer,
-// calling `onPass` with each pass before the last (a path-traced render).
-function runJob(worker, job, onPass = () => {}) {
+// calling `on.pass` with each pass before the last (a path-traced render)
+// and `on.rows` with the rows done of the pass under way.
+function runJob(worker, job, on = {}) {
   return new Promise((resolve) => {
     worker.onmessage = (event) => {
-      if (event.data.pass) onPass(event.data.pass);
+      if (event.data.pass) on.pass?.(event.data.pass);
+      else if (event.data.rows !== undefined) on.rows?.(event.data.rows);
       else resolve(event.data);
     };
     worker.postMessage(job);
@@ -166,7 +168,15 @@ async function render() {
   // samples all bands reached (a time limit may stop them apart).
   const passes = regions.map(() => new Map());
   const reached = regions.map(() => 0);
+  // The share of each band's pass under way that is done.
+  const partly = regions.map(() => 0);
   let total = 0;
+  const showProgress = () => {
+    const seconds = ((performance.now() - start) / 1000).toFixed(1);
+    const share = Math.floor((100 * partly.reduce((a, b) => a + b, 0)) / partly.length);
+    const so = total ? `${Math.min(...reached)} of ${total} paths a pixel so far, next pass ${share} %` : `${share} %`;
+    status.textContent = `${scene.name}: rendering ${fullWidth}x${fullHeight} on ${pool.length} worker(s): ${so}, ${seconds} s…`;
+  };
   const draw = (i, rgba) => {
     if (huge && canvas.width !== fullWidth) {
       canvas.width = fullWidth;
@@ -182,18 +192,25 @@ async function render() {
     const least = Math.min(...reached);
     for (const band of passes) for (const s of band.keys()) if (s < least) band.delete(s);
   };
-  const onPass = (i) => (pass) => {
-    if (mine !== generation) return;
-    keep(i, pass.samples, pass.rgba);
-    total = pass.total;
-    draw(i, pass.rgba);
-    const seconds = ((performance.now() - start) / 1000).toFixed(1);
-    status.textContent = `${scene.name}: rendering ${fullWidth}x${fullHeight} on ${pool.length} worker(s): ${Math.min(...reached)} of ${total} paths a pixel so far, ${seconds} s…`;
-  };
+  const on = (i) => ({
+    pass: (pass) => {
+      if (mine !== generation) return;
+      keep(i, pass.samples, pass.rgba);
+      total = pass.total;
+      partly[i] = 0;
+      draw(i, pass.rgba);
+      showProgress();
+    },
+    rows: (rows) => {
+      if (mine !== generation) return;
+      partly[i] = Math.min(1, rows / (regions[i][3] - regions[i][1]));
+      showProgress();
+    },
+  });
   let rays = 0;
   const answers = await Promise.all(
     regions.map((region, i) =>
-      runJob(pool[i], { ...base, id: mine, shrink: 0, region }, onPass(i)).then((answer) => {
+      runJob(pool[i], { ...base, id: mine, shrink: 0, region }, on(i)).then((answer) => {
         if (mine === generation && answer.ok) {
           keep(i, answer.notes.samples[0], answer.rgba);
           draw(i, answer.rgba);

@@ -23,6 +23,10 @@ function fresh() {
         const rgba = new Uint8Array(instance.exports.memory.buffer, ptr, len).slice().buffer;
         self.postMessage({ id: jobId, pass: { samples, total, rgba } }, [rgba]);
       },
+      // Rows of the region done in the pass under way (a few times a second).
+      tracer_rows(rows) {
+        self.postMessage({ id: jobId, rows });
+      },
     },
   };
   instance = new WebAssembly.Instance(module, imports);

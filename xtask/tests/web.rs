@@ -613,9 +613,10 @@ fn a_path_traced_render_shows_its_passes_and_stops_at_its_time_limit() {
     let long = text.replacen("samples = 64", "samples = 4096\ntime_limit = 3", 1);
     assert_ne!(long, text);
     type_text(&mut page, &long);
-    // While it runs, each pass is shown and counted.
+    // While it runs, each pass is shown and counted, and the rows of the
+    // pass under way.
     page.wait_for(
-        "document.getElementById('status').textContent.includes('paths a pixel so far')",
+        "/paths a pixel so far, next pass [0-9]+ %/.test(document.getElementById('status').textContent)",
         RENDER,
     )
     .unwrap();

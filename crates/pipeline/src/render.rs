@@ -110,17 +110,19 @@ pub fn render_prepared(
 /// render there); in Whitted mode one pass. The last pass's image, which
 /// for a render that ran to its samples is `render_prepared`'s bit for
 /// bit; None when `cancel` became true. `options.aov` is not looked at.
+/// `rows_done(n)` as `n` more rows of the current pass are done.
 pub fn render_prepared_progressive(
     prepared: &PreparedScene,
     options: &Options,
     cancel: &AtomicBool,
-    on_pass: &mut dyn FnMut(Pass) -> bool,
+    (rows_done, on_pass): (&(dyn Fn(u32) + Sync), &mut dyn FnMut(Pass) -> bool),
 ) -> Result<Option<Rendered>, Error> {
     let region = options
         .part
         .map(|p| p.region(prepared.size()))
         .transpose()?;
-    let rendered = scene3d::shade_progressive(prepared, options.gamma, region, cancel, on_pass);
+    let passes = (rows_done, on_pass);
+    let rendered = scene3d::shade_progressive(prepared, options.gamma, region, cancel, passes);
     Ok(rendered.map(|(image, stats, _)| Rendered {
         image,
         summary: Summary::Shaded(stats),
@@ -142,10 +144,10 @@ pub fn render_progressive(
     options: &Options,
     option: &'static str,
     cancel: &AtomicBool,
-    on_pass: &mut dyn FnMut(Pass) -> bool,
+    passes: (&(dyn Fn(u32) + Sync), &mut dyn FnMut(Pass) -> bool),
 ) -> Result<Option<Rendered>, Error> {
     let prepared = prepare_taking(loaded.clone(), options, option)?;
-    render_prepared_progressive(&prepared, options, cancel, on_pass)
+    render_prepared_progressive(&prepared, options, cancel, passes)
 }
 
 /// A canvas drawn, refusing options of 3D scenes.

@@ -119,20 +119,20 @@ pub struct Pass<'a> {
 
 /// `shade_prepared` in passes of doubling samples per pixel (path mode:
 /// `tracer_core::film`), `on_pass` called after each with the picture so
-/// far; it returns false to stop there. The last pass's picture (and the
-/// samples it has), or None when cancelled. A scene in Whitted mode is
-/// one pass.
+/// far; it returns false to stop there. `rows_done(n)` as `n` more rows of
+/// the current pass are done. The last pass's picture (and the samples it
+/// has), or None when cancelled. A scene in Whitted mode is one pass.
 pub(crate) fn shade_progressive(
     prepared: &PreparedScene,
     gamma: Option<Gamma>,
     region: Option<Region>,
     cancel: &AtomicBool,
-    on_pass: &mut dyn FnMut(Pass) -> bool,
+    (rows_done, on_pass): (&(dyn Fn(u32) + Sync), &mut dyn FnMut(Pass) -> bool),
 ) -> Option<(Picture, ShadedStats, u32)> {
     let scene = &prepared.scene;
     let job = job(scene, region);
     if scene.trace_settings().integrator != tracer_core::scene::Integrator::Path {
-        let (picture, stats) = shade_prepared(prepared, gamma, region, &|_| {}, cancel)?;
+        let (picture, stats) = shade_prepared(prepared, gamma, region, rows_done, cancel)?;
         let samples = job.samples;
         on_pass(Pass {
             picture: &picture,
@@ -147,7 +147,7 @@ pub(crate) fn shade_progressive(
     let mut rays = tracer_core::RayStats::default();
     let mut last = None;
     for pass in tracer_core::film::passes(job.samples) {
-        rays = rays + film.add_pass(scene, pass, &|_| {}, cancel)?;
+        rays = rays + film.add_pass(scene, pass, rows_done, cancel)?;
         let seconds = start.elapsed().as_secs_f64();
         let (picture, stats) = shaded(prepared, gamma, film.image(), rays, seconds);
         let go_on = on_pass(Pass {

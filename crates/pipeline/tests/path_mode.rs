@@ -239,15 +239,21 @@ fn a_render_in_passes_is_the_render_of_as_many_samples_bit_for_bit() {
         seen.push((pass.samples, pass.total));
         true
     };
-    let passes = render_progressive(&loaded, &options, "test", &never, &mut on_pass)
+    let passes = render_progressive(&loaded, &options, "test", &never, (&|_| {}, &mut on_pass))
         .unwrap()
         .expect("not cancelled");
     assert_eq!(seen, [(1, 8), (2, 8), (4, 8), (8, 8)]);
     assert_eq!(bits(&passes.image), bits(&whole));
     let mut stop_at_two = |pass: tracer_pipeline::Pass| pass.samples < 2;
-    let two = render_progressive(&loaded, &options, "test", &never, &mut stop_at_two)
-        .unwrap()
-        .unwrap();
+    let two = render_progressive(
+        &loaded,
+        &options,
+        "test",
+        &never,
+        (&|_| {}, &mut stop_at_two),
+    )
+    .unwrap()
+    .unwrap();
     let two_samples = Options {
         samples: Some(2),
         ..options

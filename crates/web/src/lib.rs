@@ -357,10 +357,10 @@ fn in_passes(
             time_limit: loaded.time_limit(),
         })
     };
-    let rendered =
-        tracer_pipeline::render_progressive(loaded, options, "the page", &never, &mut each)
-            .map_err(|e| error_json(&e))?
-            .expect("never cancelled");
+    let passes = (&page::rows_done as &(dyn Fn(u32) + Sync), &mut each as _);
+    let rendered = tracer_pipeline::render_progressive(loaded, options, "the page", &never, passes)
+        .map_err(|e| error_json(&e))?
+        .expect("never cancelled");
     Ok((rendered, samples))
 }
 

@@ -1,9 +1,29 @@
 //! The page's side of a render in passes: each pass's pixels go to the
 //! page as they are made (the image sharpens while a long path-traced
-//! render runs), and the scene's `time_limit` stops it after the last pass
-//! that fits, by the rule of `tracer render`.
+//! render runs), the rows of the pass under way as they are done (a few
+//! times a second), and the scene's `time_limit` stops it after the last
+//! pass that fits, by the rule of `tracer render`.
 
 use crate::PassImage;
+use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
+
+/// Rows of the current pass done, and when the page was last told (the
+/// bits of an f64 of seconds). One render runs at a time in an instance.
+static ROWS: AtomicU32 = AtomicU32::new(0);
+static TOLD: AtomicU64 = AtomicU64::new(0);
+
+/// How often the page hears of rows done, at most.
+const ROWS_EVERY_SECONDS: f64 = 0.25;
+
+/// The pipeline's `rows_done`: `n` more rows of the current pass done.
+pub fn rows_done(n: u32) {
+    let rows = ROWS.fetch_add(n, Ordering::Relaxed) + n;
+    let now = now_seconds();
+    if now - f64::from_bits(TOLD.load(Ordering::Relaxed)) >= ROWS_EVERY_SECONDS {
+        TOLD.store(now.to_bits(), Ordering::Relaxed);
+        send_rows(rows);
+    }
+}
 
 /// The time of a render in passes, read from the page's clock (the wasm
 /// has none of its own).
@@ -16,6 +36,7 @@ pub struct PassClock {
 impl PassClock {
     pub fn new() -> PassClock {
         let now = now_seconds();
+        ROWS.store(0, Ordering::Relaxed);
         PassClock {
             start: now,
             pass_start: now,
@@ -29,6 +50,7 @@ impl PassClock {
         if pass.samples < pass.total {
             send(pass);
         }
+        ROWS.store(0, Ordering::Relaxed);
         let now = now_seconds();
         let this_pass = now - self.pass_start;
         let added = pass.samples - self.samples;
@@ -52,6 +74,8 @@ mod imports {
         pub fn tracer_now_ms() -> f64;
         /// A pass's RGBA pixels of the region, for the page to show.
         pub fn tracer_pass(samples: u32, total: u32, ptr: *const u8, len: usize);
+        /// Rows of the region done in the pass under way.
+        pub fn tracer_rows(rows: u32);
     }
 }
 
@@ -78,8 +102,17 @@ fn now_seconds() -> f64 {
     START.get_or_init(Instant::now).elapsed().as_secs_f64()
 }
 
+#[cfg(target_arch = "wasm32")]
+fn send_rows(rows: u32) {
+    // SAFETY: an import of the page that takes a number.
+    unsafe { imports::tracer_rows(rows) }
+}
+
 #[cfg(not(target_arch = "wasm32"))]
 fn send(_: &PassImage) {}
+
+#[cfg(not(target_arch = "wasm32"))]
+fn send_rows(_: u32) {}
 
 #[cfg(test)]
 mod tests {

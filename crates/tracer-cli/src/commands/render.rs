@@ -220,8 +220,12 @@ fn render_prepared(prepared: &PreparedScene, how: &How) -> Result<Rendered, Erro
     };
     let never = AtomicBool::new(false);
     let mut on_pass = passes::on_pass(plan, how.quiet);
-    let rendered =
-        tracer_pipeline::render_prepared_progressive(prepared, how.options, &never, &mut on_pass)?;
+    let rendered = tracer_pipeline::render_prepared_progressive(
+        prepared,
+        how.options,
+        &never,
+        (&|_| {}, &mut on_pass),
+    )?;
     Ok(rendered.expect("never cancelled"))
 }
 

@@ -155,7 +155,13 @@ fn render_in_passes(args: &Watch, loaded: &Loaded, changes: &Changes, server: Op
         }
     };
     let rendered = args.pool.install(|| {
-        tracer_pipeline::render_progressive(loaded, &args.options, "watch", cancel, &mut on_pass)
+        tracer_pipeline::render_progressive(
+            loaded,
+            &args.options,
+            "watch",
+            cancel,
+            (&|_| {}, &mut on_pass),
+        )
     });
     if let Some(e) = failed {
         note!("error: {e:#}");
