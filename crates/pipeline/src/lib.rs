@@ -35,5 +35,5 @@ pub use render::{
     render_prepared, render_prepared_progressive, render_progressive, render_taking,
 };
 pub use rendered::{Picture, Rendered, ShadedStats, Summary, FORCED_WHITE_WARNING};
-pub use scene3d::{Pass, PreparedScene};
+pub use scene3d::{Pass, PassCallbacks, PreparedScene};
 pub use tracer_core::LinearImage;

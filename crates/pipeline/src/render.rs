@@ -5,7 +5,7 @@
 use crate::load::Loaded;
 use crate::options::{Aov, Gamma, Options};
 use crate::rendered::{Picture, Rendered, Summary};
-use crate::scene3d::{Pass, PreparedScene};
+use crate::scene3d::{PassCallbacks, PreparedScene};
 use crate::{scene3d, Error};
 use scene_format::{CanvasFile, SceneFile, SceneKind};
 use std::borrow::Cow;
@@ -115,13 +115,12 @@ pub fn render_prepared_progressive(
     prepared: &PreparedScene,
     options: &Options,
     cancel: &AtomicBool,
-    (rows_done, on_pass): (&(dyn Fn(u32) + Sync), &mut dyn FnMut(Pass) -> bool),
+    passes: PassCallbacks,
 ) -> Result<Option<Rendered>, Error> {
     let region = options
         .part
         .map(|p| p.region(prepared.size()))
         .transpose()?;
-    let passes = (rows_done, on_pass);
     let rendered = scene3d::shade_progressive(prepared, options.gamma, region, cancel, passes);
     Ok(rendered.map(|(image, stats, _)| Rendered {
         image,
@@ -144,7 +143,7 @@ pub fn render_progressive(
     options: &Options,
     option: &'static str,
     cancel: &AtomicBool,
-    passes: (&(dyn Fn(u32) + Sync), &mut dyn FnMut(Pass) -> bool),
+    passes: PassCallbacks,
 ) -> Result<Option<Rendered>, Error> {
     let prepared = prepare_taking(loaded.clone(), options, option)?;
     render_prepared_progressive(&prepared, options, cancel, passes)

@@ -108,6 +108,11 @@ pub(crate) fn shade_prepared(
     ))
 }
 
+/// What a render in passes reports to: `rows_done(n)` as `n` more rows of
+/// the pass under way are done, and `on_pass` after each pass (its return
+/// false stops the render there).
+pub type PassCallbacks<'a> = (&'a (dyn Fn(u32) + Sync), &'a mut dyn FnMut(Pass) -> bool);
+
 /// A pass of a progressive render: the picture so far, and how far it got.
 pub struct Pass<'a> {
     pub picture: &'a Picture,
@@ -127,7 +132,7 @@ pub(crate) fn shade_progressive(
     gamma: Option<Gamma>,
     region: Option<Region>,
     cancel: &AtomicBool,
-    (rows_done, on_pass): (&(dyn Fn(u32) + Sync), &mut dyn FnMut(Pass) -> bool),
+    (rows_done, on_pass): PassCallbacks,
 ) -> Option<(Picture, ShadedStats, u32)> {
     let scene = &prepared.scene;
     let job = job(scene, region);
