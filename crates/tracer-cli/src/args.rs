@@ -118,7 +118,8 @@ pub struct ExplainArgs {
     pub x: u32,
     /// The pixel's row, from 0 at the image's top
     pub y: u32,
-    /// Which of the pixel's samples to trace (0 is the first) [default: 0]
+    /// Which of the pixel's samples to trace (0 is the first; in path mode
+    /// the pixel is the mean of all of its samples)
     #[arg(long, value_name = "K", default_value_t = 0)]
     pub sample: u32,
     /// Print the tree as JSON instead: its structure is in the README
