@@ -22,6 +22,7 @@ const status = document.getElementById("status");
 const warningsNote = document.getElementById("warnings");
 const folderNote = document.getElementById("folder");
 const explainPanel = document.getElementById("explain");
+const explainSample = document.getElementById("explain-sample");
 const params = new URLSearchParams(location.search);
 // `?workers=N` (tests, the bench) overrides one worker per core.
 const workerCount = Math.max(1, Number(params.get("workers")) || navigator.hardwareConcurrency || 1);
@@ -262,7 +263,7 @@ let explainWorker = null;
 let explainBusy = false;
 
 // A click on the image: that pixel's tree, as `tracer explain` prints it.
-canvas.addEventListener("click", async (event) => {
+canvas.addEventListener("click", (event) => {
   if (!wasmModule) return;
   // The canvas may be shown smaller than it is (CSS): scale the click to
   // the full image's pixels, (0, 0) its top-left.
@@ -271,6 +272,18 @@ canvas.addEventListener("click", async (event) => {
   const clamp = (v, n) => Math.min(n - 1, Math.max(0, Math.floor(v)));
   const x = clamp(((event.clientX - rect.left) / rect.width) * width, width);
   const y = clamp(((event.clientY - rect.top) / rect.height) * height, height);
+  explainPixel(x, y);
+});
+
+// Another sample of the pixel explained (`tracer explain --sample K`).
+explainSample.addEventListener("change", () => {
+  const pixel = explainPanel.dataset.pixel;
+  if (pixel) explainPixel(...pixel.split(",").map(Number));
+});
+
+async function explainPixel(x, y) {
+  const sample = Math.max(0, Math.floor(Number(explainSample.value)) || 0);
+  const asked = `${x},${y},${sample}`;
   // A click while one is explained starts afresh rather than waiting.
   if (explainBusy) explainWorker.terminate();
   if (explainBusy || !explainWorker) {
@@ -279,16 +292,18 @@ canvas.addEventListener("click", async (event) => {
   }
   explainBusy = true;
   explainPanel.dataset.pixel = `${x},${y}`;
+  explainPanel.dataset.asked = asked;
   explainPanel.dataset.state = "computing";
   explainPanel.textContent = `Pixel (${x}, ${y}): explaining…`;
-  const answer = await runJob(explainWorker, { scene: scene.name, files: folderFiles(), explain: [x, y] });
+  const job = { scene: scene.name, files: folderFiles(), explain: [x, y], sample };
+  const answer = await runJob(explainWorker, job);
   // A later click owns the panel now.
-  if (explainPanel.dataset.pixel !== `${x},${y}` || explainPanel.dataset.state !== "computing") return;
+  if (explainPanel.dataset.asked !== asked || explainPanel.dataset.state !== "computing") return;
   explainBusy = false;
   explainPanel.dataset.state = answer.ok ? "done" : "error";
   // The text names the pixel; an error does not.
   explainPanel.textContent = answer.ok ? answer.text : `Pixel (${x}, ${y})\n\n${answer.error.text}`;
-});
+}
 
 // ---- Errors -----------------------------------------------------------
 

@@ -64,7 +64,7 @@ function run(job) {
     if (job.explain) {
       // One pixel's tree, as `tracer explain` prints it.
       const [x, y] = job.explain;
-      const rc = t.tracer_explain(name[0], name[1], x, y);
+      const rc = t.tracer_explain(name[0], name[1], x, y, job.sample || 0);
       const answer = new TextDecoder().decode(result(t));
       return rc === 0 ? { ok: true, text: answer } : { ok: false, error: JSON.parse(answer) };
     }

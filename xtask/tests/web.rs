@@ -640,3 +640,30 @@ fn a_path_traced_render_shows_its_passes_and_stops_at_its_time_limit() {
         "{text}"
     );
 }
+
+#[test]
+fn another_sample_of_a_path_traced_pixel_is_explained_on_asking() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    render_scene(&mut page, "cornell-box.toml");
+    // As after a click on (128, 64), then sample 5 asked for.
+    eval(
+        &mut page,
+        "(() => { document.getElementById('explain').dataset.pixel = '128,64'; \
+         const s = document.getElementById('explain-sample'); s.value = '5'; \
+         s.dispatchEvent(new Event('change')); })()",
+    );
+    page.wait_for(
+        "document.getElementById('explain').dataset.state === 'done'",
+        RENDER,
+    )
+    .unwrap();
+    let text = eval(&mut page, "document.getElementById('explain').textContent");
+    let text = text.as_str().unwrap();
+    assert!(
+        text.starts_with("pixel (128, 64) of cornell-box.toml (256x256;"),
+        "{text}"
+    );
+    assert!(text.contains("sample 5 of 64"), "{text}");
+}

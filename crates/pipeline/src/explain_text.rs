@@ -12,10 +12,16 @@ use crate::Error;
 use glam::{Vec2, Vec3};
 use std::fmt::Write;
 
-/// Pixel (x, y)'s tree as text, its first sample's: what a click on the
-/// image shows in `tracer watch --serve`'s page and in the playground.
-pub fn tree_text(loaded: &Loaded, options: &Options, (x, y): (u32, u32)) -> Result<String, Error> {
-    let pixel = crate::explain::explain(loaded, options, (x, y), 0)?;
+/// Pixel (x, y)'s tree as text, its sample `sample`'s (0 the first):
+/// what a click on the image shows in `tracer watch --serve`'s page and in
+/// the playground.
+pub fn tree_text(
+    loaded: &Loaded,
+    options: &Options,
+    (x, y): (u32, u32),
+    sample: u32,
+) -> Result<String, Error> {
+    let pixel = crate::explain::explain(loaded, options, (x, y), sample)?;
     Ok(text(&pixel, (x, y), &loaded.name.display().to_string()))
 }
 

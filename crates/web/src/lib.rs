@@ -136,17 +136,24 @@ pub unsafe extern "C" fn tracer_render(
 }
 
 /// Loads the scene file at `path` of the folder and explains pixel (x, y)
-/// of its image at its full size (x from the left, y from the top): the
-/// text `tracer explain SCENE X Y` prints, by the pipeline's one formatter.
+/// of its image at its full size (x from the left, y from the top),
+/// tracing its sample `sample`: the text `tracer explain SCENE X Y
+/// --sample K` prints, by the pipeline's one formatter.
 /// 0 with the text (UTF-8) as the result; 1 with the error's JSON.
 ///
 /// # Safety
 /// `path`, `path_len` are those of a buffer of `tracer_alloc`.
 #[no_mangle]
-pub unsafe extern "C" fn tracer_explain(path: *const u8, path_len: usize, x: u32, y: u32) -> u32 {
+pub unsafe extern "C" fn tracer_explain(
+    path: *const u8,
+    path_len: usize,
+    x: u32,
+    y: u32,
+    sample: u32,
+) -> u32 {
     // SAFETY: as the caller promises.
     let path = String::from_utf8_lossy(unsafe { bytes(path, path_len) }).into_owned();
-    let done = STATE.with_borrow(|s| explain(&s.files, Path::new(&path), (x, y)));
+    let done = STATE.with_borrow(|s| explain(&s.files, Path::new(&path), (x, y), sample));
     match done {
         Ok(text) => STATE.with_borrow_mut(|s| {
             s.result = text.into_bytes();
@@ -396,12 +403,17 @@ impl Crop {
     }
 }
 
-/// Pixel (x, y) of the scene at `path` of `files` explained, as `tracer
-/// explain` prints it (its default options: the scene's own size and
-/// samples); an error as the page's JSON.
-pub fn explain(files: &Memory, path: &Path, (x, y): (u32, u32)) -> Result<String, String> {
+/// Pixel (x, y) of the scene at `path` of `files` explained, its sample
+/// `sample`, as `tracer explain --sample` prints it (its default options:
+/// the scene's own size and samples); an error as the page's JSON.
+pub fn explain(
+    files: &Memory,
+    path: &Path,
+    (x, y): (u32, u32),
+    sample: u32,
+) -> Result<String, String> {
     let loaded = load(files, path)?;
-    tracer_pipeline::explain_text::tree_text(&loaded, &Options::default(), (x, y))
+    tracer_pipeline::explain_text::tree_text(&loaded, &Options::default(), (x, y), sample)
         .map_err(|e| error_json(&e))
 }
 

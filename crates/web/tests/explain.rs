@@ -24,7 +24,7 @@ fn a_pixel_s_tree_is_tracer_explain_s_text_with_the_rendered_value() {
         .image
         .to_rgb8();
     for (x, y) in [(rgb.width() / 2, rgb.height() / 2), (0, 0)] {
-        let shown = tracer_web::explain(&files, Path::new(name), (x, y)).unwrap();
+        let shown = tracer_web::explain(&files, Path::new(name), (x, y), 0).unwrap();
         let pixel =
             tracer_pipeline::explain::explain(&loaded, &Options::default(), (x, y), 0).unwrap();
         // `tracer explain` names the scene as given; here, by the folder's path.
@@ -43,7 +43,7 @@ fn a_pixel_s_tree_is_tracer_explain_s_text_with_the_rendered_value() {
         );
     }
     // The image's centre is on the sphere: a hit, not the background.
-    let centre = tracer_web::explain(&files, Path::new(name), (250, 200)).unwrap();
+    let centre = tracer_web::explain(&files, Path::new(name), (250, 200), 0).unwrap();
     assert!(centre.contains("nearest hit: object"), "{centre}");
 }
 
@@ -54,14 +54,41 @@ fn a_pixel_outside_the_image_is_a_located_error() {
     files
         .insert(Path::new(name), std::fs::read(scenes().join(name)).unwrap())
         .unwrap();
-    let json = tracer_web::explain(&files, Path::new(name), (100_000, 0)).unwrap_err();
+    let json = tracer_web::explain(&files, Path::new(name), (100_000, 0), 0).unwrap_err();
     let value: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert!(value["text"].as_str().unwrap().contains("100000"), "{json}");
     // A scene's own mistake is placed at its line, as a render's is.
     files
         .insert(Path::new(name), "[camera]\nfvo = 50\n".into())
         .unwrap();
-    let json = tracer_web::explain(&files, Path::new(name), (0, 0)).unwrap_err();
+    let json = tracer_web::explain(&files, Path::new(name), (0, 0), 0).unwrap_err();
     let value: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert_eq!(value["problems"][0]["line"], 2, "{json}");
+}
+
+#[test]
+fn any_sample_of_a_path_traced_pixel_is_explained_as_tracer_explain_does() {
+    let name = "cornell-box.toml";
+    let path = scenes().join(name);
+    let mut files = Memory::new();
+    files
+        .insert(Path::new(name), std::fs::read(&path).unwrap())
+        .unwrap();
+    let loaded = tracer_pipeline::load(&Input::File(path)).unwrap();
+    let (x, y) = (128, 64);
+    let mut texts = Vec::new();
+    for sample in [0, 5] {
+        let shown = tracer_web::explain(&files, Path::new(name), (x, y), sample).unwrap();
+        let pixel = tracer_pipeline::explain::explain(&loaded, &Options::default(), (x, y), sample)
+            .unwrap();
+        assert_eq!(
+            shown,
+            tracer_pipeline::explain_text::text(&pixel, (x, y), name)
+        );
+        assert!(shown.contains(&format!("sample {sample} of 64")), "{shown}");
+        texts.push(shown);
+    }
+    assert_ne!(texts[0], texts[1], "another sample traces another path");
+    let json = tracer_web::explain(&files, Path::new(name), (x, y), 64).unwrap_err();
+    assert!(json.contains("64"), "{json}");
 }

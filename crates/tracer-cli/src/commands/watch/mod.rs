@@ -44,7 +44,7 @@ pub fn run(args: &Watch) -> Result<()> {
                 if let Some(server) = &server {
                     let (scene, options) = (loaded.clone(), args.options);
                     server.explain_with(std::sync::Arc::new(move |x, y| {
-                        tracer_pipeline::explain_text::tree_text(&scene, &options, (x, y))
+                        tracer_pipeline::explain_text::tree_text(&scene, &options, (x, y), 0)
                             .map_err(|e| e.to_string())
                     }));
                 }
