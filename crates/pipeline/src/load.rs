@@ -2,7 +2,7 @@
 //! without one; with the files it read and the warnings it gave.
 
 use crate::limits;
-use scene_format::{Diagnostic, Format, Location, Origins, SceneError, SceneKind};
+use scene_format::{Diagnostic, Format, KeyPath, Location, Origins, SceneError, SceneKind};
 use std::path::{Path, PathBuf};
 
 /// The scene rendered when none is given: the lab's final scene (table
@@ -85,30 +85,43 @@ impl Loaded {
     }
 
     /// [`Loaded::warnings_for`] as shown: each with its line as `tracer
-    /// render` prints it, in the file that holds it, at its place there.
+    /// render` prints it, in the file that holds it, at its place there
+    /// (each file parsed once, for all of its warnings).
     pub fn warning_list(&self, options: &crate::Options) -> Vec<Warning> {
-        let warning = |w: &Diagnostic| {
-            // An object of an included file is named in that file.
-            let (file, path) = self.origins.origin(&w.path);
-            let source = self.origins.files.get(file);
-            let name = match source {
-                Some(f) if file > 0 => f.name.clone(),
-                _ => self.name.clone(),
+        let warnings = self.warnings_for(options);
+        // An object of an included file is named in that file.
+        let origins: Vec<(usize, KeyPath)> = warnings
+            .iter()
+            .map(|w| self.origins.origin(&w.path))
+            .collect();
+        let mut by_file: std::collections::BTreeMap<usize, Vec<usize>> = Default::default();
+        for (i, (file, _)) in origins.iter().enumerate() {
+            by_file.entry(*file).or_default().push(i);
+        }
+        let mut locations = vec![None; warnings.len()];
+        for (file, mine) in by_file {
+            let Some(source) = self.origins.files.get(file) else {
+                continue;
             };
-            let location = source.and_then(|f| {
-                let at = scene_format::locate::locate(&f.text, f.format, &path)?;
-                let span = at.key.unwrap_or(at.value);
-                Some(Location::from_offset(&f.text, span.start.min(f.text.len())))
-            });
-            Warning {
-                text: format!("warning: {}: `{path}`: {}", name.display(), w.message),
-                file: name,
-                key: path.to_string(),
-                message: w.message.clone(),
-                location,
+            let paths: Vec<KeyPath> = mine.iter().map(|&i| origins[i].1.clone()).collect();
+            let found = scene_format::locate::locate_each(&source.text, source.format, &paths);
+            for (&i, location) in mine.iter().zip(found) {
+                locations[i] = location;
             }
+        }
+        let name = |file: usize| match self.origins.files.get(file) {
+            Some(f) if file > 0 => f.name.clone(),
+            _ => self.name.clone(),
         };
-        self.warnings_for(options).iter().map(warning).collect()
+        let list = warnings.iter().zip(origins).zip(locations);
+        list.map(|((w, (file, path)), location)| Warning {
+            text: format!("warning: {}: `{path}`: {}", name(file).display(), w.message),
+            file: name(file),
+            key: path.to_string(),
+            message: w.message.clone(),
+            location,
+        })
+        .collect()
     }
 
     /// Whether `options` render this scene in path mode.

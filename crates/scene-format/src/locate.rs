@@ -3,7 +3,7 @@
 //! file, so any key added to the model gets located errors without further
 //! work.
 
-use crate::diagnostic::{floor_char_boundary, Diagnostic, Locator};
+use crate::diagnostic::{floor_char_boundary, Diagnostic, Location, Locator};
 use crate::key_path::{KeyPath, Segment};
 use crate::span_tree::{tree, Node, NodeKind};
 use crate::Format;
@@ -75,6 +75,35 @@ pub(crate) fn locate_all(
         }
     }
     located
+}
+
+/// Where each of `paths` starts in `text` (where its key is found, as
+/// [`locate_all`] places a diagnostic), in the order given; None for text
+/// that does not parse. Linear in the file and the number of paths.
+pub fn locate_each(text: &str, format: Format, paths: &[KeyPath]) -> Vec<Option<Location>> {
+    let Some(tree) = tree(text, format) else {
+        return vec![None; paths.len()];
+    };
+    let mut index = TableIndex::default();
+    let starts: Vec<usize> = paths
+        .iter()
+        .map(|path| {
+            let found = index.locate(&tree, path);
+            match (found.exact, found.key) {
+                (false, Some(key)) => key.start,
+                _ => found.value.start,
+            }
+        })
+        .collect();
+    // The locator walks the text once when the offsets come in order.
+    let mut order: Vec<usize> = (0..paths.len()).collect();
+    order.sort_by_key(|&i| starts[i]);
+    let mut locator = Locator::new(text);
+    let mut locations = vec![None; paths.len()];
+    for i in order {
+        locations[i] = Some(locator.location(starts[i]));
+    }
+    locations
 }
 
 /// Key lookups in big tables (a thousand materials) by hash, built on
