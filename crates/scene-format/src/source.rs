@@ -104,6 +104,9 @@ pub struct Archive {
     /// (a bomb named by a thousand files) is stopped.
     inflated: std::cell::Cell<u64>,
     inflate_limit: u64,
+    /// The archive's length: no entry's packed bytes can be more, whatever
+    /// its header says.
+    length: u64,
     /// The scene file inside: named by the manifest, or the only top-level
     /// `.toml`/`.json` entry.
     scene: PathBuf,
@@ -143,7 +146,9 @@ impl Archive {
         Archive::read_from(file, Box::new(Cursor::new(bytes)))
     }
 
-    fn read_from(file: &Path, reader: Box<dyn ReadSeek>) -> io::Result<Archive> {
+    fn read_from(file: &Path, mut reader: Box<dyn ReadSeek>) -> io::Result<Archive> {
+        let length = reader.seek(io::SeekFrom::End(0))?;
+        reader.rewind()?;
         let zip = zip::ZipArchive::new(reader).map_err(zip_error)?;
         let sizes = zip.decompressed_size().unwrap_or(u128::MAX);
         let inflate_limit = u64::try_from(sizes.saturating_mul(INFLATE_TIMES))
@@ -154,6 +159,7 @@ impl Archive {
             zip: Mutex::new(zip),
             inflated: std::cell::Cell::new(0),
             inflate_limit,
+            length,
             scene: PathBuf::new(),
             read: Record::default(),
         };
@@ -254,7 +260,8 @@ impl Archive {
             ));
         }
         let declared = entry.size();
-        too_packed(declared, entry.compressed_size())?;
+        // A forged header may claim more packed bytes than there are.
+        too_packed(declared, entry.compressed_size().min(self.length))?;
         let inflated = self.inflated.get().saturating_add(declared);
         if inflated > self.inflate_limit {
             return Err(bad(format!(
@@ -400,7 +407,7 @@ const MAX_PACKING: u64 = 200;
 
 /// Refuses a large entry packed far tighter than a scene's files pack.
 fn too_packed(declared: u64, compressed: u64) -> io::Result<()> {
-    if declared > BOMB_FLOOR && declared / compressed.max(1) > MAX_PACKING {
+    if declared > BOMB_FLOOR && declared > compressed.max(1).saturating_mul(MAX_PACKING) {
         return Err(bad(format!(
             "the entry inflates from {compressed} to {declared} bytes, over {MAX_PACKING} \
              times; expected a scene's files, which pack far less (a zip bomb?)"
@@ -445,7 +452,8 @@ mod tests {
     #[test]
     fn only_a_large_entry_packed_past_the_limit_is_refused() {
         assert!(too_packed(BOMB_FLOOR, 1).is_ok());
-        assert!(too_packed(BOMB_FLOOR + 1, (BOMB_FLOOR + 1) / MAX_PACKING).is_ok());
+        assert!(too_packed(BOMB_FLOOR + 1, (BOMB_FLOOR + 1).div_ceil(MAX_PACKING)).is_ok());
+        assert!(too_packed(BOMB_FLOOR + 1, (BOMB_FLOOR + 1) / MAX_PACKING).is_err());
         let err = too_packed(1 << 30, 1 << 20).unwrap_err();
         assert!(err.to_string().contains("over 200 times"), "{err}");
         assert!(too_packed(1 << 30, 0).is_err());

@@ -271,3 +271,30 @@ fn a_bad_manifest_is_named_with_its_line() {
         "{message}"
     );
 }
+
+#[test]
+fn a_header_claiming_more_packed_bytes_than_the_archive_has_does_not_pass() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
+                 [[objects]]\nmesh = { obj = \"m.obj\" }\n";
+    let mut obj = vec![b'#'; 20 << 20];
+    obj.extend_from_slice(format!("\n{TRIANGLE}").as_bytes());
+    let path = deflated(dir.path(), &[("s.toml", scene.as_bytes()), ("m.obj", &obj)]);
+    // The OBJ's packed size, in its local header and the central
+    // directory, claimed to be a hundredth of its size.
+    let mut bytes = std::fs::read(&path).unwrap();
+    let archive = zip::ZipArchive::new(std::io::Cursor::new(bytes.clone())).unwrap();
+    let packed = archive.clone().by_name("m.obj").unwrap().compressed_size() as u32;
+    let claimed = (obj.len() / 100) as u32;
+    let mut patched = 0;
+    for at in 0..bytes.len() - 4 {
+        if bytes[at..at + 4] == packed.to_le_bytes() {
+            bytes[at..at + 4].copy_from_slice(&claimed.to_le_bytes());
+            patched += 1;
+        }
+    }
+    assert_eq!(patched, 2);
+    std::fs::write(&path, bytes).unwrap();
+    let message = failure(&path);
+    assert!(message.contains("over 200 times"), "{message}");
+}
