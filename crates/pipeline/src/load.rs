@@ -172,21 +172,25 @@ pub fn load(input: &Input) -> Result<Loaded, SceneError> {
 /// [`load`] reads it, or a file a scene includes, read on its own.
 pub enum Checked {
     Whole(Box<Loaded>),
-    /// Every file it was read with.
-    Part {
-        files_read: Vec<PathBuf>,
-    },
+    /// A scene of the file's items (its camera only passes validation),
+    /// with the warnings of its items.
+    Part(Box<Loaded>),
 }
 
-/// [`load`] of the file at `path`, or, when it has none of a scene's or
-/// a canvas's top-level keys, the file as a scene includes it
+/// [`load`] of the file at `path`, or, when its top-level keys are only
+/// those of a file a scene includes, that file as a scene includes it
 /// ([`scene_format::load_file_or_part`]).
 pub fn load_or_part(path: &Path) -> Result<Checked, SceneError> {
     match scene_format::load_file_or_part(path)? {
         scene_format::Checked::Whole(loaded) => {
             checked(path.to_path_buf(), *loaded).map(|l| Checked::Whole(Box::new(l)))
         }
-        scene_format::Checked::Part { files_read } => Ok(Checked::Part { files_read }),
+        scene_format::Checked::Part(part) => {
+            let mut loaded = checked(path.to_path_buf(), *part)?;
+            // Of its items only: "no lights" is the scene's to say.
+            loaded.warnings.retain(|w| w.path.0.len() > 1);
+            Ok(Checked::Part(Box::new(loaded)))
+        }
     }
 }
 

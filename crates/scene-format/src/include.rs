@@ -249,13 +249,14 @@ fn resolve_as(
 /// A file a scene includes, read on its own as [`resolve`] reads it in a
 /// scene (`tracer check`, `tracer convert`): its includes, meshes and
 /// images, and its values; a material it names may be defined by another
-/// file of the scene, so an unknown name is not a problem here.
+/// file of the scene, so an unknown name is not a problem here. The
+/// scene made of it has a camera that passes validation, not to render.
 pub(crate) fn resolve_part(
     source: &dyn Source,
     path: &Path,
     part: IncludedFile,
     origins: Origins,
-) -> Result<Origins, SceneError> {
+) -> Result<(SceneFile, Origins), SceneError> {
     let scene = SceneFile {
         camera: placeholder_camera(),
         render: Default::default(),
@@ -266,7 +267,7 @@ pub(crate) fn resolve_part(
         include: part.include,
         schema: part.schema,
     };
-    resolve_as(source, path, scene, origins, true).map(|(_, origins)| origins)
+    resolve_as(source, path, scene, origins, true)
 }
 
 /// A camera that passes validation, for a file that has none.

@@ -158,15 +158,14 @@ pub fn load_from(source: &dyn Source, path: &Path) -> Result<LoadedScene, SceneE
 #[derive(Debug, Clone)]
 pub enum Checked {
     Whole(Box<LoadedScene>),
-    /// A file with none of `camera`, `render`, `environment` or `canvas`
-    /// at its top level: every file it was read with.
-    Part {
-        files_read: Vec<PathBuf>,
-    },
+    /// A file of no other top-level keys than `include`, `materials`,
+    /// `lights`, `objects` (and `$schema`): a scene of its items, with a
+    /// camera only to pass validation, not to render.
+    Part(Box<LoadedScene>),
 }
 
-/// [`load_file`], or for a file a scene includes (none of `camera`,
-/// `render`, `environment` or `canvas` at its top level), that file with
+/// [`load_file`], or for a file a scene includes (no other top-level
+/// keys than `include`, `materials`, `lights`, `objects`), that file with
 /// its includes, meshes and images, its values validated; a material it
 /// names may be defined by another file of the scene.
 pub fn load_file_or_part(path: &Path) -> Result<Checked, SceneError> {
@@ -193,17 +192,18 @@ pub fn load_file_or_part(path: &Path) -> Result<Checked, SceneError> {
             diagnostics,
         })?;
     let origins = Origins::single(&name, text, format);
-    include::resolve_part(&folder, path, included, origins)?;
-    Ok(Checked::Part {
+    let (scene, origins) = include::resolve_part(&folder, path, included, origins)?;
+    Ok(Checked::Part(Box::new(LoadedScene {
+        kind: SceneKind::Scene3d(scene),
+        origins,
         files_read: folder.files_read(),
-    })
+    })))
 }
 
-/// Whether text parses to a table that has some of an included file's
-/// keys and none of a scene's or a canvas's (an empty file is a scene
-/// that lacks its camera).
+/// Whether text parses to a table of an included file's keys only, some
+/// of them (an empty file, or one with `[camra]`, is a scene whose
+/// mistake its own checks name).
 fn is_part(text: &str, format: Format) -> bool {
-    const WHOLE: [&str; 4] = ["camera", "render", "environment", "canvas"];
     const PART: [&str; 4] = ["include", "materials", "lights", "objects"];
     let keys: Vec<String> = match format {
         Format::Toml => toml::from_str::<toml::Table>(text)
@@ -214,8 +214,8 @@ fn is_part(text: &str, format: Format) -> bool {
             .and_then(|v| Some(v.as_object()?.keys().cloned().collect()))
             .unwrap_or_default(),
     };
-    let has = |names: &[&str]| keys.iter().any(|k| names.contains(&k.as_str()));
-    has(&PART) && !has(&WHOLE)
+    let of_part = |k: &String| PART.contains(&k.as_str()) || k == "$schema";
+    keys.iter().any(|k| PART.contains(&k.as_str())) && keys.iter().all(of_part)
 }
 
 /// `load_any` on text; `file` names it in errors.

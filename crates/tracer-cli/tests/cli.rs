@@ -1181,7 +1181,7 @@ fn an_included_file_is_checked_and_converted_on_its_own() {
     let out = tracer(d, &["check", "look.toml", "stage.toml"]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr_of(&out));
     assert!(
-        stderr_of(&out).contains("ok: stage.toml (a file for a scene to include"),
+        stderr_of(&out).contains("ok: stage.toml, as a file for a scene to include"),
         "{}",
         stderr_of(&out)
     );
@@ -1218,7 +1218,8 @@ fn an_included_file_is_checked_and_converted_on_its_own() {
         stderr_of(&out)
     );
     assert!(!d.join("bad.json").exists());
-    // A scene that forgot its camera but sets `render` is still a scene.
+    // A scene that forgot its camera but sets `render` is still a scene,
+    // and so is one with a misspelt table, whose hint names the scene's key.
     std::fs::write(d.join("nocam.toml"), "[render]\nsamples = 4\n").unwrap();
     let out = tracer(d, &["check", "nocam.toml"]);
     assert_eq!(out.status.code(), Some(2));
@@ -1227,6 +1228,30 @@ fn an_included_file_is_checked_and_converted_on_its_own() {
         "{}",
         stderr_of(&out)
     );
+    let camra =
+        "[camra]\neye = [0, 0, 1]\n[[objects]]\nsphere = { center = [0, 0, 0], radius = 1 }\n";
+    std::fs::write(d.join("camra.toml"), camra).unwrap();
+    let out = tracer(d, &["check", "camra.toml"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr_of(&out).contains("did you mean `camera`?"),
+        "{}",
+        stderr_of(&out)
+    );
+    // The warnings of its own items are shown, not the scene's.
+    std::fs::write(
+        d.join("red.toml"),
+        "[materials.red]\ndiffuse = [255, 0, 0]\n",
+    )
+    .unwrap();
+    let out = tracer(d, &["check", "red.toml"]);
+    assert_eq!(out.status.code(), Some(0));
+    let stderr = stderr_of(&out);
+    assert!(
+        stderr.contains("`materials.red.diffuse`: a channel above 1"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("no lights"), "{stderr}");
 }
 
 #[test]

@@ -16,11 +16,15 @@ pub fn run(args: &CheckArgs) -> Outcome {
                 report::warnings(&loaded, &tracer_pipeline::Options::default());
                 note!("ok: {}", scene.display());
             }
-            Ok(Checked::Part { .. }) => note!(
-                "ok: {} (a file for a scene to include: it has no [camera]; \
-                 the materials it names from other files are checked with the scene)",
-                scene.display()
-            ),
+            Ok(Checked::Part(loaded)) => {
+                report::warnings(&loaded, &tracer_pipeline::Options::default());
+                note!(
+                    "ok: {}, as a file for a scene to include (it has no [camera], which \
+                     rendering it on its own needs; the materials it names from other files \
+                     are checked with the scene)",
+                    scene.display()
+                );
+            }
             Err(e) => {
                 bad += 1;
                 console::stderr(format_args!("{}", report::render(&e, color)));
