@@ -345,14 +345,20 @@ async function fetchBytes(path) {
 
 // The scene of the menu at `path` (under scenes/) with the files it reads.
 async function openScene(path, text) {
-  // Not done until this scene's render is (scripts wait on it).
+  // The render in flight is the old scene's; not done until this one's is
+  // (scripts wait on it).
+  clearTimeout(timer);
+  cancel();
   canvas.dataset.state = "rendering";
   const entry = scenesIndex.find((s) => s.path === path);
   const files = new Map();
-  if (entry) {
-    await Promise.all(entry.files.map(async (f) => files.set(f, await fetchBytes(`scenes/${f}`))));
+  let body = text;
+  try {
+    await Promise.all(entry?.files.map(async (f) => files.set(f, await fetchBytes(`scenes/${f}`))) ?? []);
+    body ??= new TextDecoder().decode(await fetchBytes(`scenes/${path}`));
+  } catch (e) {
+    return showError({ text: `cannot open ${path}: ${e.message}`, problems: [] });
   }
-  const body = text ?? new TextDecoder().decode(await fetchBytes(`scenes/${path}`));
   scene.name = path;
   scene.files = files;
   scene.archive = null;

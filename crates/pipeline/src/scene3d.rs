@@ -108,9 +108,10 @@ pub(crate) fn shade_prepared(
     ))
 }
 
-/// What a render in passes reports to: `rows_done(n)` as `n` more rows of
-/// the pass under way are done, and `on_pass` after each pass (its return
-/// false stops the render there).
+/// What a render in passes reports to: `rows_done(0)` as the passes begin
+/// (the scene prepared), `rows_done(n)` as `n` more rows of the pass under
+/// way are done, and `on_pass` after each pass (its return false stops the
+/// render there).
 pub type PassCallbacks<'a> = (&'a (dyn Fn(u32) + Sync), &'a mut dyn FnMut(Pass) -> bool);
 
 /// A pass of a progressive render: the picture so far, and how far it got.
@@ -124,8 +125,9 @@ pub struct Pass<'a> {
 
 /// `shade_prepared` in passes of doubling samples per pixel (path mode:
 /// `tracer_core::film`), `on_pass` called after each with the picture so
-/// far; it returns false to stop there. `rows_done(n)` as `n` more rows of
-/// the current pass are done. The last pass's picture (and the samples it
+/// far; it returns false to stop there. `rows_done(0)` as the passes
+/// begin (the scene prepared), then `rows_done(n)` as `n` more rows of the
+/// current pass are done. The last pass's picture (and the samples it
 /// has), or None when cancelled. A scene in Whitted mode is one pass.
 pub(crate) fn shade_progressive(
     prepared: &PreparedScene,
@@ -136,6 +138,7 @@ pub(crate) fn shade_progressive(
 ) -> Option<(Picture, ShadedStats, u32)> {
     let scene = &prepared.scene;
     let job = job(scene, region);
+    rows_done(0);
     if scene.trace_settings().integrator != tracer_core::scene::Integrator::Path {
         let (picture, stats) = shade_prepared(prepared, gamma, region, rows_done, cancel)?;
         let samples = job.samples;

@@ -7,16 +7,24 @@
 use crate::PassImage;
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 
-/// Rows of the current pass done, and when the page was last told (the
-/// bits of an f64 of seconds). One render runs at a time in an instance.
+/// Rows of the current pass done, when the page was last told, and when
+/// the passes began (the bits of f64s of seconds). One render runs at a
+/// time in an instance.
 static ROWS: AtomicU32 = AtomicU32::new(0);
 static TOLD: AtomicU64 = AtomicU64::new(0);
+static START: AtomicU64 = AtomicU64::new(0);
 
 /// How often the page hears of rows done, at most.
 const ROWS_EVERY_SECONDS: f64 = 0.25;
 
-/// The pipeline's `rows_done`: `n` more rows of the current pass done.
+/// The pipeline's `rows_done`: `n` more rows of the current pass done;
+/// 0 as the passes begin, the scene loaded and prepared, which is when
+/// the time limit's clock starts (as `tracer render`'s does).
 pub fn rows_done(n: u32) {
+    if n == 0 {
+        START.store(now_seconds().to_bits(), Ordering::Relaxed);
+        return;
+    }
     let rows = ROWS.fetch_add(n, Ordering::Relaxed) + n;
     let now = now_seconds();
     if now - f64::from_bits(TOLD.load(Ordering::Relaxed)) >= ROWS_EVERY_SECONDS {
@@ -26,9 +34,8 @@ pub fn rows_done(n: u32) {
 }
 
 /// The time of a render in passes, read from the page's clock (the wasm
-/// has none of its own).
+/// has none of its own), from the start of its passes.
 pub struct PassClock {
-    start: f64,
     pass_start: f64,
     samples: u32,
 }
@@ -37,8 +44,8 @@ impl PassClock {
     pub fn new() -> PassClock {
         let now = now_seconds();
         ROWS.store(0, Ordering::Relaxed);
+        START.store(now.to_bits(), Ordering::Relaxed);
         PassClock {
-            start: now,
             pass_start: now,
             samples: 0,
         }
@@ -52,14 +59,21 @@ impl PassClock {
         }
         ROWS.store(0, Ordering::Relaxed);
         let now = now_seconds();
-        let this_pass = now - self.pass_start;
+        let start = f64::from_bits(START.load(Ordering::Relaxed));
+        // The first pass from the start of the passes, not of the load.
+        let pass_start = if self.samples == 0 {
+            start
+        } else {
+            self.pass_start
+        };
+        let this_pass = now - pass_start;
         let added = pass.samples - self.samples;
         (self.pass_start, self.samples) = (now, pass.samples);
         let next = (2 * pass.samples).min(pass.total) - pass.samples;
         match pass.time_limit {
             Some(limit) if next > 0 => {
                 let estimate = tracer_pipeline::next_pass_seconds(this_pass, added, next);
-                now - self.start + estimate <= limit
+                now - start + estimate <= limit
             }
             _ => true,
         }
