@@ -24,6 +24,9 @@ pub(super) fn parse_toml<T: DeserializeOwned>(text: &str) -> Result<T, Diagnosti
     })
 }
 
+/// The most steps of a key path shown for a value nested too deep.
+const MAX_SHOWN_DEPTH: usize = 6;
+
 fn toml_syntax(text: &str, e: &toml::de::Error) -> Diagnostic {
     // toml puts its hints on further lines; one line reads better.
     let message = e
@@ -41,7 +44,9 @@ fn toml_syntax(text: &str, e: &toml::de::Error) -> Diagnostic {
     if message.starts_with("cannot recurse further") {
         // The parser's words, and no key: say which value, and the fix.
         let mut path = key_at(text, span.clone()).path;
-        // `x`, not `x[0][0]...` eighty times.
+        // `x`, not `x[0][0]...` or `x.a.a...` eighty times: no scene key
+        // is deeper than six steps (`objects[0].transform[2].rotate`).
+        path.0.truncate(MAX_SHOWN_DEPTH);
         while matches!(path.0.last(), Some(Segment::Index(_))) {
             path.0.pop();
         }
@@ -97,5 +102,10 @@ mod tests {
             d.message
         );
         assert_eq!(d.location.map(|l| l.line), Some(4));
+        let tables = format!("{}1{}", "{ a = ".repeat(10_000), " }".repeat(10_000));
+        let text = format!("x = {tables}\n[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n");
+        let d = parse_toml::<SceneFile>(&text).unwrap_err();
+        assert!(d.path.0.len() <= MAX_SHOWN_DEPTH, "{}", d.path);
+        assert!(d.path.to_string().starts_with("x.a"), "{}", d.path);
     }
 }
