@@ -115,6 +115,12 @@ fn type_text(browser: &mut Browser, text: &str) {
     );
 }
 
+/// The editor's text.
+fn editor_text(browser: &mut Browser) -> String {
+    let text = eval(browser, "tracerPage.view.state.doc.toString()");
+    text.as_str().unwrap().to_string()
+}
+
 fn status(browser: &mut Browser) -> String {
     eval(browser, "document.getElementById('status').textContent")
         .as_str()
@@ -219,8 +225,7 @@ fn an_error_shows_at_its_line_and_goes_when_fixed() {
     let Some(mut page) = open("?workers=1") else {
         return;
     };
-    let good = eval(&mut page, "tracerPage.view.state.doc.toString()");
-    let good = good.as_str().unwrap().to_string();
+    let good = editor_text(&mut page);
     let bad = good.replacen("fov = 50", "fvo = 50", 1);
     assert_ne!(bad, good);
     let line = bad.lines().position(|l| l.starts_with("fvo")).unwrap() + 1;
@@ -335,8 +340,7 @@ fn a_panic_in_the_wasm_shows_as_an_error_and_the_next_edit_renders() {
     let Some(mut page) = open("?workers=2") else {
         return;
     };
-    let text = eval(&mut page, "tracerPage.view.state.doc.toString()");
-    let text = text.as_str().unwrap().to_string();
+    let text = editor_text(&mut page);
     eval(&mut page, "tracerPage.panicNext = true");
     type_text(&mut page, &format!("{text}# edited\n"));
     page.wait_for(
@@ -444,8 +448,7 @@ fn an_edit_cancels_a_long_render() {
     let Some(mut page) = open("?workers=2") else {
         return;
     };
-    let text = eval(&mut page, "tracerPage.view.state.doc.toString()");
-    let text = text.as_str().unwrap().to_string();
+    let text = editor_text(&mut page);
     // Minutes of work even as a preview: 16384x16384 at 4096 samples.
     let long = text
         .replacen("width = 500", "width = 16384", 1)
@@ -565,8 +568,7 @@ fn a_scenes_warnings_show_under_the_image_and_at_their_line() {
     let Some(mut page) = open("?workers=1") else {
         return;
     };
-    let good = eval(&mut page, "tracerPage.view.state.doc.toString()");
-    let good = good.as_str().unwrap().to_string();
+    let good = editor_text(&mut page);
     // Colours on a 0-255 scale: rendered, and warned about as the CLI does.
     let warned = good.replacen("diffuse = [0, 0.6, 0]", "diffuse = [0, 153, 0]", 1);
     assert_ne!(warned, good);
@@ -607,8 +609,7 @@ fn a_path_traced_render_shows_its_passes_and_stops_at_its_time_limit() {
         serde_json::json!([64, 64])
     );
     assert!(status(&mut page).contains("64 paths a pixel in"));
-    let text = eval(&mut page, "tracerPage.view.state.doc.toString()");
-    let text = text.as_str().unwrap().to_string();
+    let text = editor_text(&mut page);
     // Minutes of work at 4096 paths: the time limit stops it.
     let long = text.replacen("samples = 64", "samples = 4096\ntime_limit = 3", 1);
     assert_ne!(long, text);

@@ -240,14 +240,21 @@ fn a_bomb_named_by_many_files_is_inflated_a_few_times_at_most() {
     assert!(warning.contains("more than 4 times over"), "{warning}");
 }
 
-#[test]
-fn a_large_entry_packed_a_thousand_times_is_refused_before_it_is_inflated() {
-    let dir = tempfile::tempdir().unwrap();
+/// A pack in `dir` of a scene whose OBJ is 20 MiB of one comment and a
+/// triangle (packed a thousand times); the OBJ's length.
+fn comment_bomb(dir: &Path) -> (PathBuf, usize) {
     let scene = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
                  [[objects]]\nmesh = { obj = \"m.obj\" }\n";
     let mut obj = vec![b'#'; 20 << 20];
     obj.extend_from_slice(format!("\n{TRIANGLE}").as_bytes());
-    let path = deflated(dir.path(), &[("s.toml", scene.as_bytes()), ("m.obj", &obj)]);
+    let path = deflated(dir, &[("s.toml", scene.as_bytes()), ("m.obj", &obj)]);
+    (path, obj.len())
+}
+
+#[test]
+fn a_large_entry_packed_a_thousand_times_is_refused_before_it_is_inflated() {
+    let dir = tempfile::tempdir().unwrap();
+    let (path, _) = comment_bomb(dir.path());
     assert!(std::fs::metadata(&path).unwrap().len() < 100_000);
     let message = failure(&path);
     assert!(message.contains("over 200 times"), "{message}");
@@ -275,17 +282,13 @@ fn a_bad_manifest_is_named_with_its_line() {
 #[test]
 fn a_header_claiming_more_packed_bytes_than_the_archive_has_does_not_pass() {
     let dir = tempfile::tempdir().unwrap();
-    let scene = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
-                 [[objects]]\nmesh = { obj = \"m.obj\" }\n";
-    let mut obj = vec![b'#'; 20 << 20];
-    obj.extend_from_slice(format!("\n{TRIANGLE}").as_bytes());
-    let path = deflated(dir.path(), &[("s.toml", scene.as_bytes()), ("m.obj", &obj)]);
+    let (path, obj_len) = comment_bomb(dir.path());
     // The OBJ's packed size, in its local header and the central
     // directory, claimed to be a hundredth of its size.
     let mut bytes = std::fs::read(&path).unwrap();
     let archive = zip::ZipArchive::new(std::io::Cursor::new(bytes.clone())).unwrap();
     let packed = archive.clone().by_name("m.obj").unwrap().compressed_size() as u32;
-    let claimed = (obj.len() / 100) as u32;
+    let claimed = (obj_len / 100) as u32;
     let mut patched = 0;
     for at in 0..bytes.len() - 4 {
         if bytes[at..at + 4] == packed.to_le_bytes() {
