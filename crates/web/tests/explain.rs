@@ -9,14 +9,21 @@ fn scenes() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
 }
 
-#[test]
-fn a_pixel_s_tree_is_tracer_explain_s_text_with_the_rendered_value() {
-    let name = "illumination.toml";
+/// The scene `name` of scenes/ (one that reads no other file), and a
+/// folder in memory holding it.
+fn alone(name: &str) -> (PathBuf, Memory) {
     let path = scenes().join(name);
     let mut files = Memory::new();
     files
         .insert(Path::new(name), std::fs::read(&path).unwrap())
         .unwrap();
+    (path, files)
+}
+
+#[test]
+fn a_pixel_s_tree_is_tracer_explain_s_text_with_the_rendered_value() {
+    let name = "illumination.toml";
+    let (path, files) = alone(name);
     // A pixel on the sphere (the image's centre), one of the background.
     let loaded = tracer_pipeline::load(&Input::File(path)).unwrap();
     let rgb = tracer_pipeline::render(&loaded, &Options::default(), &|_| {})
@@ -69,11 +76,7 @@ fn a_pixel_outside_the_image_is_a_located_error() {
 #[test]
 fn any_sample_of_a_path_traced_pixel_is_explained_as_tracer_explain_does() {
     let name = "cornell-box.toml";
-    let path = scenes().join(name);
-    let mut files = Memory::new();
-    files
-        .insert(Path::new(name), std::fs::read(&path).unwrap())
-        .unwrap();
+    let (path, files) = alone(name);
     let loaded = tracer_pipeline::load(&Input::File(path)).unwrap();
     let (x, y) = (128, 64);
     let mut texts = Vec::new();
