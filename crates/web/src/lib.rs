@@ -35,8 +35,8 @@ struct State {
     size: (u32, u32),
     full: (u32, u32),
     rays: f64,
-    /// The last render's samples a pixel, of the scene's, and its
-    /// warnings: JSON for the page ([`tracer_notes_ptr`]).
+    /// The last render's samples a pixel, of the scene's, whether path
+    /// traced, and its warnings: JSON for the page ([`tracer_notes_ptr`]).
     notes: String,
 }
 
@@ -194,8 +194,9 @@ pub extern "C" fn tracer_rays() -> f64 {
 }
 
 /// Where the last render's notes are: JSON, `{"samples": [done, of],
-/// "warnings": [...]}` (each warning as an error's problem, with its
-/// `text` as `tracer render` prints it).
+/// "path": bool, "warnings": [...]}` (`path` when path traced; each
+/// warning as an error's problem, with its `text` as `tracer render`
+/// prints it).
 #[no_mangle]
 pub extern "C" fn tracer_notes_ptr() -> *const u8 {
     STATE.with_borrow(|s| s.notes.as_ptr())
