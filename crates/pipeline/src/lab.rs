@@ -26,7 +26,12 @@ pub fn chart(width: u32, height: u32, gamma: Option<Gamma>) -> Result<RgbImage, 
         });
     }
     let encoding = lab_tools::calib::chart_encoding(gamma.map_or(1.0, Gamma::get));
-    Ok(lab_tools::calib::calibration_chart(width, height).encode(&encoding))
+    // Every row is the same: one encoded, then repeated, so a chart of
+    // 16384x16384 takes its 8-bit pixels only (it took five times more
+    // as floats first).
+    let row = lab_tools::calib::calibration_chart(width, 1).encode(&encoding);
+    let pixels = row.as_raw().repeat(height as usize);
+    Ok(RgbImage::from_raw(width, height, pixels).expect("height rows of the row's width"))
 }
 
 /// A display's gamma fitted to the measurements of one file.
@@ -78,6 +83,16 @@ pub fn gamma_plot(report: &GammaReport) -> Result<RgbImage, Error> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_chart_is_its_linear_image_encoded_whatever_its_size() {
+        for (width, height, gamma) in [(7, 3, 2.2), (5, 1, 1.0), (13, 4, 1.8)] {
+            let made = chart(width, height, Some(Gamma::new(gamma).unwrap())).unwrap();
+            let encoding = lab_tools::calib::chart_encoding(gamma);
+            let whole = lab_tools::calib::calibration_chart(width, height).encode(&encoding);
+            assert_eq!(made, whole, "{width}x{height}");
+        }
+    }
 
     #[test]
     fn the_default_chart_has_five_patches_of_100_pixels() {
