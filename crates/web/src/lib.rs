@@ -316,26 +316,21 @@ pub fn render_passes(
     };
     let crop = Crop { at: crop, region };
     let warnings = loaded.warning_list(&options);
-    let (rendered, samples) = if is_canvas || request.shrink.is_some() {
+    let (rgba, rays, samples) = if is_canvas || request.shrink.is_some() {
         if !is_canvas {
             options.part = Some(Part::Region(region));
         }
         let rendered =
             tracer_pipeline::render(&loaded, &options, &|_| {}).map_err(|e| error_json(&e))?;
-        (rendered, (1, 1))
+        let rgb = rendered.image.to_rgb8();
+        let rgba = crop.rgba(rgb.as_raw(), rgb.width());
+        (rgba, rays_of(&rendered), (1, 1))
     } else {
         options.part = Some(Part::Region(region));
         in_passes(&loaded, &options, &crop, on_pass)?
     };
-    let rays = match &rendered.summary {
-        Summary::Shaded(stats) => stats.rays,
-        _ => 0,
-    };
     Ok(RegionImage {
-        rgba: {
-            let rgb = rendered.image.to_rgb8();
-            crop.rgba(rgb.as_raw(), rgb.width())
-        },
+        rgba,
         size,
         full,
         rays,
@@ -345,21 +340,32 @@ pub fn render_passes(
     })
 }
 
-/// A 3D scene's region rendered in passes: the last pass's image, and its
-/// samples a pixel of all.
+/// The rays a render traced (none for a canvas).
+fn rays_of(rendered: &tracer_pipeline::Rendered) -> u64 {
+    match &rendered.summary {
+        Summary::Shaded(stats) => stats.rays,
+        _ => 0,
+    }
+}
+
+/// A 3D scene's region rendered in passes: the last pass's pixels (the
+/// image's: they are not made again), its rays, and its samples a pixel
+/// of all.
 fn in_passes(
     loaded: &Loaded,
     options: &Options,
     crop: &Crop,
     on_pass: &mut dyn FnMut(PassImage) -> bool,
-) -> Result<(tracer_pipeline::Rendered, (u32, u32)), String> {
+) -> Result<(Vec<u8>, u64, (u32, u32)), String> {
     let never = AtomicBool::new(false);
     let mut samples = (0, 0);
+    let mut last = Vec::new();
     let mut each = |pass: tracer_pipeline::Pass| {
         samples = (pass.samples, pass.total);
         let rgb = pass.picture.to_rgb8();
+        last = crop.rgba(rgb.as_raw(), rgb.width());
         on_pass(PassImage {
-            rgba: &crop.rgba(rgb.as_raw(), rgb.width()),
+            rgba: &last,
             samples: pass.samples,
             total: pass.total,
             time_limit: loaded.time_limit(),
@@ -369,7 +375,7 @@ fn in_passes(
     let rendered = tracer_pipeline::render_progressive(loaded, options, "the page", &never, passes)
         .map_err(|e| error_json(&e))?
         .expect("never cancelled");
-    Ok((rendered, samples))
+    Ok((last, rays_of(&rendered), samples))
 }
 
 /// Which pixels of a rendered image the page gets: `region`, found at
