@@ -457,16 +457,7 @@ pub fn merge(tiles: &[(PathBuf, Tile)]) -> Result<Picture, TileError> {
             }
         }
     }
-    if let Some(at) = owner.iter().position(|&o| o == u32::MAX) {
-        let (x, y) = (at as u32 % width, at as u32 / width);
-        return Err(TileError::Missing {
-            what: missing_tile(tiles, (x, y)),
-            x,
-            y,
-            width,
-            height,
-        });
-    }
+    // Every pixel has its tile: `first_uncovered` found none without.
     Ok(Picture {
         linear,
         encoding: first.encoding,
