@@ -65,6 +65,8 @@ pub struct Warning {
     pub key: String,
     pub message: String,
     pub location: Option<Location>,
+    /// `key` as a path, to place it.
+    key_path: KeyPath,
 }
 
 impl Loaded {
@@ -88,40 +90,59 @@ impl Loaded {
     /// render` prints it, in the file that holds it, at its place there
     /// (each file parsed once, for all of its warnings).
     pub fn warning_list(&self, options: &crate::Options) -> Vec<Warning> {
-        let warnings = self.warnings_for(options);
-        // An object of an included file is named in that file.
-        let origins: Vec<(usize, KeyPath)> = warnings
-            .iter()
-            .map(|w| self.origins.origin(&w.path))
-            .collect();
+        let mut list = self.unplaced_warnings(options);
         let mut by_file: std::collections::BTreeMap<usize, Vec<usize>> = Default::default();
-        for (i, (file, _)) in origins.iter().enumerate() {
+        for (i, (_, file)) in list.iter().enumerate() {
             by_file.entry(*file).or_default().push(i);
         }
-        let mut locations = vec![None; warnings.len()];
         for (file, mine) in by_file {
             let Some(source) = self.origins.files.get(file) else {
                 continue;
             };
-            let paths: Vec<KeyPath> = mine.iter().map(|&i| origins[i].1.clone()).collect();
+            let paths: Vec<KeyPath> = mine.iter().map(|&i| list[i].0.key_path.clone()).collect();
             let found = scene_format::locate::locate_each(&source.text, source.format, &paths);
             for (&i, location) in mine.iter().zip(found) {
-                locations[i] = location;
+                list[i].0.location = location;
             }
         }
+        list.into_iter().map(|(w, _)| w).collect()
+    }
+
+    /// The lines `tracer render` prints for [`Loaded::warnings_for`] (no
+    /// file is read again to place them).
+    pub fn warning_lines(&self, options: &crate::Options) -> Vec<String> {
+        let list = self.unplaced_warnings(options);
+        list.into_iter().map(|(w, _)| w.text).collect()
+    }
+
+    /// The warnings, each named in its file but not yet placed in it, with
+    /// the index of that file in `origins`.
+    fn unplaced_warnings(&self, options: &crate::Options) -> Vec<(Warning, usize)> {
         let name = |file: usize| match self.origins.files.get(file) {
             Some(f) if file > 0 => f.name.clone(),
             _ => self.name.clone(),
         };
-        let list = warnings.iter().zip(origins).zip(locations);
-        list.map(|((w, (file, path)), location)| Warning {
-            text: format!("warning: {}: `{path}`: {}", name(file).display(), w.message),
-            file: name(file),
-            key: path.to_string(),
-            message: w.message.clone(),
-            location,
-        })
-        .collect()
+        let warning = |w: Diagnostic| {
+            // An object of an included file is named in that file.
+            let (file, key_path) = self.origins.origin(&w.path);
+            let warning = Warning {
+                text: format!(
+                    "warning: {}: `{key_path}`: {}",
+                    name(file).display(),
+                    w.message
+                ),
+                file: name(file),
+                key: key_path.to_string(),
+                key_path,
+                message: w.message,
+                location: None,
+            };
+            (warning, file)
+        };
+        self.warnings_for(options)
+            .into_iter()
+            .map(warning)
+            .collect()
     }
 
     /// Whether `options` render this scene in path mode.

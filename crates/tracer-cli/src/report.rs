@@ -176,16 +176,7 @@ pub fn color_wanted() -> bool {
 /// The loaded scene's warnings as `options` render it, one line each;
 /// shown even when quiet.
 pub fn warnings(loaded: &tracer_pipeline::Loaded, options: &tracer_pipeline::Options) {
-    for line in warning_lines(loaded, options) {
+    for line in loaded.warning_lines(options) {
         crate::console::note!("{line}");
     }
-}
-
-/// The lines `warnings` prints (kept with a prepared scene, `--cache`).
-pub fn warning_lines(
-    loaded: &tracer_pipeline::Loaded,
-    options: &tracer_pipeline::Options,
-) -> Vec<String> {
-    let list = loaded.warning_list(options);
-    list.into_iter().map(|w| w.text).collect()
 }

@@ -7,7 +7,6 @@ use super::passes::{self, Plan};
 use crate::args::Render;
 use crate::console::note;
 use crate::progress::Progress;
-use crate::report;
 use anyhow::Result;
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
@@ -149,7 +148,7 @@ fn open(
         Source::Loaded(loaded) => (
             &loaded.files_read,
             tracer_pipeline::image_size(loaded, options)?,
-            report::warning_lines(loaded, options),
+            loaded.warning_lines(options),
         ),
     };
     // The scene's meshes are known only now.
