@@ -27,8 +27,9 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
         .unwrap_or_else(|| default_output(&args.scene, to));
     // A scene with mistakes is reported as `tracer check` does, not converted.
     let files_read = match scene_format::load_file_or_part(&args.scene) {
-        Ok(scene_format::Checked::Whole(loaded)) => loaded.files_read,
-        Ok(scene_format::Checked::Part(loaded)) => loaded.files_read,
+        Ok(scene_format::Checked::Whole(loaded) | scene_format::Checked::Part(loaded)) => {
+            loaded.files_read
+        }
         Err(e) => return Err(tracer_pipeline::Error::from(e).into()),
     };
     output::check_not_an_input(&output, &files_read).map_err(tracer_pipeline::Error::from)?;

@@ -42,10 +42,12 @@ pub fn image_at(path: &Path) -> Result<RgbImage, String> {
             .with_guessed_format()
             .map_err(|e| e.to_string())
     };
-    if reader()?.format().is_none() {
+    // The header first: its format, then its size.
+    let header = reader()?;
+    if header.format().is_none() {
         return Err("not an image (expected a .png or .jpg file)".to_string());
     }
-    let (width, height) = reader()?
+    let (width, height) = header
         .into_dimensions()
         .map_err(scene_format::images::unreadable)?;
     if width.max(height) > MAX_IMAGE_SIDE || u64::from(width) * u64::from(height) > MAX_IMAGE_PIXELS
