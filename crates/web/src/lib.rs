@@ -316,28 +316,39 @@ pub fn render_passes(
     };
     let crop = Crop { at: crop, region };
     let warnings = loaded.warning_list(&options);
-    let (rgba, rays, samples) = if is_canvas || request.shrink.is_some() {
+    let shown = if is_canvas || request.shrink.is_some() {
         if !is_canvas {
             options.part = Some(Part::Region(region));
         }
         let rendered =
             tracer_pipeline::render(&loaded, &options, &|_| {}).map_err(|e| error_json(&e))?;
         let rgb = rendered.image.to_rgb8();
-        let rgba = crop.rgba(rgb.as_raw(), rgb.width());
-        (rgba, rays_of(&rendered), (1, 1))
+        Shown {
+            rgba: crop.rgba(rgb.as_raw(), rgb.width()),
+            rays: rays_of(&rendered),
+            samples: (1, 1),
+        }
     } else {
         options.part = Some(Part::Region(region));
         in_passes(&loaded, &options, &crop, on_pass)?
     };
     Ok(RegionImage {
-        rgba,
+        rgba: shown.rgba,
         size,
         full,
-        rays,
-        samples,
+        rays: shown.rays,
+        samples: shown.samples,
         path_traced: loaded.is_path_traced(&options),
         warnings,
     })
+}
+
+/// What a render made of its region: its pixels (RGBA), its rays, and
+/// its samples a pixel of all.
+struct Shown {
+    rgba: Vec<u8>,
+    rays: u64,
+    samples: (u32, u32),
 }
 
 /// The rays a render traced (none for a canvas).
@@ -348,15 +359,14 @@ fn rays_of(rendered: &tracer_pipeline::Rendered) -> u64 {
     }
 }
 
-/// A 3D scene's region rendered in passes: the last pass's pixels (the
-/// image's: they are not made again), its rays, and its samples a pixel
-/// of all.
+/// A 3D scene's region rendered in passes, shown by its last pass's
+/// pixels (the image's: they are not made again).
 fn in_passes(
     loaded: &Loaded,
     options: &Options,
     crop: &Crop,
     on_pass: &mut dyn FnMut(PassImage) -> bool,
-) -> Result<(Vec<u8>, u64, (u32, u32)), String> {
+) -> Result<Shown, String> {
     let never = AtomicBool::new(false);
     let mut samples = (0, 0);
     let mut last = Vec::new();
@@ -375,7 +385,11 @@ fn in_passes(
     let rendered = tracer_pipeline::render_progressive(loaded, options, "the page", &never, passes)
         .map_err(|e| error_json(&e))?
         .expect("never cancelled");
-    Ok((last, rays_of(&rendered), samples))
+    Ok(Shown {
+        rgba: last,
+        rays: rays_of(&rendered),
+        samples,
+    })
 }
 
 /// Which pixels of a rendered image the page gets: `region`, found at
