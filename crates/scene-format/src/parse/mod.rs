@@ -35,34 +35,44 @@ pub fn parse<T: DeserializeOwned + Serialize>(
     match format {
         Format::Toml => {
             let value: T = parse_toml(text).map_err(|d| vec![d])?;
-            // toml reads the first elements of a fixed-length array and
-            // drops the rest without a word.
-            let too_long = too_long_arrays(text, format, &value);
-            if too_long.is_empty() {
-                Ok(value)
-            } else {
-                Err(too_long)
-            }
+            misread(text, format, value)
         }
-        Format::Json => parse_json(text),
+        Format::Json => {
+            let value: T = parse_json(text)?;
+            misread(text, format, value)
+        }
     }
 }
 
-/// Arrays in the text longer than what was read into `value`: the value
-/// written back and compared with the text's span tree.
-fn too_long_arrays<T: Serialize>(text: &str, format: Format, value: &T) -> Vec<Diagnostic> {
+/// `value`, unless serde read some of `text` otherwise than it is written:
+/// toml reads the first elements of a fixed-length array and drops the
+/// rest without a word, and serde reads a table written as an array by
+/// position (`camera = [[0, 0, 5], ...]`).
+fn misread<T: Serialize>(text: &str, format: Format, value: T) -> Result<T, Vec<Diagnostic>> {
+    let misread = misread_values(text, format, &value);
+    if misread.is_empty() {
+        Ok(value)
+    } else {
+        Err(misread)
+    }
+}
+
+/// Arrays in the text longer than what was read into `value`, or read as
+/// tables: the value written back and compared with the text's span tree.
+fn misread_values<T: Serialize>(text: &str, format: Format, value: &T) -> Vec<Diagnostic> {
     let (Some(tree), Ok(read)) = (span_tree::tree(text, format), serde_json::to_value(value))
     else {
         return Vec::new();
     };
     let mut out = Vec::new();
-    compare(text, &tree, &read, &mut KeyPath::root(), &mut out);
+    compare(text, format, &tree, &read, &mut KeyPath::root(), &mut out);
     out.sort_by_key(|d| d.span.as_ref().map(|s| s.start));
     out
 }
 
 fn compare(
     text: &str,
+    format: Format,
     node: &Node,
     read: &serde_json::Value,
     path: &mut KeyPath,
@@ -74,10 +84,14 @@ fn compare(
             for (key, _, child) in entries {
                 if let Some(v) = map.get(key) {
                     path.0.push(Segment::Key(key.clone()));
-                    compare(text, child, v, path, out);
+                    compare(text, format, child, v, path, out);
                     path.0.pop();
                 }
             }
+        }
+        (NodeKind::Array(_), Value::Object(_)) => {
+            let d = Diagnostic::new(path.clone(), table_as_array(format));
+            out.push(d.at(text, node.span.clone()));
         }
         (NodeKind::Array(items), Value::Array(kept)) => {
             if items.len() > kept.len() {
@@ -87,11 +101,22 @@ fn compare(
             }
             for (i, (child, v)) in items.iter().zip(kept).enumerate() {
                 path.0.push(Segment::Index(i));
-                compare(text, child, v, path, out);
+                compare(text, format, child, v, path, out);
                 path.0.pop();
             }
         }
         _ => {}
+    }
+}
+
+/// What a table written as an array is told: its keys are named.
+fn table_as_array(format: Format) -> &'static str {
+    match format {
+        Format::Toml => {
+            "expected a table of named keys (`{ key = value, ... }` or a `[header]`), \
+             found an array"
+        }
+        Format::Json => "expected an object of named keys ({\"key\": value, ...}), found an array",
     }
 }
 
