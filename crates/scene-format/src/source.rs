@@ -150,6 +150,7 @@ impl Archive {
         let length = reader.seek(io::SeekFrom::End(0))?;
         reader.rewind()?;
         let zip = zip::ZipArchive::new(reader).map_err(zip_error)?;
+        let zip = refuse_duplicate_names(zip)?;
         let sizes = zip.decompressed_size().unwrap_or(u128::MAX);
         let inflate_limit = u64::try_from(sizes.saturating_mul(INFLATE_TIMES))
             .unwrap_or(u64::MAX)
@@ -395,6 +396,53 @@ fn safe_entry(name: &str) -> Option<PathBuf> {
         .components()
         .all(|c| matches!(c, Component::Normal(_) | Component::CurDir));
     clean.then(|| path.components().collect())
+}
+
+/// The archive, unless two of its entries have one name: the zip crate
+/// keeps the last of them without a word, so which file a scene reads would
+/// be a guess. Its central directory is read again, header by header.
+fn refuse_duplicate_names(
+    zip: zip::ZipArchive<Box<dyn ReadSeek>>,
+) -> io::Result<zip::ZipArchive<Box<dyn ReadSeek>>> {
+    let (start, kept) = (zip.central_directory_start(), zip.len());
+    let mut reader = zip.into_inner();
+    reader.seek(io::SeekFrom::Start(start))?;
+    if let Some(name) = first_repeated_name(&mut BufReader::new(&mut reader), kept)? {
+        return Err(bad(format!(
+            "the archive holds two entries named `{}`; expected each file once",
+            name.escape_debug()
+        )));
+    }
+    reader.rewind()?;
+    zip::ZipArchive::new(reader).map_err(zip_error)
+}
+
+/// The first name found twice among the central directory's headers, read
+/// from where `reader` is. There are more headers than the `kept` names
+/// only if some name repeats, so at most `kept + 1` are read.
+fn first_repeated_name(reader: &mut impl Read, kept: usize) -> io::Result<Option<String>> {
+    const CENTRAL_HEADER: u32 = 0x0201_4b50;
+    let mut seen = std::collections::HashSet::new();
+    for _ in 0..=kept {
+        // The signature alone first: the directory's end record after the
+        // last header is shorter than a header.
+        let mut header = [0; 46];
+        reader.read_exact(&mut header[..4])?;
+        if u32::from_le_bytes([header[0], header[1], header[2], header[3]]) != CENTRAL_HEADER {
+            break;
+        }
+        reader.read_exact(&mut header[4..])?;
+        let field = |at: usize| u16::from_le_bytes([header[at], header[at + 1]]);
+        let mut name = vec![0; usize::from(field(28))];
+        reader.read_exact(&mut name)?;
+        let name = String::from_utf8_lossy(&name).into_owned();
+        let rest = u64::from(field(30)) + u64::from(field(32));
+        io::copy(&mut reader.take(rest), &mut io::sink())?;
+        if !seen.insert(name.clone()) {
+            return Ok(Some(name));
+        }
+    }
+    Ok(None)
 }
 
 /// An entry larger than this may not pack more than [`MAX_PACKING`] times.

@@ -301,3 +301,44 @@ fn a_header_claiming_more_packed_bytes_than_the_archive_has_does_not_pass() {
     let message = failure(&path);
     assert!(message.contains("over 200 times"), "{message}");
 }
+
+#[test]
+fn two_entries_of_one_name_refuse_the_archive() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = zip(
+        dir.path(),
+        "twice.zip",
+        &[
+            (
+                "scene.toml",
+                "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n",
+            ),
+            ("red.obj", TRIANGLE),
+            ("blu.obj", "v 0 0 0\n"),
+        ],
+    );
+    // The zip writer refuses a repeated name: the second renamed in its
+    // local header and in the central directory.
+    let mut bytes = std::fs::read(&path).unwrap();
+    let mut renamed = 0;
+    for at in 0..bytes.len() - 7 {
+        if &bytes[at..at + 7] == b"blu.obj" {
+            bytes[at..at + 7].copy_from_slice(b"red.obj");
+            renamed += 1;
+        }
+    }
+    assert_eq!(renamed, 2);
+    std::fs::write(&path, bytes).unwrap();
+    let message = failure(&path);
+    assert!(
+        message.contains("two entries named `red.obj`; expected each file once"),
+        "{message}"
+    );
+    // Before the renaming it opened.
+    let fine = zip(
+        dir.path(),
+        "fine.zip",
+        &[("s.toml", ""), ("red.obj", TRIANGLE)],
+    );
+    assert!(Archive::open(&fine).is_ok());
+}
