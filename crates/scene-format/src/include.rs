@@ -377,7 +377,8 @@ impl Loader<'_> {
                     self.origins
                         .place(including, &KeyPath::root().key("include").index(k))
                 ),
-                // Only the scene file is on the stack without being included.
+                // Only the file read is on the stack without being included.
+                None if self.part => "it is the file being checked".to_string(),
                 None => "it is the scene file".to_string(),
             };
             return Some(format!(
@@ -605,6 +606,20 @@ mod tests {
         assert_eq!(
             message,
             "`./s.toml` includes itself (s.toml -> a.toml -> s.toml); it is the scene file"
+        );
+    }
+
+    #[test]
+    fn a_checked_part_in_a_cycle_is_named_as_the_file_being_checked() {
+        let dir = tempfile::tempdir().unwrap();
+        let part = dir.path().join("p.toml");
+        std::fs::write(&part, "include = [\"a.toml\"]\n").unwrap();
+        std::fs::write(dir.path().join("a.toml"), "include = [\"p.toml\"]\n").unwrap();
+        let (file, path, message) = first(&crate::load_file_or_part(&part).unwrap_err());
+        assert_eq!((file.as_str(), path.as_str()), ("a.toml", "include[0]"));
+        assert_eq!(
+            message,
+            "`p.toml` includes itself (p.toml -> a.toml -> p.toml); it is the file being checked"
         );
     }
 
