@@ -305,7 +305,7 @@ fn decode(bytes: &[u8], texels_left: u64) -> Result<ImageData, String> {
             | image::ColorType::Rgba8
     );
     let texels = if eight_bit {
-        Texels::Bytes(texels_of(image.into_rgb8().into_raw()))
+        Texels::Bytes(std::sync::Arc::new(texels_of(image.into_rgb8().into_raw())))
     } else {
         Texels::Floats(texels_of(image.into_rgb32f().into_raw()))
     };

@@ -968,10 +968,11 @@ pub struct ImageData {
 }
 
 /// Texels as their file holds them: an 8-bit image's bytes (v / 255 each,
-/// a quarter of the memory of floats), or floats (16-bit and HDR images).
+/// a quarter of the memory of floats; shared with the tracer, which reads
+/// them as they are), or floats (16-bit and HDR images).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Texels {
-    Bytes(Vec<[u8; 3]>),
+    Bytes(Arc<Vec<[u8; 3]>>),
     Floats(Vec<[f32; 3]>),
 }
 

@@ -668,7 +668,7 @@ impl<'a> MaterialTable<'a> {
                     .or_insert_with(|| {
                         Arc::new(match &data.texels {
                             fmt::Texels::Bytes(t) => {
-                                ImageTexels::from_srgb8(data.width, data.height, t)
+                                ImageTexels::from_srgb8(data.width, data.height, t.clone())
                             }
                             fmt::Texels::Floats(t) => {
                                 ImageTexels::from_srgb(data.width, data.height, t)
@@ -1044,5 +1044,39 @@ mod tests {
             assert!(table.builtin("t", builtin.name()).is_ok(), "{builtin:?}");
         }
         assert!(table.builtin("t", "wood").is_err());
+    }
+}
+
+#[cfg(test)]
+mod texture_tests {
+    use super::*;
+
+    #[test]
+    fn an_8_bit_image_is_shared_with_the_model_not_copied() {
+        let text = "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n\
+                    [materials.m]\ntexture = { image = \"t.png\" }\n\
+                    [[objects]]\nsphere = { center = [0, 0, 0], radius = 1 }\nmaterial = \"m\"\n";
+        let mut file = fmt::load_str(text, fmt::Format::Toml, "s.toml".as_ref()).unwrap();
+        let bytes = Arc::new(vec![[10u8, 20, 30]; 4]);
+        let fmt::TextureRef::Image(image) = file
+            .materials
+            .get_mut("m")
+            .unwrap()
+            .texture
+            .as_mut()
+            .unwrap()
+        else {
+            panic!("an image texture")
+        };
+        image.data = Some(Arc::new(fmt::ImageData {
+            width: 2,
+            height: 2,
+            texels: fmt::Texels::Bytes(bytes.clone()),
+        }));
+        let scene = prepare(&file).unwrap();
+        // The test's, the model's, and the tracer's.
+        assert_eq!(Arc::strong_count(&bytes), 3);
+        drop(scene);
+        assert_eq!(Arc::strong_count(&bytes), 2);
     }
 }

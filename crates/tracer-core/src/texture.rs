@@ -171,7 +171,7 @@ pub struct ImageTexels {
 /// values), or floats.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 enum Linear {
-    Srgb8(Vec<[u8; 3]>),
+    Srgb8(Arc<Vec<[u8; 3]>>),
     Floats(Vec<Vec3>),
 }
 
@@ -202,9 +202,10 @@ impl ImageTexels {
 
     /// The image of 8-bit sRGB texels (row by row from the top): the same
     /// as `from_srgb` of their values / 255, in a quarter of the memory.
-    /// Panics unless there are `width * height` (> 0).
-    pub fn from_srgb8(width: u32, height: u32, srgb: &[[u8; 3]]) -> Self {
-        ImageTexels::new(width, height, Linear::Srgb8(srgb.to_vec()))
+    /// Shared with the scene's model, not copied. Panics unless there are
+    /// `width * height` (> 0).
+    pub fn from_srgb8(width: u32, height: u32, srgb: Arc<Vec<[u8; 3]>>) -> Self {
+        ImageTexels::new(width, height, Linear::Srgb8(srgb))
     }
 
     fn new(width: u32, height: u32, texels: Linear) -> Self {
@@ -394,7 +395,7 @@ mod tests {
             .map(|b| b.map(|v| f32::from(v) / 255.0))
             .collect();
         let (eight, float) = (
-            ImageTexels::from_srgb8(256, 1, &bytes),
+            ImageTexels::from_srgb8(256, 1, Arc::new(bytes)),
             ImageTexels::from_srgb(256, 1, &floats),
         );
         for x in 0..256 {
