@@ -71,19 +71,20 @@ pub struct Warning {
 
 impl Loaded {
     /// The warnings of the scene as `options` render it: its own, or those
-    /// of its other mode where `--integrator` changes it (the path
-    /// tracer reads materials differently).
+    /// of the scene as changed by `--integrator` (the path tracer reads
+    /// materials differently) and `--samples` (a lens needs many).
     pub fn warnings_for(&self, options: &crate::Options) -> Vec<Diagnostic> {
-        match (&self.kind, options.integrator) {
-            (SceneKind::Scene3d(file), Some(integrator))
-                if integrator != file.render.integrator =>
-            {
-                let mut file = file.clone();
-                file.render.integrator = integrator;
-                scene_format::warnings(&file)
-            }
-            _ => self.warnings.clone(),
+        let SceneKind::Scene3d(file) = &self.kind else {
+            return self.warnings.clone();
+        };
+        let integrator = options.integrator.unwrap_or(file.render.integrator);
+        let samples = options.samples.unwrap_or(file.render.samples);
+        if (integrator, samples) == (file.render.integrator, file.render.samples) {
+            return self.warnings.clone();
         }
+        let mut file = file.clone();
+        (file.render.integrator, file.render.samples) = (integrator, samples);
+        scene_format::warnings(&file)
     }
 
     /// [`Loaded::warnings_for`] as shown: each with its line as `tracer

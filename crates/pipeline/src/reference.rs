@@ -22,6 +22,22 @@ pub fn read_reference(path: &Path, (width, height): (u32, u32)) -> Result<Linear
     let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes))
         .with_guessed_format()
         .map_err(|e| bad(e.to_string()))?;
+    // An 8-bit image holds display values, gamma-encoded: its error against
+    // the linear render would mean nothing.
+    match reader.format() {
+        Some(image::ImageFormat::OpenExr | image::ImageFormat::Hdr) => {}
+        other => {
+            let what = other.map_or("not an image file".to_string(), |f| {
+                format!(
+                    "a {} image, of display values",
+                    f.extensions_str()[0].to_uppercase()
+                )
+            });
+            return Err(bad(format!(
+                "is {what}; expected a linear .exr or .hdr image (tracer render SCENE -o reference.exr)"
+            )));
+        }
+    }
     // What the decoder may take: a float image of the render's size, with
     // room for its alpha, and no more (a file's header may claim any size).
     let mut limits = image::Limits::default();

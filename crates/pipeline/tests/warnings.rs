@@ -53,3 +53,31 @@ fn every_warning_is_placed_in_its_file_in_one_reading_of_it() {
         red.file.display()
     )));
 }
+
+#[test]
+fn the_warnings_are_those_of_the_scene_as_the_options_change_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("lens.toml");
+    let scene = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\naperture = 0.2\n\
+                 [render]\nsamples = 64\n[[lights]]\nposition = [0, 5, 5]\n\
+                 [materials.m]\nambient = [0.1, 0.1, 0.1]\n\
+                 [[objects]]\nsphere = { center = [0, 0, 0], radius = 1 }\nmaterial = \"m\"\n";
+    std::fs::write(&path, scene).unwrap();
+    let loaded = load(&Input::File(path)).unwrap();
+    let keys = |options: &Options| -> Vec<String> {
+        let list = loaded.warnings_for(options);
+        list.into_iter().map(|d| d.path.to_string()).collect()
+    };
+    assert!(keys(&Options::default()).is_empty());
+    // Four samples through a lens are grainy; the path tracer reads no ambient.
+    let few = Options {
+        samples: Some(4),
+        ..Options::default()
+    };
+    assert_eq!(keys(&few), ["render.samples"]);
+    let path_mode = Options {
+        integrator: Some(scene_format::Integrator::Path),
+        ..Options::default()
+    };
+    assert_eq!(keys(&path_mode), ["materials.m.ambient"]);
+}

@@ -4,7 +4,7 @@
 
 use crate::error::SceneError;
 use crate::locate::locate_all;
-use crate::model::{Integrator, SceneFile, ShapeRef, Vec3};
+use crate::model::{Integrator, RenderSettings, SceneFile, ShapeRef, Vec3};
 use crate::obj::mesh_warnings;
 use crate::{Diagnostic, Format, KeyPath};
 use std::path::Path;
@@ -38,11 +38,20 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
         }
     } else if scene.lights.is_empty() {
         // The lab adds ambient once per light: no light, no light at all.
+        let message = if emits(scene) {
+            "no lights: in Whitted mode an emissive material is seen but lights nothing else, so every other object renders black; path mode (integrator = \"path\") makes it a light"
+        } else {
+            "no lights: ambient is added once per light, so every object renders black"
+        };
+        warnings.push(Diagnostic::new("lights", message));
+    }
+    if path_mode && scene.render.light_samples != RenderSettings::default().light_samples {
         warnings.push(Diagnostic::new(
-            "lights",
-            "no lights: ambient is added once per light, so every object renders black",
+            "render.light_samples",
+            "not read in path mode: a sphere light is an emitter there, sampled once per bounce; `samples` sets the paths per pixel",
         ));
     }
+    units(&mut warnings, scene);
     if scene.objects.is_empty() {
         warnings.push(Diagnostic::new(
             "objects",
@@ -107,6 +116,12 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
             "ignored in Whitted mode, which renders in one pass; path mode renders in passes that a time limit can stop",
         ));
     }
+    if path_mode && scene.render.time_limit.is_some() && scene.render.samples == 1 {
+        warnings.push(Diagnostic::new(
+            "render.time_limit",
+            "has nothing to stop with samples = 1 (the default): 1 sample a pixel is one pass; set `samples` to the most you want (up to 65536), and the limit stops the render sooner",
+        ));
+    }
     if scene.camera.aperture > 0.0 && scene.render.samples < 16 {
         warnings.push(Diagnostic::new(
             "render.samples",
@@ -117,6 +132,32 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
         ));
     }
     warnings
+}
+
+/// Values that look written in another unit: a field of view in radians,
+/// or the inverse of a display gamma.
+fn units(warnings: &mut Vec<Diagnostic>, scene: &SceneFile) {
+    let fov = scene.camera.fov;
+    if fov <= std::f32::consts::PI {
+        let degrees = format!("{:.0}", fov.to_degrees());
+        warnings.push(Diagnostic::new(
+            "camera.fov",
+            format!(
+                "{}: `fov` is in degrees, so this is a very narrow view; if it is in radians, write fov = {degrees}",
+                short(fov)
+            ),
+        ));
+    }
+    let gamma = scene.render.gamma;
+    if gamma < 1.0 {
+        warnings.push(Diagnostic::new(
+            "render.gamma",
+            format!(
+                "{}: below 1 the image comes out darker than linear; `gamma` is the display's, usually about 2.2 (0.45 is 1 / 2.2)",
+                short(gamma)
+            ),
+        ));
+    }
 }
 
 /// An environment image that is not twice as wide as it is high: not a
@@ -401,6 +442,97 @@ mod tests {
         assert!(!unseen(&format!("ambient = [0.1, 0, 0], {checker}")));
         // The lab's stripes multiply the specular too.
         assert!(!unseen("specular = [1, 1, 1], texture = \"lab-stripes\""));
+    }
+
+    /// The warnings' (key, message) of a scene of `camera`, `render` and
+    /// `rest` tables' lines.
+    fn warned(camera: &str, render: &str, rest: &str) -> Vec<(String, String)> {
+        let text = format!(
+            "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n{camera}\n[render]\n{render}\n{rest}\n[[objects]]\nsphere = {{ center = [0, 0, 0], radius = 1 }}\n"
+        );
+        let scene = load_str(&text, Format::Toml, Path::new("t.toml")).expect("loads");
+        let list = warnings(&scene).into_iter();
+        list.map(|d| (d.path.to_string(), d.message)).collect()
+    }
+
+    fn has(found: &[(String, String)], key: &str, start: &str) -> bool {
+        found.iter().any(|(k, m)| k == key && m.starts_with(start))
+    }
+
+    #[test]
+    fn a_time_limit_with_one_sample_has_nothing_to_stop() {
+        let path = "integrator = \"path\"\ntime_limit = 20";
+        let lights = "[[lights]]\nposition = [0, 5, 5]";
+        assert!(has(
+            &warned("", path, lights),
+            "render.time_limit",
+            "has nothing to stop"
+        ));
+        let many = format!("{path}\nsamples = 256");
+        assert!(!has(
+            &warned("", &many, lights),
+            "render.time_limit",
+            "has nothing"
+        ));
+    }
+
+    #[test]
+    fn light_samples_are_said_unread_in_path_mode() {
+        let lights = "[[lights]]\nposition = [0, 5, 5]";
+        let set = "light_samples = 4";
+        let path = format!("integrator = \"path\"\n{set}");
+        assert!(has(
+            &warned("", &path, lights),
+            "render.light_samples",
+            "not read in path mode"
+        ));
+        assert!(!has(
+            &warned("", set, lights),
+            "render.light_samples",
+            "not read"
+        ));
+    }
+
+    #[test]
+    fn an_emitter_without_lights_in_whitted_mode_points_to_path_mode() {
+        let lamp = "[materials.lamp]\nemission = [4, 4, 4]";
+        let found = warned("", "", lamp);
+        assert!(has(
+            &found,
+            "lights",
+            "no lights: in Whitted mode an emissive material is seen but lights nothing else"
+        ));
+        assert!(has(
+            &warned("", "", ""),
+            "lights",
+            "no lights: ambient is added once per light"
+        ));
+    }
+
+    #[test]
+    fn radians_for_fov_and_an_inverse_gamma_are_warned_about() {
+        let lights = "[[lights]]\nposition = [0, 5, 5]";
+        let found = warned("fov = 1.05", "gamma = 0.45", lights);
+        assert!(
+            has(&found, "camera.fov", "1.05: `fov` is in degrees"),
+            "{found:?}"
+        );
+        assert!(
+            found.iter().any(|(_, m)| m.ends_with("write fov = 60")),
+            "{found:?}"
+        );
+        assert!(has(
+            &found,
+            "render.gamma",
+            "0.45: below 1 the image comes out darker"
+        ));
+        let fine = warned("fov = 20", "gamma = 1", lights);
+        assert!(
+            !fine
+                .iter()
+                .any(|(k, _)| k == "camera.fov" || k == "render.gamma"),
+            "{fine:?}"
+        );
     }
 
     #[test]

@@ -26,12 +26,72 @@ pub fn suggestion<'a>(found: &str, known: &[&'a str]) -> Option<&'a str> {
         .map(|(_, k)| k)
 }
 
+/// Keys other renderers (and textbooks) use, each with the keys of this
+/// format that say the same: no misspelling is near them.
+const SYNONYMS: &[(&[&str], &[&str])] = &[
+    (
+        &[
+            "color",
+            "colour",
+            "albedo",
+            "basecolor",
+            "base_colour",
+            "kd",
+        ],
+        &["diffuse", "base_color"],
+    ),
+    (
+        &[
+            "emissive",
+            "emit",
+            "emittance",
+            "radiance",
+            "intensity",
+            "power",
+            "ke",
+        ],
+        &["emission", "color"],
+    ),
+    (&["metalness", "metal"], &["metallic"]),
+    (&["eta", "refraction", "refractive_index", "ni"], &["ior"]),
+    (
+        &["transparency", "transparent", "refract"],
+        &["transmittance", "transmission"],
+    ),
+    (&["spp", "samples_per_pixel", "paths"], &["samples"]),
+    (
+        &["depth", "maxdepth", "max_bounces", "bounces"],
+        &["max_depth"],
+    ),
+];
+
+/// "did you mean `a` or `b`?" for a key another renderer would use, when
+/// this table has keys for it.
+pub(crate) fn synonym_hint(found: &str, known: &[&str]) -> Option<String> {
+    let found = found.to_lowercase();
+    let (_, targets) = SYNONYMS
+        .iter()
+        .find(|(aliases, _)| aliases.contains(&found.as_str()))?;
+    let present: Vec<String> = targets
+        .iter()
+        .filter(|t| known.contains(t) && **t != found)
+        .map(|t| format!("`{t}`"))
+        .collect();
+    (!present.is_empty()).then(|| format!("did you mean {}?", present.join(" or ")))
+}
+
 /// "did you mean `x`?" for a near miss, else the list of known names.
 pub(crate) fn hint(name: &str, known: &[&str]) -> String {
     match suggestion(name, known) {
         Some(s) => format!("did you mean `{s}`?"),
         None => format!("expected one of {}", list(known)),
     }
+}
+
+/// Names in backticks: "`a`, `b`", all of them.
+pub(crate) fn list_all(names: &[&str]) -> String {
+    let listed: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
+    listed.join(", ")
 }
 
 /// Names in backticks: "`a`, `b`"; the first ten of a long list, then
@@ -52,6 +112,25 @@ pub(crate) fn list(names: &[&str]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn other_renderers_keys_are_pointed_to_this_formats_when_the_table_has_them() {
+        let material = ["diffuse", "emission", "base_color", "metallic", "ior"];
+        let hint = |found| synonym_hint(found, &material);
+        assert_eq!(
+            hint("albedo").unwrap(),
+            "did you mean `diffuse` or `base_color`?"
+        );
+        assert_eq!(hint("Metalness").unwrap(), "did you mean `metallic`?");
+        assert_eq!(hint("intensity").unwrap(), "did you mean `emission`?");
+        let light = ["position", "color", "radius"];
+        assert_eq!(
+            synonym_hint("intensity", &light).unwrap(),
+            "did you mean `color`?"
+        );
+        assert_eq!(synonym_hint("spp", &light), None);
+        assert_eq!(hint("glow"), None);
+    }
 
     #[test]
     fn suggestions_catch_typos_and_not_strangers() {

@@ -1409,6 +1409,32 @@ fn time_limit_and_reference_render_in_passes() {
         "{stderr}"
     );
     assert!(!dir.path().join("wrong.png").exists());
+    // A PNG holds display values: its error would mean nothing.
+    let args = [
+        "render",
+        &cornell,
+        "--reference",
+        "plain.png",
+        "-o",
+        "png.png",
+    ];
+    let out = tracer(dir.path(), &args);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("is a PNG image, of display values; expected a linear .exr or .hdr"),
+        "{stderr}"
+    );
+    // A time limit with one sample a pixel has nothing to stop: said.
+    let mut args = vec!["render", &cornell, "--time-limit", "60", "-o", "one.png"];
+    args.extend(["--samples", "1", "--width", "32", "--height", "32"]);
+    let out = tracer(dir.path(), &args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("--time-limit has nothing to stop"),
+        "{stderr}"
+    );
 }
 
 #[test]

@@ -3,7 +3,7 @@
 //! moved to what the message is about.
 
 use crate::key_path::KeyPath;
-use crate::suggest::{hint, list, suggestion};
+use crate::suggest::{hint, list_all, suggestion, synonym_hint};
 
 /// What a message is about: the value at the path, the key that names it,
 /// or the table holding it.
@@ -124,10 +124,12 @@ fn unknown_key(path: KeyPath, rest: &str) -> (KeyPath, String, Target) {
     };
     let table = path.parent().in_table();
     let names = backticked(expected);
+    // A table's keys are few: all are listed.
     let hint = match suggestion(found, &names) {
         Some(s) => format!("did you mean `{s}`?"),
         None if names.is_empty() => "this table takes no keys".to_string(),
-        None => format!("expected one of {}", list(&names)),
+        None => synonym_hint(found, &names)
+            .unwrap_or_else(|| format!("expected one of {}", list_all(&names))),
     };
     (
         path,

@@ -13,6 +13,9 @@ use tracer_pipeline::Pass;
 pub struct Plan {
     /// Seconds after which no pass starts that would not end by then.
     pub time_limit: Option<f64>,
+    /// Whether the limit is `--time-limit`'s (the scene's own is warned
+    /// about with the scene's warnings).
+    pub limit_given: bool,
     pub reference: Option<LinearImage>,
 }
 
@@ -51,6 +54,9 @@ pub fn on_pass(plan: &Plan, quiet: bool) -> impl FnMut(Pass) -> bool + '_ {
         let Some(limit) = plan.time_limit else {
             return true;
         };
+        if number == 1 && pass.total == 1 && plan.limit_given {
+            note!("note: --time-limit has nothing to stop: 1 sample a pixel is one pass; ask for the most you want with --samples (up to 65536), and the limit stops the render sooner");
+        }
         let estimate = tracer_pipeline::next_pass_seconds(this_pass, added, next);
         let fits = elapsed + estimate <= limit;
         if next > 0 && !fits {

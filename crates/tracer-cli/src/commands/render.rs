@@ -262,6 +262,7 @@ fn plan(args: &Render, scene: &Opened, size: (u32, u32)) -> Result<Option<Plan>,
     Ok(
         (time_limit.is_some() || reference.is_some()).then_some(Plan {
             time_limit,
+            limit_given: args.time_limit.is_some(),
             reference,
         }),
     )
