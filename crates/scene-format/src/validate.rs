@@ -686,7 +686,13 @@ impl Validator {
                     return;
                 }
                 if s.radius <= 0.0 {
-                    self.error(&r, format!("expected a radius > 0, found {}", s.radius));
+                    self.error(
+                        &r,
+                        format!(
+                            "expected a radius from {MIN_RADIUS:e} to {MAX_COORDINATE:e}, found {}",
+                            num(s.radius)
+                        ),
+                    );
                 } else if !(MIN_RADIUS..=MAX_COORDINATE).contains(&s.radius) {
                     self.error(
                         &r,

@@ -28,7 +28,7 @@ const CASES: &[(&str, &[Expected])] = &[
     ("unknown-material-in-included", &[("objects.toml", "objects[1].material", 7, 12, "unknown material `bleu`; did you mean `blue`?")]),
     ("several-files", &[
         ("scene.toml", "camera.fov", 6, 7, "found 0"),
-        ("objects.toml", "objects[0].sphere.radius", 2, 41, "expected a radius > 0, found -2"),
+        ("objects.toml", "objects[0].sphere.radius", 2, 41, "expected a radius from 1e-4 to 1e6, found -2"),
     ]),
 ];
 

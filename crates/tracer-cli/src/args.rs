@@ -30,8 +30,8 @@ pub struct RenderArgs {
     #[arg(long, value_name = "G", allow_negative_numbers = true)]
     pub gamma: Option<f32>,
     /// Write one quantity per pixel instead of the shaded colour (linear,
-    /// unless --gamma is given); the same with either integrator, which it
-    /// does not use
+    /// unless --gamma is given). No integrator shades it, so it cannot be
+    /// given with --integrator; a scene's own integrator is not used
     #[arg(long, value_name = "NAME", conflicts_with = "integrator")]
     pub aov: Option<AovArg>,
     #[command(flatten)]
@@ -52,8 +52,8 @@ pub struct RenderArgs {
     /// from there in later renders of the same scene and options instead of
     /// preparing it again: for a farm's tasks, each rendering a tile of one
     /// scene. An entry is used only while every file of the scene is
-    /// unchanged; nothing in DIR is deleted. Not for --aov or scenes with
-    /// instances.
+    /// unchanged; nothing in DIR is deleted. Not with --aov; a scene with
+    /// instances is rendered but not kept (a warning).
     #[arg(long, value_name = "DIR", conflicts_with = "aov")]
     pub cache: Option<PathBuf>,
     /// Path mode: render in passes of doubling samples per pixel and stop

@@ -78,13 +78,10 @@ pub(super) fn rephrase(path: KeyPath, message: &str) -> (KeyPath, String, Target
         .iter()
         .find_map(|prefix| message.strip_prefix(prefix)?.split_once(", expected "));
     if let Some((found, expected)) = wrong_value {
+        let expected = key_range(&path, expected).unwrap_or_else(|| expected_words(expected));
         return (
             path,
-            format!(
-                "expected {}, found {}",
-                expected_words(expected),
-                found_words(found)
-            ),
+            format!("expected {expected}, found {}", found_words(found)),
             Target::Value,
         );
     }
@@ -152,6 +149,28 @@ fn backticked(s: &str) -> Vec<&str> {
     s.split('`').skip(1).step_by(2).collect()
 }
 
+/// The range of a whole-number key whose validation allows less than its
+/// type does: `samples = -4` is told the samples' range, not the type's.
+fn key_range(path: &KeyPath, expected: &str) -> Option<String> {
+    use crate::validate::{MAX_DEPTH_CAP, MAX_IMAGE_SIDE, MAX_PATH_SAMPLES, MAX_SAMPLES};
+    if expected.trim() != "u32" {
+        return None;
+    }
+    let key = path.to_string();
+    let range = match key.as_str() {
+        "render.samples" => format!(
+            "a whole number of samples from 1 to {MAX_SAMPLES} (to {MAX_PATH_SAMPLES} with integrator = \"path\")"
+        ),
+        "render.light_samples" => format!("a whole number of samples from 1 to {MAX_SAMPLES}"),
+        "render.max_depth" => format!("a whole number from 0 to {MAX_DEPTH_CAP}"),
+        "camera.width" | "camera.height" => {
+            format!("a whole number of pixels from 1 to {MAX_IMAGE_SIDE}")
+        }
+        _ => return None,
+    };
+    Some(range)
+}
+
 /// serde's Rust type names in scene-file words.
 fn expected_words(expected: &str) -> String {
     let e = expected.trim();
@@ -217,13 +236,23 @@ mod tests {
             "invalid type: string \"wide\", expected f32",
         );
         assert_eq!(m, "expected a number, found the string \"wide\"");
+        // A key validated to less than its type is told its own range.
         let (_, m, _) = rephrase(
             camera.key("width"),
             "invalid value: integer `-5`, expected u32",
         );
-        assert_eq!(m, "expected a whole number from 0 to 4294967295, found -5");
+        assert_eq!(
+            m,
+            "expected a whole number of pixels from 1 to 16384, found -5"
+        );
+        let render = KeyPath::root().key("render");
         let (_, m, _) = rephrase(
-            camera.key("width"),
+            render.key("max_depth"),
+            "invalid type: floating point `2.5`, expected u32",
+        );
+        assert_eq!(m, "expected a whole number from 0 to 64, found 2.5");
+        let (_, m, _) = rephrase(
+            KeyPath::root().key("canvas").key("width"),
             "invalid value: integer `4294967296`, expected u32",
         );
         assert_eq!(
