@@ -45,6 +45,11 @@ pub struct CompareArgs {
     /// `index.html` and `report.csv`
     #[arg(long, value_name = "DIR")]
     pub report: Option<PathBuf>,
+    /// Paths a pixel of a path-traced scene rendered as the reference, as
+    /// `tracer render --samples N` gives them [default: the scene's
+    /// `samples`]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub samples: Option<u32>,
     /// The scenes the images of --report are named after [default: scenes]
     #[arg(long, value_name = "DIR", requires = "report")]
     pub scenes: Option<PathBuf>,

@@ -358,6 +358,26 @@ fn a_path_traced_reference_is_said_to_be_one_draw_of_its_noise() {
     assert_eq!(diagnoses(&stdout_of(&out)), Vec::<String>::new());
     let note = "the reference is path traced (16 paths a pixel)";
     assert!(stderr_of(&out).contains(note), "{}", stderr_of(&out));
+    // Rendered with as many paths as the image: the same pixels.
+    let args = ["compare", "fewer.png", scene_file, "--samples", "4"];
+    let out = tracer(dir.path(), &args);
+    assert_eq!(out.status.code(), Some(0), "{}", stdout_of(&out));
+    // A time limit would make the reference the machine's: not used, said.
+    let limited = std::fs::read_to_string(dir.path().join(scene_file)).unwrap();
+    let limited = limited.replace("samples = 16", "samples = 16\ntime_limit = 60");
+    std::fs::write(dir.path().join("limited.toml"), limited).unwrap();
+    for args in [
+        vec!["compare", "fewer.png", "limited.toml", "--samples", "4"],
+        vec!["explain", "limited.toml", "3", "4"],
+    ] {
+        let out = tracer(dir.path(), &args);
+        let said = "the scene's time_limit (60 s) is not used here: every sample is rendered";
+        assert!(
+            stderr_of(&out).contains(said),
+            "{args:?}: {}",
+            stderr_of(&out)
+        );
+    }
     // The same render (the samples are the same on every run): no note.
     render(dir.path(), scene_file, "same.png", &[]);
     let out = compare(dir.path(), "same.png", scene_file);

@@ -19,6 +19,7 @@ pub const JSON_VERSION: u32 = 1;
 pub fn run(args: &Explain) -> Result<()> {
     let loaded = tracer_pipeline::load(&args.input)?;
     crate::report::warnings(&loaded, &args.options);
+    crate::report::time_limit_unused(&loaded, &args.options);
     let pixel =
         tracer_pipeline::explain::explain(&loaded, &args.options, (args.x, args.y), args.sample)?;
     let text = if args.json {

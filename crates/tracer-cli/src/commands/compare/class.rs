@@ -28,7 +28,13 @@ const IMAGE_EXTENSIONS: [&str; 3] = ["png", "jpg", "jpeg"];
 const SCENE_EXTENSIONS: [&str; 2] = ["toml", "json"];
 
 /// Compares and writes the report; true when every image is within tolerance.
-pub fn run(dir: &Path, scenes: &Path, out: &Path, tolerance: u8) -> Result<bool> {
+pub fn run(
+    dir: &Path,
+    scenes: &Path,
+    out: &Path,
+    tolerance: u8,
+    samples: Option<u32>,
+) -> Result<bool> {
     page::check_out(out)?;
     let names = scene_names(scenes)?;
     let (matched, unmatched) = submissions(dir, out, &names)?;
@@ -45,7 +51,7 @@ pub fn run(dir: &Path, scenes: &Path, out: &Path, tolerance: u8) -> Result<bool>
         .into());
     }
     let (readable, unreadable) = read_images(matched);
-    let references = render_scenes(&readable, &names)?;
+    let references = render_scenes(&readable, &names, samples)?;
     let mut entries: Vec<Entry> = readable
         .into_par_iter()
         .map(|(path, scene, image)| {
@@ -203,6 +209,7 @@ fn files(dir: &Path, extensions: &[&str]) -> Result<Vec<PathBuf>> {
 fn render_scenes(
     matched: &[(PathBuf, String, RgbImage)],
     names: &BTreeMap<String, PathBuf>,
+    samples: Option<u32>,
 ) -> Result<BTreeMap<String, Reference>> {
     let mut references = BTreeMap::new();
     for (_, scene, _) in matched {
@@ -212,7 +219,7 @@ fn render_scenes(
         let path = &names[scene];
         note!("rendering {}", path.display());
         let loaded = tracer_pipeline::load(&Input::File(path.clone()))?;
-        references.insert(scene.clone(), input::render(loaded, None)?);
+        references.insert(scene.clone(), input::render(loaded, None, samples)?);
     }
     Ok(references)
 }

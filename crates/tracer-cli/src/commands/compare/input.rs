@@ -156,7 +156,11 @@ impl Reference {
 /// The reference at `path`: an image, or a scene loaded and rendered if
 /// its size is `wanted` (else only its size is known: a scene of 16384^2
 /// pixels is not rendered to be found the wrong size).
-pub fn read_reference(path: &Path, wanted: Option<(u32, u32)>) -> anyhow::Result<Reference> {
+pub fn read_reference(
+    path: &Path,
+    wanted: Option<(u32, u32)>,
+    samples: Option<u32>,
+) -> anyhow::Result<Reference> {
     if !is_scene(path) {
         let image = read_image(path)?;
         return Ok(Reference {
@@ -171,15 +175,24 @@ pub fn read_reference(path: &Path, wanted: Option<(u32, u32)>) -> anyhow::Result
         });
     }
     let loaded = tracer_pipeline::load(&Input::File(path.to_path_buf()))?;
-    render(loaded, wanted)
+    render(loaded, wanted, samples)
 }
 
-/// `loaded` rendered with the scene's own settings, as `tracer render`
-/// renders it to a PNG, with its warnings and a progress bar on stderr;
-/// not rendered unless its size is `wanted` (or nothing is).
-pub fn render(loaded: Loaded, wanted: Option<(u32, u32)>) -> anyhow::Result<Reference> {
-    let options = Options::default();
+/// `loaded` rendered with the scene's own settings (but `samples`, when
+/// given), as `tracer render` renders it to a PNG, with its warnings and a
+/// progress bar on stderr; not rendered unless its size is `wanted` (or
+/// nothing is).
+pub fn render(
+    loaded: Loaded,
+    wanted: Option<(u32, u32)>,
+    samples: Option<u32>,
+) -> anyhow::Result<Reference> {
+    let options = Options {
+        samples,
+        ..Options::default()
+    };
     crate::report::warnings(&loaded, &options);
+    crate::report::time_limit_unused(&loaded, &options);
     let size = tracer_pipeline::image_size(&loaded, &options)?;
     if wanted.is_some_and(|wanted| wanted != size) {
         return Ok(Reference {
@@ -188,7 +201,7 @@ pub fn render(loaded: Loaded, wanted: Option<(u32, u32)>) -> anyhow::Result<Refe
             gamma: None,
             scene: Some(loaded.name.clone()),
             files_read: loaded.files_read.clone(),
-            path_samples: path_samples(&loaded),
+            path_samples: path_samples(&loaded, &options),
             loaded: None,
             corners: Default::default(),
         });
@@ -200,7 +213,7 @@ pub fn render(loaded: Loaded, wanted: Option<(u32, u32)>) -> anyhow::Result<Refe
     let picture = rendered?.image;
     // A path-traced scene's noise would hide a shift of half a pixel, and
     // four more renders of it take long: not rendered through the corners.
-    let path_samples = path_samples(&loaded);
+    let path_samples = path_samples(&loaded, &options);
     let through_corners = matches!(loaded.kind, SceneKind::Scene3d(_)) && path_samples.is_none();
     Ok(Reference {
         size,
@@ -214,11 +227,11 @@ pub fn render(loaded: Loaded, wanted: Option<(u32, u32)>) -> anyhow::Result<Refe
     })
 }
 
-/// The paths a pixel of a path-traced scene.
-fn path_samples(loaded: &Loaded) -> Option<u32> {
+/// The paths a pixel of a path-traced scene rendered with `options`.
+fn path_samples(loaded: &Loaded, options: &Options) -> Option<u32> {
     match &loaded.kind {
-        SceneKind::Scene3d(file) if loaded.is_path_traced(&Options::default()) => {
-            Some(file.render.samples)
+        SceneKind::Scene3d(file) if loaded.is_path_traced(options) => {
+            Some(options.samples.unwrap_or(file.render.samples))
         }
         _ => None,
     }

@@ -22,10 +22,11 @@ pub fn run(args: &CompareArgs) -> Outcome {
         (Some(dir), _, _) => {
             let scenes = args.scenes.as_deref().unwrap_or(Path::new("scenes"));
             let out = args.output.as_deref().unwrap_or(Path::new("report"));
-            class::run(dir, scenes, out, args.tolerance)
+            class::run(dir, scenes, out, args.tolerance, args.samples)
         }
         (None, Some(image), Some(reference)) => {
-            pair::run(image, reference, args.output.as_deref(), args.tolerance)
+            let heat_map = args.output.as_deref();
+            pair::run(image, reference, heat_map, args.tolerance, args.samples)
         }
         (None, _, _) => unreachable!("clap requires IMAGE and REFERENCE without --report"),
     };

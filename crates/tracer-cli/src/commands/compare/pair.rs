@@ -13,7 +13,13 @@ use tracer_pipeline::output::{check_not_an_input, PendingOutput};
 use tracer_pipeline::Error;
 
 /// Compares and reports; true when the image is within tolerance.
-pub fn run(image: &Path, reference: &Path, heat_map: Option<&Path>, tolerance: u8) -> Result<bool> {
+pub fn run(
+    image: &Path,
+    reference: &Path,
+    heat_map: Option<&Path>,
+    tolerance: u8,
+    samples: Option<u32>,
+) -> Result<bool> {
     // The heat-map's path is checked (and its file made) before the work.
     let pending = match heat_map {
         Some(path) => {
@@ -23,7 +29,7 @@ pub fn run(image: &Path, reference: &Path, heat_map: Option<&Path>, tolerance: u
         None => None,
     };
     let picture = read_image(image)?;
-    let reference_read = read_reference(reference, Some(picture.dimensions()))?;
+    let reference_read = read_reference(reference, Some(picture.dimensions()), samples)?;
     if let Some(pending) = &pending {
         check_not_an_input(pending.path(), &reference_read.files_read).map_err(Error::from)?;
     }
@@ -46,7 +52,8 @@ pub fn run(image: &Path, reference: &Path, heat_map: Option<&Path>, tolerance: u
             note!(
                 "the reference is path traced ({paths} paths a pixel): another render's \
                  noise differs from its noise pixel by pixel. Judge by PSNR and FLIP, or \
-                 render both with more paths (--samples)"
+                 render both with more paths (tracer render --samples N, then \
+                 tracer compare --samples N)"
             );
         }
     }
