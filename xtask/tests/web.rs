@@ -551,7 +551,7 @@ fn a_click_on_the_image_explains_that_pixel_as_tracer_explain_does() {
         text.starts_with(&format!("pixel ({x}, {y}) of illumination.toml (500x400;")),
         "{text}"
     );
-    assert!(text.contains("nearest hit: object 0"), "{text}");
+    assert!(text.contains("nearest hit: objects[0]"), "{text}");
     // Its 8-bit value is the pixel the page shows there.
     let [r, g, b, _] = canvas_image(&mut page).unwrap().get_pixel(x, y).0;
     assert!(r > 50, "not the lit sphere: ({r}, {g}, {b})");

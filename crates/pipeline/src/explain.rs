@@ -12,6 +12,7 @@ pub use tracer_core::explain::{Explanation, Lit, Outcome, RayNode, Trace};
 pub use tracer_core::image::Saturation;
 use tracer_core::image::{encode_pixel, Encoding};
 pub use tracer_core::integrate::record::{PathEvent, PathEventKind, RayKind};
+use tracer_core::names::Names;
 use tracer_core::{Region, RenderJob};
 
 /// A pixel explained: one sample's tree, and the pixel the render writes.
@@ -27,6 +28,8 @@ pub struct ExplainedPixel {
     pub encoding: Encoding,
     /// Whether the scene is path traced.
     pub path_traced: bool,
+    /// What the file calls the objects and materials the tree numbers.
+    pub names: Names,
 }
 
 /// Pixel (x, y) (x from the left, y from the top, of the written image)
@@ -58,10 +61,11 @@ pub fn explain(
         return Err(Error::Sample { sample, samples });
     }
     // Not lean: the tree lists the primitives each ray was tested against.
-    let scene = tracer_core::prepare(&file).map_err(|e| Error::Prepare {
-        scene: loaded.name.clone(),
-        message: e.to_string(),
-    })?;
+    let (scene, names) =
+        tracer_core::prepare::prepare_named(&file).map_err(|e| Error::Prepare {
+            scene: loaded.name.clone(),
+            message: e.to_string(),
+        })?;
     let explanation = tracer_core::explain::explain(&scene, (x, y), samples, sample);
     let job = RenderJob {
         region: Region {
@@ -88,5 +92,6 @@ pub fn explain(
         rgb8: encode_pixel(pixel, &encoding),
         encoding,
         path_traced: scene.trace_settings().integrator == tracer_core::scene::Integrator::Path,
+        names,
     })
 }

@@ -11,6 +11,7 @@ use crate::options::Options;
 use crate::Error;
 use glam::{Vec2, Vec3};
 use std::fmt::Write;
+use tracer_core::names::Names;
 
 /// Pixel (x, y)'s tree as text, its sample `sample`'s (0 the first):
 /// what a click on the image shows in `tracer watch --serve`'s page and in
@@ -62,10 +63,10 @@ pub fn text(pixel: &ExplainedPixel, (x, y): (u32, u32), name: &str) -> String {
         }
     );
     match &e.trace {
-        Trace::Whitted { ray } => ray_text(&mut out, ray, 0),
+        Trace::Whitted { ray } => ray_text(&mut out, ray, 0, &pixel.names),
         Trace::Path { ray, events } => {
-            ray_text(&mut out, ray, 0);
-            path_text(&mut out, events);
+            ray_text(&mut out, ray, 0, &pixel.names);
+            path_text(&mut out, events, &pixel.names);
         }
     }
     encoding_text(&mut out, pixel);
@@ -73,7 +74,7 @@ pub fn text(pixel: &ExplainedPixel, (x, y): (u32, u32), name: &str) -> String {
 }
 
 /// A ray of the tree, its children indented below it.
-fn ray_text(out: &mut String, ray: &RayNode, indent: usize) {
+fn ray_text(out: &mut String, ray: &RayNode, indent: usize, names: &Names) {
     let pad = "  ".repeat(indent);
     let kind = match ray.kind {
         RayKind::Primary => "primary ray",
@@ -96,14 +97,14 @@ fn ray_text(out: &mut String, ray: &RayNode, indent: usize) {
                 Outcome::Farther { t } => format!("hit at t = {t:.4}, farther than the nearest"),
                 Outcome::Behind { t } => format!("met behind the ray's origin (t = {t:.4})"),
                 Outcome::Missed => {
-                    missed.push(t.object.to_string());
+                    missed.push(t.object as usize);
                     continue;
                 }
             };
-            let _ = writeln!(out, "{pad}  object {}: {what}", t.object);
+            let _ = writeln!(out, "{pad}  {}: {what}", names.object(t.object as usize));
         }
         if !missed.is_empty() {
-            let _ = writeln!(out, "{pad}  missed: object {}", missed.join(", "));
+            let _ = writeln!(out, "{pad}  missed: {}", names.objects(&missed));
         }
     }
     let Some(hit) = &ray.hit else {
@@ -116,13 +117,13 @@ fn ray_text(out: &mut String, ray: &RayNode, indent: usize) {
     };
     let _ = writeln!(
         out,
-        "{pad}  nearest hit: object {} at t = {:.4}, point {}, normal {}, {} side, material {}, uv {}",
-        hit.object,
+        "{pad}  nearest hit: {} at t = {:.4}, point {}, normal {}, {} side, material {}, uv {}",
+        names.object(hit.object as usize),
         hit.t,
         v3(hit.point),
         v3(hit.normal),
         if hit.front_face { "front" } else { "back" },
-        hit.material,
+        names.material(hit.material as usize),
         v2(hit.uv)
     );
     for (light, ambient) in &ray.ambient {
@@ -132,7 +133,7 @@ fn ray_text(out: &mut String, ray: &RayNode, indent: usize) {
             v3(*ambient)
         );
         for lit in ray.lights.iter().filter(|l| l.term.light == *light) {
-            light_text(out, lit, &pad);
+            light_text(out, lit, &pad, names);
         }
     }
     if let Some(local) = ray.local {
@@ -146,7 +147,7 @@ fn ray_text(out: &mut String, ray: &RayNode, indent: usize) {
         let _ = writeln!(out, "{pad}  times the lab texture {}", v3(texture));
     }
     for child in &ray.children {
-        ray_text(out, child, indent + 1);
+        ray_text(out, child, indent + 1, names);
     }
     let _ = writeln!(
         out,
@@ -156,7 +157,7 @@ fn ray_text(out: &mut String, ray: &RayNode, indent: usize) {
 }
 
 /// One light's terms at a hit.
-fn light_text(out: &mut String, lit: &Lit, pad: &str) {
+fn light_text(out: &mut String, lit: &Lit, pad: &str, names: &Names) {
     let t = &lit.term;
     let _ = writeln!(
         out,
@@ -175,7 +176,11 @@ fn light_text(out: &mut String, lit: &Lit, pad: &str) {
     let blocked = match (shadow.passes, lit.blocked_by) {
         (Some(p), _) if p == Vec3::ONE => "clear".to_string(),
         (Some(p), _) => format!("through glass, passing {}", v3(p)),
-        (None, Some(b)) => format!("blocked by object {} at t = {:.4}", b.object, b.t),
+        (None, Some(b)) => format!(
+            "blocked by {} at t = {:.4}",
+            names.object(b.object as usize),
+            b.t
+        ),
         (None, None) => "blocked".to_string(),
     };
     let _ = writeln!(
@@ -209,7 +214,7 @@ fn light_text(out: &mut String, lit: &Lit, pad: &str) {
 }
 
 /// A path's events, for one sample.
-fn path_text(out: &mut String, events: &[PathEvent]) {
+fn path_text(out: &mut String, events: &[PathEvent], names: &Names) {
     let _ = writeln!(
         out,
         "the path (one sample; MIS weights by the power heuristic):"
@@ -228,10 +233,11 @@ fn path_text(out: &mut String, events: &[PathEvent]) {
                 material,
                 front_face,
             } => format!(
-                "vertex {depth}: point {}, normal {}, {} side, material {material}, throughput {}",
+                "vertex {depth}: point {}, normal {}, {} side, material {}, throughput {}",
                 v3(point),
                 v3(normal),
                 if front_face { "front" } else { "back" },
+                names.material(material as usize),
                 v3(event.throughput)
             ),
             PathEventKind::Emitted { radiance, weight } => {

@@ -20,6 +20,7 @@ pub mod image;
 pub mod integrate;
 pub mod light;
 pub mod material;
+pub mod names;
 pub mod optics;
 pub mod prepare;
 pub mod ray;

@@ -10,6 +10,7 @@ use crate::image::{Encoding, Saturation};
 use crate::light::environment::Environment;
 use crate::light::Light;
 use crate::material::{Glass, Material, Phong, PrincipledMaterial};
+use crate::names::Names;
 use crate::scene::{Integrator, Scene, SceneParts, TraceSettings};
 use crate::texture::{Builtin, ColorTexture, ImageTexels, Texture, Wrap};
 use glam::{Vec2, Vec3};
@@ -40,11 +41,23 @@ pub fn prepare(file: &fmt::SceneFile) -> Result<Scene, PrepareError> {
     Ok(Scene::new(parts(file)?))
 }
 
+/// `prepare`, with what the file calls each object and material (for
+/// `explain`).
+pub fn prepare_named(file: &fmt::SceneFile) -> Result<(Scene, Names), PrepareError> {
+    let (parts, names) = parts_named(file)?;
+    Ok((Scene::new(parts), names))
+}
+
 /// What `prepare` makes a scene of, before its BVH is built: a caller that
 /// owns the file can drop its meshes' triangles first (53 MB of a
 /// 1.1M-triangle mesh, beside the objects made of them).
 pub fn parts(file: &fmt::SceneFile) -> Result<SceneParts, PrepareError> {
+    Ok(parts_named(file)?.0)
+}
+
+fn parts_named(file: &fmt::SceneFile) -> Result<(SceneParts, Names), PrepareError> {
     let mut materials = MaterialTable::new(file);
+    let mut names = Names::default();
     let mut objects = Vec::new();
     let shared = shared_meshes(file);
     let mut meshes: Vec<Option<Arc<SharedMesh>>> = Vec::new();
@@ -59,6 +72,7 @@ pub fn parts(file: &fmt::SceneFile) -> Result<SceneParts, PrepareError> {
             }
             None => shapes(&path, o, material, &mtl)?,
         };
+        names.add_objects(i, made.len());
         // Taken whole when first: a large mesh's objects are not copied
         // (twice their memory for a moment).
         if objects.is_empty() {
@@ -67,7 +81,10 @@ pub fn parts(file: &fmt::SceneFile) -> Result<SceneParts, PrepareError> {
             objects.extend(made);
         }
     }
-    Ok(SceneParts {
+    for name in std::mem::take(&mut materials.names) {
+        names.add_material(name);
+    }
+    let parts = SceneParts {
         camera: camera(&file.camera),
         objects,
         materials: materials.materials,
@@ -76,7 +93,8 @@ pub fn parts(file: &fmt::SceneFile) -> Result<SceneParts, PrepareError> {
         encoding: encoding(&file.render),
         samples: file.render.samples,
         environment: environment(file)?,
-    })
+    };
+    Ok((parts, names))
 }
 
 /// For each object of `file`, the group of objects it shares its mesh's
@@ -624,6 +642,8 @@ pub fn instance_extent(b: &MeshBox, transform: Option<&fmt::Transform>) -> MeshE
 struct MaterialTable<'a> {
     file: &'a fmt::SceneFile,
     materials: Vec<Material>,
+    /// What the file calls each of `materials`.
+    names: Vec<String>,
     /// Named material and object texture name -> index, so objects share
     /// materials (an object's texture table makes a material of its own).
     by_key: HashMap<(String, Option<String>), usize>,
@@ -646,6 +666,7 @@ impl<'a> MaterialTable<'a> {
         MaterialTable {
             file,
             materials: Vec::new(),
+            names: Vec::new(),
             by_key: HashMap::new(),
             textures: HashMap::new(),
             images: HashMap::new(),
@@ -720,8 +741,9 @@ impl<'a> MaterialTable<'a> {
         Ok(surface)
     }
 
-    fn push(&mut self, material: Material) -> usize {
+    fn push(&mut self, material: Material, name: String) -> usize {
         self.materials.push(material);
+        self.names.push(name);
         self.materials.len() - 1
     }
 
@@ -791,11 +813,12 @@ impl<'a> MaterialTable<'a> {
             None => {
                 let grey =
                     self.textured(&texture_path, Phong::default_grey(), o.texture.as_ref())?;
-                Ok(self.push(Material::Phong(grey)))
+                let name = format!("the default grey of {path}");
+                Ok(self.push(Material::Phong(grey), name))
             }
             Some(fmt::MaterialRef::Inline(m)) => {
                 let material = self.material(&texture_path, m, o.texture.as_ref())?;
-                Ok(self.push(material))
+                Ok(self.push(material, format!("{path}.material")))
             }
             Some(fmt::MaterialRef::Named(name)) => {
                 let texture_name = match &o.texture {
@@ -805,7 +828,8 @@ impl<'a> MaterialTable<'a> {
                     Some(_) => {
                         let m = self.named(path, name)?;
                         let material = self.material(&texture_path, m, o.texture.as_ref())?;
-                        return Ok(self.push(material));
+                        let name = format!("`{name}` with {path}.texture");
+                        return Ok(self.push(material, name));
                     }
                 };
                 let key = (name.clone(), texture_name);
@@ -814,7 +838,11 @@ impl<'a> MaterialTable<'a> {
                 }
                 let m = self.named(path, name)?;
                 let material = self.material(&texture_path, m, o.texture.as_ref())?;
-                let index = self.push(material);
+                let shown = match &key.1 {
+                    Some(texture) => format!("`{name}` with texture `{texture}`"),
+                    None => format!("`{name}`"),
+                };
+                let index = self.push(material, shown);
                 self.by_key.insert(key, index);
                 Ok(index)
             }
@@ -844,9 +872,10 @@ impl<'a> MaterialTable<'a> {
         }
         let texture_path = format!("{path}.texture");
         let mut indices = Vec::with_capacity(data.materials.len());
-        for m in &data.materials {
+        for (k, m) in data.materials.iter().enumerate() {
             let material = self.material(&texture_path, m, o.texture.as_ref())?;
-            indices.push(self.push(material));
+            let name = format!("MTL material {} of {path}", k + 1);
+            indices.push(self.push(material, name));
         }
         Ok(indices)
     }

@@ -60,6 +60,7 @@ fn json(pixel: &ExplainedPixel, (x, y): (u32, u32)) -> serde_json::Value {
         "projection": e.projection,
         "sample_colour": e.colour,
         "ray": ray,
+        "names": pixel.names,
     });
     if let Some(events) = events {
         value["events"] = serde_json::to_value(events).unwrap_or_default();
