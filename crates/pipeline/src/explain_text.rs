@@ -97,11 +97,11 @@ fn ray_text(out: &mut String, ray: &RayNode, indent: usize, names: &Names) {
                 Outcome::Farther { t } => format!("hit at t = {t:.4}, farther than the nearest"),
                 Outcome::Behind { t } => format!("met behind the ray's origin (t = {t:.4})"),
                 Outcome::Missed => {
-                    missed.push(t.object as usize);
+                    missed.push(t.object);
                     continue;
                 }
             };
-            let _ = writeln!(out, "{pad}  {}: {what}", names.object(t.object as usize));
+            let _ = writeln!(out, "{pad}  {}: {what}", names.object(t.object));
         }
         if !missed.is_empty() {
             let _ = writeln!(out, "{pad}  missed: {}", names.objects(&missed));
@@ -118,12 +118,12 @@ fn ray_text(out: &mut String, ray: &RayNode, indent: usize, names: &Names) {
     let _ = writeln!(
         out,
         "{pad}  nearest hit: {} at t = {:.4}, point {}, normal {}, {} side, material {}, uv {}",
-        names.object(hit.object as usize),
+        names.object(hit.object),
         hit.t,
         v3(hit.point),
         v3(hit.normal),
         if hit.front_face { "front" } else { "back" },
-        names.material(hit.material as usize),
+        names.material(hit.material),
         v2(hit.uv)
     );
     for (light, ambient) in &ray.ambient {
@@ -178,7 +178,7 @@ fn light_text(out: &mut String, lit: &Lit, pad: &str, names: &Names) {
         (Some(p), _) => format!("through glass, passing {}", v3(p)),
         (None, Some(b)) => format!(
             "blocked by {} at t = {:.4}",
-            names.object(b.object as usize),
+            names.object(b.object),
             b.t
         ),
         (None, None) => "blocked".to_string(),
@@ -237,7 +237,7 @@ fn path_text(out: &mut String, events: &[PathEvent], names: &Names) {
                 v3(point),
                 v3(normal),
                 if front_face { "front" } else { "back" },
-                names.material(material as usize),
+                names.material(material),
                 v3(event.throughput)
             ),
             PathEventKind::Emitted { radiance, weight } => {
