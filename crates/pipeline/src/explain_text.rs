@@ -176,11 +176,7 @@ fn light_text(out: &mut String, lit: &Lit, pad: &str, names: &Names) {
     let blocked = match (shadow.passes, lit.blocked_by) {
         (Some(p), _) if p == Vec3::ONE => "clear".to_string(),
         (Some(p), _) => format!("through glass, passing {}", v3(p)),
-        (None, Some(b)) => format!(
-            "blocked by {} at t = {:.4}",
-            names.object(b.object),
-            b.t
-        ),
+        (None, Some(b)) => format!("blocked by {} at t = {:.4}", names.object(b.object), b.t),
         (None, None) => "blocked".to_string(),
     };
     let _ = writeln!(

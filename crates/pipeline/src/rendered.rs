@@ -95,6 +95,9 @@ pub struct ShadedStats {
     /// Path samples left out of their pixel for a value that was not
     /// finite (NaN or infinite); 0 in Whitted mode.
     pub dropped: u64,
+    /// Whitted samples whose ray tree was cut at
+    /// `tracer_core::integrate::whitted::MAX_TREE_RAYS` rays.
+    pub cut_trees: u64,
     /// In path mode with point lights, the image's mean luminance (linear);
     /// None otherwise.
     pub point_lit_mean: Option<f32>,
@@ -123,6 +126,21 @@ impl ShadedStats {
              which falls off with the square of the distance (a light 10 units away lights a surface 100 times less \
              than in Whitted mode); raise the lights' `color` by the square of their distance, or give a material `emission`"
         ))
+    }
+
+    /// A warning when ray trees were cut short.
+    pub fn cut_trees_warning(&self) -> Option<String> {
+        (self.cut_trees > 0).then(|| {
+            format!(
+                "{} sample{} reached {} mirror and refracted rays, and the rest of {} ray tree was not traced: \
+                 glass splits every ray in two, so a tree can double at each of `max_depth` levels; \
+                 raise `min_energy` (the lab's 0.01) or lower `max_depth`",
+                self.cut_trees,
+                if self.cut_trees == 1 { "" } else { "s" },
+                tracer_core::integrate::whitted::MAX_TREE_RAYS,
+                if self.cut_trees == 1 { "its" } else { "their" },
+            )
+        })
     }
 
     /// A warning when path samples were dropped.

@@ -205,6 +205,7 @@ fn shaded(
         forced_white,
         pixels: image.pixels.len() as u64,
         dropped: rays.dropped,
+        cut_trees: rays.cut_trees,
         point_lit_mean: point_lit_mean(scene, &image),
     };
     let picture = Picture {

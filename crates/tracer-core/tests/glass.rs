@@ -854,3 +854,31 @@ fn floor_square(half: f32) -> [[Vec3; 3]; 2] {
         [corner(-1.0, -1.0), corner(1.0, 1.0), corner(1.0, -1.0)],
     ]
 }
+
+/// Glass in a mirror ball, `max_depth = 64`, `min_energy = 0`: every glass
+/// hit splits the ray in two, so a tree could reach 2^64 rays. Each sample
+/// traces at most MAX_TREE_RAYS of them (the render took hours, `explain`
+/// ran out of memory).
+#[test]
+fn a_ray_tree_that_doubles_at_every_level_is_cut_at_its_budget() {
+    use tracer_core::integrate::whitted::MAX_TREE_RAYS;
+    let text = "[camera]\neye = [0.3, 0.2, 3]\nlook_at = [0, 0, 0]\nwidth = 4\nheight = 4\n\
+                [render]\nmax_depth = 64\nmin_energy = 0\n\
+                [[lights]]\nposition = [0, 2, 2]\n\
+                [materials.glass]\nreflectance = 0.5\ntransmittance = 0.5\nior = 1.5\n\
+                [materials.mirror]\nreflectance = 1\n\
+                [[objects]]\nsphere = { center = [0, 0, 0], radius = 1 }\nmaterial = \"glass\"\n\
+                [[objects]]\nsphere = { center = [0, 0, 0], radius = 10 }\nmaterial = \"mirror\"\n";
+    let scene = scene_from(text);
+    let rendered = render(&scene, &RenderJob::full(&scene), &|_| {});
+    let rays = rendered.rays;
+    // The pixels that see the glass ball grow past the budget (the mirror
+    // alone makes one ray a level); no sample traces more than the budget
+    // and its primary ray.
+    assert!((1..=16).contains(&rays.cut_trees), "{rays:?}");
+    assert!(
+        rays.nearest <= 16 * (u64::from(MAX_TREE_RAYS) + 1),
+        "{rays:?}"
+    );
+    assert!(rendered.image.pixels.iter().all(|p| p.is_finite()));
+}

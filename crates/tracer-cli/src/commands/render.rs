@@ -78,9 +78,13 @@ pub fn run(args: &Render) -> Result<()> {
     let rendered = rendered?;
     // A float file keeps the values over 1: nothing is made white.
     if let Summary::Shaded(stats) = &rendered.summary {
-        for warning in [stats.dropped_warning(), stats.dark_warning()]
-            .into_iter()
-            .flatten()
+        for warning in [
+            stats.dropped_warning(),
+            stats.cut_trees_warning(),
+            stats.dark_warning(),
+        ]
+        .into_iter()
+        .flatten()
         {
             note!("warning: {}: {warning}", name.display());
         }

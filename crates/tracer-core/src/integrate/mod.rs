@@ -17,6 +17,9 @@ pub struct RayStats {
     /// Path samples whose value was not finite (NaN or infinite): left out
     /// of their pixel's mean.
     pub dropped: u64,
+    /// Whitted samples whose ray tree reached `whitted::MAX_TREE_RAYS`:
+    /// the rays past it were not traced.
+    pub cut_trees: u64,
 }
 
 impl RayStats {
@@ -32,6 +35,7 @@ impl std::ops::Add for RayStats {
             nearest: self.nearest + o.nearest,
             shadow: self.shadow + o.shadow,
             dropped: self.dropped + o.dropped,
+            cut_trees: self.cut_trees + o.cut_trees,
         }
     }
 }

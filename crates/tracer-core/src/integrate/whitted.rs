@@ -154,7 +154,16 @@ pub struct Whitted<'a, R: Recorder = Silent> {
     /// answers).
     ahead: [Ahead; PACKET],
     shading: Option<usize>,
+    /// The mirror and refracted rays the current sample may still trace.
+    rays_left: u32,
 }
+
+/// The most mirror and refracted rays one sample traces. Glass splits
+/// each ray in two, so a tree may double at every level: at `max_depth =
+/// 64` with `min_energy = 0` a pixel would take 2^64 rays. The lab's
+/// scenes take at most a few hundred; the rays past this are not traced
+/// (and the render says so).
+pub const MAX_TREE_RAYS: u32 = 4096;
 
 impl<'a> Whitted<'a> {
     pub fn new(scene: &'a Scene) -> Self {
@@ -173,6 +182,7 @@ impl<'a, R: Recorder> Whitted<'a, R> {
             rng: Rng::new(0),
             ahead: [Ahead::NONE; PACKET],
             shading: None,
+            rays_left: MAX_TREE_RAYS,
         }
     }
 
@@ -268,6 +278,10 @@ impl<'a, R: Recorder> Whitted<'a, R> {
         depth: u32,
     ) -> Vec3 {
         self.stats.nearest += 1;
+        if depth == 0 {
+            // A primary ray: a new tree.
+            self.rays_left = MAX_TREE_RAYS;
+        }
         let scene = self.scene;
         let kind = std::mem::replace(&mut self.next_kind, RayKind::Primary);
         self.rec.ray(kind, ray, energy, depth);
@@ -288,7 +302,15 @@ impl<'a, R: Recorder> Whitted<'a, R> {
     }
 
     /// `trace` of a ray traced for `kind`.
+    /// Past the sample's budget of rays it brings nothing back.
     fn trace_as(&mut self, kind: RayKind, ray: &Ray, energy: f32, depth: u32) -> Vec3 {
+        if self.rays_left == 0 {
+            return Vec3::ZERO;
+        }
+        self.rays_left -= 1;
+        if self.rays_left == 0 {
+            self.stats.cut_trees += 1;
+        }
         self.next_kind = kind;
         self.trace(ray, energy, depth)
     }
