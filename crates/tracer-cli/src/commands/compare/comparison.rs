@@ -16,7 +16,8 @@ pub enum Comparison {
     },
     Compared {
         difference: Difference,
-        flip: Flip,
+        /// None above [`flip::MAX_PIXELS`].
+        flip: Option<Flip>,
         findings: Vec<Finding>,
     },
 }
@@ -35,7 +36,7 @@ impl Comparison {
         let difference = metrics::difference(image, reference, tolerance);
         let findings = diagnose::diagnose(image, reference_read, tolerance, difference.differing);
         Comparison::Compared {
-            flip: flip::flip(image, reference),
+            flip: flip::fits(image).then(|| flip::flip(image, reference)),
             difference,
             findings,
         }
@@ -54,19 +55,21 @@ impl Comparison {
         }
     }
 
-    /// FLIP's mean; `None` when the sizes differ.
+    /// FLIP's mean; `None` when the sizes differ or the images are too
+    /// large for FLIP.
     pub fn flip_mean(&self) -> Option<f32> {
         match self {
             Comparison::Sizes { .. } => None,
-            Comparison::Compared { flip, .. } => Some(flip.mean),
+            Comparison::Compared { flip, .. } => flip.as_ref().map(|f| f.mean),
         }
     }
 
-    /// The heat-map; `None` when the sizes differ.
+    /// The heat-map; `None` when the sizes differ or the images are too
+    /// large for FLIP.
     pub fn heat_map(&self) -> Option<&RgbImage> {
         match self {
             Comparison::Sizes { .. } => None,
-            Comparison::Compared { flip, .. } => Some(&flip.heat_map),
+            Comparison::Compared { flip, .. } => flip.as_ref().map(|f| &f.heat_map),
         }
     }
 

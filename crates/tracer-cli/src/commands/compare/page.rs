@@ -200,7 +200,10 @@ fn csv_row(e: &Entry) -> Vec<String> {
             let psnr = difference
                 .psnr()
                 .map_or("inf".to_string(), |p| format!("{p:.2}"));
-            row.extend([largest, x, y, psnr, format!("{:.4}", flip.mean)]);
+            let flip = flip
+                .as_ref()
+                .map_or(String::new(), |f| format!("{:.4}", f.mean));
+            row.extend([largest, x, y, psnr, flip]);
         }
     }
     row.push(e.comparison.words().join("; "));
@@ -332,13 +335,17 @@ fn numbers(comparison: &Comparison) -> String {
     let psnr = difference
         .psnr()
         .map_or("infinite".to_string(), |p| format!("{p:.2} dB"));
+    let flip = flip
+        .as_ref()
+        .map_or("not computed (too large)".to_string(), |f| {
+            format!("{:.4}", f.mean)
+        });
     format!(
         "<p class=\"numbers\">{} off ({} of {} pixels) &middot; {largest} &middot; \
-         PSNR {psnr} &middot; FLIP {:.4}</p>\n",
+         PSNR {psnr} &middot; FLIP {flip}</p>\n",
         percent(difference.share()),
         difference.differing,
         difference.pixels,
-        flip.mean
     )
 }
 

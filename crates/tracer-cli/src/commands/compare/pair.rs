@@ -40,7 +40,10 @@ pub fn run(
             pending.write_image(map).map_err(Error::from)?;
             note!("heat-map -> {}", path.display());
         }
-        (Some(_), None) => note!("no heat-map: the sizes differ"),
+        (Some(_), None) if matches!(comparison, Comparison::Sizes { .. }) => {
+            note!("no heat-map: the sizes differ")
+        }
+        (Some(_), None) => note!("no heat-map: it is FLIP's, not computed for images this large"),
         (None, Some(_)) if !comparison.within_tolerance() => {
             note!("(-o heatmap.png draws where they differ)");
         }
@@ -94,7 +97,7 @@ fn text(names: &Names, comparison: &Comparison, tolerance: u8) -> String {
         difference, flip, ..
     } = comparison
     {
-        out += &numbers(difference, flip.mean, tolerance);
+        out += &numbers(difference, flip.as_ref().map(|f| f.mean), tolerance);
     }
     for line in comparison.diagnoses() {
         let _ = writeln!(out, "{line}");
@@ -106,7 +109,7 @@ fn text(names: &Names, comparison: &Comparison, tolerance: u8) -> String {
     out
 }
 
-fn numbers(d: &Difference, flip: f32, tolerance: u8) -> String {
+fn numbers(d: &Difference, flip: Option<f32>, tolerance: u8) -> String {
     let largest = match d.largest {
         Some(p) => format!(
             "{} of 255 at ({}, {}): image {}, reference {}",
@@ -121,11 +124,18 @@ fn numbers(d: &Difference, flip: f32, tolerance: u8) -> String {
     let psnr = d
         .psnr()
         .map_or("infinite (identical)".to_string(), |p| format!("{p:.2} dB"));
+    let flip = match flip {
+        Some(flip) => format!("{flip:.4} (mean: 0 identical, 1 the most different)"),
+        None => format!(
+            "not computed: the images are over {} pixels (4096 x 4096)",
+            super::flip::MAX_PIXELS
+        ),
+    };
     format!(
         "off        {} of the pixels ({} of {}) by more than {tolerance} of 255 in a channel\n\
          largest    {largest}\n\
          PSNR       {psnr}\n\
-         FLIP       {flip:.4} (mean: 0 identical, 1 the most different)\n",
+         FLIP       {flip}\n",
         percent(d.share()),
         d.differing,
         d.pixels,
