@@ -41,6 +41,9 @@ fn toml_syntax(text: &str, e: &toml::de::Error) -> Diagnostic {
     if message == "duplicate key" {
         return duplicate(text, span);
     }
+    if message == "recursion limit" {
+        return deep_key(text);
+    }
     if message.starts_with("cannot recurse further") {
         // The parser's words, and no key: say which value, and the fix.
         let mut path = key_at(text, span.clone()).path;
@@ -55,6 +58,39 @@ fn toml_syntax(text: &str, e: &toml::de::Error) -> Diagnostic {
         return Diagnostic::new(path, message).at(text, span);
     }
     Diagnostic::new(KeyPath::root(), message).at(text, span)
+}
+
+/// The key of a line of TOML: before its `=`, or its table header's.
+fn key_of(line: &str) -> &str {
+    let key = line.split('=').next().unwrap_or_default();
+    key.trim().trim_matches(|c| c == '[' || c == ']').trim()
+}
+
+/// toml's "recursion limit" for a key of too many dotted parts names no
+/// place: the line whose key has the most parts is taken to be it.
+fn deep_key(text: &str) -> Diagnostic {
+    let mut offset = 0;
+    let mut deepest = (0, 0, "");
+    for line in text.split_inclusive('\n') {
+        let key = key_of(line);
+        let parts = key.split('.').count();
+        if parts > deepest.0 {
+            let start = offset + (key.as_ptr() as usize - line.as_ptr() as usize);
+            deepest = (parts, start, key);
+        }
+        offset += line.len();
+    }
+    let (parts, start, key) = deepest;
+    let path = KeyPath(
+        key.split('.')
+            .take(MAX_SHOWN_DEPTH)
+            .map(|k| Segment::Key(k.trim().trim_matches('"').to_string()))
+            .collect(),
+    );
+    let message = format!(
+        "a key of {parts} dotted parts, more than can be read; expected at most a few, as in `materials.red.diffuse`"
+    );
+    Diagnostic::new(path, message).at(text, start..start + key.len())
 }
 
 /// toml names neither the key, nor its table, nor the fix: the key path is
@@ -107,5 +143,26 @@ mod tests {
         let d = parse_toml::<SceneFile>(&text).unwrap_err();
         assert!(d.path.0.len() <= MAX_SHOWN_DEPTH, "{}", d.path);
         assert!(d.path.to_string().starts_with("x.a"), "{}", d.path);
+    }
+
+    #[test]
+    fn a_key_of_too_many_dotted_parts_is_placed_at_its_line() {
+        let deep = vec!["a"; 100].join(".");
+        for text in [
+            format!("[camera]\neye = [0, 0, 10]\n{deep} = 1\n"),
+            format!("[camera]\neye = [0, 0, 10]\n[[{deep}]]\n"),
+        ] {
+            let d = parse_toml::<SceneFile>(&text).unwrap_err();
+            assert!(
+                d.message.starts_with("a key of 100 dotted parts"),
+                "{}",
+                d.message
+            );
+            assert_eq!(
+                d.location.map(|l| (l.line, l.column)),
+                Some((3, 1 + text.lines().nth(2).unwrap().find('a').unwrap()))
+            );
+            assert_eq!(d.path.0.len(), MAX_SHOWN_DEPTH);
+        }
     }
 }
