@@ -19,9 +19,12 @@ pub fn read_reference(path: &Path, (width, height): (u32, u32)) -> Result<Linear
     };
     let bytes = scene_format::read::read_capped(path, MAX_REFERENCE_BYTES)
         .map_err(|e| bad(e.to_string()))?;
-    let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes))
-        .with_guessed_format()
-        .map_err(|e| bad(e.to_string()))?;
+    let open = || {
+        image::ImageReader::new(std::io::Cursor::new(&bytes[..]))
+            .with_guessed_format()
+            .map_err(|e| bad(e.to_string()))
+    };
+    let mut reader = open()?;
     // An 8-bit image holds display values, gamma-encoded: its error against
     // the linear render would mean nothing.
     match reader.format() {
@@ -38,6 +41,17 @@ pub fn read_reference(path: &Path, (width, height): (u32, u32)) -> Result<Linear
             )));
         }
     }
+    // Its size from its header first: a larger image would only be
+    // refused by the decoder's memory limit.
+    let size = open()?
+        .into_dimensions()
+        .map_err(|e| bad(scene_format::images::unreadable(e)))?;
+    if size != (width, height) {
+        return Err(bad(format!(
+            "{}x{}, but the render is {width}x{height}; expected an image of the render's size",
+            size.0, size.1
+        )));
+    }
     // What the decoder may take: a float image of the render's size, with
     // room for its alpha, and no more (a file's header may claim any size).
     let mut limits = image::Limits::default();
@@ -47,13 +61,6 @@ pub fn read_reference(path: &Path, (width, height): (u32, u32)) -> Result<Linear
         .decode()
         .map_err(|e| bad(scene_format::images::unreadable(e)))?
         .into_rgb32f();
-    if image.dimensions() != (width, height) {
-        return Err(bad(format!(
-            "{}x{}, but the render is {width}x{height}; expected an image of the render's size",
-            image.width(),
-            image.height()
-        )));
-    }
     if image.pixels().flat_map(|p| p.0).any(|x| !x.is_finite()) {
         return Err(bad(
             "has values that are not finite numbers (NaN or infinite); expected a rendered image"

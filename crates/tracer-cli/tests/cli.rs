@@ -1413,6 +1413,20 @@ fn time_limit_and_reference_render_in_passes() {
         "{stderr}"
     );
     assert!(!dir.path().join("wrong.png").exists());
+    // Told from its header: decoding a much larger one passed the memory the
+    // render's size allows, and said only "Memory limit exceeded".
+    image::Rgb32FImage::new(1024, 1024)
+        .save(dir.path().join("large.exr"))
+        .unwrap();
+    let mut args = vec!["render", &cornell, "--reference", "large.exr"];
+    args.extend(["--width", "32", "-o", "small.png"]);
+    let out = tracer(dir.path(), &args);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("1024x1024, but the render is 32x32"),
+        "{stderr}"
+    );
     // A PNG holds display values: its error would mean nothing.
     let args = [
         "render",
