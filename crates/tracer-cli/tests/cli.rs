@@ -1339,6 +1339,16 @@ fn path_mode_on_the_command_line() {
         stderr.contains("nearly black") && stderr.contains("square of the distance"),
         "{stderr}"
     );
+    // A tile's mean is not the image's: not judged.
+    let mut args = vec!["render", &shadows, "--integrator", "path", "-o", "t.exr"];
+    args.extend(["--tile", "0/2"]);
+    args.extend(small);
+    let out = tracer(dir.path(), &args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success() && !stderr.contains("nearly black"),
+        "{stderr}"
+    );
     let mut args = vec!["render", &cornell, "-o", "c.exr"];
     args.extend(small);
     let out = tracer(dir.path(), &args);

@@ -78,13 +78,11 @@ pub fn run(args: &Render) -> Result<()> {
     let rendered = rendered?;
     // A float file keeps the values over 1: nothing is made white.
     if let Summary::Shaded(stats) = &rendered.summary {
-        for warning in [
-            stats.dropped_warning(),
-            stats.cut_trees_warning(),
-            stats.dark_warning(),
-        ]
-        .into_iter()
-        .flatten()
+        // A part's mean says nothing of the image's (a region of sky).
+        let dark = stats.dark_warning().filter(|_| region.is_none());
+        for warning in [stats.dropped_warning(), stats.cut_trees_warning(), dark]
+            .into_iter()
+            .flatten()
         {
             note!("warning: {}: {warning}", name.display());
         }
