@@ -21,6 +21,7 @@ mod parse;
 pub mod ply;
 pub mod polygon;
 pub mod read;
+pub mod repeated_faces;
 pub mod schema;
 pub mod source;
 pub mod span_node;

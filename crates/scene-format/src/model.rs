@@ -664,6 +664,8 @@ pub struct MeshData {
     pub uvs: Vec<Option<[Uv; 3]>>,
     /// Faces of zero area, left out.
     pub skipped_degenerate: usize,
+    /// Faces that repeat an earlier face, left out (`repeated_faces`).
+    pub skipped_repeated: usize,
     /// The file's line (OBJ) of the first face left out, when a scan found it.
     pub first_degenerate_line: Option<usize>,
     /// Faces of more than 3 corners fanned though they may not be convex

@@ -44,7 +44,10 @@ pub fn load_object_meshes(
                 MeshFormat::Obj => read_obj_within(source, path, images, budget),
                 MeshFormat::Ply => crate::ply::read_ply_within(source, path, budget),
             }
-            .map(Arc::new)
+            .map(|mut data| {
+                data.skipped_repeated = crate::repeated_faces::drop_repeated(&mut data);
+                Arc::new(data)
+            })
         });
         match loaded {
             Ok(data) => mesh.data = Some(data.clone()),
@@ -81,6 +84,14 @@ pub fn mesh_warnings(scene: &SceneFile) -> Vec<Diagnostic> {
                 message += &format!("; the first at `{}:{line}`", name.to_string_lossy());
             }
             let key = object.mesh.as_ref().map_or("obj", |m| m.key());
+            warnings.push(Diagnostic::new(format!("objects[{i}].mesh.{key}"), message));
+        }
+        if data.skipped_repeated > 0 {
+            let key = object.mesh.as_ref().map_or("obj", |m| m.key());
+            let message = format!(
+                "{} faces left out that repeat an earlier face (the same three corners): every ray through one would test each copy",
+                data.skipped_repeated
+            );
             warnings.push(Diagnostic::new(format!("objects[{i}].mesh.{key}"), message));
         }
         if let (Some((at, what)), Some(mesh)) = (&data.first_polygon_trouble, &object.mesh) {

@@ -151,3 +151,34 @@ fn a_self_intersecting_face_is_a_warning_naming_its_line() {
          their shape; the first at `tie.obj:6` is self-intersecting"
     );
 }
+
+#[test]
+fn faces_a_file_repeats_are_left_out_with_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    // One face written 1000 times, once from another corner, and a second
+    // face at the same place under other vertex numbers.
+    let mut obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n".to_string();
+    obj += &"f 1 2 3\n".repeat(1000);
+    obj += "f 2 3 1\nf 4 5 6\nf 1 2 7\n";
+    write(dir.path(), "copies.obj", &obj);
+    let scene = format!("{HEAD}[[objects]]\nmesh = {{ obj = \"copies.obj\" }}\n");
+    let path = write(dir.path(), "scene.toml", &scene);
+    let file = load_path(&path).unwrap_or_else(|e| panic!("{e}"));
+    let data = file.objects[0]
+        .mesh
+        .as_ref()
+        .unwrap()
+        .data
+        .as_ref()
+        .unwrap();
+    assert_eq!(data.triangles.len(), 2);
+    assert_eq!(data.skipped_repeated, 1001);
+    let warnings: Vec<String> = mesh_warnings(&file)
+        .into_iter()
+        .map(|d| d.message)
+        .collect();
+    assert_eq!(
+        warnings,
+        ["1001 faces left out that repeat an earlier face (the same three corners): every ray through one would test each copy"]
+    );
+}
