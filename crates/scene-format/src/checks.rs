@@ -100,6 +100,9 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
         }
     }
     open_glass(&mut warnings, scene);
+    if path_mode {
+        emitters_facing_away(&mut warnings, scene);
+    }
     let transparent = materials.iter().any(|(_, m)| m.transmittance > 0.0);
     if transparent && scene.render.max_depth() < 2 {
         warnings.push(Diagnostic::new(
@@ -239,6 +242,72 @@ pub fn albedo_sum(m: &crate::Material) -> f32 {
     (0..3)
         .map(|c| m.diffuse[c] + m.specular[c] + interface)
         .fold(0.0, f32::max)
+}
+
+/// A one-sided emitter (a quad or a triangle) whose front side faces away
+/// from both the camera and the middle of the scene: its light goes
+/// nowhere the image shows (a ceiling panel turned to the ceiling).
+/// Objects with a transform are left alone (their sides are not read
+/// here).
+fn emitters_facing_away(warnings: &mut Vec<Diagnostic>, scene: &SceneFile) {
+    let Some(middle) = middle(scene) else {
+        return;
+    };
+    for (i, o) in scene.objects.iter().enumerate() {
+        let emissive = match &o.material {
+            Some(crate::MaterialRef::Inline(m)) => m.is_emissive(),
+            Some(crate::MaterialRef::Named(name)) => scene
+                .materials
+                .get(name)
+                .is_some_and(crate::Material::is_emissive),
+            None => false,
+        };
+        if !emissive || o.transform.is_some() {
+            continue;
+        }
+        let (key, point, normal, fix) = match o.shapes().as_slice() {
+            [ShapeRef::Quad(q)] => (
+                "quad",
+                q.corner,
+                cross(q.edge_u, q.edge_v),
+                "swap `edge_u` and `edge_v` to turn it over",
+            ),
+            [ShapeRef::Triangle([a, b, c])] => (
+                "triangle",
+                *a,
+                cross(sub(*b, *a), sub(*c, *a)),
+                "swap two of its vertices to turn it over",
+            ),
+            _ => continue,
+        };
+        let behind = |p: Vec3| dot(sub(p, point), normal) < 0.0;
+        if behind(scene.camera.eye) && behind(middle) {
+            warnings.push(Diagnostic::new(
+                KeyPath::root().key("objects").index(i).key(key),
+                format!("emits from its front side only, which faces away from the camera and from the middle of the scene, so its light goes where the image does not show; {fix}"),
+            ));
+        }
+    }
+}
+
+/// The mean of the objects' middles (spheres, triangles, quads, boxes;
+/// not planes or meshes), if there are any.
+fn middle(scene: &SceneFile) -> Option<Vec3> {
+    let scale = |v: Vec3, s: f32| [v[0] * s, v[1] * s, v[2] * s];
+    let points: Vec<Vec3> = scene
+        .objects
+        .iter()
+        .filter(|o| o.transform.is_none())
+        .filter_map(|o| match o.shapes().as_slice() {
+            [ShapeRef::Sphere(s)] => Some(s.center),
+            [ShapeRef::Triangle([a, b, c])] => Some(scale(add(add(*a, *b), *c), 1.0 / 3.0)),
+            [ShapeRef::Quad(q)] => Some(add(q.corner, scale(add(q.edge_u, q.edge_v), 0.5))),
+            [ShapeRef::Box(b)] => Some(scale(add(b.min, b.max), 0.5)),
+            _ => None,
+        })
+        .collect();
+    let sum = points.iter().fold([0.0; 3], |s, p| add(s, *p));
+    (!points.is_empty()).then(|| scale(sum, 1.0 / points.len() as f32))
 }
 
 /// Glass on a lone triangle: a ray enters it and never leaves, so
@@ -457,6 +526,35 @@ mod tests {
 
     fn has(found: &[(String, String)], key: &str, start: &str) -> bool {
         found.iter().any(|(k, m)| k == key && m.starts_with(start))
+    }
+
+    #[test]
+    fn a_ceiling_panel_turned_to_the_ceiling_is_warned_about() {
+        let room = "[materials.lamp]\nemission = [10, 10, 10]\n\
+                    [[objects]]\nbox = { min = [-2, -1, -2], max = [2, -0.9, 2] }\n";
+        let panel = |edges: &str| {
+            format!("{room}[[objects]]\nquad = {{ corner = [-0.5, 2, -0.5], {edges} }}\nmaterial = \"lamp\"\n")
+        };
+        let path = "integrator = \"path\"";
+        let down = warned("", path, &panel("edge_u = [1, 0, 0], edge_v = [0, 0, 1]"));
+        assert!(
+            !down.iter().any(|(k, _)| k == "objects[1].quad"),
+            "{down:?}"
+        );
+        let up = warned("", path, &panel("edge_u = [0, 0, 1], edge_v = [1, 0, 0]"));
+        assert!(
+            has(&up, "objects[1].quad", "emits from its front side only"),
+            "{up:?}"
+        );
+        assert!(up
+            .iter()
+            .any(|(_, m)| m.ends_with("swap `edge_u` and `edge_v` to turn it over")));
+        // Whitted mode lights nothing with it: no word.
+        let whitted = warned("", "", &panel("edge_u = [0, 0, 1], edge_v = [1, 0, 0]"));
+        assert!(
+            !whitted.iter().any(|(k, _)| k == "objects[1].quad"),
+            "{whitted:?}"
+        );
     }
 
     #[test]
