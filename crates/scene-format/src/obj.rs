@@ -89,7 +89,7 @@ pub fn mesh_warnings(scene: &SceneFile) -> Vec<Diagnostic> {
         if data.skipped_repeated > 0 {
             let key = object.mesh.as_ref().map_or("obj", |m| m.key());
             let message = format!(
-                "{} faces left out that repeat an earlier face (the same three corners): every ray through one would test each copy",
+                "{} faces left out that repeat an earlier face (the same corners in the same order): every ray through one would test each copy",
                 data.skipped_repeated
             );
             warnings.push(Diagnostic::new(format!("objects[{i}].mesh.{key}"), message));
