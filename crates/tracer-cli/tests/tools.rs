@@ -226,6 +226,15 @@ fn the_starter_scene_renders_a_red_sphere_on_a_grey_floor() {
     succeeds(tracer(dir.path(), &["new", "scene.toml"]));
     let text = std::fs::read_to_string(dir.path().join("scene.toml")).unwrap();
     assert_eq!(text.lines().next(), Some("#:schema ./schema.json"));
+    // The schema it names is written beside it, and not over one there.
+    let schema = std::fs::read_to_string(dir.path().join("schema.json")).unwrap();
+    assert_eq!(schema, scene_format::schema::json_schema());
+    std::fs::write(dir.path().join("schema.json"), "mine").unwrap();
+    succeeds(tracer(dir.path(), &["new", "other.toml"]));
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("schema.json")).unwrap(),
+        "mine"
+    );
     succeeds(tracer(dir.path(), &["render", "scene.toml", "-q"]));
     let image = image::open(dir.path().join("scene.png")).unwrap().to_rgb8();
     assert_eq!(image.dimensions(), (640, 480));

@@ -31,6 +31,7 @@ pub fn run(args: &NewArgs) -> Outcome {
                 path.display(),
                 path.display()
             );
+            write_schema_beside(path);
             Outcome::Ok
         }
         Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
@@ -44,6 +45,22 @@ pub fn run(args: &NewArgs) -> Outcome {
             note!("error: cannot write {}: {e}", path.display());
             Outcome::Failure
         }
+    }
+}
+
+/// The `schema.json` the starter names (`#:schema ./schema.json`), beside
+/// it, unless one is there: an editor then completes and checks the keys.
+/// Not having it is no failure of `new`: said, and the scene stays.
+fn write_schema_beside(scene: &Path) {
+    let folder = scene.parent().unwrap_or(Path::new(""));
+    let schema = folder.join("schema.json");
+    match write_new(&schema, &scene_format::schema::json_schema()) {
+        Ok(()) => note!(
+            "wrote {} beside it, which the scene names: editors read it to complete and check the keys",
+            schema.display()
+        ),
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+        Err(e) => note!("note: cannot write {}: {e}", schema.display()),
     }
 }
 
