@@ -163,6 +163,7 @@ const CASES: &[Case] = &[
     case("environment-image-empty.toml", "environment.image", 6, 9, "cannot load `empty-sky.hdr`: 0x0 texels: the image is empty; expected at least 1x1"),
     case("environment-empty.toml", "environment", 5, 1, "expected `image` (a latitude-longitude .hdr or .exr file) or `color`; found neither"),
     case("camera-as-array.toml", "camera", 3, 10, "expected a table of named keys (`{ key = value, ... }` or a `[header]`), found an array"),
+    case("sphere-as-long-array.json", "objects[0].sphere", 4, 26, "expected an object of named keys ({\"key\": value, ...}), found an array"),
     case("material-as-array.json", "materials.red", 4, 24, "expected an object of named keys ({\"key\": value, ...}), found an array"),
     case("physical-lab-texture.toml", "materials.striped.texture", 7, 11, "expected an image or checker texture table on a physically based material"),
 ];

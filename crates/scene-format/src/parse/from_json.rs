@@ -128,7 +128,15 @@ fn too_long_array(text: &str, path: &KeyPath, stopped_at: usize) -> Option<Diagn
         return None;
     };
     let expected = items.iter().filter(|n| n.span.end <= stopped_at).count();
-    let message = super::too_long(items, expected);
+    // Items of several kinds are a table's values written in order (a
+    // vector's or a triangle's are all alike): serde read them by position.
+    let kind = |n: &crate::span_tree::Node| std::mem::discriminant(&n.kind);
+    let mixed = items.iter().any(|n| kind(n) != kind(&items[0]));
+    let message = if mixed {
+        super::table_as_array(crate::Format::Json).to_string()
+    } else {
+        super::too_long(items, expected)
+    };
     Some(Diagnostic::new(path.clone(), message).at(text, found.value))
 }
 

@@ -110,7 +110,7 @@ fn compare(
 }
 
 /// What a table written as an array is told: its keys are named.
-fn table_as_array(format: Format) -> &'static str {
+pub(super) fn table_as_array(format: Format) -> &'static str {
     match format {
         Format::Toml => {
             "expected a table of named keys (`{ key = value, ... }` or a `[header]`), \
