@@ -129,7 +129,7 @@ fn ray_text(out: &mut String, ray: &RayNode, indent: usize, names: &Names) {
     for (light, ambient) in &ray.ambient {
         let _ = writeln!(
             out,
-            "{pad}  light {light}: ambient = color * ambient = {}",
+            "{pad}  lights[{light}]: ambient = color * ambient = {}",
             v3(*ambient)
         );
         for lit in ray.lights.iter().filter(|l| l.term.light == *light) {
