@@ -31,8 +31,9 @@ pub use load::{
 };
 pub use options::{tile_region, Aov, Gamma, Options, Part, Region};
 pub use render::{
-    default_output, image_size, next_pass_seconds, prepare_taking, render, render_cancellable,
-    render_prepared, render_prepared_progressive, render_progressive, render_taking,
+    default_output, image_size, next_pass_samples, next_pass_seconds, prepare_taking, render,
+    render_cancellable, render_prepared, render_prepared_progressive, render_progressive,
+    render_taking,
 };
 pub use rendered::{Picture, Rendered, ShadedStats, Summary, FORCED_WHITE_WARNING};
 pub use scene3d::{Pass, PassCallbacks, PreparedScene};

@@ -128,6 +128,14 @@ pub fn render_prepared_progressive(
     }))
 }
 
+/// How many samples a pixel the pass after `samples` (of `total`) adds: 0
+/// after the last (the passes are `tracer_core::film::passes`).
+pub fn next_pass_samples(samples: u32, total: u32) -> u32 {
+    tracer_core::film::passes(total)
+        .find(|pass| pass.start == samples)
+        .map_or(0, |pass| pass.end - pass.start)
+}
+
 /// About how long the next pass of a render in passes takes, `next` more
 /// samples a pixel, when this one took `this_pass` seconds for `added`:
 /// each sample costs about what the last ones did (what a time limit
@@ -223,6 +231,16 @@ pub fn default_output(scene: &Path, aov: Option<Aov>) -> PathBuf {
 mod tests {
     use super::*;
     use crate::load::{load, Input};
+
+    #[test]
+    fn the_next_pass_doubles_the_samples_up_to_the_total() {
+        let next = |samples| next_pass_samples(samples, 20);
+        assert_eq!(
+            [next(1), next(2), next(8), next(16), next(20)],
+            [1, 2, 8, 4, 0]
+        );
+        assert_eq!(next_pass_samples(1, 1), 0);
+    }
 
     #[test]
     fn gamma_must_be_a_number_above_0() {

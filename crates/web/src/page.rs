@@ -69,7 +69,7 @@ impl PassClock {
         let this_pass = now - pass_start;
         let added = pass.samples - self.samples;
         (self.pass_start, self.samples) = (now, pass.samples);
-        let next = (2 * pass.samples).min(pass.total) - pass.samples;
+        let next = tracer_pipeline::next_pass_samples(pass.samples, pass.total);
         match pass.time_limit {
             Some(limit) if next > 0 => {
                 let estimate = tracer_pipeline::next_pass_seconds(this_pass, added, next);

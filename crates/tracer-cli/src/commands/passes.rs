@@ -50,7 +50,7 @@ pub fn on_pass(plan: &Plan, quiet: bool) -> impl FnMut(Pass) -> bool + '_ {
                 error.unwrap_or_default()
             );
         }
-        let next = (2 * pass.samples).min(pass.total) - pass.samples;
+        let next = tracer_pipeline::next_pass_samples(pass.samples, pass.total);
         let Some(limit) = plan.time_limit else {
             return true;
         };
