@@ -82,11 +82,21 @@ fn check_counts(header: &Header, payload: u64) -> Result<(), String> {
         match bytes {
             Some(b) if b <= payload => needed = b,
             _ => {
+                let plural = |n: u64| if n == 1 { "" } else { "s" };
+                let before = if needed > 0 {
+                    format!(", after {needed} bytes of the elements before it")
+                } else {
+                    String::new()
+                };
                 return Err(format!(
-                    "not a valid PLY file: it ends before the data its header declares (element `{}`: \
-                     {count} records of at least {least} bytes, more than the {payload} bytes after the header)",
-                    element.name.escape_debug()
-                ))
+                    "not a valid PLY file: it ends before the data its header declares: at least {} bytes \
+                     (element `{}`: {count} record{} of at least {least} byte{}{before}), more than the \
+                     {payload} bytes after the header",
+                    count.saturating_mul(least).saturating_add(needed),
+                    element.name.escape_debug(),
+                    plural(count),
+                    plural(least),
+                ));
             }
         }
     }
@@ -535,6 +545,17 @@ mod tests {
         );
         let error = read(&skipped).unwrap_err();
         assert!(error.contains("18446744073709551615 records"), "{error}");
+        // One face too many for what the vertices leave: the need in all.
+        let short = binary(
+            "element vertex 4\nproperty float x\nproperty float y\nproperty float z\n\
+             element face 1\nproperty list uchar int vertex_indices\n",
+            &[0; 48],
+        );
+        let error = read(&short).unwrap_err();
+        assert!(
+            error.contains("at least 49 bytes (element `face`: 1 record of at least 1 byte, after 48 bytes of the elements before it), more than the 48 bytes"),
+            "{error}"
+        );
         let ascii = "ply\nformat ascii 1.0\nelement junk 18446744073709551615\n\
                      property list uchar int a\nend_header\n0\n";
         let error = read(ascii.as_bytes()).unwrap_err();
