@@ -146,6 +146,19 @@ mod tests {
     }
 
     #[test]
+    fn a_hexadecimal_prefix_without_digits_is_not_called_an_overflow() {
+        let text = "[camera]\neye = 0x\nlook_at = [0, 0, 0]\n";
+        let d = parse_toml::<SceneFile>(text).unwrap_err();
+        assert!(
+            d.message.starts_with("not a number that can be read"),
+            "{}",
+            d.message
+        );
+        assert_eq!(d.path.to_string(), "camera.eye");
+        assert_eq!(d.location.map(|l| (l.line, l.column)), Some((2, 7)));
+    }
+
+    #[test]
     fn a_key_of_too_many_dotted_parts_is_placed_at_its_line() {
         let deep = vec!["a"; 100].join(".");
         for text in [

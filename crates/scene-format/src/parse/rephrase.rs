@@ -65,6 +65,16 @@ pub(super) fn rephrase(path: KeyPath, message: &str) -> (KeyPath, String, Target
                 Target::Value,
             )
         }
+        // toml's words for a prefix without digits (`0x`) as for 2^64.
+        "integer number overflowed" => {
+            return (
+                path,
+                "not a number that can be read (too large, or `0x`, `0o`, `0b` without digits); \
+                 expected a number such as 10 or 2.5"
+                    .to_string(),
+                Target::Value,
+            )
+        }
         "wanted exactly 1 element, found 0 elements" => {
             return (
                 path,
