@@ -121,11 +121,14 @@ fn editor_text(browser: &mut Browser) -> String {
     text.as_str().unwrap().to_string()
 }
 
+/// The text of the page's element of id `id`.
+fn text_of(browser: &mut Browser, id: &str) -> String {
+    let expression = format!("document.getElementById('{id}').textContent");
+    eval(browser, &expression).as_str().unwrap().to_string()
+}
+
 fn status(browser: &mut Browser) -> String {
-    eval(browser, "document.getElementById('status').textContent")
-        .as_str()
-        .unwrap()
-        .to_string()
+    text_of(browser, "status")
 }
 
 /// The canvas equals `golden/NAME.png` bit for bit.
@@ -534,8 +537,7 @@ fn a_click_on_the_image_explains_that_pixel_as_tracer_explain_does() {
         RENDER,
     )
     .unwrap();
-    let text = eval(&mut page, "document.getElementById('explain').textContent");
-    let text = text.as_str().unwrap();
+    let text = text_of(&mut page, "explain");
     let named = eval(
         &mut page,
         "document.getElementById('explain').dataset.pixel",
@@ -580,8 +582,7 @@ fn a_scenes_warnings_show_under_the_image_and_at_their_line() {
         RENDER,
     )
     .unwrap();
-    let text = eval(&mut page, "document.getElementById('warnings').textContent");
-    let text = text.as_str().unwrap();
+    let text = text_of(&mut page, "warnings");
     assert!(
         text.starts_with("warning: reflectance2.toml: `materials."),
         "{text}"
@@ -593,8 +594,7 @@ fn a_scenes_warnings_show_under_the_image_and_at_their_line() {
     assert_eq!(marked, Value::from(line));
     type_text(&mut page, &good);
     wait_done(&mut page);
-    let text = eval(&mut page, "document.getElementById('warnings').textContent");
-    assert_eq!(text, Value::from(""));
+    assert_eq!(text_of(&mut page, "warnings"), "");
     assert_golden(&mut page, "reflectance2");
 }
 
@@ -660,8 +660,7 @@ fn another_sample_of_a_path_traced_pixel_is_explained_on_asking() {
         RENDER,
     )
     .unwrap();
-    let text = eval(&mut page, "document.getElementById('explain').textContent");
-    let text = text.as_str().unwrap();
+    let text = text_of(&mut page, "explain");
     assert!(
         text.starts_with("pixel (128, 64) of cornell-box.toml (256x256;"),
         "{text}"

@@ -126,13 +126,10 @@ impl Loaded {
         let warning = |w: Diagnostic| {
             // An object of an included file is named in that file.
             let (file, key_path) = self.origins.origin(&w.path);
+            let named = name(file);
             let warning = Warning {
-                text: format!(
-                    "warning: {}: `{key_path}`: {}",
-                    name(file).display(),
-                    w.message
-                ),
-                file: name(file),
+                text: format!("warning: {}: `{key_path}`: {}", named.display(), w.message),
+                file: named,
                 key: key_path.to_string(),
                 key_path,
                 message: w.message,

@@ -154,8 +154,10 @@ pub struct Whitted<'a, R: Recorder = Silent> {
     /// answers).
     ahead: [Ahead; PACKET],
     shading: Option<usize>,
-    /// The mirror and refracted rays the current sample may still trace.
+    /// The mirror and refracted rays the current sample may still trace,
+    /// and whether it has wanted one more (its tree is cut).
     rays_left: u32,
+    tree_cut: bool,
 }
 
 /// The most mirror and refracted rays one sample traces. Glass splits
@@ -183,6 +185,7 @@ impl<'a, R: Recorder> Whitted<'a, R> {
             ahead: [Ahead::NONE; PACKET],
             shading: None,
             rays_left: MAX_TREE_RAYS,
+            tree_cut: false,
         }
     }
 
@@ -280,7 +283,7 @@ impl<'a, R: Recorder> Whitted<'a, R> {
         self.stats.nearest += 1;
         if depth == 0 {
             // A primary ray: a new tree.
-            self.rays_left = MAX_TREE_RAYS;
+            (self.rays_left, self.tree_cut) = (MAX_TREE_RAYS, false);
         }
         let scene = self.scene;
         let kind = std::mem::replace(&mut self.next_kind, RayKind::Primary);
@@ -305,12 +308,12 @@ impl<'a, R: Recorder> Whitted<'a, R> {
     /// Past the sample's budget of rays it brings nothing back.
     fn trace_as(&mut self, kind: RayKind, ray: &Ray, energy: f32, depth: u32) -> Vec3 {
         if self.rays_left == 0 {
+            // Counted once a sample: a tree of exactly the budget is whole.
+            self.stats.cut_trees += u64::from(!self.tree_cut);
+            self.tree_cut = true;
             return Vec3::ZERO;
         }
         self.rays_left -= 1;
-        if self.rays_left == 0 {
-            self.stats.cut_trees += 1;
-        }
         self.next_kind = kind;
         self.trace(ray, energy, depth)
     }
