@@ -14,7 +14,11 @@ pub(super) fn parse_toml<T: DeserializeOwned>(text: &str) -> Result<T, Diagnosti
     serde_path_to_error::deserialize(de).map_err(|e| {
         let path = KeyPath::from_serde(e.path());
         let inner = e.into_inner();
-        let (path, message, target) = rephrase(path, inner.message().trim_end());
+        let (path, mut message, target) = rephrase(path, inner.message().trim_end());
+        if let Some(span) = inner.span().filter(|s| is_datetime(&text[s.clone()])) {
+            // toml hands serde a date as a table: say what was written.
+            message = message.replace("found a table", "found a date or time");
+        }
         let d = Diagnostic::new(path.clone(), message);
         match (inner.span(), target) {
             // toml's own span is exact for values and unknown keys.
@@ -22,6 +26,13 @@ pub(super) fn parse_toml<T: DeserializeOwned>(text: &str) -> Result<T, Diagnosti
             _ => locate_or_start(d, text, Format::Toml, &path, target),
         }
     })
+}
+
+/// Whether a value's text is a TOML date, time or date-time (`1979-05-27`,
+/// `07:32:00`): it starts with digits and a `-` or `:` follows them.
+fn is_datetime(value: &str) -> bool {
+    let rest = value.trim_start_matches(|c: char| c.is_ascii_digit());
+    rest.len() < value.len() && (rest.starts_with('-') || rest.starts_with(':'))
 }
 
 /// The most steps of a key path shown for a value nested too deep.
@@ -143,6 +154,29 @@ mod tests {
         let d = parse_toml::<SceneFile>(&text).unwrap_err();
         assert!(d.path.0.len() <= MAX_SHOWN_DEPTH, "{}", d.path);
         assert!(d.path.to_string().starts_with("x.a"), "{}", d.path);
+    }
+
+    #[test]
+    fn a_date_where_a_value_is_expected_is_called_a_date() {
+        for (value, expected) in [
+            ("1979-05-27", "an array of 3 elements"),
+            ("07:32:00", "an array of 3 elements"),
+            ("1979-05-27T07:32:00Z", "an array of 3 elements"),
+        ] {
+            let text = format!("[camera]\neye = {value}\nlook_at = [0, 0, 0]\n");
+            let d = parse_toml::<SceneFile>(&text).unwrap_err();
+            assert_eq!(
+                d.message,
+                format!("expected {expected}, found a date or time"),
+                "{value}"
+            );
+            assert_eq!(d.location.map(|l| (l.line, l.column)), Some((2, 7)));
+        }
+        // An inline table is still a table.
+        let text = "[camera]\neye = { x = 1 }\nlook_at = [0, 0, 0]\n";
+        let d = parse_toml::<SceneFile>(text).unwrap_err();
+        assert!(d.message.ends_with("found a table"), "{}", d.message);
+        assert!(!is_datetime("-5") && !is_datetime("12") && !is_datetime("[1-2]"));
     }
 
     #[test]
