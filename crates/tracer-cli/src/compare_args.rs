@@ -12,7 +12,7 @@ use std::path::PathBuf;
 /// usual mistakes that explain a difference: a different size, a mirror
 /// image, gamma applied twice or not at all, a shift of half a pixel or of
 /// one, swapped channels, or two of these at once. Exit status: 0 within
-/// tolerance, 1 not, 2 bad input.
+/// tolerance, 1 not, 2 bad input or an output that cannot be written.
 ///
 /// With --report, every image in a folder named after a scene (a class's
 /// submissions) against that scene: a web page and a CSV, worst first.

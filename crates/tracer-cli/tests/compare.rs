@@ -224,6 +224,33 @@ fn a_mirror_image_is_named_and_so_is_one_upside_down() {
 }
 
 #[test]
+fn a_mirror_image_of_a_right_handed_scene_gets_that_cameras_advice() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_file = scene("glass.toml");
+    let text = std::fs::read_to_string(&scene_file).unwrap();
+    assert!(
+        text.contains("handedness = \"right\""),
+        "glass.toml changed"
+    );
+    let image = render(dir.path(), &scene_file, "mine.png", &[]);
+    let name = save(dir.path(), "mirror.png", &mirrored(&image));
+    let line = assert_named(&compare(dir.path(), &name, &scene_file), "mirror");
+    assert!(line.contains("handedness = \"right\""), "{line}");
+    assert!(!line.contains("The lab's camera puts"), "{line}");
+}
+
+#[test]
+fn a_mirror_image_of_a_canvas_is_named_alone() {
+    // Flipped back it is exact: no second mistake (nor a half pixel) is
+    // looked for.
+    let dir = tempfile::tempdir().unwrap();
+    let scene_file = scene("robot.toml");
+    let image = render(dir.path(), &scene_file, "mine.png", &[]);
+    let name = save(dir.path(), "mirror.png", &mirrored(&image));
+    assert_named(&compare(dir.path(), &name, &scene_file), "mirror");
+}
+
+#[test]
 fn swapped_channels_are_named() {
     let dir = tempfile::tempdir().unwrap();
     let scene_file = scene("reflectance2.toml");
@@ -764,7 +791,7 @@ fn an_unreadable_image_is_reported_beside_the_others_and_a_pipe_is_skipped() {
         "{stderr}"
     );
     assert!(
-        stdout.contains("2 images against 1 scene: 2 within tolerance, 0 not; 1 unreadable"),
+        stdout.contains("2 images against 1 scene: 2 within tolerance, 0 not; 1 not compared"),
         "{stdout}"
     );
     let report = dir.path().join("report");
@@ -785,8 +812,80 @@ fn an_unreadable_image_is_reported_beside_the_others_and_a_pipe_is_skipped() {
          unreadable: not an image (expected a .png or .jpg file)"
     );
     let page = std::fs::read_to_string(report.join("index.html")).unwrap();
-    assert!(page.contains("2 images compared: 2 within tolerance, 0 not; 1 unreadable"));
-    assert!(page.contains("Not compared: unreadable"), "{page}");
+    assert!(page.contains("2 images compared: 2 within tolerance, 0 not; 1 not compared"));
+    assert!(page.contains("Not compared"), "{page}");
+}
+
+#[test]
+fn a_heat_map_that_cannot_be_written_is_not_taken_for_a_verdict() {
+    let dir = tempfile::tempdir().unwrap();
+    render(dir.path(), &scene("shadows.toml"), "mine.png", &[]);
+    let out = tracer(
+        dir.path(),
+        &[
+            "compare",
+            "mine.png",
+            "mine.png",
+            "-o",
+            "no/such/folder/heat.png",
+        ],
+    );
+    // Identical images: 1 ("not within tolerance") would be a false verdict.
+    assert_eq!(out.status.code(), Some(2), "{}", stderr_of(&out));
+    assert!(
+        stderr_of(&out).contains("no/such/folder"),
+        "{}",
+        stderr_of(&out)
+    );
+}
+
+#[test]
+fn a_scene_with_mistakes_leaves_its_images_uncompared_not_the_class() {
+    let dir = tempfile::tempdir().unwrap();
+    let (class, scenes) = (dir.path().join("class"), dir.path().join("scenes"));
+    std::fs::create_dir_all(&class).unwrap();
+    std::fs::create_dir_all(&scenes).unwrap();
+    std::fs::copy(scene("shadows.toml"), scenes.join("shadows.toml")).unwrap();
+    std::fs::write(
+        scenes.join("broken.toml"),
+        "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n\n\
+         [[objects]]\nsphere = { center = [0, 0, 0], radius = 1 }\nmaterial = \"nope\"\n",
+    )
+    .unwrap();
+    render(
+        dir.path(),
+        &scene("shadows.toml"),
+        "class/shadows-amy.png",
+        &[],
+    );
+    std::fs::copy(
+        dir.path().join("class/shadows-amy.png"),
+        class.join("broken-amy.png"),
+    )
+    .unwrap();
+    let out = tracer(
+        dir.path(),
+        &["compare", "--report", "class", "--scenes", "scenes"],
+    );
+    let (stdout, stderr) = (stdout_of(&out), stderr_of(&out));
+    // The other image is compared and the report written; exit 1, as for
+    // an unreadable image.
+    assert_eq!(out.status.code(), Some(1), "{stdout}{stderr}");
+    assert!(stderr.contains("unknown material `nope`"), "{stderr}");
+    assert!(
+        stderr.contains("not compared: class/broken-amy.png: its scene scenes/broken.toml"),
+        "{stderr}"
+    );
+    assert!(
+        stdout.contains("1 image against 1 scene: 1 within tolerance, 0 not; 1 not compared"),
+        "{stdout}"
+    );
+    let csv = std::fs::read_to_string(dir.path().join("report/report.csv")).unwrap();
+    assert!(
+        csv.contains("class/shadows-amy.png,shadows,0.000000"),
+        "{csv}"
+    );
+    assert!(csv.contains("class/broken-amy.png,broken,"), "{csv}");
 }
 
 /// The report's `index.html` in `dir` as headless Chromium has it once its

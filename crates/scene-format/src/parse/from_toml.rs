@@ -15,7 +15,11 @@ pub(super) fn parse_toml<T: DeserializeOwned>(text: &str) -> Result<T, Diagnosti
         let path = KeyPath::from_serde(e.path());
         let inner = e.into_inner();
         let (path, mut message, target) = rephrase(path, inner.message().trim_end());
-        if let Some(span) = inner.span().filter(|s| is_datetime(&text[s.clone()])) {
+        if inner
+            .span()
+            .and_then(|s| text.get(s))
+            .is_some_and(is_datetime)
+        {
             // toml hands serde a date as a table: say what was written.
             message = message.replace("found a table", "found a date or time");
         }

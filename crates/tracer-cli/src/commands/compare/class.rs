@@ -50,8 +50,24 @@ pub fn run(
         ))
         .into());
     }
-    let (readable, unreadable) = read_images(matched);
-    let references = render_scenes(&readable, &names, samples)?;
+    let (readable, mut unreadable) = read_images(matched);
+    let (references, failed) = render_scenes(&readable, &names, samples);
+    // A scene that cannot be rendered leaves its images uncompared, not
+    // the whole class.
+    let (readable, uncompared): (Vec<_>, Vec<_>) = readable
+        .into_iter()
+        .partition(|(_, scene, _)| references.contains_key(scene));
+    if readable.is_empty() && !uncompared.is_empty() {
+        return Err(BadInput(
+            "no image was compared: every scene they are named after has mistakes".to_string(),
+        )
+        .into());
+    }
+    for (path, scene, _) in uncompared {
+        let why = failed[&scene].clone();
+        note!("not compared: {}: {why}", path.display());
+        unreadable.push(Unreadable { path, scene, why });
+    }
     let mut entries: Vec<Entry> = readable
         .into_par_iter()
         .map(|(path, scene, image)| {
@@ -205,23 +221,39 @@ fn files(dir: &Path, extensions: &[&str]) -> Result<Vec<PathBuf>> {
     Ok(found)
 }
 
-/// Each scene the images name, rendered once.
+/// Each scene the images name, rendered once; those that could not be
+/// (their error shown on stderr, as `tracer check` shows it) by why.
 fn render_scenes(
     matched: &[(PathBuf, String, RgbImage)],
     names: &BTreeMap<String, PathBuf>,
     samples: Option<u32>,
-) -> Result<BTreeMap<String, Reference>> {
+) -> (BTreeMap<String, Reference>, BTreeMap<String, String>) {
     let mut references = BTreeMap::new();
+    let mut failed = BTreeMap::new();
     for (_, scene, _) in matched {
-        if references.contains_key(scene) {
+        if references.contains_key(scene) || failed.contains_key(scene) {
             continue;
         }
         let path = &names[scene];
         note!("rendering {}", path.display());
-        let loaded = tracer_pipeline::load(&Input::File(path.clone()))?;
-        references.insert(scene.clone(), input::render(loaded, None, samples)?);
+        let rendered = tracer_pipeline::load(&Input::File(path.clone()))
+            .map_err(anyhow::Error::from)
+            .and_then(|loaded| input::render(loaded, None, samples));
+        match rendered {
+            Ok(reference) => {
+                references.insert(scene.clone(), reference);
+            }
+            Err(e) => {
+                crate::error::finish(Err(e));
+                let why = format!(
+                    "its scene {} could not be rendered (tracer check {0} says why)",
+                    path.display()
+                );
+                failed.insert(scene.clone(), why);
+            }
+        }
     }
-    Ok(references)
+    (references, failed)
 }
 
 /// The summary on stdout: one line per image, worst first, then the
@@ -241,12 +273,12 @@ fn table(class: &Class, scenes: usize) -> String {
         .map(|s| s.chars().count())
         .fold(5, usize::max);
     let mut out = format!(
-        "{:>11}  {:>6}  {:<width$}  {:<scene_width$}  mistakes\n",
+        "{:>12}  {:>6}  {:<width$}  {:<scene_width$}  mistakes\n",
         "off", "FLIP", "image", "scene"
     );
     let mut line = |off: &str, flip: &str, path: &Path, scene: &str, words: &str| {
         let line = format!(
-            "{off:>11}  {flip:>6}  {:<width$}  {scene:<scene_width$}  {words}",
+            "{off:>12}  {flip:>6}  {:<width$}  {scene:<scene_width$}  {words}",
             shown(path)
         );
         out += line.trim_end();
@@ -267,7 +299,7 @@ fn table(class: &Class, scenes: usize) -> String {
         );
     }
     for u in &class.unreadable {
-        line("unreadable", "-", &u.path, &u.scene, &u.why);
+        line("not compared", "-", &u.path, &u.scene, &u.why);
     }
     let within = entries
         .iter()
@@ -282,7 +314,7 @@ fn table(class: &Class, scenes: usize) -> String {
         entries.len() - within
     );
     if !class.unreadable.is_empty() {
-        let _ = write!(out, "; {} unreadable", class.unreadable.len());
+        let _ = write!(out, "; {} not compared", class.unreadable.len());
     }
     out.push('\n');
     out

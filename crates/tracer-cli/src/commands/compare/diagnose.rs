@@ -49,6 +49,9 @@ pub struct Finding {
     pub after: u64,
     pub levels: u8,
     pub with: Option<Fault>,
+    /// The reference's camera puts world +x on the image's right
+    /// (`handedness = "right"`), not the lab's left.
+    pub right_handed: bool,
 }
 
 impl Finding {
@@ -101,6 +104,14 @@ impl Finding {
 
     fn words(&self) -> (String, String, String) {
         match self.fault {
+            Fault::Mirror if self.right_handed => (
+                "the image is the reference's mirror image (left and right swapped)".into(),
+                "Flipped back".into(),
+                "This scene's camera (handedness = \"right\") puts world +x on the image's \
+                 right, where the lab's puts it on the left: check the camera's horizontal \
+                 axis."
+                    .into(),
+            ),
             Fault::Mirror => (
                 "the image is the reference's mirror image (left and right swapped)".into(),
                 "Flipped back".into(),
@@ -248,6 +259,7 @@ pub fn diagnose(
         after,
         levels: tolerance,
         with: None,
+        right_handed: false,
     };
     let gamma = gamma
         .filter(|g| (g - 1.0).abs() > 0.05)
@@ -274,15 +286,17 @@ pub fn diagnose(
         found = two_at_once(&pair, gamma, &table, before);
     }
     // A whole pixel's shift also passes the half-pixel test: name it alone.
-    if !found
-        .iter()
-        .any(|f| matches!(f.fault, Fault::OnePixel { .. }))
-    {
+    // So is a mistake that leaves (next to) nothing off once undone.
+    let whole = |f: &Finding| matches!(f.fault, Fault::OnePixel { .. }) || f.after < MIN_DIFFERING;
+    if !found.iter().any(whole) {
         // The renders through the corners cost four renders of the scene:
         // only when nothing else explained the difference.
         let rendered = || rendered_half_pixel(&pair, reference_read, before);
         let half = if found.is_empty() { rendered() } else { None };
         found.extend(half.or_else(|| half_pixel(&pair)).filter(Finding::explains));
+    }
+    for f in &mut found {
+        f.right_handed = reference_read.right_handed;
     }
     found
 }
@@ -406,6 +420,7 @@ fn two_at_once(p: &Pair, gamma: f32, table: &[u8; 256], before: u64) -> Vec<Find
         after,
         levels: p.tolerance,
         with: Some(with),
+        right_handed: false,
     };
     [finding(a, b), finding(b, a)]
         .into_iter()
@@ -460,6 +475,7 @@ fn rendered_half_pixel(p: &Pair, reference: &Reference, before: u64) -> Option<F
         after,
         levels: p.tolerance,
         with: None,
+        right_handed: false,
     })
 }
 
@@ -499,6 +515,7 @@ fn half_pixel(p: &Pair) -> Option<Finding> {
         after,
         levels: p.tolerance,
         with: None,
+        right_handed: false,
     })
 }
 

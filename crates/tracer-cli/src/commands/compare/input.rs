@@ -116,6 +116,9 @@ pub struct Reference {
     /// A path-traced scene's paths a pixel: its image is one draw of its
     /// noise, which no other render repeats.
     pub path_samples: Option<u32>,
+    /// The scene's camera puts world +x on the image's right
+    /// (`handedness = "right"`): a mirror image's advice differs.
+    pub right_handed: bool,
     /// The scene, to render it again through the pixels' corners: a 3D
     /// scene not path traced.
     loaded: Option<Loaded>,
@@ -170,6 +173,7 @@ pub fn read_reference(
             scene: None,
             files_read: vec![path.to_path_buf()],
             path_samples: None,
+            right_handed: false,
             loaded: None,
             corners: Default::default(),
         });
@@ -202,6 +206,7 @@ pub fn render(
             scene: Some(loaded.name.clone()),
             files_read: loaded.files_read.clone(),
             path_samples: path_samples(&loaded, &options),
+            right_handed: right_handed(&loaded),
             loaded: None,
             corners: Default::default(),
         });
@@ -222,9 +227,16 @@ pub fn render(
         scene: Some(loaded.name.clone()),
         files_read: loaded.files_read.clone(),
         path_samples,
+        right_handed: right_handed(&loaded),
         loaded: through_corners.then_some(loaded),
         corners: Default::default(),
     })
+}
+
+/// Whether the scene's camera puts world +x on the image's right.
+fn right_handed(loaded: &Loaded) -> bool {
+    matches!(&loaded.kind, SceneKind::Scene3d(file)
+        if file.camera.handedness == scene_format::Handedness::Right)
 }
 
 /// The paths a pixel of a path-traced scene rendered with `options`.

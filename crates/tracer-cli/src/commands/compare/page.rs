@@ -219,7 +219,7 @@ fn html(class: &Class, tolerance: u8) -> String {
         .count();
     let unreadable = match class.unreadable.len() {
         0 => String::new(),
-        n => format!("; {n} unreadable"),
+        n => format!("; {n} not compared"),
     };
     let mut page = String::from(HEAD);
     let _ = write!(
@@ -238,7 +238,7 @@ fn html(class: &Class, tolerance: u8) -> String {
         page += &section(rank, entries.len(), e);
     }
     if !class.unreadable.is_empty() {
-        page += "<h2 class=\"fail\">Not compared: unreadable</h2>\n<ul>\n";
+        page += "<h2 class=\"fail\">Not compared</h2>\n<ul>\n";
         for u in &class.unreadable {
             let _ = writeln!(
                 page,
