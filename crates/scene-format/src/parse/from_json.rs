@@ -7,7 +7,8 @@ use super::rephrase::rephrase;
 use crate::diagnostic::{Diagnostic, Locator};
 use crate::json_spans;
 use crate::key_path::KeyPath;
-use crate::span_tree::NodeKind;
+use crate::span_tree::{Node, NodeKind};
+use std::ops::Range;
 use crate::Format;
 use serde::de::DeserializeOwned;
 
@@ -16,7 +17,8 @@ pub(super) fn parse_json<T: DeserializeOwned>(text: &str) -> Result<T, Vec<Diagn
     if !structure.is_empty() {
         return Err(structure);
     }
-    let mut de = serde_json::Deserializer::from_str(text);
+    let without_nulls = without_null_members(text);
+    let mut de = serde_json::Deserializer::from_str(without_nulls.as_deref().unwrap_or(text));
     let result: Result<T, _> = serde_path_to_error::deserialize(&mut de);
     let scene = result.map_err(|e| {
         let path = KeyPath::from_serde(e.path());
@@ -62,6 +64,53 @@ fn json_structure_errors(text: &str) -> Vec<Diagnostic> {
             d
         })
         .collect()
+}
+
+/// The text with each object member whose value is `null` blanked out
+/// (with one comma beside it), or `None` when there is none: a null member
+/// means the same as a missing key, for every key. Blanks keep every other
+/// byte where it was, so messages point into the text as written.
+fn without_null_members(text: &str) -> Option<String> {
+    let tree = json_spans::parse(text).ok()?;
+    let mut members = Vec::new();
+    null_members(&tree, text, &mut members);
+    if members.is_empty() {
+        return None;
+    }
+    let mut bytes = text.as_bytes().to_vec();
+    for member in members {
+        bytes[member.clone()].fill(b' ');
+        let after = bytes[member.end..].iter().position(|b| !b.is_ascii_whitespace());
+        let before = bytes[..member.start].iter().rposition(|b| !b.is_ascii_whitespace());
+        let comma = match (after, before) {
+            (Some(i), _) if bytes[member.end + i] == b',' => Some(member.end + i),
+            (_, Some(i)) if bytes[i] == b',' => Some(i),
+            _ => None,
+        };
+        if let Some(i) = comma {
+            bytes[i] = b' ';
+        }
+    }
+    // Only ASCII bytes were replaced, by spaces: still UTF-8.
+    String::from_utf8(bytes).ok()
+}
+
+/// The spans (key to value) of the members valued `null` below `node`, in
+/// file order.
+fn null_members(node: &Node, text: &str, out: &mut Vec<Range<usize>>) {
+    match &node.kind {
+        NodeKind::Table(entries) => {
+            for (_, key_span, value) in entries {
+                if text.get(value.span.clone()) == Some("null") {
+                    out.push(key_span.start..value.span.end);
+                } else {
+                    null_members(value, text, out);
+                }
+            }
+        }
+        NodeKind::Array(items) => items.iter().for_each(|item| null_members(item, text, out)),
+        NodeKind::Scalar => {}
+    }
 }
 
 fn json_error(text: &str, path: KeyPath, e: serde_json::Error) -> Diagnostic {
@@ -184,5 +233,49 @@ fn value_at(
         let (segment, child) = next?;
         path.0.push(segment);
         node = child;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::SceneFile;
+
+    const WITHOUT: &str = r#"{
+  "camera": { "eye": [0, 0, 5], "look_at": [0, 0, 0] },
+  "lights": [{ "position": [0, 5, 5] }],
+  "objects": [{ "sphere": { "center": [0, 0, 0], "radius": 1 } }]
+}"#;
+
+    #[test]
+    fn a_null_member_means_the_same_as_a_missing_key() {
+        let with = r#"{
+  "camera": { "eye": [0, 0, 5], "fov": null, "look_at": [0, 0, 0], "width": null },
+  "render": null,
+  "lights": [{ "color": null, "position": [0, 5, 5] }],
+  "objects": [{ "sphere": { "center": [0, 0, 0], "radius": 1 }, "material": null }],
+  "materials": null
+}"#;
+        let expected = parse_json::<SceneFile>(WITHOUT).unwrap();
+        let parsed = parse_json::<SceneFile>(with).unwrap();
+        assert_eq!(
+            serde_json::to_value(parsed).unwrap(),
+            serde_json::to_value(expected).unwrap()
+        );
+        let render = r#"{ "render": { "gamma": null, "integrator": null, "samples": null },"#;
+        let text = format!("{render}{}", &WITHOUT[1..]);
+        assert!(parse_json::<SceneFile>(&text).is_ok());
+    }
+
+    #[test]
+    fn a_mistake_after_a_null_member_is_placed_in_the_text_as_written() {
+        let text = "{\n  \"camera\": { \"fov\": null, \"eye\": [0, 0, 5], \"look_at\": [0, 0, 0], \"up\": 7 }\n}";
+        let d = &parse_json::<SceneFile>(text).unwrap_err()[0];
+        assert_eq!(d.path.to_string(), "camera.up");
+        assert_eq!(d.location.map(|l| (l.line, l.column)), Some((2, 74)));
+        // A null in an array is a value, not a member: still a mistake.
+        let text = WITHOUT.replace("[0, 0, 5]", "[0, null, 5]");
+        let d = &parse_json::<SceneFile>(&text).unwrap_err()[0];
+        assert_eq!(d.path.to_string(), "camera.eye[1]");
     }
 }
