@@ -186,10 +186,18 @@ fn emits(scene: &SceneFile) -> bool {
         Some(crate::MaterialRef::Inline(m)) => Some(m),
         _ => None,
     });
+    // A mesh without a material of its own takes its MTL's (`Ke` emits).
+    let from_mtl = scene
+        .objects
+        .iter()
+        .filter(|o| o.material.is_none())
+        .filter_map(|o| o.mesh.as_ref()?.data.as_ref())
+        .flat_map(|data| &data.materials);
     scene
         .materials
         .values()
         .chain(inline)
+        .chain(from_mtl)
         .any(crate::Material::is_emissive)
 }
 
@@ -442,6 +450,38 @@ mod tests {
     }
 
     const BEHIND: &str = "nothing is in front of the camera";
+
+    #[test]
+    fn an_mtls_emission_counts_as_a_light() {
+        let dir = tempfile::tempdir().unwrap();
+        let obj = "mtllib lamp.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl lamp\nf 1 2 3\n";
+        std::fs::write(dir.path().join("lamp.obj"), obj).unwrap();
+        let scene = |integrator: &str, ke: &str| {
+            std::fs::write(
+                dir.path().join("lamp.mtl"),
+                format!("newmtl lamp\nKd 0.5 0.5 0.5\n{ke}"),
+            )
+            .unwrap();
+            let text = format!(
+                "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n[render]\nintegrator = \"{integrator}\"\n\
+                 [[objects]]\nmesh = {{ obj = \"lamp.obj\" }}\n"
+            );
+            let path = dir.path().join("s.toml");
+            std::fs::write(&path, text).unwrap();
+            let scene = crate::load_path(&path).expect("loads");
+            let found: Vec<String> = warnings(&scene).into_iter().map(|d| d.message).collect();
+            found.join("\n")
+        };
+        let lit = scene("path", "Ke 3 2 1\n");
+        assert!(!lit.contains("nothing gives off light"), "{lit}");
+        let dark = scene("path", "");
+        assert!(dark.contains("nothing gives off light"), "{dark}");
+        let whitted = scene("whitted", "Ke 3 2 1\n");
+        assert!(
+            whitted.contains("an emissive material is seen but lights nothing else"),
+            "{whitted}"
+        );
+    }
 
     #[test]
     fn planes_boxes_and_quads_behind_the_eye_are_found() {

@@ -429,7 +429,7 @@ impl Loader<'_> {
         let index = self.origins.files.len();
         self.problems.push(Problems::default());
         let text = match std::str::from_utf8(&bytes) {
-            Ok(text) => crate::load::without_bom(text).to_string(),
+            Ok(text) => crate::load::scene_text(text).into_owned(),
             Err(e) => {
                 let text = String::from_utf8_lossy(&bytes).into_owned();
                 let d = parse::not_utf8(&bytes, &text, e);

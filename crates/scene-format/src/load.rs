@@ -6,6 +6,7 @@ use crate::include::{self, Origins};
 use crate::locate::locate_all;
 use crate::source::{Archive, Folder, Source};
 use crate::{canvas, parse, validate, CanvasFile, Diagnostic, Format, SceneFile};
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
 /// Reads, parses and validates the 3D scene file at `path`, and reads the
@@ -47,7 +48,8 @@ fn utf8_text<'a>(bytes: &'a [u8], file: &Path) -> Result<&'a str, SceneError> {
 /// error stops at the first problem; validation reports all it finds.
 /// Meshes and images are not read: see `load_path`.
 pub fn load_str(text: &str, format: Format, file: &Path) -> Result<SceneFile, SceneError> {
-    let text = without_bom(text);
+    let read = scene_text(text);
+    let text = &*read;
     let invalid = |diagnostics| SceneError::Invalid {
         file: file.to_path_buf(),
         text: text.to_string(),
@@ -69,11 +71,24 @@ pub fn load_str(text: &str, format: Format, file: &Path) -> Result<SceneFile, Sc
     }
 }
 
-/// `text` without a leading UTF-8 byte order mark: Windows editors write
-/// one, TOML allows it and serde_json does not, so JSON would fail on it.
-/// Columns on the first line then count as an editor shows them.
-pub(crate) fn without_bom(text: &str) -> &str {
-    text.strip_prefix('\u{feff}').unwrap_or(text)
+/// A scene file's text as it is read: without a leading UTF-8 byte order
+/// mark (Windows editors write one, TOML allows it and serde_json does not,
+/// so JSON would fail on it; columns on the first line then count as an
+/// editor shows them), and with each line ending in a lone `\r` (old Mac
+/// files, which the toml crate refuses) ending in `\n`: the same length,
+/// so every offset into it is one into the file.
+pub(crate) fn scene_text(text: &str) -> Cow<'_, str> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let bytes = text.as_bytes();
+    let lone = |i: usize| bytes[i] == b'\r' && bytes.get(i + 1) != Some(&b'\n');
+    if !(0..bytes.len()).any(lone) {
+        return Cow::Borrowed(text);
+    }
+    Cow::Owned(
+        text.char_indices()
+            .map(|(i, c)| if lone(i) { '\n' } else { c })
+            .collect(),
+    )
 }
 
 /// What a scene file describes: a 3D scene or a 2D canvas.
@@ -132,7 +147,8 @@ pub fn load_from(source: &dyn Source, path: &Path) -> Result<LoadedScene, SceneE
             file: name.clone(),
             source: e,
         })?;
-    let text = without_bom(utf8_text(&bytes, &name)?);
+    let read = scene_text(utf8_text(&bytes, &name)?);
+    let text = &*read;
     let origins = Origins::single(&name, text, format);
     let (kind, origins) = if has_canvas_table(text, format) {
         (load_any_str(text, format, &name)?, origins)
@@ -175,7 +191,7 @@ pub fn load_file_or_part(path: &Path) -> Result<Checked, SceneError> {
             .read(path, crate::read::MAX_SCENE_BYTES)
             .ok()
             .and_then(|bytes| String::from_utf8(bytes).ok())
-            .filter(|text| is_part(without_bom(text), format))
+            .filter(|text| is_part(&scene_text(text), format))
             .map(|text| (text, format)),
         None => None,
     };
@@ -183,7 +199,8 @@ pub fn load_file_or_part(path: &Path) -> Result<Checked, SceneError> {
         // Errors, a zip archive and whole scenes: as a scene.
         return load_file(path).map(|loaded| Checked::Whole(Box::new(loaded)));
     };
-    let text = without_bom(&text);
+    let read = scene_text(&text);
+    let text = &*read;
     let name = folder.name(path);
     let included: include::IncludedFile =
         parse::parse(text, format).map_err(|diagnostics| SceneError::Invalid {
@@ -220,7 +237,8 @@ fn is_part(text: &str, format: Format) -> bool {
 
 /// `load_any` on text; `file` names it in errors.
 pub fn load_any_str(text: &str, format: Format, file: &Path) -> Result<SceneKind, SceneError> {
-    let text = without_bom(text);
+    let read = scene_text(text);
+    let text = &*read;
     if !has_canvas_table(text, format) {
         return load_str(text, format, file).map(SceneKind::Scene3d);
     }

@@ -42,6 +42,7 @@ const CASES: &[Case] = &[
     case("comments-only.toml", "camera", 1, 1, "missing key `camera` at the top level"),
     case("control-characters.toml", "objects[0].material", 10, 12, "[31mred`; expected one of `red`"),
     case("cr-line-endings.json", "camera.fov", 5, 12, "found 500"),
+    case("cr-line-endings.toml", "camera.fov", 5, 7, "found 500"),
     case("degenerate-triangle.toml", "objects[0].triangle", 6, 12, "the triangle is degenerate"),
     case("duplicate-key.json", "camera.eye", 5, 5, "duplicate key `eye` in [camera] (first defined at line 3, column 5)"),
     case("duplicate-key.toml", "camera.fov", 5, 1, "duplicate key `fov` in [camera]; expected each key once"),

@@ -8,9 +8,9 @@ use crate::diagnostic::{Diagnostic, Locator};
 use crate::json_spans;
 use crate::key_path::KeyPath;
 use crate::span_tree::{Node, NodeKind};
-use std::ops::Range;
 use crate::Format;
 use serde::de::DeserializeOwned;
+use std::ops::Range;
 
 pub(super) fn parse_json<T: DeserializeOwned>(text: &str) -> Result<T, Vec<Diagnostic>> {
     let structure = json_structure_errors(text);
@@ -80,8 +80,12 @@ fn without_null_members(text: &str) -> Option<String> {
     let mut bytes = text.as_bytes().to_vec();
     for member in members {
         bytes[member.clone()].fill(b' ');
-        let after = bytes[member.end..].iter().position(|b| !b.is_ascii_whitespace());
-        let before = bytes[..member.start].iter().rposition(|b| !b.is_ascii_whitespace());
+        let after = bytes[member.end..]
+            .iter()
+            .position(|b| !b.is_ascii_whitespace());
+        let before = bytes[..member.start]
+            .iter()
+            .rposition(|b| !b.is_ascii_whitespace());
         let comma = match (after, before) {
             (Some(i), _) if bytes[member.end + i] == b',' => Some(member.end + i),
             (_, Some(i)) if bytes[i] == b',' => Some(i),
