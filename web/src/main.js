@@ -3,18 +3,24 @@
 // dropped in as the scene's folder, and links that carry the scene's text.
 
 import { EditorView, basicSetup } from "codemirror";
-import { Compartment } from "@codemirror/state";
+import { EditorState } from "@codemirror/state";
 import { StreamLanguage } from "@codemirror/language";
 import { toml } from "@codemirror/legacy-modes/mode/toml";
 import { json } from "@codemirror/lang-json";
 import { setDiagnostics, lintGutter } from "@codemirror/lint";
+import { undo } from "@codemirror/commands";
 import { decodeShare, encodeShare } from "./share.js";
 import { zip } from "./zip.js";
 
 const DEBOUNCE_MS = 300;
+// More workers than this give no speed and each holds a wasm instance.
+const MAX_WORKERS = 16;
+// After an image of more pixels than this, the workers are made anew: a
+// wasm instance's memory never shrinks, and the next image may be small.
+const RELEASE_PIXELS = 2048 * 2048;
 const PREVIEW_SHRINK = 4;
 // Above this many pixels a preview is not blown up to the image's size.
-const HUGE_PIXELS = 4096 * 4096;
+const HUGE_PIXELS = 2048 * 2048;
 
 const menu = document.getElementById("scene-menu");
 const canvas = document.getElementById("image");
@@ -23,9 +29,14 @@ const warningsNote = document.getElementById("warnings");
 const folderNote = document.getElementById("folder");
 const explainPanel = document.getElementById("explain");
 const explainSample = document.getElementById("explain-sample");
+const stopButton = document.getElementById("stop");
+const notice = document.getElementById("notice");
 const params = new URLSearchParams(location.search);
 // `?workers=N` (tests, the bench) overrides one worker per core.
-const workerCount = Math.max(1, Number(params.get("workers")) || navigator.hardwareConcurrency || 1);
+const workerCount = Math.min(
+  MAX_WORKERS,
+  Math.max(1, Math.floor(Number(params.get("workers"))) || navigator.hardwareConcurrency || 1),
+);
 
 // The scene: its path in the folder (the name messages give it), and the
 // folder's other files, path -> bytes. `archive` is set when the scene is
@@ -34,38 +45,36 @@ const scene = { name: "reflectance2.toml", files: new Map(), archive: null };
 let scenesIndex = [];
 let wasmModule = null;
 
-const language = new Compartment();
 const languageOf = (name) =>
   name.toLowerCase().endsWith(".json") ? json() : StreamLanguage.define(toml);
 
+// The editor's setup for a file `name`; typing re-renders.
+const extensions = (name) => [
+  basicSetup,
+  EditorView.lineWrapping,
+  lintGutter(),
+  languageOf(name),
+  EditorView.updateListener.of((update) => {
+    if (update.docChanged) {
+      if (scene.archive) {
+        // The text typed over an archive's note is a scene of its own.
+        scene.archive = null;
+        scene.name = "scene.toml";
+      }
+      schedule();
+    }
+  }),
+];
+
 const view = new EditorView({
   parent: document.getElementById("editor"),
-  extensions: [
-    basicSetup,
-    EditorView.lineWrapping,
-    lintGutter(),
-    language.of(languageOf(scene.name)),
-    EditorView.updateListener.of((update) => {
-      if (update.docChanged && !settingText) {
-        if (scene.archive) {
-          // The text typed over an archive's note is a scene of its own.
-          scene.archive = null;
-          scene.name = "scene.toml";
-        }
-        schedule();
-      }
-    }),
-  ],
+  state: EditorState.create({ doc: "", extensions: extensions(scene.name) }),
 });
-let settingText = false;
 
+// Another file in the editor: a state of its own, so that undo never
+// brings back another scene's text under this one's name.
 function setText(text, name) {
-  settingText = true;
-  view.dispatch({
-    changes: { from: 0, to: view.state.doc.length, insert: text },
-    effects: language.reconfigure(languageOf(name)),
-  });
-  settingText = false;
+  view.setState(EditorState.create({ doc: text, extensions: extensions(name) }));
 }
 
 // ---- Workers ----------------------------------------------------------
@@ -99,6 +108,7 @@ function runJob(worker, job, on = {}) {
 // Ends the render in flight: its workers are stopped mid-render.
 function cancel() {
   generation += 1;
+  stopButton.disabled = true;
   if (busy) {
     pool.forEach((w) => w.terminate());
     makePool();
@@ -141,6 +151,7 @@ async function render() {
   const preview = await runJob(pool[0], { ...base, id: mine, shrink: PREVIEW_SHRINK, samples: 1, region: null });
   if (mine !== generation) return;
   if (!preview.ok) return showError(preview.error);
+  const pathTraced = preview.notes.path;
   showProblems([], preview.notes.warnings);
   const { fullWidth, fullHeight } = preview;
   imageSize = [fullWidth, fullHeight];
@@ -174,10 +185,29 @@ async function render() {
   let total = 0;
   const showProgress = () => {
     const seconds = ((performance.now() - start) / 1000).toFixed(1);
-    const share = Math.floor((100 * partly.reduce((a, b) => a + b, 0)) / partly.length);
-    const so = total ? `${Math.min(...reached)} of ${total} paths a pixel so far, next pass ${share} %` : `${share} %`;
+    const least = Math.min(...reached);
+    // A band past the slowest one's pass has done its share of it: the
+    // share does not fall back when that band starts its next pass.
+    const done = partly.reduce((sum, part, i) => sum + (reached[i] > least ? 1 : part), 0);
+    const share = Math.floor((100 * done) / partly.length);
+    let so = `${share} %`;
+    if (pathTraced) so = total ? `${least} of ${total} paths a pixel so far, next pass ${share} %` : `first pass ${share} %`;
     status.textContent = `${scene.name}: rendering ${fullWidth}x${fullHeight} on ${pool.length} worker(s): ${so}, ${seconds} s…`;
   };
+  // Stop: the passes every band has are kept, the rest of the work dropped.
+  stopRender = () => {
+    const least = Math.min(...reached);
+    cancel();
+    regions.forEach((_, i) => {
+      const pass = passes[i].get(least);
+      if (pass && reached[i] !== least) draw(i, pass);
+    });
+    const kept = pathTraced && least > 0 ? ` at ${least} of ${total} paths a pixel` : " before its end (the image is partly rendered)";
+    status.textContent = `${scene.name}: stopped${kept}`;
+    canvas.dataset.state = "stopped";
+    stopButton.disabled = true;
+  };
+  stopButton.disabled = false;
   const draw = (i, rgba) => {
     if (huge && canvas.width !== fullWidth) {
       canvas.width = fullWidth;
@@ -223,6 +253,7 @@ async function render() {
   );
   if (mine !== generation) return;
   busy = false;
+  stopButton.disabled = true;
   const failed = answers.find((a) => !a.ok);
   if (failed) return showError(failed.error);
   const [least, of] = [Math.min(...reached), answers[0].notes.samples[1]];
@@ -231,7 +262,6 @@ async function render() {
   });
   const seconds = (performance.now() - start) / 1000;
   const mrays = rays / seconds / 1e6;
-  const pathTraced = answers[0].notes.path;
   window.tracerPage.lastRender = {
     scene: scene.name,
     seconds,
@@ -244,15 +274,33 @@ async function render() {
     // Path mode: paths a pixel rendered, of the scene's.
     samples: pathTraced ? [least, of] : null,
   };
-  const paths = pathTraced ? `, ${least} paths a pixel` : "";
-  let text = `${scene.name}: ${fullWidth}x${fullHeight}${paths} in ${seconds.toFixed(2)} s, ${mrays.toFixed(2)} Mrays/s (${regions.length} worker${regions.length === 1 ? "" : "s"})`;
+  const paths = pathTraced ? `, ${pathsAPixel(least)}` : "";
+  // A canvas is drawn, not traced: no rays to count.
+  const speed = rays > 0 ? `, ${mrays.toFixed(2)} Mrays/s` : "";
+  let text = `${scene.name}: ${fullWidth}x${fullHeight}${paths} in ${seconds.toFixed(2)} s${speed} (${regions.length} worker${regions.length === 1 ? "" : "s"})`;
   if (pathTraced && least < of) {
     text += `\nstopped at ${least} of ${of} paths a pixel: the next pass would end after the scene's time_limit`;
   }
   status.textContent = text;
+  explainSample.max = Math.max(0, of - 1);
   canvas.dataset.state = "done";
   window.tracerPage.renders += 1;
+  if (fullWidth * fullHeight > RELEASE_PIXELS) releaseMemory();
 }
+
+const pathsAPixel = (n) => `${n} path${n === 1 ? "" : "s"} a pixel`;
+
+// The workers made anew, their memory given back to the system.
+function releaseMemory() {
+  pool.forEach((w) => w.terminate());
+  makePool();
+}
+
+// What the Stop button does for the render under way.
+let stopRender = () => {};
+stopButton.addEventListener("click", () => {
+  if (busy) stopRender();
+});
 
 // ---- Explain a pixel --------------------------------------------------
 
@@ -302,7 +350,9 @@ async function explainPixel(x, y) {
   explainBusy = false;
   explainPanel.dataset.state = answer.ok ? "done" : "error";
   // The text names the pixel; an error does not.
-  explainPanel.textContent = answer.ok ? answer.text : `Pixel (${x}, ${y})\n\n${answer.error.text}`;
+  // The page's sample box, not the command line's --sample.
+  const why = answer.ok ? "" : answer.error.text.replace(/^--sample /, "sample ");
+  explainPanel.textContent = answer.ok ? answer.text : `Pixel (${x}, ${y})\n\n${why}`;
 }
 
 // ---- Errors -----------------------------------------------------------
@@ -324,7 +374,10 @@ function showProblems(errors, warnings) {
   const mark = (severity) => (p) => {
     const line = doc.line(Math.min(p.line, doc.lines));
     const from = Math.min(line.from + Math.max(0, (p.column || 1) - 1), line.to);
-    const to = Math.max(from + 1, Math.min(line.to, doc.length));
+    // The text the problem is about when it is on this line, else the
+    // rest of the line.
+    const end = p.end_line === p.line && p.end_column > p.column ? line.from + p.end_column - 1 : line.to;
+    const to = Math.max(from + 1, Math.min(end, line.to, doc.length));
     return { from, to: Math.min(to, doc.length), severity, message: p.message };
   };
   const here = (p) => p.file === scene.name && p.line;
@@ -364,6 +417,7 @@ async function openScene(path, text) {
   scene.archive = null;
   menu.value = entry ? path : "";
   setText(body, path);
+  resetExplain();
   showFolder();
   schedule();
 }
@@ -400,8 +454,24 @@ async function addFiles(list) {
       setText(new TextDecoder().decode(sceneFile[1]), sceneFile[0]);
     }
   }
+  if (zip || sceneFile) resetExplain();
   showFolder();
   schedule();
+}
+
+// Another scene: the last one's explained pixel and sample are not its.
+function resetExplain() {
+  if (explainBusy) {
+    explainWorker.terminate();
+    explainWorker = null;
+  }
+  explainBusy = false;
+  delete explainPanel.dataset.pixel;
+  delete explainPanel.dataset.asked;
+  delete explainPanel.dataset.state;
+  explainPanel.textContent = "Click the image to see why a pixel has its colour.";
+  explainSample.value = 0;
+  notice.textContent = "";
 }
 
 document.getElementById("pick-files").addEventListener("change", (e) => addFiles(e.target.files));
@@ -416,7 +486,12 @@ document.addEventListener("drop", (e) => {
   addFiles(e.dataTransfer.files);
 });
 
-menu.addEventListener("change", () => openScene(menu.value));
+menu.addEventListener("change", () => {
+  // The address no longer holds the scene shown (and the same link pasted
+  // again is then a change the page hears of).
+  history.replaceState(null, "", `${location.pathname}${location.search}`);
+  openScene(menu.value);
+});
 
 // ---- Share, download --------------------------------------------------
 
@@ -469,6 +544,8 @@ document.getElementById("download-zip").addEventListener("click", () =>
 
 window.tracerPage = {
   view,
+  // For tests: the editor's Undo (Ctrl-Z).
+  undo: () => undo(view),
   renders: 0,
   lastRender: null,
   // For tests: the next render's workers panic inside the wasm.
@@ -504,10 +581,28 @@ async function start() {
   other.textContent = "(your scene)";
   menu.append(other);
   makePool();
-  const shared = location.hash.length > 1 ? await decodeShare(location.hash.slice(1)) : null;
-  if (shared) await openScene(shared.name, shared.text);
-  else await openScene("reflectance2.toml");
+  if (!(await openShared())) await openScene("reflectance2.toml");
+  if (location.hash.length > 1 && !opened) {
+    notice.textContent = "This link's scene could not be read (is the link cut short?): the default scene is shown.";
+  }
 }
+
+// The scene of a share link in the address bar; false when there is none
+// or it cannot be read.
+let opened = false;
+async function openShared() {
+  const shared = location.hash.length > 1 ? await decodeShare(location.hash.slice(1)) : null;
+  opened = Boolean(shared);
+  if (shared) await openScene(shared.name, shared.text);
+  return opened;
+}
+
+// A link pasted into this tab's address bar changes only the fragment.
+window.addEventListener("hashchange", async () => {
+  if (!(await openShared()) && location.hash.length > 1) {
+    notice.textContent = "This link's scene could not be read (is the link cut short?).";
+  }
+});
 
 start().catch((e) => {
   status.className = "error";

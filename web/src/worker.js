@@ -13,14 +13,14 @@ function fresh() {
   const imports = {
     env: {
       tracer_panicked(ptr, len) {
-        const bytes = new Uint8Array(instance.exports.memory.buffer, ptr, len);
+        const bytes = new Uint8Array(instance.exports.memory.buffer, ptr >>> 0, len >>> 0);
         panicked = new TextDecoder().decode(bytes.slice());
       },
       tracer_now_ms: () => performance.now(),
       // A pass of a path-traced render, its region's pixels so far: shown
       // while the next pass runs.
       tracer_pass(samples, total, ptr, len) {
-        const rgba = new Uint8Array(instance.exports.memory.buffer, ptr, len).slice().buffer;
+        const rgba = new Uint8Array(instance.exports.memory.buffer, ptr >>> 0, len >>> 0).slice().buffer;
         self.postMessage({ id: jobId, pass: { samples, total, rgba } }, [rgba]);
       },
       // Rows of the region done in the pass under way (a few times a second).
@@ -34,15 +34,19 @@ function fresh() {
   return instance.exports;
 }
 
+// wasm32's pointers and sizes are unsigned; JavaScript reads an i32
+// result as signed, so one past 2 GiB of memory would be negative.
+const u32 = (n) => n >>> 0;
+
 // Copies `bytes` into a buffer of the wasm's memory.
 function put(t, bytes) {
-  const ptr = t.tracer_alloc(bytes.length);
+  const ptr = u32(t.tracer_alloc(bytes.length));
   new Uint8Array(t.memory.buffer, ptr, bytes.length).set(bytes);
   return [ptr, bytes.length];
 }
 
 function result(t) {
-  return new Uint8Array(t.memory.buffer, t.tracer_result_ptr(), t.tracer_result_len()).slice();
+  return new Uint8Array(t.memory.buffer, u32(t.tracer_result_ptr()), u32(t.tracer_result_len())).slice();
 }
 
 function run(job) {
@@ -76,7 +80,7 @@ function run(job) {
     if (rc !== 0) {
       return { ok: false, error: JSON.parse(new TextDecoder().decode(result(t))) };
     }
-    const notes = new Uint8Array(t.memory.buffer, t.tracer_notes_ptr(), t.tracer_notes_len());
+    const notes = new Uint8Array(t.memory.buffer, u32(t.tracer_notes_ptr()), u32(t.tracer_notes_len()));
     return {
       ok: true,
       // Samples a pixel [done, of the scene's], whether path traced, warnings.

@@ -297,6 +297,33 @@ fn a_share_link_opens_with_its_scene() {
         ),
         serde_json::json!([250, 200])
     );
+    // The link pasted into a tab already open on another scene opens too.
+    render_scene(&mut opened, "shadows.toml");
+    let fragment = &link[link.find('#').unwrap()..];
+    eval(
+        &mut opened,
+        &format!(
+            "location.hash = {}",
+            serde_json::to_string(fragment).unwrap()
+        ),
+    );
+    opened
+        .wait_for(
+            "document.getElementById('image').dataset.state === 'done' && \
+             tracerPage.lastRender.scene === 'reflectance2.toml'",
+            RENDER,
+        )
+        .unwrap();
+    let shown = eval(&mut opened, "tracerPage.view.state.doc.toString()");
+    assert_eq!(shown.as_str().unwrap(), edited);
+    // A link cut short says so.
+    eval(&mut opened, "location.hash = '#scene=x.toml&text=AAAA!!!'");
+    opened
+        .wait_for(
+            "document.getElementById('notice').textContent.includes('could not be read')",
+            Duration::from_secs(10),
+        )
+        .unwrap();
 }
 
 #[test]
@@ -452,10 +479,10 @@ fn an_edit_cancels_a_long_render() {
         return;
     };
     let text = editor_text(&mut page);
-    // Minutes of work even as a preview: 16384x16384 at 4096 samples.
+    // Minutes of work: 4096x4096 (the page's largest) at 4096 samples.
     let long = text
-        .replacen("width = 500", "width = 16384", 1)
-        .replacen("height = 400", "height = 16384", 1)
+        .replacen("width = 500", "width = 4096", 1)
+        .replacen("height = 400", "height = 4096", 1)
         .replacen("[render]", "[render]\nsamples = 4096", 1);
     type_text(&mut page, &long);
     // Past the debounce: the workers are busy with it.
@@ -465,8 +492,8 @@ fn an_edit_cancels_a_long_render() {
         "rendering"
     );
     // Its preview (a quarter as wide) is shown at its own size: a canvas of
-    // 16384x16384 would hold up the page for seconds.
-    page.wait_for("document.getElementById('image').width === 4096", RENDER)
+    // 4096x4096 would hold up the page while the image is still coming.
+    page.wait_for("document.getElementById('image').width === 1024", RENDER)
         .unwrap();
     let start = std::time::Instant::now();
     type_text(&mut page, &text);
@@ -666,4 +693,75 @@ fn another_sample_of_a_path_traced_pixel_is_explained_on_asking() {
         "{text}"
     );
     assert!(text.contains("sample 5 of 64"), "{text}");
+}
+
+#[test]
+fn undo_after_another_scene_is_chosen_never_brings_back_the_last_ones_text() {
+    let Some(mut page) = open("?workers=1") else {
+        return;
+    };
+    type_text(&mut page, "# mine\n");
+    render_scene(&mut page, "shadows.toml");
+    let shadows = editor_text(&mut page);
+    eval(&mut page, "tracerPage.undo()");
+    assert_eq!(editor_text(&mut page), shadows);
+}
+
+#[test]
+fn stop_keeps_the_image_so_far_and_says_so() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    // A path-traced scene of many passes: stopped after its first.
+    let text = std::fs::read_to_string(xtask::workspace_root().join("scenes/cornell-box.toml"))
+        .unwrap()
+        .replace("samples = 64", "samples = 65536");
+    assert!(text.contains("samples = 65536"), "cornell-box.toml changed");
+    type_text(&mut page, &text);
+    page.wait_for(
+        "/ so far, /.test(document.getElementById('status').textContent)",
+        RENDER,
+    )
+    .unwrap();
+    assert_eq!(
+        eval(&mut page, "document.getElementById('stop').disabled"),
+        false
+    );
+    eval(&mut page, "document.getElementById('stop').click()");
+    let state = eval(&mut page, "document.getElementById('image').dataset.state");
+    assert_eq!(state, "stopped");
+    let said = status(&mut page);
+    assert!(said.contains("stopped at "), "{said}");
+    assert!(said.contains(" of 65536 paths a pixel"), "{said}");
+    assert_eq!(
+        eval(&mut page, "document.getElementById('stop').disabled"),
+        true
+    );
+    // Not black: the passes so far are shown.
+    let shown = canvas_image(&mut page).unwrap();
+    let lit = shown.pixels().filter(|p| p.0[0] > 40).count();
+    assert!(lit > shown.pixels().len() / 4, "{lit} lit pixels");
+}
+
+#[test]
+fn on_a_phone_the_editor_and_the_image_stack_without_sideways_scrolling() {
+    let Some(mut page) = open("?workers=1") else {
+        return;
+    };
+    let metrics = serde_json::json!({
+        "width": 390, "height": 844, "deviceScaleFactor": 1, "mobile": true
+    });
+    page.call("Emulation.setDeviceMetricsOverride", metrics)
+        .unwrap();
+    let width = eval(&mut page, "document.documentElement.scrollWidth");
+    assert!(width.as_f64().unwrap() <= 390.0, "scrollWidth {width}");
+    // The image is shown at the page's width, under the editor.
+    let image = eval(
+        &mut page,
+        "(() => { const r = document.getElementById('image').getBoundingClientRect(); \
+         const e = document.getElementById('editor').getBoundingClientRect(); \
+         return [r.width, r.top >= e.bottom]; })()",
+    );
+    assert!(image[0].as_f64().unwrap() > 300.0, "{image}");
+    assert_eq!(image[1], true, "{image}");
 }

@@ -291,6 +291,9 @@ pub fn render_passes(
     let loaded = load(files, path)?;
     let is_canvas = matches!(loaded.kind, scene_format::SceneKind::Canvas(_));
     let full = loaded.size();
+    too_large_for_the_page(&loaded, full)?;
+    // Said of the render the user asked for, not of the preview's samples.
+    let warnings = loaded.warning_list(&Options::default());
     let mut options = Options::default();
     if !is_canvas {
         options.width = request.shrink.map(|k| (full.0 / k).max(1));
@@ -315,7 +318,6 @@ pub fn render_passes(
         (0, 0)
     };
     let crop = Crop { at: crop, region };
-    let warnings = loaded.warning_list(&options);
     let shown = if is_canvas || request.shrink.is_some() {
         if !is_canvas {
             options.part = Some(Part::Region(region));
@@ -341,6 +343,37 @@ pub fn render_passes(
         path_traced: loaded.is_path_traced(&options),
         warnings,
     })
+}
+
+/// The most pixels the page renders: a tab holds the image several times
+/// over (each worker's part and its passes, the canvas, the preview), and
+/// a wasm instance's memory never shrinks. `tracer render` goes to 16384
+/// a side.
+pub const MAX_PAGE_PIXELS: u64 = 4096 * 4096;
+
+/// An error at the scene's `width` when its image is larger than the page
+/// renders, placed in the scene file as a mistake of it is.
+fn too_large_for_the_page(loaded: &Loaded, (w, h): (u32, u32)) -> Result<(), String> {
+    if u64::from(w) * u64::from(h) <= MAX_PAGE_PIXELS {
+        return Ok(());
+    }
+    let table = match loaded.kind {
+        scene_format::SceneKind::Canvas(_) => "canvas",
+        scene_format::SceneKind::Scene3d(_) => "camera",
+    };
+    let message = format!(
+        "{w}x{h} is more than the playground renders (at most 4096x4096, 16.8 million \
+         pixels, which a browser tab holds several times over); expected smaller `width` \
+         and `height` here, or `tracer render` for the full size (up to 16384 a side)"
+    );
+    let diagnostic = scene_format::Diagnostic::new(format!("{table}.width"), message);
+    let error = match loaded.origins.files.first() {
+        Some(file) => {
+            scene_format::checks::invalid(&loaded.name, &file.text, file.format, vec![diagnostic])
+        }
+        None => return Err(answer::message_json(&diagnostic.message)),
+    };
+    Err(error_json(&tracer_pipeline::Error::Scene(error)))
 }
 
 /// What a render made of its region: its pixels (RGBA), its rays, and

@@ -114,6 +114,11 @@ fn errors_are_json_with_the_words_and_places_of_tracer_check() {
         (4.into(), 1.into())
     );
     assert_eq!(problem["key"], "camera.fvo");
+    // The key `fvo` is marked, not the rest of the line.
+    assert_eq!(
+        (problem["end_line"].clone(), problem["end_column"].clone()),
+        (4.into(), 4.into())
+    );
     // A region outside the image is refused, not a panic.
     files
         .insert(Path::new("s.toml"), text.replace("fvo", "fov").into())
@@ -217,5 +222,57 @@ fn warnings_come_with_the_image_at_their_place() {
             .starts_with("warning: box.toml: `materials.white"),
         "{}",
         warning.text
+    );
+}
+
+#[test]
+fn an_image_larger_than_the_page_renders_is_a_mistake_at_its_width() {
+    let mut files = Memory::new();
+    let text = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\nwidth = 8192\nheight = 4096\n";
+    files.insert(Path::new("s.toml"), text.into()).unwrap();
+    let preview = Request {
+        shrink: Some(4),
+        samples: Some(1),
+        ..Request::default()
+    };
+    let json = render(&files, Path::new("s.toml"), &preview).unwrap_err();
+    let value: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let problem = &value["problems"][0];
+    assert_eq!(problem["key"], "camera.width", "{json}");
+    assert_eq!(problem["line"], 4, "{json}");
+    assert!(
+        problem["message"]
+            .as_str()
+            .unwrap()
+            .contains("at most 4096x4096"),
+        "{json}"
+    );
+    // 4096 x 4096 is still rendered (a preview of it, quickly).
+    let fits = text.replace("8192", "4096");
+    files.insert(Path::new("s.toml"), fits.into()).unwrap();
+    assert!(render(&files, Path::new("s.toml"), &preview).is_ok());
+    // A canvas the same.
+    let canvas = "[canvas]\nwidth = 16384\nheight = 16384\n";
+    files.insert(Path::new("c.toml"), canvas.into()).unwrap();
+    let json = render(&files, Path::new("c.toml"), &preview).unwrap_err();
+    assert!(json.contains("\"key\":\"canvas.width\""), "{json}");
+}
+
+#[test]
+fn a_previews_one_sample_brings_no_warning_of_the_scenes_samples() {
+    // Through a lens, below 16 samples is warned about: the scene has 64,
+    // its preview 1.
+    let name = "depth-of-field.toml";
+    let files = folder(name);
+    let preview = Request {
+        shrink: Some(4),
+        samples: Some(1),
+        ..Request::default()
+    };
+    let image = render(&files, Path::new(name), &preview).unwrap();
+    assert!(
+        !image.warnings.iter().any(|w| w.key == "render.samples"),
+        "{:?}",
+        image.warnings
     );
 }
