@@ -167,15 +167,16 @@ fn parse_row(line: u64, fields: &[&str], width: usize) -> Result<Measurement, Me
             format!("level: expected a number from 0 to 1, found {level}"),
         ));
     }
-    let positive = |k: usize| -> Result<f64, MeasurementError> {
+    // 0 is a luminance: an OLED's black, a meter's floor.
+    let luminance = |k: usize| -> Result<f64, MeasurementError> {
         let x = value(k)?;
-        if x > 0.0 {
+        if x >= 0.0 {
             Ok(x)
         } else {
             Err(error_at(
                 line,
                 format!(
-                    "{}: expected a luminance > 0 (cd/m2), found {x}",
+                    "{}: expected a luminance of 0 or more (cd/m2), found {x}",
                     COLUMNS[k]
                 ),
             ))
@@ -183,8 +184,12 @@ fn parse_row(line: u64, fields: &[&str], width: usize) -> Result<Measurement, Me
     };
     Ok(Measurement {
         level,
-        luminance: positive(1)?,
-        corrected: if width == 3 { Some(positive(2)?) } else { None },
+        luminance: luminance(1)?,
+        corrected: if width == 3 {
+            Some(luminance(2)?)
+        } else {
+            None
+        },
     })
 }
 
@@ -335,13 +340,13 @@ mod tests {
             "row 2: luminance: missing value"
         );
         assert_eq!(
-            error_of("0,1\n0.5,0\n1,9\n"),
-            "row 2: luminance: expected a luminance > 0 (cd/m2), found 0"
-        );
-        assert_eq!(
             error_of("0,1\n0.5,-3\n1,9\n"),
-            "row 2: luminance: expected a luminance > 0 (cd/m2), found -3"
+            "row 2: luminance: expected a luminance of 0 or more (cd/m2), found -3"
         );
+        // A black patch of 0 is measured, and fits.
+        let rows = parse_measurements("0,0\n0.5,0.25\n1,1\n").unwrap();
+        let fit = crate::gamma_fit::fit_measurements(&rows).unwrap();
+        assert!((fit.gamma - 2.0).abs() < 1e-6, "{fit:?}");
         // Comment and blank lines count: the row is the file's line.
         assert_eq!(
             error_of("# display A\n\n0,1\n0.5,x\n"),

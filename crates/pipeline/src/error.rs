@@ -29,9 +29,12 @@ pub enum Error {
     /// `--width`/`--height` that make an image too large (or empty).
     #[error("--width/--height: the image would be {width}x{height} pixels; expected 1 to {side} a side and at most {pixels} (2^28) in all", side = scene_format::validate::MAX_IMAGE_SIDE, pixels = scene_format::validate::MAX_IMAGE_PIXELS)]
     ImageSize { width: u64, height: u64 },
-    /// More samples than Whitted mode takes.
+    /// More samples than Whitted mode takes (given by `--samples`).
     #[error("--samples {0}: expected 1 to {max} with the Whitted integrator; more are allowed in path mode (--integrator path, or integrator = \"path\" in [render])", max = scene_format::validate::MAX_SAMPLES)]
     Samples(u32),
+    /// A path-traced scene's samples, too many for `--integrator whitted`.
+    #[error("--integrator whitted: the scene's samples = {0} is more than Whitted mode takes (1 to {max}); expected --samples {max} or fewer with it", max = scene_format::validate::MAX_SAMPLES)]
+    SceneSamples(u32),
     /// An option of path mode's passes for a scene in Whitted mode.
     #[error("{option}: needs path mode, which renders in passes (integrator = \"path\" in [render], or --integrator path); Whitted mode renders in one")]
     NeedsPathMode { option: &'static str },
@@ -83,6 +86,7 @@ impl Error {
             | Error::CanvasOption { .. }
             | Error::ImageSize { .. }
             | Error::Samples(_)
+            | Error::SceneSamples(_)
             | Error::Reference { .. }
             | Error::NeedsPathMode { .. }
             | Error::Pixel { .. }

@@ -157,7 +157,7 @@ impl Loaded {
     /// The scene file's `[render] time_limit`, in seconds.
     pub fn time_limit(&self) -> Option<f64> {
         match &self.kind {
-            SceneKind::Scene3d(file) => file.render.time_limit.map(f64::from),
+            SceneKind::Scene3d(file) => file.render.time_limit.map(as_written),
             SceneKind::Canvas(_) => None,
         }
     }
@@ -169,6 +169,13 @@ impl Loaded {
             SceneKind::Canvas(file) => (file.canvas.width, file.canvas.height),
         }
     }
+}
+
+/// An f32 of a scene file as the f64 of its shortest decimal: 0.01 stays
+/// 0.01 (`f64::from` would make it 0.009999999776482582, which messages
+/// then print).
+pub(crate) fn as_written(x: f32) -> f64 {
+    x.to_string().parse().unwrap_or(f64::from(x))
 }
 
 /// Reads and validates the scene, a 3D scene (with its included files and
@@ -248,6 +255,15 @@ fn checked(name: PathBuf, loaded: scene_format::LoadedScene) -> Result<Loaded, S
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_files_decimal_is_kept_as_written() {
+        assert_eq!(as_written(0.01), 0.01);
+        assert_eq!(as_written(3.0), 3.0);
+        assert_eq!(as_written(1e-30), 1e-30);
+        // The same f32 either way.
+        assert_eq!(as_written(f32::MAX) as f32, f32::MAX);
+    }
 
     fn repository_scene(name: &str) -> PathBuf {
         Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -192,7 +192,10 @@ impl Options {
         }
         let render = &file.render;
         if render.integrator == Integrator::Whitted && render.samples > MAX_SAMPLES {
-            return Err(Error::Samples(render.samples));
+            return Err(match self.samples {
+                Some(given) => Error::Samples(given),
+                None => Error::SceneSamples(render.samples),
+            });
         }
         Ok(Cow::Owned(file))
     }

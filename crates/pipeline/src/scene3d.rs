@@ -42,7 +42,7 @@ impl PreparedScene {
 
     /// The scene file's `[render] time_limit`, in seconds.
     pub fn time_limit(&self) -> Option<f64> {
-        self.time_limit.map(f64::from)
+        self.time_limit.map(crate::load::as_written)
     }
 }
 

@@ -196,6 +196,27 @@ fn more_than_4096_samples_are_path_mode_s_only() {
         panic!("shaded")
     };
     assert_eq!(stats.dropped, 0);
+    // A path-traced scene's own 5000, with --integrator whitted: the scene's
+    // samples are named, not a --samples never given.
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(scene("cornell-box.toml"))
+        .unwrap()
+        .replace("samples = 64", "samples = 5000");
+    let file = dir.path().join("many.toml");
+    std::fs::write(&file, text).unwrap();
+    let loaded = load(&Input::File(file)).unwrap();
+    let whitted = Options {
+        integrator: Some(scene_format::Integrator::Whitted),
+        width: Some(2),
+        ..Options::default()
+    };
+    let err = render(&loaded, &whitted, &|_| {}).unwrap_err();
+    assert!(err.is_bad_input());
+    let said = err.to_string();
+    assert!(
+        said.starts_with("--integrator whitted: the scene's samples = 5000"),
+        "{said}"
+    );
 }
 
 #[test]

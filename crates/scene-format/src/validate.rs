@@ -119,7 +119,8 @@ impl Validator {
 
     fn finite(&mut self, path: impl Into<KeyPath>, x: f32) -> bool {
         if !x.is_finite() {
-            self.error(path, format!("expected a finite number, found {x}"));
+            let found = format!("{x}{}", beyond_f32(x.is_infinite()));
+            self.error(path, format!("expected a finite number, found {found}"));
         }
         x.is_finite()
     }
@@ -128,7 +129,9 @@ impl Validator {
         if v.iter().all(|x| x.is_finite()) {
             return true;
         }
-        self.error(path, format!("expected finite numbers, found {}", show(v)));
+        let infinite = v.iter().any(|x| x.is_infinite());
+        let found = format!("{}{}", show(v), beyond_f32(infinite));
+        self.error(path, format!("expected finite numbers, found {found}"));
         false
     }
 
@@ -879,6 +882,16 @@ fn parallel(a: Vec3, b: Vec3) -> bool {
 
 fn length(v: Vec3) -> f32 {
     (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+}
+
+/// Why a number reads as infinite: the file may say `inf`, or a number
+/// too large for the tracer's 32-bit floats (`1e39`), which becomes inf.
+fn beyond_f32(infinite: bool) -> &'static str {
+    if infinite {
+        " (`inf`, or a number beyond 3.4e38, the largest the tracer's 32-bit numbers hold)"
+    } else {
+        ""
+    }
 }
 
 #[cfg(test)]

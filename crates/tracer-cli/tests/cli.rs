@@ -1589,4 +1589,19 @@ fn explain_prints_the_tree_and_its_json_has_the_fixed_keys() {
         text.contains("light sample") && text.contains("MIS weight"),
         "{text}"
     );
+    // Its JSON: each event's `event` and fields beside `throughput` and
+    // `added`, as the README lists them.
+    let cornell = scene("cornell-box.toml");
+    let args = ["explain", &cornell, "128", "100", "--sample", "3", "--json"];
+    let out = tracer(dir.path(), &args);
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let events = json["events"].as_array().unwrap();
+    assert_eq!(events[0]["event"], "vertex", "{}", json["events"]);
+    assert!(events[0]["depth"].is_u64(), "{}", events[0]);
+    assert!(events
+        .iter()
+        .all(|e| e["throughput"].is_array() && e["added"].is_array()));
+    assert!(events
+        .iter()
+        .any(|e| e["event"] == "light_sample" && e["weight"].is_f64()));
 }

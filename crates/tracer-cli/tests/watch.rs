@@ -451,6 +451,14 @@ fn a_path_traced_scene_is_shown_pass_by_pass_and_an_edit_stops_it() {
     write(dir.path().join("scene.toml"), &small);
     watching.expect_line("1 of 64 samples a pixel", WITHIN);
     watching.expect_line("rendered", START);
+    // A time limit is not watch's: said, and every pass rendered.
+    write(
+        dir.path().join("scene.toml"),
+        &small.replace("samples = 64", "samples = 64\ntime_limit = 0.01"),
+    );
+    watching.expect_line("the scene's time_limit (0.01 s) is not used here", WITHIN);
+    watching.expect_line("32 of 64 samples a pixel", START);
+    watching.expect_line("rendered", START);
 }
 
 #[test]

@@ -66,8 +66,14 @@ pub fn on_pass(plan: &Plan, quiet: bool) -> impl FnMut(Pass) -> bool + '_ {
             } else {
                 format!("{limit:e}")
             };
+            // Two digits that mean something: 0.04 s, not 0.0 s.
+            let estimate = if estimate < 1.0 {
+                format!("{estimate:.2}")
+            } else {
+                format!("{estimate:.1}")
+            };
             note!(
-                "stopped at {} of {} samples a pixel: the next pass ({next} more, about {estimate:.1} s) would end after the time limit of {limit} s",
+                "stopped at {} of {} samples a pixel: the next pass ({next} more, about {estimate} s) would end after the time limit of {limit} s",
                 pass.samples,
                 pass.total
             );

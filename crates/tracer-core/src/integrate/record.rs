@@ -63,6 +63,8 @@ pub struct ShadowRay {
 /// What a path-tracing bounce did, for one sample of a pixel.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct PathEvent {
+    /// In JSON its `event` and fields sit beside `throughput` and `added`.
+    #[serde(flatten)]
     pub kind: PathEventKind,
     /// The throughput of the path before the event.
     pub throughput: Vec3,

@@ -41,6 +41,8 @@ pub fn run(args: &Watch) -> Result<()> {
                 last_read.clone_from(&loaded.files_read);
                 changes.watch(&loaded.files_read);
                 report::warnings(&loaded, &args.options);
+                // Watch renders every pass, as a preview would.
+                report::time_limit_unused(&loaded, &args.options);
                 if let Some(server) = &server {
                     let (scene, options) = (loaded.clone(), args.options);
                     server.explain_with(std::sync::Arc::new(move |x, y| {
