@@ -10,7 +10,7 @@ use std::path::PathBuf;
 /// difference and where, PSNR and FLIP (the perceptual difference of
 /// Andersson et al. 2020), the first pixels that differ, and in words the
 /// usual mistakes that explain a difference: a different size, a mirror
-/// image, gamma applied twice or not at all, a shift of half a pixel or of
+/// image, gamma applied twice, not at all or another one, a shift of half a pixel or of
 /// one, swapped channels, or two of these at once. Exit status: 0 within
 /// tolerance, 1 not, 2 bad input or an output that cannot be written.
 ///

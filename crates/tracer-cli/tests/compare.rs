@@ -205,6 +205,17 @@ fn gamma_applied_twice_or_not_at_all_is_named() {
     render(dir.path(), &scene_file, "linear.png", &["--gamma", "1"]);
     let line = assert_named(&compare(dir.path(), "linear.png", &scene_file), "gamma");
     assert!(line.contains("no gamma is applied"), "{line}");
+    // A display's measured gamma where the scene's was due.
+    for gamma in ["1.8", "2.4", "2.6"] {
+        render(dir.path(), &scene_file, "other.png", &["--gamma", gamma]);
+        let line = assert_named(&compare(dir.path(), "other.png", &scene_file), "gamma");
+        let said = format!("encoded with gamma {gamma}, the reference with 2.2");
+        assert!(line.contains(&said), "{line}");
+        assert!(
+            line.contains(&format!("tracer render --gamma {gamma}")),
+            "{line}"
+        );
+    }
 }
 
 #[test]
@@ -836,6 +847,74 @@ fn a_heat_map_that_cannot_be_written_is_not_taken_for_a_verdict() {
         stderr_of(&out).contains("no/such/folder"),
         "{}",
         stderr_of(&out)
+    );
+}
+
+#[test]
+fn a_jpeg_or_a_transparent_image_is_noted() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_file = scene("shadows.toml");
+    let image = render(dir.path(), &scene_file, "mine.png", &[]);
+    image::DynamicImage::ImageRgb8(image.clone())
+        .save(dir.path().join("mine.jpg"))
+        .unwrap();
+    let out = compare(dir.path(), "mine.jpg", &scene_file);
+    assert!(
+        stderr_of(&out).contains("mine.jpg: a JPEG's compression"),
+        "{}",
+        stderr_of(&out)
+    );
+    let mut clear = image::DynamicImage::ImageRgb8(image).to_rgba8();
+    clear.pixels_mut().for_each(|p| p.0[3] = 0);
+    clear.save(dir.path().join("clear.png")).unwrap();
+    let out = compare(dir.path(), "clear.png", &scene_file);
+    // Its colours are the render's: within tolerance, and said to be clear.
+    assert_eq!(out.status.code(), Some(0));
+    assert!(
+        stderr_of(&out).contains("clear.png: has transparent pixels"),
+        "{}",
+        stderr_of(&out)
+    );
+    let out = compare(dir.path(), "mine.png", &scene_file);
+    assert!(!stderr_of(&out).contains("note:"), "{}", stderr_of(&out));
+}
+
+#[test]
+fn a_report_written_into_the_class_is_not_compared_again() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(dir.path().join("class")).unwrap();
+    render(
+        dir.path(),
+        &scene("shadows.toml"),
+        "class/shadows-amy.png",
+        &[],
+    );
+    let scenes = scenes_dir();
+    // A report in a folder named after a scene, among the submissions.
+    let first = [
+        "compare",
+        "--report",
+        "class",
+        "--scenes",
+        &scenes,
+        "-o",
+        "class/shadows",
+    ];
+    assert_eq!(tracer(dir.path(), &first).status.code(), Some(0));
+    let again = tracer(
+        dir.path(),
+        &["compare", "--report", "class", "--scenes", &scenes],
+    );
+    let stdout = stdout_of(&again);
+    assert_eq!(
+        again.status.code(),
+        Some(0),
+        "{stdout}{}",
+        stderr_of(&again)
+    );
+    assert!(
+        stdout.contains("1 image against 1 scene: 1 within tolerance"),
+        "{stdout}"
     );
 }
 

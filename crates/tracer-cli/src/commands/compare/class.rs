@@ -188,14 +188,19 @@ fn longest_name<'a>(word: &str, names: &'a BTreeMap<String, PathBuf>) -> Option<
 }
 
 /// The files below `dir` with one of `extensions` (any case), in path
-/// order; hidden files and folders are left out, and so (said on
-/// stderr) is anything else than a file or a link to one.
+/// order; hidden files and folders and earlier reports are left out, and
+/// so (said on stderr) is anything else than a file or a link to one.
 fn files(dir: &Path, extensions: &[&str]) -> Result<Vec<PathBuf>> {
     if !dir.is_dir() {
         return Err(BadInput(format!("{}: not a folder", dir.display())).into());
     }
-    let hidden =
-        |e: &walkdir::DirEntry| e.depth() > 0 && e.file_name().to_string_lossy().starts_with('.');
+    // Hidden files, and reports written earlier (their images are copies
+    // of submissions and references, not submissions).
+    let hidden = |e: &walkdir::DirEntry| {
+        e.depth() > 0
+            && (e.file_name().to_string_lossy().starts_with('.')
+                || e.file_type().is_dir() && page::is_report(e.path()))
+    };
     let mut found = Vec::new();
     for entry in walkdir::WalkDir::new(dir)
         .sort_by_file_name()

@@ -31,6 +31,9 @@ pub enum Fault {
     GammaTwice(f32),
     /// No gamma: the linear values written.
     GammaMissing(f32),
+    /// Encoded with another gamma than the reference's (a display's
+    /// measured one, say): `c^(1/image)` where `c^(1/reference)` was due.
+    GammaOther { image: f32, reference: f32 },
     /// Sampled at the pixels' corners: the content moved half a pixel
     /// right (`right`) or left, and down (`down`) or up.
     HalfPixel { right: bool, down: bool },
@@ -66,7 +69,7 @@ fn word_of(fault: Fault) -> &'static str {
     match fault {
         Fault::Mirror => "mirror",
         Fault::UpsideDown => "upside down",
-        Fault::GammaTwice(_) | Fault::GammaMissing(_) => "gamma",
+        Fault::GammaTwice(_) | Fault::GammaMissing(_) | Fault::GammaOther { .. } => "gamma",
         Fault::HalfPixel { .. } => "half a pixel",
         Fault::OnePixel { .. } => "one pixel",
         Fault::Swapped => "swapped",
@@ -80,6 +83,7 @@ fn undoing(fault: Fault) -> &'static str {
         Fault::UpsideDown => "the image turned upright",
         Fault::GammaTwice(_) => "one gamma encoding undone",
         Fault::GammaMissing(_) => "the gamma encoding applied",
+        Fault::GammaOther { .. } => "the image encoded anew",
         Fault::Swapped => "the channels swapped back",
         Fault::HalfPixel { .. } | Fault::OnePixel { .. } => "the shift undone",
     }
@@ -135,6 +139,14 @@ impl Finding {
                 "no gamma is applied, the image holds the linear values".into(),
                 format!("Encoded with c^(1/{g})"),
                 format!("Encode with c^(1/{g}) before the 8-bit truncation."),
+            ),
+            Fault::GammaOther { image, reference } => (
+                format!("the image is encoded with gamma {image}, the reference with {reference}"),
+                format!("Encoded anew with c^(1/{reference})"),
+                format!(
+                    "Encode with the scene's gamma, c^(1/{reference}); to see the scene with \
+                     your display's gamma, tracer render --gamma {image}."
+                ),
             ),
             Fault::HalfPixel { right, down } => (
                 format!(
@@ -277,6 +289,7 @@ pub fn diagnose(
         ),
         (one_pixel, after_one_pixel),
         (Fault::Swapped, undone(Fault::Swapped)),
+        other_gamma(&pair, gamma),
     ]
     .into_iter()
     .map(finding)
@@ -299,6 +312,42 @@ pub fn diagnose(
         f.right_handed = reference_read.right_handed;
     }
     found
+}
+
+/// The usual gammas of displays and of other renderers' defaults: one the
+/// image may be encoded with instead of the reference's.
+const OTHER_GAMMAS: [f32; 6] = [1.6, 1.8, 2.0, 2.2, 2.4, 2.6];
+
+/// The other gamma that best explains the image (as if encoded with it
+/// where the reference has `gamma`), and the pixels off once the image is
+/// encoded anew.
+fn other_gamma(pair: &Pair, gamma: f32) -> (Fault, u64) {
+    OTHER_GAMMAS
+        .into_iter()
+        .filter(|g| (g - gamma).abs() > 0.05)
+        .map(|g| {
+            let table = reencoding(g, gamma);
+            let undo = Undo {
+                image_decoding: Some(&table),
+                ..Undo::default()
+            };
+            let fault = Fault::GammaOther {
+                image: g,
+                reference: gamma,
+            };
+            (fault, undo.off(pair))
+        })
+        .min_by_key(|&(_, after)| after)
+        .expect("some gamma differs from any one")
+}
+
+/// An 8-bit level encoded with `c^(1/from)` (taken at the level's middle,
+/// as the tracer truncates) encoded anew with `c^(1/to)`.
+fn reencoding(from: f32, to: f32) -> [u8; 256] {
+    std::array::from_fn(|v| {
+        let c = (v as f32 + 0.5) / 255.0;
+        (255.0 * c.powf(from / to)).min(255.0) as u8
+    })
 }
 
 impl Finding {
@@ -354,7 +403,8 @@ impl<'t> Undo<'t> {
                 reference_decoding: Some(table),
                 ..none
             },
-            Fault::HalfPixel { .. } | Fault::OnePixel { .. } => none,
+            // Tried on its own only (`other_gamma`).
+            Fault::HalfPixel { .. } | Fault::OnePixel { .. } | Fault::GammaOther { .. } => none,
         }
     }
 

@@ -44,9 +44,9 @@ pub fn image_at(path: &Path) -> Result<RgbImage, String> {
     };
     // The header first: its format, then its size.
     let header = reader()?;
-    if header.format().is_none() {
+    let Some(format) = header.format() else {
         return Err("not an image (expected a .png or .jpg file)".to_string());
-    }
+    };
     let (width, height) = header
         .into_dimensions()
         .map_err(scene_format::images::unreadable)?;
@@ -63,6 +63,20 @@ pub fn image_at(path: &Path) -> Result<RgbImage, String> {
     limits.max_alloc = Some(MAX_IMAGE_PIXELS * 8);
     reader.limits(limits);
     let image = reader.decode().map_err(scene_format::images::unreadable)?;
+    if format == image::ImageFormat::Jpeg {
+        note!(
+            "note: {}: a JPEG's compression changes pixels, so even a right image saved \
+             as JPEG is off somewhere; compare a PNG, or judge this one by PSNR and FLIP",
+            path.display()
+        );
+    }
+    if image.color().has_alpha() && image.to_rgba16().pixels().any(|p| p[3] < u16::MAX) {
+        note!(
+            "note: {}: has transparent pixels; its colours are compared as if opaque \
+             (a viewer may show it otherwise)",
+            path.display()
+        );
+    }
     to_rgb8(image)
 }
 

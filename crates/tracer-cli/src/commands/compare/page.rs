@@ -51,8 +51,7 @@ pub fn check_out(out: &Path) -> Result<()> {
             parent.display()
         );
     }
-    let is_report = out.is_dir() && REPORT_FILES.iter().all(|f| out.join(f).is_file());
-    if out.exists() && !is_report {
+    if out.exists() && !is_report(out) {
         return Err(BadInput(format!(
             "{}: exists and is not a report of `tracer compare --report`; refusing to replace it",
             out.display()
@@ -60,6 +59,11 @@ pub fn check_out(out: &Path) -> Result<()> {
         .into());
     }
     Ok(())
+}
+
+/// Whether `dir` is a report `tracer compare --report` wrote.
+pub fn is_report(dir: &Path) -> bool {
+    dir.is_dir() && REPORT_FILES.iter().all(|f| dir.join(f).is_file())
 }
 
 fn parent_of(path: &Path) -> &Path {
