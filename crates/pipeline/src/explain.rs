@@ -11,7 +11,7 @@ use std::sync::atomic::AtomicBool;
 pub use tracer_core::explain::{Explanation, Lit, Outcome, RayNode, Trace};
 pub use tracer_core::image::Saturation;
 use tracer_core::image::{encode_pixel, Encoding};
-pub use tracer_core::integrate::record::{PathEvent, PathEventKind, RayKind};
+pub use tracer_core::integrate::record::{PathEvent, PathEventKind, RayKind, Stop};
 use tracer_core::names::Names;
 use tracer_core::{Region, RenderJob};
 

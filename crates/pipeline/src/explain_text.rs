@@ -4,7 +4,8 @@
 //! three say the same.
 
 use crate::explain::{
-    ExplainedPixel, Lit, Outcome, PathEvent, PathEventKind, RayKind, RayNode, Saturation, Trace,
+    ExplainedPixel, Lit, Outcome, PathEvent, PathEventKind, RayKind, RayNode, Saturation, Stop,
+    Trace,
 };
 use crate::load::Loaded;
 use crate::options::Options;
@@ -126,6 +127,12 @@ fn ray_text(out: &mut String, ray: &RayNode, indent: usize, names: &Names) {
         names.material(hit.material),
         v2(hit.uv)
     );
+    if !hit.front_face && ray.ambient.is_empty() && ray.local.is_none() {
+        let _ = writeln!(
+            out,
+            "{pad}  seen from inside the glass: no light terms (the lab adds them where a surface is seen from outside)"
+        );
+    }
     for (light, ambient) in &ray.ambient {
         let _ = writeln!(
             out,
@@ -146,8 +153,39 @@ fn ray_text(out: &mut String, ray: &RayNode, indent: usize, names: &Names) {
     if let Some(texture) = ray.texture {
         let _ = writeln!(out, "{pad}  times the lab texture {}", v3(texture));
     }
+    if let Some(emitted) = ray.emitted {
+        let _ = writeln!(
+            out,
+            "{pad}  plus its emission {} (seen; in Whitted mode it lights nothing else)",
+            v3(emitted)
+        );
+    }
+    match ray.stopped {
+        Some(Stop::MaxDepth { max_depth }) => {
+            let _ = writeln!(
+                out,
+                "{pad}  no mirror or refracted ray: depth {} is max_depth = {max_depth}",
+                ray.depth
+            );
+        }
+        Some(Stop::MinEnergy { min_energy }) => {
+            let _ = writeln!(
+                out,
+                "{pad}  no mirror or refracted ray: energy {} is at or below min_energy = {min_energy}",
+                ray.energy
+            );
+        }
+        None => {}
+    }
     for child in &ray.children {
         ray_text(out, child, indent + 1, names);
+    }
+    if let Some(absorbed) = ray.absorbed {
+        let _ = writeln!(
+            out,
+            "{pad}  times what absorption leaves of it through the glass, exp(-absorption * t) = {}",
+            v3(absorbed)
+        );
     }
     let _ = writeln!(
         out,
@@ -199,7 +237,8 @@ fn light_text(out: &mut String, lit: &Lit, pad: &str, names: &Names) {
                 "(N.H)^n = {power:.6}, specular = color * specular * (N.H)^n = {}",
                 v3(t.specular)
             ),
-            None => "no specular (N.H at or below 0.001, or no specular colour)".to_string(),
+            None if n_dot_h <= 0.001 => "no specular: N.H at or below 0.001".to_string(),
+            None => "no specular: the material has no specular colour".to_string(),
         };
         let _ = writeln!(
             out,

@@ -177,3 +177,52 @@ fn a_pixel_outside_the_image_or_a_sample_beyond_its_own_is_bad_input() {
         "{err}"
     );
 }
+
+#[test]
+fn glass_shows_its_absorption_its_inside_and_where_the_tree_stops() {
+    // Red glass (absorption (0.05, 1.6, 1.6)): a ray through it keeps
+    // exp(-absorption * t) of its colour, t the hit's distance inside.
+    let loaded = load(&Input::File(scene("glass.toml"))).unwrap();
+    let pixel = explain(&loaded, &Options::default(), (270, 190), 0).unwrap();
+    let Trace::Whitted { ray } = &pixel.explanation.trace else {
+        panic!("Whitted")
+    };
+    let inside = ray
+        .children
+        .iter()
+        .find(|c| c.hit.as_ref().is_some_and(|h| !h.front_face))
+        .expect("a refracted ray that meets the glass from inside");
+    let t = inside.hit.as_ref().unwrap().t;
+    let absorbed = inside.absorbed.expect("absorbed");
+    for (got, sigma) in absorbed.to_array().into_iter().zip([0.05f32, 1.6, 1.6]) {
+        assert!(
+            (got - (-sigma * t).exp()).abs() < 1e-5,
+            "{absorbed} at t {t}"
+        );
+    }
+    let text =
+        tracer_pipeline::explain_text::tree_text(&loaded, &Options::default(), (270, 190), 0)
+            .unwrap();
+    for said in [
+        "times what absorption leaves of it through the glass, exp(-absorption * t) = (0.9245, 0.0811, 0.0811)",
+        "seen from inside the glass: no light terms",
+        "no mirror or refracted ray: energy 0.0015458782 is at or below min_energy = 0.01",
+    ] {
+        assert!(text.contains(said), "{said}\n{text}");
+    }
+}
+
+#[test]
+fn an_emitter_in_whitted_mode_says_its_emission_is_added() {
+    let loaded = load(&Input::File(scene("cornell-box.toml"))).unwrap();
+    let whitted = Options {
+        integrator: Some(scene_format::Integrator::Whitted),
+        ..Options::default()
+    };
+    // The lamp, seen from the camera.
+    let text = tracer_pipeline::explain_text::tree_text(&loaded, &whitted, (128, 40), 0).unwrap();
+    assert!(
+        text.contains("plus its emission (18.3870, 13.9873, 6.7536)"),
+        "{text}"
+    );
+}

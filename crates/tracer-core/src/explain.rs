@@ -5,7 +5,7 @@
 
 use crate::geometry::{Shape, SurfaceHit};
 use crate::integrate::path::PathTracer;
-use crate::integrate::record::{LightTerm, PathEvent, RayKind, Recorder};
+use crate::integrate::record::{LightTerm, PathEvent, RayKind, Recorder, Stop};
 use crate::integrate::whitted::Whitted;
 use crate::ray::Ray;
 use crate::sampler::PixelSampler;
@@ -70,8 +70,15 @@ pub struct RayNode {
     /// The sum of the terms, and the lab texture that multiplied it.
     pub local: Option<Vec3>,
     pub texture: Option<Vec3>,
+    /// The hit's emission, added as seen (Whitted mode).
+    pub emitted: Option<Vec3>,
+    /// Why a mirror or glass hit spawned no ray.
+    pub stopped: Option<Stop>,
     /// The reflected and refracted rays.
     pub children: Vec<RayNode>,
+    /// What absorption left of the colour, for a ray that crossed glass
+    /// (exp(-absorption * t)).
+    pub absorbed: Option<Vec3>,
     /// The ray's colour, times its energy, children included.
     pub colour: Vec3,
 }
@@ -149,9 +156,30 @@ impl Recorder for TreeRecorder<'_> {
             lights: Vec::new(),
             local: None,
             texture: None,
+            emitted: None,
+            stopped: None,
             children: Vec::new(),
+            absorbed: None,
             colour: Vec3::ZERO,
         });
+    }
+
+    fn emitted(&mut self, emission: Vec3) {
+        if let Some(node) = self.open.last_mut() {
+            node.emitted = Some(emission);
+        }
+    }
+
+    fn absorbed(&mut self, factor: Vec3) {
+        if let Some(node) = self.open.last_mut() {
+            node.absorbed = Some(factor);
+        }
+    }
+
+    fn stopped(&mut self, why: Stop) {
+        if let Some(node) = self.open.last_mut() {
+            node.stopped = Some(why);
+        }
     }
 
     fn hit(&mut self, hit: Option<&SurfaceHit>) {

@@ -139,12 +139,32 @@ pub trait Recorder {
     /// light), and what the lab's texture multiplied it by, if any.
     #[inline(always)]
     fn local(&mut self, _colour: Vec3, _texture: Option<Vec3>) {}
+    /// The hit's emission, seen (in Whitted mode it lights nothing).
+    #[inline(always)]
+    fn emitted(&mut self, _emission: Vec3) {}
+    /// The factor absorption left of a ray's colour on its way through
+    /// glass (Beer-Lambert: exp(-absorption * t)).
+    #[inline(always)]
+    fn absorbed(&mut self, _factor: Vec3) {}
+    /// A mirror or glass hit that spawns no ray: the tree's limits.
+    #[inline(always)]
+    fn stopped(&mut self, _why: Stop) {}
     /// The ray's colour, times its energy, children included.
     #[inline(always)]
     fn end_ray(&mut self, _colour: Vec3) {}
     /// A path tracer's event.
     #[inline(always)]
     fn path(&mut self, _event: PathEvent) {}
+}
+
+/// Why a hit that reflects or refracts spawns no ray (lab 5.3).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(tag = "limit", rename_all = "snake_case")]
+pub enum Stop {
+    /// The ray is at `max_depth`.
+    MaxDepth { max_depth: u32 },
+    /// Its energy is at or below `min_energy`.
+    MinEnergy { min_energy: f32 },
 }
 
 /// The recorder of renders: nothing is kept.

@@ -2,7 +2,7 @@
 //! and mirror recursion with energy (lab sections 4 and 5); beyond the
 //! lab, refraction through glass and sphere lights' soft shadows.
 
-use super::record::{LightTerm, RayKind, Recorder, ShadowRay, Silent};
+use super::record::{LightTerm, RayKind, Recorder, ShadowRay, Silent, Stop};
 use super::RayStats;
 use crate::accel::PACKET;
 use crate::geometry::SurfaceHit;
@@ -332,6 +332,7 @@ impl<'a, R: Recorder> Whitted<'a, R> {
         if m.emission != Vec3::ZERO && hit.front_face {
             // Seen (and mirrored), lighting nothing: Whitted mode has no
             // area lights. Skipped otherwise, so the lab's sums stay.
+            self.rec.emitted(m.emission);
             colour += energy * m.emission;
         }
         if m.reflectance > 0.0 && self.may_recurse(energy, depth) {
@@ -342,6 +343,8 @@ impl<'a, R: Recorder> Whitted<'a, R> {
                 energy * m.reflectance,
                 depth + 1,
             );
+        } else if m.reflectance > 0.0 {
+            self.record_stop(depth);
         }
         colour
     }
@@ -360,10 +363,13 @@ impl<'a, R: Recorder> Whitted<'a, R> {
             Vec3::ZERO
         };
         if g.surface.emission != Vec3::ZERO && hit.front_face {
+            self.rec.emitted(g.surface.emission);
             colour += energy * g.surface.emission;
         }
         let split = g.split(ray.dir(), hit);
-        if self.may_recurse(energy, depth) {
+        if !self.may_recurse(energy, depth) {
+            self.record_stop(depth);
+        } else {
             if split.reflected > 0.0 {
                 let reflected = ray.reflected(p, hit.shading_normal);
                 let energy = energy * split.reflected;
@@ -375,9 +381,25 @@ impl<'a, R: Recorder> Whitted<'a, R> {
             }
         }
         if !hit.front_face {
-            colour *= g.absorbed_over(hit.t);
+            let factor = g.absorbed_over(hit.t);
+            self.rec.absorbed(factor);
+            colour *= factor;
         }
         colour
+    }
+
+    /// Tells the recorder which of the tree's limits stopped it here.
+    fn record_stop(&mut self, depth: u32) {
+        let settings = self.scene.trace_settings();
+        self.rec.stopped(if depth >= settings.max_depth {
+            Stop::MaxDepth {
+                max_depth: settings.max_depth,
+            }
+        } else {
+            Stop::MinEnergy {
+                min_energy: settings.min_energy,
+            }
+        });
     }
 
     /// The local colour of material `m` at `ray`'s hit `hit` (its colour
