@@ -283,3 +283,33 @@ fn a_render_in_passes_is_the_render_of_as_many_samples_bit_for_bit() {
     assert_eq!(bits(&two.image), bits(&render_of_two));
     assert_ne!(bits(&two.image), bits(&whole));
 }
+
+#[test]
+fn light_from_inside_absorbing_glass_loses_what_beer_lambert_says() {
+    // A glass block (z from -1 to 1) of ior 1 and Fresnel's rule (nothing
+    // reflected at ior 1: every path passes straight in), an emitter of
+    // radiance 1 inside it at z = 0, facing the camera: its light crosses
+    // one unit of glass, and keeps exp(-absorption), whatever it meets
+    // inside (not only when it leaves through the glass's back).
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("inside.toml");
+    std::fs::write(
+        &file,
+        "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nwidth = 9\nheight = 9\nfov = 5\n\
+         [render]\nintegrator = \"path\"\nsamples = 4\nmax_depth = 4\n\
+         [[objects]]\nbox = { min = [-2, -2, -1], max = [2, 2, 1] }\n\
+         material = { diffuse = [0, 0, 0], specular = [0, 0, 0], transmittance = 1, ior = 1, fresnel = true, absorption = [0.5, 1, 2] }\n\
+         [[objects]]\nquad = { corner = [-1, -1, 0], edge_u = [2, 0, 0], edge_v = [0, 2, 0] }\n\
+         material = { diffuse = [0, 0, 0], emission = [1, 1, 1] }\n",
+    )
+    .unwrap();
+    let picture = render_on(1, &Input::File(file), &Options::default());
+    let centre = picture.linear.pixels[4 * 9 + 4];
+    let expected = [0.5f32, 1.0, 2.0].map(|sigma| (-sigma).exp());
+    for (got, want) in centre.to_array().into_iter().zip(expected) {
+        assert!(
+            (got - want).abs() < 1e-3 * want,
+            "{centre} against {expected:?}"
+        );
+    }
+}

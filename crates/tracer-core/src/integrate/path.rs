@@ -12,7 +12,7 @@ use super::record::{PathEvent, PathEventKind, Recorder, Silent};
 use super::RayStats;
 use crate::bsdf::Bsdf;
 use crate::geometry::SurfaceHit;
-use crate::material::Material;
+use crate::material::{Glass, Material};
 use crate::ray::Ray;
 use crate::sampler::PixelSampler;
 use crate::sampling::concentric_disk;
@@ -171,6 +171,9 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             specular: true,
         };
         let mut depth = 0;
+        // The glass the path is inside (entered by refraction through its
+        // front and not yet left): each segment inside loses to absorption.
+        let mut inside: Option<&Glass> = None;
         loop {
             self.stats.nearest += 1;
             let Some(hit) = scene.closest_hit(&ray, EPSILON, f32::INFINITY) else {
@@ -185,11 +188,14 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
                 break;
             };
             let material = scene.material(hit.material);
-            if let Material::Glass(g) = material {
-                if !hit.front_face {
-                    // The path came through the inside.
-                    throughput *= g.absorbed_over(hit.t);
-                }
+            // The segment ran inside glass: the glass entered, or the one
+            // whose inside this hit shows (a path that began inside it).
+            let medium = inside.or(match material {
+                Material::Glass(g) if !hit.front_face => Some(g),
+                _ => None,
+            });
+            if let Some(g) = medium {
+                throughput *= g.absorbed_over(hit.t);
             }
             let p = ray.at(hit.t);
             let vertex = PathEventKind::Vertex {
@@ -241,6 +247,12 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             };
             self.record(kind, throughput, Vec3::ZERO);
             throughput *= sample.weight;
+            if sample.transmitted {
+                inside = match material {
+                    Material::Glass(g) if hit.front_face => Some(g),
+                    _ => None,
+                };
+            }
             // Without the weight's eta^2: the roulette looks at energy.
             eta_scale /= sample.eta * sample.eta;
             bounce = Bounce {
