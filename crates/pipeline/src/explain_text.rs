@@ -96,6 +96,11 @@ fn ray_text(out: &mut String, ray: &RayNode, indent: usize, names: &Names) {
             let what = match t.outcome {
                 Outcome::Nearest { t } => format!("hit at t = {t:.4}, the nearest"),
                 Outcome::Farther { t } => format!("hit at t = {t:.4}, farther than the nearest"),
+                // A hit a hair behind the origin is the surface the ray
+                // left (acne's cause): its t in full, not -0.0000.
+                Outcome::Behind { t } if t.abs() < 1e-3 => {
+                    format!("met at the ray's own origin (t = {t:e}), behind it: not a hit")
+                }
                 Outcome::Behind { t } => format!("met behind the ray's origin (t = {t:.4})"),
                 Outcome::Missed => {
                     missed.push(t.object);

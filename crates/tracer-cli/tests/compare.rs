@@ -231,7 +231,8 @@ fn a_mirror_image_is_named_and_so_is_one_upside_down() {
         "flipped.png",
         &image::imageops::flip_vertical(&image),
     );
-    assert_named(&compare(dir.path(), &name, &scene_file), "upside down");
+    let line = assert_named(&compare(dir.path(), &name, &scene_file), "upside down");
+    assert!(line.contains("Turned upright, 0 pixels off"), "{line}");
 }
 
 #[test]

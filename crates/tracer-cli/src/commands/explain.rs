@@ -46,7 +46,8 @@ fn json(pixel: &ExplainedPixel, (x, y): (u32, u32)) -> serde_json::Value {
         "rgb8": pixel.rgb8,
         "linear": pixel.linear,
         "encoding": {
-            "gamma": pixel.encoding.gamma,
+            // As written (2.2), not as its f32 widened (2.200000047683716).
+            "gamma": pixel.encoding.gamma.to_string().parse::<f64>().unwrap_or_default(),
             "saturation": match pixel.encoding.saturation {
                 Saturation::White => "white",
                 Saturation::Clamp => "clamp",

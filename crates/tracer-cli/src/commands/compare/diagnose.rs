@@ -125,7 +125,7 @@ impl Finding {
             ),
             Fault::UpsideDown => (
                 "the image is the reference upside down".into(),
-                "Flipped back".into(),
+                "Turned upright".into(),
                 "Image rows run from the top (y = 0 is the top row): check the sign of \
                  the camera's vertical axis."
                     .into(),
