@@ -228,7 +228,10 @@ fn is_part(text: &str, format: Format) -> bool {
             .unwrap_or_default(),
         Format::Json => serde_json::from_str::<serde_json::Value>(text)
             .ok()
-            .and_then(|v| Some(v.as_object()?.keys().cloned().collect()))
+            .and_then(|v| {
+                let members = v.as_object()?.iter().filter(|(_, v)| !v.is_null());
+                Some(members.map(|(k, _)| k.clone()).collect())
+            })
             .unwrap_or_default(),
     };
     let of_part = |k: &String| PART.contains(&k.as_str()) || k == "$schema";
@@ -262,7 +265,9 @@ fn has_canvas_table(text: &str, format: Format) -> bool {
     match format {
         Format::Toml => toml::from_str::<toml::Table>(text).is_ok_and(|t| t.contains_key("canvas")),
         Format::Json => {
-            serde_json::from_str::<serde_json::Value>(text).is_ok_and(|v| v.get("canvas").is_some())
+            // A null member is a key left out.
+            serde_json::from_str::<serde_json::Value>(text)
+                .is_ok_and(|v| v.get("canvas").is_some_and(|c| !c.is_null()))
         }
     }
 }
@@ -279,6 +284,20 @@ mod tests {
         let text = format!(r#"{{"$schema": "./schema.json", {CAMERA}}}"#);
         let scene = load_str(&text, Format::Json, Path::new("s.json")).unwrap();
         assert_eq!(scene.schema.as_deref(), Some("./schema.json"));
+    }
+
+    #[test]
+    fn a_null_canvas_is_no_canvas() {
+        // Read as a 3D scene, where `canvas` is a key it does not know.
+        let text = format!(r#"{{"canvas": null, {CAMERA}}}"#);
+        let err = load_any_str(&text, Format::Json, Path::new("s.json")).unwrap_err();
+        let message = &err.diagnostics()[0].message;
+        assert!(
+            message.starts_with("unknown key `canvas` at the top level"),
+            "{message}"
+        );
+        // A null camera is none: the file is an included part.
+        assert!(is_part(r#"{"camera": null, "objects": []}"#, Format::Json));
     }
 
     #[test]

@@ -6,7 +6,7 @@ use super::locate_or_start;
 use super::rephrase::rephrase;
 use crate::diagnostic::{Diagnostic, Locator};
 use crate::json_spans;
-use crate::key_path::KeyPath;
+use crate::key_path::{KeyPath, Segment};
 use crate::span_tree::{Node, NodeKind};
 use crate::Format;
 use serde::de::DeserializeOwned;
@@ -17,16 +17,139 @@ pub(super) fn parse_json<T: DeserializeOwned>(text: &str) -> Result<T, Vec<Diagn
     if !structure.is_empty() {
         return Err(structure);
     }
-    let without_nulls = without_null_members(text);
-    let mut de = serde_json::Deserializer::from_str(without_nulls.as_deref().unwrap_or(text));
-    let result: Result<T, _> = serde_path_to_error::deserialize(&mut de);
-    let scene = result.map_err(|e| {
-        let path = KeyPath::from_serde(e.path());
-        vec![json_error(text, path, e.into_inner())]
-    })?;
-    de.end()
-        .map_err(|e| vec![json_error(text, KeyPath::root(), e)])?;
-    Ok(scene)
+    let mut nulls = NullMembers::of(text);
+    loop {
+        let read = nulls.text.as_deref().unwrap_or(text);
+        let mut de = serde_json::Deserializer::from_str(read);
+        let result: Result<T, _> = serde_path_to_error::deserialize(&mut de);
+        match result {
+            Ok(scene) => {
+                de.end()
+                    .map_err(|e| vec![json_error(text, KeyPath::root(), e)])?;
+                return Ok(scene);
+            }
+            Err(e) => {
+                let path = KeyPath::from_serde(e.path());
+                let e = e.into_inner();
+                // A null refused where a key's value is needed means the
+                // key left out: read again without it. A key unknown is
+                // unknown whatever its value.
+                let unknown = e.to_string().starts_with("unknown ");
+                if unknown || !nulls.leave_out(&path, text) {
+                    return Err(vec![json_error(text, path, e)]);
+                }
+            }
+        }
+    }
+}
+
+/// The text's object members valued `null`, and the text with those
+/// serde refused blanked out (with one comma beside each). A null member
+/// means the same as a missing key; one of an unknown key is still an
+/// unknown key, so only the nulls serde cannot take are left out. Blanks
+/// keep every other byte where it was, so messages point into the text as
+/// written.
+struct NullMembers {
+    /// Each null member's key path and its span, key to value.
+    members: Vec<(KeyPath, Range<usize>)>,
+    /// The text with the members left out so far, once there is one.
+    text: Option<String>,
+    /// Reads left before the rest are left out at once: a file of
+    /// thousands of nulls is read a bounded number of times.
+    retries: usize,
+}
+
+/// Reads of a file before all its null members are left out at once.
+const NULL_RETRIES: usize = 64;
+
+impl NullMembers {
+    fn of(text: &str) -> NullMembers {
+        let mut members = Vec::new();
+        if let Ok(tree) = json_spans::parse(text) {
+            null_members(&tree, text, &mut Vec::new(), &mut members);
+        }
+        NullMembers {
+            members,
+            text: None,
+            retries: NULL_RETRIES,
+        }
+    }
+
+    /// Leaves out the null member at `path` of `text` (and, once the
+    /// retries run out, every one); false when `path` is no null member.
+    fn leave_out(&mut self, path: &KeyPath, text: &str) -> bool {
+        let Some(i) = self.members.iter().position(|(p, _)| p == path) else {
+            return false;
+        };
+        let chosen = if self.retries == 0 {
+            std::mem::take(&mut self.members)
+        } else {
+            vec![self.members.remove(i)]
+        };
+        self.retries = self.retries.saturating_sub(1);
+        let mut bytes = self
+            .text
+            .take()
+            .unwrap_or_else(|| text.to_string())
+            .into_bytes();
+        for (_, span) in chosen {
+            blank(&mut bytes, span);
+        }
+        // Only ASCII bytes were replaced, by spaces: still UTF-8.
+        self.text = Some(String::from_utf8(bytes).unwrap_or_else(|_| text.to_string()));
+        true
+    }
+}
+
+/// Blanks the member at `member` and one comma beside it (the one after
+/// it, or else the one before).
+fn blank(bytes: &mut [u8], member: Range<usize>) {
+    bytes[member.clone()].fill(b' ');
+    let after = bytes[member.end..]
+        .iter()
+        .position(|b| !b.is_ascii_whitespace());
+    let before = bytes[..member.start]
+        .iter()
+        .rposition(|b| !b.is_ascii_whitespace());
+    let comma = match (after, before) {
+        (Some(i), _) if bytes[member.end + i] == b',' => Some(member.end + i),
+        (_, Some(i)) if bytes[i] == b',' => Some(i),
+        _ => None,
+    };
+    if let Some(i) = comma {
+        bytes[i] = b' ';
+    }
+}
+
+/// The key paths and spans (key to value) of the members valued `null`
+/// below `node`, in file order; `path` is `node`'s.
+fn null_members(
+    node: &Node,
+    text: &str,
+    path: &mut Vec<Segment>,
+    out: &mut Vec<(KeyPath, Range<usize>)>,
+) {
+    match &node.kind {
+        NodeKind::Table(entries) => {
+            for (key, key_span, value) in entries {
+                path.push(Segment::Key(key.clone()));
+                if text.get(value.span.clone()) == Some("null") {
+                    out.push((KeyPath(path.clone()), key_span.start..value.span.end));
+                } else {
+                    null_members(value, text, path, out);
+                }
+                path.pop();
+            }
+        }
+        NodeKind::Array(items) => {
+            for (i, item) in items.iter().enumerate() {
+                path.push(Segment::Index(i));
+                null_members(item, text, path, out);
+                path.pop();
+            }
+        }
+        NodeKind::Scalar => {}
+    }
 }
 
 /// What serde_json lets through or words poorly: a top level that is not
@@ -64,57 +187,6 @@ fn json_structure_errors(text: &str) -> Vec<Diagnostic> {
             d
         })
         .collect()
-}
-
-/// The text with each object member whose value is `null` blanked out
-/// (with one comma beside it), or `None` when there is none: a null member
-/// means the same as a missing key, for every key. Blanks keep every other
-/// byte where it was, so messages point into the text as written.
-fn without_null_members(text: &str) -> Option<String> {
-    let tree = json_spans::parse(text).ok()?;
-    let mut members = Vec::new();
-    null_members(&tree, text, &mut members);
-    if members.is_empty() {
-        return None;
-    }
-    let mut bytes = text.as_bytes().to_vec();
-    for member in members {
-        bytes[member.clone()].fill(b' ');
-        let after = bytes[member.end..]
-            .iter()
-            .position(|b| !b.is_ascii_whitespace());
-        let before = bytes[..member.start]
-            .iter()
-            .rposition(|b| !b.is_ascii_whitespace());
-        let comma = match (after, before) {
-            (Some(i), _) if bytes[member.end + i] == b',' => Some(member.end + i),
-            (_, Some(i)) if bytes[i] == b',' => Some(i),
-            _ => None,
-        };
-        if let Some(i) = comma {
-            bytes[i] = b' ';
-        }
-    }
-    // Only ASCII bytes were replaced, by spaces: still UTF-8.
-    String::from_utf8(bytes).ok()
-}
-
-/// The spans (key to value) of the members valued `null` below `node`, in
-/// file order.
-fn null_members(node: &Node, text: &str, out: &mut Vec<Range<usize>>) {
-    match &node.kind {
-        NodeKind::Table(entries) => {
-            for (_, key_span, value) in entries {
-                if text.get(value.span.clone()) == Some("null") {
-                    out.push(key_span.start..value.span.end);
-                } else {
-                    null_members(value, text, out);
-                }
-            }
-        }
-        NodeKind::Array(items) => items.iter().for_each(|item| null_members(item, text, out)),
-        NodeKind::Scalar => {}
-    }
 }
 
 fn json_error(text: &str, path: KeyPath, e: serde_json::Error) -> Diagnostic {
@@ -277,6 +349,10 @@ mod tests {
         let d = &parse_json::<SceneFile>(text).unwrap_err()[0];
         assert_eq!(d.path.to_string(), "camera.up");
         assert_eq!(d.location.map(|l| (l.line, l.column)), Some((2, 74)));
+        // A misspelt key is misspelt whatever its value.
+        let text = WITHOUT.replace("\"look_at\"", "\"fvo\": null, \"look_at\"");
+        let d = &parse_json::<SceneFile>(&text).unwrap_err()[0];
+        assert!(d.message.contains("unknown key `fvo`"), "{}", d.message);
         // A null in an array is a value, not a member: still a mistake.
         let text = WITHOUT.replace("[0, 0, 5]", "[0, null, 5]");
         let d = &parse_json::<SceneFile>(&text).unwrap_err()[0];

@@ -33,10 +33,9 @@ pub(super) fn parse_toml<T: DeserializeOwned>(text: &str) -> Result<T, Diagnosti
 }
 
 /// Whether a value's text is a TOML date, time or date-time (`1979-05-27`,
-/// `07:32:00`): it starts with digits and a `-` or `:` follows them.
+/// `07:32:00`).
 fn is_datetime(value: &str) -> bool {
-    let rest = value.trim_start_matches(|c: char| c.is_ascii_digit());
-    rest.len() < value.len() && (rest.starts_with('-') || rest.starts_with(':'))
+    value.parse::<toml::value::Datetime>().is_ok()
 }
 
 /// The most steps of a key path shown for a value nested too deep.
