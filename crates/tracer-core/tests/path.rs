@@ -357,3 +357,63 @@ fn a_sample_that_is_not_finite_is_dropped_and_counted() {
     assert_eq!(tracer.pixel(1, 2, 64, || false), Vec3::splat(3e38));
     assert_eq!(tracer.stats.dropped, 0);
 }
+
+#[test]
+fn inside_absorbing_glass_light_samples_lose_what_the_glass_absorbs() {
+    // A point light of intensity I at h = 2 over a Lambertian quad of
+    // albedo rho, both inside a block of glass (ior 1, so nothing is
+    // reflected at its faces) absorbing sigma per unit, seen from above
+    // through 3 units of it: rho I / (pi h^2) exp(-sigma (h + 3)).
+    let (rho, intensity, sigma) = (0.5f32, 4.0f32, [0.1f32, 0.3, 0.6]);
+    let scene = scene_from(&format!(
+        "[camera]\neye = [0, 6, 0]\nlook_at = [0, 0, 0]\nup = [0, 0, -1]\nfov = 2\nwidth = 9\nheight = 9\n\
+         [render]\nintegrator = \"path\"\nmax_depth = 2\n\
+         [[lights]]\nposition = [0, 2, 0]\ncolor = [{intensity}, {intensity}, {intensity}]\n\
+         [[objects]]\nbox = {{ min = [-3, -1, -3], max = [3, 3, 3] }}\n\
+         material = {{ diffuse = [0, 0, 0], specular = [0, 0, 0], transmittance = 1, ior = 1, fresnel = true, absorption = [{}, {}, {}] }}\n\
+         [[objects]]\nquad = {{ corner = [-1, 0, 1], edge_u = [2, 0, 0], edge_v = [0, 0, -2] }}\n\
+         material = {{ diffuse = [{rho}, {rho}, {rho}] }}\n",
+        sigma[0], sigma[1], sigma[2]
+    ));
+    let image = render(&scene, 4, 0, Strategy::Mis);
+    let centre = image[4 * 9 + 4];
+    for (got, s) in centre.to_array().into_iter().zip(sigma) {
+        let want = rho * intensity / (std::f32::consts::PI * 4.0) * (-s * 5.0).exp();
+        assert!(
+            (got - want).abs() < 0.01 * want,
+            "{centre}: {got} against {want}"
+        );
+    }
+}
+
+#[test]
+fn a_path_that_leaves_glass_inside_glass_is_still_in_the_outer_one() {
+    // Seen from above: block A (absorbing sigma) from y = -1 to 3, block B
+    // (clear) inside it from y = 1 to 2, an emitter of radiance 1 at y = 0
+    // facing up; both of ior 1. The path crosses 2 units of A, and 1 of B.
+    let sigma = [0.2f32, 0.4, 0.8];
+    let glass = |absorption: [f32; 3]| {
+        format!(
+            "material = {{ diffuse = [0, 0, 0], specular = [0, 0, 0], transmittance = 1, ior = 1, fresnel = true, absorption = [{}, {}, {}] }}\n",
+            absorption[0], absorption[1], absorption[2]
+        )
+    };
+    let scene = scene_from(&format!(
+        "[camera]\neye = [0, 6, 0]\nlook_at = [0, 0, 0]\nup = [0, 0, -1]\nfov = 2\nwidth = 9\nheight = 9\n\
+         [render]\nintegrator = \"path\"\nmax_depth = 8\n\
+         [[objects]]\nbox = {{ min = [-3, -1, -3], max = [3, 3, 3] }}\n{}\
+         [[objects]]\nbox = {{ min = [-2, 1, -2], max = [2, 2, 2] }}\n{}\
+         [[objects]]\nquad = {{ corner = [-1, 0, 1], edge_u = [2, 0, 0], edge_v = [0, 0, -2] }}\n\
+         material = {{ diffuse = [0, 0, 0], emission = [1, 1, 1] }}\n",
+        glass(sigma),
+        glass([0.0; 3])
+    ));
+    let centre = render(&scene, 4, 0, Strategy::Mis)[4 * 9 + 4];
+    for (got, s) in centre.to_array().into_iter().zip(sigma) {
+        let want = (-s * 2.0).exp();
+        assert!(
+            (got - want).abs() < 1e-3 * want,
+            "{centre}: {got} against {want}"
+        );
+    }
+}

@@ -25,6 +25,11 @@ use std::ops::Range;
 /// most of the light, and ending them early costs more noise than time.
 const ROULETTE_DEPTH: u32 = 5;
 
+/// Glasses inside glasses a path keeps track of; a deeper one is not
+/// counted as entered (its absorption then applies only where the path
+/// meets its back).
+const MAX_NESTED_GLASS: usize = 8;
+
 /// How much shorter than a light sample's distance its shadow ray stops,
 /// relative: the light's own surface must not count as in the way.
 const SHADOW_SHORTEN: f32 = 1e-4;
@@ -171,9 +176,10 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             specular: true,
         };
         let mut depth = 0;
-        // The glass the path is inside (entered by refraction through its
-        // front and not yet left): each segment inside loses to absorption.
-        let mut inside: Option<&Glass> = None;
+        // The glasses the path is inside, innermost last (entered by
+        // refraction through a front face, not yet left through a back
+        // one): each segment inside loses to the innermost's absorption.
+        let mut inside: Vec<&Glass> = Vec::new();
         loop {
             self.stats.nearest += 1;
             let Some(hit) = scene.closest_hit(&ray, EPSILON, f32::INFINITY) else {
@@ -190,7 +196,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             let material = scene.material(hit.material);
             // The segment ran inside glass: the glass entered, or the one
             // whose inside this hit shows (a path that began inside it).
-            let medium = inside.or(match material {
+            let medium = inside.last().copied().or(match material {
                 Material::Glass(g) if !hit.front_face => Some(g),
                 _ => None,
             });
@@ -229,7 +235,8 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             };
             if bsdf.has_smooth_lobes() && self.strategy != Strategy::Bsdf {
                 let (pick, u) = (sampler.get1(), sampler.get2());
-                radiance += self.light_sample(&bsdf, from, (pick, u), throughput);
+                let medium = inside.last().copied();
+                radiance += self.light_sample(&bsdf, from, (pick, u), throughput, medium);
             } else {
                 // The light sample's two requests, unused: every later
                 // bounce keeps its numbers whatever this one was.
@@ -247,11 +254,12 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             };
             self.record(kind, throughput, Vec3::ZERO);
             throughput *= sample.weight;
-            if sample.transmitted {
-                inside = match material {
-                    Material::Glass(g) if hit.front_face => Some(g),
-                    _ => None,
-                };
+            if let (true, Material::Glass(g)) = (sample.transmitted, material) {
+                if !hit.front_face {
+                    inside.pop();
+                } else if inside.len() < MAX_NESTED_GLASS {
+                    inside.push(g);
+                }
             }
             // Without the weight's eta^2: the roulette looks at energy.
             eta_scale /= sample.eta * sample.eta;
@@ -348,13 +356,15 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
     /// Next-event estimation: what a sampled point of a light (picked by
     /// `pick`, drawn by `u`) sends through `bsdf` at `from`, if nothing is
     /// in the way, weighted against the BSDF sample that could have found
-    /// it, times the path's `throughput`.
+    /// it, times the path's `throughput`; inside glass `medium`, less what
+    /// it absorbs on the way.
     fn light_sample(
         &mut self,
         bsdf: &Bsdf,
         from: Vec3,
         (pick, u): (f32, Vec2),
         throughput: Vec3,
+        medium: Option<&Glass>,
     ) -> Vec3 {
         let lights = self.scene.path_lights();
         let Some(light) = lights.sample(from, pick, u) else {
@@ -377,7 +387,11 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         let added = if blocked || unlit {
             Vec3::ZERO
         } else {
-            throughput * (f * light.radiance * (weight / light.pdf))
+            let added = throughput * (f * light.radiance * (weight / light.pdf));
+            match medium {
+                Some(g) => added * g.absorbed_over(light.distance),
+                None => added,
+            }
         };
         let kind = PathEventKind::LightSample {
             wi: light.wi,
