@@ -213,6 +213,9 @@ async function render() {
       canvas.width = fullWidth;
       canvas.height = fullHeight;
       ctx = canvas.getContext("2d");
+      // The preview, blown up, where no band is drawn yet.
+      ctx.imageSmoothingEnabled = false;
+      ctx.drawImage(bitmap, 0, 0, fullWidth, fullHeight);
     }
     const [x0, y0, x1, y1] = regions[i];
     ctx.putImageData(new ImageData(new Uint8ClampedArray(rgba), x1 - x0, y1 - y0), x0, y0);
@@ -397,7 +400,9 @@ async function fetchBytes(path) {
 }
 
 // The scene of the menu at `path` (under scenes/) with the files it reads.
+let opening = 0;
 async function openScene(path, text) {
+  const mine = ++opening;
   // The render in flight is the old scene's; not done until this one's is
   // (scripts wait on it).
   clearTimeout(timer);
@@ -410,8 +415,11 @@ async function openScene(path, text) {
     await Promise.all(entry?.files.map(async (f) => files.set(f, await fetchBytes(`scenes/${f}`))) ?? []);
     body ??= new TextDecoder().decode(await fetchBytes(`scenes/${path}`));
   } catch (e) {
+    if (mine !== opening) return;
     return showError({ text: `cannot open ${path}: ${e.message}`, problems: [] });
   }
+  // Another scene was asked for meanwhile: it is the one shown.
+  if (mine !== opening) return;
   scene.name = path;
   scene.files = files;
   scene.archive = null;
@@ -585,6 +593,7 @@ async function start() {
   if (location.hash.length > 1 && !opened) {
     notice.textContent = "This link's scene could not be read (is the link cut short?): the default scene is shown.";
   }
+  started = true;
 }
 
 // The scene of a share link in the address bar; false when there is none
@@ -597,8 +606,11 @@ async function openShared() {
   return opened;
 }
 
-// A link pasted into this tab's address bar changes only the fragment.
+// A link pasted into this tab's address bar changes only the fragment
+// (heard once the page has started: it opens the first link itself).
+let started = false;
 window.addEventListener("hashchange", async () => {
+  if (!started) return;
   if (!(await openShared()) && location.hash.length > 1) {
     notice.textContent = "This link's scene could not be read (is the link cut short?).";
   }

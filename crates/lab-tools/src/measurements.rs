@@ -204,6 +204,12 @@ fn check_enough(rows: &[Measurement]) -> Result<(), MeasurementError> {
             rows.len()
         )));
     }
+    // Normalised by its largest value, a column of zeros would be 0 / 0.
+    if rows.iter().all(|m| m.corrected == Some(0.0)) {
+        return Err(whole(
+            "every corrected luminance is 0; expected the patches' luminances measured on the corrected chart",
+        ));
+    }
     if !rows.iter().any(|m| m.level > 0.0 && m.level < 1.0) {
         return Err(whole(
             "expected at least one level strictly between 0 and 1; at 0 and 1 every gamma fits alike",
@@ -342,6 +348,10 @@ mod tests {
         assert_eq!(
             error_of("0,1\n0.5,-3\n1,9\n"),
             "row 2: luminance: expected a luminance of 0 or more (cd/m2), found -3"
+        );
+        assert_eq!(
+            error_of("0,0,0\n0.5,2,0\n1,9,0\n"),
+            "every corrected luminance is 0; expected the patches' luminances measured on the corrected chart"
         );
         // A black patch of 0 is measured, and fits.
         let rows = parse_measurements("0,0\n0.5,0.25\n1,1\n").unwrap();

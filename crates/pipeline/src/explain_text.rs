@@ -98,8 +98,8 @@ fn ray_text(out: &mut String, ray: &RayNode, indent: usize, names: &Names) {
                 Outcome::Farther { t } => format!("hit at t = {t:.4}, farther than the nearest"),
                 // A hit a hair behind the origin is the surface the ray
                 // left (acne's cause): its t in full, not -0.0000.
-                Outcome::Behind { t } if t.abs() < 1e-3 => {
-                    format!("met at the ray's own origin (t = {t:e}), behind it: not a hit")
+                Outcome::Behind { t } if t.abs() <= tracer_core::EPSILON => {
+                    format!("met within the lab's 1e-4 of the ray's origin (t = {t:e}): the surface it leaves, not a hit")
                 }
                 Outcome::Behind { t } => format!("met behind the ray's origin (t = {t:.4})"),
                 Outcome::Missed => {
@@ -171,6 +171,12 @@ fn ray_text(out: &mut String, ray: &RayNode, indent: usize, names: &Names) {
                 out,
                 "{pad}  no mirror or refracted ray: depth {} is max_depth = {max_depth}",
                 ray.depth
+            );
+        }
+        Some(Stop::RayBudget { rays }) => {
+            let _ = writeln!(
+                out,
+                "{pad}  no more rays: the sample has traced its {rays} (a budget that keeps a tree of glass and mirrors finite)"
             );
         }
         Some(Stop::MinEnergy { min_energy }) => {

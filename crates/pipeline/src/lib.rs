@@ -27,7 +27,7 @@ pub mod tiles;
 pub use error::{scene_error_is_bad_input, Error};
 pub use limits::{BYTES_PER_PRIMITIVE, MAX_PRIMITIVES};
 pub use load::{
-    load, load_from, load_or_part, Checked, Input, Loaded, Warning, DEFAULT_SCENE_NAME,
+    as_written, load, load_from, load_or_part, Checked, Input, Loaded, Warning, DEFAULT_SCENE_NAME,
 };
 pub use options::{tile_region, Aov, Gamma, Options, Part, Region};
 pub use render::{

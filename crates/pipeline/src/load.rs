@@ -174,7 +174,7 @@ impl Loaded {
 /// An f32 of a scene file as the f64 of its shortest decimal: 0.01 stays
 /// 0.01 (`f64::from` would make it 0.009999999776482582, which messages
 /// then print).
-pub(crate) fn as_written(x: f32) -> f64 {
+pub fn as_written(x: f32) -> f64 {
     x.to_string().parse().unwrap_or(f64::from(x))
 }
 

@@ -953,7 +953,9 @@ fn a_scene_with_mistakes_leaves_its_images_uncompared_not_the_class() {
     assert_eq!(out.status.code(), Some(1), "{stdout}{stderr}");
     assert!(stderr.contains("unknown material `nope`"), "{stderr}");
     assert!(
-        stderr.contains("not compared: class/broken-amy.png: its scene scenes/broken.toml"),
+        stderr.contains(
+            "not compared: class/broken-amy.png: its scene scenes/broken.toml has mistakes"
+        ),
         "{stderr}"
     );
     assert!(
@@ -965,7 +967,10 @@ fn a_scene_with_mistakes_leaves_its_images_uncompared_not_the_class() {
         csv.contains("class/shadows-amy.png,shadows,0.000000"),
         "{csv}"
     );
-    assert!(csv.contains("class/broken-amy.png,broken,"), "{csv}");
+    assert!(
+        csv.contains("class/broken-amy.png,broken,,,,,,,not compared: its scene"),
+        "{csv}"
+    );
 }
 
 /// The report's `index.html` in `dir` as headless Chromium has it once its

@@ -47,7 +47,7 @@ fn json(pixel: &ExplainedPixel, (x, y): (u32, u32)) -> serde_json::Value {
         "linear": pixel.linear,
         "encoding": {
             // As written (2.2), not as its f32 widened (2.200000047683716).
-            "gamma": pixel.encoding.gamma.to_string().parse::<f64>().unwrap_or_default(),
+            "gamma": tracer_pipeline::as_written(pixel.encoding.gamma),
             "saturation": match pixel.encoding.saturation {
                 Saturation::White => "white",
                 Saturation::Clamp => "clamp",

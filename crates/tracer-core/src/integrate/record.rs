@@ -165,6 +165,8 @@ pub enum Stop {
     MaxDepth { max_depth: u32 },
     /// Its energy is at or below `min_energy`.
     MinEnergy { min_energy: f32 },
+    /// The sample has traced its `rays` (`MAX_TREE_RAYS`).
+    RayBudget { rays: u32 },
 }
 
 /// The recorder of renders: nothing is kept.

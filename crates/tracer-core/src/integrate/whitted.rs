@@ -308,6 +308,9 @@ impl<'a, R: Recorder> Whitted<'a, R> {
     /// Past the sample's budget of rays it brings nothing back.
     fn trace_as(&mut self, kind: RayKind, ray: &Ray, energy: f32, depth: u32) -> Vec3 {
         if self.rays_left == 0 {
+            self.rec.stopped(Stop::RayBudget {
+                rays: MAX_TREE_RAYS,
+            });
             // Counted once a sample: a tree of exactly the budget is whole.
             self.stats.cut_trees += u64::from(!self.tree_cut);
             self.tree_cut = true;
@@ -368,7 +371,9 @@ impl<'a, R: Recorder> Whitted<'a, R> {
         }
         let split = g.split(ray.dir(), hit);
         if !self.may_recurse(energy, depth) {
-            self.record_stop(depth);
+            if split.reflected > 0.0 || split.transmitted.is_some() {
+                self.record_stop(depth);
+            }
         } else {
             if split.reflected > 0.0 {
                 let reflected = ray.reflected(p, hit.shading_normal);

@@ -51,7 +51,7 @@ pub fn run(
         .into());
     }
     let (readable, mut unreadable) = read_images(matched);
-    let (references, failed) = render_scenes(&readable, &names, samples);
+    let (references, failed) = render_scenes(&readable, &names, samples)?;
     // A scene that cannot be rendered leaves its images uncompared, not
     // the whole class.
     let (readable, uncompared): (Vec<_>, Vec<_>) = readable
@@ -66,7 +66,12 @@ pub fn run(
     for (path, scene, _) in uncompared {
         let why = failed[&scene].clone();
         note!("not compared: {}: {why}", path.display());
-        unreadable.push(Unreadable { path, scene, why });
+        unreadable.push(Unreadable {
+            path,
+            scene,
+            why,
+            scene_failed: true,
+        });
     }
     let mut entries: Vec<Entry> = readable
         .into_par_iter()
@@ -109,7 +114,12 @@ fn read_images(
             Ok(image) => readable.push((path, scene, image)),
             Err(why) => {
                 note!("not compared: {}: {why}", path.display());
-                unreadable.push(Unreadable { path, scene, why });
+                unreadable.push(Unreadable {
+                    path,
+                    scene,
+                    why,
+                    scene_failed: false,
+                });
             }
         }
     }
@@ -226,13 +236,15 @@ fn files(dir: &Path, extensions: &[&str]) -> Result<Vec<PathBuf>> {
     Ok(found)
 }
 
-/// Each scene the images name, rendered once; those that could not be
-/// (their error shown on stderr, as `tracer check` shows it) by why.
+/// Each scene the images name, rendered once; those with mistakes (shown
+/// on stderr, as `tracer check` shows them) by why. Any other failure (an
+/// option the scene cannot take) ends the report.
+#[allow(clippy::type_complexity)]
 fn render_scenes(
     matched: &[(PathBuf, String, RgbImage)],
     names: &BTreeMap<String, PathBuf>,
     samples: Option<u32>,
-) -> (BTreeMap<String, Reference>, BTreeMap<String, String>) {
+) -> Result<(BTreeMap<String, Reference>, BTreeMap<String, String>)> {
     let mut references = BTreeMap::new();
     let mut failed = BTreeMap::new();
     for (_, scene, _) in matched {
@@ -241,24 +253,21 @@ fn render_scenes(
         }
         let path = &names[scene];
         note!("rendering {}", path.display());
-        let rendered = tracer_pipeline::load(&Input::File(path.clone()))
-            .map_err(anyhow::Error::from)
-            .and_then(|loaded| input::render(loaded, None, samples));
-        match rendered {
-            Ok(reference) => {
-                references.insert(scene.clone(), reference);
+        match tracer_pipeline::load(&Input::File(path.clone())) {
+            Ok(loaded) => {
+                references.insert(scene.clone(), input::render(loaded, None, samples)?);
             }
             Err(e) => {
-                crate::error::finish(Err(e));
+                crate::error::finish(Err(e.into()));
                 let why = format!(
-                    "its scene {} could not be rendered (tracer check {0} says why)",
+                    "its scene {} has mistakes (tracer check {0} shows them)",
                     path.display()
                 );
                 failed.insert(scene.clone(), why);
             }
         }
     }
-    (references, failed)
+    Ok((references, failed))
 }
 
 /// The summary on stdout: one line per image, worst first, then the

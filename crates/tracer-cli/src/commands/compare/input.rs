@@ -70,7 +70,7 @@ pub fn image_at(path: &Path) -> Result<RgbImage, String> {
             path.display()
         );
     }
-    if image.color().has_alpha() && image.to_rgba16().pixels().any(|p| p[3] < u16::MAX) {
+    if transparent(&image) {
         note!(
             "note: {}: has transparent pixels; its colours are compared as if opaque \
              (a viewer may show it otherwise)",
@@ -78,6 +78,19 @@ pub fn image_at(path: &Path) -> Result<RgbImage, String> {
         );
     }
     to_rgb8(image)
+}
+
+/// Whether some pixel of `image` is not fully opaque (read in place: a
+/// copy of the largest image would take gigabytes).
+fn transparent(image: &DynamicImage) -> bool {
+    match image {
+        DynamicImage::ImageRgba8(i) => i.pixels().any(|p| p[3] < u8::MAX),
+        DynamicImage::ImageLumaA8(i) => i.pixels().any(|p| p[1] < u8::MAX),
+        DynamicImage::ImageRgba16(i) => i.pixels().any(|p| p[3] < u16::MAX),
+        DynamicImage::ImageLumaA16(i) => i.pixels().any(|p| p[1] < u16::MAX),
+        DynamicImage::ImageRgba32F(i) => i.pixels().any(|p| p[3] < 1.0),
+        _ => false,
+    }
 }
 
 /// The 8-bit values of `image`; float images are refused, their linear

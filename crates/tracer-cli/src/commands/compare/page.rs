@@ -26,6 +26,9 @@ pub struct Unreadable {
     pub path: PathBuf,
     pub scene: String,
     pub why: String,
+    /// The image read, its scene not: `not compared:` in the CSV, where
+    /// an image that cannot be read is `unreadable:`.
+    pub scene_failed: bool,
 }
 
 /// What the report shows: the images compared, worst first, those that
@@ -177,7 +180,12 @@ fn csv(class: &Class) -> Result<Vec<u8>> {
     for u in &class.unreadable {
         let mut row = vec![u.path.display().to_string(), u.scene.clone()];
         row.extend(vec![String::new(); 6]);
-        row.push(format!("unreadable: {}", u.why));
+        let label = if u.scene_failed {
+            "not compared"
+        } else {
+            "unreadable"
+        };
+        row.push(format!("{label}: {}", u.why));
         writer.write_record(row)?;
     }
     Ok(writer.into_inner().map_err(|e| e.into_error())?)
