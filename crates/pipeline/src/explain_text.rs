@@ -302,10 +302,16 @@ fn path_text(out: &mut String, events: &[PathEvent], names: &Names) {
                 bsdf_pdf,
                 weight,
                 blocked,
+                absorbed,
             } => format!(
-                "  light sample toward {} (distance {distance:.4}): radiance {}, light pdf {light_pdf:.4}, f cos {}, BSDF pdf {bsdf_pdf:.4}, MIS weight {weight:.4}, {}{added}",
+                "  light sample toward {} (distance {distance:.4}): radiance {}{}, light pdf {light_pdf:.4}, f cos {}, BSDF pdf {bsdf_pdf:.4}, MIS weight {weight:.4}, {}{added}",
                 v3(wi),
                 v3(radiance),
+                if absorbed == Vec3::ONE {
+                    String::new()
+                } else {
+                    format!(" times {} left by the glass around", v3(absorbed))
+                },
                 v3(f_cos),
                 if f_cos == Vec3::ZERO {
                     "the surface sends nothing that way (no shadow ray)"

@@ -258,6 +258,9 @@ impl Glass {
         if self.absorption == Vec3::ZERO {
             return Vec3::ONE;
         }
-        (-self.absorption * distance).exp()
+        // A channel that absorbs nothing keeps all, even over an infinite
+        // distance (where 0 * inf would be NaN); otherwise the same bits.
+        let kept = (-self.absorption * distance).exp();
+        Vec3::select(self.absorption.cmpeq(Vec3::ZERO), Vec3::ONE, kept)
     }
 }

@@ -417,3 +417,19 @@ fn a_path_that_leaves_glass_inside_glass_is_still_in_the_outer_one() {
         );
     }
 }
+
+#[test]
+fn out_through_open_absorbing_glass_the_sky_keeps_what_absorbs_nothing() {
+    // A pane (a quad) of glass absorbing [0, 0.5, 0.5], ior 1, before a
+    // white sky: open glass is entered and never left, so what absorbs
+    // is gone over the sky's infinite distance, and the channel that
+    // absorbs nothing passes whole (not 0 * inf, a NaN dropping samples).
+    let scene = scene_from(
+        "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 2\nwidth = 9\nheight = 9\n\
+         [render]\nintegrator = \"path\"\nmax_depth = 4\nbackground = [1, 1, 1]\n\
+         [[objects]]\nquad = { corner = [-1, -1, 0], edge_u = [2, 0, 0], edge_v = [0, 2, 0] }\n\
+         material = { diffuse = [0, 0, 0], specular = [0, 0, 0], transmittance = 1, ior = 1, fresnel = true, absorption = [0, 0.5, 0.5] }\n",
+    );
+    let centre = render(&scene, 4, 0, Strategy::Mis)[4 * 9 + 4];
+    assert_eq!(centre, Vec3::new(1.0, 0.0, 0.0));
+}

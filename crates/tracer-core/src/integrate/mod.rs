@@ -2,6 +2,7 @@
 //! `rayTrace` (`whitted.rs`, and its four-lane form for small plain scenes,
 //! `lanes.rs`), and path tracing beside it (`path.rs`).
 
+mod inside;
 pub(crate) mod lanes;
 pub mod path;
 pub mod record;

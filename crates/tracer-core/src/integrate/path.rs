@@ -8,6 +8,7 @@
 //! seen directly; 1 adds direct light; each more one bounce of indirect
 //! light.
 
+use super::inside::Inside;
 use super::record::{PathEvent, PathEventKind, Recorder, Silent};
 use super::RayStats;
 use crate::bsdf::Bsdf;
@@ -24,11 +25,6 @@ use std::ops::Range;
 /// Bounces before Russian roulette may end a path: the first few carry
 /// most of the light, and ending them early costs more noise than time.
 const ROULETTE_DEPTH: u32 = 5;
-
-/// Glasses inside glasses a path keeps track of; a deeper one is not
-/// counted as entered (its absorption then applies only where the path
-/// meets its back).
-const MAX_NESTED_GLASS: usize = 8;
 
 /// How much shorter than a light sample's distance its shadow ray stops,
 /// relative: the light's own surface must not count as in the way.
@@ -176,13 +172,15 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             specular: true,
         };
         let mut depth = 0;
-        // The glasses the path is inside, innermost last (entered by
-        // refraction through a front face, not yet left through a back
-        // one): each segment inside loses to the innermost's absorption.
-        let mut inside: Vec<&Glass> = Vec::new();
+        let mut inside = Inside::default();
         loop {
             self.stats.nearest += 1;
             let Some(hit) = scene.closest_hit(&ray, EPSILON, f32::INFINITY) else {
+                if let Some(g) = inside.innermost() {
+                    // Out of open glass, which is never left: an infinite
+                    // stretch of it, as a light sample toward the sky sees.
+                    throughput *= g.absorbed_over(f32::INFINITY);
+                }
                 let (escaped, weight) = self.escaped(ray.dir(), &bounce);
                 let added = throughput * (escaped * weight);
                 radiance += added;
@@ -196,7 +194,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             let material = scene.material(hit.material);
             // The segment ran inside glass: the glass entered, or the one
             // whose inside this hit shows (a path that began inside it).
-            let medium = inside.last().copied().or(match material {
+            let medium = inside.innermost().or(match material {
                 Material::Glass(g) if !hit.front_face => Some(g),
                 _ => None,
             });
@@ -235,7 +233,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             };
             if bsdf.has_smooth_lobes() && self.strategy != Strategy::Bsdf {
                 let (pick, u) = (sampler.get1(), sampler.get2());
-                let medium = inside.last().copied();
+                let medium = inside.innermost();
                 radiance += self.light_sample(&bsdf, from, (pick, u), throughput, medium);
             } else {
                 // The light sample's two requests, unused: every later
@@ -255,10 +253,10 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             self.record(kind, throughput, Vec3::ZERO);
             throughput *= sample.weight;
             if let (true, Material::Glass(g)) = (sample.transmitted, material) {
-                if !hit.front_face {
-                    inside.pop();
-                } else if inside.len() < MAX_NESTED_GLASS {
-                    inside.push(g);
+                if hit.front_face {
+                    inside.enter(g);
+                } else {
+                    inside.leave(g);
                 }
             }
             // Without the weight's eta^2: the roulette looks at energy.
@@ -384,12 +382,13 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         } else {
             power_heuristic(light.pdf, bsdf_pdf)
         };
+        let absorbed = medium.map_or(Vec3::ONE, |g| g.absorbed_over(light.distance));
         let added = if blocked || unlit {
             Vec3::ZERO
         } else {
             let added = throughput * (f * light.radiance * (weight / light.pdf));
             match medium {
-                Some(g) => added * g.absorbed_over(light.distance),
+                Some(_) => added * absorbed,
                 None => added,
             }
         };
@@ -402,6 +401,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             bsdf_pdf,
             weight,
             blocked,
+            absorbed,
         };
         self.record(kind, throughput, added);
         added

@@ -103,6 +103,9 @@ pub enum PathEventKind {
         bsdf_pdf: f32,
         weight: f32,
         blocked: bool,
+        /// What glass the path is inside leaves of the light on its way
+        /// (1 outside glass).
+        absorbed: Vec3,
     },
     /// The BSDF sample that continues the path: its direction, weight (f
     /// cos / pdf), density, and whether a specular lobe gave it.
