@@ -56,6 +56,7 @@ const extensions = (name) => [
   languageOf(name),
   EditorView.updateListener.of((update) => {
     if (update.docChanged) {
+      opening += 1;
       if (scene.archive) {
         // The text typed over an archive's note is a scene of its own.
         scene.archive = null;
@@ -400,9 +401,10 @@ async function fetchBytes(path) {
 }
 
 // The scene of the menu at `path` (under scenes/) with the files it reads.
+// The latest scene asked for (a menu pick, a link, dropped files, an
+// edit): an opening overtaken while it fetches is dropped.
 let opening = 0;
-async function openScene(path, text) {
-  const mine = ++opening;
+async function openScene(path, text, mine = ++opening) {
   // The render in flight is the old scene's; not done until this one's is
   // (scripts wait on it).
   clearTimeout(timer);
@@ -440,6 +442,7 @@ const SCENE_FILE = /\.(toml|json)$/i;
 // Files dropped or picked: a scene file (or a `tracer pack` archive) among
 // them starts a new folder; other files join the scene's folder.
 async function addFiles(list) {
+  opening += 1;
   const entries = await Promise.all(
     [...list].map(async (f) => [f.name, new Uint8Array(await f.arrayBuffer())]),
   );
@@ -589,20 +592,25 @@ async function start() {
   other.textContent = "(your scene)";
   menu.append(other);
   makePool();
+  const startHash = location.hash;
   if (!(await openShared())) await openScene("reflectance2.toml");
   if (location.hash.length > 1 && !opened) {
     notice.textContent = "This link's scene could not be read (is the link cut short?): the default scene is shown.";
   }
   started = true;
+  // A link pasted while the page started.
+  if (location.hash !== startHash && location.hash.length > 1) openShared();
 }
 
 // The scene of a share link in the address bar; false when there is none
 // or it cannot be read.
 let opened = false;
 async function openShared() {
+  const mine = ++opening;
   const shared = location.hash.length > 1 ? await decodeShare(location.hash.slice(1)) : null;
+  if (mine !== opening) return true;
   opened = Boolean(shared);
-  if (shared) await openScene(shared.name, shared.text);
+  if (shared) await openScene(shared.name, shared.text, mine);
   return opened;
 }
 

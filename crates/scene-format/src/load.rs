@@ -229,7 +229,12 @@ fn is_part(text: &str, format: Format) -> bool {
         Format::Json => serde_json::from_str::<serde_json::Value>(text)
             .ok()
             .and_then(|v| {
-                let members = v.as_object()?.iter().filter(|(_, v)| !v.is_null());
+                // A part's own keys valued null are keys left out; any
+                // other key, null or not, makes the file a scene.
+                let left_out = |(k, v): &(&String, &serde_json::Value)| {
+                    v.is_null() && PART.contains(&k.as_str())
+                };
+                let members = v.as_object()?.iter().filter(|m| !left_out(m));
                 Some(members.map(|(k, _)| k.clone()).collect())
             })
             .unwrap_or_default(),
@@ -296,8 +301,9 @@ mod tests {
             message.starts_with("unknown key `canvas` at the top level"),
             "{message}"
         );
-        // A null camera is none: the file is an included part.
-        assert!(is_part(r#"{"camera": null, "objects": []}"#, Format::Json));
+        // A part's null keys are left out; another key makes a scene.
+        assert!(is_part(r#"{"lights": null, "objects": []}"#, Format::Json));
+        assert!(!is_part(r#"{"camera": null, "objects": []}"#, Format::Json));
     }
 
     #[test]

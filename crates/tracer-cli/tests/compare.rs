@@ -971,6 +971,28 @@ fn a_scene_with_mistakes_leaves_its_images_uncompared_not_the_class() {
         csv.contains("class/broken-amy.png,broken,,,,,,,not compared: its scene"),
         "{csv}"
     );
+    // More samples than a Whitted scene takes: its images are not
+    // compared, and why is said; the run goes on.
+    let args = [
+        "compare",
+        "--report",
+        "class",
+        "--scenes",
+        "scenes",
+        "--samples",
+        "5000",
+        "-o",
+        "many",
+    ];
+    let out = tracer(dir.path(), &args);
+    let stderr = stderr_of(&out);
+    assert!(
+        stderr.contains("its scene scenes/shadows.toml could not be rendered: --samples 5000"),
+        "{stderr}"
+    );
+    // Nothing compared at all: exit 2, no report.
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(!dir.path().join("many").exists());
 }
 
 /// The report's `index.html` in `dir` as headless Chromium has it once its

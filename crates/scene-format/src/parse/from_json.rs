@@ -54,13 +54,7 @@ struct NullMembers {
     members: Vec<(KeyPath, Range<usize>)>,
     /// The text with the members left out so far, once there is one.
     text: Option<String>,
-    /// Reads left before the rest are left out at once: a file of
-    /// thousands of nulls is read a bounded number of times.
-    retries: usize,
 }
-
-/// Reads of a file before all its null members are left out at once.
-const NULL_RETRIES: usize = 64;
 
 impl NullMembers {
     fn of(text: &str) -> NullMembers {
@@ -71,22 +65,29 @@ impl NullMembers {
         NullMembers {
             members,
             text: None,
-            retries: NULL_RETRIES,
         }
     }
 
-    /// Leaves out the null member at `path` of `text` (and, once the
-    /// retries run out, every one); false when `path` is no null member.
+    /// Leaves out the null member at `path` of `text`, and every other of
+    /// the same key name in the same top-level table (`materials.*.
+    /// shininess`): serde refuses a null there too, or takes it as the key
+    /// left out, and a file is read again once per such name, not once per
+    /// null (a known name: serde reports an unknown one first). False when
+    /// `path` is no null member.
     fn leave_out(&mut self, path: &KeyPath, text: &str) -> bool {
-        let Some(i) = self.members.iter().position(|(p, _)| p == path) else {
+        if !self.members.iter().any(|(p, _)| p == path) {
             return false;
+        }
+        let alike = |p: &KeyPath| {
+            p == path
+                || (p.0.first() == path.0.first()
+                    && p.last_key().is_some()
+                    && p.last_key() == path.last_key())
         };
-        let chosen = if self.retries == 0 {
-            std::mem::take(&mut self.members)
-        } else {
-            vec![self.members.remove(i)]
-        };
-        self.retries = self.retries.saturating_sub(1);
+        let (chosen, kept): (Vec<_>, Vec<_>) = std::mem::take(&mut self.members)
+            .into_iter()
+            .partition(|(p, _)| alike(p));
+        self.members = kept;
         let mut bytes = self
             .text
             .take()
@@ -349,6 +350,18 @@ mod tests {
         let d = &parse_json::<SceneFile>(text).unwrap_err()[0];
         assert_eq!(d.path.to_string(), "camera.up");
         assert_eq!(d.location.map(|l| (l.line, l.column)), Some((2, 74)));
+        // Many nulls of one key are left out together, and a misspelt key
+        // among them is still misspelt.
+        let materials: Vec<String> = (0..200)
+            .map(|k| format!("\"m{k}\": {{ \"shininess\": null, \"diffuse\": [1, 0, 0] }}"))
+            .collect();
+        let text = format!(
+            "{{ \"materials\": {{ {}, \"odd\": {{ \"difuse\": null }} }},{}",
+            materials.join(", "),
+            &WITHOUT[1..]
+        );
+        let d = &parse_json::<SceneFile>(&text).unwrap_err()[0];
+        assert!(d.message.contains("unknown key `difuse`"), "{}", d.message);
         // A misspelt key is misspelt whatever its value.
         let text = WITHOUT.replace("\"look_at\"", "\"fvo\": null, \"look_at\"");
         let d = &parse_json::<SceneFile>(&text).unwrap_err()[0];

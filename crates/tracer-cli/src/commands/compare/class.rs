@@ -51,7 +51,7 @@ pub fn run(
         .into());
     }
     let (readable, mut unreadable) = read_images(matched);
-    let (references, failed) = render_scenes(&readable, &names, samples)?;
+    let (references, failed) = render_scenes(&readable, &names, samples);
     // A scene that cannot be rendered leaves its images uncompared, not
     // the whole class.
     let (readable, uncompared): (Vec<_>, Vec<_>) = readable
@@ -59,7 +59,7 @@ pub fn run(
         .partition(|(_, scene, _)| references.contains_key(scene));
     if readable.is_empty() && !uncompared.is_empty() {
         return Err(BadInput(
-            "no image was compared: every scene they are named after has mistakes".to_string(),
+            "no image was compared: none of the scenes they are named after could be rendered (see above)".to_string(),
         )
         .into());
     }
@@ -236,15 +236,15 @@ fn files(dir: &Path, extensions: &[&str]) -> Result<Vec<PathBuf>> {
     Ok(found)
 }
 
-/// Each scene the images name, rendered once; those with mistakes (shown
-/// on stderr, as `tracer check` shows them) by why. Any other failure (an
-/// option the scene cannot take) ends the report.
-#[allow(clippy::type_complexity)]
+/// Each scene the images name, rendered once; those that could not be
+/// (why shown on stderr, a scene's mistakes as `tracer check` shows them)
+/// by why: one scene's trouble (mistakes, `--samples` it cannot take) is
+/// its images', not the class's.
 fn render_scenes(
     matched: &[(PathBuf, String, RgbImage)],
     names: &BTreeMap<String, PathBuf>,
     samples: Option<u32>,
-) -> Result<(BTreeMap<String, Reference>, BTreeMap<String, String>)> {
+) -> (BTreeMap<String, Reference>, BTreeMap<String, String>) {
     let mut references = BTreeMap::new();
     let mut failed = BTreeMap::new();
     for (_, scene, _) in matched {
@@ -253,21 +253,25 @@ fn render_scenes(
         }
         let path = &names[scene];
         note!("rendering {}", path.display());
-        match tracer_pipeline::load(&Input::File(path.clone())) {
-            Ok(loaded) => {
-                references.insert(scene.clone(), input::render(loaded, None, samples)?);
-            }
-            Err(e) => {
+        let shown = path.display();
+        let why = match tracer_pipeline::load(&Input::File(path.clone())) {
+            Ok(loaded) => match input::render(loaded, None, samples) {
+                Ok(reference) => {
+                    references.insert(scene.clone(), reference);
+                    continue;
+                }
+                Err(e) => format!("its scene {shown} could not be rendered: {e:#}"),
+            },
+            Err(e) if tracer_pipeline::scene_error_is_bad_input(&e) => {
                 crate::error::finish(Err(e.into()));
-                let why = format!(
-                    "its scene {} has mistakes (tracer check {0} shows them)",
-                    path.display()
-                );
-                failed.insert(scene.clone(), why);
+                format!("its scene {shown} has mistakes (tracer check {shown} shows them)")
             }
-        }
+            Err(e) => format!("its scene {shown} could not be read: {e}"),
+        };
+        note!("error: {why}");
+        failed.insert(scene.clone(), why);
     }
-    Ok((references, failed))
+    (references, failed)
 }
 
 /// The summary on stdout: one line per image, worst first, then the
