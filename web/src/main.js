@@ -30,6 +30,7 @@ const folderNote = document.getElementById("folder");
 const explainPanel = document.getElementById("explain");
 const explainSample = document.getElementById("explain-sample");
 const stopButton = document.getElementById("stop");
+const marker = document.getElementById("marker");
 const notice = document.getElementById("notice");
 const params = new URLSearchParams(location.search);
 // `?workers=N` (tests, the bench) overrides one worker per core.
@@ -324,6 +325,10 @@ canvas.addEventListener("click", (event) => {
   const clamp = (v, n) => Math.min(n - 1, Math.max(0, Math.floor(v)));
   const x = clamp(((event.clientX - rect.left) / rect.width) * width, width);
   const y = clamp(((event.clientY - rect.top) / rect.height) * height, height);
+  // Marked in shares of the image: it stays on the pixel however shown.
+  marker.style.left = `${((x + 0.5) / width) * 100}%`;
+  marker.style.top = `${((y + 0.5) / height) * 100}%`;
+  marker.hidden = false;
   explainPixel(x, y);
 });
 
@@ -482,6 +487,7 @@ function resetExplain() {
   delete explainPanel.dataset.state;
   explainPanel.textContent = "Click the image to see why a pixel has its colour.";
   explainSample.value = 0;
+  marker.hidden = true;
   notice.textContent = "";
 }
 

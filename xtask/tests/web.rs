@@ -581,6 +581,23 @@ fn a_click_on_the_image_explains_that_pixel_as_tracer_explain_does() {
         "{text}"
     );
     assert!(text.contains("nearest hit: objects[0]"), "{text}");
+    // The pixel is marked where it is shown.
+    let mark = eval(
+        &mut page,
+        "(() => { const m = document.getElementById('marker'); \
+         const r = m.getBoundingClientRect(); \
+         return [m.hidden, r.left + r.width / 2, r.top + r.height / 2]; })()",
+    );
+    assert_eq!(mark[0], false, "{mark}");
+    let shown = |i: usize, p: u32| rect[i] + (f64::from(p) + 0.5) / 2.0;
+    assert!(
+        (mark[1].as_f64().unwrap() - shown(0, x)).abs() < 1.5,
+        "{mark} {rect:?}"
+    );
+    assert!(
+        (mark[2].as_f64().unwrap() - shown(1, y)).abs() < 1.5,
+        "{mark} {rect:?}"
+    );
     // Its 8-bit value is the pixel the page shows there.
     let [r, g, b, _] = canvas_image(&mut page).unwrap().get_pixel(x, y).0;
     assert!(r > 50, "not the lit sphere: ({r}, {g}, {b})");
