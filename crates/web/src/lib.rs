@@ -467,8 +467,18 @@ pub fn explain(
     sample: u32,
 ) -> Result<String, String> {
     let loaded = load(files, path)?;
-    tracer_pipeline::explain_text::tree_text(&loaded, &Options::default(), (x, y), sample)
-        .map_err(|e| error_json(&e))
+    let options = Options::default();
+    let text = tracer_pipeline::explain_text::tree_text(&loaded, &options, (x, y), sample)
+        .map_err(|e| error_json(&e))?;
+    // The page's render stops at the scene's time limit; this traces every
+    // sample, as `tracer explain` says on its stderr.
+    Ok(match loaded.time_limit() {
+        Some(limit) if loaded.is_path_traced(&options) => format!(
+            "note: the scene's time_limit ({limit} s) is not used here: the pixel is the mean of \
+             all its samples, where the image shown may have stopped at fewer\n{text}"
+        ),
+        _ => text,
+    })
 }
 
 /// The scene at `path`: from the folder, or from the archive `path` is.

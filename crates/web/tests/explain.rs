@@ -95,3 +95,22 @@ fn any_sample_of_a_path_traced_pixel_is_explained_as_tracer_explain_does() {
     let json = tracer_web::explain(&files, Path::new(name), (x, y), 64).unwrap_err();
     assert!(json.contains("64"), "{json}");
 }
+
+#[test]
+fn a_time_limit_the_explanation_does_not_keep_is_noted() {
+    let name = "cornell-box.toml";
+    let text = std::fs::read_to_string(scenes().join(name))
+        .unwrap()
+        .replace("samples = 64", "samples = 64\ntime_limit = 2");
+    let mut files = Memory::new();
+    files.insert(Path::new(name), text.into_bytes()).unwrap();
+    let said = tracer_web::explain(&files, Path::new(name), (128, 128), 0).unwrap();
+    assert!(
+        said.starts_with("note: the scene's time_limit (2 s) is not used here"),
+        "{said}"
+    );
+    // Without a limit, the text is `tracer explain`'s alone.
+    let (_, files) = alone(name);
+    let said = tracer_web::explain(&files, Path::new(name), (128, 128), 0).unwrap();
+    assert!(said.starts_with("pixel (128, 128)"), "{said}");
+}
