@@ -162,6 +162,12 @@ impl Loaded {
         }
     }
 
+    /// The scene's time limit, when a render with `options` would stop at it
+    /// but one of every sample (`explain`, `compare`, `watch`) does not.
+    pub fn time_limit_not_kept(&self, options: &crate::Options) -> Option<f64> {
+        self.time_limit().filter(|_| self.is_path_traced(options))
+    }
+
     /// The image's size in pixels, (width, height).
     pub fn size(&self) -> (u32, u32) {
         match &self.kind {

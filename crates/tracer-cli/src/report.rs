@@ -184,7 +184,7 @@ pub fn warnings(loaded: &tracer_pipeline::Loaded, options: &tracer_pipeline::Opt
 /// For `explain` and `compare`, which render every sample: a scene's
 /// `time_limit` would make the render depend on the machine's speed.
 pub fn time_limit_unused(loaded: &tracer_pipeline::Loaded, options: &tracer_pipeline::Options) {
-    if let (true, Some(limit)) = (loaded.is_path_traced(options), loaded.time_limit()) {
+    if let Some(limit) = loaded.time_limit_not_kept(options) {
         crate::console::note!(
             "note: the scene's time_limit ({limit} s) is not used here: every sample is rendered; \
              `tracer render` stops sooner when the limit runs out, so its pixels may be the mean of fewer samples"

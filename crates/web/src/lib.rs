@@ -472,8 +472,8 @@ pub fn explain(
         .map_err(|e| error_json(&e))?;
     // The page's render stops at the scene's time limit; this traces every
     // sample, as `tracer explain` says on its stderr.
-    Ok(match loaded.time_limit() {
-        Some(limit) if loaded.is_path_traced(&options) => format!(
+    Ok(match loaded.time_limit_not_kept(&options) {
+        Some(limit) => format!(
             "note: the scene's time_limit ({limit} s) is not used here: the pixel is the mean of \
              all its samples, where the image shown may have stopped at fewer\n{text}"
         ),

@@ -386,11 +386,8 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         let added = if blocked || unlit {
             Vec3::ZERO
         } else {
-            let added = throughput * (f * light.radiance * (weight / light.pdf));
-            match medium {
-                Some(_) => added * absorbed,
-                None => added,
-            }
+            // Times 1 outside glass: the same bits.
+            throughput * (f * light.radiance * (weight / light.pdf)) * absorbed
         };
         let kind = PathEventKind::LightSample {
             wi: light.wi,

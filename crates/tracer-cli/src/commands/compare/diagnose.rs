@@ -259,9 +259,9 @@ pub fn diagnose(
     if before < MIN_DIFFERING {
         return Vec::new();
     }
-    let gamma = reference_read.gamma;
     // A scene's gamma other than 1: another gamma can be told from it.
-    let known_gamma = gamma.is_some_and(|g| (g - 1.0).abs() > 0.05);
+    let known = reference_read.gamma.filter(|g| (g - 1.0).abs() > 0.05);
+    let gamma = known.unwrap_or(USUAL_GAMMA);
     let pair = Pair {
         image,
         reference: &reference_read.image,
@@ -275,9 +275,6 @@ pub fn diagnose(
         with: None,
         right_handed: false,
     };
-    let gamma = gamma
-        .filter(|g| (g - 1.0).abs() > 0.05)
-        .unwrap_or(USUAL_GAMMA);
     let table = decoding(gamma);
     let undone = |fault| Undo::of(fault, &table).off(&pair);
     let (after_one_pixel, one_pixel) = one_pixel(&pair);
@@ -294,7 +291,7 @@ pub fn diagnose(
     ]
     .into_iter()
     // Only against a scene's gamma, which is known (an image's is not).
-    .chain(known_gamma.then(|| other_gamma(&pair, gamma)))
+    .chain(known.map(|_| other_gamma(&pair, gamma)))
     .map(finding)
     .filter(Finding::explains)
     .collect();
