@@ -112,8 +112,7 @@ function cancel() {
   generation += 1;
   stopButton.disabled = true;
   if (busy) {
-    pool.forEach((w) => w.terminate());
-    makePool();
+    releaseMemory();
     busy = false;
   }
 }
@@ -196,18 +195,20 @@ async function render() {
     if (pathTraced) so = total ? `${least} of ${total} paths a pixel so far, next pass ${share} %` : `first pass ${share} %`;
     status.textContent = `${scene.name}: rendering ${fullWidth}x${fullHeight} on ${pool.length} worker(s): ${so}, ${seconds} s…`;
   };
-  // Stop: the passes every band has are kept, the rest of the work dropped.
-  stopRender = () => {
-    const least = Math.min(...reached);
-    cancel();
+  // Every band shown at the pass all of them have.
+  const showLeast = (least) =>
     regions.forEach((_, i) => {
       const pass = passes[i].get(least);
       if (pass && reached[i] !== least) draw(i, pass);
     });
+  // Stop: the passes every band has are kept, the rest of the work dropped.
+  stopRender = () => {
+    const least = Math.min(...reached);
+    cancel();
+    showLeast(least);
     const kept = pathTraced && least > 0 ? ` at ${least} of ${total} paths a pixel` : " before its end (the image is partly rendered)";
     status.textContent = `${scene.name}: stopped${kept}`;
     canvas.dataset.state = "stopped";
-    stopButton.disabled = true;
   };
   stopButton.disabled = false;
   const draw = (i, rgba) => {
@@ -262,9 +263,7 @@ async function render() {
   const failed = answers.find((a) => !a.ok);
   if (failed) return showError(failed.error);
   const [least, of] = [Math.min(...reached), answers[0].notes.samples[1]];
-  regions.forEach((_, i) => {
-    if (reached[i] !== least) draw(i, passes[i].get(least));
-  });
+  showLeast(least);
   const seconds = (performance.now() - start) / 1000;
   const mrays = rays / seconds / 1e6;
   window.tracerPage.lastRender = {
