@@ -6,6 +6,7 @@ use crate::camera::Camera;
 use crate::geometry::{Object, Shape, SharedMesh, Sphere, SurfaceHit};
 use crate::image::Encoding;
 use crate::integrate::lanes::LaneScene;
+use crate::integrate::matte_lanes::MatteLanes;
 use crate::light::area::{AreaShape, EllipsoidLight};
 use crate::light::environment::Environment;
 use crate::light::lights::{AreaLight, Lights, PointSource};
@@ -72,6 +73,11 @@ pub struct Scene {
     /// go; not serialized: a scene read back shades one ray at a time).
     #[serde(skip)]
     lanes: Option<Box<LaneScene>>,
+    /// In path mode, the scene as sixteen paths at a time read it, if it
+    /// is a small matte one (not serialized: a scene read back traces each
+    /// path alone, to the same values).
+    #[serde(skip)]
+    matte_lanes: Option<Box<MatteLanes>>,
     /// Path mode's lights: point lights, emitting surfaces and the
     /// environment, chosen by power (empty in Whitted mode). Boxed: most
     /// scenes leave it empty.
@@ -168,6 +174,15 @@ impl Scene {
         } else {
             LaneScene::new(&parts.objects, &parts.materials, &parts.lights).map(Box::new)
         };
+        let matte_lanes = path_mode
+            .then(|| {
+                let environment = parts.environment.is_some();
+                let background = parts.trace.background;
+                let (objects, materials) = (&parts.objects, &parts.materials);
+                MatteLanes::new(objects, materials, &parts.lights, environment, background)
+            })
+            .flatten()
+            .map(Box::new);
         let path_lights = Box::new(if path_mode {
             path_lights(&parts, bounds)
         } else {
@@ -175,6 +190,7 @@ impl Scene {
         });
         Scene {
             lanes,
+            matte_lanes,
             path_lights,
             environment: parts.environment,
             primitives: unique_primitives(&parts.objects),
@@ -239,6 +255,18 @@ impl Scene {
     /// if it is one that path shades.
     pub(crate) fn lanes(&self) -> Option<&LaneScene> {
         self.lanes.as_deref()
+    }
+
+    /// The scene as path mode traces it sixteen paths at a time
+    /// (`integrate::matte_lanes`), if it is a small matte one.
+    pub(crate) fn matte_lanes(&self) -> Option<&MatteLanes> {
+        self.matte_lanes.as_deref()
+    }
+
+    /// Whether path mode traces this scene sixteen paths at a time (a
+    /// small matte scene): the same values, sooner.
+    pub fn traces_paths_in_lanes(&self) -> bool {
+        self.matte_lanes.is_some()
     }
 
     pub fn camera(&self) -> &Camera {

@@ -1,9 +1,11 @@
 //! Integrators: what colour a ray brings back. The lab's Whitted-style
 //! `rayTrace` (`whitted.rs`, and its four-lane form for small plain scenes,
-//! `lanes.rs`), and path tracing beside it (`path.rs`).
+//! `lanes.rs`), and path tracing beside it (`path.rs`, and sixteen paths
+//! at a time in small matte scenes, `matte_lanes.rs`).
 
 mod inside;
 pub(crate) mod lanes;
+pub(crate) mod matte_lanes;
 pub mod path;
 pub mod record;
 pub mod whitted;

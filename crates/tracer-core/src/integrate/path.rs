@@ -9,9 +9,11 @@
 //! light.
 
 use super::inside::Inside;
+use super::matte_lanes::{self, MatteLanes};
 use super::record::{PathEvent, PathEventKind, Recorder, Silent};
 use super::RayStats;
 use crate::bsdf::Bsdf;
+use crate::camera::Camera;
 use crate::geometry::SurfaceHit;
 use crate::material::{Glass, Material};
 use crate::ray::Ray;
@@ -24,11 +26,11 @@ use std::ops::Range;
 
 /// Bounces before Russian roulette may end a path: the first few carry
 /// most of the light, and ending them early costs more noise than time.
-const ROULETTE_DEPTH: u32 = 5;
+pub(super) const ROULETTE_DEPTH: u32 = 5;
 
 /// How much shorter than a light sample's distance its shadow ray stops,
 /// relative: the light's own surface must not count as in the way.
-const SHADOW_SHORTEN: f32 = 1e-4;
+pub(super) const SHADOW_SHORTEN: f32 = 1e-4;
 
 /// How the light reaching a smooth lobe is found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -51,6 +53,12 @@ pub struct PathTracer<'a, R: Recorder = Silent> {
     /// Which set of scramblings the samples use (0 for renders).
     seed: u32,
     strategy: Strategy,
+    /// Whether a small matte scene's paths go sixteen at a time
+    /// (`matte_lanes.rs`, the same values): true but for tests.
+    in_lanes: bool,
+    /// The values of a pixel's samples traced in lanes, waiting to be
+    /// added in order (kept from pixel to pixel).
+    lane_values: Vec<Vec3>,
     pub stats: RayStats,
     /// Told what each bounce does (`record.rs`): nothing for renders.
     pub rec: R,
@@ -81,6 +89,8 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             max_depth: scene.trace_settings().max_depth,
             seed: 0,
             strategy: Strategy::Mis,
+            in_lanes: true,
+            lane_values: Vec::new(),
             stats: RayStats::default(),
             rec,
         }
@@ -101,6 +111,15 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
     /// strategy converges to the same image).
     pub fn with_strategy(self, strategy: Strategy) -> Self {
         PathTracer { strategy, ..self }
+    }
+
+    /// The same tracer tracing every path alone (tests: the lanes give
+    /// the same values).
+    pub fn one_at_a_time(self) -> Self {
+        PathTracer {
+            in_lanes: false,
+            ..self
+        }
     }
 
     /// Pixel (column i, row j): the mean of `samples` paths through it, a
@@ -124,6 +143,10 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         sum: &mut PixelSum,
         cancelled: impl Fn() -> bool,
     ) {
+        if let Some(lanes) = self.lanes() {
+            self.add_samples_in_lanes(lanes, (i, j), samples, sum, cancelled);
+            return;
+        }
         let mut sampler = PixelSampler::new(i, j, self.seed);
         for s in samples {
             if s % 64 == 63 && cancelled() {
@@ -138,18 +161,51 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         }
     }
 
+    /// The scene in lanes, if it is a small matte one and nothing asks
+    /// for paths one at a time (a recorder, a strategy of tests).
+    fn lanes(&self) -> Option<&'a MatteLanes> {
+        let alone = !R::SILENT || !self.in_lanes || self.strategy != Strategy::Mis;
+        if alone {
+            return None;
+        }
+        self.scene.matte_lanes()
+    }
+
+    /// `add_samples` sixteen paths at a time: the same values added in the
+    /// same order.
+    fn add_samples_in_lanes(
+        &mut self,
+        lanes: &MatteLanes,
+        (i, j): (u32, u32),
+        samples: Range<u32>,
+        sum: &mut PixelSum,
+        cancelled: impl Fn() -> bool,
+    ) {
+        let camera = self.scene.camera();
+        let mut setup = matte_lanes::Setup {
+            lights: self.scene.path_lights(),
+            max_depth: self.max_depth,
+            stats: &mut self.stats,
+        };
+        let pixel = PixelSampler::new(i, j, self.seed);
+        let ray = |sampler: &mut PixelSampler| camera_ray(camera, sampler, (i, j));
+        let values = &mut self.lane_values;
+        lanes.add_samples(&mut setup, (pixel, samples), ray, values, cancelled);
+        for radiance in values.iter() {
+            if radiance.is_finite() {
+                sum.add(*radiance);
+            } else {
+                self.stats.dropped += 1;
+            }
+        }
+    }
+
     /// Sample `s` of pixel (i, j): its camera ray and path's radiance, its
     /// numbers from `sampler` (the pixel's).
     #[inline(always)]
     pub fn sample(&mut self, sampler: &mut PixelSampler, (i, j): (u32, u32), s: u32) -> Vec3 {
-        let camera = self.scene.camera();
         sampler.start(s);
-        let at = Vec2::new(i as f32, j as f32) + sampler.get2();
-        let lens = match camera.lens {
-            Some(_) => concentric_disk(sampler.get2()),
-            None => Vec2::ZERO,
-        };
-        let ray = camera.lens_ray(at.x, at.y, lens);
+        let ray = camera_ray(self.scene.camera(), sampler, (i, j));
         self.radiance(ray, sampler)
     }
 
@@ -403,6 +459,18 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         self.record(kind, throughput, added);
         added
     }
+}
+
+/// The camera ray of the sample `sampler` has started, through pixel
+/// (i, j).
+#[inline(always)]
+fn camera_ray(camera: &Camera, sampler: &mut PixelSampler, (i, j): (u32, u32)) -> Ray {
+    let at = Vec2::new(i as f32, j as f32) + sampler.get2();
+    let lens = match camera.lens {
+        Some(_) => concentric_disk(sampler.get2()),
+        None => Vec2::ZERO,
+    };
+    camera.lens_ray(at.x, at.y, lens)
 }
 
 /// A pixel's finite samples so far: their sum, in f64 (finite samples

@@ -126,6 +126,9 @@ pub enum PathEventKind {
 /// What an integrator reports; every method does nothing unless a
 /// recorder says otherwise.
 pub trait Recorder {
+    /// Whether it keeps nothing (renders): paths may then be traced
+    /// together, where recorders follow one at a time.
+    const SILENT: bool = false;
     /// A ray starts, of `energy` at the lab's tree `depth`.
     #[inline(always)]
     fn ray(&mut self, _kind: RayKind, _ray: &Ray, _energy: f32, _depth: u32) {}
@@ -176,4 +179,6 @@ pub enum Stop {
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Silent;
 
-impl Recorder for Silent {}
+impl Recorder for Silent {
+    const SILENT: bool = true;
+}

@@ -1,0 +1,184 @@
+//! Small matte scenes trace sixteen paths at a time
+//! (`integrate::matte_lanes`): every pixel's value, and every ray count,
+//! must be the one-path tracer's, bit for bit, on the Cornell box and on
+//! random rooms of triangles with emitters facing either way, black
+//! materials, point lights and every `max_depth`.
+
+mod common;
+
+use glam::Vec3;
+use scene_format::Format;
+use std::path::Path;
+use tracer_core::integrate::path::PathTracer;
+use tracer_core::{prepare, Scene};
+
+fn scene_from(text: &str) -> Scene {
+    let file = scene_format::load_str(text, Format::Toml, Path::new("lanes.toml"))
+        .unwrap_or_else(|e| panic!("{e}\n{text}"));
+    prepare(&file).expect("prepare")
+}
+
+/// The values of `pixels` at `samples` paths, in lanes or one at a time,
+/// and the tracer's ray counts.
+fn trace(scene: &Scene, pixels: &[(u32, u32)], samples: u32, alone: bool) -> (Vec<Vec3>, [u64; 3]) {
+    let mut tracer = PathTracer::new(scene);
+    if alone {
+        tracer = tracer.one_at_a_time();
+    }
+    let values = pixels
+        .iter()
+        .map(|&(i, j)| tracer.pixel(i, j, samples, || false))
+        .collect();
+    let s = tracer.stats;
+    (values, [s.nearest, s.shadow, s.dropped])
+}
+
+/// Asserts that lanes and single paths agree bit for bit on `pixels`.
+fn assert_same(scene: &Scene, pixels: &[(u32, u32)], samples: u32, what: &str) {
+    assert!(scene.traces_paths_in_lanes(), "{what}: not traced in lanes");
+    let (lanes, lane_rays) = trace(scene, pixels, samples, false);
+    let (alone, alone_rays) = trace(scene, pixels, samples, true);
+    for ((a, b), p) in lanes.iter().zip(&alone).zip(pixels) {
+        let bits = |v: &Vec3| v.to_array().map(f32::to_bits);
+        assert_eq!(
+            bits(a),
+            bits(b),
+            "{what}: pixel {p:?}: {a} in lanes, {b} alone"
+        );
+    }
+    assert_eq!(lane_rays, alone_rays, "{what}: rays counted");
+}
+
+#[test]
+fn the_cornell_box_in_lanes_is_the_one_path_tracers_bit_for_bit() {
+    let file = common::load(&common::scenes_dir().join("cornell-box.toml"));
+    let scene = prepare(&file).expect("prepare");
+    // Every 37th pixel: the lamp, its edges, walls, boxes and the open
+    // front; 20 paths, a group of 16 and one of 4.
+    let pixels: Vec<(u32, u32)> = (0..256 * 256)
+        .step_by(37)
+        .map(|k| (k % 256, k / 256))
+        .collect();
+    assert_same(&scene, &pixels, 20, "Cornell box");
+}
+
+/// xorshift: reproducible numbers in [0, 1) without a dependency.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f32 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    fn point(&mut self, size: f32) -> String {
+        let mut c = || (self.next() * 2.0 - 1.0) * size;
+        format!("[{}, {}, {}]", c(), c(), c())
+    }
+}
+
+/// A room of random triangles and quads around the camera: some
+/// emissive (facing either way), some black, some sharing a vertex or
+/// copied (ties in distance), now and then a point light, a background.
+fn random_room(rng: &mut Rng) -> String {
+    let max_depth = (rng.next() * 9.0) as u32;
+    let background = if rng.next() < 0.5 {
+        "[0, 0, 0]"
+    } else {
+        "[0.2, 0.3, 0.4]"
+    };
+    let mut text = format!(
+        "[camera]\neye = [0, 0, 0]\nlook_at = [0, 0, -1]\nfov = 90\nwidth = 8\nheight = 8\n\
+         [render]\nintegrator = \"path\"\nmax_depth = {max_depth}\nbackground = {background}\n\
+         [materials.white]\ndiffuse = [0.8, 0.8, 0.8]\n\
+         [materials.red]\ndiffuse = [0.9, 0.2, 0.1]\n\
+         [materials.black]\ndiffuse = [0, 0, 0]\n\
+         [materials.bright]\ndiffuse = [1.5, 1, 0.5]\n\
+         [materials.lamp]\ndiffuse = [0.5, 0.5, 0.5]\nemission = [4, 3, 2]\n\
+         [materials.dark_lamp]\nemission = [2, 2, 6]\n"
+    );
+    if rng.next() < 0.3 {
+        text += &format!(
+            "[[lights]]\nposition = {}\ncolor = [3, 3, 3]\n",
+            rng.point(2.0)
+        );
+    }
+    let materials = ["white", "red", "black", "bright", "lamp", "dark_lamp"];
+    let mut last = rng.point(3.0);
+    // At most 9 shapes, each copied at most once: 36 triangles.
+    for _ in 0..(4 + (rng.next() * 6.0) as usize) {
+        let material = materials[(rng.next() * materials.len() as f32) as usize];
+        let shape = if rng.next() < 0.5 {
+            // Sharing a vertex with the last one now and then.
+            let v0 = if rng.next() < 0.3 {
+                last.clone()
+            } else {
+                rng.point(3.0)
+            };
+            last = rng.point(3.0);
+            format!("triangle = [{v0}, {last}, {}]", rng.point(3.0))
+        } else {
+            let (c, u, v) = (rng.point(3.0), rng.point(2.0), rng.point(2.0));
+            format!("quad = {{ corner = {c}, edge_u = {u}, edge_v = {v} }}")
+        };
+        let copies = if rng.next() < 0.15 { 2 } else { 1 };
+        for _ in 0..copies {
+            text += &format!("[[objects]]\n{shape}\nmaterial = \"{material}\"\n");
+        }
+    }
+    text
+}
+
+#[test]
+fn random_matte_rooms_in_lanes_are_the_one_path_tracers_bit_for_bit() {
+    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    let pixels: Vec<(u32, u32)> = (0..64).map(|k| (k % 8, k / 8)).collect();
+    for room in 0..40 {
+        let text = random_room(&mut rng);
+        let scene = scene_from(&text);
+        assert_same(&scene, &pixels, 37, &format!("room {room}:\n{text}"));
+    }
+}
+
+#[test]
+fn only_small_matte_scenes_go_in_lanes() {
+    let room = "[camera]\neye = [0, 0, 0]\nlook_at = [0, 0, -1]\nwidth = 4\nheight = 4\n\
+                [render]\nintegrator = \"path\"\n\
+                [materials.m]\ndiffuse = [0.5, 0.5, 0.5]\n";
+    let quad = "[[objects]]\nquad = { corner = [-1, -1, -2], edge_u = [2, 0, 0], edge_v = [0, 2, 0] }\nmaterial = \"m\"\n";
+    assert!(scene_from(&format!("{room}{quad}")).traces_paths_in_lanes());
+    let whitted = room.replace("integrator = \"path\"", "integrator = \"whitted\"");
+    assert!(!scene_from(&format!("{whitted}{quad}")).traces_paths_in_lanes());
+    for (what, extra) in [
+        (
+            "a highlight",
+            "[materials.s]\nspecular = [0.5, 0.5, 0.5]\nshininess = 20\n",
+        ),
+        ("a mirror", "[materials.s]\nreflectance = 0.5\n"),
+        ("glass", "[materials.s]\ntransmittance = 1\n"),
+        (
+            "a sphere light",
+            "[[lights]]\nposition = [0, 1, -1]\ncolor = [1, 1, 1]\nradius = 0.1\n",
+        ),
+        (
+            "a sphere",
+            "[[objects]]\nsphere = { center = [0, 0, -3], radius = 0.5 }\nmaterial = \"m\"\n",
+        ),
+    ] {
+        let text = format!("{room}{quad}{extra}");
+        let used = extra.starts_with("[materials.s]");
+        let text = if used {
+            text.replace("material = \"m\"", "material = \"s\"")
+        } else {
+            text
+        };
+        assert!(!scene_from(&text).traces_paths_in_lanes(), "{what}");
+    }
+    let many: String = (0..70).map(|_| quad).collect();
+    assert!(
+        !scene_from(&format!("{room}{many}")).traces_paths_in_lanes(),
+        "140 triangles"
+    );
+}
