@@ -21,10 +21,12 @@ fn scene_from(text: &str) -> Scene {
 /// The values of `pixels` at `samples` paths, in lanes or one at a time,
 /// and the tracer's ray counts.
 fn trace(scene: &Scene, pixels: &[(u32, u32)], samples: u32, alone: bool) -> (Vec<Vec3>, [u64; 3]) {
-    let mut tracer = PathTracer::new(scene);
-    if alone {
-        tracer = tracer.one_at_a_time();
-    }
+    let tracer = PathTracer::new(scene);
+    let mut tracer = if alone {
+        tracer.one_at_a_time()
+    } else {
+        tracer.in_lanes()
+    };
     let values = pixels
         .iter()
         .map(|&(i, j)| tracer.pixel(i, j, samples, || false))

@@ -54,7 +54,8 @@ pub struct PathTracer<'a, R: Recorder = Silent> {
     seed: u32,
     strategy: Strategy,
     /// Whether a small matte scene's paths go sixteen at a time
-    /// (`matte_lanes.rs`, the same values): true but for tests.
+    /// (`matte_lanes.rs`, the same values): where the processor has wide
+    /// SIMD registers, unless a test says otherwise.
     in_lanes: bool,
     /// The values of a pixel's samples traced in lanes, waiting to be
     /// added in order (kept from pixel to pixel).
@@ -89,7 +90,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             max_depth: scene.trace_settings().max_depth,
             seed: 0,
             strategy: Strategy::Mis,
-            in_lanes: true,
+            in_lanes: wide_simd(),
             lane_values: Vec::new(),
             stats: RayStats::default(),
             rec,
@@ -118,6 +119,15 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
     pub fn one_at_a_time(self) -> Self {
         PathTracer {
             in_lanes: false,
+            ..self
+        }
+    }
+
+    /// The same tracer tracing a small matte scene's paths in lanes even
+    /// where the processor's SIMD registers are narrow (tests).
+    pub fn in_lanes(self) -> Self {
+        PathTracer {
+            in_lanes: true,
             ..self
         }
     }
@@ -459,6 +469,17 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         self.record(kind, throughput, added);
         added
     }
+}
+
+/// Whether the processor has SIMD registers of 8 or 16 floats (AVX2,
+/// AVX-512), where testing sixteen rays against every triangle of a small
+/// scene costs less than each ray's walk of the tree; with 4 (SSE2 alone,
+/// WebAssembly) it costs more.
+fn wide_simd() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    return std::arch::is_x86_feature_detected!("avx2");
+    #[cfg(not(target_arch = "x86_64"))]
+    return false;
 }
 
 /// The camera ray of the sample `sampler` has started, through pixel
