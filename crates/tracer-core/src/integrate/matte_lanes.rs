@@ -147,8 +147,8 @@ fn matte(m: &Material) -> Option<Matte> {
     })
 }
 
-/// What `PathTracer` lends a group: the scene's lights, the sample layout
-/// and the limits.
+/// What `PathTracer` lends the lanes: the scene's lights, the depth limit
+/// and its ray counts.
 pub(super) struct Setup<'a> {
     pub lights: &'a Lights,
     pub max_depth: u32,
@@ -220,13 +220,13 @@ struct Pending {
 }
 
 impl MatteLanes {
-    /// Adds to `sum`, in order, the values of samples `samples` of a pixel
-    /// whose sampler is `pixel`, `camera` making each sample's camera ray
-    /// (from its sampler, started at it): `PathTracer::add_samples`. A lane
-    /// whose path ends takes the next sample, so the lanes stay busy; the
-    /// values wait in `values` to be added in the order of the samples.
-    /// Takes no new sample once `cancelled` says so (checked as the
-    /// one-path tracer does, every 64 samples).
+    /// The values of samples `samples` of a pixel whose sampler is
+    /// `pixel`, into `values` in the samples' order (for
+    /// `PathTracer::add_samples` to add in that order), `camera` making
+    /// each sample's camera ray from its sampler, started at it. A lane
+    /// whose path ends takes the next sample, so the lanes stay busy.
+    /// Takes no new sample once `cancelled` says so (asked as the one-path
+    /// tracer asks, every 64 samples): `values` then ends there.
     pub(super) fn add_samples(
         &self,
         setup: &mut Setup,
@@ -314,6 +314,7 @@ impl MatteLanes {
             } else {
                 let cos = -dir.dot(tri.normal);
                 let from = paths.from[k];
+                // The object matters only to emissive spheres: none here.
                 let light_pdf = setup.lights.pdf_hit(from, p, cos, material.emission, 0);
                 power_heuristic(paths.pdf[k], light_pdf)
             };
