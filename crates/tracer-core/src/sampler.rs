@@ -54,11 +54,15 @@ impl PixelSampler {
         self.dimension += requests;
     }
 
-    /// The next dimension's hash: the pixel's, mixed with the dimension.
+    /// The number of the next request (1D or 2D) of the current sample.
     #[inline(always)]
-    fn next_hash(&mut self) -> u64 {
-        let d = self.dimension;
-        self.dimension += 1;
+    pub fn dimension(&self) -> u32 {
+        self.dimension
+    }
+
+    /// Dimension `d`'s hash: the pixel's, mixed with the dimension.
+    #[inline(always)]
+    fn hash(&self, d: u32) -> u64 {
         mix64(self.pixel ^ (u64::from(d) + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15))
     }
 
@@ -76,15 +80,32 @@ impl PixelSampler {
     /// reversed), Owen scrambled, the reversals that cancel left out.
     #[inline(always)]
     pub fn get1(&mut self) -> f32 {
-        let h = self.next_hash();
-        let index = self.index(h);
-        to_unit(lk_hash(index, h as u32).reverse_bits())
+        let value = self.get1_at(self.dimension);
+        self.dimension += 1;
+        value
     }
 
     /// A point of [0, 1)^2.
     #[inline(always)]
     pub fn get2(&mut self) -> Vec2 {
-        let h = self.next_hash();
+        let value = self.get2_at(self.dimension);
+        self.dimension += 1;
+        value
+    }
+
+    /// What `get1` gives as the current sample's request `d`, drawn
+    /// without moving on: paths in lanes draw a bounce's requests at once.
+    #[inline(always)]
+    pub fn get1_at(&self, d: u32) -> f32 {
+        let h = self.hash(d);
+        let index = self.index(h);
+        to_unit(lk_hash(index, h as u32).reverse_bits())
+    }
+
+    /// What `get2` gives as the current sample's request `d`.
+    #[inline(always)]
+    pub fn get2_at(&self, d: u32) -> Vec2 {
+        let h = self.hash(d);
         let index = self.index(h);
         // A third seed, from the product's high bits: each depends on all
         // of h's, unlike the two halves the first two seeds are.

@@ -272,11 +272,13 @@ impl MatteLanes {
                 shading[k] = self.meet(setup, paths, k, (t[k], tri[k]));
             }
         }
-        let pending = self.light_samples(setup, paths, &shading, samplers);
+        let shaded = shading.map(|at| at.is_some());
+        let numbers = bounce_numbers(samplers, &shaded);
+        let pending = self.light_samples(setup, paths, &shading, &numbers);
         self.add_light(setup, paths, &shading, &pending);
         for k in 0..LANES {
             if let Some(at) = &shading[k] {
-                bounce(paths, k, at, &mut samplers[k]);
+                bounce(paths, k, at, &numbers);
             }
         }
     }
@@ -341,7 +343,7 @@ impl MatteLanes {
         setup: &Setup,
         paths: &Paths,
         shading: &[Option<Shading>; LANES],
-        samplers: &mut [PixelSampler; LANES],
+        numbers: &Numbers,
     ) -> [Pending; LANES] {
         let none = Pending {
             added: Vec3::ZERO,
@@ -351,10 +353,9 @@ impl MatteLanes {
         for k in 0..LANES {
             let Some(at) = &shading[k] else { continue };
             if at.material.p_lambert <= 0.0 {
-                samplers[k].skip(2);
                 continue;
             }
-            let (pick, u) = (samplers[k].get1(), samplers[k].get2());
+            let (pick, u) = (numbers.pick[k], numbers.light[k]);
             if let Some(light) = setup.lights.sample(at.from, pick, u) {
                 pending[k] = light_term(at, &light, paths.throughput[k]);
             }
@@ -484,8 +485,8 @@ fn smooth_pdf(m: &Matte, wi: Vec3) -> f32 {
 /// Lane `k`'s BSDF sample, throughput and roulette at `at`, after its
 /// light sample (`PathTracer::radiance`'s loop from the BSDF sample on):
 /// its next ray, or its end.
-fn bounce(paths: &mut Paths, k: usize, at: &Shading, sampler: &mut PixelSampler) {
-    let (lobe, u) = (sampler.get1(), sampler.get2());
+fn bounce(paths: &mut Paths, k: usize, at: &Shading, numbers: &Numbers) {
+    let (lobe, u) = (numbers.lobe[k], numbers.direction[k]);
     let Some((wi, weight, pdf)) = sample(&at.material, lobe, u) else {
         paths.alive[k] = false;
         return;
@@ -493,10 +494,8 @@ fn bounce(paths: &mut Paths, k: usize, at: &Shading, sampler: &mut PixelSampler)
     let wi = at.frame.to_world(wi);
     let mut throughput = paths.throughput[k] * weight;
     (paths.from[k], paths.pdf[k], paths.specular[k]) = (at.from, pdf, false);
-    if paths.depth[k] < ROULETTE_DEPTH {
-        sampler.skip(1);
-    } else {
-        let survive = sampler.get1();
+    if paths.depth[k] >= ROULETTE_DEPTH {
+        let survive = numbers.survive[k];
         // The one-path tracer's eta scale is 1 without glass.
         let q = (throughput * 1.0).max_element();
         if q < 1.0 {
@@ -532,6 +531,45 @@ fn sample(m: &Matte, pick: f32, u: Vec2) -> Option<(Vec3, Vec3, f32)> {
         return None;
     }
     Some((wi, f * (wi.z / pdf), pdf))
+}
+
+/// The random numbers of one bounce of each lane, in the order the
+/// one-path tracer draws them: the light sample's pick and point, the
+/// BSDF sample's lobe and direction, the roulette's.
+struct Numbers {
+    pick: F,
+    light: [Vec2; LANES],
+    lobe: F,
+    direction: [Vec2; LANES],
+    survive: F,
+}
+
+/// The numbers of a bounce of each lane in `shaded`, drawn together
+/// (`PixelSampler::get1_at` and `get2_at`: the hashes in SIMD lanes), and
+/// those lanes' samplers moved past them. A lane's numbers are those its
+/// one path would draw (it skips what it does not use, so every bounce's
+/// numbers stay where they are); the other lanes' are drawn and ignored.
+#[multiversion(targets("x86_64+avx512f+avx512bw+avx512dq+avx512vl", "x86_64+avx2"))]
+fn bounce_numbers(samplers: &mut [PixelSampler; LANES], shaded: &[bool; LANES]) -> Numbers {
+    let mut n = Numbers {
+        pick: [0.0; LANES],
+        light: [Vec2::ZERO; LANES],
+        lobe: [0.0; LANES],
+        direction: [Vec2::ZERO; LANES],
+        survive: [0.0; LANES],
+    };
+    for k in 0..LANES {
+        let (sampler, d) = (&samplers[k], samplers[k].dimension());
+        n.pick[k] = sampler.get1_at(d);
+        n.light[k] = sampler.get2_at(d + 1);
+        n.lobe[k] = sampler.get1_at(d + 2);
+        n.direction[k] = sampler.get2_at(d + 3);
+        n.survive[k] = sampler.get1_at(d + 4);
+    }
+    for k in 0..LANES {
+        samplers[k].skip(if shaded[k] { 5 } else { 0 });
+    }
+    n
 }
 
 /// Each lane's nearest hit among `tris`: its distance and triangle
