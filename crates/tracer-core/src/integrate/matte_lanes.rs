@@ -163,8 +163,8 @@ struct Paths {
     sample: [u32; LANES],
     /// Bounces so far.
     depth: [u32; LANES],
-    origin: [Vec3; LANES],
-    dir: [Vec3; LANES],
+    /// Each lane's ray, by axis: the triangle tests read it as it is.
+    rays: Rays,
     radiance: [Vec3; LANES],
     throughput: [Vec3; LANES],
     /// The last bounce: where it left from, its density, whether specular.
@@ -286,7 +286,7 @@ impl MatteLanes {
     /// Each lane's nearest hit: its distance and triangle (`u32::MAX` for
     /// none).
     fn nearest(&self, paths: &Paths) -> (F, [u32; LANES]) {
-        nearest(&self.tris, &Rays::of(&paths.origin, &paths.dir))
+        nearest(&self.tris, &paths.rays)
     }
 
     /// Lane `k`'s ray meets triangle `tri` at `t` (or leaves the scene):
@@ -307,8 +307,8 @@ impl MatteLanes {
             return None;
         };
         let material = self.materials[tri.material as usize];
-        let dir = paths.dir[k];
-        let p = paths.origin[k] + t * dir;
+        let dir = paths.rays.dir(k);
+        let p = paths.rays.origin(k) + t * dir;
         let front_face = dir.dot(tri.normal) < 0.0;
         if material.emission != Vec3::ZERO && front_face {
             let weight = if paths.specular[k] {
@@ -372,16 +372,16 @@ impl MatteLanes {
         shading: &[Option<Shading>; LANES],
         pending: &[Pending; LANES],
     ) {
-        let mut origin = [Vec3::ZERO; LANES];
-        let mut dir = [Vec3::ZERO; LANES];
+        let mut shadow = Rays::NONE;
         let mut reach = [f32::NEG_INFINITY; LANES];
         for k in 0..LANES {
             if let (Some(at), Some((wi, r))) = (&shading[k], pending[k].shadow) {
                 setup.stats.shadow += 1;
-                (origin[k], dir[k], reach[k]) = (at.from, wi, r);
+                shadow.set(k, at.from, wi);
+                reach[k] = r;
             }
         }
-        let blocked = occluded(&self.tris, &Rays::of(&origin, &dir), &reach);
+        let blocked = occluded(&self.tris, &shadow, &reach);
         for k in 0..LANES {
             if shading[k].is_none() {
                 continue;
@@ -400,8 +400,7 @@ impl Paths {
             alive: [false; LANES],
             sample: [0; LANES],
             depth: [0; LANES],
-            origin: [Vec3::ZERO; LANES],
-            dir: [Vec3::Z; LANES],
+            rays: Rays::NONE,
             radiance: [Vec3::ZERO; LANES],
             throughput: [Vec3::ONE; LANES],
             from: [Vec3::ZERO; LANES],
@@ -416,7 +415,7 @@ impl Paths {
         self.alive[k] = true;
         self.sample[k] = sample;
         self.depth[k] = 0;
-        (self.origin[k], self.dir[k]) = (ray.origin(), ray.dir());
+        self.rays.set(k, ray.origin(), ray.dir());
         self.radiance[k] = Vec3::ZERO;
         self.throughput[k] = Vec3::ONE;
         (self.from[k], self.pdf[k], self.specular[k]) = (ray.origin(), 0.0, true);
@@ -511,7 +510,7 @@ fn bounce(paths: &mut Paths, k: usize, at: &Shading, numbers: &Numbers) {
         paths.alive[k] = false;
         return;
     }
-    (paths.origin[k], paths.dir[k]) = (at.point, wi);
+    paths.rays.set(k, at.point, wi);
     // `Ray::new` keeps the direction as given.
     debug_assert_eq!(Ray::new(at.point, wi).dir(), wi);
 }
@@ -581,9 +580,10 @@ fn bounce_numbers(samplers: &mut [PixelSampler; LANES], shaded: &[bool; LANES]) 
 fn nearest(tris: &[Tri], rays: &Rays) -> (F, [u32; LANES]) {
     let mut best = [f32::INFINITY; LANES];
     let mut id = [u32::MAX; LANES];
+    let dir_len = rays.dir_len();
     for (j, tri) in tris.iter().enumerate() {
         for k in 0..LANES {
-            let (hit, t) = rays.intersect(k, tri, best[k]);
+            let (hit, t) = rays.intersect(k, tri, best[k], &dir_len);
             best[k] = if hit { t } else { best[k] };
             id[k] = if hit { j as u32 } else { id[k] };
         }
@@ -597,9 +597,10 @@ fn nearest(tris: &[Tri], rays: &Rays) -> (F, [u32; LANES]) {
 #[multiversion(targets("x86_64+avx512f+avx512bw+avx512dq+avx512vl", "x86_64+avx2"))]
 fn occluded(tris: &[Tri], rays: &Rays, reach: &F) -> [u32; LANES] {
     let mut blocked = [0u32; LANES];
+    let dir_len = rays.dir_len();
     for tri in tris {
         for k in 0..LANES {
-            blocked[k] |= rays.intersect(k, tri, reach[k]).0 as u32;
+            blocked[k] |= rays.intersect(k, tri, reach[k], &dir_len).0 as u32;
         }
         if blocked.iter().all(|&b| b != 0) {
             break;
@@ -608,29 +609,46 @@ fn occluded(tris: &[Tri], rays: &Rays, reach: &F) -> [u32; LANES] {
     blocked
 }
 
-/// The group's rays by axis, for the triangle test in lanes.
+/// The lanes' rays by axis, for the triangle test in lanes.
+#[derive(Clone, Copy)]
 struct Rays {
     origin: V,
     dir: V,
-    /// Each direction's length (`Vec3::length`).
-    dir_len: F,
 }
 
 impl Rays {
-    fn of(origin: &[Vec3; LANES], dir: &[Vec3; LANES]) -> Rays {
-        let axis = |v: &[Vec3; LANES], a: usize| -> F { std::array::from_fn(|k| v[k][a]) };
-        Rays {
-            origin: [0, 1, 2].map(|a| axis(origin, a)),
-            dir: [0, 1, 2].map(|a| axis(dir, a)),
-            dir_len: std::array::from_fn(|k| dir[k].length()),
+    /// No ray: a zero direction meets nothing.
+    const NONE: Rays = Rays {
+        origin: [[0.0; LANES]; 3],
+        dir: [[0.0; LANES]; 3],
+    };
+
+    fn origin(&self, k: usize) -> Vec3 {
+        Vec3::new(self.origin[0][k], self.origin[1][k], self.origin[2][k])
+    }
+
+    fn dir(&self, k: usize) -> Vec3 {
+        Vec3::new(self.dir[0][k], self.dir[1][k], self.dir[2][k])
+    }
+
+    fn set(&mut self, k: usize, origin: Vec3, dir: Vec3) {
+        for a in 0..3 {
+            (self.origin[a][k], self.dir[a][k]) = (origin[a], dir[a]);
         }
+    }
+
+    /// Each direction's length, as `Vec3::length` (the test's scale).
+    #[inline(always)]
+    fn dir_len(&self) -> F {
+        let d = &self.dir;
+        std::array::from_fn(|k| (d[0][k] * d[0][k] + d[1][k] * d[1][k] + d[2][k] * d[2][k]).sqrt())
     }
 
     /// Moller-Trumbore of lane `k`'s ray against `tri` within (EPSILON,
     /// t_max): `Tri4::intersect_with`'s operations in its order, so the
     /// one-ray search's distances bit for bit. Whether it hits, and where.
     #[inline(always)]
-    fn intersect(&self, k: usize, tri: &Tri, t_max: f32) -> (bool, f32) {
+    fn intersect(&self, k: usize, tri: &Tri, t_max: f32, dir_len: &F) -> (bool, f32) {
         let (v0, e1, e2) = (tri.v0.to_array(), tri.e1.to_array(), tri.e2.to_array());
         let o = [self.origin[0][k], self.origin[1][k], self.origin[2][k]];
         let d = [self.dir[0][k], self.dir[1][k], self.dir[2][k]];
@@ -639,7 +657,7 @@ impl Rays {
         let t_times_det = dot(e2, q);
         let p = cross(d, e2);
         let det = dot(e1, p);
-        let parallel = det.abs() < tri.edge_scale * self.dir_len[k];
+        let parallel = det.abs() < tri.edge_scale * dir_len[k];
         let inv = 1.0 / det;
         let u = dot(s, p) * inv;
         // `&` and `|`, not `&&` and `||` (nor `contains`): no branch, so
