@@ -177,9 +177,8 @@ impl Scene {
         let matte_lanes = path_mode
             .then(|| {
                 let environment = parts.environment.is_some();
-                let background = parts.trace.background;
                 let (objects, materials) = (&parts.objects, &parts.materials);
-                MatteLanes::new(objects, materials, &parts.lights, environment, background)
+                MatteLanes::new(objects, materials, &parts.lights, environment)
             })
             .flatten()
             .map(Box::new);

@@ -8,8 +8,9 @@ mod common;
 
 use glam::Vec3;
 use scene_format::Format;
+use std::ops::Range;
 use std::path::Path;
-use tracer_core::integrate::path::PathTracer;
+use tracer_core::integrate::path::{PathTracer, PixelSum};
 use tracer_core::{prepare, Scene};
 
 fn scene_from(text: &str) -> Scene {
@@ -18,10 +19,17 @@ fn scene_from(text: &str) -> Scene {
     prepare(&file).expect("prepare")
 }
 
-/// The values of `pixels` at `samples` paths, in lanes or one at a time,
-/// and the tracer's ray counts.
-fn trace(scene: &Scene, pixels: &[(u32, u32)], samples: u32, alone: bool) -> (Vec<Vec3>, [u64; 3]) {
-    let tracer = PathTracer::new(scene);
+/// How a test traces: which samples of each pixel, with which seed.
+#[derive(Clone, Debug)]
+struct Run {
+    samples: Range<u32>,
+    seed: u32,
+}
+
+/// The means of samples `run.samples` of `pixels`, in lanes or one at a
+/// time, and the tracer's ray counts.
+fn trace(scene: &Scene, pixels: &[(u32, u32)], run: &Run, alone: bool) -> (Vec<Vec3>, [u64; 3]) {
+    let tracer = PathTracer::new(scene).with_seed(run.seed);
     let mut tracer = if alone {
         tracer.one_at_a_time()
     } else {
@@ -29,17 +37,21 @@ fn trace(scene: &Scene, pixels: &[(u32, u32)], samples: u32, alone: bool) -> (Ve
     };
     let values = pixels
         .iter()
-        .map(|&(i, j)| tracer.pixel(i, j, samples, || false))
+        .map(|&(i, j)| {
+            let mut sum = PixelSum::default();
+            tracer.add_samples(i, j, run.samples.clone(), &mut sum, || false);
+            sum.mean()
+        })
         .collect();
     let s = tracer.stats;
     (values, [s.nearest, s.shadow, s.dropped])
 }
 
 /// Asserts that lanes and single paths agree bit for bit on `pixels`.
-fn assert_same(scene: &Scene, pixels: &[(u32, u32)], samples: u32, what: &str) {
+fn assert_same(scene: &Scene, pixels: &[(u32, u32)], run: &Run, what: &str) {
     assert!(scene.traces_paths_in_lanes(), "{what}: not traced in lanes");
-    let (lanes, lane_rays) = trace(scene, pixels, samples, false);
-    let (alone, alone_rays) = trace(scene, pixels, samples, true);
+    let (lanes, lane_rays) = trace(scene, pixels, run, false);
+    let (alone, alone_rays) = trace(scene, pixels, run, true);
     for ((a, b), p) in lanes.iter().zip(&alone).zip(pixels) {
         let bits = |v: &Vec3| v.to_array().map(f32::to_bits);
         assert_eq!(
@@ -56,12 +68,23 @@ fn the_cornell_box_in_lanes_is_the_one_path_tracers_bit_for_bit() {
     let file = common::load(&common::scenes_dir().join("cornell-box.toml"));
     let scene = prepare(&file).expect("prepare");
     // Every 37th pixel: the lamp, its edges, walls, boxes and the open
-    // front; 20 paths, a group of 16 and one of 4.
+    // front; 20 paths, the last 4 traced as lanes free up. (The tree
+    // searches this scene: more than 8 blocks of triangles.)
     let pixels: Vec<(u32, u32)> = (0..256 * 256)
         .step_by(37)
         .map(|k| (k % 256, k / 256))
         .collect();
-    assert_same(&scene, &pixels, 20, "Cornell box");
+    let run = Run {
+        samples: 0..20,
+        seed: 0,
+    };
+    assert_same(&scene, &pixels, &run, "Cornell box");
+    // A pass that starts mid-way, as the film's do, with another seed.
+    let run = Run {
+        samples: 5..40,
+        seed: 3,
+    };
+    assert_same(&scene, &pixels, &run, "Cornell box, 5..40");
 }
 
 /// xorshift: reproducible numbers in [0, 1) without a dependency.
@@ -91,8 +114,13 @@ fn random_room(rng: &mut Rng) -> String {
     } else {
         "[0.2, 0.3, 0.4]"
     };
+    let lens = if rng.next() < 0.3 {
+        "aperture = 0.3\nfocus_distance = 2\n"
+    } else {
+        ""
+    };
     let mut text = format!(
-        "[camera]\neye = [0, 0, 0]\nlook_at = [0, 0, -1]\nfov = 90\nwidth = 8\nheight = 8\n\
+        "[camera]\neye = [0, 0, 0]\nlook_at = [0, 0, -1]\nfov = 90\nwidth = 8\nheight = 8\n{lens}\
          [render]\nintegrator = \"path\"\nmax_depth = {max_depth}\nbackground = {background}\n\
          [materials.white]\ndiffuse = [0.8, 0.8, 0.8]\n\
          [materials.red]\ndiffuse = [0.9, 0.2, 0.1]\n\
@@ -109,8 +137,11 @@ fn random_room(rng: &mut Rng) -> String {
     }
     let materials = ["white", "red", "black", "bright", "lamp", "dark_lamp"];
     let mut last = rng.point(3.0);
-    // At most 9 shapes, each copied at most once: 36 triangles.
-    for _ in 0..(4 + (rng.next() * 6.0) as usize) {
+    // Up to 20 shapes, each copied at most once, but no more than 40
+    // triangles: more than 32 make the tree search the scene.
+    let shapes = 4 + (rng.next() * 17.0) as usize;
+    let mut triangles = 0;
+    for _ in 0..shapes {
         let material = materials[(rng.next() * materials.len() as f32) as usize];
         let shape = if rng.next() < 0.5 {
             // Sharing a vertex with the last one now and then.
@@ -126,6 +157,11 @@ fn random_room(rng: &mut Rng) -> String {
             format!("quad = {{ corner = {c}, edge_u = {u}, edge_v = {v} }}")
         };
         let copies = if rng.next() < 0.15 { 2 } else { 1 };
+        let each = if shape.starts_with("quad") { 2 } else { 1 };
+        if triangles + copies * each > 40 {
+            break;
+        }
+        triangles += copies * each;
         for _ in 0..copies {
             text += &format!("[[objects]]\n{shape}\nmaterial = \"{material}\"\n");
         }
@@ -137,11 +173,27 @@ fn random_room(rng: &mut Rng) -> String {
 fn random_matte_rooms_in_lanes_are_the_one_path_tracers_bit_for_bit() {
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
     let pixels: Vec<(u32, u32)> = (0..64).map(|k| (k % 8, k / 8)).collect();
-    for room in 0..40 {
+    let mut searched_by_tree = 0;
+    for room in 0..60 {
         let text = random_room(&mut rng);
         let scene = scene_from(&text);
-        assert_same(&scene, &pixels, 37, &format!("room {room}:\n{text}"));
+        searched_by_tree += usize::from(scene.searches_together());
+        let start = (rng.next() * 20.0) as u32;
+        let run = Run {
+            samples: start..start + 16 + (rng.next() * 30.0) as u32,
+            seed: (rng.next() * 4.0) as u32,
+        };
+        assert_same(
+            &scene,
+            &pixels,
+            &run,
+            &format!("room {room}, {run:?}:\n{text}"),
+        );
     }
+    assert!(
+        searched_by_tree >= 10,
+        "{searched_by_tree} rooms searched by the tree"
+    );
 }
 
 #[test]
@@ -183,4 +235,24 @@ fn only_small_matte_scenes_go_in_lanes() {
         !scene_from(&format!("{room}{many}")).traces_paths_in_lanes(),
         "140 triangles"
     );
+}
+
+#[test]
+fn lanes_read_the_background_the_scene_has_now() {
+    let text = "[camera]\neye = [0, 0, 0]\nlook_at = [0, 0, -1]\nwidth = 4\nheight = 4\n\
+                [render]\nintegrator = \"path\"\n\
+                [materials.m]\ndiffuse = [0.5, 0.5, 0.5]\n\
+                [[objects]]\nquad = { corner = [-0.2, -0.2, -2], edge_u = [0.4, 0, 0], edge_v = [0, 0.4, 0] }\nmaterial = \"m\"\n";
+    let scene = scene_from(text);
+    let mut trace_settings = scene.trace_settings().clone();
+    trace_settings.background = Vec3::ONE;
+    let scene = scene.with_trace_settings(trace_settings);
+    let pixels: Vec<(u32, u32)> = (0..16).map(|k| (k % 4, k / 4)).collect();
+    let run = Run {
+        samples: 0..32,
+        seed: 0,
+    };
+    assert_same(&scene, &pixels, &run, "a white background set after");
+    let (values, _) = trace(&scene, &pixels, &run, false);
+    assert!(values.contains(&Vec3::ONE), "the sky is white: {values:?}");
 }

@@ -73,7 +73,6 @@ struct Matte {
 pub struct MatteLanes {
     tris: Vec<Tri>,
     materials: Vec<Matte>,
-    background: Vec3,
 }
 
 impl MatteLanes {
@@ -85,7 +84,6 @@ impl MatteLanes {
         materials: &[Material],
         lights: &[Light],
         has_environment: bool,
-        background: Vec3,
     ) -> Option<MatteLanes> {
         let qualifies = !has_environment
             && !objects.is_empty()
@@ -112,11 +110,7 @@ impl MatteLanes {
                 _ => None,
             })
             .collect::<Option<Vec<_>>>()?;
-        Some(MatteLanes {
-            tris,
-            materials,
-            background,
-        })
+        Some(MatteLanes { tris, materials })
     }
 }
 
@@ -147,10 +141,12 @@ fn matte(m: &Material) -> Option<Matte> {
     })
 }
 
-/// What `PathTracer` lends the lanes: the scene's lights, the depth limit
-/// and its ray counts.
+/// What `PathTracer` lends the lanes: the scene's lights and background
+/// (read from the scene's settings as the one-path tracer reads it), the
+/// depth limit and its ray counts.
 pub(super) struct Setup<'a> {
     pub lights: &'a Lights,
+    pub background: Vec3,
     pub max_depth: u32,
     pub stats: &'a mut RayStats,
 }
@@ -301,7 +297,7 @@ impl MatteLanes {
         (t, tri): (f32, u32),
     ) -> Option<Shading> {
         let Some(tri) = self.tris.get(tri as usize) else {
-            let added = paths.throughput[k] * (self.background * 1.0);
+            let added = paths.throughput[k] * (setup.background * 1.0);
             paths.radiance[k] += added;
             paths.alive[k] = false;
             return None;
