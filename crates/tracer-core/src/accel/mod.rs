@@ -15,7 +15,9 @@
 //! It finds exactly the hits of the brute-force loop over all objects: the
 //! same intersection arithmetic on the same (precomputed) numbers, box tests
 //! padded against rounding, and ties in distance won by the lower object
-//! index.
+//! index. (Not proved for every ray: fuzzing found rays from some 500 scene
+//! sizes away, grazing where two surfaces nearly meet, that the tree and
+//! the loop see differently, about 1 in 50,000 of such rays.)
 
 mod as_bytes;
 pub mod brute_force;

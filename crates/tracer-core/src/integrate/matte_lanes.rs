@@ -8,12 +8,18 @@
 //! and rooms like it, the scenes the global model of light is learnt on.
 //!
 //! Each path is the one `PathTracer::radiance` traces, bit for bit: the
-//! same random numbers, the same arithmetic in the same order (the
-//! intersection test is `tri4.rs`'s, lane by lane; the shading calls the
-//! same functions), the same nearest hit (of equal distances, the triangle
-//! listed first, as the tree's rule), and the same sums in the same order.
-//! So an image, its ray counts and `tracer explain` agree whichever way a
-//! pixel was traced (tested on random scenes).
+//! same random numbers, the same arithmetic in the same order, and the
+//! same sums in the same order. The intersection test is `tri4.rs`'s,
+//! lane by lane; the lights, the frame, the Lambertian lobe, the power
+//! heuristic and the camera ray are the one-path tracer's own functions;
+//! `LabBsdf`'s Lambertian branch, the light sample's and the roulette's
+//! arithmetic are written again here, step for step, and a test holds
+//! them to the one-path tracer's values on random scenes. The nearest hit
+//! is the one testing every triangle finds (of equal distances, the one
+//! listed first), which is the tree's but for rays from hundreds of scene
+//! sizes away grazing where surfaces nearly meet (`accel`). So an image,
+//! its ray counts and `tracer explain` agree whichever way a pixel was
+//! traced.
 
 // A lane's index reads several arrays at once (the lanes' state is kept
 // by field, a structure of arrays, for the SIMD tests).
