@@ -15,9 +15,9 @@
 //! It finds exactly the hits of the brute-force loop over all objects: the
 //! same intersection arithmetic on the same (precomputed) numbers, box tests
 //! padded against rounding, and ties in distance won by the lower object
-//! index. (Not proved for every ray: fuzzing found rays from some 500 scene
-//! sizes away, grazing where two surfaces nearly meet, that the tree and
-//! the loop see differently, about 1 in 50,000 of such rays.)
+//! index. (Not proved for every ray: of 3 M rays a fuzzer aimed at where
+//! surfaces nearly meet, from 1e3 to 1e5 away or at sliver triangles,
+//! about 65 were seen differently by the tree and by the loop.)
 
 mod as_bytes;
 pub mod brute_force;

@@ -16,8 +16,8 @@
 //! arithmetic are written again here, step for step, and a test holds
 //! them to the one-path tracer's values on random scenes. The nearest hit
 //! is the one testing every triangle finds (of equal distances, the one
-//! listed first), which is the tree's but for rays from hundreds of scene
-//! sizes away grazing where surfaces nearly meet (`accel`). So an image,
+//! listed first), which is the tree's but for a few rays from far away or
+//! at sliver triangles, grazing where surfaces nearly meet (`accel`). So an image,
 //! its ray counts and `tracer explain` agree whichever way a pixel was
 //! traced.
 
