@@ -63,17 +63,14 @@ impl PixelSampler {
     /// Dimension `d`'s hash: the pixel's, mixed with the dimension.
     #[inline(always)]
     fn hash(&self, d: u32) -> u64 {
-        mix64(self.pixel ^ (u64::from(d) + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15))
+        dimension_hash(self.pixel, d)
     }
 
-    /// The index into the Sobol sequence of the current sample, for the
-    /// dimension of hash `h`: the sample order shuffled per dimension by
-    /// an Owen scrambling of the index, which maps the first 2^k indices
-    /// to indices whose low k bits are all different, and so to the same
-    /// elementary intervals as the first 2^k points.
+    /// The current sample's index into the Sobol sequence for the request
+    /// of hash `h` (`sobol_index`).
     #[inline(always)]
     fn index(&self, h: u64) -> u32 {
-        lk_hash(self.reversed_sample, (h >> 32) as u32).reverse_bits() & INDEX_MASK
+        sobol_index(self.reversed_sample, h)
     }
 
     /// A number of [0, 1): the first Sobol dimension (the index's bits
@@ -98,8 +95,7 @@ impl PixelSampler {
     #[inline(always)]
     pub fn get1_at(&self, d: u32) -> f32 {
         let h = self.hash(d);
-        let index = self.index(h);
-        to_unit(lk_hash(index, h as u32).reverse_bits())
+        first_value(self.index(h), h)
     }
 
     /// What `get2` gives as the current sample's request `d`.
@@ -107,14 +103,128 @@ impl PixelSampler {
     pub fn get2_at(&self, d: u32) -> Vec2 {
         let h = self.hash(d);
         let index = self.index(h);
-        // A third seed, from the product's high bits: each depends on all
-        // of h's, unlike the two halves the first two seeds are.
-        let seed2 = (h.wrapping_mul(0xD1B5_4A32_D192_ED03) >> 32) as u32;
         Vec2::new(
-            to_unit(lk_hash(index, h as u32).reverse_bits()),
-            to_unit(lk_hash(sobol_second_reversed(index), seed2).reverse_bits()),
+            first_value(index, h),
+            second_value(sobol_second_reversed(index), h),
         )
     }
+}
+
+/// The samplers of paths traced in SIMD lanes, all of one pixel, kept by
+/// field (the pixel's hash shared, each lane's sample and request apart),
+/// so that a request of every lane is worked out a step at a time in SIMD
+/// registers. Each lane gives the numbers its `PixelSampler` would.
+#[derive(Debug, Clone, Copy)]
+pub struct LaneSamplers<const N: usize> {
+    pixel: u64,
+    reversed_sample: [u32; N],
+    dimension: [u32; N],
+}
+
+// Each lane's index reads several arrays at once: plain loops over the
+// lanes, which the compiler turns into SIMD instructions.
+#[allow(clippy::needless_range_loop)]
+impl<const N: usize> LaneSamplers<N> {
+    /// The lanes of `pixel`'s sampler, none started.
+    pub fn new(pixel: &PixelSampler) -> Self {
+        LaneSamplers {
+            pixel: pixel.pixel,
+            reversed_sample: [0; N],
+            dimension: [0; N],
+        }
+    }
+
+    /// Lane `k` goes on from where `sampler` (of the same pixel) is.
+    pub fn set(&mut self, k: usize, sampler: &PixelSampler) {
+        debug_assert_eq!(sampler.pixel, self.pixel, "a sampler of another pixel");
+        self.reversed_sample[k] = sampler.reversed_sample;
+        self.dimension[k] = sampler.dimension;
+    }
+
+    /// Moves lane `k` past `requests` requests.
+    pub fn skip(&mut self, k: usize, requests: u32) {
+        self.dimension[k] += requests;
+    }
+
+    /// What `get1_at` gives each lane as its request `dimension + offset`.
+    #[inline(always)]
+    pub fn get1(&self, offset: u32) -> [f32; N] {
+        let (h, index) = self.hashes_and_indices(offset);
+        let mut x = [0.0; N];
+        for k in 0..N {
+            x[k] = first_value(index[k], h[k]);
+        }
+        x
+    }
+
+    /// What `get2_at` gives each lane as its request `dimension + offset`,
+    /// by axis.
+    #[inline(always)]
+    pub fn get2(&self, offset: u32) -> ([f32; N], [f32; N]) {
+        let (h, index) = self.hashes_and_indices(offset);
+        let (mut x, mut y) = ([0.0; N], [0.0; N]);
+        for k in 0..N {
+            x[k] = first_value(index[k], h[k]);
+        }
+        // The table look-ups in a loop of their own: the rest vectorises.
+        let mut second = [0u32; N];
+        for k in 0..N {
+            second[k] = sobol_second_reversed(index[k]);
+        }
+        for k in 0..N {
+            y[k] = second_value(second[k], h[k]);
+        }
+        (x, y)
+    }
+
+    /// Each lane's hash and Sobol index for its request `dimension +
+    /// offset` (`PixelSampler::hash` and `index`).
+    #[inline(always)]
+    fn hashes_and_indices(&self, offset: u32) -> ([u64; N], [u32; N]) {
+        let (mut h, mut index) = ([0u64; N], [0u32; N]);
+        for k in 0..N {
+            h[k] = dimension_hash(self.pixel, self.dimension[k] + offset);
+        }
+        for k in 0..N {
+            index[k] = sobol_index(self.reversed_sample[k], h[k]);
+        }
+        (h, index)
+    }
+}
+
+/// Request `d`'s hash: the pixel's `pixel`, mixed with the request's number.
+#[inline(always)]
+fn dimension_hash(pixel: u64, d: u32) -> u64 {
+    mix64(pixel ^ (u64::from(d) + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15))
+}
+
+/// The index into the Sobol sequence of the sample whose number, bits
+/// reversed, is `reversed_sample`, for the request of hash `h`: the sample
+/// order shuffled per request by an Owen scrambling of the index, which
+/// maps the first 2^k indices to indices whose low k bits are all
+/// different, and so to the same elementary intervals as the first 2^k
+/// points.
+#[inline(always)]
+fn sobol_index(reversed_sample: u32, h: u64) -> u32 {
+    lk_hash(reversed_sample, (h >> 32) as u32).reverse_bits() & INDEX_MASK
+}
+
+/// The first coordinate of the point of Sobol index `index` for the
+/// request of hash `h`: the first Sobol dimension (the index's bits
+/// reversed), Owen scrambled, the reversals that cancel left out.
+#[inline(always)]
+fn first_value(index: u32, h: u64) -> f32 {
+    to_unit(lk_hash(index, h as u32).reverse_bits())
+}
+
+/// The second coordinate, from the second Sobol dimension of the index
+/// (`sobol_second_reversed`), scrambled by a third seed from the product's
+/// high bits: each depends on all of h's, unlike the two halves the first
+/// two seeds are.
+#[inline(always)]
+fn second_value(second_reversed: u32, h: u64) -> f32 {
+    let seed2 = (h.wrapping_mul(0xD1B5_4A32_D192_ED03) >> 32) as u32;
+    to_unit(lk_hash(second_reversed, seed2).reverse_bits())
 }
 
 /// The index bits that reach a float: a point's top 24 bits (all a float

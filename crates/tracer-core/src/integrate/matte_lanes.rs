@@ -33,7 +33,7 @@ use crate::light::lights::{LightSample, Lights};
 use crate::light::Light;
 use crate::material::Material;
 use crate::ray::Ray;
-use crate::sampler::PixelSampler;
+use crate::sampler::{LaneSamplers, PixelSampler};
 use crate::EPSILON;
 use glam::{Vec2, Vec3};
 use multiversion::multiversion;
@@ -244,10 +244,15 @@ impl MatteLanes {
             samples,
             cancelled,
         };
-        let mut samplers = [pixel; LANES];
+        let mut samplers = LaneSamplers::new(&pixel);
         let mut paths = Paths::idle();
+        let mut start = |paths: &mut Paths, samplers: &mut LaneSamplers<LANES>, k: usize| {
+            let mut sampler = pixel;
+            queue.start(paths, k, &mut sampler, &camera);
+            samplers.set(k, &sampler);
+        };
         for k in 0..LANES {
-            queue.start(&mut paths, k, &mut samplers[k], &camera);
+            start(&mut paths, &mut samplers, k);
         }
         while paths.alive.contains(&true) {
             let was_alive = paths.alive;
@@ -255,7 +260,7 @@ impl MatteLanes {
             for k in 0..LANES {
                 if was_alive[k] && !paths.alive[k] {
                     values[paths.sample[k] as usize] = paths.radiance[k];
-                    queue.start(&mut paths, k, &mut samplers[k], &camera);
+                    start(&mut paths, &mut samplers, k);
                 }
             }
         }
@@ -265,7 +270,7 @@ impl MatteLanes {
     /// One segment of every busy lane's path: its nearest hit, what it
     /// sees there, its light sample and its bounce (`PathTracer::radiance`'s
     /// loop, once).
-    fn step(&self, setup: &mut Setup, paths: &mut Paths, samplers: &mut [PixelSampler; LANES]) {
+    fn step(&self, setup: &mut Setup, paths: &mut Paths, samplers: &mut LaneSamplers<LANES>) {
         let (t, tri) = self.nearest(paths);
         let mut shading = [None; LANES];
         for k in 0..LANES {
@@ -546,31 +551,24 @@ struct Numbers {
 }
 
 /// The numbers of a bounce of each lane in `shaded`, drawn together
-/// (`PixelSampler::get1_at` and `get2_at`: the hashes in SIMD lanes), and
-/// those lanes' samplers moved past them. A lane's numbers are those its
-/// one path would draw (it skips what it does not use, so every bounce's
-/// numbers stay where they are); the other lanes' are drawn and ignored.
+/// (`LaneSamplers`: the hashes in SIMD registers), and those lanes moved
+/// past them. A lane's numbers are those its one path would draw (it
+/// skips what it does not use, so every bounce's numbers stay where they
+/// are); the other lanes' are drawn and ignored.
 #[multiversion(targets("x86_64+avx512f+avx512bw+avx512dq+avx512vl", "x86_64+avx2"))]
-fn bounce_numbers(samplers: &mut [PixelSampler; LANES], shaded: &[bool; LANES]) -> Numbers {
-    let mut n = Numbers {
-        pick: [0.0; LANES],
-        light: [Vec2::ZERO; LANES],
-        lobe: [0.0; LANES],
-        direction: [Vec2::ZERO; LANES],
-        survive: [0.0; LANES],
+fn bounce_numbers(samplers: &mut LaneSamplers<LANES>, shaded: &[bool; LANES]) -> Numbers {
+    let pair = |(x, y): (F, F)| std::array::from_fn(|k| Vec2::new(x[k], y[k]));
+    let numbers = Numbers {
+        pick: samplers.get1(0),
+        light: pair(samplers.get2(1)),
+        lobe: samplers.get1(2),
+        direction: pair(samplers.get2(3)),
+        survive: samplers.get1(4),
     };
     for k in 0..LANES {
-        let (sampler, d) = (&samplers[k], samplers[k].dimension());
-        n.pick[k] = sampler.get1_at(d);
-        n.light[k] = sampler.get2_at(d + 1);
-        n.lobe[k] = sampler.get1_at(d + 2);
-        n.direction[k] = sampler.get2_at(d + 3);
-        n.survive[k] = sampler.get1_at(d + 4);
+        samplers.skip(k, if shaded[k] { 5 } else { 0 });
     }
-    for k in 0..LANES {
-        samplers[k].skip(if shaded[k] { 5 } else { 0 });
-    }
-    n
+    numbers
 }
 
 /// Each lane's nearest hit among `tris`: its distance and triangle
