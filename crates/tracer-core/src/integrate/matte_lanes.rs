@@ -593,10 +593,11 @@ fn nearest(tris: &[Tri], rays: &Rays) -> (F, [u32; LANES]) {
 
 /// Whether something of `tris` lies on each lane's ray in (EPSILON,
 /// reach), 1 or 0 (as wide as a float: a SIMD mask); a lane of reach -inf
-/// tests nothing.
+/// has no ray and reads 1, so that the search ends once every ray is
+/// blocked.
 #[multiversion(targets("x86_64+avx512f+avx512bw+avx512dq+avx512vl", "x86_64+avx2"))]
 fn occluded(tris: &[Tri], rays: &Rays, reach: &F) -> [u32; LANES] {
-    let mut blocked = [0u32; LANES];
+    let mut blocked = reach.map(|r| u32::from(r == f32::NEG_INFINITY));
     let dir_len = rays.dir_len();
     for tri in tris {
         for k in 0..LANES {
