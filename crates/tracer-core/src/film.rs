@@ -77,10 +77,8 @@ impl Film {
                     if cancelled() {
                         break;
                     }
-                    for (x, sum) in row.iter_mut().enumerate() {
-                        let (i, j) = (region.x0 + x as u32, top + y as u32);
-                        tracer.add_samples(i, j, samples.clone(), sum, cancelled);
-                    }
+                    let pixels = (region.x0..region.x1, top + y as u32);
+                    tracer.add_row(pixels, samples.clone(), row, cancelled);
                 }
                 rows_done((sums.len() / width) as u32);
                 tracer.stats

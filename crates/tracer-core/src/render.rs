@@ -7,7 +7,7 @@ use crate::aov::{Aov, AovContext};
 use crate::geometry::SurfaceHit;
 use crate::image::LinearImage;
 use crate::integrate::lanes::LaneScene;
-use crate::integrate::path::PathTracer;
+use crate::integrate::path::{PathTracer, PixelSum};
 use crate::integrate::whitted::Whitted;
 use crate::integrate::RayStats;
 use crate::ray::{Ray, NO_RAY};
@@ -285,13 +285,16 @@ fn render_band_of_paths(
     let width = region.width();
     let mut tracer = PathTracer::new(pixel.scene);
     let cancelled = || pixel.cancel.load(Ordering::Relaxed);
+    let mut sums = vec![PixelSum::default(); width as usize];
     for (y, row) in pixels.chunks_mut(width as usize).enumerate() {
         if cancelled() {
             break;
         }
-        for (x, colour) in row.iter_mut().enumerate() {
-            let (i, j) = (region.x0 + x as u32, top + y as u32);
-            *colour = tracer.pixel(i, j, pixel.samples, cancelled);
+        sums.fill(PixelSum::default());
+        let row_pixels = (region.x0..region.x1, top + y as u32);
+        tracer.add_row(row_pixels, 0..pixel.samples, &mut sums, cancelled);
+        for (colour, sum) in row.iter_mut().zip(&sums) {
+            *colour = sum.mean();
         }
     }
     tracer.stats

@@ -110,33 +110,39 @@ impl PixelSampler {
     }
 }
 
-/// The samplers of paths traced in SIMD lanes, all of one pixel, kept by
-/// field (the pixel's hash shared, each lane's sample and request apart),
-/// so that a request of every lane is worked out a step at a time in SIMD
-/// registers. Each lane gives the numbers its `PixelSampler` would.
+/// The samplers of paths traced in SIMD lanes, kept by field (each lane's
+/// pixel, sample and request), so that a request of every lane is worked
+/// out a step at a time in SIMD registers. Each lane gives the numbers its
+/// `PixelSampler` would.
 #[derive(Debug, Clone, Copy)]
 pub struct LaneSamplers<const N: usize> {
-    pixel: u64,
+    pixel: [u64; N],
     reversed_sample: [u32; N],
     dimension: [u32; N],
+}
+
+impl<const N: usize> Default for LaneSamplers<N> {
+    fn default() -> Self {
+        Self::new()
+    }
 }
 
 // Each lane's index reads several arrays at once: plain loops over the
 // lanes, which the compiler turns into SIMD instructions.
 #[allow(clippy::needless_range_loop)]
 impl<const N: usize> LaneSamplers<N> {
-    /// The lanes of `pixel`'s sampler, none started.
-    pub fn new(pixel: &PixelSampler) -> Self {
+    /// Lanes of no pixel yet.
+    pub fn new() -> Self {
         LaneSamplers {
-            pixel: pixel.pixel,
+            pixel: [0; N],
             reversed_sample: [0; N],
             dimension: [0; N],
         }
     }
 
-    /// Lane `k` goes on from where `sampler` (of the same pixel) is.
+    /// Lane `k` goes on from where `sampler` is.
     pub fn set(&mut self, k: usize, sampler: &PixelSampler) {
-        debug_assert_eq!(sampler.pixel, self.pixel, "a sampler of another pixel");
+        self.pixel[k] = sampler.pixel;
         self.reversed_sample[k] = sampler.reversed_sample;
         self.dimension[k] = sampler.dimension;
     }
@@ -183,7 +189,7 @@ impl<const N: usize> LaneSamplers<N> {
     fn hashes_and_indices(&self, offset: u32) -> ([u64; N], [u32; N]) {
         let (mut h, mut index) = ([0u64; N], [0u32; N]);
         for k in 0..N {
-            h[k] = dimension_hash(self.pixel, self.dimension[k] + offset);
+            h[k] = dimension_hash(self.pixel[k], self.dimension[k] + offset);
         }
         for k in 0..N {
             index[k] = sobol_index(self.reversed_sample[k], h[k]);

@@ -161,8 +161,7 @@ pub(super) struct Setup<'a> {
 /// The state of the lanes' paths.
 struct Paths {
     alive: [bool; LANES],
-    /// Which of the pixel's samples each lane traces, from the first
-    /// asked for.
+    /// Which sample each lane traces: where its value goes.
     sample: [u32; LANES],
     /// Bounces so far.
     depth: [u32; LANES],
@@ -176,31 +175,42 @@ struct Paths {
     specular: [bool; LANES],
 }
 
-/// The samples still to trace.
-struct Queue<C: Fn() -> bool> {
+/// The samples still to trace: those of `pixels`, pixel by pixel, each
+/// pixel's `samples` in order.
+struct Queue<'p, C: Fn() -> bool> {
+    pixels: &'p [(u32, u32)],
     samples: Range<u32>,
-    next: u32,
+    seed: u32,
+    /// The next one, counted over all of them.
+    next: usize,
+    /// How many are traced: all of them, unless cancelled.
+    end: usize,
     cancelled: C,
 }
 
-impl<C: Fn() -> bool> Queue<C> {
-    /// Starts lane `k` on the next sample, if there is one.
+impl<C: Fn() -> bool> Queue<'_, C> {
+    /// Starts lane `k` on the next sample, if there is one: its sampler
+    /// into `samplers`, its camera ray from `camera`.
     fn start(
         &mut self,
-        paths: &mut Paths,
+        (paths, samplers): (&mut Paths, &mut LaneSamplers<LANES>),
         k: usize,
-        sampler: &mut PixelSampler,
-        camera: impl Fn(&mut PixelSampler) -> Ray,
+        camera: impl Fn(&mut PixelSampler, (u32, u32)) -> Ray,
     ) {
-        let s = self.next;
-        if s >= self.samples.end || (s % 64 == 63 && (self.cancelled)()) {
-            self.samples.end = self.next;
+        let per_pixel = self.samples.len();
+        let next = self.next;
+        let s = self.samples.start + (next % per_pixel) as u32;
+        if next >= self.end || (s % 64 == 63 && (self.cancelled)()) {
+            self.end = next;
             return;
         }
         self.next += 1;
+        let (i, j) = self.pixels[next / per_pixel];
+        let mut sampler = PixelSampler::new(i, j, self.seed);
         sampler.start(s);
-        let ray = camera(sampler);
-        paths.begin(k, s - self.samples.start, ray);
+        let ray = camera(&mut sampler, (i, j));
+        samplers.set(k, &sampler);
+        paths.begin(k, next as u32, ray);
     }
 }
 
@@ -223,37 +233,37 @@ struct Pending {
 }
 
 impl MatteLanes {
-    /// The values of samples `samples` of a pixel whose sampler is
-    /// `pixel`, into `values` in the samples' order (for
-    /// `PathTracer::add_samples` to add in that order), `camera` making
-    /// each sample's camera ray from its sampler, started at it. A lane
-    /// whose path ends takes the next sample, so the lanes stay busy.
-    /// Takes no new sample once `cancelled` says so (asked as the one-path
-    /// tracer asks, every 64 samples): `values` then ends there.
-    pub(super) fn add_samples(
+    /// The values of samples `samples` of each of `pixels` (with the
+    /// scramblings of `seed`), into `values`, pixel by pixel and each
+    /// pixel's in the samples' order (for `PathTracer` to add in that
+    /// order), `camera` making each sample's camera ray from its sampler,
+    /// started at it. A lane whose path ends takes the next sample, of its
+    /// pixel or the next one, so the lanes stay busy. Takes no new sample
+    /// once `cancelled` says so (asked as the one-path tracer asks, every
+    /// 64 samples of a pixel): `values` then ends there.
+    pub(super) fn trace_pixels(
         &self,
         setup: &mut Setup,
-        (pixel, samples): (PixelSampler, Range<u32>),
-        camera: impl Fn(&mut PixelSampler) -> Ray,
+        (pixels, samples, seed): (&[(u32, u32)], Range<u32>, u32),
+        camera: impl Fn(&mut PixelSampler, (u32, u32)) -> Ray,
         values: &mut Vec<Vec3>,
         cancelled: impl Fn() -> bool,
     ) {
+        let total = pixels.len() * samples.len();
         values.clear();
-        values.resize(samples.len(), Vec3::ZERO);
+        values.resize(total, Vec3::ZERO);
         let mut queue = Queue {
-            next: samples.start,
+            pixels,
             samples,
+            seed,
+            next: 0,
+            end: total,
             cancelled,
         };
-        let mut samplers = LaneSamplers::new(&pixel);
+        let mut samplers = LaneSamplers::new();
         let mut paths = Paths::idle();
-        let mut start = |paths: &mut Paths, samplers: &mut LaneSamplers<LANES>, k: usize| {
-            let mut sampler = pixel;
-            queue.start(paths, k, &mut sampler, &camera);
-            samplers.set(k, &sampler);
-        };
         for k in 0..LANES {
-            start(&mut paths, &mut samplers, k);
+            queue.start((&mut paths, &mut samplers), k, &camera);
         }
         while paths.alive.contains(&true) {
             let was_alive = paths.alive;
@@ -261,11 +271,11 @@ impl MatteLanes {
             for k in 0..LANES {
                 if was_alive[k] && !paths.alive[k] {
                     values[paths.sample[k] as usize] = paths.radiance[k];
-                    start(&mut paths, &mut samplers, k);
+                    queue.start((&mut paths, &mut samplers), k, &camera);
                 }
             }
         }
-        values.truncate((queue.next - queue.samples.start) as usize);
+        values.truncate(queue.end);
     }
 
     /// One segment of every busy lane's path: its nearest hit, what it
@@ -417,8 +427,8 @@ impl Paths {
         }
     }
 
-    /// Lane `k` starts sample `sample` (counted from the first asked for)
-    /// along camera ray `ray`.
+    /// Lane `k` starts the sample whose value goes to `sample`, along
+    /// camera ray `ray`.
     fn begin(&mut self, k: usize, sample: u32, ray: Ray) {
         self.alive[k] = true;
         self.sample[k] = sample;

@@ -32,6 +32,11 @@ pub(super) const ROULETTE_DEPTH: u32 = 5;
 /// relative: the light's own surface must not count as in the way.
 pub(super) const SHADOW_SHORTEN: f32 = 1e-4;
 
+/// How many values of samples traced in lanes wait at most to be added in
+/// order (12 bytes each): a row's pixels are traced together up to this
+/// many samples in all.
+const LANE_VALUES: usize = 1 << 16;
+
 /// How the light reaching a smooth lobe is found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Strategy {
@@ -157,7 +162,8 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         // triangle costing what sixteen rays' would: one ray alone walks the
         // tree (a 1-sample pass takes 5 times as long in lanes).
         if let Some(lanes) = self.lanes().filter(|_| samples.len() >= LANES) {
-            self.add_samples_in_lanes(lanes, (i, j), samples, sum, cancelled);
+            let one = std::slice::from_mut(sum);
+            self.add_pixels_in_lanes(lanes, &[(i, j)], samples, one, cancelled);
             return;
         }
         let mut sampler = PixelSampler::new(i, j, self.seed);
@@ -184,14 +190,48 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         self.scene.matte_lanes()
     }
 
-    /// `add_samples` sixteen paths at a time: the same values added in the
-    /// same order.
-    fn add_samples_in_lanes(
+    /// `add_samples` for the pixels (i, j) of `xs` in row `j`, each into
+    /// its sum of `sums`: the same values added in the same order. In a
+    /// small matte scene the row's paths go sixteen at a time, a lane that
+    /// ends one path taking up the next, of its pixel or the next one.
+    pub fn add_row(
+        &mut self,
+        (xs, j): (Range<u32>, u32),
+        samples: Range<u32>,
+        sums: &mut [PixelSum],
+        cancelled: impl Fn() -> bool,
+    ) {
+        debug_assert_eq!(xs.len(), sums.len(), "a sum for each pixel");
+        let paths = xs.len() * samples.len();
+        let Some(lanes) = self.lanes().filter(|_| paths >= LANES) else {
+            for (i, sum) in xs.zip(sums) {
+                self.add_samples(i, j, samples.clone(), sum, &cancelled);
+            }
+            return;
+        };
+        // Each pixel's values wait until the pixels traced together are
+        // done: a few pixels at a time when they have many samples.
+        let together = (LANE_VALUES / samples.len().max(1)).max(1);
+        let mut pixels = Vec::with_capacity(together.min(xs.len()));
+        for (xs, sums) in xs
+            .collect::<Vec<_>>()
+            .chunks(together)
+            .zip(sums.chunks_mut(together))
+        {
+            pixels.clear();
+            pixels.extend(xs.iter().map(|&i| (i, j)));
+            self.add_pixels_in_lanes(lanes, &pixels, samples.clone(), sums, &cancelled);
+        }
+    }
+
+    /// The samples `samples` of `pixels` sixteen paths at a time, each
+    /// pixel's values added to its sum of `sums` in the samples' order.
+    fn add_pixels_in_lanes(
         &mut self,
         lanes: &MatteLanes,
-        (i, j): (u32, u32),
+        pixels: &[(u32, u32)],
         samples: Range<u32>,
-        sum: &mut PixelSum,
+        sums: &mut [PixelSum],
         cancelled: impl Fn() -> bool,
     ) {
         let camera = self.scene.camera();
@@ -201,15 +241,18 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             max_depth: self.max_depth,
             stats: &mut self.stats,
         };
-        let pixel = PixelSampler::new(i, j, self.seed);
-        let ray = |sampler: &mut PixelSampler| camera_ray(camera, sampler, (i, j));
+        let per_pixel = samples.len();
+        let ray = |sampler: &mut PixelSampler, pixel| camera_ray(camera, sampler, pixel);
         let values = &mut self.lane_values;
-        lanes.add_samples(&mut setup, (pixel, samples), ray, values, cancelled);
-        for radiance in values.iter() {
-            if radiance.is_finite() {
-                sum.add(*radiance);
-            } else {
-                self.stats.dropped += 1;
+        let work = (pixels, samples, self.seed);
+        lanes.trace_pixels(&mut setup, work, ray, values, cancelled);
+        for (pixel_values, sum) in values.chunks(per_pixel).zip(sums) {
+            for radiance in pixel_values {
+                if radiance.is_finite() {
+                    sum.add(*radiance);
+                } else {
+                    self.stats.dropped += 1;
+                }
             }
         }
     }
