@@ -1,6 +1,7 @@
-//! Path tracing of small matte scenes sixteen paths at a time: a pixel's
-//! samples go through the scene together, their nearest hits and shadow
-//! rays found in SIMD lanes (every ray of the group against one triangle
+//! Path tracing of small matte scenes sixteen paths at a time: a row's
+//! samples go through the scene together, pixel by pixel, a lane that ends
+//! a path taking up the next, their nearest hits and shadow rays found in
+//! SIMD lanes (every ray of the group against one triangle
 //! at a time, each triangle's numbers read once for sixteen rays), where a
 //! ray alone would walk the tree. A scene qualifies when it is a few dozen
 //! flat triangles (quads, boxes, small meshes) of Lambertian materials,
@@ -39,7 +40,7 @@ use glam::{Vec2, Vec3};
 use multiversion::multiversion;
 use std::ops::Range;
 
-/// Paths traced together: a pixel's samples, sixteen at a time.
+/// Paths traced together: sixteen of a row's samples at a time.
 pub const LANES: usize = 16;
 
 /// Scenes of up to this many triangles qualify: every ray tests them all,

@@ -62,8 +62,8 @@ pub struct PathTracer<'a, R: Recorder = Silent> {
     /// (`matte_lanes.rs`, the same values): where the processor has wide
     /// SIMD registers, unless a test says otherwise.
     in_lanes: bool,
-    /// The values of a pixel's samples traced in lanes, waiting to be
-    /// added in order (kept from pixel to pixel).
+    /// The values of samples traced in lanes, waiting to be added to
+    /// their pixels in order (kept from call to call).
     lane_values: Vec<Vec3>,
     pub stats: RayStats,
     /// Told what each bounce does (`record.rs`): nothing for renders.
@@ -160,7 +160,8 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
     ) {
         // Fewer samples than lanes would leave lanes idle, each test of a
         // triangle costing what sixteen rays' would: one ray alone walks the
-        // tree (a 1-sample pass takes 5 times as long in lanes).
+        // tree (a pixel's 1 sample takes 5 times as long in lanes; `add_row`
+        // puts a row's together).
         if let Some(lanes) = self.lanes().filter(|_| samples.len() >= LANES) {
             let one = std::slice::from_mut(sum);
             self.add_pixels_in_lanes(lanes, &[(i, j)], samples, one, cancelled);
