@@ -1,9 +1,9 @@
 //! Path tracing of small matte scenes sixteen paths at a time: a row's
 //! samples go through the scene together, pixel by pixel, a lane that ends
 //! a path taking up the next, their nearest hits and shadow rays found in
-//! SIMD lanes (every ray of the group against one triangle
-//! at a time, each triangle's numbers read once for sixteen rays), where a
-//! ray alone would walk the tree. A scene qualifies when it is a few dozen
+//! SIMD lanes (every ray of the group against one triangle at a time, each
+//! triangle's numbers read once for sixteen rays), where a ray alone would
+//! walk the tree. A scene qualifies when it is a few dozen
 //! flat triangles (quads, boxes, small meshes) of Lambertian materials,
 //! emissive or not, lit by its emitters and point lights: the Cornell box
 //! and rooms like it, the scenes the global model of light is learnt on.
@@ -18,9 +18,9 @@
 //! them to the one-path tracer's values on random scenes. The nearest hit
 //! is the one testing every triangle finds (of equal distances, the one
 //! listed first), which is the tree's but for a few rays from far away or
-//! at sliver triangles, grazing where surfaces nearly meet (`accel`). So an image,
-//! its ray counts and `tracer explain` agree whichever way a pixel was
-//! traced.
+//! at sliver triangles, grazing where surfaces nearly meet (`accel`). So
+//! an image, its ray counts and `tracer explain` agree whichever way a
+//! pixel was traced.
 
 // A lane's index reads several arrays at once (the lanes' state is kept
 // by field, a structure of arrays, for the SIMD tests).
@@ -176,10 +176,10 @@ struct Paths {
     specular: [bool; LANES],
 }
 
-/// The samples still to trace: those of `pixels`, pixel by pixel, each
-/// pixel's `samples` in order.
-struct Queue<'p, C: Fn() -> bool> {
-    pixels: &'p [(u32, u32)],
+/// The samples still to trace: those of the pixels `xs` of row `j`,
+/// pixel by pixel, each pixel's `samples` in order.
+struct Queue<C: Fn() -> bool> {
+    row: (Range<u32>, u32),
     samples: Range<u32>,
     seed: u32,
     /// The next one, counted over all of them.
@@ -189,7 +189,7 @@ struct Queue<'p, C: Fn() -> bool> {
     cancelled: C,
 }
 
-impl<C: Fn() -> bool> Queue<'_, C> {
+impl<C: Fn() -> bool> Queue<C> {
     /// Starts lane `k` on the next sample, if there is one: its sampler
     /// into `samplers`, its camera ray from `camera`.
     fn start(
@@ -206,7 +206,7 @@ impl<C: Fn() -> bool> Queue<'_, C> {
             return;
         }
         self.next += 1;
-        let (i, j) = self.pixels[next / per_pixel];
+        let (i, j) = (self.row.0.start + (next / per_pixel) as u32, self.row.1);
         let mut sampler = PixelSampler::new(i, j, self.seed);
         sampler.start(s);
         let ray = camera(&mut sampler, (i, j));
@@ -234,27 +234,27 @@ struct Pending {
 }
 
 impl MatteLanes {
-    /// The values of samples `samples` of each of `pixels` (with the
-    /// scramblings of `seed`), into `values`, pixel by pixel and each
-    /// pixel's in the samples' order (for `PathTracer` to add in that
-    /// order), `camera` making each sample's camera ray from its sampler,
-    /// started at it. A lane whose path ends takes the next sample, of its
-    /// pixel or the next one, so the lanes stay busy. Takes no new sample
-    /// once `cancelled` says so (asked as the one-path tracer asks, every
-    /// 64 samples of a pixel): `values` then ends there.
+    /// The values of samples `samples` of each of the pixels `xs` of row
+    /// `j` (with the scramblings of `seed`), into `values`, pixel by pixel
+    /// and each pixel's in the samples' order (for `PathTracer` to add in
+    /// that order), `camera` making each sample's camera ray from its
+    /// sampler, started at it. A lane whose path ends takes the next
+    /// sample, of its pixel or the next one, so the lanes stay busy. Takes
+    /// no new sample once `cancelled` says so (asked as the one-path tracer
+    /// asks, every 64 samples of a pixel): `values` then ends there.
     pub(super) fn trace_pixels(
         &self,
         setup: &mut Setup,
-        (pixels, samples, seed): (&[(u32, u32)], Range<u32>, u32),
+        (row, samples, seed): ((Range<u32>, u32), Range<u32>, u32),
         camera: impl Fn(&mut PixelSampler, (u32, u32)) -> Ray,
         values: &mut Vec<Vec3>,
         cancelled: impl Fn() -> bool,
     ) {
-        let total = pixels.len() * samples.len();
+        let total = row.0.len() * samples.len();
         values.clear();
         values.resize(total, Vec3::ZERO);
         let mut queue = Queue {
-            pixels,
+            row,
             samples,
             seed,
             next: 0,

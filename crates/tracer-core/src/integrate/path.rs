@@ -164,7 +164,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         // puts a row's together).
         if let Some(lanes) = self.lanes().filter(|_| samples.len() >= LANES) {
             let one = std::slice::from_mut(sum);
-            self.add_pixels_in_lanes(lanes, &[(i, j)], samples, one, cancelled);
+            self.add_pixels_in_lanes(lanes, (i..i + 1, j), samples, one, cancelled);
             return;
         }
         let mut sampler = PixelSampler::new(i, j, self.seed);
@@ -213,24 +213,21 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         // Each pixel's values wait until the pixels traced together are
         // done: a few pixels at a time when they have many samples.
         let together = (LANE_VALUES / samples.len().max(1)).max(1);
-        let mut pixels = Vec::with_capacity(together.min(xs.len()));
-        for (xs, sums) in xs
-            .collect::<Vec<_>>()
-            .chunks(together)
-            .zip(sums.chunks_mut(together))
-        {
-            pixels.clear();
-            pixels.extend(xs.iter().map(|&i| (i, j)));
-            self.add_pixels_in_lanes(lanes, &pixels, samples.clone(), sums, &cancelled);
+        let mut x0 = xs.start;
+        for sums in sums.chunks_mut(together) {
+            let xs = x0..x0 + sums.len() as u32;
+            x0 = xs.end;
+            self.add_pixels_in_lanes(lanes, (xs, j), samples.clone(), sums, &cancelled);
         }
     }
 
-    /// The samples `samples` of `pixels` sixteen paths at a time, each
-    /// pixel's values added to its sum of `sums` in the samples' order.
+    /// The samples `samples` of the pixels `xs` of row `j` sixteen paths at
+    /// a time, each pixel's values added to its sum of `sums` in the
+    /// samples' order.
     fn add_pixels_in_lanes(
         &mut self,
         lanes: &MatteLanes,
-        pixels: &[(u32, u32)],
+        row: (Range<u32>, u32),
         samples: Range<u32>,
         sums: &mut [PixelSum],
         cancelled: impl Fn() -> bool,
@@ -245,7 +242,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         let per_pixel = samples.len();
         let ray = |sampler: &mut PixelSampler, pixel| camera_ray(camera, sampler, pixel);
         let values = &mut self.lane_values;
-        let work = (pixels, samples, self.seed);
+        let work = (row, samples, self.seed);
         lanes.trace_pixels(&mut setup, work, ray, values, cancelled);
         for (pixel_values, sum) in values.chunks(per_pixel).zip(sums) {
             for radiance in pixel_values {
