@@ -54,16 +54,13 @@ impl PixelSampler {
         self.dimension += requests;
     }
 
-    /// The number of the next request (1D or 2D) of the current sample.
+    /// The next request's hash (the pixel's, mixed with the request's
+    /// number), the request counted.
     #[inline(always)]
-    pub fn dimension(&self) -> u32 {
-        self.dimension
-    }
-
-    /// Dimension `d`'s hash: the pixel's, mixed with the dimension.
-    #[inline(always)]
-    fn hash(&self, d: u32) -> u64 {
-        dimension_hash(self.pixel, d)
+    fn next_hash(&mut self) -> u64 {
+        let h = dimension_hash(self.pixel, self.dimension);
+        self.dimension += 1;
+        h
     }
 
     /// The current sample's index into the Sobol sequence for the request
@@ -77,31 +74,14 @@ impl PixelSampler {
     /// reversed), Owen scrambled, the reversals that cancel left out.
     #[inline(always)]
     pub fn get1(&mut self) -> f32 {
-        let value = self.get1_at(self.dimension);
-        self.dimension += 1;
-        value
+        let h = self.next_hash();
+        first_value(self.index(h), h)
     }
 
     /// A point of [0, 1)^2.
     #[inline(always)]
     pub fn get2(&mut self) -> Vec2 {
-        let value = self.get2_at(self.dimension);
-        self.dimension += 1;
-        value
-    }
-
-    /// What `get1` gives as the current sample's request `d`, drawn
-    /// without moving on: paths in lanes draw a bounce's requests at once.
-    #[inline(always)]
-    pub fn get1_at(&self, d: u32) -> f32 {
-        let h = self.hash(d);
-        first_value(self.index(h), h)
-    }
-
-    /// What `get2` gives as the current sample's request `d`.
-    #[inline(always)]
-    pub fn get2_at(&self, d: u32) -> Vec2 {
-        let h = self.hash(d);
+        let h = self.next_hash();
         let index = self.index(h);
         Vec2::new(
             first_value(index, h),
@@ -152,7 +132,7 @@ impl<const N: usize> LaneSamplers<N> {
         self.dimension[k] += requests;
     }
 
-    /// What `get1_at` gives each lane as its request `dimension + offset`.
+    /// What `get1` gives each lane as its request `dimension + offset`.
     #[inline(always)]
     pub fn get1(&self, offset: u32) -> [f32; N] {
         let (h, index) = self.hashes_and_indices(offset);
@@ -163,7 +143,7 @@ impl<const N: usize> LaneSamplers<N> {
         x
     }
 
-    /// What `get2_at` gives each lane as its request `dimension + offset`,
+    /// What `get2` gives each lane as its request `dimension + offset`,
     /// by axis.
     #[inline(always)]
     pub fn get2(&self, offset: u32) -> ([f32; N], [f32; N]) {
@@ -408,6 +388,44 @@ mod tests {
         );
         let correlation = (product / n).abs();
         assert!(correlation < 4.0 / (12.0 * n.sqrt()), "{correlation}");
+    }
+
+    #[test]
+    fn lanes_draw_what_each_lanes_pixel_sampler_draws() {
+        // Lanes of different pixels, samples and requests: each request of
+        // each lane is the one its own sampler gives, bit for bit.
+        let mut lanes = LaneSamplers::<4>::new();
+        let mut own = [(0, 0, 0), (3, 9, 1), (200, 7, 63), (5, 5, 1000)].map(|(i, j, s)| {
+            let mut sampler = PixelSampler::new(i, j, 0);
+            sampler.start(s);
+            sampler.skip(s % 7);
+            sampler
+        });
+        for (k, sampler) in own.iter().enumerate() {
+            lanes.set(k, sampler);
+        }
+        for offset in 0..6 {
+            let ones = lanes.get1(offset);
+            let (xs, ys) = lanes.get2(offset);
+            for (k, sampler) in own.iter_mut().enumerate() {
+                let (mut a, mut b) = (*sampler, *sampler);
+                a.skip(offset);
+                b.skip(offset);
+                assert_eq!(ones[k].to_bits(), a.get1().to_bits(), "lane {k}, {offset}");
+                let p = b.get2();
+                assert_eq!(
+                    [xs[k], ys[k]].map(f32::to_bits),
+                    p.to_array().map(f32::to_bits)
+                );
+            }
+        }
+        lanes.skip(2, 3);
+        own[2].skip(3);
+        assert_eq!(
+            lanes.get1(0)[2].to_bits(),
+            own[2].get1().to_bits(),
+            "after a skip"
+        );
     }
 
     #[test]
