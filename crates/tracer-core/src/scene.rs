@@ -174,19 +174,18 @@ impl Scene {
         } else {
             LaneScene::new(&parts.objects, &parts.materials, &parts.lights).map(Box::new)
         };
-        let matte_lanes = path_mode
-            .then(|| {
-                let environment = parts.environment.is_some();
-                let (objects, materials) = (&parts.objects, &parts.materials);
-                MatteLanes::new(objects, materials, &parts.lights, environment)
-            })
-            .flatten()
-            .map(Box::new);
         let path_lights = Box::new(if path_mode {
             path_lights(&parts, bounds)
         } else {
             Lights::default()
         });
+        let matte_lanes = path_mode
+            .then(|| {
+                let (objects, materials) = (&parts.objects, &parts.materials);
+                MatteLanes::new(objects, materials, &parts.lights, &path_lights)
+            })
+            .flatten()
+            .map(Box::new);
         Scene {
             lanes,
             matte_lanes,

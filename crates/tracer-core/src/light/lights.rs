@@ -115,6 +115,16 @@ impl Lights {
         self.table.is_none()
     }
 
+    /// The table that picks a light (`sample`'s first step); None without
+    /// light.
+    pub(crate) fn table(&self) -> Option<&AliasTable> {
+        self.table.as_ref()
+    }
+
+    pub fn has_environment(&self) -> bool {
+        self.environment.is_some()
+    }
+
     pub fn areas(&self) -> &[AreaLight] {
         &self.areas
     }

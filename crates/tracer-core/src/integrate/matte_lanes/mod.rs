@@ -1,0 +1,442 @@
+//! Path tracing of small matte scenes sixteen paths at a time: a row's
+//! samples go through the scene together, pixel by pixel, a lane that ends
+//! a path taking up the next, their nearest hits and shadow rays found in
+//! SIMD lanes (every ray of the group against one triangle at a time, each
+//! triangle's numbers read once for sixteen rays), where a ray alone would
+//! walk the tree. A scene qualifies when it is a few dozen
+//! flat triangles (quads, boxes, small meshes) of Lambertian materials,
+//! emissive or not, lit by its emitters and point lights: the Cornell box
+//! and rooms like it, the scenes the global model of light is learnt on.
+//!
+//! Each path is the one `PathTracer::radiance` traces, bit for bit: the
+//! same random numbers, the same arithmetic in the same order, and the
+//! same sums in the same order. The intersection test is `tri4.rs`'s,
+//! lane by lane; the lights, the frame, the Lambertian lobe, the power
+//! heuristic and the camera ray are the one-path tracer's own functions;
+//! `LabBsdf`'s Lambertian branch, the light sample's and the roulette's
+//! arithmetic are written again here, step for step, and a test holds
+//! them to the one-path tracer's values on random scenes. The nearest hit
+//! is the one testing every triangle finds (of equal distances, the one
+//! listed first), which is the tree's but for a few rays from far away or
+//! at sliver triangles, grazing where surfaces nearly meet (`accel`). So
+//! an image, its ray counts and `tracer explain` agree whichever way a
+//! pixel was traced.
+
+// A lane's index reads several arrays at once (the lanes' state is kept
+// by field, a structure of arrays, for the SIMD tests).
+#![allow(clippy::needless_range_loop)]
+
+mod rays;
+mod shade;
+
+use super::path::power_heuristic;
+use super::RayStats;
+use crate::bsdf::LabBsdf;
+use crate::geometry::{Object, Shape, SurfaceHit};
+use crate::light::lights::Lights;
+use crate::light::Light;
+use crate::material::Material;
+use crate::ray::Ray;
+use crate::sampler::{LaneSamplers, PixelSampler};
+use glam::{Vec2, Vec3};
+use multiversion::multiversion;
+use rays::Rays;
+use shade::{Hits, Pending};
+use std::ops::Range;
+
+/// Paths traced together: sixteen of a row's samples at a time.
+pub const LANES: usize = 16;
+
+/// Scenes of up to this many triangles qualify: every ray tests them all,
+/// which costs less than a walk of the tree only while they are few (the
+/// Cornell box has 36).
+const MAX_TRIANGLES: usize = 40;
+
+/// A number per lane.
+type F = [f32; LANES];
+
+/// A vector per lane, by axis.
+type V = [F; 3];
+
+/// One triangle as the test reads it (`Triangle::edges`), its unit normal
+/// (`SurfaceHit::on_triangle`'s) and its material.
+#[derive(Debug, Clone, Copy)]
+struct Tri {
+    v0: Vec3,
+    e1: Vec3,
+    e2: Vec3,
+    edge_scale: f32,
+    normal: Vec3,
+    material: u32,
+}
+
+/// A Lambertian material as `LabBsdf` reads it: its albedo (scaled as
+/// the BSDF scales it), the probability of picking the lobe (1, or 0 for
+/// a material that reflects nothing), and its emission.
+#[derive(Debug, Clone, Copy)]
+struct Matte {
+    albedo: Vec3,
+    p_lambert: f32,
+    emission: Vec3,
+}
+
+/// A scene small and plain enough to be traced in lanes.
+#[derive(Debug, Clone)]
+pub struct MatteLanes {
+    tris: Vec<Tri>,
+    materials: Vec<Matte>,
+}
+
+impl MatteLanes {
+    /// The scene of `objects`, `materials` and `lights` in lanes, if it
+    /// qualifies: up to `MAX_TRIANGLES` flat triangles, every material
+    /// Lambertian without a texture, every light a point, no environment;
+    /// `path_lights` are its lights as path mode samples them.
+    pub fn new(
+        objects: &[Object],
+        materials: &[Material],
+        lights: &[Light],
+        path_lights: &Lights,
+    ) -> Option<MatteLanes> {
+        let qualifies = shade::lanes_can_sample(path_lights)
+            && !objects.is_empty()
+            && objects.len() <= MAX_TRIANGLES
+            && lights.iter().all(|l| matches!(l, Light::Point(_)));
+        if !qualifies {
+            return None;
+        }
+        let materials = materials.iter().map(matte).collect::<Option<Vec<_>>>()?;
+        let tris = objects
+            .iter()
+            .map(|o| match &o.shape {
+                Shape::Triangle(t) if o.vertex_normals.is_none() => {
+                    let (e1, e2, edge_scale) = t.edges();
+                    Some(Tri {
+                        v0: t.v0,
+                        e1,
+                        e2,
+                        edge_scale,
+                        normal: e1.cross(e2).normalize(),
+                        material: o.material as u32,
+                    })
+                }
+                _ => None,
+            })
+            .collect::<Option<Vec<_>>>()?;
+        Some(MatteLanes { tris, materials })
+    }
+}
+
+/// Material `m` as a matte one, if it is Lambertian (no highlight, mirror,
+/// glass or texture): its lobe as `LabBsdf` builds it at any hit.
+fn matte(m: &Material) -> Option<Matte> {
+    let Material::Phong(p) = m else {
+        return None;
+    };
+    if p.texture.is_some() || p.color_texture.is_some() {
+        return None;
+    }
+    let hit = SurfaceHit {
+        t: 1.0,
+        object: 0,
+        material: 0,
+        geometric_normal: Vec3::Z,
+        shading_normal: Vec3::Z,
+        uv: Vec2::ZERO,
+        front_face: true,
+        shadow_offset: Vec3::ZERO,
+    };
+    let (albedo, p_lambert) = LabBsdf::new(m, &hit, Vec3::Z).lambert_only()?;
+    Some(Matte {
+        albedo,
+        p_lambert,
+        emission: p.emission,
+    })
+}
+
+/// What `PathTracer` lends the lanes: the scene's lights and background
+/// (read from the scene's settings as the one-path tracer reads it), the
+/// depth limit and its ray counts.
+pub(super) struct Setup<'a> {
+    pub lights: &'a Lights,
+    pub background: Vec3,
+    pub max_depth: u32,
+    pub stats: &'a mut RayStats,
+}
+
+/// The state of the lanes' paths, kept by field.
+struct Paths {
+    alive: [bool; LANES],
+    /// Which sample each lane traces: where its value goes.
+    sample: [u32; LANES],
+    /// Bounces so far.
+    depth: [u32; LANES],
+    /// Each lane's ray, by axis: the triangle tests read it as it is.
+    rays: Rays,
+    radiance: V,
+    throughput: V,
+    /// The last bounce: where it left from, its density, whether specular.
+    from: V,
+    pdf: F,
+    specular: [bool; LANES],
+}
+
+/// The samples still to trace: those of the pixels `xs` of row `j`,
+/// pixel by pixel, each pixel's `samples` in order.
+struct Queue<C: Fn() -> bool> {
+    row: (Range<u32>, u32),
+    samples: Range<u32>,
+    seed: u32,
+    /// The next one, counted over all of them.
+    next: usize,
+    /// How many are traced: all of them, unless cancelled.
+    end: usize,
+    cancelled: C,
+}
+
+impl<C: Fn() -> bool> Queue<C> {
+    /// Starts lane `k` on the next sample, if there is one: its sampler
+    /// into `samplers`, its camera ray from `camera`.
+    fn start(
+        &mut self,
+        (paths, samplers): (&mut Paths, &mut LaneSamplers<LANES>),
+        k: usize,
+        camera: impl Fn(&mut PixelSampler, (u32, u32)) -> Ray,
+    ) {
+        let per_pixel = self.samples.len();
+        let next = self.next;
+        let s = self.samples.start + (next % per_pixel) as u32;
+        if next >= self.end || (s % 64 == 63 && (self.cancelled)()) {
+            self.end = next;
+            return;
+        }
+        self.next += 1;
+        let (i, j) = (self.row.0.start + (next / per_pixel) as u32, self.row.1);
+        let mut sampler = PixelSampler::new(i, j, self.seed);
+        sampler.start(s);
+        let ray = camera(&mut sampler, (i, j));
+        samplers.set(k, &sampler);
+        paths.begin(k, next as u32, ray);
+    }
+}
+
+impl MatteLanes {
+    /// The values of samples `samples` of each of the pixels `xs` of row
+    /// `j` (with the scramblings of `seed`), into `values`, pixel by pixel
+    /// and each pixel's in the samples' order (for `PathTracer` to add in
+    /// that order), `camera` making each sample's camera ray from its
+    /// sampler, started at it. A lane whose path ends takes the next
+    /// sample, of its pixel or the next one, so the lanes stay busy. Takes
+    /// no new sample once `cancelled` says so (asked as the one-path tracer
+    /// asks, every 64 samples of a pixel): `values` then ends there.
+    pub(super) fn trace_pixels(
+        &self,
+        setup: &mut Setup,
+        (row, samples, seed): ((Range<u32>, u32), Range<u32>, u32),
+        camera: impl Fn(&mut PixelSampler, (u32, u32)) -> Ray,
+        values: &mut Vec<Vec3>,
+        cancelled: impl Fn() -> bool,
+    ) {
+        let total = row.0.len() * samples.len();
+        values.clear();
+        values.resize(total, Vec3::ZERO);
+        let mut queue = Queue {
+            row,
+            samples,
+            seed,
+            next: 0,
+            end: total,
+            cancelled,
+        };
+        let mut samplers = LaneSamplers::new();
+        let mut paths = Paths::idle();
+        for k in 0..LANES {
+            queue.start((&mut paths, &mut samplers), k, &camera);
+        }
+        while paths.alive.contains(&true) {
+            let was_alive = paths.alive;
+            self.step(setup, &mut paths, &mut samplers);
+            for k in 0..LANES {
+                if was_alive[k] && !paths.alive[k] {
+                    values[paths.sample[k] as usize] = lane(&paths.radiance, k);
+                    queue.start((&mut paths, &mut samplers), k, &camera);
+                }
+            }
+        }
+        values.truncate(queue.end);
+    }
+
+    /// One segment of every busy lane's path: its nearest hit, what it
+    /// sees there, its light sample and its bounce (`PathTracer::radiance`'s
+    /// loop, once).
+    fn step(&self, setup: &mut Setup, paths: &mut Paths, samplers: &mut LaneSamplers<LANES>) {
+        let (t, tri) = rays::nearest(&self.tris, &paths.rays);
+        let hits = self.meet(setup, paths, (&t, &tri));
+        let numbers = bounce_numbers(samplers, &hits.shaded);
+        let frames = shade::frames(&hits.normal);
+        let picked = shade::pick_lights(setup.lights, &hits, &numbers.pick);
+        let pending =
+            shade::light_terms(&hits, &frames, &picked, &numbers.light, &paths.throughput);
+        self.add_light(setup, paths, &hits, &pending);
+        shade::bounce(paths, &hits, &frames, &numbers);
+    }
+
+    /// Each busy lane's ray meets triangle `tri` at `t` (or leaves the
+    /// scene): what it sees is added, and the lane is shaded there unless
+    /// the path ends. `PathTracer::radiance`'s loop up to the light sample.
+    fn meet(&self, setup: &mut Setup, paths: &mut Paths, (t, tri): (&F, &[u32; LANES])) -> Hits {
+        let mut hits = Hits::NONE;
+        for k in 0..LANES {
+            if !paths.alive[k] {
+                continue;
+            }
+            setup.stats.nearest += 1;
+            let Some(tri) = self.tris.get(tri[k] as usize) else {
+                let added = lane(&paths.throughput, k) * (setup.background * 1.0);
+                add(&mut paths.radiance, k, added);
+                paths.alive[k] = false;
+                continue;
+            };
+            let material = self.materials[tri.material as usize];
+            let dir = paths.rays.dir(k);
+            let p = paths.rays.origin(k) + t[k] * dir;
+            let front_face = dir.dot(tri.normal) < 0.0;
+            if material.emission != Vec3::ZERO && front_face {
+                let weight = if paths.specular[k] {
+                    1.0
+                } else {
+                    let cos = -dir.dot(tri.normal);
+                    let from = lane(&paths.from, k);
+                    // The object matters only to emissive spheres: none here.
+                    let light_pdf = setup.lights.pdf_hit(from, p, cos, material.emission, 0);
+                    power_heuristic(paths.pdf[k], light_pdf)
+                };
+                let added = lane(&paths.throughput, k) * (material.emission * weight);
+                add(&mut paths.radiance, k, added);
+            }
+            if paths.depth[k] == setup.max_depth {
+                paths.alive[k] = false;
+                continue;
+            }
+            paths.depth[k] += 1;
+            let facing = if front_face { 1.0 } else { -1.0 };
+            hits.shaded[k] = true;
+            set(&mut hits.point, k, p);
+            set(
+                &mut hits.from,
+                k,
+                if front_face { p + Vec3::ZERO } else { p },
+            );
+            set(&mut hits.normal, k, tri.normal * facing);
+            set(&mut hits.albedo, k, material.albedo);
+            hits.p_lambert[k] = material.p_lambert;
+        }
+        hits
+    }
+
+    /// Adds each lane's light sample whose shadow ray is clear, all the
+    /// shadow rays tested together.
+    fn add_light(&self, setup: &mut Setup, paths: &mut Paths, hits: &Hits, pending: &Pending) {
+        let mut shadow = Rays::NONE;
+        let mut reach = [f32::NEG_INFINITY; LANES];
+        for k in 0..LANES {
+            if pending.shadow[k] {
+                setup.stats.shadow += 1;
+                shadow.set(k, lane(&hits.from, k), lane(&pending.wi, k));
+                reach[k] = pending.reach[k];
+            }
+        }
+        let blocked = rays::occluded(&self.tris, &shadow, &reach);
+        for k in 0..LANES {
+            let clear = pending.shadow[k] & (blocked[k] == 0);
+            for a in 0..3 {
+                let added = if clear { pending.added[a][k] } else { 0.0 };
+                let sum = paths.radiance[a][k] + added;
+                paths.radiance[a][k] = if hits.shaded[k] {
+                    sum
+                } else {
+                    paths.radiance[a][k]
+                };
+            }
+        }
+    }
+}
+
+impl Paths {
+    /// No lane busy.
+    fn idle() -> Paths {
+        Paths {
+            alive: [false; LANES],
+            sample: [0; LANES],
+            depth: [0; LANES],
+            rays: Rays::NONE,
+            radiance: [[0.0; LANES]; 3],
+            throughput: [[1.0; LANES]; 3],
+            from: [[0.0; LANES]; 3],
+            pdf: [0.0; LANES],
+            specular: [true; LANES],
+        }
+    }
+
+    /// Lane `k` starts the sample whose value goes to `sample`, along
+    /// camera ray `ray`.
+    fn begin(&mut self, k: usize, sample: u32, ray: Ray) {
+        self.alive[k] = true;
+        self.sample[k] = sample;
+        self.depth[k] = 0;
+        self.rays.set(k, ray.origin(), ray.dir());
+        set(&mut self.radiance, k, Vec3::ZERO);
+        set(&mut self.throughput, k, Vec3::ONE);
+        set(&mut self.from, k, ray.origin());
+        (self.pdf[k], self.specular[k]) = (0.0, true);
+    }
+}
+
+/// Lane `k` of `v`.
+#[inline(always)]
+fn lane(v: &V, k: usize) -> Vec3 {
+    Vec3::new(v[0][k], v[1][k], v[2][k])
+}
+
+/// Sets lane `k` of `v` to `x`.
+#[inline(always)]
+fn set(v: &mut V, k: usize, x: Vec3) {
+    (v[0][k], v[1][k], v[2][k]) = (x.x, x.y, x.z);
+}
+
+/// Adds `x` to lane `k` of `v`, as `Vec3`'s `+=`.
+#[inline(always)]
+fn add(v: &mut V, k: usize, x: Vec3) {
+    set(v, k, lane(v, k) + x);
+}
+
+/// The random numbers of one bounce of each lane, in the order the
+/// one-path tracer draws them: the light sample's pick and point, the
+/// BSDF sample's lobe and direction, the roulette's; pairs by axis.
+struct Numbers {
+    pick: F,
+    light: (F, F),
+    lobe: F,
+    direction: (F, F),
+    survive: F,
+}
+
+/// The numbers of a bounce of each lane in `shaded`, drawn together
+/// (`LaneSamplers`: the hashes in SIMD registers), and those lanes moved
+/// past them. A lane's numbers are those its one path would draw (it
+/// skips what it does not use, so every bounce's numbers stay where they
+/// are); the other lanes' are drawn and ignored.
+#[multiversion(targets("x86_64+avx512f+avx512bw+avx512dq+avx512vl", "x86_64+avx2"))]
+fn bounce_numbers(samplers: &mut LaneSamplers<LANES>, shaded: &[bool; LANES]) -> Numbers {
+    let numbers = Numbers {
+        pick: samplers.get1(0),
+        light: samplers.get2(1),
+        lobe: samplers.get1(2),
+        direction: samplers.get2(3),
+        survive: samplers.get1(4),
+    };
+    for k in 0..LANES {
+        samplers.skip(k, if shaded[k] { 5 } else { 0 });
+    }
+    numbers
+}
