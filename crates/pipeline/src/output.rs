@@ -388,7 +388,8 @@ impl PendingOutput {
                 image::DynamicImage::ImageRgb16(picture.to_rgb16()),
                 self.format,
             )?,
-            (ImageFormat::Exr | ImageFormat::Hdr, _) => encode_dynamic(
+            (ImageFormat::Exr, _) => encode_exr(&picture.to_rgb32f())?,
+            (ImageFormat::Hdr, _) => encode_dynamic(
                 image::DynamicImage::ImageRgb32F(picture.to_rgb32f()),
                 self.format,
             )?,
@@ -430,6 +431,38 @@ fn encode_dynamic(image: image::DynamicImage, format: ImageFormat) -> Result<Vec
     encoded_with(format, |bytes| {
         image.write_to(&mut std::io::Cursor::new(bytes), image_format(format))
     })
+}
+
+/// The bytes of an OpenEXR file of `image` (RLE-compressed, as the image
+/// crate writes it), its blocks written one after the other: the image
+/// crate compresses them on several threads and writes them as they come,
+/// so the same pixels gave other bytes from run to run.
+fn encode_exr(image: &image::Rgb32FImage) -> Result<Vec<u8>, OutputError> {
+    use exr::prelude::WritableImage;
+    use exr::prelude::{Encoding, Image, Layer, LayerAttributes, SpecificChannels, Vec2};
+    let (width, height) = (image.width() as usize, image.height() as usize);
+    let layer = Layer::new(
+        (width, height),
+        LayerAttributes::default(),
+        Encoding::FAST_LOSSLESS,
+        SpecificChannels::rgb(|p: Vec2<usize>| {
+            let [r, g, b] = image.get_pixel(p.x() as u32, p.y() as u32).0;
+            (r, g, b)
+        }),
+    );
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    Image::from_layer(layer)
+        .write()
+        .non_parallel()
+        .to_buffered(&mut bytes)
+        .map_err(|e| OutputError::Encode {
+            format: ImageFormat::Exr.name(),
+            source: image::ImageError::Encoding(image::error::EncodingError::new(
+                image::error::ImageFormatHint::Exact(image::ImageFormat::OpenExr),
+                e,
+            )),
+        })?;
+    Ok(bytes.into_inner())
 }
 
 /// The bytes `write` encodes, its failure named as `format`'s.
@@ -479,6 +512,29 @@ mod tests {
             .map(|e| e.unwrap().file_name().into_string().unwrap())
             .filter(|n| n.starts_with(".tracer-"))
             .collect()
+    }
+
+    #[test]
+    fn an_exr_is_the_same_bytes_every_time_and_reads_back_bit_for_bit() {
+        // Tall enough for many blocks (16 rows each), which the image
+        // crate compressed on several threads and wrote as they came.
+        let (w, h) = (64u32, 400u32);
+        let value =
+            |i: u32| f32::from_bits(0x3000_0000 + i.wrapping_mul(2_654_435_761) % 0x1800_0000);
+        let image = image::Rgb32FImage::from_fn(w, h, |x, y| {
+            let i = 3 * (y * w + x);
+            image::Rgb([value(i), -value(i + 1), value(i + 2)])
+        });
+        let first = encode_exr(&image).unwrap();
+        for _ in 0..4 {
+            assert!(encode_exr(&image).unwrap() == first, "other bytes");
+        }
+        let back = image::load_from_memory_with_format(&first, image::ImageFormat::OpenExr)
+            .unwrap()
+            .into_rgb32f();
+        let bits =
+            |i: &image::Rgb32FImage| i.as_raw().iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&back), bits(&image));
     }
 
     #[test]
