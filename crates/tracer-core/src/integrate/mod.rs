@@ -1,7 +1,7 @@
 //! Integrators: what colour a ray brings back. The lab's Whitted-style
 //! `rayTrace` (`whitted.rs`, and its four-lane form for small plain scenes,
 //! `lanes.rs`), and path tracing beside it (`path.rs`, and sixteen paths
-//! at a time in small matte scenes, `matte_lanes.rs`).
+//! at a time in small matte scenes, `matte_lanes/`).
 
 mod inside;
 pub(crate) mod lanes;

@@ -59,7 +59,7 @@ pub struct PathTracer<'a, R: Recorder = Silent> {
     seed: u32,
     strategy: Strategy,
     /// Whether a small matte scene's paths go sixteen at a time
-    /// (`matte_lanes.rs`, the same values): where the processor has wide
+    /// (`matte_lanes/`, the same values): where the processor has wide
     /// SIMD registers, unless a test says otherwise.
     in_lanes: bool,
     /// The values of samples traced in lanes, waiting to be added to

@@ -11,11 +11,14 @@
 //! Each path is the one `PathTracer::radiance` traces, bit for bit: the
 //! same random numbers, the same arithmetic in the same order, and the
 //! same sums in the same order. The intersection test is `tri4.rs`'s,
-//! lane by lane; the lights, the frame, the Lambertian lobe, the power
-//! heuristic and the camera ray are the one-path tracer's own functions;
-//! `LabBsdf`'s Lambertian branch, the light sample's and the roulette's
-//! arithmetic are written again here, step for step, and a test holds
-//! them to the one-path tracer's values on random scenes. The nearest hit
+//! lane by lane (`rays.rs`). The camera ray, the light table's pick, the
+//! density of an emitter a path meets, the disk's point of a
+//! cosine-weighted direction and the MIS weight there are the one-path
+//! tracer's own functions; the frame, the light sample (`Lights::sample`
+//! on points, triangles and parallelograms), `LabBsdf`'s Lambertian
+//! branch, the power heuristic and the roulette are written again in
+//! `shade.rs`, kept by field and branches made selects, step for step, and
+//! a test holds them to the one-path tracer's values on random scenes. The nearest hit
 //! is the one testing every triangle finds (of equal distances, the one
 //! listed first), which is the tree's but for a few rays from far away or
 //! at sliver triangles, grazing where surfaces nearly meet (`accel`). So
