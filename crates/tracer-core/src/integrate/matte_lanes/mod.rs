@@ -429,7 +429,11 @@ struct Numbers {
 /// past them. A lane's numbers are those its one path would draw (it
 /// skips what it does not use, so every bounce's numbers stay where they
 /// are); the other lanes' are drawn and ignored.
-#[multiversion(targets("x86_64+avx512f+avx512bw+avx512dq+avx512vl", "x86_64+avx2"))]
+#[multiversion(targets(
+    "x86_64+avx512f+avx512bw+avx512dq+avx512vl+gfni",
+    "x86_64+avx512f+avx512bw+avx512dq+avx512vl",
+    "x86_64+avx2"
+))]
 fn bounce_numbers(samplers: &mut LaneSamplers<LANES>, shaded: &[bool; LANES]) -> Numbers {
     let numbers = Numbers {
         pick: samplers.get1(0),
