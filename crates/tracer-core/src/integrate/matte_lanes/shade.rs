@@ -247,7 +247,9 @@ pub(super) fn light_terms(
         };
         // `eval`: f cos and the density of the Lambertian lobe toward wi.
         let local_z = wi[0] * frames.n[0][k] + wi[1] * frames.n[1][k] + wi[2] * frames.n[2][k];
-        let above = local_z > 0.0;
+        // Not `> 0`: as `LabBsdf::eval`, a NaN cosine is evaluated (and
+        // its NaN sample dropped by the film, as the one-path tracer's).
+        let above = (local_z > 0.0) | local_z.is_nan();
         let f = |a: usize| {
             let f = (0.0 + hits.albedo[a][k] * FRAC_1_PI) * local_z;
             if above {
@@ -383,4 +385,65 @@ fn bounce_from_disk(
         next.pdf[k] = pdf;
     }
     next
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bsdf::Bsdf;
+    use crate::geometry::SurfaceHit;
+    use crate::light::lights::PointSource;
+    use crate::material::{Material, Phong};
+    use glam::{Vec2, Vec3};
+
+    /// A shading normal of NaN (no scene file has made one): the lanes
+    /// send the shadow ray and add what the one-path tracer adds, NaN
+    /// (which the film drops), not a finite value of their own.
+    #[test]
+    fn a_nan_cosine_is_lit_as_the_one_path_tracer_lights_it() {
+        let point = PointSource {
+            position: Vec3::Y,
+            intensity: Vec3::ONE,
+        };
+        let lights = Lights::new(vec![point], vec![], &[], None);
+        let n = Vec3::new(f32::NAN, 0.0, 0.0);
+        let mut hits = Hits::NONE;
+        hits.shaded[0] = true;
+        hits.p_lambert[0] = 1.0;
+        for a in 0..3 {
+            hits.normal[a][0] = n[a];
+            hits.albedo[a][0] = 0.5;
+        }
+        let picked = pick_lights(&lights, &hits, &[0.5; LANES]);
+        let u = ([0.5; LANES], [0.5; LANES]);
+        let pending = light_terms(
+            &hits,
+            &frames(&hits.normal),
+            &picked,
+            &u,
+            &[[1.0; LANES]; 3],
+        );
+        let material = Material::Phong(Phong {
+            diffuse: Vec3::splat(0.5),
+            specular: Vec3::ZERO,
+            reflectance: 0.0,
+            ..Phong::default_grey()
+        });
+        let hit = SurfaceHit {
+            t: 1.0,
+            object: 0,
+            material: 0,
+            geometric_normal: n,
+            shading_normal: n,
+            uv: Vec2::ZERO,
+            front_face: true,
+            shadow_offset: Vec3::ZERO,
+        };
+        let sample = lights.sample(Vec3::ZERO, 0.5, Vec2::splat(0.5)).unwrap();
+        let (f, _) = Bsdf::new(&material, &hit, Vec3::Y).eval(sample.wi);
+        let lit = !(f == Vec3::ZERO || sample.pdf.is_nan() || sample.pdf <= 0.0);
+        assert!(lit, "the one-path tracer sends a shadow ray here");
+        assert!(pending.shadow[0], "so do the lanes");
+        assert!(pending.added[0][0].is_nan(), "{:?}", pending.added);
+    }
 }
