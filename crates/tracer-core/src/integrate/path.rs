@@ -449,11 +449,12 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         let Some(environment) = self.scene.environment() else {
             return (self.scene.trace_settings().background, 1.0);
         };
-        let radiance = environment.radiance(dir);
+        // The scene's environment is the one its lights sample.
+        let (radiance, pdf) = environment.radiance_and_pdf(dir);
         let weight = match self.strategy {
             _ if bounce.specular => 1.0,
             Strategy::Mis => {
-                let light_pdf = self.scene.path_lights().pdf_environment(dir);
+                let light_pdf = self.scene.path_lights().pdf_environment_of(pdf);
                 power_heuristic(bounce.pdf, light_pdf)
             }
             Strategy::Lights => 0.0,

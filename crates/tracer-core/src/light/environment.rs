@@ -126,18 +126,25 @@ impl Environment {
     pub fn radiance(&self, dir: Vec3) -> Vec3 {
         match &self.kind {
             Kind::Uniform(radiance) => *radiance,
-            Kind::Image {
-                width,
-                height,
-                texels,
-                ..
-            } => {
-                let uv = direction_to_uv(self.to_own(dir));
-                let x = ((uv.x * *width as f32) as u32).min(width - 1);
-                let y = ((uv.y * *height as f32) as u32).min(height - 1);
-                texels[(y * width + x) as usize]
-            }
+            Kind::Image { .. } => self.texel(direction_to_uv(self.to_own(dir))),
         }
+    }
+
+    /// The texel at point `uv` of the image (black for one colour).
+    #[inline(always)]
+    fn texel(&self, uv: Vec2) -> Vec3 {
+        let Kind::Image {
+            width,
+            height,
+            texels,
+            ..
+        } = &self.kind
+        else {
+            return Vec3::ZERO;
+        };
+        let x = ((uv.x * *width as f32) as u32).min(width - 1);
+        let y = ((uv.y * *height as f32) as u32).min(height - 1);
+        texels[(y * width + x) as usize]
     }
 
     /// A direction drawn by `u`: uniformly over the sphere for one colour,
@@ -176,17 +183,27 @@ impl Environment {
     /// The density `sample` gives world direction `dir`, by solid angle.
     #[inline(always)]
     pub fn pdf(&self, dir: Vec3) -> f32 {
-        match &self.kind {
-            Kind::Image { distribution, .. } if !self.uniform => {
-                let own = self.to_own(dir);
-                let sin = (1.0 - own.y * own.y).max(0.0).sqrt();
-                if sin <= 0.0 {
-                    return 0.0;
-                }
-                distribution.density(direction_to_uv(own)) / (2.0 * PI * PI * sin)
-            }
-            _ => 1.0 / (4.0 * PI),
+        self.radiance_and_pdf(dir).1
+    }
+
+    /// `radiance` and `pdf` of `dir` together: the point of the image is
+    /// worked out once (an arc cosine and an arc tangent).
+    #[inline(always)]
+    pub fn radiance_and_pdf(&self, dir: Vec3) -> (Vec3, f32) {
+        let Kind::Image { distribution, .. } = &self.kind else {
+            return (self.radiance(dir), 1.0 / (4.0 * PI));
+        };
+        let own = self.to_own(dir);
+        let uv = direction_to_uv(own);
+        let radiance = self.texel(uv);
+        if self.uniform {
+            return (radiance, 1.0 / (4.0 * PI));
         }
+        let sin = (1.0 - own.y * own.y).max(0.0).sqrt();
+        if sin <= 0.0 {
+            return (radiance, 0.0);
+        }
+        (radiance, distribution.density(uv) / (2.0 * PI * PI * sin))
     }
 
     /// The integral of the radiance's luminance over the sphere: with the

@@ -175,8 +175,18 @@ impl Lights {
     /// The density `sample` gives direction `dir` toward the environment.
     #[inline(always)]
     pub fn pdf_environment(&self, dir: Vec3) -> f32 {
+        match &self.environment {
+            Some(environment) => self.pdf_environment_of(environment.pdf(dir)),
+            None => 0.0,
+        }
+    }
+
+    /// `pdf_environment` of a direction the environment draws with density
+    /// `pdf` (`Environment::radiance_and_pdf`'s).
+    #[inline(always)]
+    pub fn pdf_environment_of(&self, pdf: f32) -> f32 {
         match (&self.table, &self.environment) {
-            (Some(table), Some(environment)) => table.pmf(table.len() - 1) * environment.pdf(dir),
+            (Some(table), Some(_)) => table.pmf(table.len() - 1) * pdf,
             _ => 0.0,
         }
     }
