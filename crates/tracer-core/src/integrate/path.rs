@@ -454,7 +454,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         let weight = match self.strategy {
             _ if bounce.specular => 1.0,
             Strategy::Mis => {
-                let light_pdf = self.scene.path_lights().pdf_environment_of(pdf);
+                let light_pdf = self.scene.path_lights().pdf_environment(pdf);
                 power_heuristic(bounce.pdf, light_pdf)
             }
             Strategy::Lights => 0.0,

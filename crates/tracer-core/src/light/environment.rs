@@ -126,25 +126,13 @@ impl Environment {
     pub fn radiance(&self, dir: Vec3) -> Vec3 {
         match &self.kind {
             Kind::Uniform(radiance) => *radiance,
-            Kind::Image { .. } => self.texel(direction_to_uv(self.to_own(dir))),
+            Kind::Image {
+                width,
+                height,
+                texels,
+                ..
+            } => texel((*width, *height, texels), direction_to_uv(self.to_own(dir))),
         }
-    }
-
-    /// The texel at point `uv` of the image (black for one colour).
-    #[inline(always)]
-    fn texel(&self, uv: Vec2) -> Vec3 {
-        let Kind::Image {
-            width,
-            height,
-            texels,
-            ..
-        } = &self.kind
-        else {
-            return Vec3::ZERO;
-        };
-        let x = ((uv.x * *width as f32) as u32).min(width - 1);
-        let y = ((uv.y * *height as f32) as u32).min(height - 1);
-        texels[(y * width + x) as usize]
     }
 
     /// A direction drawn by `u`: uniformly over the sphere for one colour,
@@ -190,12 +178,18 @@ impl Environment {
     /// worked out once (an arc cosine and an arc tangent).
     #[inline(always)]
     pub fn radiance_and_pdf(&self, dir: Vec3) -> (Vec3, f32) {
-        let Kind::Image { distribution, .. } = &self.kind else {
+        let Kind::Image {
+            width,
+            height,
+            texels,
+            distribution,
+        } = &self.kind
+        else {
             return (self.radiance(dir), 1.0 / (4.0 * PI));
         };
         let own = self.to_own(dir);
         let uv = direction_to_uv(own);
-        let radiance = self.texel(uv);
+        let radiance = texel((*width, *height, texels), uv);
         if self.uniform {
             return (radiance, 1.0 / (4.0 * PI));
         }
@@ -216,6 +210,14 @@ impl Environment {
             Kind::Image { distribution, .. } => 2.0 * PI * PI * distribution.mean(),
         }
     }
+}
+
+/// The texel at point `uv` of an image of `width` x `height` `texels`.
+#[inline(always)]
+fn texel((width, height, texels): (u32, u32, &[Vec3]), uv: Vec2) -> Vec3 {
+    let x = ((uv.x * width as f32) as u32).min(width - 1);
+    let y = ((uv.y * height as f32) as u32).min(height - 1);
+    texels[(y * width + x) as usize]
 }
 
 /// The point of the latitude-longitude square a unit direction of the

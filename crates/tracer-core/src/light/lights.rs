@@ -172,19 +172,11 @@ impl Lights {
         })
     }
 
-    /// The density `sample` gives direction `dir` toward the environment.
+    /// The density `sample` gives a direction toward the environment that
+    /// the environment alone draws with density `pdf` (its `pdf`, or
+    /// `radiance_and_pdf`'s): that times the environment's pick.
     #[inline(always)]
-    pub fn pdf_environment(&self, dir: Vec3) -> f32 {
-        match &self.environment {
-            Some(environment) => self.pdf_environment_of(environment.pdf(dir)),
-            None => 0.0,
-        }
-    }
-
-    /// `pdf_environment` of a direction the environment draws with density
-    /// `pdf` (`Environment::radiance_and_pdf`'s).
-    #[inline(always)]
-    pub fn pdf_environment_of(&self, pdf: f32) -> f32 {
+    pub fn pdf_environment(&self, pdf: f32) -> f32 {
         match (&self.table, &self.environment) {
             (Some(table), Some(_)) => table.pmf(table.len() - 1) * pdf,
             _ => 0.0,

@@ -2,7 +2,7 @@
 //! one triangle at a time, each triangle's numbers read once for sixteen
 //! rays, compiled for each processor's widest SIMD registers.
 
-use super::{Tri, F, LANES, V};
+use super::{lane, set, Tri, F, LANES, V};
 use crate::EPSILON;
 use glam::Vec3;
 use multiversion::multiversion;
@@ -61,17 +61,16 @@ impl Rays {
     };
 
     pub(super) fn origin(&self, k: usize) -> Vec3 {
-        Vec3::new(self.origin[0][k], self.origin[1][k], self.origin[2][k])
+        lane(&self.origin, k)
     }
 
     pub(super) fn dir(&self, k: usize) -> Vec3 {
-        Vec3::new(self.dir[0][k], self.dir[1][k], self.dir[2][k])
+        lane(&self.dir, k)
     }
 
     pub(super) fn set(&mut self, k: usize, origin: Vec3, dir: Vec3) {
-        for a in 0..3 {
-            (self.origin[a][k], self.dir[a][k]) = (origin[a], dir[a]);
-        }
+        set(&mut self.origin, k, origin);
+        set(&mut self.dir, k, dir);
     }
 
     /// Each direction's length, as `Vec3::length` (the test's scale).

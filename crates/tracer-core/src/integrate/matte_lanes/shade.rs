@@ -9,7 +9,7 @@
 //! table's pick, the disk's sine and cosine) is done a lane at a time
 //! with the one-path tracer's own functions.
 
-use super::{Numbers, Paths, F, LANES, V};
+use super::{set, Numbers, Paths, F, LANES, V};
 use crate::integrate::path::{ROULETTE_DEPTH, SHADOW_SHORTEN};
 use crate::light::area::AreaShape;
 use crate::light::lights::Lights;
@@ -135,11 +135,10 @@ pub(super) fn pick_lights(lights: &Lights, hits: &Hits, pick: &F) -> Picked {
         }
         let (i, pmf) = table.sample(pick[k]);
         p.pmf[k] = pmf;
-        let set = |v: &mut V, x: glam::Vec3| (v[0][k], v[1][k], v[2][k]) = (x.x, x.y, x.z);
         if let Some(point) = points.get(i) {
             p.kind[k] = Kind::Point;
-            set(&mut p.v0, point.position);
-            set(&mut p.radiance, point.intensity);
+            set(&mut p.v0, k, point.position);
+            set(&mut p.radiance, k, point.intensity);
             continue;
         }
         let Some(light) = areas.get(i - points.len()) else {
@@ -164,12 +163,12 @@ pub(super) fn pick_lights(lights: &Lights, hits: &Hits, pick: &F) -> Picked {
             _ => continue,
         };
         p.kind[k] = kind;
-        set(&mut p.v0, v0);
-        set(&mut p.e1, e1);
-        set(&mut p.e2, e2);
-        set(&mut p.normal, normal);
+        set(&mut p.v0, k, v0);
+        set(&mut p.e1, k, e1);
+        set(&mut p.e2, k, e2);
+        set(&mut p.normal, k, normal);
         p.area[k] = area;
-        set(&mut p.radiance, light.radiance);
+        set(&mut p.radiance, k, light.radiance);
     }
     p
 }
