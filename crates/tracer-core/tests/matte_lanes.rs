@@ -2,7 +2,8 @@
 //! (`integrate::matte_lanes`): every pixel's value, and every ray count,
 //! must be the one-path tracer's, bit for bit, on the Cornell box and on
 //! random rooms of triangles with emitters facing either way, black
-//! materials, point lights and every `max_depth`.
+//! materials, point lights and every `max_depth`, and on closed rooms
+//! whose walls shadow rays may skip.
 
 mod common;
 
@@ -222,6 +223,89 @@ fn random_matte_rooms_in_lanes_are_the_one_path_tracers_bit_for_bit() {
         searched_by_tree >= 10,
         "{searched_by_tree} rooms searched by the tree"
     );
+}
+
+/// A closed room of five walls, two turned boxes standing on (or sunk
+/// into) the floor and a lamp under the ceiling or a point light, each at
+/// random distances from the walls, down to nearly touching one: the
+/// walls the shadow rays skip (`casters.rs`), and those they must not.
+fn random_closed_room(rng: &mut Rng) -> String {
+    let max_depth = 1 + (rng.next() * 8.0) as u32;
+    let gap = [0.0005, 0.005, 0.05, 0.3][(rng.next() * 4.0) as usize];
+    let mut text = format!(
+        "[camera]\neye = [0, 0, 0.95]\nlook_at = [0, 0, 0]\nfov = 80\nwidth = 8\nheight = 8\n\
+         [render]\nintegrator = \"path\"\nmax_depth = {max_depth}\n\
+         [materials.white]\ndiffuse = [0.8, 0.7, 0.6]\n\
+         [materials.red]\ndiffuse = [0.9, 0.1, 0.1]\n\
+         [materials.lamp]\ndiffuse = [0.8, 0.7, 0.6]\nemission = [9, 7, 4]\n"
+    );
+    let walls = [
+        ([-1, -1, 1], [2, 0, 0], [0, 0, -2]),
+        ([-1, 1, -1], [2, 0, 0], [0, 0, 2]),
+        ([-1, -1, -1], [2, 0, 0], [0, 2, 0]),
+        ([1, -1, -1], [0, 0, 2], [0, 2, 0]),
+        ([-1, -1, 1], [0, 0, -2], [0, 2, 0]),
+    ];
+    for (c, u, v) in walls {
+        let material = if c[0] == 1 { "red" } else { "white" };
+        text += &format!(
+            "[[objects]]\nquad = {{ corner = {c:?}, edge_u = {u:?}, edge_v = {v:?} }}\nmaterial = \"{material}\"\n"
+        );
+    }
+    for _ in 0..2 {
+        let (sx, sy, sz) = (
+            0.1 + rng.next() * 0.3,
+            0.1 + rng.next() * 0.5,
+            0.1 + rng.next() * 0.3,
+        );
+        // Standing on the floor, or sunk a little into it.
+        let y = -1.0 + sy - [0.0, 0.0, 0.01][(rng.next() * 3.0) as usize];
+        let (x, z) = (rng.next() * 1.2 - 0.6, rng.next() * 1.2 - 0.6);
+        let turn = rng.next() * 90.0;
+        text += &format!(
+            "[[objects]]\nbox = {{ min = [-1, -1, -1], max = [1, 1, 1] }}\n\
+             transform = {{ scale = [{sx}, {sy}, {sz}], rotate = [0, {turn}, 0], translate = [{x}, {y}, {z}] }}\n\
+             material = \"white\"\n"
+        );
+    }
+    if rng.next() < 0.5 {
+        let (x, z) = (rng.next() * 1.2 - 0.9, rng.next() * 1.2 - 0.9);
+        text += &format!(
+            "[[objects]]\nquad = {{ corner = [{x}, {}, {z}], edge_u = [0.4, 0, 0], edge_v = [0, 0, 0.3] }}\n\
+             material = \"lamp\"\n",
+            1.0 - gap
+        );
+    } else {
+        // Near a side wall, the floor or the middle.
+        let near = 1.0 - gap;
+        let position = match (rng.next() * 3.0) as u32 {
+            0 => format!("[{near}, 0.2, -0.3]"),
+            1 => format!("[0.1, {}, 0.2]", -near),
+            _ => "[0, 0.5, 0]".to_string(),
+        };
+        text += &format!("[[lights]]\nposition = {position}\ncolor = [2, 2, 2]\n");
+    }
+    text
+}
+
+#[test]
+fn closed_rooms_in_lanes_are_the_one_path_tracers_bit_for_bit() {
+    let mut rng = Rng(0xD1B5_4A32_D192_ED03);
+    let pixels: Vec<(u32, u32)> = (0..64).map(|k| (k % 8, k / 8)).collect();
+    for room in 0..40 {
+        let text = random_closed_room(&mut rng);
+        let scene = scene_from(&text);
+        let run = Run {
+            samples: 0..1 + (rng.next() * 40.0) as u32,
+            seed: (rng.next() * 4.0) as u32,
+        };
+        assert_same(
+            &scene,
+            &pixels,
+            &run,
+            &format!("closed room {room}, {run:?}:\n{text}"),
+        );
+    }
 }
 
 #[test]

@@ -29,6 +29,7 @@
 // by field, a structure of arrays, for the SIMD tests).
 #![allow(clippy::needless_range_loop)]
 
+mod casters;
 mod rays;
 mod shade;
 
@@ -44,7 +45,7 @@ use crate::sampler::{LaneSamplers, PixelSampler};
 use glam::{Vec2, Vec3};
 use multiversion::multiversion;
 use rays::Rays;
-use shade::{Hits, Pending};
+use shade::{Hits, Pending, Picked};
 use std::ops::Range;
 
 /// Paths traced together: sixteen of a row's samples at a time.
@@ -88,6 +89,9 @@ struct Matte {
 pub struct MatteLanes {
     tris: Vec<Tri>,
     materials: Vec<Matte>,
+    /// For each light of the table, the triangles its shadow rays are
+    /// tested against (`casters.rs`).
+    casters: Vec<Vec<Tri>>,
 }
 
 impl MatteLanes {
@@ -126,7 +130,12 @@ impl MatteLanes {
                 _ => None,
             })
             .collect::<Option<Vec<_>>>()?;
-        Some(MatteLanes { tris, materials })
+        let casters = casters::shadow_casters(&tris, path_lights);
+        Some(MatteLanes {
+            tris,
+            materials,
+            casters,
+        })
     }
 }
 
@@ -280,7 +289,7 @@ impl MatteLanes {
         let picked = shade::pick_lights(setup.lights, &hits, &numbers.pick);
         let pending =
             shade::light_terms(&hits, &frames, &picked, &numbers.light, &paths.throughput);
-        self.add_light(setup, paths, &hits, &pending);
+        self.add_light(setup, paths, &hits, (&picked, &pending));
         shade::bounce(paths, &hits, &frames, &numbers);
     }
 
@@ -338,8 +347,15 @@ impl MatteLanes {
     }
 
     /// Adds each lane's light sample whose shadow ray is clear, all the
-    /// shadow rays tested together.
-    fn add_light(&self, setup: &mut Setup, paths: &mut Paths, hits: &Hits, pending: &Pending) {
+    /// shadow rays tested together: against the triangles that can shade
+    /// the light they go to, when they all go to one.
+    fn add_light(
+        &self,
+        setup: &mut Setup,
+        paths: &mut Paths,
+        hits: &Hits,
+        (picked, pending): (&Picked, &Pending),
+    ) {
         let mut shadow = Rays::NONE;
         let mut reach = [f32::NEG_INFINITY; LANES];
         for k in 0..LANES {
@@ -349,7 +365,11 @@ impl MatteLanes {
                 reach[k] = pending.reach[k];
             }
         }
-        let blocked = rays::occluded(&self.tris, &shadow, &reach);
+        let tris = match picked.one_light(&pending.shadow) {
+            Some(i) => self.casters.get(i).unwrap_or(&self.tris),
+            None => &self.tris,
+        };
+        let blocked = rays::occluded(tris, &shadow, &reach);
         for k in 0..LANES {
             let clear = pending.shadow[k] & (blocked[k] == 0);
             for a in 0..3 {

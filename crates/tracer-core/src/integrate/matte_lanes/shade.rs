@@ -90,6 +90,8 @@ enum Kind {
 /// position in `v0`) and its radiance (a point light's intensity).
 pub(super) struct Picked {
     kind: [Kind; LANES],
+    /// Its index in the light table.
+    light: [u32; LANES],
     pmf: F,
     v0: V,
     e1: V,
@@ -97,6 +99,16 @@ pub(super) struct Picked {
     normal: V,
     area: F,
     radiance: V,
+}
+
+impl Picked {
+    /// The light every lane of `lanes` picked, if they picked one (or
+    /// none of them is in `lanes`).
+    pub(super) fn one_light(&self, lanes: &M) -> Option<usize> {
+        let mut picked = (0..LANES).filter(|&k| lanes[k]).map(|k| self.light[k]);
+        let first = picked.next().unwrap_or(0);
+        picked.all(|i| i == first).then_some(first as usize)
+    }
 }
 
 /// Whether the scene's lights can be sampled in lanes: points and flat
@@ -117,6 +129,7 @@ pub(super) fn pick_lights(lights: &Lights, hits: &Hits, pick: &F) -> Picked {
     let zero = [[0.0; LANES]; 3];
     let mut p = Picked {
         kind: [Kind::None; LANES],
+        light: [0; LANES],
         pmf: [0.0; LANES],
         v0: zero,
         e1: zero,
@@ -134,7 +147,7 @@ pub(super) fn pick_lights(lights: &Lights, hits: &Hits, pick: &F) -> Picked {
             continue;
         }
         let (i, pmf) = table.sample(pick[k]);
-        p.pmf[k] = pmf;
+        (p.light[k], p.pmf[k]) = (i as u32, pmf);
         if let Some(point) = points.get(i) {
             p.kind[k] = Kind::Point;
             set(&mut p.v0, k, point.position);
