@@ -35,9 +35,14 @@ pub(super) fn nearest(tris: &[Tri], rays: &Rays) -> (F, [u32; LANES]) {
 pub(super) fn occluded(tris: &[Tri], rays: &Rays, reach: &F) -> [u32; LANES] {
     let mut blocked = reach.map(|r| u32::from(r == f32::NEG_INFINITY));
     let dir_len = rays.dir_len();
-    for tri in tris {
-        for k in 0..LANES {
-            blocked[k] |= rays.intersect(k, tri, reach[k], &dir_len).0 as u32;
+    // Whether all are blocked is asked every few triangles only: it is
+    // rarely so, and asked after each triangle the question took 3.5 % of
+    // the Cornell box's time.
+    for group in tris.chunks(8) {
+        for tri in group {
+            for k in 0..LANES {
+                blocked[k] |= rays.intersect(k, tri, reach[k], &dir_len).0 as u32;
+            }
         }
         if blocked.iter().all(|&b| b != 0) {
             break;
