@@ -11,7 +11,8 @@
 //! Each path is the one `PathTracer::radiance` traces, bit for bit: the
 //! same random numbers, the same arithmetic in the same order, and the
 //! same sums in the same order. The intersection test is `tri4.rs`'s,
-//! lane by lane (`rays.rs`). The camera ray, the light table's pick, the
+//! lane by lane (`rays.rs`); a shadow ray skips the triangles that cannot
+//! stand between its light and the scene (`casters.rs`). The camera ray, the light table's pick, the
 //! density of an emitter a path meets, the disk's point of a
 //! cosine-weighted direction and the MIS weight there are the one-path
 //! tracer's own functions; the frame, the light sample (`Lights::sample`
