@@ -13,6 +13,10 @@ struct Distribution1D {
     cdf: Vec<f32>,
     /// The function's integral over [0, 1] (its mean).
     integral: f32,
+    /// For each k of 0..=n, how many of `cdf` are at most k / n: a draw
+    /// u's search starts between two of them, not over all of `cdf`
+    /// (a search of all is a chain of cache misses per draw).
+    guide: Vec<u32>,
 }
 
 impl Distribution1D {
@@ -26,12 +30,13 @@ impl Distribution1D {
             acc += f64::from(v) / n as f64;
             sums.push(acc);
         }
-        let cdf = if acc > 0.0 {
+        let cdf: Vec<f32> = if acc > 0.0 {
             sums.iter().map(|&s| (s / acc) as f32).collect()
         } else {
             (0..=n).map(|k| k as f32 / n as f32).collect()
         };
         Distribution1D {
+            guide: guide(&cdf),
             cdf,
             integral: acc as f32,
         }
@@ -46,13 +51,28 @@ impl Distribution1D {
     fn sample(&self, u: f32) -> (f32, usize) {
         let n = self.len();
         // The last cell whose cumulative sum is at most u.
-        let cell = self.cdf.partition_point(|&c| c <= u).clamp(1, n) - 1;
+        let cell = self.at_most(u).clamp(1, n) - 1;
         let (lo, hi) = (self.cdf[cell], self.cdf[cell + 1]);
         let within = if hi > lo { (u - lo) / (hi - lo) } else { 0.5 };
         (
             ((cell as f32 + within) / n as f32).min(1.0 - f32::EPSILON),
             cell,
         )
+    }
+
+    /// How many of `cdf` are at most `u`: searched between the guide's
+    /// counts at the two k / n below u and the two above (u n rounds to
+    /// within one of its floor), which hold it as `cdf` is sorted.
+    #[inline(always)]
+    fn at_most(&self, u: f32) -> usize {
+        let n = self.len();
+        if !(0.0..1.0).contains(&u) || self.guide.len() != n + 1 {
+            return self.cdf.partition_point(|&c| c <= u);
+        }
+        let k = ((u * n as f32) as usize).min(n);
+        let lo = self.guide[k.saturating_sub(1)] as usize;
+        let hi = (self.guide[(k + 2).min(n)] as usize).clamp(lo, self.cdf.len());
+        lo + self.cdf[lo..hi].partition_point(|&c| c <= u)
     }
 
     /// The density of cell `cell` (of the point's x in [0, 1)).
@@ -106,10 +126,19 @@ impl Distribution2D {
     }
 }
 
+/// `Distribution1D::guide` of `cdf`.
+fn guide(cdf: &[f32]) -> Vec<u32> {
+    let n = cdf.len() - 1;
+    (0..=n)
+        .map(|k| cdf.partition_point(|&c| c <= k as f32 / n as f32) as u32)
+        .collect()
+}
+
 impl Distribution1D {
-    /// Whether a distribution read back from a file has `n` cells.
+    /// Whether a distribution read back from a file has `n` cells, and
+    /// its guide is the one of its sums.
     fn is_whole(&self, n: usize) -> bool {
-        n > 0 && self.cdf.len() == n + 1
+        n > 0 && self.cdf.len() == n + 1 && self.guide == guide(&self.cdf)
     }
 }
 
@@ -149,6 +178,68 @@ mod tests {
         }
         // The density is the value over the mean: 4 / 2 = 2 in the last cell.
         assert!((d.density(Vec2::new(0.75, 0.75)) - 2.0).abs() < 1e-5);
+    }
+
+    /// Values of many shapes: even, one bright cell among dark ones
+    /// (most cells in a sliver of u), runs of zeros, a ramp.
+    fn shapes() -> Vec<Vec<f32>> {
+        let mut x = 0x2545_F491_u32;
+        let mut rand = move || {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            x as f32 / u32::MAX as f32
+        };
+        let mut sun = vec![1e-3; 512];
+        sun[300] = 1e6;
+        let zeros: Vec<f32> = (0..97).map(|i| if i % 7 < 4 { 0.0 } else { 1.0 }).collect();
+        let ramp: Vec<f32> = (0..1000).map(|i| (i as f32).powi(3)).collect();
+        let noise: Vec<f32> = (0..333).map(|_| rand().powi(8)).collect();
+        vec![vec![1.0; 5], vec![2.0], sun, zeros, ramp, noise]
+    }
+
+    #[test]
+    fn the_guided_search_finds_what_a_search_of_every_sum_finds() {
+        for values in shapes() {
+            let d = Distribution1D::new(&values);
+            let n = d.len();
+            let full = |u: f32| d.cdf.partition_point(|&c| c <= u);
+            // Every sum, and every k / n, and a float either side of each;
+            // then a fine grid; then what lies outside [0, 1).
+            let mut us: Vec<f32> = d.cdf.clone();
+            us.extend((0..=n).map(|k| k as f32 / n as f32));
+            let near: Vec<f32> = us
+                .iter()
+                .flat_map(|&u| {
+                    [
+                        f32::from_bits(u.to_bits() - 1),
+                        f32::from_bits(u.to_bits() + 1),
+                    ]
+                })
+                .collect();
+            us.extend(near);
+            us.extend((0..100_000).map(|i| i as f32 / 100_000.0));
+            us.extend([
+                -0.0,
+                -1e-9,
+                1.0,
+                1.5,
+                f32::NAN,
+                f32::INFINITY,
+                1.0 - f32::EPSILON / 2.0,
+            ]);
+            for u in us {
+                assert_eq!(d.at_most(u), full(u), "u = {u:e}, n = {n}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_distribution_with_another_guide_is_not_whole() {
+        let mut d = Distribution1D::new(&[1.0, 2.0, 3.0]);
+        assert!(d.is_whole(3));
+        d.guide[1] += 1;
+        assert!(!d.is_whole(3));
     }
 
     #[test]
