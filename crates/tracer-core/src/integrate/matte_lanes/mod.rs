@@ -9,22 +9,22 @@
 //! and rooms like it, the scenes the global model of light is learnt on.
 //!
 //! Each path is the one `PathTracer::radiance` traces, bit for bit: the
-//! same random numbers, the same arithmetic in the same order, and the
-//! same sums in the same order. The intersection test is `tri4.rs`'s,
-//! lane by lane (`rays.rs`); a shadow ray skips the triangles that cannot
-//! stand between its light and the scene (`casters.rs`). The camera ray, the light table's pick, the
-//! density of an emitter a path meets, the disk's point of a
-//! cosine-weighted direction and the MIS weight there are the one-path
-//! tracer's own functions; the frame, the light sample (`Lights::sample`
-//! on points, triangles and parallelograms), `LabBsdf`'s Lambertian
-//! branch, the power heuristic and the roulette are written again in
-//! `shade.rs`, kept by field and branches made selects, step for step, and
-//! a test holds them to the one-path tracer's values on random scenes. The nearest hit
-//! is the one testing every triangle finds (of equal distances, the one
-//! listed first), which is the tree's but for a few rays from far away or
-//! at sliver triangles, grazing where surfaces nearly meet (`accel`). So
-//! an image, its ray counts and `tracer explain` agree whichever way a
-//! pixel was traced.
+//! same random numbers, the same arithmetic in the same order, and the same
+//! sums in the same order. The intersection test is `tri4.rs`'s, lane by
+//! lane (`rays.rs`); a shadow ray skips the triangles that cannot stand
+//! between its light and the scene (`casters.rs`). The camera ray, the
+//! light table's pick, the density of an emitter a path meets, the disk's
+//! point of a cosine-weighted direction and the MIS weight there are the
+//! one-path tracer's own functions; the frame, the light sample
+//! (`Lights::sample` on points, triangles and parallelograms), `LabBsdf`'s
+//! Lambertian branch, the power heuristic and the roulette are written
+//! again in `shade.rs`, kept by field and branches made selects, step for
+//! step, and a test holds them to the one-path tracer's values on random
+//! scenes. The nearest hit is the one testing every triangle finds (of
+//! equal distances, the one listed first), which is the tree's but for a
+//! few rays from far away or at sliver triangles, grazing where surfaces
+//! nearly meet (`accel`). So an image, its ray counts and `tracer explain`
+//! agree whichever way a pixel was traced.
 
 // A lane's index reads several arrays at once (the lanes' state is kept
 // by field, a structure of arrays, for the SIMD tests).
