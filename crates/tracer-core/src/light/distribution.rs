@@ -70,7 +70,8 @@ impl Distribution1D {
             return self.cdf.partition_point(|&c| c <= u);
         }
         let k = ((u * g as f32) as usize).min(g);
-        let lo = self.guide[k.saturating_sub(1)] as usize;
+        // Clamped to the sums, so that no guide can index past them.
+        let lo = (self.guide[k.saturating_sub(1)] as usize).min(self.cdf.len());
         let hi = (self.guide[(k + 2).min(g)] as usize).clamp(lo, self.cdf.len());
         lo + self.cdf[lo..hi].partition_point(|&c| c <= u)
     }
