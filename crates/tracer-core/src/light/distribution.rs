@@ -212,9 +212,8 @@ mod tests {
             let d = Distribution1D::new(&values);
             let n = d.len();
             let full = |u: f32| d.cdf.partition_point(|&c| c <= u);
-            // Every sum, and every k / n and k / g, and a float either side
-            // of each;
-            // then a fine grid; then what lies outside [0, 1).
+            // Every sum, every k / n and k / g, and a float either side of
+            // each; then a fine grid; then what lies outside [0, 1).
             let mut us: Vec<f32> = d.cdf.clone();
             us.extend((0..=n).map(|k| k as f32 / n as f32));
             let g = guides(n);

@@ -76,17 +76,15 @@ fn corners(t: &Tri) -> [DVec3; 3] {
 
 /// A flat light's corners: every point of it is a mix of them.
 fn area_corners(shape: &AreaShape) -> Vec<DVec3> {
-    let from = |v0: Vec3, e1: Vec3, e2: Vec3| {
-        let (v0, e1, e2) = (v0.as_dvec3(), e1.as_dvec3(), e2.as_dvec3());
-        vec![v0, v0 + e1, v0 + e2, v0 + e1 + e2]
-    };
+    let d = |v: &Vec3| v.as_dvec3();
     match shape {
         AreaShape::Triangle { v0, e1, e2, .. } => {
-            let mut c = from(*v0, *e1, *e2);
-            c.pop();
-            c
+            vec![d(v0), d(v0) + d(e1), d(v0) + d(e2)]
         }
-        AreaShape::Parallelogram { corner, e1, e2, .. } => from(*corner, *e1, *e2),
+        AreaShape::Parallelogram { corner, e1, e2, .. } => {
+            let (c, e1, e2) = (d(corner), d(e1), d(e2));
+            vec![c, c + e1, c + e2, c + e1 + e2]
+        }
         // Only flat lights are sampled in lanes; a point-free list keeps
         // every triangle (nothing is proven inside).
         _ => vec![DVec3::splat(f64::NAN)],
