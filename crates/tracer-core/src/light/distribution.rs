@@ -105,10 +105,17 @@ impl Distribution2D {
     /// A point of the square drawn by `u`, and its density.
     #[inline(always)]
     pub fn sample(&self, u: Vec2) -> (Vec2, f32) {
+        let (p, density, _) = self.sample_cell(u);
+        (p, density)
+    }
+
+    /// `sample`, and the cell (column, row) the point is in.
+    #[inline(always)]
+    pub fn sample_cell(&self, u: Vec2) -> (Vec2, f32, (usize, usize)) {
         let (v, row) = self.marginal.sample(u.y);
         let (x, column) = self.rows[row].sample(u.x);
         let density = self.marginal.density(row) * self.rows[row].density(column);
-        (Vec2::new(x, v), density)
+        (Vec2::new(x, v), density, (column, row))
     }
 
     /// The density at point `p` of the square.

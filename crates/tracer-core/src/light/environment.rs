@@ -140,8 +140,13 @@ impl Environment {
     #[inline(always)]
     pub fn sample(&self, u: Vec2) -> Option<EnvironmentSample> {
         match &self.kind {
-            Kind::Image { distribution, .. } if !self.uniform => {
-                let (uv, density) = distribution.sample(u);
+            Kind::Image {
+                distribution,
+                texels,
+                width,
+                ..
+            } if !self.uniform => {
+                let (uv, density, (column, row)) = distribution.sample_cell(u);
                 let (dir, sin) = uv_to_direction(uv);
                 if density <= 0.0 || sin <= 0.0 {
                     return None;
@@ -149,7 +154,9 @@ impl Environment {
                 let wi = self.to_world(dir);
                 Some(EnvironmentSample {
                     wi,
-                    radiance: self.radiance(wi),
+                    // The drawn cell's texel: the direction is not mapped
+                    // back to the square (an arc cosine and an arc tangent).
+                    radiance: texels[row * *width as usize + column],
                     pdf: density / (2.0 * PI * PI * sin),
                 })
             }
@@ -328,5 +335,27 @@ mod tests {
         let s = env.sample(Vec2::new(0.3, 0.7)).unwrap();
         assert!((s.pdf / env.pdf(s.wi) - 1.0).abs() < 1e-3);
         assert_eq!(s.radiance, env.radiance(s.wi));
+    }
+
+    #[test]
+    fn a_light_sample_carries_the_texel_its_direction_shows() {
+        // Each sample reads the texel of the cell it drew; the direction
+        // looked up again gives the same one, unless its rounding crosses
+        // into a neighbour at the cell's edge.
+        let (width, height) = (24u32, 12u32);
+        let texels: Vec<[f32; 3]> = (0..width * height)
+            .map(|k| [(k * 37 % 11) as f32 + 1.0, (k % 5) as f32, 0.2])
+            .collect();
+        let env = Environment::image(width, height, &texels, 1.5, 70.0);
+        let n = 200;
+        let mut differ = 0;
+        for i in 0..n {
+            for j in 0..n {
+                let u = Vec2::new((i as f32 + 0.37) / n as f32, (j as f32 + 0.61) / n as f32);
+                let s = env.sample(u).unwrap();
+                differ += usize::from(s.radiance != env.radiance(s.wi));
+            }
+        }
+        assert!(differ * 1000 <= n * n, "{differ} of {} samples", n * n);
     }
 }
