@@ -276,6 +276,18 @@ impl Environment {
 mod tests {
     use super::*;
 
+    /// A sky of `width` x `height` varied texels, times `strength`,
+    /// turned by `degrees`.
+    fn varied_sky((width, height): (u32, u32), strength: f32, degrees: f32) -> Environment {
+        let texels: Vec<[f32; 3]> = (0..width * height)
+            .map(|k| {
+                let x = (k * 37 % 11) as f32;
+                [x, 0.5 * x, 0.1]
+            })
+            .collect();
+        Environment::image(width, height, &texels, strength, degrees)
+    }
+
     #[test]
     fn directions_and_points_of_the_square_map_both_ways() {
         // The centre looks along -z, the top up, a quarter right +x.
@@ -312,14 +324,7 @@ mod tests {
         // A sky of varied texels: the density by solid angle, integrated
         // over the sphere (midpoint rule in u, v), is 1; each sample's pdf
         // is `pdf` of its direction.
-        let (width, height) = (16u32, 8u32);
-        let texels: Vec<[f32; 3]> = (0..width * height)
-            .map(|k| {
-                let x = (k * 37 % 11) as f32;
-                [x, 0.5 * x, 0.1]
-            })
-            .collect();
-        let env = Environment::image(width, height, &texels, 2.0, 30.0);
+        let env = varied_sky((16, 8), 2.0, 30.0);
         let n = 400;
         let mut total = 0.0f64;
         for i in 0..n {
@@ -342,11 +347,7 @@ mod tests {
         // Each sample reads the texel of the cell it drew; the direction
         // looked up again gives the same one, unless its rounding crosses
         // into a neighbour at the cell's edge.
-        let (width, height) = (24u32, 12u32);
-        let texels: Vec<[f32; 3]> = (0..width * height)
-            .map(|k| [(k * 37 % 11) as f32 + 1.0, (k % 5) as f32, 0.2])
-            .collect();
-        let env = Environment::image(width, height, &texels, 1.5, 70.0);
+        let env = varied_sky((24, 12), 1.5, 70.0);
         let n = 200;
         let mut differ = 0;
         for i in 0..n {
