@@ -102,16 +102,10 @@ impl Distribution2D {
         }
     }
 
-    /// A point of the square drawn by `u`, and its density.
+    /// A point of the square drawn by `u`, its density, and the cell
+    /// (column, row) it is in.
     #[inline(always)]
-    pub fn sample(&self, u: Vec2) -> (Vec2, f32) {
-        let (p, density, _) = self.sample_cell(u);
-        (p, density)
-    }
-
-    /// `sample`, and the cell (column, row) the point is in.
-    #[inline(always)]
-    pub fn sample_cell(&self, u: Vec2) -> (Vec2, f32, (usize, usize)) {
+    pub fn sample(&self, u: Vec2) -> (Vec2, f32, (usize, usize)) {
         let (v, row) = self.marginal.sample(u.y);
         let (x, column) = self.rows[row].sample(u.x);
         let density = self.marginal.density(row) * self.rows[row].density(column);
@@ -181,8 +175,9 @@ mod tests {
         for i in 0..n {
             for j in 0..n {
                 let u = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
-                let (p, density) = d.sample(u);
+                let (p, density, (column, row)) = d.sample(u);
                 let cell = (p.y * 2.0) as usize * 2 + (p.x * 2.0) as usize;
+                assert_eq!(row * 2 + column, cell, "{p}");
                 counts[cell] += 1;
                 assert!((density - d.density(p)).abs() < 1e-5, "{p} {density}");
             }
@@ -262,7 +257,7 @@ mod tests {
     #[test]
     fn a_zero_function_is_drawn_uniformly() {
         let d = Distribution2D::new(&[0.0; 6], 3);
-        let (p, density) = d.sample(Vec2::new(0.5, 0.5));
+        let (p, density, _) = d.sample(Vec2::new(0.5, 0.5));
         assert!((density - 1.0).abs() < 1e-6 && (0.0..1.0).contains(&p.x));
     }
 }

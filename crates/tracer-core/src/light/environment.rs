@@ -146,7 +146,7 @@ impl Environment {
                 width,
                 ..
             } if !self.uniform => {
-                let (uv, density, (column, row)) = distribution.sample_cell(u);
+                let (uv, density, (column, row)) = distribution.sample(u);
                 let (dir, sin) = uv_to_direction(uv);
                 if density <= 0.0 || sin <= 0.0 {
                     return None;
