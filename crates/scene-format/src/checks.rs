@@ -119,6 +119,12 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
             "ignored in Whitted mode, which renders in one pass; path mode renders in passes that a time limit can stop",
         ));
     }
+    if scene.render.path_reuse > 1 && !path_mode {
+        warnings.push(Diagnostic::new(
+            "render.path_reuse",
+            "ignored in Whitted mode, whose rays have no bounces to share; it is for integrator = \"path\"",
+        ));
+    }
     if path_mode && scene.render.time_limit.is_some() && scene.render.samples == 1 {
         warnings.push(Diagnostic::new(
             "render.time_limit",

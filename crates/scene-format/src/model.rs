@@ -218,6 +218,15 @@ pub struct RenderSettings {
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schemars(extend("exclusiveMinimum" = 0))]
     pub time_limit: Option<f32>,
+    /// Path mode: how many neighbouring pixels of a row share the light
+    /// their paths find beyond the first bounce (path reuse). Where a
+    /// pixel's first surface is Lambertian, it connects to the second
+    /// vertex of each path of its group by a shadow ray: as many samples
+    /// of its indirect light as the group has pixels, unbiased, for one
+    /// ray each. 8 gives the Cornell box the least noise for its time. 1
+    /// shares nothing. From 1 to 32. Default 1.
+    #[schemars(range(min = 1, max = 32))]
+    pub path_reuse: u32,
 }
 
 /// Which way light is computed.
@@ -278,6 +287,7 @@ impl Default for RenderSettings {
             samples: 1,
             light_samples: 16,
             time_limit: None,
+            path_reuse: 1,
         }
     }
 }

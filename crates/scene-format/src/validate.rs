@@ -8,6 +8,9 @@ use crate::suggest::hint;
 /// Largest image side accepted, and largest pixel count (2^28).
 pub const MAX_IMAGE_SIDE: u32 = 16384;
 pub const MAX_IMAGE_PIXELS: u64 = 1 << 28;
+/// Largest `render.path_reuse`: a group's connections grow as its square.
+pub const MAX_PATH_REUSE: u32 = 32;
+
 /// Largest `render.max_depth`: deeper mirror recursion only costs time.
 pub const MAX_DEPTH_CAP: u32 = 64;
 
@@ -311,6 +314,15 @@ impl Validator {
             if self.finite(&key, limit) && limit <= 0.0 {
                 self.error(key, format!("expected seconds > 0, found {}", num(limit)));
             }
+        }
+        if r.path_reuse == 0 || r.path_reuse > MAX_PATH_REUSE {
+            self.error(
+                path.key("path_reuse"),
+                format!(
+                    "expected 1 to {MAX_PATH_REUSE} pixels, found {}",
+                    r.path_reuse
+                ),
+            );
         }
         let n = r.light_samples;
         if n == 0 || n > MAX_SAMPLES {

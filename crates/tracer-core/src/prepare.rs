@@ -226,6 +226,7 @@ fn trace_settings(r: &fmt::RenderSettings) -> TraceSettings {
             fmt::Integrator::Whitted => Integrator::Whitted,
             fmt::Integrator::Path => Integrator::Path,
         },
+        path_reuse: r.path_reuse,
     }
 }
 

@@ -33,6 +33,9 @@ pub struct TraceSettings {
     pub light_samples: u32,
     /// How light is computed.
     pub integrator: Integrator,
+    /// Path mode: how many neighbouring pixels of a row share their
+    /// paths' first bounces (`integrate::reuse`); 1 shares nothing.
+    pub path_reuse: u32,
 }
 
 /// How a render computes light.

@@ -41,3 +41,18 @@ fn the_error_against_mitsuba_falls_at_least_as_one_over_the_root_of_the_samples(
         assert!(pair[1] <= 0.5 * pair[0], "{errors:?}");
     }
 }
+
+#[test]
+#[ignore]
+fn reuse_experiment() {
+    let scene = scene("cornell-box.toml");
+    let reference = reference("cornell-box-mitsuba.exr", SIZE, SIZE);
+    let spp: u32 = std::env::var("SPP").map(|s| s.parse().unwrap()).unwrap_or(64);
+    for g in [1u32, 8] {
+        let t = std::time::Instant::now();
+        let img = mitsuba::render_rows(&scene, (SIZE, SIZE), spp, 0, g);
+        let el = t.elapsed().as_secs_f64();
+        let e = rmse(&img, &reference);
+        println!("group {g} spp={spp} time {el:.2}s rmse {e:.5} eff {:.1}", 1.0 / (e * e * el));
+    }
+}

@@ -113,6 +113,22 @@ impl Bsdf {
         Bsdf { frame, kind }
     }
 
+    /// The albedo of a material that is a Lambertian lobe alone, and the
+    /// chance its sampling picks the lobe (1, or 0 when it reflects
+    /// nothing).
+    pub fn lambert_only(&self) -> Option<(Vec3, f32)> {
+        match &self.kind {
+            Kind::Lab(b) => b.lambert_only(),
+            Kind::Principled(_) => None,
+        }
+    }
+
+    /// The shading normal on the side the surface is seen from: the axis
+    /// of its directions.
+    pub fn normal(&self) -> Vec3 {
+        self.frame.n
+    }
+
     /// Whether some lobe is not specular: light sampling can find its
     /// directions.
     pub fn has_smooth_lobes(&self) -> bool {

@@ -8,6 +8,7 @@ pub(crate) mod lanes;
 pub(crate) mod matte_lanes;
 pub mod path;
 pub mod record;
+pub mod reuse;
 pub mod whitted;
 
 /// How many rays of each kind a render traced.

@@ -11,6 +11,7 @@
 use super::inside::Inside;
 use super::matte_lanes::{self, MatteLanes, LANES};
 use super::record::{PathEvent, PathEventKind, Recorder, Silent};
+use super::reuse::{self, Connection, FirstBounces};
 use super::RayStats;
 use crate::bsdf::Bsdf;
 use crate::camera::Camera;
@@ -65,6 +66,9 @@ pub struct PathTracer<'a, R: Recorder = Silent> {
     /// The values of samples traced in lanes, waiting to be added to
     /// their pixels in order (kept from call to call).
     lane_values: Vec<Vec3>,
+    /// How many neighbouring pixels of a row share their paths' first
+    /// bounces (`reuse.rs`): 1 shares nothing.
+    reuse: u32,
     pub stats: RayStats,
     /// Told what each bounce does (`record.rs`): nothing for renders.
     pub rec: R,
@@ -97,6 +101,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             strategy: Strategy::Mis,
             in_lanes: wide_simd(),
             lane_values: Vec::new(),
+            reuse: scene.trace_settings().path_reuse.clamp(1, reuse::MAX_GROUP),
             stats: RayStats::default(),
             rec,
         }
@@ -117,6 +122,15 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
     /// strategy converges to the same image).
     pub fn with_strategy(self, strategy: Strategy) -> Self {
         PathTracer { strategy, ..self }
+    }
+
+    /// The same tracer with groups of `pixels` sharing their paths' first
+    /// bounces in rows (tests; scenes say it with `path_reuse`).
+    pub fn with_reuse(self, pixels: u32) -> Self {
+        PathTracer {
+            reuse: pixels.clamp(1, reuse::MAX_GROUP),
+            ..self
+        }
     }
 
     /// The same tracer tracing every path alone (tests: the lanes give
@@ -191,6 +205,92 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         self.scene.matte_lanes()
     }
 
+    /// The pixels of a group that share their paths' first bounces, if
+    /// any do: paths must have a bounce after the first, whose weights are
+    /// the renders' (MIS) and not followed by a recorder.
+    fn reuse_group(&self) -> Option<u32> {
+        let shares = self.reuse > 1 && self.max_depth >= 2;
+        (shares && R::SILENT && self.strategy == Strategy::Mis).then_some(self.reuse)
+    }
+
+    /// `add_row` with the row's paths shared in groups of `group` pixels.
+    /// The groups are fixed in the image (their first columns multiples of
+    /// `group`), so a region or a tile renders its pixels as the whole
+    /// image does: a group that the row `xs` cuts is traced whole, and its
+    /// pixels outside `xs` are left out.
+    fn add_row_reused(
+        &mut self,
+        (xs, j): (Range<u32>, u32),
+        samples: Range<u32>,
+        sums: &mut [PixelSum],
+        cancelled: impl Fn() -> bool,
+        group: u32,
+    ) {
+        let width = self.scene.camera().width.max(xs.end);
+        let mut first = xs.start / group * group;
+        let mut group_sums = Vec::with_capacity(group as usize);
+        while first < xs.end {
+            let pixels = first..(first + group).min(width);
+            group_sums.clear();
+            group_sums.extend(pixels.clone().map(|i| match xs.contains(&i) {
+                true => sums[(i - xs.start) as usize],
+                false => PixelSum::default(),
+            }));
+            self.add_group((pixels.clone(), j), samples.clone(), &mut group_sums, &cancelled);
+            for (i, sum) in pixels.zip(&group_sums) {
+                if xs.contains(&i) {
+                    sums[(i - xs.start) as usize] = *sum;
+                }
+            }
+            first += group;
+        }
+    }
+
+    /// Samples `samples` of the group of pixels `xs` of row `j`, each
+    /// sample's paths traced and shared (`reuse::combine`), each pixel's
+    /// values added to its sum of `sums` in the samples' order.
+    fn add_group(
+        &mut self,
+        (xs, j): (Range<u32>, u32),
+        samples: Range<u32>,
+        sums: &mut [PixelSum],
+        cancelled: impl Fn() -> bool,
+    ) {
+        let scene = self.scene;
+        let mut tracer = PathTracer::with_recorder(scene, FirstBounces::default())
+            .with_seed(self.seed)
+            .with_max_depth(self.max_depth);
+        let (mut paths, mut values) = (Vec::new(), Vec::new());
+        for s in samples {
+            if s % 64 == 63 && cancelled() {
+                break;
+            }
+            paths.clear();
+            for i in xs.clone() {
+                let mut sampler = PixelSampler::new(i, j, self.seed);
+                tracer.rec.clear();
+                let value = tracer.sample(&mut sampler, (i, j), s);
+                paths.push(tracer.rec.shared(value));
+            }
+            let stats = &mut tracer.stats;
+            let mut occluded = |connections: &[Connection]| {
+                stats.shadow += connections.len() as u64;
+                let ray = |c: &Connection| Ray::new(c.from, c.dir);
+                let blocked = |c: &Connection| scene.occluded(&ray(c), EPSILON, c.reach);
+                connections.iter().map(blocked).collect()
+            };
+            reuse::combine(&paths, &mut occluded, &mut values);
+            for (sum, value) in sums.iter_mut().zip(&values) {
+                if value.is_finite() {
+                    sum.add(*value);
+                } else {
+                    tracer.stats.dropped += 1;
+                }
+            }
+        }
+        self.stats = self.stats + tracer.stats;
+    }
+
     /// `add_samples` for the pixels (i, j) of `xs` in row `j`, each into
     /// its sum of `sums`: the same values added in the same order. In a
     /// small matte scene the row's paths go sixteen at a time, a lane that
@@ -203,6 +303,9 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         cancelled: impl Fn() -> bool,
     ) {
         debug_assert_eq!(xs.len(), sums.len(), "a sum for each pixel");
+        if let Some(group) = self.reuse_group() {
+            return self.add_row_reused((xs, j), samples, sums, cancelled, group);
+        }
         let paths = xs.len() * samples.len();
         let Some(lanes) = self.lanes().filter(|_| paths >= LANES) else {
             for (i, sum) in xs.zip(sums) {
@@ -337,6 +440,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             depth += 1;
             let wo = -ray.dir();
             let bsdf = Bsdf::new(material, &hit, wo);
+            self.rec.scattering(&hit, &bsdf);
             let from = if hit.front_face {
                 p + hit.shadow_offset
             } else {

@@ -4,6 +4,7 @@
 //! compile away. The numbers are the integrator's own, so the pixel a tree
 //! explains is the pixel the render wrote.
 
+use crate::bsdf::Bsdf;
 use crate::geometry::SurfaceHit;
 use crate::ray::Ray;
 use glam::Vec3;
@@ -161,6 +162,10 @@ pub trait Recorder {
     /// A path tracer's event.
     #[inline(always)]
     fn path(&mut self, _event: PathEvent) {}
+    /// How the surface of the path's last vertex scatters (after the light
+    /// it emits, before its light sample).
+    #[inline(always)]
+    fn scattering(&mut self, _hit: &SurfaceHit, _bsdf: &Bsdf) {}
 }
 
 /// Why a hit that reflects or refracts spawns no ray (lab 5.3).

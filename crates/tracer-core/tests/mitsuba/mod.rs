@@ -7,7 +7,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 use std::path::Path;
-use tracer_core::integrate::path::PathTracer;
+use tracer_core::integrate::path::{PathTracer, PixelSum};
 use tracer_core::{prepare, Scene};
 
 /// Side of the blocks compared.
@@ -52,6 +52,26 @@ pub fn render(scene: &Scene, width: usize, height: usize, samples: u32, seed: u3
             (0..width as u32)
                 .map(|i| tracer.pixel(i, j, samples, || false))
                 .collect::<Vec<_>>()
+        })
+        .collect();
+    Image {
+        width,
+        height,
+        pixels,
+    }
+}
+
+/// Our image at `samples` paths per pixel, scrambled by `seed`, rendered
+/// row by row as renders are (`PathTracer::add_row`), with groups of
+/// `reuse` pixels sharing their paths' first bounces.
+pub fn render_rows(scene: &Scene, (width, height): (usize, usize), samples: u32, seed: u32, reuse: u32) -> Image {
+    let pixels = (0..height as u32)
+        .into_par_iter()
+        .flat_map_iter(|j| {
+            let mut tracer = PathTracer::new(scene).with_seed(seed).with_reuse(reuse);
+            let mut sums = vec![PixelSum::default(); width];
+            tracer.add_row((0..width as u32, j), 0..samples, &mut sums, || false);
+            sums.into_iter().map(|s| s.mean()).collect::<Vec<_>>()
         })
         .collect();
     Image {

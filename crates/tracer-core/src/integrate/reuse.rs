@@ -1,0 +1,270 @@
+//! Path reuse (Bekaert, Sbert and Halton, "Accelerating path tracing by
+//! re-using paths", EGWR 2002): neighbouring pixels of a row share the
+//! light their paths found beyond the first bounce. Where a path's first
+//! surface is Lambertian, its light from farther away (the bounces after
+//! the camera's surface and the light its second vertex sends back) is
+//! the integral over the surfaces it sees of the light they reflect. Each
+//! of a group's paths drew one point of that integral; every pixel of the
+//! group connects its own first vertex to each of those points (a shadow
+//! ray) and weights what it finds by the balance heuristic over the
+//! group's densities: one sample of each pixel's technique, a multi-sample
+//! estimator that stays unbiased (Veach 1997, 9.2). A pixel then has as
+//! many samples of its indirect light as the group has pixels, for one
+//! shadow ray each. Noise is what reuse takes off: the direct light at the
+//! first vertex and the light emitted by the second one stay each path's
+//! own.
+//!
+//! Only a Lambertian second vertex is shared: the light it reflects is the
+//! same toward every point on its side, so a neighbour's connection reads
+//! the path's own estimate. Which pixels take part is decided by their
+//! first vertices alone (a Lambertian surface), so the densities summed
+//! are those of the techniques that really drew.
+
+use super::record::{PathEvent, PathEventKind, Recorder};
+use crate::bsdf::Bsdf;
+use crate::geometry::SurfaceHit;
+use glam::Vec3;
+
+/// The most pixels a group may have: their connections grow as its square.
+pub const MAX_GROUP: u32 = 32;
+
+/// The first vertex of a path whose surface is Lambertian: what its
+/// neighbours' connections start from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FirstVertex {
+    /// The point the camera ray met, and where its shadow rays leave from.
+    pub point: Vec3,
+    pub from: Vec3,
+    /// The surface's normal on the side the camera sees: its cosine-
+    /// weighted directions are drawn around it.
+    pub normal: Vec3,
+    pub albedo: Vec3,
+}
+
+/// The second vertex of such a path, if its surface is Lambertian too.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SecondVertex {
+    pub point: Vec3,
+    /// The geometric normal, on the side the path arrived from: the light
+    /// it reflects leaves on that side only.
+    pub normal: Vec3,
+    /// The light the path found beyond it (its own emission left out),
+    /// per unit of the path's throughput there: an estimate of the
+    /// radiance it reflects, toward any point on its normal's side.
+    pub reflected: Vec3,
+}
+
+/// One path of a group, as the group combines it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Shared {
+    /// The path's own value: all of it where it takes no part, and without
+    /// the light beyond its second vertex where that vertex is shared.
+    pub own: Vec3,
+    pub first: Option<FirstVertex>,
+    pub second: Option<SecondVertex>,
+}
+
+impl Shared {
+    /// A path that takes no part: its value stays its own.
+    pub fn alone(value: Vec3) -> Shared {
+        Shared {
+            own: value,
+            first: None,
+            second: None,
+        }
+    }
+}
+
+/// A connection's shadow ray: from `from` along unit `dir` up to `reach`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Connection {
+    pub from: Vec3,
+    pub dir: Vec3,
+    pub reach: f32,
+}
+
+/// The values of a group's paths with their indirect light shared, in
+/// the group's order, the density sums in a fixed order (the same image
+/// whatever threads and tiles rendered it). `occluded` answers for a list
+/// of shadow rays at once (lanes test them sixteen at a time).
+pub fn combine(
+    paths: &[Shared],
+    occluded: &mut dyn FnMut(&[Connection]) -> Vec<bool>,
+    values: &mut Vec<Vec3>,
+) {
+    let n = paths.len();
+    values.clear();
+    values.extend(paths.iter().map(|p| p.own));
+    // density[k * n + j]: pixel k's density of drawing path j's second
+    // vertex (area measure), 0 where it cannot or the vertex is hidden.
+    let mut density = vec![0.0f32; n * n];
+    let mut pending = Vec::new();
+    let mut connections = Vec::new();
+    for (k, a) in paths.iter().enumerate() {
+        let Some(x) = a.first else { continue };
+        for (j, b) in paths.iter().enumerate() {
+            let Some(y) = b.second else { continue };
+            let Some(d) = area_density(&x, &y) else {
+                continue;
+            };
+            if k == j {
+                // The path's own vertex: drawn, so seen.
+                density[k * n + j] = d;
+                continue;
+            }
+            let to = y.point - x.from;
+            let distance = to.length();
+            connections.push(Connection {
+                from: x.from,
+                dir: to / distance,
+                reach: distance * (1.0 - super::path::SHADOW_SHORTEN),
+            });
+            pending.push((k * n + j, d));
+        }
+    }
+    if !connections.is_empty() {
+        let blocked = occluded(&connections);
+        for (&(at, d), blocked) in pending.iter().zip(blocked) {
+            if !blocked {
+                density[at] = d;
+            }
+        }
+    }
+    for (j, b) in paths.iter().enumerate() {
+        let Some(y) = b.second else { continue };
+        let total: f32 = (0..n).map(|k| density[k * n + j]).sum();
+        if total <= 0.0 {
+            continue;
+        }
+        for (k, a) in paths.iter().enumerate() {
+            let (Some(x), d) = (a.first, density[k * n + j]) else {
+                continue;
+            };
+            if d > 0.0 {
+                // f cos / (summed density) = albedo/pi cos / sum; the
+                // density is cos/pi times the same geometry.
+                values[k] += x.albedo * y.reflected * (d / total);
+            }
+        }
+    }
+}
+
+/// The density, per unit area of `y`'s surface, of a cosine-weighted
+/// direction from `x` meeting `y` (visibility aside): cos_x / pi *
+/// cos_y / d^2. None where `y` lies below `x`'s surface or `x` behind
+/// `y`'s lit side.
+fn area_density(x: &FirstVertex, y: &SecondVertex) -> Option<f32> {
+    let to = y.point - x.point;
+    let d2 = to.length_squared();
+    let cos_x = x.normal.dot(to);
+    let cos_y = -y.normal.dot(to);
+    if cos_x <= 0.0 || cos_y <= 0.0 || d2 <= 0.0 {
+        return None;
+    }
+    // cos_x cos_y / d^2 with both cosines of the unnormalised `to`.
+    let d = cos_x * cos_y / (d2 * d2) * std::f32::consts::FRAC_1_PI;
+    d.is_finite().then_some(d)
+}
+
+/// Follows one path (a `Recorder` of the one-path tracer) for what a group
+/// shares: its first two vertices and the light found beyond the second.
+#[derive(Debug, Clone, Default)]
+pub struct FirstBounces {
+    /// The depth of the vertex the path is at, and its point.
+    depth: u32,
+    point: Vec3,
+    first: Option<FirstVertex>,
+    /// The second vertex's point and normal, once it is shared.
+    second: Option<(Vec3, Vec3)>,
+    /// The path's throughput at its second vertex.
+    throughput: Vec3,
+    /// The path's radiance so far, added as the tracer adds it, and what
+    /// it was when the second vertex was reached.
+    total: Vec3,
+    own: Vec3,
+}
+
+impl FirstBounces {
+    /// Ready for the next path.
+    pub fn clear(&mut self) {
+        *self = FirstBounces::default();
+    }
+
+    /// The path just traced, whose value was `value`.
+    pub fn shared(&self, value: Vec3) -> Shared {
+        let second = self.second.map(|(point, normal)| (point, normal, self.own));
+        shared(value, self.first, second, self.throughput)
+    }
+}
+
+/// A path of value `value` as a group shares it, its first vertex
+/// `first`, and its second's point, normal and the path's value when it
+/// got there, with the throughput there: what lies beyond is the rest of
+/// the value (as the tracer added it), per unit throughput.
+pub(super) fn shared(
+    value: Vec3,
+    first: Option<FirstVertex>,
+    second: Option<(Vec3, Vec3, Vec3)>,
+    throughput: Vec3,
+) -> Shared {
+    let Some(first) = first else {
+        return Shared::alone(value);
+    };
+    let second = second.and_then(|(point, normal, own)| {
+        let reflected = (value - own) / throughput;
+        let usable = throughput.cmpgt(Vec3::ZERO).all() && reflected.is_finite();
+        usable.then_some((
+            own,
+            SecondVertex {
+                point,
+                normal,
+                reflected,
+            },
+        ))
+    });
+    Shared {
+        own: second.map_or(value, |(own, _)| own),
+        first: Some(first),
+        second: second.map(|(_, y)| y),
+    }
+}
+
+impl Recorder for FirstBounces {
+    #[inline(always)]
+    fn path(&mut self, event: PathEvent) {
+        if let PathEventKind::Vertex { depth, point, .. } = event.kind {
+            (self.depth, self.point) = (depth, point);
+            if depth == 1 {
+                self.throughput = event.throughput;
+            }
+        }
+        self.total += event.added;
+    }
+
+    #[inline(always)]
+    fn scattering(&mut self, hit: &SurfaceHit, bsdf: &Bsdf) {
+        let lambert = bsdf.lambert_only();
+        match self.depth {
+            0 => {
+                let Some((albedo, 1.0)) = lambert else { return };
+                let from = match hit.front_face {
+                    true => self.point + hit.shadow_offset,
+                    false => self.point,
+                };
+                self.first = Some(FirstVertex {
+                    point: self.point,
+                    from,
+                    normal: bsdf.normal(),
+                    albedo,
+                });
+            }
+            1 if self.first.is_some() && lambert.is_some() => {
+                let facing = if hit.front_face { 1.0 } else { -1.0 };
+                let normal = hit.geometric_normal * facing;
+                self.second = Some((self.point, normal));
+                self.own = self.total;
+            }
+            _ => {}
+        }
+    }
+}
