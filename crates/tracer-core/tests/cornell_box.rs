@@ -48,7 +48,7 @@ fn reuse_experiment() {
     let scene = scene("cornell-box.toml");
     let reference = reference("cornell-box-mitsuba.exr", SIZE, SIZE);
     let spp: u32 = std::env::var("SPP").map(|s| s.parse().unwrap()).unwrap_or(64);
-    for g in [1u32, 8] {
+    for g in [1u32, 6, 8, 10] {
         let t = std::time::Instant::now();
         let img = mitsuba::render_rows(&scene, (SIZE, SIZE), spp, 0, g);
         let el = t.elapsed().as_secs_f64();

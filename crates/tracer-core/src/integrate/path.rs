@@ -11,7 +11,7 @@
 use super::inside::Inside;
 use super::matte_lanes::{self, MatteLanes, LANES};
 use super::record::{PathEvent, PathEventKind, Recorder, Silent};
-use super::reuse::{self, Connection, FirstBounces};
+use super::reuse::{self, Combiner, Connection, FirstBounces};
 use super::RayStats;
 use crate::bsdf::Bsdf;
 use crate::camera::Camera;
@@ -66,6 +66,8 @@ pub struct PathTracer<'a, R: Recorder = Silent> {
     /// The values of samples traced in lanes, waiting to be added to
     /// their pixels in order (kept from call to call).
     lane_values: Vec<Vec3>,
+    /// What those samples share, when pixels share their paths.
+    lane_shared: Vec<reuse::Shared>,
     /// How many neighbouring pixels of a row share their paths' first
     /// bounces (`reuse.rs`): 1 shares nothing.
     reuse: u32,
@@ -101,6 +103,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             strategy: Strategy::Mis,
             in_lanes: wide_simd(),
             lane_values: Vec::new(),
+            lane_shared: Vec::new(),
             reuse: scene.trace_settings().path_reuse.clamp(1, reuse::MAX_GROUP),
             stats: RayStats::default(),
             rec,
@@ -227,22 +230,93 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         group: u32,
     ) {
         let width = self.scene.camera().width.max(xs.end);
-        let mut first = xs.start / group * group;
-        let mut group_sums = Vec::with_capacity(group as usize);
-        while first < xs.end {
-            let pixels = first..(first + group).min(width);
-            group_sums.clear();
-            group_sums.extend(pixels.clone().map(|i| match xs.contains(&i) {
+        let whole = xs.start / group * group..xs.end.div_ceil(group) * group;
+        let whole = whole.start..whole.end.min(width).max(xs.end);
+        let mut whole_sums: Vec<PixelSum> = whole
+            .clone()
+            .map(|i| match xs.contains(&i) {
                 true => sums[(i - xs.start) as usize],
                 false => PixelSum::default(),
-            }));
-            self.add_group((pixels.clone(), j), samples.clone(), &mut group_sums, &cancelled);
-            for (i, sum) in pixels.zip(&group_sums) {
-                if xs.contains(&i) {
-                    sums[(i - xs.start) as usize] = *sum;
+            })
+            .collect();
+        let paths = whole.len() * samples.len();
+        if let Some(lanes) = self.lanes().filter(|_| paths >= LANES) {
+            // Whole groups at a time, as many as `LANE_VALUES` allows.
+            let per_group = group as usize * samples.len().max(1);
+            let together = (LANE_VALUES / per_group).max(1) * group as usize;
+            let mut x0 = whole.start;
+            for sums in whole_sums.chunks_mut(together) {
+                let xs = x0..x0 + sums.len() as u32;
+                x0 = xs.end;
+                let work = ((xs, j), samples.clone(), group);
+                self.add_groups_in_lanes(lanes, work, sums, &cancelled);
+            }
+        } else {
+            let mut x0 = whole.start;
+            for sums in whole_sums.chunks_mut(group as usize) {
+                let xs = x0..x0 + sums.len() as u32;
+                x0 = xs.end;
+                self.add_group((xs, j), samples.clone(), sums, &cancelled);
+            }
+        }
+        for (i, sum) in whole.zip(whole_sums) {
+            if xs.contains(&i) {
+                sums[(i - xs.start) as usize] = sum;
+            }
+        }
+    }
+
+    /// `add_group` for the groups of `group` pixels of `xs` in row `j`,
+    /// their paths traced sixteen at a time (`matte_lanes/`) and their
+    /// connections tested sixteen at a time.
+    fn add_groups_in_lanes(
+        &mut self,
+        lanes: &MatteLanes,
+        ((xs, j), samples, group): ((Range<u32>, u32), Range<u32>, u32),
+        sums: &mut [PixelSum],
+        cancelled: impl Fn() -> bool,
+    ) {
+        let camera = self.scene.camera();
+        let mut setup = matte_lanes::Setup {
+            lights: self.scene.path_lights(),
+            background: self.scene.trace_settings().background,
+            max_depth: self.max_depth,
+            stats: &mut self.stats,
+            share: true,
+        };
+        let per_pixel = samples.len();
+        let ray = |sampler: &mut PixelSampler, pixel| camera_ray(camera, sampler, pixel);
+        let work = ((xs, j), samples, self.seed);
+        let out = (&mut self.lane_values, &mut self.lane_shared);
+        lanes.trace_pixels(&mut setup, work, ray, out, cancelled);
+        // A render given up leaves its last pixels without values: only
+        // the groups whose every pixel has them are added.
+        let traced = self.lane_shared.len() / per_pixel.max(1);
+        let (mut paths, mut values) = (Vec::new(), Vec::new());
+        let mut combiner = Combiner::default();
+        let group = group as usize;
+        for first in (0..sums.len()).step_by(group) {
+            let members = first..(first + group).min(sums.len());
+            if members.end > traced {
+                break;
+            }
+            for s in 0..per_pixel {
+                paths.clear();
+                paths.extend(members.clone().map(|p| self.lane_shared[p * per_pixel + s]));
+                let stats = &mut self.stats;
+                let mut occluded = |connections: &[Connection]| {
+                    stats.shadow += connections.len() as u64;
+                    lanes.occluded(connections)
+                };
+                combiner.combine(&paths, &mut occluded, &mut values);
+                for (sum, value) in sums[members.clone()].iter_mut().zip(&values) {
+                    if value.is_finite() {
+                        sum.add(*value);
+                    } else {
+                        self.stats.dropped += 1;
+                    }
                 }
             }
-            first += group;
         }
     }
 
@@ -261,6 +335,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             .with_seed(self.seed)
             .with_max_depth(self.max_depth);
         let (mut paths, mut values) = (Vec::new(), Vec::new());
+        let mut combiner = Combiner::default();
         for s in samples {
             if s % 64 == 63 && cancelled() {
                 break;
@@ -279,7 +354,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
                 let blocked = |c: &Connection| scene.occluded(&ray(c), EPSILON, c.reach);
                 connections.iter().map(blocked).collect()
             };
-            reuse::combine(&paths, &mut occluded, &mut values);
+            combiner.combine(&paths, &mut occluded, &mut values);
             for (sum, value) in sums.iter_mut().zip(&values) {
                 if value.is_finite() {
                     sum.add(*value);
@@ -341,12 +416,14 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             background: self.scene.trace_settings().background,
             max_depth: self.max_depth,
             stats: &mut self.stats,
+            share: false,
         };
         let per_pixel = samples.len();
         let ray = |sampler: &mut PixelSampler, pixel| camera_ray(camera, sampler, pixel);
         let values = &mut self.lane_values;
         let work = (row, samples, self.seed);
-        lanes.trace_pixels(&mut setup, work, ray, values, cancelled);
+        let out = (&mut *values, &mut self.lane_shared);
+        lanes.trace_pixels(&mut setup, work, ray, out, cancelled);
         for (pixel_values, sum) in values.chunks(per_pixel).zip(sums) {
             for radiance in pixel_values {
                 if radiance.is_finite() {

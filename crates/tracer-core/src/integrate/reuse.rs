@@ -83,67 +83,86 @@ pub struct Connection {
     pub reach: f32,
 }
 
-/// The values of a group's paths with their indirect light shared, in
-/// the group's order, the density sums in a fixed order (the same image
-/// whatever threads and tiles rendered it). `occluded` answers for a list
-/// of shadow rays at once (lanes test them sixteen at a time).
-pub fn combine(
-    paths: &[Shared],
-    occluded: &mut dyn FnMut(&[Connection]) -> Vec<bool>,
-    values: &mut Vec<Vec3>,
-) {
-    let n = paths.len();
-    values.clear();
-    values.extend(paths.iter().map(|p| p.own));
-    // density[k * n + j]: pixel k's density of drawing path j's second
-    // vertex (area measure), 0 where it cannot or the vertex is hidden.
-    let mut density = vec![0.0f32; n * n];
-    let mut pending = Vec::new();
-    let mut connections = Vec::new();
-    for (k, a) in paths.iter().enumerate() {
-        let Some(x) = a.first else { continue };
+/// Shares the light of groups' paths, its buffers kept from group to group.
+#[derive(Debug, Clone, Default)]
+pub struct Combiner {
+    /// `density[k * n + j]`: pixel k's density of drawing path j's second
+    /// vertex (area measure), 0 where it cannot or the vertex is hidden.
+    density: Vec<f32>,
+    /// The connections to test, and where each one's density goes.
+    connections: Vec<Connection>,
+    pending: Vec<(usize, f32)>,
+}
+
+impl Combiner {
+    /// The values of a group's paths with their indirect light shared, in
+    /// the group's order, the density sums in a fixed order (the same
+    /// image whatever threads and tiles rendered it). `occluded` answers
+    /// for a list of shadow rays at once (lanes test them sixteen at a
+    /// time).
+    pub fn combine(
+        &mut self,
+        paths: &[Shared],
+        occluded: &mut dyn FnMut(&[Connection]) -> Vec<bool>,
+        values: &mut Vec<Vec3>,
+    ) {
+        let n = paths.len();
+        values.clear();
+        values.extend(paths.iter().map(|p| p.own));
+        self.density.clear();
+        self.density.resize(n * n, 0.0);
+        self.connect(paths);
+        if !self.connections.is_empty() {
+            let blocked = occluded(&self.connections);
+            for (&(at, d), blocked) in self.pending.iter().zip(blocked) {
+                if !blocked {
+                    self.density[at] = d;
+                }
+            }
+        }
         for (j, b) in paths.iter().enumerate() {
             let Some(y) = b.second else { continue };
-            let Some(d) = area_density(&x, &y) else {
-                continue;
-            };
-            if k == j {
-                // The path's own vertex: drawn, so seen.
-                density[k * n + j] = d;
+            let column = self.density.iter().skip(j).step_by(n);
+            let total: f32 = column.clone().sum();
+            if total <= 0.0 {
                 continue;
             }
-            let to = y.point - x.from;
-            let distance = to.length();
-            connections.push(Connection {
-                from: x.from,
-                dir: to / distance,
-                reach: distance * (1.0 - super::path::SHADOW_SHORTEN),
-            });
-            pending.push((k * n + j, d));
-        }
-    }
-    if !connections.is_empty() {
-        let blocked = occluded(&connections);
-        for (&(at, d), blocked) in pending.iter().zip(blocked) {
-            if !blocked {
-                density[at] = d;
+            for ((value, a), &d) in values.iter_mut().zip(paths).zip(column) {
+                if let (Some(x), true) = (a.first, d > 0.0) {
+                    // f cos / (summed density) = albedo/pi cos / sum; the
+                    // density is cos/pi times the same geometry.
+                    *value += x.albedo * y.reflected * (d / total);
+                }
             }
         }
     }
-    for (j, b) in paths.iter().enumerate() {
-        let Some(y) = b.second else { continue };
-        let total: f32 = (0..n).map(|k| density[k * n + j]).sum();
-        if total <= 0.0 {
-            continue;
-        }
+
+    /// Each pixel's density of each shared second vertex, visibility
+    /// aside: a path's own vertex is seen, and the others' connections
+    /// are left to test.
+    fn connect(&mut self, paths: &[Shared]) {
+        let n = paths.len();
+        self.connections.clear();
+        self.pending.clear();
         for (k, a) in paths.iter().enumerate() {
-            let (Some(x), d) = (a.first, density[k * n + j]) else {
-                continue;
-            };
-            if d > 0.0 {
-                // f cos / (summed density) = albedo/pi cos / sum; the
-                // density is cos/pi times the same geometry.
-                values[k] += x.albedo * y.reflected * (d / total);
+            let Some(x) = a.first else { continue };
+            for (j, b) in paths.iter().enumerate() {
+                let Some(y) = b.second else { continue };
+                let Some(d) = area_density(&x, &y) else {
+                    continue;
+                };
+                if k == j {
+                    self.density[k * n + j] = d;
+                    continue;
+                }
+                let to = y.point - x.from;
+                let distance = to.length();
+                self.connections.push(Connection {
+                    from: x.from,
+                    dir: to / distance,
+                    reach: distance * (1.0 - super::path::SHADOW_SHORTEN),
+                });
+                self.pending.push((k * n + j, d));
             }
         }
     }

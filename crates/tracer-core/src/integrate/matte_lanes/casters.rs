@@ -38,25 +38,48 @@ pub(super) fn shadow_casters(tris: &[Tri], lights: &Lights) -> Vec<Vec<Tri>> {
 /// it) and every corner of `light` inside that side by more than the
 /// test's rounding can cross: no shadow ray toward the light hits it.
 fn separates(tri: &Tri, scene: &[DVec3], light: &[DVec3], extent: f64) -> bool {
+    let Some((n, v0, side, sin)) = scene_side(tri, scene, extent) else {
+        return false;
+    };
+    let height = |x: &DVec3| n.dot(*x - v0);
+    light.iter().all(|x| side * height(x) > margin(extent, sin))
+}
+
+/// The triangles of `tris` a segment between two points of the scene can
+/// meet: those whose plane has some of the scene on each side. A segment
+/// between two points on one side of a plane meets it at an end at most,
+/// which the test's `t > EPSILON` and the segment's shortened reach
+/// refuse.
+pub(super) fn connection_casters(tris: &[Tri]) -> Vec<Tri> {
+    let scene: Vec<DVec3> = tris.iter().flat_map(corners).collect();
+    let extent = diagonal(scene.iter());
+    let cuts = |t: &&Tri| scene_side(t, &scene, extent).is_none();
+    tris.iter().filter(cuts).copied().collect()
+}
+
+/// `tri`'s unit normal and first corner, the side of its plane (1 or -1
+/// along the normal) every point of `scene` lies on (or on the plane, off
+/// it by rounding), and the sine of its corner: None when the scene lies
+/// on both sides, or the triangle is a sliver (or NaN).
+fn scene_side(tri: &Tri, scene: &[DVec3], extent: f64) -> Option<(DVec3, DVec3, f64, f64)> {
     let (v0, e1, e2) = (tri.v0.as_dvec3(), tri.e1.as_dvec3(), tri.e2.as_dvec3());
     let cross = e1.cross(e2);
     let sin = cross.length() / (e1.length() * e2.length());
     // A sliver (or NaN) triangle, or a scene of no size, is kept.
     if sin.is_nan() || sin <= 0.0 || !extent.is_finite() {
-        return false;
+        return None;
     }
     let n = cross / cross.length();
     let height = |x: &DVec3| n.dot(*x - v0);
     // Points of the scene on the plane may be off it by their rounding.
     let on = 1e-6 * extent;
-    let side = if scene.iter().all(|x| height(x) >= -on) {
-        1.0
+    if scene.iter().all(|x| height(x) >= -on) {
+        Some((n, v0, 1.0, sin))
     } else if scene.iter().all(|x| height(x) <= on) {
-        -1.0
+        Some((n, v0, -1.0, sin))
     } else {
-        return false;
-    };
-    light.iter().all(|x| side * height(x) > margin(extent, sin))
+        None
+    }
 }
 
 /// How far inside a light must lie for the test of a ray from the plane
@@ -143,6 +166,18 @@ mod tests {
     fn the_planes_with_the_scene_and_the_light_on_one_side_are_left_out() {
         // Above the panel: the panel can shade, the floor and wall cannot.
         assert_eq!(kept_for_a_point_at([0.0, 1.9, 0.0]), vec![2]);
+    }
+
+    #[test]
+    fn connections_are_tested_against_the_planes_with_the_scene_on_both_sides() {
+        let kept: Vec<u32> = connection_casters(&room()).iter().map(|t| t.material).collect();
+        // The floor and the wall have the whole room on one side.
+        assert_eq!(kept, vec![2]);
+        let mut room = room();
+        // A wall through the middle of the floor cuts the room.
+        room[1].v0 = Vec3::new(0.0, 0.0, -1.0);
+        let kept: Vec<u32> = connection_casters(&room).iter().map(|t| t.material).collect();
+        assert_eq!(kept, vec![1, 2]);
     }
 
     #[test]

@@ -35,6 +35,7 @@ mod rays;
 mod shade;
 
 use super::path::power_heuristic;
+use super::reuse::{self, Connection, FirstVertex, Shared};
 use super::RayStats;
 use crate::bsdf::LabBsdf;
 use crate::geometry::{Object, Shape, SurfaceHit};
@@ -93,6 +94,9 @@ pub struct MatteLanes {
     /// For each light of the table, the triangles its shadow rays are
     /// tested against (`casters.rs`).
     casters: Vec<Vec<Tri>>,
+    /// The triangles a segment between two points of the scene can meet
+    /// (`casters.rs`): what path reuse's connections are tested against.
+    connection_casters: Vec<Tri>,
 }
 
 impl MatteLanes {
@@ -132,11 +136,33 @@ impl MatteLanes {
             })
             .collect::<Option<Vec<_>>>()?;
         let casters = casters::shadow_casters(&tris, path_lights);
+        let connection_casters = casters::connection_casters(&tris);
         Some(MatteLanes {
             tris,
             materials,
             casters,
+            connection_casters,
         })
+    }
+}
+
+impl MatteLanes {
+    /// Whether something lies on each of `connections` (segments between
+    /// two points of the scene), sixteen tested at a time against the
+    /// triangles that can stand on one.
+    pub(super) fn occluded(&self, connections: &[Connection]) -> Vec<bool> {
+        let mut blocked = Vec::with_capacity(connections.len());
+        for group in connections.chunks(LANES) {
+            let mut rays = Rays::NONE;
+            let mut reach = [f32::NEG_INFINITY; LANES];
+            for (k, c) in group.iter().enumerate() {
+                rays.set(k, c.from, c.dir);
+                reach[k] = c.reach;
+            }
+            let hit = rays::occluded(&self.connection_casters, &rays, &reach);
+            blocked.extend(hit[..group.len()].iter().map(|&b| b != 0));
+        }
+        blocked
     }
 }
 
@@ -175,6 +201,8 @@ pub(super) struct Setup<'a> {
     pub background: Vec3,
     pub max_depth: u32,
     pub stats: &'a mut RayStats,
+    /// Whether the paths' first bounces are kept for sharing (`reuse.rs`).
+    pub share: bool,
 }
 
 /// The state of the lanes' paths, kept by field.
@@ -192,6 +220,11 @@ struct Paths {
     from: V,
     pdf: F,
     specular: [bool; LANES],
+    /// What the path shares (`Setup::share`): its first vertex, and its
+    /// second's point, normal, the path's value there and its throughput.
+    first: [Option<FirstVertex>; LANES],
+    second: [Option<(Vec3, Vec3, Vec3)>; LANES],
+    throughput_second: [Vec3; LANES],
 }
 
 /// The samples still to trace: those of the pixels `xs` of row `j`,
@@ -247,12 +280,16 @@ impl MatteLanes {
         setup: &mut Setup,
         (row, samples, seed): ((Range<u32>, u32), Range<u32>, u32),
         camera: impl Fn(&mut PixelSampler, (u32, u32)) -> Ray,
-        values: &mut Vec<Vec3>,
+        (values, shared): (&mut Vec<Vec3>, &mut Vec<Shared>),
         cancelled: impl Fn() -> bool,
     ) {
         let total = row.0.len() * samples.len();
         values.clear();
         values.resize(total, Vec3::ZERO);
+        shared.clear();
+        if setup.share {
+            shared.resize(total, Shared::alone(Vec3::ZERO));
+        }
         let mut queue = Queue {
             row,
             samples,
@@ -271,12 +308,17 @@ impl MatteLanes {
             self.step(setup, &mut paths, &mut samplers);
             for k in 0..LANES {
                 if was_alive[k] && !paths.alive[k] {
-                    values[paths.sample[k] as usize] = lane(&paths.radiance, k);
+                    let (at, value) = (paths.sample[k] as usize, lane(&paths.radiance, k));
+                    values[at] = value;
+                    if setup.share {
+                        shared[at] = paths.shared(k, value);
+                    }
                     queue.start((&mut paths, &mut samplers), k, &camera);
                 }
             }
         }
         values.truncate(queue.end);
+        shared.truncate(queue.end);
     }
 
     /// One segment of every busy lane's path: its nearest hit, what it
@@ -333,6 +375,9 @@ impl MatteLanes {
             }
             paths.depth[k] += 1;
             let facing = if front_face { 1.0 } else { -1.0 };
+            if setup.share {
+                paths.keep_for_sharing(k, (p, tri.normal * facing), &material);
+            }
             hits.shaded[k] = true;
             set(&mut hits.point, k, p);
             set(
@@ -399,6 +444,9 @@ impl Paths {
             from: [[0.0; LANES]; 3],
             pdf: [0.0; LANES],
             specular: [true; LANES],
+            first: [None; LANES],
+            second: [None; LANES],
+            throughput_second: [Vec3::ZERO; LANES],
         }
     }
 
@@ -413,6 +461,34 @@ impl Paths {
         set(&mut self.throughput, k, Vec3::ONE);
         set(&mut self.from, k, ray.origin());
         (self.pdf[k], self.specular[k]) = (0.0, true);
+        (self.first[k], self.second[k]) = (None, None);
+    }
+
+    /// Keeps what lane `k`'s path shares at the vertex it is shaded at,
+    /// `p` of normal `normal` (on the side the path came from), of
+    /// `material`: its first vertex where that is Lambertian, and its
+    /// second after such a first. `FirstBounces` for the one-path tracer.
+    fn keep_for_sharing(&mut self, k: usize, (p, normal): (Vec3, Vec3), material: &Matte) {
+        match self.depth[k] {
+            1 if material.p_lambert == 1.0 => {
+                self.first[k] = Some(FirstVertex {
+                    point: p,
+                    from: p,
+                    normal,
+                    albedo: material.albedo,
+                })
+            }
+            2 if self.first[k].is_some() => {
+                self.second[k] = Some((p, normal, lane(&self.radiance, k)));
+                self.throughput_second[k] = lane(&self.throughput, k);
+            }
+            _ => {}
+        }
+    }
+
+    /// What lane `k`'s ended path of value `value` shares.
+    fn shared(&self, k: usize, value: Vec3) -> Shared {
+        reuse::shared(value, self.first[k], self.second[k], self.throughput_second[k])
     }
 }
 
