@@ -368,3 +368,43 @@ fn lanes_read_the_background_the_scene_has_now() {
     let (values, _) = trace(&scene, &pixels, &run, false);
     assert!(values.contains(&Vec3::ONE), "the sky is white: {values:?}");
 }
+
+#[test]
+fn with_path_reuse_lanes_and_single_paths_agree() {
+    // Groups of 8 pixels sharing their paths' first bounces: the paths and
+    // what they share are the same bit for bit; only the connections'
+    // shadow rays are tested otherwise (against the triangles a segment
+    // inside the room can meet, in lanes; the tree, alone), which may
+    // rarely differ where a connection grazes a surface. 24 rows of 48.
+    let path = common::scenes_dir().join("cornell-box.toml");
+    let mut file = common::load(&path);
+    (file.camera.width, file.camera.height) = (48, 24);
+    let scene = prepare(&file).expect("prepare");
+    let image = |tracer: PathTracer| {
+        let mut tracer = tracer.with_reuse(8);
+        (0..24)
+            .flat_map(|j| {
+                let mut sums = vec![PixelSum::default(); 48];
+                tracer.add_row((0..48, j), 0..16, &mut sums, || false);
+                sums.iter().map(PixelSum::mean).collect::<Vec<_>>()
+            })
+            .collect::<Vec<_>>()
+    };
+    let lanes = image(PathTracer::new(&scene).in_lanes());
+    let alone = image(PathTracer::new(&scene).one_at_a_time());
+    let apart = lanes
+        .iter()
+        .zip(&alone)
+        .filter(|(a, b)| (**a - **b).abs().max_element() > 1e-6 * b.max_element().max(1.0))
+        .count();
+    assert!(apart <= lanes.len() / 100, "{apart} pixels differ");
+    // And sharing is on: the image is not that of paths alone.
+    let plain = |tracer: PathTracer| {
+        let mut sums = vec![PixelSum::default(); 48];
+        tracer
+            .one_at_a_time()
+            .add_row((0..48, 5), 0..16, &mut sums, || false);
+        sums.iter().map(PixelSum::mean).collect::<Vec<_>>()
+    };
+    assert_ne!(plain(PathTracer::new(&scene)), alone[5 * 48..6 * 48]);
+}

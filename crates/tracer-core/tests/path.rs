@@ -9,7 +9,7 @@ use rayon::prelude::*;
 use scene_format::Format;
 use std::f64::consts::PI;
 use std::path::Path;
-use tracer_core::integrate::path::{PathTracer, Strategy};
+use tracer_core::integrate::path::{PathTracer, PixelSum, Strategy};
 use tracer_core::{prepare, Scene};
 
 fn scene_from(text: &str) -> Scene {
@@ -34,6 +34,31 @@ fn render(scene: &Scene, samples: u32, seed: u32, strategy: Strategy) -> Vec<Vec
                 .collect::<Vec<_>>()
         })
         .collect()
+}
+
+/// `render` as renders trace rows (`PathTracer::add_row`), with groups of
+/// `reuse` pixels sharing their paths' first bounces.
+fn render_rows(scene: &Scene, samples: u32, seed: u32, reuse: u32) -> Vec<Vec3> {
+    let camera = scene.camera();
+    let (width, height) = (camera.width, camera.height);
+    (0..height)
+        .into_par_iter()
+        .flat_map_iter(|j| {
+            let mut tracer = PathTracer::new(scene).with_seed(seed).with_reuse(reuse);
+            let mut sums = vec![PixelSum::default(); width as usize];
+            tracer.add_row((0..width, j), 0..samples, &mut sums, || false);
+            sums.into_iter().map(|s| s.mean()).collect::<Vec<_>>()
+        })
+        .collect()
+}
+
+/// The mean of every pixel's average channel.
+fn image_mean(image: &[Vec3]) -> f64 {
+    image
+        .iter()
+        .map(|c| f64::from(c.element_sum()) / 3.0)
+        .sum::<f64>()
+        / image.len() as f64
 }
 
 /// Mean and standard error of `values`, as independent estimates.
@@ -185,6 +210,35 @@ fn a_furnace_of_albedo_one_half_and_emission_one_half_shows_one() {
         assert!(
             (mean - expected).abs() < 4.0 * error,
             "{strategy:?}: {mean} +- {error}, expected {expected}"
+        );
+    }
+}
+
+#[test]
+fn with_path_reuse_the_furnace_of_albedo_one_half_still_shows_one() {
+    // The furnace above, its pixels sharing their paths' first bounces in
+    // groups of 8: every weight and density of the balance heuristic
+    // (the sphere hiding parts of the walls from some pixels) must add up
+    // for the mean to stay 1 - 2^-(D + 1). The box alone is traced in
+    // lanes, the box with the sphere one path at a time.
+    let depth = 20;
+    let expected = 1.0 - 0.5f64.powi(depth + 1);
+    let sphere =
+        "[[objects]]\nsphere = { center = [0.5, -0.5, 0], radius = 1 }\nmaterial = \"m\"\n";
+    for inside in ["", sphere] {
+        let scene = scene_from(&format!(
+            "[camera]\neye = [0, 0, 2.5]\nlook_at = [0, 0, 0]\nfov = 60\nwidth = 24\nheight = 24\n\
+             [render]\nintegrator = \"path\"\nmax_depth = {depth}\n\
+             [materials.m]\ndiffuse = [0.5, 0.5, 0.5]\nemission = [0.5, 0.5, 0.5]\n{}{inside}",
+            inward_box("m")
+        ));
+        let means: Vec<f64> = (0..8)
+            .map(|seed| image_mean(&render_rows(&scene, 16, seed, 8)))
+            .collect();
+        let (mean, error) = mean_and_error(&means);
+        assert!(
+            (mean - expected).abs() < 4.0 * error,
+            "{inside}: {mean} +- {error}, expected {expected}"
         );
     }
 }

@@ -244,3 +244,60 @@ fn a_render_into_an_image_already_used_writes_every_pixel_anew() {
     }
     assert_eq!((image.width, image.height), (60, 40));
 }
+
+#[test]
+fn with_path_reuse_a_region_and_any_threads_give_the_whole_image_s_pixels() {
+    // Groups of 5 pixels are fixed in the image (columns 0-4, 5-9, ...): a
+    // region that cuts them traces them whole, so its pixels are the whole
+    // image's, whatever the threads. The Cornell box is traced in lanes,
+    // the same box with a sphere in it one path at a time.
+    let text = std::fs::read_to_string(scenes_dir().join("cornell-box.toml")).unwrap();
+    let sphere = "[materials.m]\ndiffuse = [0.5, 0.5, 0.5]\n[[objects]]\n\
+                  sphere = { center = [0.3, 0.5, 0.2], radius = 0.25 }\nmaterial = \"m\"\n";
+    let small = |text: &str| {
+        let mut file = scene_format::load_str(text, Format::Toml, Path::new("box.toml")).unwrap();
+        file.render.path_reuse = 5;
+        file.render.samples = 4;
+        (file.camera.width, file.camera.height) = (64, 48);
+        file
+    };
+    let (boxes, with_sphere) = (small(&text), small(&format!("{text}\n{sphere}")));
+    for file in [boxes, with_sphere] {
+        let scene = prepare(&file).unwrap();
+        let on = |threads, job: &RenderJob| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| render_job(&scene, job))
+        };
+        let whole = on(1, &RenderJob::full(&scene));
+        assert!(whole == on(2, &RenderJob::full(&scene)));
+        let region = Region {
+            x0: 7,
+            y0: 3,
+            x1: 23,
+            y1: 11,
+        };
+        let job = RenderJob {
+            region,
+            ..RenderJob::full(&scene)
+        };
+        let part = on(2, &job);
+        for j in 0..part.height {
+            for i in 0..part.width {
+                assert_eq!(part.get(i, j), whole.get(i + 7, j + 3), "({i}, {j})");
+            }
+        }
+        // The pixels are not those of paths alone: sharing is on.
+        let alone = prepare(&scene_format::SceneFile {
+            render: scene_format::RenderSettings {
+                path_reuse: 1,
+                ..file.render.clone()
+            },
+            ..file.clone()
+        })
+        .unwrap();
+        assert!(whole != render_job(&alone, &RenderJob::full(&alone)));
+    }
+}

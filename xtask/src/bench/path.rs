@@ -16,6 +16,7 @@ use anyhow::{Context, Result};
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
+use tracer_core::scene::TraceSettings;
 use tracer_core::{Region, RenderJob, Scene};
 
 /// The `--only` name of this measurement.
@@ -91,6 +92,7 @@ pub fn measure(root: &Path, dir: &Path) -> Result<Vec<Curve>> {
 fn measure_scene(root: &Path, dir: &Path, bench: BenchScene) -> Result<Vec<Curve>> {
     let reference = path_peers::read_image(&root.join(bench.reference))?;
     let scene = load(&root.join(bench.scene))?;
+    let shared = with_path_reuse(scene.clone(), PATH_REUSE);
     let runner = Runner::new(root, bench.script);
     let pixels = f64::from(reference.width) * f64::from(reference.height);
     let mut curves = Vec::new();
@@ -99,13 +101,10 @@ fn measure_scene(root: &Path, dir: &Path, bench: BenchScene) -> Result<Vec<Curve
             "bench: path tracing {} on {threads} thread(s) ...",
             bench.scene
         );
-        curves.push(ours(
-            bench.scene,
-            &scene,
-            threads,
-            BUDGET_S[slot],
-            &reference,
-        )?);
+        for (renderer, scene) in [("tracer (ours)", &scene), (OURS_SHARED, &shared)] {
+            let work = (bench.scene, renderer);
+            curves.push(ours(work, scene, threads, BUDGET_S[slot], &reference)?);
+        }
         for &peer in bench.peers {
             eprintln!("bench: {} on {threads} thread(s) ...", peer.name());
             let (start, max) = PEER_SPP;
@@ -134,6 +133,22 @@ fn measure_scene(root: &Path, dir: &Path, bench: BenchScene) -> Result<Vec<Curve
     Ok(curves)
 }
 
+/// The pixels of a group that share their paths' first bounces in our
+/// second curve (`render.path_reuse`; the scenes' files leave it at 1).
+const PATH_REUSE: u32 = 8;
+
+/// The name of that curve.
+const OURS_SHARED: &str = "tracer (ours), path_reuse = 8";
+
+/// `scene` with groups of `pixels` sharing their paths' first bounces.
+fn with_path_reuse(scene: Scene, pixels: u32) -> Scene {
+    let settings = TraceSettings {
+        path_reuse: pixels,
+        ..scene.trace_settings().clone()
+    };
+    scene.with_trace_settings(settings)
+}
+
 /// The scene, prepared as `tracer render` prepares it.
 fn load(path: &Path) -> Result<Scene> {
     let file = scene_format::load_path(path).with_context(|| path.display().to_string())?;
@@ -144,7 +159,7 @@ fn load(path: &Path) -> Result<Scene> {
 /// one takes `budget_s`: the render alone is timed (the scene is prepared
 /// once, as a peer's load and compilation are left out of its time).
 fn ours(
-    name: &'static str,
+    (name, renderer): (&'static str, &str),
     scene: &Scene,
     threads: usize,
     budget_s: f64,
@@ -194,7 +209,7 @@ fn ours(
     let camera = scene.camera();
     Ok(Curve {
         scene: name,
-        renderer: "tracer (ours)".into(),
+        renderer: renderer.into(),
         threads,
         points,
         cpu_share,
@@ -248,16 +263,17 @@ fn report_scene(bench: &BenchScene, curves: &[Curve]) {
                 show(c.seconds_to(bench.target_rmse), 2),
             );
         }
-        let ours = mine.iter().find(|c| c.renderer.starts_with("tracer"));
         let best = mine
             .iter()
             .filter(|c| !c.renderer.starts_with("tracer"))
             .filter_map(|c| Some((c, c.rmse_at_budget()?)))
             .min_by(|a, b| a.1.total_cmp(&b.1));
-        if let (Some(ours), Some((best, best_rmse))) = (ours, best) {
-            if let Some(our_rmse) = ours.rmse_at_budget() {
+        let ours = mine.iter().filter(|c| c.renderer.starts_with("tracer"));
+        for ours in ours {
+            if let (Some((best, best_rmse)), Some(our_rmse)) = (best, ours.rmse_at_budget()) {
                 println!(
-                    "  ours / best peer ({}) at equal time: {:.2} (goal: at most 0.50)",
+                    "  {} / best peer ({}) at equal time: {:.2} (goal: at most 0.50)",
+                    ours.renderer,
                     best.renderer,
                     our_rmse / best_rmse
                 );

@@ -690,6 +690,7 @@ mod tests {
                 background: numbers.vec(0.3).abs() * numbers.below(2) as f32,
                 light_samples: 1,
                 integrator: Default::default(),
+                path_reuse: 1,
             },
             encoding: Encoding::default(),
             samples: 1,

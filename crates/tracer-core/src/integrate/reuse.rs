@@ -287,3 +287,117 @@ impl Recorder for FirstBounces {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A path whose first vertex is at `x` on the floor (facing +z, albedo
+    /// 1/2) and whose second is at `y` on the ceiling (facing -z), having
+    /// found `reflected` there; its own value 0.1.
+    fn path(x: Vec3, y: Vec3, reflected: f32) -> Shared {
+        Shared {
+            own: Vec3::splat(0.1),
+            first: Some(FirstVertex {
+                point: x,
+                from: x,
+                normal: Vec3::Z,
+                albedo: Vec3::splat(0.5),
+            }),
+            second: Some(SecondVertex {
+                point: y,
+                normal: -Vec3::Z,
+                reflected: Vec3::splat(reflected),
+            }),
+        }
+    }
+
+    /// The group's values, each connection answered by `blocked`.
+    fn combined(paths: &[Shared], blocked: bool) -> Vec<f32> {
+        let mut values = Vec::new();
+        let mut occluded = |c: &[Connection]| vec![blocked; c.len()];
+        Combiner::default().combine(paths, &mut occluded, &mut values);
+        values.iter().map(|v| v.x).collect()
+    }
+
+    #[test]
+    fn a_path_alone_in_its_group_keeps_its_whole_value() {
+        let one = path(Vec3::ZERO, Vec3::new(0.3, 0.2, 1.0), 0.8);
+        assert_eq!(combined(&[one], false), vec![0.1 + 0.5 * 0.8]);
+    }
+
+    #[test]
+    fn pixels_of_one_point_share_the_mean_of_what_their_paths_found() {
+        // Drawn from the same point, every vertex has the same density for
+        // each pixel: each takes a quarter of each path's light.
+        let ys = [
+            (0.3, 0.2, 0.8),
+            (-0.5, 0.1, 0.2),
+            (0.0, 0.9, 0.4),
+            (0.7, -0.6, 0.0),
+        ];
+        let paths: Vec<Shared> = ys
+            .iter()
+            .map(|&(a, b, l)| path(Vec3::ZERO, Vec3::new(a, b, 1.0), l))
+            .collect();
+        for value in combined(&paths, false) {
+            assert!((value - (0.1 + 0.5 * 0.35)).abs() < 1e-6, "{value}");
+        }
+    }
+
+    #[test]
+    fn a_hidden_vertex_is_left_to_its_own_path() {
+        let paths = [
+            path(Vec3::ZERO, Vec3::new(0.3, 0.2, 1.0), 0.8),
+            path(Vec3::X, Vec3::new(0.1, 0.0, 1.0), 0.2),
+        ];
+        assert_eq!(
+            combined(&paths, true),
+            vec![0.1 + 0.5 * 0.8, 0.1 + 0.5 * 0.2]
+        );
+    }
+
+    #[test]
+    fn the_densities_weigh_each_vertex_by_its_pixels_chances_of_drawing_it() {
+        // Vertex 0 straight above pixel 0 and far from pixel 1, vertex 1
+        // straight above pixel 1: each pixel takes most of the light above
+        // it, and the weights of a vertex add up to 1.
+        let (x0, x1) = (Vec3::ZERO, Vec3::new(3.0, 0.0, 0.0));
+        let paths = [
+            path(x0, Vec3::new(0.0, 0.0, 1.0), 1.0),
+            path(x1, Vec3::new(3.0, 0.0, 1.0), 0.0),
+        ];
+        let values = combined(&paths, false);
+        // Densities of vertex 0: 1/pi for pixel 0 (cosines 1, distance 1),
+        // and (1/sqrt 10)^2 / 10 / pi = 1/(100 pi) for pixel 1.
+        let w0 = 1.0 / (1.0 + 0.01);
+        assert!((values[0] - (0.1 + 0.5 * w0)).abs() < 1e-6, "{values:?}");
+        assert!(
+            (values[1] - (0.1 + 0.5 * (1.0 - w0))).abs() < 1e-6,
+            "{values:?}"
+        );
+    }
+
+    #[test]
+    fn a_pixel_without_a_lambertian_first_vertex_neither_gives_nor_takes() {
+        let paths = [
+            path(Vec3::ZERO, Vec3::new(0.3, 0.2, 1.0), 0.8),
+            Shared::alone(Vec3::splat(7.0)),
+        ];
+        assert_eq!(combined(&paths, false), vec![0.1 + 0.5 * 0.8, 7.0]);
+    }
+
+    #[test]
+    fn a_vertex_below_a_pixel_s_surface_or_lit_on_the_other_side_has_no_density() {
+        let x = path(Vec3::ZERO, Vec3::Z, 0.0).first.unwrap();
+        let y = |z: f32, normal: Vec3| SecondVertex {
+            point: Vec3::new(0.0, 0.0, z),
+            normal,
+            reflected: Vec3::ONE,
+        };
+        let straight_above = area_density(&x, &y(1.0, -Vec3::Z)).unwrap();
+        assert!((straight_above - std::f32::consts::FRAC_1_PI).abs() < 1e-7);
+        assert_eq!(area_density(&x, &y(-1.0, Vec3::Z)), None);
+        assert_eq!(area_density(&x, &y(1.0, Vec3::Z)), None);
+    }
+}

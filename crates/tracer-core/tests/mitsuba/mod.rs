@@ -64,7 +64,13 @@ pub fn render(scene: &Scene, width: usize, height: usize, samples: u32, seed: u3
 /// Our image at `samples` paths per pixel, scrambled by `seed`, rendered
 /// row by row as renders are (`PathTracer::add_row`), with groups of
 /// `reuse` pixels sharing their paths' first bounces.
-pub fn render_rows(scene: &Scene, (width, height): (usize, usize), samples: u32, seed: u32, reuse: u32) -> Image {
+pub fn render_rows(
+    scene: &Scene,
+    (width, height): (usize, usize),
+    samples: u32,
+    seed: u32,
+    reuse: u32,
+) -> Image {
     let pixels = (0..height as u32)
         .into_par_iter()
         .flat_map_iter(|j| {
@@ -103,7 +109,8 @@ pub fn rmse(a: &Image, b: &Image) -> f64 {
     (sum / (3 * a.pixels.len()) as f64).sqrt()
 }
 
-/// Asserts that the mean of `seeds` renders of `samples` paths agrees with
+/// Asserts that the mean of `seeds` renders of `samples` paths (with groups
+/// of `reuse` pixels sharing their paths' first bounces) agrees with
 /// the reference of `reference_paths` paths a pixel: the image's mean within
 /// 1 %, and each block within 4 standard errors. Ours is the spread of the
 /// seeds' renders over the root of their count; the reference's is taken
@@ -116,11 +123,11 @@ pub fn assert_agrees(
     reference: &Image,
     (reference_paths, floor): (u32, f64),
     seeds: u32,
-    samples: u32,
+    (samples, reuse): (u32, u32),
 ) {
     let (width, height) = (reference.width, reference.height);
     let renders: Vec<Vec<f64>> = (0..seeds)
-        .map(|seed| block_means(&render(scene, width, height, samples, seed)))
+        .map(|seed| block_means(&render_rows(scene, (width, height), samples, seed, reuse)))
         .collect();
     let n = f64::from(seeds);
     let ours: Vec<f64> = (0..renders[0].len())

@@ -170,13 +170,19 @@ mod tests {
 
     #[test]
     fn connections_are_tested_against_the_planes_with_the_scene_on_both_sides() {
-        let kept: Vec<u32> = connection_casters(&room()).iter().map(|t| t.material).collect();
+        let kept: Vec<u32> = connection_casters(&room())
+            .iter()
+            .map(|t| t.material)
+            .collect();
         // The floor and the wall have the whole room on one side.
         assert_eq!(kept, vec![2]);
         let mut room = room();
         // A wall through the middle of the floor cuts the room.
         room[1].v0 = Vec3::new(0.0, 0.0, -1.0);
-        let kept: Vec<u32> = connection_casters(&room).iter().map(|t| t.material).collect();
+        let kept: Vec<u32> = connection_casters(&room)
+            .iter()
+            .map(|t| t.material)
+            .collect();
         assert_eq!(kept, vec![1, 2]);
     }
 

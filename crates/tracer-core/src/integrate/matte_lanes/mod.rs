@@ -488,7 +488,12 @@ impl Paths {
 
     /// What lane `k`'s ended path of value `value` shares.
     fn shared(&self, k: usize, value: Vec3) -> Shared {
-        reuse::shared(value, self.first[k], self.second[k], self.throughput_second[k])
+        reuse::shared(
+            value,
+            self.first[k],
+            self.second[k],
+            self.throughput_second[k],
+        )
     }
 }
 
