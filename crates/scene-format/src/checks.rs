@@ -125,6 +125,12 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
             "ignored in Whitted mode, whose rays have no bounces to share; it is for integrator = \"path\"",
         ));
     }
+    if scene.render.camera_rays > 1 && !path_mode {
+        warnings.push(Diagnostic::new(
+            "render.camera_rays",
+            "ignored in Whitted mode, whose samples are each one camera ray; it is for integrator = \"path\"",
+        ));
+    }
     if path_mode && scene.render.time_limit.is_some() && scene.render.samples == 1 {
         warnings.push(Diagnostic::new(
             "render.time_limit",

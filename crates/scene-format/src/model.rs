@@ -227,6 +227,15 @@ pub struct RenderSettings {
     /// shares nothing. From 1 to 32. Default 1.
     #[schemars(range(min = 1, max = 32))]
     pub path_reuse: u32,
+    /// Path mode: camera rays per path for the light a pixel sees
+    /// directly (an emitter, the sky), in the pixels where that light
+    /// changes across the pixel (the edge of a lamp): their corners and
+    /// centre are looked at first. Each path's own camera ray is replaced
+    /// by this many, stratified together over the pixel's samples, for
+    /// what it sees directly; unbiased. Other pixels cost nothing more. 1
+    /// is the path's own ray. From 1 to 64. Default 1.
+    #[schemars(range(min = 1, max = 64))]
+    pub camera_rays: u32,
 }
 
 /// Which way light is computed.
@@ -288,6 +297,7 @@ impl Default for RenderSettings {
             light_samples: 16,
             time_limit: None,
             path_reuse: 1,
+            camera_rays: 1,
         }
     }
 }

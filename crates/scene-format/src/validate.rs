@@ -8,6 +8,9 @@ use crate::suggest::hint;
 /// Largest image side accepted, and largest pixel count (2^28).
 pub const MAX_IMAGE_SIDE: u32 = 16384;
 pub const MAX_IMAGE_PIXELS: u64 = 1 << 28;
+/// Largest `render.camera_rays`: each is a nearest hit per path.
+pub const MAX_CAMERA_RAYS: u32 = 64;
+
 /// Largest `render.path_reuse`: a group's connections grow as its square.
 pub const MAX_PATH_REUSE: u32 = 32;
 
@@ -321,6 +324,15 @@ impl Validator {
                 format!(
                     "expected 1 to {MAX_PATH_REUSE} pixels, found {}",
                     r.path_reuse
+                ),
+            );
+        }
+        if r.camera_rays == 0 || r.camera_rays > MAX_CAMERA_RAYS {
+            self.error(
+                path.key("camera_rays"),
+                format!(
+                    "expected 1 to {MAX_CAMERA_RAYS} rays, found {}",
+                    r.camera_rays
                 ),
             );
         }

@@ -227,6 +227,7 @@ fn trace_settings(r: &fmt::RenderSettings) -> TraceSettings {
             fmt::Integrator::Path => Integrator::Path,
         },
         path_reuse: r.path_reuse,
+        camera_rays: r.camera_rays,
     }
 }
 

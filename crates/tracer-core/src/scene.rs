@@ -36,6 +36,9 @@ pub struct TraceSettings {
     /// Path mode: how many neighbouring pixels of a row share their
     /// paths' first bounces (`integrate::reuse`); 1 shares nothing.
     pub path_reuse: u32,
+    /// Path mode: camera rays per path for what a pixel sees directly,
+    /// where that changes across it (`integrate::seen`); 1 is the path's.
+    pub camera_rays: u32,
 }
 
 /// How a render computes light.

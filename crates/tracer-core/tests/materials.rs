@@ -19,6 +19,6 @@ fn the_materials_scene_agrees_with_mitsuba_3() {
         &reference,
         (8448, 0.0),
         32,
-        (4, 1),
+        (4, 1, 1),
     );
 }

@@ -249,7 +249,8 @@ fn a_render_into_an_image_already_used_writes_every_pixel_anew() {
 fn with_path_reuse_a_region_and_any_threads_give_the_whole_image_s_pixels() {
     // Groups of 5 pixels are fixed in the image (columns 0-4, 5-9, ...): a
     // region that cuts them traces them whole, so its pixels are the whole
-    // image's, whatever the threads. The Cornell box is traced in lanes,
+    // image's, whatever the threads (3 camera rays a path where a pixel
+    // shows the lamp's edge, too). The Cornell box is traced in lanes,
     // the same box with a sphere in it one path at a time.
     let text = std::fs::read_to_string(scenes_dir().join("cornell-box.toml")).unwrap();
     let sphere = "[materials.m]\ndiffuse = [0.5, 0.5, 0.5]\n[[objects]]\n\
@@ -257,6 +258,7 @@ fn with_path_reuse_a_region_and_any_threads_give_the_whole_image_s_pixels() {
     let small = |text: &str| {
         let mut file = scene_format::load_str(text, Format::Toml, Path::new("box.toml")).unwrap();
         file.render.path_reuse = 5;
+        file.render.camera_rays = 3;
         file.render.samples = 4;
         (file.camera.width, file.camera.height) = (64, 48);
         file

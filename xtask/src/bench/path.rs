@@ -92,7 +92,7 @@ pub fn measure(root: &Path, dir: &Path) -> Result<Vec<Curve>> {
 fn measure_scene(root: &Path, dir: &Path, bench: BenchScene) -> Result<Vec<Curve>> {
     let reference = path_peers::read_image(&root.join(bench.reference))?;
     let scene = load(&root.join(bench.scene))?;
-    let shared = with_path_reuse(scene.clone(), PATH_REUSE);
+    let shared = with_path_reuse(scene.clone(), SHARED);
     let runner = Runner::new(root, bench.script);
     let pixels = f64::from(reference.width) * f64::from(reference.height);
     let mut curves = Vec::new();
@@ -133,17 +133,20 @@ fn measure_scene(root: &Path, dir: &Path, bench: BenchScene) -> Result<Vec<Curve
     Ok(curves)
 }
 
-/// The pixels of a group that share their paths' first bounces in our
-/// second curve (`render.path_reuse`; the scenes' files leave it at 1).
-const PATH_REUSE: u32 = 8;
+/// Our second curve's `render.path_reuse` (the pixels of a group that
+/// share their paths' first bounces) and `render.camera_rays` (camera
+/// rays per path where a pixel shows a light's edge); the scenes' files
+/// leave both at 1.
+const SHARED: (u32, u32) = (8, 8);
 
 /// The name of that curve.
-const OURS_SHARED: &str = "tracer (ours), path_reuse = 8";
+const OURS_SHARED: &str = "ours, path_reuse 8, camera_rays 8";
 
-/// `scene` with groups of `pixels` sharing their paths' first bounces.
-fn with_path_reuse(scene: Scene, pixels: u32) -> Scene {
+/// `scene` with `SHARED`'s settings.
+fn with_path_reuse(scene: Scene, (path_reuse, camera_rays): (u32, u32)) -> Scene {
     let settings = TraceSettings {
-        path_reuse: pixels,
+        path_reuse,
+        camera_rays,
         ..scene.trace_settings().clone()
     };
     scene.with_trace_settings(settings)
@@ -265,11 +268,10 @@ fn report_scene(bench: &BenchScene, curves: &[Curve]) {
         }
         let best = mine
             .iter()
-            .filter(|c| !c.renderer.starts_with("tracer"))
+            .filter(|c| !is_ours(c))
             .filter_map(|c| Some((c, c.rmse_at_budget()?)))
             .min_by(|a, b| a.1.total_cmp(&b.1));
-        let ours = mine.iter().filter(|c| c.renderer.starts_with("tracer"));
-        for ours in ours {
+        for ours in mine.iter().filter(|c| is_ours(c)) {
             if let (Some((best, best_rmse)), Some(our_rmse)) = (best, ours.rmse_at_budget()) {
                 println!(
                     "  {} / best peer ({}) at equal time: {:.2} (goal: at most 0.50)",
@@ -286,6 +288,11 @@ fn report_scene(bench: &BenchScene, curves: &[Curve]) {
             }
         }
     }
+}
+
+/// Whether `curve` is one of ours.
+fn is_ours(curve: &Curve) -> bool {
+    curve.renderer.starts_with("tracer") || curve.renderer.starts_with("ours")
 }
 
 /// The RMSE at `spp` samples per pixel, read off the curve as

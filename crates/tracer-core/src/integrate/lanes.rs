@@ -691,6 +691,7 @@ mod tests {
                 light_samples: 1,
                 integrator: Default::default(),
                 path_reuse: 1,
+                camera_rays: 1,
             },
             encoding: Encoding::default(),
             samples: 1,

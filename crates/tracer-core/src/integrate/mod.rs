@@ -9,6 +9,7 @@ pub(crate) mod matte_lanes;
 pub mod path;
 pub mod record;
 pub mod reuse;
+mod seen;
 pub mod whitted;
 
 /// How many rays of each kind a render traced.

@@ -12,6 +12,7 @@ use super::inside::Inside;
 use super::matte_lanes::{self, MatteLanes, LANES};
 use super::record::{PathEvent, PathEventKind, Recorder, Silent};
 use super::reuse::{self, Combiner, Connection, FirstBounces};
+use super::seen;
 use super::RayStats;
 use crate::bsdf::Bsdf;
 use crate::camera::Camera;
@@ -71,6 +72,9 @@ pub struct PathTracer<'a, R: Recorder = Silent> {
     /// How many neighbouring pixels of a row share their paths' first
     /// bounces (`reuse.rs`): 1 shares nothing.
     reuse: u32,
+    /// Camera rays per path for what a pixel sees directly, where that
+    /// changes across it (`seen.rs`): 1 is the path's own.
+    camera_rays: u32,
     pub stats: RayStats,
     /// Told what each bounce does (`record.rs`): nothing for renders.
     pub rec: R,
@@ -105,6 +109,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             lane_values: Vec::new(),
             lane_shared: Vec::new(),
             reuse: scene.trace_settings().path_reuse.clamp(1, reuse::MAX_GROUP),
+            camera_rays: (scene.trace_settings().camera_rays).clamp(1, seen::MAX_CAMERA_RAYS),
             stats: RayStats::default(),
             rec,
         }
@@ -132,6 +137,15 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
     pub fn with_reuse(self, pixels: u32) -> Self {
         PathTracer {
             reuse: pixels.clamp(1, reuse::MAX_GROUP),
+            ..self
+        }
+    }
+
+    /// The same tracer with `rays` camera rays per path for what a pixel
+    /// sees directly (tests; scenes say it with `camera_rays`).
+    pub fn with_camera_rays(self, rays: u32) -> Self {
+        PathTracer {
+            camera_rays: rays.clamp(1, seen::MAX_CAMERA_RAYS),
             ..self
         }
     }
@@ -185,16 +199,49 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             return;
         }
         let mut sampler = PixelSampler::new(i, j, self.seed);
+        let varies = self.seen_varies((i..i + 1, j))[0];
         for s in samples {
             if s % 64 == 63 && cancelled() {
                 break;
             }
             let radiance = self.sample(&mut sampler, (i, j), s);
-            if radiance.is_finite() {
-                sum.add(radiance);
-            } else {
-                self.stats.dropped += 1;
+            self.add_value(sum, radiance, (i, j, s), varies);
+        }
+    }
+
+    /// Which of the pixels `xs` of row `j` take more camera rays for what
+    /// they see directly (`seen.rs`): none unless the scene asks for them
+    /// (nor where a recorder follows the paths).
+    fn seen_varies(&mut self, (xs, j): (Range<u32>, u32)) -> Vec<bool> {
+        if self.camera_rays <= 1 || !R::SILENT {
+            return vec![false; xs.len()];
+        }
+        let scene = self.scene;
+        xs.map(|i| seen::varies(scene, (i, j), &mut self.stats))
+            .collect()
+    }
+
+    /// Adds `value`, of sample `s` of pixel (i, j), to `sum`, with what
+    /// more camera rays see directly in place of its own where the pixel
+    /// `varies`; a value that is not finite is dropped (and counted).
+    fn add_value(
+        &mut self,
+        sum: &mut PixelSum,
+        value: Vec3,
+        (i, j, s): (u32, u32, u32),
+        varies: bool,
+    ) {
+        let value = match varies {
+            true => {
+                let rays = (self.seed, self.camera_rays);
+                value + seen::correction(self.scene, rays, (i, j, s), &mut self.stats)
             }
+            false => value,
+        };
+        if value.is_finite() {
+            sum.add(value);
+        } else {
+            self.stats.dropped += 1;
         }
     }
 
@@ -276,6 +323,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         sums: &mut [PixelSum],
         cancelled: impl Fn() -> bool,
     ) {
+        let varies = self.seen_varies((xs.clone(), j));
         let camera = self.scene.camera();
         let mut setup = matte_lanes::Setup {
             lights: self.scene.path_lights(),
@@ -285,6 +333,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             share: true,
         };
         let per_pixel = samples.len();
+        let (x0, s0) = (xs.start, samples.start);
         let ray = |sampler: &mut PixelSampler, pixel| camera_ray(camera, sampler, pixel);
         let work = ((xs, j), samples, self.seed);
         let out = (&mut self.lane_values, &mut self.lane_shared);
@@ -309,12 +358,9 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
                     lanes.occluded(connections)
                 };
                 combiner.combine(&paths, &mut occluded, &mut values);
-                for (sum, value) in sums[members.clone()].iter_mut().zip(&values) {
-                    if value.is_finite() {
-                        sum.add(*value);
-                    } else {
-                        self.stats.dropped += 1;
-                    }
+                for (p, value) in members.clone().zip(&values) {
+                    let sample = (x0 + p as u32, j, s0 + s as u32);
+                    self.add_value(&mut sums[p], *value, sample, varies[p]);
                 }
             }
         }
@@ -336,6 +382,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             .with_max_depth(self.max_depth);
         let (mut paths, mut values) = (Vec::new(), Vec::new());
         let mut combiner = Combiner::default();
+        let varies = self.seen_varies((xs.clone(), j));
         for s in samples {
             if s % 64 == 63 && cancelled() {
                 break;
@@ -355,12 +402,9 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
                 connections.iter().map(blocked).collect()
             };
             combiner.combine(&paths, &mut occluded, &mut values);
-            for (sum, value) in sums.iter_mut().zip(&values) {
-                if value.is_finite() {
-                    sum.add(*value);
-                } else {
-                    tracer.stats.dropped += 1;
-                }
+            for (k, (sum, value)) in sums.iter_mut().zip(&values).enumerate() {
+                let pixel = (xs.start + k as u32, j, s);
+                self.add_value(sum, *value, pixel, varies[k]);
             }
         }
         self.stats = self.stats + tracer.stats;
@@ -410,6 +454,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         sums: &mut [PixelSum],
         cancelled: impl Fn() -> bool,
     ) {
+        let varies = self.seen_varies(row.clone());
         let camera = self.scene.camera();
         let mut setup = matte_lanes::Setup {
             lights: self.scene.path_lights(),
@@ -419,20 +464,19 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             share: false,
         };
         let per_pixel = samples.len();
+        let ((x0, j), s0) = ((row.0.start, row.1), samples.start);
         let ray = |sampler: &mut PixelSampler, pixel| camera_ray(camera, sampler, pixel);
-        let values = &mut self.lane_values;
         let work = (row, samples, self.seed);
-        let out = (&mut *values, &mut self.lane_shared);
+        let out = (&mut self.lane_values, &mut self.lane_shared);
         lanes.trace_pixels(&mut setup, work, ray, out, cancelled);
-        for (pixel_values, sum) in values.chunks(per_pixel).zip(sums) {
-            for radiance in pixel_values {
-                if radiance.is_finite() {
-                    sum.add(*radiance);
-                } else {
-                    self.stats.dropped += 1;
-                }
+        let values = std::mem::take(&mut self.lane_values);
+        for (p, (pixel_values, sum)) in values.chunks(per_pixel).zip(sums).enumerate() {
+            for (s, radiance) in pixel_values.iter().enumerate() {
+                let sample = (x0 + p as u32, j, s0 + s as u32);
+                self.add_value(sum, *radiance, sample, varies[p]);
             }
         }
+        self.lane_values = values;
     }
 
     /// Sample `s` of pixel (i, j): its camera ray and path's radiance, its
@@ -712,7 +756,7 @@ fn wide_simd() -> bool {
 /// The camera ray of the sample `sampler` has started, through pixel
 /// (i, j).
 #[inline(always)]
-fn camera_ray(camera: &Camera, sampler: &mut PixelSampler, (i, j): (u32, u32)) -> Ray {
+pub(super) fn camera_ray(camera: &Camera, sampler: &mut PixelSampler, (i, j): (u32, u32)) -> Ray {
     let at = Vec2::new(i as f32, j as f32) + sampler.get2();
     let lens = match camera.lens {
         Some(_) => concentric_disk(sampler.get2()),

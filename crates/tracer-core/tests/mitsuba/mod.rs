@@ -63,18 +63,22 @@ pub fn render(scene: &Scene, width: usize, height: usize, samples: u32, seed: u3
 
 /// Our image at `samples` paths per pixel, scrambled by `seed`, rendered
 /// row by row as renders are (`PathTracer::add_row`), with groups of
-/// `reuse` pixels sharing their paths' first bounces.
+/// `reuse` pixels sharing their paths' first bounces and `camera_rays`
+/// camera rays per path for what a pixel sees directly.
 pub fn render_rows(
     scene: &Scene,
     (width, height): (usize, usize),
     samples: u32,
     seed: u32,
-    reuse: u32,
+    (reuse, camera_rays): (u32, u32),
 ) -> Image {
     let pixels = (0..height as u32)
         .into_par_iter()
         .flat_map_iter(|j| {
-            let mut tracer = PathTracer::new(scene).with_seed(seed).with_reuse(reuse);
+            let mut tracer = PathTracer::new(scene)
+                .with_seed(seed)
+                .with_reuse(reuse)
+                .with_camera_rays(camera_rays);
             let mut sums = vec![PixelSum::default(); width];
             tracer.add_row((0..width as u32, j), 0..samples, &mut sums, || false);
             sums.into_iter().map(|s| s.mean()).collect::<Vec<_>>()
@@ -110,7 +114,8 @@ pub fn rmse(a: &Image, b: &Image) -> f64 {
 }
 
 /// Asserts that the mean of `seeds` renders of `samples` paths (with groups
-/// of `reuse` pixels sharing their paths' first bounces) agrees with
+/// of `reuse` pixels sharing their paths' first bounces, and `camera_rays`
+/// per path) agrees with
 /// the reference of `reference_paths` paths a pixel: the image's mean within
 /// 1 %, and each block within 4 standard errors. Ours is the spread of the
 /// seeds' renders over the root of their count; the reference's is taken
@@ -123,11 +128,19 @@ pub fn assert_agrees(
     reference: &Image,
     (reference_paths, floor): (u32, f64),
     seeds: u32,
-    (samples, reuse): (u32, u32),
+    (samples, reuse, camera_rays): (u32, u32, u32),
 ) {
     let (width, height) = (reference.width, reference.height);
     let renders: Vec<Vec<f64>> = (0..seeds)
-        .map(|seed| block_means(&render_rows(scene, (width, height), samples, seed, reuse)))
+        .map(|seed| {
+            block_means(&render_rows(
+                scene,
+                (width, height),
+                samples,
+                seed,
+                (reuse, camera_rays),
+            ))
+        })
         .collect();
     let n = f64::from(seeds);
     let ours: Vec<f64> = (0..renders[0].len())

@@ -1,0 +1,77 @@
+//! What a pixel sees directly, sampled by more camera rays than paths
+//! (`render.camera_rays`). Where a lamp or the sky shows through part of a
+//! pixel, its value is mostly how much of the pixel the lamp covers: a
+//! path's one camera ray finds that out slowly, and on the Cornell box the
+//! lamp's edges were half the error left after path reuse. A pixel whose
+//! corners and centre do not all see the same light takes, for each path,
+//! `camera_rays` camera rays of their own sequence (stratified together
+//! over the pixel's samples) and counts their mean in place of what the
+//! path's own camera ray saw: the same expectation, so the image converges
+//! to the same one. Other pixels, seeing one light or none across them,
+//! are left as they are, at no cost.
+
+use super::path::{camera_ray, PathTracer};
+use super::RayStats;
+use crate::ray::Ray;
+use crate::sampler::PixelSampler;
+use crate::scene::Scene;
+use glam::{Vec2, Vec3};
+
+/// The most camera rays a path may have: each is a nearest hit.
+pub const MAX_CAMERA_RAYS: u32 = 64;
+
+/// The request number of the extra camera rays' points in the pixel (and
+/// on the lens): far beyond any path's own, so their numbers are
+/// independent of the paths'.
+const SEEN_REQUEST: u32 = 1 << 12;
+
+/// The light seen directly along camera ray `ray`: what a path's first
+/// segment adds (an emitter's front, the sky or background), as the path
+/// tracer adds it.
+fn seen(scene: &Scene, ray: Ray, stats: &mut RayStats) -> Vec3 {
+    let mut tracer = PathTracer::new(scene).with_max_depth(0);
+    // A path of depth 0 draws no number.
+    let mut unused = PixelSampler::new(0, 0, 0);
+    let seen = tracer.radiance(ray, &mut unused);
+    stats.nearest += tracer.stats.nearest;
+    seen
+}
+
+/// Whether what pixel (i, j) shows directly changes across it: the camera
+/// rays through its corners and centre (and the lens's centre) do not all
+/// see the same light.
+pub(super) fn varies(scene: &Scene, (i, j): (u32, u32), stats: &mut RayStats) -> bool {
+    let camera = scene.camera();
+    let (x, y) = (i as f32, j as f32);
+    let points = [(0.5, 0.5), (0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)];
+    let mut seen_at = points
+        .iter()
+        .map(|(dx, dy)| seen(scene, camera.lens_ray(x + dx, y + dy, Vec2::ZERO), stats));
+    let centre = seen_at.next().unwrap_or(Vec3::ZERO);
+    seen_at.any(|s| s != centre)
+}
+
+/// What `rays` camera rays of pixel (i, j)'s sample `s` see directly, in
+/// the mean, less what the sample's own camera ray saw: added to the
+/// sample's value, its directly seen light is theirs. The rays are
+/// samples `rays s` to `rays (s + 1) - 1` of their own sequence, so a
+/// pixel's samples put `rays` times as many points in it, stratified
+/// together.
+pub(super) fn correction(
+    scene: &Scene,
+    (seed, rays): (u32, u32),
+    (i, j, s): (u32, u32, u32),
+    stats: &mut RayStats,
+) -> Vec3 {
+    let camera = scene.camera();
+    let mut sampler = PixelSampler::new(i, j, seed);
+    sampler.start(s);
+    let own = seen(scene, camera_ray(camera, &mut sampler, (i, j)), stats);
+    let mut sum = Vec3::ZERO;
+    for m in 0..rays {
+        sampler.start(s.wrapping_mul(rays).wrapping_add(m));
+        sampler.skip(SEEN_REQUEST);
+        sum += seen(scene, camera_ray(camera, &mut sampler, (i, j)), stats);
+    }
+    sum / rays as f32 - own
+}
