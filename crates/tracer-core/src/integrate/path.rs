@@ -39,6 +39,11 @@ pub(super) const SHADOW_SHORTEN: f32 = 1e-4;
 /// many samples in all.
 const LANE_VALUES: usize = 1 << 16;
 
+/// How many paths traced in lanes wait at most to be shared (about 100
+/// bytes each, `reuse::Shared`): few enough to stay in the cache until
+/// their groups are combined.
+const SHARED_PATHS: usize = 1 << 12;
+
 /// How the light reaching a smooth lobe is found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Strategy {
@@ -288,9 +293,9 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             .collect();
         let paths = whole.len() * samples.len();
         if let Some(lanes) = self.lanes().filter(|_| paths >= LANES) {
-            // Whole groups at a time, as many as `LANE_VALUES` allows.
+            // Whole groups at a time, as many as `SHARED_PATHS` allows.
             let per_group = group as usize * samples.len().max(1);
-            let together = (LANE_VALUES / per_group).max(1) * group as usize;
+            let together = (SHARED_PATHS / per_group).max(1) * group as usize;
             let mut x0 = whole.start;
             for sums in whole_sums.chunks_mut(together) {
                 let xs = x0..x0 + sums.len() as u32;
@@ -353,9 +358,9 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
                 paths.clear();
                 paths.extend(members.clone().map(|p| self.lane_shared[p * per_pixel + s]));
                 let stats = &mut self.stats;
-                let mut occluded = |connections: &[Connection]| {
+                let mut occluded = |connections: &[Connection], blocked: &mut Vec<bool>| {
                     stats.shadow += connections.len() as u64;
-                    lanes.occluded(connections)
+                    lanes.occluded(connections, blocked);
                 };
                 combiner.combine(&paths, &mut occluded, &mut values);
                 for (p, value) in members.clone().zip(&values) {
@@ -395,11 +400,11 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
                 paths.push(tracer.rec.shared(value));
             }
             let stats = &mut tracer.stats;
-            let mut occluded = |connections: &[Connection]| {
+            let mut occluded = |connections: &[Connection], blocked: &mut Vec<bool>| {
                 stats.shadow += connections.len() as u64;
                 let ray = |c: &Connection| Ray::new(c.from, c.dir);
-                let blocked = |c: &Connection| scene.occluded(&ray(c), EPSILON, c.reach);
-                connections.iter().map(blocked).collect()
+                let hidden = |c: &Connection| scene.occluded(&ray(c), EPSILON, c.reach);
+                blocked.extend(connections.iter().map(hidden));
             };
             combiner.combine(&paths, &mut occluded, &mut values);
             for (k, (sum, value)) in sums.iter_mut().zip(&values).enumerate() {

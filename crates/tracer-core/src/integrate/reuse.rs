@@ -89,21 +89,23 @@ pub struct Combiner {
     /// `density[k * n + j]`: pixel k's density of drawing path j's second
     /// vertex (area measure), 0 where it cannot or the vertex is hidden.
     density: Vec<f32>,
-    /// The connections to test, and where each one's density goes.
+    /// The connections to test, where each one's density goes, and
+    /// whether each is blocked.
     connections: Vec<Connection>,
     pending: Vec<(usize, f32)>,
+    blocked: Vec<bool>,
 }
 
 impl Combiner {
     /// The values of a group's paths with their indirect light shared, in
     /// the group's order, the density sums in a fixed order (the same
     /// image whatever threads and tiles rendered it). `occluded` answers
-    /// for a list of shadow rays at once (lanes test them sixteen at a
-    /// time).
+    /// for a list of shadow rays at once, into a list it is given (lanes
+    /// test them sixteen at a time).
     pub fn combine(
         &mut self,
         paths: &[Shared],
-        occluded: &mut dyn FnMut(&[Connection]) -> Vec<bool>,
+        occluded: &mut dyn FnMut(&[Connection], &mut Vec<bool>),
         values: &mut Vec<Vec3>,
     ) {
         let n = paths.len();
@@ -113,8 +115,9 @@ impl Combiner {
         self.density.resize(n * n, 0.0);
         self.connect(paths);
         if !self.connections.is_empty() {
-            let blocked = occluded(&self.connections);
-            for (&(at, d), blocked) in self.pending.iter().zip(blocked) {
+            self.blocked.clear();
+            occluded(&self.connections, &mut self.blocked);
+            for (&(at, d), &blocked) in self.pending.iter().zip(&self.blocked) {
                 if !blocked {
                     self.density[at] = d;
                 }
@@ -315,7 +318,7 @@ mod tests {
     /// The group's values, each connection answered by `blocked`.
     fn combined(paths: &[Shared], blocked: bool) -> Vec<f32> {
         let mut values = Vec::new();
-        let mut occluded = |c: &[Connection]| vec![blocked; c.len()];
+        let mut occluded = |c: &[Connection], out: &mut Vec<bool>| out.resize(c.len(), blocked);
         Combiner::default().combine(paths, &mut occluded, &mut values);
         values.iter().map(|v| v.x).collect()
     }

@@ -149,9 +149,8 @@ impl MatteLanes {
 impl MatteLanes {
     /// Whether something lies on each of `connections` (segments between
     /// two points of the scene), sixteen tested at a time against the
-    /// triangles that can stand on one.
-    pub(super) fn occluded(&self, connections: &[Connection]) -> Vec<bool> {
-        let mut blocked = Vec::with_capacity(connections.len());
+    /// triangles that can stand on one: added to `blocked` in order.
+    pub(super) fn occluded(&self, connections: &[Connection], blocked: &mut Vec<bool>) {
         for group in connections.chunks(LANES) {
             let mut rays = Rays::NONE;
             let mut reach = [f32::NEG_INFINITY; LANES];
@@ -162,7 +161,6 @@ impl MatteLanes {
             let hit = rays::occluded(&self.connection_casters, &rays, &reach);
             blocked.extend(hit[..group.len()].iter().map(|&b| b != 0));
         }
-        blocked
     }
 }
 
