@@ -329,20 +329,9 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         cancelled: impl Fn() -> bool,
     ) {
         let varies = self.seen_varies((xs.clone(), j));
-        let camera = self.scene.camera();
-        let mut setup = matte_lanes::Setup {
-            lights: self.scene.path_lights(),
-            background: self.scene.trace_settings().background,
-            max_depth: self.max_depth,
-            stats: &mut self.stats,
-            share: true,
-        };
         let per_pixel = samples.len();
         let (x0, s0) = (xs.start, samples.start);
-        let ray = |sampler: &mut PixelSampler, pixel| camera_ray(camera, sampler, pixel);
-        let work = ((xs, j), samples, self.seed);
-        let out = (&mut self.lane_values, &mut self.lane_shared);
-        lanes.trace_pixels(&mut setup, work, ray, out, cancelled);
+        self.trace_in_lanes(lanes, ((xs, j), samples), true, cancelled);
         // A render given up leaves its last pixels without values: only
         // the groups whose every pixel has them are added.
         let traced = self.lane_shared.len() / per_pixel.max(1);
@@ -460,20 +449,9 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         cancelled: impl Fn() -> bool,
     ) {
         let varies = self.seen_varies(row.clone());
-        let camera = self.scene.camera();
-        let mut setup = matte_lanes::Setup {
-            lights: self.scene.path_lights(),
-            background: self.scene.trace_settings().background,
-            max_depth: self.max_depth,
-            stats: &mut self.stats,
-            share: false,
-        };
         let per_pixel = samples.len();
         let ((x0, j), s0) = ((row.0.start, row.1), samples.start);
-        let ray = |sampler: &mut PixelSampler, pixel| camera_ray(camera, sampler, pixel);
-        let work = (row, samples, self.seed);
-        let out = (&mut self.lane_values, &mut self.lane_shared);
-        lanes.trace_pixels(&mut setup, work, ray, out, cancelled);
+        self.trace_in_lanes(lanes, (row, samples), false, cancelled);
         let values = std::mem::take(&mut self.lane_values);
         for (p, (pixel_values, sum)) in values.chunks(per_pixel).zip(sums).enumerate() {
             for (s, radiance) in pixel_values.iter().enumerate() {
@@ -482,6 +460,30 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             }
         }
         self.lane_values = values;
+    }
+
+    /// The values of samples `samples` of the pixels of `row`, traced
+    /// sixteen at a time, into `lane_values` pixel by pixel (and what each
+    /// path shares into `lane_shared`, if it is to be `shared`).
+    fn trace_in_lanes(
+        &mut self,
+        lanes: &MatteLanes,
+        (row, samples): ((Range<u32>, u32), Range<u32>),
+        share: bool,
+        cancelled: impl Fn() -> bool,
+    ) {
+        let camera = self.scene.camera();
+        let mut setup = matte_lanes::Setup {
+            lights: self.scene.path_lights(),
+            background: self.scene.trace_settings().background,
+            max_depth: self.max_depth,
+            stats: &mut self.stats,
+            share,
+        };
+        let ray = |sampler: &mut PixelSampler, pixel| camera_ray(camera, sampler, pixel);
+        let work = (row, samples, self.seed);
+        let out = (&mut self.lane_values, &mut self.lane_shared);
+        lanes.trace_pixels(&mut setup, work, ray, out, cancelled);
     }
 
     /// Sample `s` of pixel (i, j): its camera ray and path's radiance, its

@@ -3,12 +3,13 @@
 //! pixel, its value is mostly how much of the pixel the lamp covers: a
 //! path's one camera ray finds that out slowly, and on the Cornell box the
 //! lamp's edges were half the error left after path reuse. A pixel whose
-//! corners and centre do not all see the same light takes, for each path,
+//! corners and centre see lights far apart (by a quarter of the brighter)
+//! takes, for each path,
 //! `camera_rays` camera rays of their own sequence (stratified together
 //! over the pixel's samples) and counts their mean in place of what the
 //! path's own camera ray saw: the same expectation, so the image converges
-//! to the same one. Other pixels, seeing one light or none across them,
-//! are left as they are, at no cost.
+//! to the same one. Other pixels, seeing one light or none across them (or
+//! a sky that changes gently), are left as they are, at no cost.
 
 use super::path::{camera_ray, PathTracer};
 use super::RayStats;
@@ -37,9 +38,11 @@ fn seen(scene: &Scene, ray: Ray, stats: &mut RayStats) -> Vec3 {
     seen
 }
 
-/// Whether what pixel (i, j) shows directly changes across it: the camera
-/// rays through its corners and centre (and the lens's centre) do not all
-/// see the same light.
+/// Whether what pixel (i, j) shows directly changes sharply across it:
+/// the camera rays through its corners and centre (and the lens's
+/// centre) see lights apart by more than `EDGE` of the brighter (the edge
+/// of a lamp, an object against the sky), not the gentle change of a sky
+/// across a pixel, which one ray a path finds well enough.
 pub(super) fn varies(scene: &Scene, (i, j): (u32, u32), stats: &mut RayStats) -> bool {
     let camera = scene.camera();
     let (x, y) = (i as f32, j as f32);
@@ -48,7 +51,19 @@ pub(super) fn varies(scene: &Scene, (i, j): (u32, u32), stats: &mut RayStats) ->
         .iter()
         .map(|(dx, dy)| seen(scene, camera.lens_ray(x + dx, y + dy, Vec2::ZERO), stats));
     let centre = seen_at.next().unwrap_or(Vec3::ZERO);
-    seen_at.any(|s| s != centre)
+    seen_at.any(|s| apart(s, centre))
+}
+
+/// How far apart, relative to the brighter, two lights seen in a pixel
+/// make it an edge.
+const EDGE: f32 = 0.25;
+
+/// Whether lights `a` and `b` are apart by more than `EDGE` of the
+/// brighter in some channel (or either is not a number).
+fn apart(a: Vec3, b: Vec3) -> bool {
+    let brighter = a.abs().max(b.abs()).max_element();
+    let close = (a - b).abs().max_element() <= EDGE * brighter;
+    !close
 }
 
 /// What `rays` camera rays of pixel (i, j)'s sample `s` see directly, in
@@ -74,4 +89,21 @@ pub(super) fn correction(
         sum += seen(scene, camera_ray(camera, &mut sampler, (i, j)), stats);
     }
     sum / rays as f32 - own
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_edge_is_a_jump_of_a_quarter_of_the_brighter_light() {
+        let lamp = Vec3::new(17.0, 12.0, 4.0);
+        assert!(apart(lamp, Vec3::ZERO));
+        assert!(apart(Vec3::ZERO, lamp));
+        assert!(!apart(lamp, lamp * 0.9));
+        assert!(!apart(Vec3::ZERO, Vec3::ZERO));
+        // A sky a little bluer at one corner.
+        assert!(!apart(Vec3::new(0.5, 0.6, 0.9), Vec3::new(0.5, 0.6, 1.0)));
+        assert!(apart(Vec3::splat(f32::NAN), Vec3::ONE));
+    }
 }
