@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{load, scenes_dir};
+use common::{load, on_threads, scenes_dir};
 use glam::Vec3;
 use scene_format::Format;
 use std::path::Path;
@@ -70,13 +70,7 @@ fn samples_give_the_same_image_on_any_number_of_threads() {
         samples: 4,
         ..RenderJob::full(&scene)
     };
-    let on = |threads| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| render_job(&scene, &job))
-    };
+    let on = |threads| on_threads(threads, || render_job(&scene, &job));
     let one = on(1);
     assert!(one == on(2) && one == on(3));
     // Anti-aliased, not the one-sample image.
@@ -266,13 +260,7 @@ fn with_path_reuse_a_region_and_any_threads_give_the_whole_image_s_pixels() {
     let (boxes, with_sphere) = (small(&text), small(&format!("{text}\n{sphere}")));
     for file in [boxes, with_sphere] {
         let scene = prepare(&file).unwrap();
-        let on = |threads, job: &RenderJob| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap()
-                .install(|| render_job(&scene, job))
-        };
+        let on = |threads, job: &RenderJob| on_threads(threads, || render_job(&scene, job));
         let whole = on(1, &RenderJob::full(&scene));
         assert!(whole == on(2, &RenderJob::full(&scene)));
         let region = Region {

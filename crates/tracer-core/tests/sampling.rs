@@ -5,6 +5,7 @@
 
 mod common;
 
+use common::on_threads;
 use scene_format::Format;
 use std::path::Path;
 use tracer_core::integrate::whitted::Whitted;
@@ -428,14 +429,6 @@ fn soft_shadows_converge_faster_than_one_over_root_n() {
 }
 
 // --- 4. The lab's image and determinism ------------------------------------
-
-fn on_threads(threads: usize, work: impl FnOnce() -> LinearImage + Send) -> LinearImage {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap()
-        .install(work)
-}
 
 #[test]
 fn one_sample_is_the_labs_ray_through_each_pixel_centre_on_any_thread_count() {

@@ -204,7 +204,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             return;
         }
         let mut sampler = PixelSampler::new(i, j, self.seed);
-        let varies = self.seen_varies((i..i + 1, j))[0];
+        let varies = self.seen_varies((i, j));
         for s in samples {
             if s % 64 == 63 && cancelled() {
                 break;
@@ -215,15 +215,17 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
     }
 
     /// Which of the pixels `xs` of row `j` take more camera rays for what
-    /// they see directly (`seen.rs`): none unless the scene asks for them
-    /// (nor where a recorder follows the paths).
-    fn seen_varies(&mut self, (xs, j): (Range<u32>, u32)) -> Vec<bool> {
-        if self.camera_rays <= 1 || !R::SILENT {
-            return vec![false; xs.len()];
-        }
-        let scene = self.scene;
-        xs.map(|i| seen::varies(scene, (i, j), &mut self.stats))
-            .collect()
+    /// they see directly (`seen_varies`).
+    fn row_varies(&mut self, (xs, j): (Range<u32>, u32)) -> Vec<bool> {
+        xs.map(|i| self.seen_varies((i, j))).collect()
+    }
+
+    /// Whether pixel (i, j) takes more camera rays for what it sees
+    /// directly (`seen.rs`): never unless the scene asks for them (nor
+    /// where a recorder follows the paths).
+    fn seen_varies(&mut self, pixel: (u32, u32)) -> bool {
+        let asked = self.camera_rays > 1 && R::SILENT;
+        asked && seen::varies(self.scene, pixel, &mut self.stats)
     }
 
     /// Adds `value`, of sample `s` of pixel (i, j), to `sum`, with what
@@ -282,8 +284,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         group: u32,
     ) {
         let width = self.scene.camera().width.max(xs.end);
-        let whole = xs.start / group * group..xs.end.div_ceil(group) * group;
-        let whole = whole.start..whole.end.min(width).max(xs.end);
+        let whole = xs.start / group * group..(xs.end.div_ceil(group) * group).min(width);
         let mut whole_sums: Vec<PixelSum> = whole
             .clone()
             .map(|i| match xs.contains(&i) {
@@ -292,23 +293,21 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             })
             .collect();
         let paths = whole.len() * samples.len();
-        if let Some(lanes) = self.lanes().filter(|_| paths >= LANES) {
-            // Whole groups at a time, as many as `SHARED_PATHS` allows.
-            let per_group = group as usize * samples.len().max(1);
-            let together = (SHARED_PATHS / per_group).max(1) * group as usize;
-            let mut x0 = whole.start;
-            for sums in whole_sums.chunks_mut(together) {
-                let xs = x0..x0 + sums.len() as u32;
-                x0 = xs.end;
-                let work = ((xs, j), samples.clone(), group);
-                self.add_groups_in_lanes(lanes, work, sums, &cancelled);
-            }
-        } else {
-            let mut x0 = whole.start;
-            for sums in whole_sums.chunks_mut(group as usize) {
-                let xs = x0..x0 + sums.len() as u32;
-                x0 = xs.end;
-                self.add_group((xs, j), samples.clone(), sums, &cancelled);
+        let lanes = self.lanes().filter(|_| paths >= LANES);
+        // In lanes, whole groups at a time, as many as `SHARED_PATHS`
+        // allows; alone, a group at a time.
+        let per_group = group as usize * samples.len().max(1);
+        let together = match lanes {
+            Some(_) => (SHARED_PATHS / per_group).max(1) * group as usize,
+            None => group as usize,
+        };
+        for (xs, sums) in row_chunks(whole.start, &mut whole_sums, together) {
+            match lanes {
+                Some(lanes) => {
+                    let work = ((xs, j), samples.clone(), group);
+                    self.add_groups_in_lanes(lanes, work, sums, &cancelled);
+                }
+                None => self.add_group((xs, j), samples.clone(), sums, &cancelled),
             }
         }
         for (i, sum) in whole.zip(whole_sums) {
@@ -328,7 +327,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         sums: &mut [PixelSum],
         cancelled: impl Fn() -> bool,
     ) {
-        let varies = self.seen_varies((xs.clone(), j));
+        let varies = self.row_varies((xs.clone(), j));
         let per_pixel = samples.len();
         let (x0, s0) = (xs.start, samples.start);
         self.trace_in_lanes(lanes, ((xs, j), samples), true, cancelled);
@@ -376,7 +375,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             .with_max_depth(self.max_depth);
         let (mut paths, mut values) = (Vec::new(), Vec::new());
         let mut combiner = Combiner::default();
-        let varies = self.seen_varies((xs.clone(), j));
+        let varies = self.row_varies((xs.clone(), j));
         for s in samples {
             if s % 64 == 63 && cancelled() {
                 break;
@@ -429,10 +428,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         // Each pixel's values wait until the pixels traced together are
         // done: a few pixels at a time when they have many samples.
         let together = (LANE_VALUES / samples.len().max(1)).max(1);
-        let mut x0 = xs.start;
-        for sums in sums.chunks_mut(together) {
-            let xs = x0..x0 + sums.len() as u32;
-            x0 = xs.end;
+        for (xs, sums) in row_chunks(xs.start, sums, together) {
             self.add_pixels_in_lanes(lanes, (xs, j), samples.clone(), sums, &cancelled);
         }
     }
@@ -448,7 +444,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         sums: &mut [PixelSum],
         cancelled: impl Fn() -> bool,
     ) {
-        let varies = self.seen_varies(row.clone());
+        let varies = self.row_varies(row.clone());
         let per_pixel = samples.len();
         let ((x0, j), s0) = ((row.0.start, row.1), samples.start);
         self.trace_in_lanes(lanes, (row, samples), false, cancelled);
@@ -747,6 +743,20 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         self.record(kind, throughput, added);
         added
     }
+}
+
+/// The sums of a row's pixels from column `x0` on, `size` at a time, each
+/// run with its columns.
+fn row_chunks(
+    x0: u32,
+    sums: &mut [PixelSum],
+    size: usize,
+) -> impl Iterator<Item = (Range<u32>, &mut [PixelSum])> {
+    sums.chunks_mut(size).scan(x0, |next, sums| {
+        let xs = *next..*next + sums.len() as u32;
+        *next = xs.end;
+        Some((xs, sums))
+    })
 }
 
 /// Whether the processor has SIMD registers of 8 or 16 floats (AVX2,

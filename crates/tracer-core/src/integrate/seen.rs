@@ -26,16 +26,33 @@ pub const MAX_CAMERA_RAYS: u32 = 64;
 /// independent of the paths'.
 const SEEN_REQUEST: u32 = 1 << 12;
 
-/// The light seen directly along camera ray `ray`: what a path's first
-/// segment adds (an emitter's front, the sky or background), as the path
-/// tracer adds it.
-fn seen(scene: &Scene, ray: Ray, stats: &mut RayStats) -> Vec3 {
-    let mut tracer = PathTracer::new(scene).with_max_depth(0);
-    // A path of depth 0 draws no number.
-    let mut unused = PixelSampler::new(0, 0, 0);
-    let seen = tracer.radiance(ray, &mut unused);
-    stats.nearest += tracer.stats.nearest;
-    seen
+/// Traces what camera rays see directly: the light a path's first segment
+/// adds (an emitter's front, the sky or background), as the path tracer
+/// adds it. One per call of `varies` or `correction`, its rays counted
+/// into theirs.
+struct Seen<'a> {
+    tracer: PathTracer<'a>,
+    /// A path of depth 0 draws no number.
+    unused: PixelSampler,
+}
+
+impl<'a> Seen<'a> {
+    fn new(scene: &'a Scene) -> Self {
+        Seen {
+            tracer: PathTracer::new(scene).with_max_depth(0),
+            unused: PixelSampler::new(0, 0, 0),
+        }
+    }
+
+    /// What camera ray `ray` sees directly.
+    fn along(&mut self, ray: Ray) -> Vec3 {
+        self.tracer.radiance(ray, &mut self.unused)
+    }
+
+    /// Adds the rays traced to `stats`.
+    fn count_into(self, stats: &mut RayStats) {
+        stats.nearest += self.tracer.stats.nearest;
+    }
 }
 
 /// Whether what pixel (i, j) shows directly changes sharply across it:
@@ -46,12 +63,13 @@ fn seen(scene: &Scene, ray: Ray, stats: &mut RayStats) -> Vec3 {
 pub(super) fn varies(scene: &Scene, (i, j): (u32, u32), stats: &mut RayStats) -> bool {
     let camera = scene.camera();
     let (x, y) = (i as f32, j as f32);
-    let points = [(0.5, 0.5), (0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)];
-    let mut seen_at = points
-        .iter()
-        .map(|(dx, dy)| seen(scene, camera.lens_ray(x + dx, y + dy, Vec2::ZERO), stats));
-    let centre = seen_at.next().unwrap_or(Vec3::ZERO);
-    seen_at.any(|s| apart(s, centre))
+    let mut seen = Seen::new(scene);
+    let mut at = |(dx, dy): (f32, f32)| seen.along(camera.lens_ray(x + dx, y + dy, Vec2::ZERO));
+    let centre = at((0.5, 0.5));
+    let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)];
+    let varies = corners.into_iter().any(|corner| apart(at(corner), centre));
+    seen.count_into(stats);
+    varies
 }
 
 /// How far apart, relative to the brighter, two lights seen in a pixel
@@ -79,15 +97,17 @@ pub(super) fn correction(
     stats: &mut RayStats,
 ) -> Vec3 {
     let camera = scene.camera();
+    let mut seen = Seen::new(scene);
     let mut sampler = PixelSampler::new(i, j, seed);
     sampler.start(s);
-    let own = seen(scene, camera_ray(camera, &mut sampler, (i, j)), stats);
+    let own = seen.along(camera_ray(camera, &mut sampler, (i, j)));
     let mut sum = Vec3::ZERO;
     for m in 0..rays {
         sampler.start(s.wrapping_mul(rays).wrapping_add(m));
         sampler.skip(SEEN_REQUEST);
-        sum += seen(scene, camera_ray(camera, &mut sampler, (i, j)), stats);
+        sum += seen.along(camera_ray(camera, &mut sampler, (i, j)));
     }
+    seen.count_into(stats);
     sum / rays as f32 - own
 }
 

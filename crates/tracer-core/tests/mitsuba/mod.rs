@@ -43,24 +43,6 @@ pub fn reference(name: &str, width: usize, height: usize) -> Image {
     }
 }
 
-/// Our image at `samples` paths per pixel, scrambled by `seed`.
-pub fn render(scene: &Scene, width: usize, height: usize, samples: u32, seed: u32) -> Image {
-    let pixels = (0..height as u32)
-        .into_par_iter()
-        .flat_map_iter(|j| {
-            let mut tracer = PathTracer::new(scene).with_seed(seed);
-            (0..width as u32)
-                .map(|i| tracer.pixel(i, j, samples, || false))
-                .collect::<Vec<_>>()
-        })
-        .collect();
-    Image {
-        width,
-        height,
-        pixels,
-    }
-}
-
 /// Our image at `samples` paths per pixel, scrambled by `seed`, rendered
 /// row by row as renders are (`PathTracer::add_row`), with groups of
 /// `reuse` pixels sharing their paths' first bounces and `camera_rays`
