@@ -27,7 +27,7 @@ pub fn run(args: &CheckArgs) -> Outcome {
             }
             Err(e) => {
                 bad += 1;
-                console::stderr(format_args!("{}", report::render(&e, color)));
+                console::stderr_report(&report::render(&e, color));
                 outcome = outcome.max(scene_outcome(&e));
             }
         }

@@ -60,10 +60,7 @@ pub fn run(args: &Watch) -> Result<()> {
             Err(e) => {
                 // Still watched: the fix is an edit of the same file(s).
                 changes.watch(&files_of_failed_load(&last_read, &e));
-                console::stderr(format_args!(
-                    "{}",
-                    report::render(&e, report::color_wanted())
-                ));
+                console::stderr_report(&report::render(&e, report::color_wanted()));
                 note!("keeping the last good image; waiting for the next edit");
                 if let Some(server) = &server {
                     server.error(&report::render(&e, false));
