@@ -219,11 +219,64 @@ fn remove_pending_files_where(which: impl Fn(&Path) -> bool) -> PendingFilesRemo
     let mut list = pending();
     list.retain(|path| {
         if which(path) {
-            let _ = std::fs::remove_file(path);
+            // A pending folder (made here, under a name of its own) goes
+            // with what was written into it.
+            match std::fs::symlink_metadata(path) {
+                Ok(m) if m.is_dir() => drop(std::fs::remove_dir_all(path)),
+                _ => drop(std::fs::remove_file(path)),
+            }
         }
         !which(path)
     });
     PendingFilesRemoved(list)
+}
+
+/// A folder about to take the place of another (`tracer compare
+/// --report`'s report): made beside its place, filled file by file, then
+/// renamed into place whole. Until then it is removed on a signal, as the
+/// temporary files are, and when dropped.
+pub struct PendingFolder {
+    dir: Option<tempfile::TempDir>,
+    path: PathBuf,
+}
+
+impl PendingFolder {
+    /// Makes the folder in `parent`, named `prefix` and random letters.
+    pub fn create(parent: &Path, prefix: &str) -> std::io::Result<PendingFolder> {
+        let mut list = pending();
+        let dir = tempfile::Builder::new().prefix(prefix).tempdir_in(parent)?;
+        let path = dir.path().to_path_buf();
+        list.push(path.clone());
+        Ok(PendingFolder {
+            dir: Some(dir),
+            path,
+        })
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Renames the folder to `target`, where nothing may be (a folder
+    /// there is replaced only if empty, as `rename` does). After a
+    /// signal's cleanup nothing is renamed: the lock is held through.
+    pub fn rename_to(mut self, target: &Path) -> std::io::Result<()> {
+        let mut list = pending();
+        std::fs::rename(&self.path, target)?;
+        // In place now: the TempDir must not remove it.
+        let _ = self.dir.take().map(tempfile::TempDir::keep);
+        list.retain(|p| *p != self.path);
+        Ok(())
+    }
+}
+
+impl Drop for PendingFolder {
+    fn drop(&mut self) {
+        let mut list = pending();
+        // Removed (by TempDir's drop) before it leaves the list.
+        drop(self.dir.take());
+        list.retain(|p| *p != self.path);
+    }
 }
 
 /// An output file about to be written: its format known and its temporary
