@@ -443,7 +443,7 @@ impl PendingOutput {
             )?,
             (ImageFormat::Exr, _) => encode_exr(&picture.to_rgb32f())?,
             (ImageFormat::Hdr, _) => encode_dynamic(
-                image::DynamicImage::ImageRgb32F(picture.to_rgb32f()),
+                image::DynamicImage::ImageRgb32F(clamped_to_rgbe(picture.to_rgb32f())),
                 self.format,
             )?,
             _ => encode(&picture.to_rgb8(), self.format)?,
@@ -455,6 +455,40 @@ impl PendingOutput {
     pub fn write_bytes(self, bytes: &[u8]) -> Result<(), OutputError> {
         self.file.write_bytes(bytes)
     }
+
+    /// What `write_picture` cannot write as it is, in words: a Radiance
+    /// .hdr's values above [`RGBE_MAX`], written as that.
+    pub fn picture_warning(&self, picture: &Picture) -> Option<String> {
+        if self.format != ImageFormat::Hdr {
+            return None;
+        }
+        let over = picture
+            .linear
+            .pixels
+            .iter()
+            .filter(|p| p.max_element() > RGBE_MAX)
+            .count();
+        (over > 0).then(|| {
+            format!(
+                "{over} pixel(s) hold values above {RGBE_MAX:.3e}, the largest a Radiance .hdr holds \
+                 (its 8-bit mantissas share an exponent of at most 2^127): written as that value; \
+                 an .exr holds them as they are"
+            )
+        })
+    }
+}
+
+/// The largest value a Radiance RGBE pixel holds: mantissa 255 of 256 at
+/// the largest exponent, 2^127 (about 1.69e38). Larger values encode as
+/// black in the image crate's encoder (their exponent overflows).
+pub const RGBE_MAX: f32 = 255.0 * (1u128 << 119) as f32;
+
+/// `image` with every channel above [`RGBE_MAX`] brought down to it.
+fn clamped_to_rgbe(mut image: image::Rgb32FImage) -> image::Rgb32FImage {
+    for value in image.iter_mut() {
+        *value = value.min(RGBE_MAX);
+    }
+    image
 }
 
 /// Writes `image` to `path`, in the format of its extension, through a
@@ -630,6 +664,38 @@ mod tests {
         std::fs::set_permissions(&old, std::fs::Permissions::from_mode(0o640)).unwrap();
         write_atomically(b"new", &old).unwrap();
         assert_eq!(mode(&old), 0o640);
+    }
+
+    #[test]
+    fn hdr_values_beyond_rgbe_are_written_as_its_largest_and_said() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("big.hdr");
+        let mut linear = tracer_core::image::LinearImage::new(3, 1);
+        // An emission of 3e38 is accepted; RGBE overflows at 2^127 (1.7e38).
+        linear.pixels[0] = glam::Vec3::new(3e38, 1.0, 0.0);
+        linear.pixels[1] = glam::Vec3::splat(1e38);
+        linear.pixels[2] = glam::Vec3::new(1.0, 0.5, 0.25);
+        let picture = Picture {
+            linear,
+            encoding: tracer_core::image::Encoding::default(),
+        };
+        let pending = PendingOutput::create(&path).unwrap();
+        let warning = pending.picture_warning(&picture).expect("a warning");
+        assert!(
+            warning.starts_with("1 pixel(s) hold values above 1.695e38"),
+            "{warning}"
+        );
+        pending.write_picture(&picture, BitDepth::Eight).unwrap();
+        let read = image::open(&path).unwrap().to_rgb32f();
+        let [r, g, _] = read.get_pixel(0, 0).0;
+        assert!(r > 1.6e38 && r <= RGBE_MAX, "{r:e}: not black");
+        // Its other channels share the large exponent: their mantissas are 0.
+        assert_eq!(g, 0.0);
+        let [big, ..] = read.get_pixel(1, 0).0;
+        assert!((big / 1e38 - 1.0).abs() < 0.01, "{big:e}");
+        assert_eq!(read.get_pixel(2, 0).0, [1.0, 0.5, 0.25]);
+        let small = PendingOutput::create(&dir.path().join("s.exr")).unwrap();
+        assert_eq!(small.picture_warning(&picture), None);
     }
 
     #[test]

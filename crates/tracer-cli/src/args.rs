@@ -353,6 +353,11 @@ pub struct CheckArgs {
     /// material named from another file is left to the scene)
     #[arg(required = true, value_name = "SCENE")]
     pub scenes: Vec<PathBuf>,
+    /// The files are parts that scenes include: one without a `[camera]`
+    /// passes (exit 0). Without this, a file without one is a warning
+    /// (exit 1): rendering it needs a `[camera]`
+    #[arg(long)]
+    pub part: bool,
 }
 
 /// Render a scene, then again whenever the scene file or a file it reads

@@ -1219,12 +1219,23 @@ fn an_included_file_is_checked_and_converted_on_its_own() {
     let stage = "include = [\"look.toml\"]\n[[objects]]\n\
                  sphere = { center = [0, 0, 0], radius = 1 }\nmaterial = \"blue\"\n";
     std::fs::write(d.join("stage.toml"), stage).unwrap();
-    let out = tracer(d, &["check", "look.toml", "stage.toml"]);
+    let out = tracer(d, &["check", "--part", "look.toml", "stage.toml"]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr_of(&out));
     assert!(
         stderr_of(&out).contains("ok: stage.toml, as a file for a scene to include"),
         "{}",
         stderr_of(&out)
+    );
+    // Without --part, a file without a camera is not "ok": a student who
+    // forgot it is told that rendering needs one, and the exit is 1.
+    let out = tracer(d, &["check", "stage.toml"]);
+    let stderr = stderr_of(&out);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("warning: stage.toml has no [camera], so it cannot be rendered")
+            && stderr.contains("tracer check --part stage.toml")
+            && !stderr.contains("ok:"),
+        "{stderr}"
     );
     let out = tracer(d, &["convert", "stage.toml"]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr_of(&out));
@@ -1285,7 +1296,7 @@ fn an_included_file_is_checked_and_converted_on_its_own() {
         "[materials.red]\ndiffuse = [255, 0, 0]\n",
     )
     .unwrap();
-    let out = tracer(d, &["check", "red.toml"]);
+    let out = tracer(d, &["check", "--part", "red.toml"]);
     assert_eq!(out.status.code(), Some(0));
     let stderr = stderr_of(&out);
     assert!(
@@ -1744,4 +1755,29 @@ fn explain_escapes_control_and_bidi_characters_of_names() {
     assert!(names.contains("red\\u001b]0;PWNED"), "{names}");
     // The JSON's strings are the names themselves, escaped only in the text.
     assert!(json.contains("\\u202egnp."), "{json}");
+}
+
+#[test]
+fn an_hdr_output_keeps_values_beyond_rgbe_as_its_largest_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // An emission of 3e38 is accepted; RGBE holds at most about 1.69e38,
+    // above which the encoder wrote black.
+    std::fs::write(
+        d.join("hot.toml"),
+        "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\nwidth = 4\nheight = 4\n\
+         [materials.hot]\nemission = [3e38, 0, 0]\n\
+         [[objects]]\nsphere = { center = [0, 0, 0], radius = 5 }\nmaterial = \"hot\"\n",
+    )
+    .unwrap();
+    let out = tracer(d, &["render", "hot.toml", "-o", "hot.hdr", "--quiet"]);
+    let stderr = stderr_of(&out);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("hold values above 1.695e38, the largest a Radiance .hdr holds"),
+        "{stderr}"
+    );
+    let image = image::open(d.join("hot.hdr")).unwrap().to_rgb32f();
+    let [r, ..] = image.get_pixel(2, 2).0;
+    assert!(r > 1.6e38, "{r:e}: written black");
 }

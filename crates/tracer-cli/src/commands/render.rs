@@ -100,9 +100,14 @@ pub fn run(args: &Render) -> Result<()> {
                 .map_err(Error::from)?;
             pending.write_bytes(&bytes).map_err(Error::from)?;
         }
-        None => pending
-            .write_picture(&rendered.image, args.bit_depth)
-            .map_err(Error::from)?,
+        None => {
+            if let Some(warning) = pending.picture_warning(&rendered.image) {
+                note!("warning: {}: {warning}", output.display());
+            }
+            pending
+                .write_picture(&rendered.image, args.bit_depth)
+                .map_err(Error::from)?
+        }
     }
     if !args.quiet {
         let threads = args.pool.current_num_threads();

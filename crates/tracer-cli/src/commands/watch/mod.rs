@@ -208,6 +208,9 @@ fn write(
         rendered.image = rendered.image.enlarged(size);
     }
     let pending = PendingOutput::create(&args.output).map_err(Error::from)?;
+    if let Some(warning) = pending.picture_warning(&rendered.image) {
+        note!("warning: {}: {warning}", args.output.display());
+    }
     pending
         .write_picture(&rendered.image, BitDepth::Eight)
         .map_err(Error::from)?;
