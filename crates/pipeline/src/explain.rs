@@ -61,7 +61,9 @@ pub fn explain_within(
             option: "explain",
         });
     };
+    let was_path = file.render.integrator == scene_format::Integrator::Path;
     let file = options.apply(file)?;
+    crate::limits::check_path_mode(&loaded.origins, was_path, &file)?;
     let (width, height) = (file.camera.width, file.camera.height);
     if x >= width || y >= height {
         return Err(Error::Pixel {

@@ -1781,3 +1781,65 @@ fn an_hdr_output_keeps_values_beyond_rgbe_as_its_largest_and_says_so() {
     let [r, ..] = image.get_pixel(2, 2).0;
     assert!(r > 1.6e38, "{r:e}: written black");
 }
+
+/// An OBJ of `n` triangles (a strip), and a scene placing it `objects`
+/// times with an emitting material, in `integrator` mode.
+fn emitting_instances(dir: &Path, n: usize, objects: usize, integrator: &str) {
+    let mut obj = String::new();
+    for k in 0..=n + 1 {
+        obj += &format!("v {} {} 0\n", k / 2, k % 2);
+    }
+    for k in 1..=n {
+        obj += &format!("f {} {} {}\n", k, k + 1, k + 2);
+    }
+    std::fs::write(dir.join("strip.obj"), obj).unwrap();
+    let mut scene = format!(
+        "[camera]\neye = [0, 0, 50]\nlook_at = [0, 0, 0]\nwidth = 8\nheight = 8\n\
+         [render]\nintegrator = \"{integrator}\"\n[materials.lamp]\nemission = [1, 1, 1]\n"
+    );
+    for k in 0..objects {
+        scene += &format!(
+            "[[objects]]\nmesh = {{ obj = \"strip.obj\" }}\nmaterial = \"lamp\"\n\
+             transform = {{ translate = [0, {k}, 0] }}\n"
+        );
+    }
+    std::fs::write(dir.join("lamps.toml"), scene).unwrap();
+}
+
+#[test]
+fn instances_of_an_emitting_mesh_count_their_lights_against_the_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // 1,001 objects placing one mesh of 20,000 emitting triangles: 21,001
+    // primitives to trace, but in path mode 20 million lights, one per
+    // triangle per object (about 3.8 GB): refused before any is made, at
+    // the object that passes the limit.
+    emitting_instances(d, 20_000, 1001, "path");
+    let out = tracer(d, &["check", "lamps.toml"]);
+    let stderr = stderr_of(&out);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("objects[998].mesh")
+            && stderr.contains("20000999 primitives")
+            && stderr.contains("20000 emitting triangles, each a light of its own in path mode"),
+        "{stderr}"
+    );
+    // In Whitted mode they are no lights: the scene is checked fine, and
+    // asking for path mode on the command line is refused the same way.
+    emitting_instances(d, 20_000, 1001, "whitted");
+    let out = tracer(d, &["check", "lamps.toml"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr_of(&out));
+    let args = [
+        "render",
+        "lamps.toml",
+        "--integrator",
+        "path",
+        "-o",
+        "l.png",
+    ];
+    let out = tracer(d, &args);
+    let stderr = stderr_of(&out);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("objects[998].mesh"), "{stderr}");
+    assert!(!d.join("l.png").exists());
+}
