@@ -157,7 +157,7 @@ impl serde_json::ser::Formatter for VisibleJson {
             .char_indices()
             .find(|&(_, c)| scene_format::visible::is_hidden_control(c))
         {
-            writer.write_all(rest[..i].as_bytes())?;
+            writer.write_all(&rest.as_bytes()[..i])?;
             // Every such character is in the Basic Multilingual Plane.
             write!(writer, "\\u{:04x}", c as u32)?;
             rest = &rest[i + c.len_utf8()..];

@@ -178,6 +178,7 @@ fn relative_name(path: &Path, root: &Path) -> String {
 
 /// The images below `dir` (not in `out`) with their scene's name, and
 /// those named after no scene, in path order.
+#[allow(clippy::type_complexity)]
 fn submissions(
     dir: &Path,
     out: &Path,

@@ -234,7 +234,7 @@ fn write(
             _ => None,
         };
         let info = serde_json::json!({
-            "scene": loaded.name.display().to_string(),
+            "scene": scene_format::visible::escape_controls(&loaded.name.display().to_string()),
             "pass": if pass.is_preview { "preview" } else { "full" },
             "width": width,
             "height": height,
