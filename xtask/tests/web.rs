@@ -324,6 +324,30 @@ fn a_share_link_opens_with_its_scene() {
             Duration::from_secs(10),
         )
         .unwrap();
+    // A link whose text inflates past the page's limit of a scene file is
+    // refused, and the page says why (the link made here, in the tab).
+    eval(
+        &mut opened,
+        "(async () => { \
+           const spaces = new Uint8Array(64 * 1024 * 1024 + 1).fill(32); \
+           const packed = new Blob([spaces]).stream().pipeThrough(new CompressionStream('deflate-raw')); \
+           const bytes = new Uint8Array(await new Response(packed).arrayBuffer()); \
+           let s = ''; for (const b of bytes) s += String.fromCharCode(b); \
+           location.hash = '#scene=x.toml&text=' + btoa(s).replace(/\\+/g, '-').replace(/\\//g, '_').replace(/=+$/, ''); \
+         })()",
+    );
+    opened
+        .wait_for(
+            "document.getElementById('notice').textContent.includes('was not opened: its scene is over 64 MiB once inflated')",
+            Duration::from_secs(30),
+        )
+        .unwrap();
+    assert_eq!(
+        eval(&mut opened, "tracerPage.view.state.doc.toString()")
+            .as_str()
+            .unwrap(),
+        edited
+    );
 }
 
 #[test]
