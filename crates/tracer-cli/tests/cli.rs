@@ -1680,7 +1680,7 @@ fn explain_keeps_its_tree_within_its_limit_and_says_what_it_left_out() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let glass = glass_under_lights(d, 300);
-    // The whole tree has about 17,000 events (4.3 MB of text, 21 MB of
+    // The whole tree has about 17,500 events (3.9 MB of text, 23 MB of
     // JSON); the issue's, of 300 lights too, 387 MB.
     let out = tracer(d, &["explain", glass, "8", "8"]);
     assert!(out.status.success(), "{}", stderr_of(&out));
