@@ -50,6 +50,12 @@ pub enum Error {
     #[error("--sample {sample}: the scene renders {samples} sample(s) a pixel; expected 0 to {}", samples - 1)]
     Sample { sample: u32, samples: u32 },
     /// A `--reference` image that cannot be read or is not the render's size.
+    #[error("--light {light}: the scene has {lights} light(s) in [[lights]]; expected 0 to {}", lights.saturating_sub(1))]
+    Light { light: usize, lights: usize },
+
+    #[error("--light: a path's light samples do not say which light they drew; --light picks the light terms of Whitted mode (--integrator whitted)")]
+    LightInPathMode,
+
     #[error("--reference {}: {message}", path.display())]
     Reference { path: PathBuf, message: String },
     /// A `--region` or `--tile` that is empty or leaves the image.
@@ -91,6 +97,8 @@ impl Error {
             | Error::NeedsPathMode { .. }
             | Error::Pixel { .. }
             | Error::Sample { .. }
+            | Error::Light { .. }
+            | Error::LightInPathMode
             | Error::Part(_)
             | Error::Prepare { .. }
             | Error::Measurements { .. } => true,

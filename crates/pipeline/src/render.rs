@@ -12,6 +12,11 @@ use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
+/// Whether the file asks for path mode itself.
+fn is_path(file: &SceneFile) -> bool {
+    file.render.integrator == scene_format::Integrator::Path
+}
+
 /// Renders a loaded scene on the current rayon pool. A shaded 3D render
 /// calls `rows_done(0)` when its rows begin (after preparing the scene),
 /// then `rows_done(n)` from the render threads as `n` more rows are done.
@@ -34,7 +39,9 @@ pub fn render_cancellable(
 ) -> Result<Option<Rendered>, Error> {
     match &loaded.kind {
         SceneKind::Scene3d(file) => {
+            let was_path = is_path(file);
             let file = options.apply(file)?;
+            crate::limits::check_path_mode(&loaded.origins, was_path, &file)?;
             render_3d(file, &loaded.name, options, rows_done, cancel)
         }
         SceneKind::Canvas(file) => draw(file, &loaded.name, options).map(Some),
@@ -53,7 +60,9 @@ pub fn render_taking(
     let never = AtomicBool::new(false);
     let rendered = match loaded.kind {
         SceneKind::Scene3d(file) => {
+            let was_path = is_path(&file);
             let file = Cow::Owned(options.apply_owned(file)?);
+            crate::limits::check_path_mode(&loaded.origins, was_path, &file)?;
             render_3d(file, &loaded.name, options, rows_done, &never)?
         }
         SceneKind::Canvas(ref file) => Some(draw(file, &loaded.name, options)?),
@@ -72,7 +81,9 @@ pub fn prepare_taking(
 ) -> Result<PreparedScene, Error> {
     match loaded.kind {
         SceneKind::Scene3d(file) => {
+            let was_path = is_path(&file);
             let file = Cow::Owned(options.apply_owned(file)?);
+            crate::limits::check_path_mode(&loaded.origins, was_path, &file)?;
             scene3d::prepare_shaded(file, &loaded.name)
         }
         SceneKind::Canvas(_) => Err(Error::CanvasOption {

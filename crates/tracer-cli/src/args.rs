@@ -4,7 +4,7 @@
 
 use clap::{Args, Subcommand, ValueEnum};
 use std::net::SocketAddr;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use tracer_pipeline::lab::DEFAULT_CHART_SIZE;
 use tracer_pipeline::output::BitDepth;
 use tracer_pipeline::{Aov, Gamma, Input, Options, Part, Region};
@@ -127,6 +127,16 @@ pub struct ExplainArgs {
     /// changes meaning
     #[arg(long)]
     pub json: bool,
+    /// Keep at most N events of the tree (rays, lights' terms, a path's
+    /// events); beyond, the tree says what it left out. A tree of glass
+    /// under hundreds of lights has millions
+    #[arg(long, value_name = "N", default_value_t = tracer_pipeline::explain::DEFAULT_MAX_EVENTS,
+          value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=100_000_000))]
+    pub max_events: usize,
+    /// Show only the terms of lights[K] (its index in `[[lights]]`) at each
+    /// hit, in Whitted mode
+    #[arg(long, value_name = "K")]
+    pub light: Option<usize>,
     /// Display gamma, overriding the scene's `[render] gamma`
     #[arg(long, value_name = "G", allow_negative_numbers = true)]
     pub gamma: Option<f32>,
@@ -141,6 +151,8 @@ pub struct Explain {
     pub y: u32,
     pub sample: u32,
     pub json: bool,
+    /// What of the tree is kept.
+    pub limits: tracer_pipeline::explain::Limits,
     pub options: Options,
 }
 
@@ -152,6 +164,11 @@ impl ExplainArgs {
             y: self.y,
             sample: self.sample,
             json: self.json,
+            limits: tracer_pipeline::explain::Limits {
+                max_events: self.max_events,
+                light: self.light,
+                ..Default::default()
+            },
             options: Options {
                 gamma: checked(self.gamma)?,
                 ..self.view.options()
@@ -336,6 +353,11 @@ pub struct CheckArgs {
     /// material named from another file is left to the scene)
     #[arg(required = true, value_name = "SCENE")]
     pub scenes: Vec<PathBuf>,
+    /// The files are parts that scenes include: one without a `[camera]`
+    /// passes (exit 0). Without this, a file without one is a warning
+    /// (exit 1): rendering it needs a `[camera]`
+    #[arg(long)]
+    pub part: bool,
 }
 
 /// Render a scene, then again whenever the scene file or a file it reads
@@ -429,6 +451,19 @@ pub struct Render {
     /// `--reference`: an image to print the error against, pass by pass.
     pub reference: Option<PathBuf>,
     pub quiet: bool,
+}
+
+impl Render {
+    /// The files the command line names for reading: the scene and the
+    /// reference. The output may be none of them (nor any file the scene
+    /// reads, known once it is loaded).
+    pub fn inputs(&self) -> Vec<&Path> {
+        let scene = match &self.input {
+            Input::File(scene) => Some(scene.as_path()),
+            Input::DefaultScene => None,
+        };
+        scene.into_iter().chain(self.reference.as_deref()).collect()
+    }
 }
 
 impl RenderArgs {

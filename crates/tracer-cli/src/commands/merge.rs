@@ -21,6 +21,9 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         .collect::<Result<Vec<_>, tiles::TileError>>()
         .map_err(Error::from)?;
     let picture = tiles::merge(&read).map_err(Error::from)?;
+    if let Some(warning) = pending.picture_warning(&picture) {
+        note!("warning: {}: {warning}", args.output.display());
+    }
     pending
         .write_picture(&picture, depth)
         .map_err(Error::from)?;

@@ -13,7 +13,7 @@ use std::sync::atomic::AtomicBool;
 use tracer_pipeline::cache::{CacheEntry, Cached, SceneCache};
 use tracer_pipeline::output::{check_not_an_input, ImageFormat, PendingOutput};
 use tracer_pipeline::{
-    default_output, tiles, Error, Input, Part, PreparedScene, Rendered, ShadedStats, Summary,
+    default_output, tiles, Error, Part, PreparedScene, Rendered, ShadedStats, Summary,
 };
 
 pub fn run(args: &Render) -> Result<()> {
@@ -23,9 +23,7 @@ pub fn run(args: &Render) -> Result<()> {
         .unwrap_or_else(|| default_output(&args.input.name(), args.options.aov));
     // The output is checked (and its temporary file made) before any work,
     // so a wrong path does not cost a render.
-    if let Input::File(scene) = &args.input {
-        check_not_an_input(&output, &[scene]).map_err(Error::from)?;
-    }
+    check_not_an_input(&output, &args.inputs()).map_err(Error::from)?;
     let pending = PendingOutput::create(&output).map_err(Error::from)?;
     // A tile keeps --gamma in its header, for the 8-bit file of the merge.
     let is_tile = args.options.part.is_some() && pending.format() == ImageFormat::Exr;
@@ -102,9 +100,14 @@ pub fn run(args: &Render) -> Result<()> {
                 .map_err(Error::from)?;
             pending.write_bytes(&bytes).map_err(Error::from)?;
         }
-        None => pending
-            .write_picture(&rendered.image, args.bit_depth)
-            .map_err(Error::from)?,
+        None => {
+            if let Some(warning) = pending.picture_warning(&rendered.image) {
+                note!("warning: {}: {warning}", output.display());
+            }
+            pending
+                .write_picture(&rendered.image, args.bit_depth)
+                .map_err(Error::from)?
+        }
     }
     if !args.quiet {
         let threads = args.pool.current_num_threads();

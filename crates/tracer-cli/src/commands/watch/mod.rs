@@ -60,10 +60,7 @@ pub fn run(args: &Watch) -> Result<()> {
             Err(e) => {
                 // Still watched: the fix is an edit of the same file(s).
                 changes.watch(&files_of_failed_load(&last_read, &e));
-                console::stderr(format_args!(
-                    "{}",
-                    report::render(&e, report::color_wanted())
-                ));
+                console::stderr_report(&report::render(&e, report::color_wanted()));
                 note!("keeping the last good image; waiting for the next edit");
                 if let Some(server) = &server {
                     server.error(&report::render(&e, false));
@@ -211,6 +208,9 @@ fn write(
         rendered.image = rendered.image.enlarged(size);
     }
     let pending = PendingOutput::create(&args.output).map_err(Error::from)?;
+    if let Some(warning) = pending.picture_warning(&rendered.image) {
+        note!("warning: {}: {warning}", args.output.display());
+    }
     pending
         .write_picture(&rendered.image, BitDepth::Eight)
         .map_err(Error::from)?;
@@ -234,7 +234,7 @@ fn write(
             _ => None,
         };
         let info = serde_json::json!({
-            "scene": loaded.name.display().to_string(),
+            "scene": scene_format::visible::escape_controls(&loaded.name.display().to_string()),
             "pass": if pass.is_preview { "preview" } else { "full" },
             "width": width,
             "height": height,
