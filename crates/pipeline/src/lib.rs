@@ -9,6 +9,7 @@
 
 pub mod cache;
 mod clock;
+pub mod denoise;
 mod error;
 pub mod explain;
 pub mod explain_text;

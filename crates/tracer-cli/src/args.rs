@@ -269,11 +269,18 @@ pub enum AovArg {
     RayDirY,
     /// (dir.z + 1) / 2 in blue (gradient-OZ.png)
     RayDirZ,
-    /// (n + 1) / 2 of the surface normal at the nearest hit
+    /// (n + 1) / 2 of the surface normal at the nearest hit (the lab's,
+    /// geometric, not turned toward the ray)
     Normal,
     /// Distance to the nearest hit: near bright, far dark, no hit black (in
     /// .exr and .hdr the distances themselves, 0 for no hit)
     Depth,
+    /// Albedo of the first surface seen that is not a perfect mirror or
+    /// smooth glass (seen through them): the denoiser's guide
+    Albedo,
+    /// (n + 1) / 2 of that surface's shading normal, turned toward the ray;
+    /// grey where nothing is hit: the denoiser's guide
+    ShadingNormal,
 }
 
 impl From<AovArg> for Aov {
@@ -284,6 +291,8 @@ impl From<AovArg> for Aov {
             AovArg::RayDirZ => Aov::RayDirZ,
             AovArg::Normal => Aov::Normal,
             AovArg::Depth => Aov::Depth,
+            AovArg::Albedo => Aov::Albedo,
+            AovArg::ShadingNormal => Aov::ShadingNormal,
         }
     }
 }

@@ -1,11 +1,16 @@
 //! Images of one quantity per pixel instead of the shaded colour ("arbitrary
 //! output variables"): the lab's ray-direction images (exercise 6, lab
-//! section 2), the surface normal and the depth, for debugging scenes. The
-//! pixel driver (`render`) computes them, sample by sample.
+//! section 2), the surface normal and the depth, for debugging scenes; and
+//! the albedo and shading normal of what a pixel sees through mirrors and
+//! glass, the denoiser's guides (`guide.rs`). The pixel driver (`render`)
+//! computes them, sample by sample.
+
+mod guide;
 
 use crate::geometry::SurfaceHit;
 use crate::image::{Encoding, Saturation};
 use crate::ray::Ray;
+use crate::sampling::Rng;
 use crate::scene::Scene;
 use glam::Vec3;
 
@@ -26,15 +31,27 @@ pub enum Aov {
     /// from the eye), 0 for no hit. The range is the scene's, not the
     /// image's, so a region of the image gets the greys of the whole.
     Depth,
+    /// The albedo (0 to 1) of the first surface the pixel sees that is not
+    /// a perfect mirror or smooth glass, seen through those
+    /// (`Material::albedo`, times the colours of the mirrors and glass on
+    /// the way); where the ray leaves the scene, what it sees there (the
+    /// environment or background, clamped to 0..1). The denoiser's albedo.
+    Albedo,
+    /// `(n + 1) / 2` of the shading normal of that surface, turned toward
+    /// the ray (in world space); grey (the zero normal) where the ray
+    /// leaves the scene. The denoiser's normal, `2 v - 1`.
+    ShadingNormal,
 }
 
 impl Aov {
-    pub const ALL: [Aov; 5] = [
+    pub const ALL: [Aov; 7] = [
         Aov::RayDirX,
         Aov::RayDirY,
         Aov::RayDirZ,
         Aov::Normal,
         Aov::Depth,
+        Aov::Albedo,
+        Aov::ShadingNormal,
     ];
 
     pub fn name(self) -> &'static str {
@@ -44,12 +61,14 @@ impl Aov {
             Aov::RayDirZ => "ray-dir-z",
             Aov::Normal => "normal",
             Aov::Depth => "depth",
+            Aov::Albedo => "albedo",
+            Aov::ShadingNormal => "shading-normal",
         }
     }
 
     /// Whether its value depends on the ray's nearest hit.
     pub(crate) fn needs_hit(self) -> bool {
-        matches!(self, Aov::Normal | Aov::Depth)
+        !matches!(self, Aov::RayDirX | Aov::RayDirY | Aov::RayDirZ)
     }
 }
 
@@ -80,8 +99,15 @@ impl AovContext {
     }
 
     /// The AOV's value for one primary ray and its nearest hit (looked
-    /// for only when the AOV `needs_hit`).
-    pub(crate) fn value(&self, aov: Aov, ray: &Ray, hit: Option<&SurfaceHit>) -> Vec3 {
+    /// for only when the AOV `needs_hit`) in `scene`; `rng`, the sample's
+    /// random numbers, picks the branch of glass the guides follow.
+    pub(crate) fn value(
+        &self,
+        scene: &Scene,
+        aov: Aov,
+        (ray, hit): (&Ray, Option<&SurfaceHit>),
+        rng: &mut Rng,
+    ) -> Vec3 {
         match aov {
             Aov::RayDirX => channel(0, ray.dir().x),
             Aov::RayDirY => channel(1, ray.dir().y),
@@ -90,6 +116,8 @@ impl AovContext {
             Aov::Depth => hit.map_or(Vec3::ZERO, |hit| {
                 Vec3::splat(self.grey(hit.t * ray.dir().length()))
             }),
+            Aov::Albedo => guide::seen(scene, ray, hit, rng).albedo,
+            Aov::ShadingNormal => (guide::seen(scene, ray, hit, rng).normal + Vec3::ONE) / 2.0,
         }
     }
 
