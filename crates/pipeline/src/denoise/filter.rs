@@ -4,7 +4,7 @@
 //! images are OIDN's "shared" images, our own pixels, so nothing is copied.
 
 use super::library::{c_name, Api, Handle};
-use super::{DenoiseError, Quality};
+use super::{oidn_quality, DenoiseError, Quality};
 use glam::Vec3;
 use std::ffi::{c_void, CStr};
 
@@ -136,7 +136,7 @@ impl<'d> Filter<'d> {
         }
         let filter = Filter { device, handle };
         // SAFETY: as above.
-        unsafe { (api.set_filter_int)(handle, c_name(c"quality"), quality.oidn()) };
+        unsafe { (api.set_filter_int)(handle, c_name(c"quality"), oidn_quality(quality)) };
         Ok(filter)
     }
 

@@ -21,37 +21,16 @@ use glam::Vec3;
 use std::path::PathBuf;
 use tracer_core::LinearImage;
 
-/// OIDN's filter quality, as OIDN names them.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
-pub enum Quality {
-    /// For interactive previews.
-    Fast,
-    /// Between the two.
-    Balanced,
-    /// For final frames: OIDN's default, and ours.
-    #[default]
-    High,
-}
+/// OIDN's filter quality, as OIDN names them (the scene file's).
+pub use scene_format::DenoiseQuality as Quality;
 
-impl Quality {
-    pub const ALL: [Quality; 3] = [Quality::Fast, Quality::Balanced, Quality::High];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Quality::Fast => "fast",
-            Quality::Balanced => "balanced",
-            Quality::High => "high",
-        }
-    }
-
-    /// `OIDN_QUALITY_FAST`, `_BALANCED`, `_HIGH`.
-    #[cfg(not(target_arch = "wasm32"))]
-    fn oidn(self) -> i32 {
-        match self {
-            Quality::Fast => 4,
-            Quality::Balanced => 5,
-            Quality::High => 6,
-        }
+/// `OIDN_QUALITY_FAST`, `_BALANCED`, `_HIGH`.
+#[cfg(not(target_arch = "wasm32"))]
+fn oidn_quality(quality: Quality) -> i32 {
+    match quality {
+        Quality::Fast => 4,
+        Quality::Balanced => 5,
+        Quality::High => 6,
     }
 }
 
