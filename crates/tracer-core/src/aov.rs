@@ -258,6 +258,132 @@ mod tests {
         assert_eq!(d.get(0, 0), Vec3::ZERO);
     }
 
+    fn scene_of(text: &str) -> Scene {
+        let file = scene_format::load_str(text, Format::Toml, Path::new("t.toml")).unwrap();
+        crate::prepare::prepare(&file).unwrap()
+    }
+
+    /// The lab's camera looking down -z at a sphere of `material`, r 1.6.
+    fn sphere_of(material: &str) -> Scene {
+        scene_of(&format!(
+            "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
+             [[objects]]\nsphere = {{ center = [0, 0, 0], radius = 1.6 }}\nmaterial = {material}\n"
+        ))
+    }
+
+    #[test]
+    fn a_lambertian_spheres_albedo_is_its_diffuse_and_a_miss_the_background() {
+        let scene = sphere_of("{ diffuse = [0.2, 0.5, 0.7], specular = [0, 0, 0] }");
+        let albedo = render_aov(&scene, Aov::Albedo);
+        assert_eq!(albedo.get(249, 199), Vec3::new(0.2, 0.5, 0.7));
+        assert_eq!(albedo.get(260, 210), Vec3::new(0.2, 0.5, 0.7));
+        assert_eq!(albedo.get(0, 0), Vec3::ZERO, "the black background");
+        let principled = sphere_of("{ base_color = [0.9, 0.3, 0.1], roughness = 0.5 }");
+        let albedo = render_aov(&principled, Aov::Albedo);
+        assert_near(albedo.get(249, 199), [0.9, 0.3, 0.1], 1e-6);
+    }
+
+    /// A mirror plane at z = 0 facing the eye at z = 10, and behind the
+    /// eye a diffuse wall at z = 20 facing the mirror: the mirror shows it.
+    fn mirror_before_a_wall(mirror: &str) -> Scene {
+        scene_of(&format!(
+            "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
+             [[objects]]\nplane = {{ point = [0, 0, 0], normal = [0, 0, 1] }}\nmaterial = {mirror}\n\
+             [[objects]]\nplane = {{ point = [0, 0, 20], normal = [0, 0, -1] }}\n\
+             material = {{ diffuse = [0.1, 0.6, 0.3], specular = [0, 0, 0] }}\n"
+        ))
+    }
+
+    #[test]
+    fn a_mirrors_albedo_and_normal_are_those_of_what_it_shows() {
+        let scene =
+            mirror_before_a_wall("{ diffuse = [0, 0, 0], specular = [0, 0, 0], reflectance = 1 }");
+        let albedo = render_aov(&scene, Aov::Albedo);
+        assert_near(albedo.get(249, 199), [0.1, 0.6, 0.3], 1e-6);
+        assert_near(albedo.get(10, 20), [0.1, 0.6, 0.3], 1e-6);
+        // The wall faces the mirror: the ray comes back along +z and meets
+        // it head on, its normal (0, 0, -1) toward the ray.
+        let normal = render_aov(&scene, Aov::ShadingNormal);
+        assert_near(normal.get(249, 199), [0.5, 0.5, 0.0], 1e-3);
+        // A smooth metal tints what it shows with its base colour.
+        let gold =
+            mirror_before_a_wall("{ base_color = [1, 0.5, 0.25], metallic = 1, roughness = 0 }");
+        let albedo = render_aov(&gold, Aov::Albedo);
+        assert_near(albedo.get(249, 199), [0.1, 0.3, 0.075], 1e-6);
+        // A mirror that is also diffuse is a surface of its own.
+        let half = mirror_before_a_wall(
+            "{ diffuse = [0.5, 0.5, 0.5], specular = [0, 0, 0], reflectance = 0.5 }",
+        );
+        let albedo = render_aov(&half, Aov::Albedo);
+        assert_near(albedo.get(249, 199), [0.5, 0.5, 0.5], 1e-6);
+    }
+
+    #[test]
+    fn a_spheres_shading_normal_is_the_analytic_normal_where_each_pixel_ray_meets_it() {
+        let scene = sphere_of("{ diffuse = [0.5, 0.5, 0.5] }");
+        let normals = render_aov(&scene, Aov::ShadingNormal);
+        let camera = scene.camera();
+        let mut checked = 0;
+        for (i, j) in [
+            (249, 199),
+            (200, 150),
+            (300, 260),
+            (180, 199),
+            (249, 120),
+            (300, 150),
+        ] {
+            // The one sample a pixel is the ray through its centre.
+            let ray = camera.lens_ray(i as f32 + 0.5, j as f32 + 0.5, glam::Vec2::ZERO);
+            let (o, d) = (ray.origin(), ray.dir().normalize());
+            // |o + t d| = 1.6, the nearer root.
+            let b = o.dot(d);
+            let disc = b * b - (o.length_squared() - 1.6 * 1.6);
+            assert!(disc > 0.0, "pixel ({i}, {j}) sees the sphere");
+            let n = (o + (-b - disc.sqrt()) * d) / 1.6;
+            let got = normals.get(i, j) * 2.0 - Vec3::ONE;
+            assert!((got - n).length() < 1e-3, "({i}, {j}): {got} vs {n}");
+            checked += 1;
+        }
+        assert_eq!(checked, 6);
+        assert_eq!(
+            normals.get(0, 0),
+            Vec3::splat(0.5),
+            "a miss: the zero normal"
+        );
+    }
+
+    #[test]
+    fn smooth_glass_shows_what_is_behind_it_weighted_by_fresnel() {
+        // A thin slab of glass seen head on, a green wall behind it: of
+        // the light through the two faces, 4 % is reflected at each (n =
+        // 1.5), and what is reflected sees the black sky; the samples pick
+        // a branch each, so the mean is near 0.96^2 of the wall's albedo.
+        let scene = scene_of(
+            "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
+             [render]\nsamples = 64\n\
+             [[objects]]\nbox = { min = [-50, -50, -0.5], max = [50, 50, 0.5] }\n\
+             material = { transmission = 1, roughness = 0, base_color = [1, 1, 1] }\n\
+             [[objects]]\nplane = { point = [0, 0, -5], normal = [0, 0, 1] }\n\
+             material = { diffuse = [0, 1, 0], specular = [0, 0, 0] }\n",
+        );
+        let job = RenderJob {
+            region: Region {
+                x0: 200,
+                y0: 150,
+                x1: 300,
+                y1: 250,
+            },
+            samples: 64,
+            output: Output::Aov(Aov::Albedo),
+        };
+        let image = render(&scene, &job, &|_| {}).image;
+        let mean = image.pixels.iter().map(|c| c.y).sum::<f32>() / image.pixels.len() as f32;
+        let expected = 0.96f32 * 0.96;
+        // 640,000 samples of a 0/1 choice of p ~ 0.08: sigma ~ 3e-4.
+        assert!((mean - expected).abs() < 0.003, "{mean} vs {expected}");
+        assert!(image.pixels.iter().all(|c| c.x == 0.0 && c.z == 0.0));
+    }
+
     #[test]
     fn a_regions_depth_is_the_same_as_the_whole_images() {
         let scene = lab_scene();

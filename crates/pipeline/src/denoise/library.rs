@@ -75,9 +75,15 @@ pub fn available() -> Result<(), DenoiseError> {
 
 /// The library's path: the project's folder first, then pyoidn's.
 fn find() -> Result<PathBuf, DenoiseError> {
-    let mut looked = Vec::new();
     let candidates = [Some(project_folder().join("lib")), pyoidn_lib_folder()];
-    for folder in candidates.into_iter().flatten() {
+    find_in(candidates.into_iter().flatten())
+}
+
+/// The library in the first of `folders` that has it, or the error that
+/// names them and the command that installs it.
+pub fn find_in(folders: impl IntoIterator<Item = PathBuf>) -> Result<PathBuf, DenoiseError> {
+    let mut looked = Vec::new();
+    for folder in folders {
         let path = folder.join(LIBRARY_FILE);
         if path.is_file() {
             return Ok(path);

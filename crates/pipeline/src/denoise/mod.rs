@@ -15,7 +15,7 @@ mod filter;
 mod library;
 
 #[cfg(not(target_arch = "wasm32"))]
-pub use library::{available, project_folder};
+pub use library::{available, find_in, project_folder};
 
 use glam::Vec3;
 use std::path::PathBuf;
