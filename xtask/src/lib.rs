@@ -7,6 +7,7 @@ pub mod farm;
 pub mod gallery;
 pub mod golden;
 pub mod man;
+pub mod oidn;
 pub mod web;
 
 use std::path::{Path, PathBuf};

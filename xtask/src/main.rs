@@ -25,6 +25,9 @@ enum Command {
     /// compare with a single render, bit for bit (docs/farm.md)
     FarmTest(xtask::farm::FarmArgs),
     Man(ManArgs),
+    /// Install Intel Open Image Denoise for `tracer render --denoise` (from
+    /// PyPI's pyoidn wheel, with pip) into target/oidn
+    Oidn,
     Web(WebArgs),
     /// Write docs/gallery.md: every scene's golden image with its file name
     /// and the command that renders it
@@ -84,6 +87,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => xtask::bench::run(&args).map(|()| ExitCode::SUCCESS),
         Command::FarmTest(args) => xtask::farm::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Man(args) => man(&args),
+        Command::Oidn => xtask::oidn::install().map(|_| ExitCode::SUCCESS),
         Command::Web(args) => web(&args),
         Command::Gallery => gallery(),
         Command::PeakOf { command } => {

@@ -236,6 +236,45 @@ pub struct RenderSettings {
     /// is the path's own ray. From 1 to 64. Default 1.
     #[schemars(range(min = 1, max = 64))]
     pub camera_rays: u32,
+    /// Path mode: clean the final image with Intel Open Image Denoise
+    /// (`tracer render --denoise`), guided by the albedo and normal of
+    /// what each pixel sees; the library is installed by `cargo xtask
+    /// oidn`. Default false.
+    pub denoise: bool,
+    /// The denoiser's quality, as Open Image Denoise names them: "fast",
+    /// "balanced" or "high" (`--denoise-quality` overrides it). Default
+    /// "high".
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub denoise_quality: Option<DenoiseQuality>,
+}
+
+/// Open Image Denoise's filter quality.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum DenoiseQuality {
+    /// For previews.
+    Fast,
+    /// Between the two.
+    Balanced,
+    /// For final images.
+    #[default]
+    High,
+}
+
+impl DenoiseQuality {
+    pub const ALL: [DenoiseQuality; 3] = [
+        DenoiseQuality::Fast,
+        DenoiseQuality::Balanced,
+        DenoiseQuality::High,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            DenoiseQuality::Fast => "fast",
+            DenoiseQuality::Balanced => "balanced",
+            DenoiseQuality::High => "high",
+        }
+    }
 }
 
 /// Which way light is computed.
@@ -298,6 +337,8 @@ impl Default for RenderSettings {
             time_limit: None,
             path_reuse: 1,
             camera_rays: 1,
+            denoise: false,
+            denoise_quality: None,
         }
     }
 }

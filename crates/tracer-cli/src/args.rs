@@ -36,6 +36,8 @@ pub struct RenderArgs {
     pub aov: Option<AovArg>,
     #[command(flatten)]
     pub view: ViewArgs,
+    #[command(flatten)]
+    pub denoise: DenoiseArgs,
     /// Render only the pixels X0..X1 by Y0..Y1 (ends exclusive); to an .exr
     /// output a tile for `tracer merge`
     #[arg(long, value_name = "X0,Y0,X1,Y1", value_parser = parse_region, conflicts_with = "tile")]
@@ -191,6 +193,15 @@ pub struct MergeArgs {
     /// Bits per channel of a PNG output
     #[arg(long, value_name = "BITS", default_value = "8")]
     pub bit_depth: BitDepthArg,
+    /// Denoise the merged image with Intel Open Image Denoise, guided by
+    /// the albedo and normal the tiles carry (tiles rendered with
+    /// --denoise, which are denoised when merged even without this)
+    #[arg(long)]
+    pub denoise: bool,
+    /// The denoiser's quality, overriding the one the tiles were rendered
+    /// for
+    #[arg(long, value_name = "QUALITY")]
+    pub denoise_quality: Option<QualityArg>,
 }
 
 /// What `render` and `watch` share: how many samples, how large, on how
@@ -236,6 +247,69 @@ impl ViewArgs {
             // Set from the output's format once it is known.
             raw_depth: false,
             pixel_shift: None,
+            denoise: false,
+            denoise_quality: None,
+        }
+    }
+}
+
+/// Denoising, in `tracer render` and `tracer watch`.
+#[derive(Args)]
+pub struct DenoiseArgs {
+    /// Path mode: clean the image with Intel Open Image Denoise, guided by
+    /// the albedo and normal of what each pixel sees (as the scene's
+    /// `[render] denoise = true`); install it first with `cargo xtask
+    /// oidn`. A tile (--tile/--region to .exr) carries the guides instead,
+    /// and `tracer merge --denoise` denoises the merged image
+    #[arg(long, conflicts_with = "aov")]
+    pub denoise: bool,
+    /// The denoiser's quality, overriding `[render] denoise_quality`
+    #[arg(long, value_name = "QUALITY", conflicts_with = "aov")]
+    pub denoise_quality: Option<QualityArg>,
+}
+
+impl DenoiseArgs {
+    /// `options` with these set.
+    fn apply(&self, options: Options) -> Options {
+        Options {
+            denoise: self.denoise,
+            denoise_quality: self.denoise_quality.map(Into::into),
+            ..options
+        }
+    }
+}
+
+/// Denoising in `tracer watch` (which has no --aov).
+#[derive(Args)]
+pub struct WatchDenoiseArgs {
+    /// Path mode: denoise each pass shown with Intel Open Image Denoise (as
+    /// the scene's `[render] denoise = true`); install it first with `cargo
+    /// xtask oidn`
+    #[arg(long)]
+    pub denoise: bool,
+    /// The denoiser's quality, overriding `[render] denoise_quality`
+    #[arg(long, value_name = "QUALITY")]
+    pub denoise_quality: Option<QualityArg>,
+}
+
+/// `--denoise-quality`'s values, Open Image Denoise's names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum QualityArg {
+    /// For previews
+    Fast,
+    /// Between the two
+    Balanced,
+    /// For final images (the default)
+    High,
+}
+
+impl From<QualityArg> for tracer_pipeline::denoise::Quality {
+    fn from(q: QualityArg) -> Self {
+        use tracer_pipeline::denoise::Quality;
+        match q {
+            QualityArg::Fast => Quality::Fast,
+            QualityArg::Balanced => Quality::Balanced,
+            QualityArg::High => Quality::High,
         }
     }
 }
@@ -286,11 +360,18 @@ pub enum AovArg {
     RayDirY,
     /// (dir.z + 1) / 2 in blue (gradient-OZ.png)
     RayDirZ,
-    /// (n + 1) / 2 of the surface normal at the nearest hit
+    /// (n + 1) / 2 of the surface normal at the nearest hit (the lab's,
+    /// geometric, not turned toward the ray)
     Normal,
     /// Distance to the nearest hit: near bright, far dark, no hit black (in
     /// .exr and .hdr the distances themselves, 0 for no hit)
     Depth,
+    /// Albedo of the first surface seen that is not a perfect mirror or
+    /// smooth glass (seen through them): the denoiser's guide
+    Albedo,
+    /// (n + 1) / 2 of that surface's shading normal, turned toward the ray;
+    /// grey where nothing is hit: the denoiser's guide
+    ShadingNormal,
 }
 
 impl From<AovArg> for Aov {
@@ -301,6 +382,8 @@ impl From<AovArg> for Aov {
             AovArg::RayDirZ => Aov::RayDirZ,
             AovArg::Normal => Aov::Normal,
             AovArg::Depth => Aov::Depth,
+            AovArg::Albedo => Aov::Albedo,
+            AovArg::ShadingNormal => Aov::ShadingNormal,
         }
     }
 }
@@ -377,6 +460,8 @@ pub struct WatchArgs {
     pub output: Option<PathBuf>,
     #[command(flatten)]
     pub view: ViewArgs,
+    #[command(flatten)]
+    pub denoise: WatchDenoiseArgs,
     /// Also serve a live page at ADDR (a browser shows each render as it
     /// comes, and the scene's errors): loopback only unless ADDR says
     /// otherwise; port 0 picks a free one
@@ -401,7 +486,11 @@ impl WatchArgs {
         Ok(Watch {
             scene: self.scene,
             output,
-            options: self.view.options(),
+            options: Options {
+                denoise: self.denoise.denoise,
+                denoise_quality: self.denoise.denoise_quality.map(Into::into),
+                ..self.view.options()
+            },
             pool: pool(self.view.threads)?,
             serve: self.serve,
         })
@@ -479,7 +568,7 @@ impl RenderArgs {
                     (None, Some((index, count))) => Some(Part::Tile { index, count }),
                     (None, None) => None,
                 },
-                ..self.view.options()
+                ..self.denoise.apply(self.view.options())
             },
             bit_depth: self.bit_depth.into(),
             pool: pool(self.view.threads)?,

@@ -27,7 +27,10 @@
 //!   instances of it (the scene written into `target/bench/`).
 //! - `print`: the report.
 //! - `rusage`: CPU time and peak memory of this process and its children.
+//! - `denoise`: Open Image Denoise on the path tracer's images against the
+//!   Mitsuba references, and its time against `oidnBenchmark`.
 
+mod denoise;
 mod embree;
 mod measure;
 pub mod memory;
@@ -69,7 +72,9 @@ pub struct BenchArgs {
     /// packets: primary rays at 16 samples per pixel against Embree's
     /// packet kernels on the same rays; path: the path tracer on the Cornell
     /// box against Mitsuba 3 and Cycles at equal time; web: the playground
-    /// in headless Chromium against native, one thread, and its workers)
+    /// in headless Chromium against native, one thread, and its workers;
+    /// denoise: Open Image Denoise's RMSE against the Mitsuba references and
+    /// its time against oidnBenchmark)
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
 }
@@ -104,15 +109,16 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let only = |name: &str| args.only.is_empty() || args.only.iter().any(|o| o == name);
     if !args.only.is_empty() {
         if let Some(unknown) = args.only.iter().find(|o| {
-            ![INSTANCING, PACKETS, path::PATH, web::WEB].contains(&o.as_str())
+            ![INSTANCING, PACKETS, path::PATH, web::WEB, denoise::DENOISE].contains(&o.as_str())
                 && !scenes.iter().any(|s| s.name == *o)
         }) {
             let names: Vec<&str> = scenes.iter().map(|s| s.name).collect();
             bail!(
-                "--only: no scene `{unknown}` (the scenes: {}; or {INSTANCING}, {PACKETS}, {}, {})",
+                "--only: no scene `{unknown}` (the scenes: {}; or {INSTANCING}, {PACKETS}, {}, {}, {})",
                 names.join(", "),
                 path::PATH,
-                web::WEB
+                web::WEB,
+                denoise::DENOISE
             );
         }
         scenes.retain(|s| only(s.name));
@@ -191,6 +197,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     if only(path::PATH) {
         path::report(&path::measure(&root, out_dir.path())?);
+    }
+    if only(denoise::DENOISE) {
+        denoise::report(&denoise::measure(&root)?);
     }
     Ok(())
 }

@@ -134,11 +134,30 @@ fn render_passes(args: &Watch, loaded: &Loaded, changes: &Changes, server: Optio
 fn render_in_passes(args: &Watch, loaded: &Loaded, changes: &Changes, server: Option<&Server>) {
     let start = Instant::now();
     let cancel = changes.pending();
+    let prepared = args
+        .pool
+        .install(|| tracer_pipeline::prepare_taking(loaded.clone(), &args.options, "watch"));
+    let prepared = match prepared {
+        Ok(prepared) => prepared,
+        Err(e) => return note!("error: {e:#}"),
+    };
     let mut failed = None;
+    // Each pass is denoised when the scene asks for it, with the guides
+    // rendered once.
+    let mut guides = None;
     let mut on_pass = |pass: tracer_pipeline::Pass| {
+        let picture = tracer_pipeline::denoise_picture(&prepared, &mut guides, pass.picture);
+        let picture = match picture {
+            Ok(picture) => picture,
+            Err(e) => {
+                failed = Some(e.into());
+                return false;
+            }
+        };
         let rendered = Rendered {
-            image: pass.picture.clone(),
+            image: picture,
             summary: Summary::Shaded(pass.stats.clone()),
+            denoising: None,
         };
         let pass = Pass {
             is_preview: false,
@@ -154,10 +173,9 @@ fn render_in_passes(args: &Watch, loaded: &Loaded, changes: &Changes, server: Op
         }
     };
     let rendered = args.pool.install(|| {
-        tracer_pipeline::render_progressive(
-            loaded,
+        tracer_pipeline::render_prepared_progressive(
+            &prepared,
             &args.options,
-            "watch",
             cancel,
             (&|_| {}, &mut on_pass),
         )
