@@ -151,7 +151,11 @@ fn sky() -> Rgb32FImage {
 fn direction(u: f32, v: f32) -> [f32; 3] {
     use std::f32::consts::PI;
     let (theta, phi) = (PI * v, 2.0 * PI * (u - 0.5));
-    [theta.sin() * phi.sin(), theta.cos(), -theta.sin() * phi.cos()]
+    [
+        theta.sin() * phi.sin(),
+        theta.cos(),
+        -theta.sin() * phi.cos(),
+    ]
 }
 
 /// Floor tiles (64 x 64, four tiles of 32 x 32 between grout lines 2 texels
