@@ -137,7 +137,12 @@ fn measure_scene(root: &Path, dir: &Path, bench: BenchScene, peers: &[Peer]) -> 
                 start,
                 max,
                 dir,
-            )?;
+            );
+            // A peer failing twice leaves its curve out, not the run's others.
+            let points = points.unwrap_or_else(|e| {
+                eprintln!("bench: {e:#}; its curve is left out");
+                None
+            });
             if let Some(points) = points {
                 curves.push(Curve {
                     scene: bench.scene,

@@ -377,7 +377,7 @@ pub fn until_budget(
     let mut points = Vec::new();
     let mut spp = start_spp.max(1);
     loop {
-        let Some(r) = run(runner, peer, spp, threads, 0, dir)? else {
+        let Some(r) = run_or_retry(runner, peer, spp, threads, dir)? else {
             return Ok(None);
         };
         points.push(Point {
@@ -390,6 +390,22 @@ pub fn until_budget(
         }
         spp = spp.saturating_mul(2).min(max_spp);
     }
+}
+
+/// `run`, tried a second time when it fails: Mitsuba 3.9 once died of
+/// SIGBUS in a bench (not again by hand: perhaps its kernel cache in
+/// ~/.drjit, shared with other processes, changing under it).
+fn run_or_retry(
+    runner: &Runner,
+    peer: Peer,
+    spp: u32,
+    threads: usize,
+    dir: &Path,
+) -> Result<Option<Run>> {
+    run(runner, peer, spp, threads, 0, dir).or_else(|first| {
+        eprintln!("bench: {first:#}; once more");
+        run(runner, peer, spp, threads, 0, dir)
+    })
 }
 
 /// The RMSE at `budget_s`, interpolated in log-log between the renders
