@@ -106,11 +106,13 @@ fn the_goldens_hold_the_labs_hand_worked_values() {
     assert_eq!(px("shadows", 100, 150), [70, 70, 70]);
     // The lab's scenes are all 500x400; the scenes beyond the lab (checked
     // by the physics tests of tracer-core) are not.
-    const BEYOND_LAB: [&str; 14] = [
+    const BEYOND_LAB: [&str; 16] = [
         "antialiasing",
         "bench-bunny",
         "boxes",
         "cornell-box",
+        "cornell-bunny",
+        "courtyard",
         "ellipsoids",
         "global-illumination",
         "depth-of-field",
