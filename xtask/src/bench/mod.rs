@@ -15,8 +15,8 @@
 //!   1.1M-triangle bunny.
 //! - `measure`: timing the tracer (with `path`, the files that call
 //!   tracer-core).
-//! - `path`, `path_peers`: the path tracer on the Cornell box against
-//!   Mitsuba 3 and Blender Cycles at equal time (`--only path`).
+//! - `path`, `path_peers`: the path tracer on four scenes against
+//!   Mitsuba 3 (and Blender Cycles) at equal time (`--only path`).
 //! - `process`: timing the whole `tracer render` process on a small scene.
 //! - `pov_scene`: a scene file as POV-Ray SDL.
 //! - `povray`: timing POV-Ray.
@@ -70,13 +70,17 @@ pub struct BenchArgs {
     /// Only these scenes (bunny, bunny-16spp, bunny-1.1m, reflectance2) or
     /// measurements (instancing: peak memory of 1 and 1,000 bunnies;
     /// packets: primary rays at 16 samples per pixel against Embree's
-    /// packet kernels on the same rays; path: the path tracer on the Cornell
-    /// box against Mitsuba 3 and Cycles at equal time; web: the playground
-    /// in headless Chromium against native, one thread, and its workers;
+    /// packet kernels on the same rays; path: the path tracer on four
+    /// scenes against Mitsuba 3 at equal time; web: the playground in
+    /// headless Chromium against native, one thread, and its workers;
     /// denoise: Open Image Denoise's RMSE against the Mitsuba references and
     /// its time against oidnBenchmark)
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
+    /// With path: also Mitsuba 3's scalar_rgb, and Blender Cycles on the
+    /// Cornell box (pip install bpy)
+    #[arg(long)]
+    pub all_peers: bool,
 }
 
 /// The `--only` name of the instancing memory measurement.
@@ -196,7 +200,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         }
     }
     if only(path::PATH) {
-        path::report(&path::measure(&root, out_dir.path())?);
+        path::report(&path::measure(&root, out_dir.path(), args.all_peers)?);
     }
     if only(denoise::DENOISE) {
         denoise::report(&denoise::measure(&root)?);
