@@ -429,7 +429,7 @@ fn every_scene_of_the_menu_renders_as_its_golden_within_maths_last_bits() {
     // Where wasm's maths library (Rust's libm) rounds a last bit otherwise
     // than glibc's: powf in the gamma at a code's step (one level of one
     // channel), sin and cos in the lens' and the lights' samples (a ray a
-    // hair apart). A few pixels by a level; README, In the browser.
+    // hair apart). A few pixels by a level; the book, guide/playground.md.
     let _ = writeln!(
         std::io::stderr(),
         "differing from their goldens: {differing:?}"
@@ -446,11 +446,11 @@ fn every_scene_of_the_menu_renders_as_its_golden_within_maths_last_bits() {
     }
 }
 
-/// Not a check: writes the README's screenshot, docs/playground.png
+/// Not a check: writes the book's screenshot, docs/src/images/playground.png
 /// (`cargo test --release -p xtask --test web -- --ignored screenshot`).
 #[test]
 #[ignore]
-fn screenshot_for_the_readme() {
+fn screenshot_for_the_book() {
     let Some(mut page) = open("?workers=2") else {
         return;
     };
@@ -470,7 +470,11 @@ fn screenshot_for_the_readme() {
     // The editor's marks are drawn on its next frame.
     std::thread::sleep(Duration::from_millis(500));
     let png = page.screenshot().unwrap();
-    std::fs::write(xtask::workspace_root().join("docs/playground.png"), png).unwrap();
+    std::fs::write(
+        xtask::workspace_root().join("docs/src/images/playground.png"),
+        png,
+    )
+    .unwrap();
 }
 
 #[test]
