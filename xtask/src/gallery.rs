@@ -148,7 +148,7 @@ fn section(out: &mut String, root: &Path, title: &str, entries: &[Entry]) {
     }
 }
 
-/// `path` relative to `root`, with `/` between its parts (as in the README).
+/// `path` relative to `root`, with `/` between its parts (as in the book).
 fn relative(root: &Path, path: &Path) -> Result<String> {
     let rel = path
         .strip_prefix(root)

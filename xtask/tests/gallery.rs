@@ -98,9 +98,9 @@ fn every_scene_and_every_golden_is_in_the_gallery_with_its_command() {
 #[test]
 fn every_command_is_one_tracer_accepts() {
     let text = committed();
-    let commands = commands(&text);
-    assert!(commands.len() >= 29, "{} commands", commands.len());
-    for command in &commands {
+    let all = commands(&text);
+    assert!(all.len() >= 29, "{} commands", all.len());
+    for command in &all {
         let words: Vec<&str> = command.split_whitespace().collect();
         assert_eq!(words[0], "tracer", "{command}");
         if let Err(e) = tracer_cli::command().try_get_matches_from(&words) {

@@ -787,3 +787,30 @@ fn on_a_phone_the_editor_and_the_image_stack_without_sideways_scrolling() {
     assert!(image[0].as_f64().unwrap() > 300.0, "{image}");
     assert_eq!(image[1], true, "{image}");
 }
+
+/// With the book beside the page (`book/`, where `cargo xtask web` copies a
+/// built one), the help link shows and opens the book's playground page.
+#[test]
+fn the_help_link_opens_the_books_playground_page_when_the_book_is_beside() {
+    if chromium().is_none() {
+        return;
+    }
+    let out = xtask::target_dir().join("web-test");
+    let _ = page();
+    let help = out.join("book/guide/playground.html");
+    if !help.is_file() {
+        std::fs::create_dir_all(help.parent().unwrap()).unwrap();
+        std::fs::write(&help, "<h1>The playground</h1>").unwrap();
+    }
+    let mut browser = open("").unwrap();
+    browser
+        .wait_for("!document.getElementById('help').hidden", RENDER)
+        .unwrap();
+    let href = eval(&mut browser, "document.getElementById('help').href");
+    assert!(
+        href.as_str()
+            .unwrap()
+            .ends_with("/book/guide/playground.html"),
+        "{href}"
+    );
+}

@@ -12,6 +12,13 @@ pub type Color = [f32; 3];
 /// Texture coordinates (u, v).
 pub type Uv = [f32; 2];
 
+/// Examples the schema gives keys that no scene of `scenes/` uses (the
+/// book's reference shows them). Constants, as schemars' attribute takes a
+/// path but not an array.
+const EXAMPLE_INCLUDE: [&str; 1] = ["lib/materials.toml"];
+const EXAMPLE_SKY: Color = [0.5, 0.6, 0.8];
+const EXAMPLE_UV: [Uv; 3] = [[0.0, 0.0], [1.0, 0.0], [0.5, 1.0]];
+
 /// A 3D scene: a camera, lights, materials and objects.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
@@ -45,7 +52,7 @@ pub struct SceneFile {
     /// `lights`, `objects` and `include`; material names are shared, so a
     /// name may be defined once. Default: none.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    #[schemars(example = ["lib/materials.toml"])]
+    #[schemars(example = EXAMPLE_INCLUDE)]
     pub include: Vec<String>,
     /// The JSON Schema an editor checks a JSON scene against (TOML scenes
     /// use a `#:schema` comment instead). The tracer ignores it.
@@ -68,7 +75,7 @@ pub struct Environment {
     /// sky.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(inner(range(min = 0)))]
-    #[schemars(example = [0.5, 0.6, 0.8])]
+    #[schemars(example = EXAMPLE_SKY)]
     pub color: Option<Color>,
     /// What the radiance is multiplied by (>= 0). Default 1.
     #[serde(default = "one")]
@@ -535,7 +542,7 @@ pub struct Object {
     /// vertex order; only with `triangle`. Left out, a triangle's uv are its
     /// barycentrics: [[0, 0], [1, 0], [0, 1]].
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    #[schemars(example = [[0.0, 0.0], [1.0, 0.0], [0.5, 1.0]])]
+    #[schemars(example = EXAMPLE_UV)]
     pub uv: Option<[Uv; 3]>,
     /// A triangle mesh read from a Wavefront OBJ or a PLY file.
     #[serde(default, skip_serializing_if = "Option::is_none")]
