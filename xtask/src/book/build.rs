@@ -112,13 +112,15 @@ pub fn copy_tree(from: &Path, to: &Path) -> Result<()> {
 }
 
 /// An mdbook of [`MDBOOK_VERSION`]'s series: on the `PATH`, in cargo's
-/// `bin` folder, or installed there now with `cargo install`.
+/// `bin` folder (or `target/tools/bin`, where one of another series is
+/// there), or installed there now with `cargo install`.
 pub fn mdbook() -> Result<PathBuf> {
     let series = MDBOOK_VERSION
         .rsplit_once('.')
         .map_or(MDBOOK_VERSION, |(s, _)| s);
     let cargo_bin = cargo_home().join("bin").join("mdbook");
-    for candidate in [PathBuf::from("mdbook"), cargo_bin.clone()] {
+    let beside = crate::target_dir().join("tools/bin/mdbook");
+    for candidate in [PathBuf::from("mdbook"), cargo_bin.clone(), beside] {
         if let Some(version) = version_of(&candidate) {
             if version.starts_with(&format!("v{series}."))
                 || version.starts_with(&format!("{series}."))
