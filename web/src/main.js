@@ -577,6 +577,16 @@ window.tracerPage = {
   },
 };
 
+// The help link opens the book's page of the playground, when the book is
+// served beside the page (`book/`, as `cargo xtask web` copies it there);
+// without it the link would lead nowhere, so it stays hidden.
+const helpLink = document.getElementById("help");
+fetch(helpLink.getAttribute("href"), { cache: "no-store" })
+  .then((r) => {
+    if (r.ok) helpLink.hidden = false;
+  })
+  .catch(() => {});
+
 async function start() {
   [wasmModule, scenesIndex] = await Promise.all([
     // Bytes first: compileStreaming refuses a server that does not call

@@ -3,6 +3,8 @@
 
 pub mod assets;
 pub mod bench;
+pub mod book;
+pub mod cli;
 pub mod farm;
 pub mod gallery;
 pub mod golden;

@@ -352,7 +352,7 @@ fn the_other_lab_goldens_hold_hand_worked_values() {
 }
 
 /// The bench bunny (`scenes/bench/bunny.toml`, golden `bench-bunny`),
-/// against numbers from outside the renderer: docs/performance.md's 24.6 %
+/// against numbers from outside the renderer: docs/src/performance.md's 24.6 %
 /// of primary rays hitting the bunny (counted by Embree too), and the
 /// colours the scene's values give under gamma 2.2, truncated to 8 bits.
 #[test]

@@ -453,7 +453,7 @@ fn every_scene_of_the_menu_renders_as_its_golden_within_maths_last_bits() {
     // Where wasm's maths library (Rust's libm) rounds a last bit otherwise
     // than glibc's: powf in the gamma at a code's step (one level of one
     // channel), sin and cos in the lens' and the lights' samples (a ray a
-    // hair apart). A few pixels by a level; README, In the browser.
+    // hair apart). A few pixels by a level; the book, guide/playground.md.
     let _ = writeln!(
         std::io::stderr(),
         "differing from their goldens: {differing:?}"
@@ -470,11 +470,11 @@ fn every_scene_of_the_menu_renders_as_its_golden_within_maths_last_bits() {
     }
 }
 
-/// Not a check: writes the README's screenshot, docs/playground.png
+/// Not a check: writes the book's screenshot, docs/src/images/playground.png
 /// (`cargo test --release -p xtask --test web -- --ignored screenshot`).
 #[test]
 #[ignore]
-fn screenshot_for_the_readme() {
+fn screenshot_for_the_book() {
     let Some(mut page) = open("?workers=2") else {
         return;
     };
@@ -494,7 +494,11 @@ fn screenshot_for_the_readme() {
     // The editor's marks are drawn on its next frame.
     std::thread::sleep(Duration::from_millis(500));
     let png = page.screenshot().unwrap();
-    std::fs::write(xtask::workspace_root().join("docs/playground.png"), png).unwrap();
+    std::fs::write(
+        xtask::workspace_root().join("docs/src/images/playground.png"),
+        png,
+    )
+    .unwrap();
 }
 
 #[test]
@@ -870,4 +874,31 @@ console.log(JSON.stringify({{ max: MAX_SCENE_BYTES, small, big, rss: process.mem
         )
     });
     assert!(refused.contains("over 64 MiB once inflated"), "{refused}");
+}
+
+/// With the book beside the page (`book/`, where `cargo xtask web` copies a
+/// built one), the help link shows and opens the book's playground page.
+#[test]
+fn the_help_link_opens_the_books_playground_page_when_the_book_is_beside() {
+    if chromium().is_none() {
+        return;
+    }
+    let out = xtask::target_dir().join("web-test");
+    let _ = page();
+    let help = out.join("book/guide/playground.html");
+    if !help.is_file() {
+        std::fs::create_dir_all(help.parent().unwrap()).unwrap();
+        std::fs::write(&help, "<h1>The playground</h1>").unwrap();
+    }
+    let mut browser = open("").unwrap();
+    browser
+        .wait_for("!document.getElementById('help').hidden", RENDER)
+        .unwrap();
+    let href = eval(&mut browser, "document.getElementById('help').href");
+    assert!(
+        href.as_str()
+            .unwrap()
+            .ends_with("/book/guide/playground.html"),
+        "{href}"
+    );
 }

@@ -124,9 +124,9 @@ pub struct ExplainArgs {
     /// the pixel is the mean of all of its samples)
     #[arg(long, value_name = "K", default_value_t = 0)]
     pub sample: u32,
-    /// Print the tree as JSON instead: its structure is in the README
-    /// ("Learning with the tracer"), its `version` raised when a field
-    /// changes meaning
+    /// Print the tree as JSON instead: its structure is in the book
+    /// (docs/src/reference/explain-json.md), its `version` raised when a
+    /// field changes meaning
     #[arg(long)]
     pub json: bool,
     /// Keep at most N events of the tree (rays, lights' terms, a path's

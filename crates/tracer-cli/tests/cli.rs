@@ -1638,7 +1638,7 @@ fn explain_prints_the_tree_and_its_json_has_the_fixed_keys() {
         "{text}"
     );
     // Its JSON: each event's `event` and fields beside `throughput` and
-    // `added`, as the README lists them.
+    // `added`, as the book lists them (docs/src/reference/explain-json.md).
     let cornell = scene("cornell-box.toml");
     let args = ["explain", &cornell, "128", "100", "--sample", "3", "--json"];
     let out = tracer(dir.path(), &args);

@@ -151,7 +151,7 @@ pub struct PrincipledMaterial {
 
 impl PrincipledMaterial {
     /// The material of these parameters, with its Whitted-mode reading, a
-    /// documented approximation (the README's table): the diffuse colour
+    /// documented approximation (the book's table, docs/src/guide/materials.md): the diffuse colour
     /// is `base_color` times the dielectric's opaque share; the highlight's
     /// colour is the reflection at normal incidence (`base_color` for a
     /// metal, the Fresnel F0 of `ior` for a dielectric), its exponent the

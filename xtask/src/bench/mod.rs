@@ -1,6 +1,6 @@
 //! `cargo xtask bench`: the tracer against its peers on the benchmark
 //! scenes, all in one run (the machines are noisy: only figures of the same
-//! run compare). See `docs/performance.md`.
+//! run compare). See `docs/src/performance.md`.
 //!
 //! For each scene (the bunny, at 1 and at 16 samples per pixel, its
 //! 1.1M-triangle variant, the lab's reflectance2): BVH build time, render

@@ -4,9 +4,10 @@
 //! then the sum, the saturation rule, gamma and the 8-bit value, which is
 //! the rendered pixel's. In path mode, one sample's path: its vertices,
 //! light and BSDF samples and their MIS weights. `--json` gives the same
-//! as JSON (its structure documented in the README, versioned). The tree
-//! is kept within `--max-events` (and `--light`), and written to stdout as
-//! it is formatted, never held whole as text.
+//! as JSON (its structure documented in the book,
+//! docs/src/reference/explain-json.md, versioned). The tree is kept within
+//! `--max-events` (and `--light`), and written to stdout as it is
+//! formatted, never held whole as text.
 
 use crate::args::Explain;
 use crate::console;
