@@ -250,11 +250,13 @@ pub struct RenderSettings {
     /// (`tracer render --denoise`), guided by the albedo and normal of
     /// what each pixel sees; the library is installed by `cargo xtask
     /// oidn`. Default false.
+    #[schemars(extend("x-integrator" = "path"), example = true)]
     pub denoise: bool,
     /// The denoiser's quality, as Open Image Denoise names them: "fast",
     /// "balanced" or "high" (`--denoise-quality` overrides it). Default
     /// "high".
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("x-integrator" = "path", "default" = "high"), example = &"fast")]
     pub denoise_quality: Option<DenoiseQuality>,
 }
 
