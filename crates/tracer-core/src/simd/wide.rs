@@ -21,38 +21,24 @@ const ON: u32 = u32::MAX;
 
 #[inline(always)]
 fn map(a: F16, f: impl Fn(f32) -> f32) -> F16 {
-    let mut r = [0.0; 16];
-    for k in 0..16 {
-        r[k] = f(a.0[k]);
-    }
-    F16(r)
+    F16(std::array::from_fn(|k| f(a.0[k])))
 }
 
 #[inline(always)]
 fn zip(a: F16, b: F16, f: impl Fn(f32, f32) -> f32) -> F16 {
-    let mut r = [0.0; 16];
-    for k in 0..16 {
-        r[k] = f(a.0[k], b.0[k]);
-    }
-    F16(r)
+    F16(std::array::from_fn(|k| f(a.0[k], b.0[k])))
 }
 
 #[inline(always)]
 fn compare(a: F16, b: F16, f: impl Fn(f32, f32) -> bool) -> M16 {
-    let mut r = [0; 16];
-    for k in 0..16 {
-        r[k] = if f(a.0[k], b.0[k]) { ON } else { 0 };
-    }
-    M16(r)
+    M16(std::array::from_fn(
+        |k| if f(a.0[k], b.0[k]) { ON } else { 0 },
+    ))
 }
 
 #[inline(always)]
 fn bits(a: M16, b: M16, f: impl Fn(u32, u32) -> u32) -> M16 {
-    let mut r = [0; 16];
-    for k in 0..16 {
-        r[k] = f(a.0[k], b.0[k]);
-    }
-    M16(r)
+    M16(std::array::from_fn(|k| f(a.0[k], b.0[k])))
 }
 
 impl Mask for M16 {
@@ -213,10 +199,8 @@ impl Real for F16 {
     }
     #[inline(always)]
     fn select(m: M16, a: F16, b: F16) -> F16 {
-        let mut r = [0.0; 16];
-        for k in 0..16 {
-            r[k] = f32::from_bits((a.0[k].to_bits() & m.0[k]) | (b.0[k].to_bits() & !m.0[k]));
-        }
-        F16(r)
+        F16(std::array::from_fn(|k| {
+            f32::from_bits((a.0[k].to_bits() & m.0[k]) | (b.0[k].to_bits() & !m.0[k]))
+        }))
     }
 }
