@@ -153,26 +153,42 @@ pub(crate) fn denoised(
     let start = Instant::now();
     let guides = guides(prepared, region);
     let guide_seconds = start.elapsed().as_secs_f64();
-    let mut denoising = crate::Denoising {
+    let denoising = crate::Denoising {
         guides,
         quality,
         noisy: None,
         guide_seconds,
         denoise_seconds: 0.0,
     };
-    #[cfg(not(target_arch = "wasm32"))]
-    if !guides_only {
-        let start = Instant::now();
-        // As many threads as the render had (its pool, `--threads`).
-        let threads = rayon::current_num_threads();
-        let clean =
-            crate::denoise::denoise(&rendered.image.linear, &denoising.guides, quality, threads)?;
-        denoising.denoise_seconds = start.elapsed().as_secs_f64();
-        denoising.noisy = Some(std::mem::replace(&mut rendered.image.linear, clean));
-    }
-    let _ = guides_only;
     rendered.denoising = Some(Box::new(denoising));
+    if !guides_only {
+        denoise_image(&mut rendered)?;
+    }
     Ok(rendered)
+}
+
+/// Replaces the render's image by its denoised one, keeping the noisy one
+/// beside it (the guides are in its `denoising`).
+#[cfg(not(target_arch = "wasm32"))]
+fn denoise_image(rendered: &mut crate::Rendered) -> Result<(), Error> {
+    let Some(denoising) = rendered.denoising.as_deref_mut() else {
+        return Ok(());
+    };
+    let start = Instant::now();
+    // As many threads as the render had (its pool, `--threads`).
+    let threads = rayon::current_num_threads();
+    let (image, guides) = (&rendered.image.linear, &denoising.guides);
+    let clean = crate::denoise::denoise(image, guides, denoising.quality, threads)?;
+    denoising.denoise_seconds = start.elapsed().as_secs_f64();
+    denoising.noisy = Some(std::mem::replace(&mut rendered.image.linear, clean));
+    Ok(())
+}
+
+/// No denoiser in the browser (OIDN is a native library): the image stays
+/// as rendered, the guides beside it.
+#[cfg(target_arch = "wasm32")]
+fn denoise_image(_: &mut crate::Rendered) -> Result<(), Error> {
+    Ok(())
 }
 
 /// `shade` of a prepared scene; progress from the render threads only.

@@ -130,6 +130,7 @@ pub fn finite(pixels: &[Vec3]) -> std::borrow::Cow<'_, [Vec3]> {
 }
 
 /// Normals may be negative: only NaN and infinities are made 0.
+#[cfg(not(target_arch = "wasm32"))]
 fn zero_non_finite(pixels: &mut [Vec3]) {
     for c in pixels {
         *c = c.map(|x| if x.is_finite() { x } else { 0.0 });
