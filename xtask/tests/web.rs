@@ -671,6 +671,26 @@ fn a_scenes_warnings_show_under_the_image_and_at_their_line() {
 }
 
 #[test]
+fn a_scene_asking_for_denoising_is_shown_as_rendered_with_a_note_why() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    render_scene(&mut page, "cornell-box.toml");
+    let text = editor_text(&mut page);
+    let asked = text.replacen("[render]\n", "[render]\ndenoise = true\n", 1);
+    assert_ne!(asked, text);
+    type_text(&mut page, &asked);
+    page.wait_for(
+        "document.getElementById('image').dataset.state === 'done' && \
+         document.getElementById('warnings').textContent.includes('cannot denoise')",
+        RENDER,
+    )
+    .unwrap();
+    let warnings = text_of(&mut page, "warnings");
+    assert!(warnings.contains("`render.denoise`"), "{warnings}");
+}
+
+#[test]
 fn a_path_traced_render_shows_its_passes_and_stops_at_its_time_limit() {
     let Some(mut page) = open("?workers=2") else {
         return;

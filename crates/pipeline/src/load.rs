@@ -79,12 +79,24 @@ impl Loaded {
         };
         let integrator = options.integrator.unwrap_or(file.render.integrator);
         let samples = options.samples.unwrap_or(file.render.samples);
-        if (integrator, samples) == (file.render.integrator, file.render.samples) {
-            return self.warnings.clone();
+        let mut list = if (integrator, samples) == (file.render.integrator, file.render.samples) {
+            self.warnings.clone()
+        } else {
+            let mut file = file.clone();
+            (file.render.integrator, file.render.samples) = (integrator, samples);
+            scene_format::warnings(&file)
+        };
+        // The browser build has no denoiser (`scene3d::denoise_asked`).
+        let path = integrator == scene_format::Integrator::Path;
+        if cfg!(target_arch = "wasm32") && file.render.denoise && path {
+            list.push(Diagnostic::new(
+                "render.denoise",
+                "the playground cannot denoise (Open Image Denoise is a native library \
+                 with trained weights): the image is shown as rendered; `tracer render` \
+                 denoises it",
+            ));
         }
-        let mut file = file.clone();
-        (file.render.integrator, file.render.samples) = (integrator, samples);
-        scene_format::warnings(&file)
+        list
     }
 
     /// [`Loaded::warnings_for`] as shown: each with its line as `tracer
