@@ -41,9 +41,13 @@ pub(crate) fn check(file: &SceneFile) -> Vec<Diagnostic> {
 fn primitive_count(file: &SceneFile, shared: &[Option<usize>], max: usize) -> Option<Diagnostic> {
     let mut total = 0usize;
     let mut counted = HashSet::new();
+    let mut models = HashSet::new();
     for (i, o) in file.objects.iter().enumerate() {
         let triangles = match o.shapes().as_slice() {
             [ShapeRef::Mesh(m)] => m.data.as_ref().map_or(0, |d| d.triangles.len()),
+            [ShapeRef::Gltf(g)] => g.data.as_ref().map_or(0, |d| {
+                prepare::model_extent(d, o.transform.as_ref(), &mut models).0
+            }),
             _ => 1,
         };
         let n = match shared[i] {
@@ -55,6 +59,8 @@ fn primitive_count(file: &SceneFile, shared: &[Option<usize>], max: usize) -> Op
         if total > max {
             let path = if o.mesh.is_some() {
                 format!("objects[{i}].mesh")
+            } else if o.gltf.is_some() {
+                format!("objects[{i}].gltf")
             } else {
                 format!("objects[{i}]")
             };
@@ -82,6 +88,21 @@ fn placements(file: &SceneFile, shared: &[Option<usize>]) -> Vec<Diagnostic> {
     let mut boxes: HashMap<usize, MeshBox> = HashMap::new();
     let mut diagnostics = Vec::new();
     for (i, o) in file.objects.iter().enumerate() {
+        if let Some(d) = o.gltf.as_ref().and_then(|g| Some((g, g.data.as_ref()?))) {
+            let (g, data) = d;
+            let (_, max_abs) =
+                prepare::model_extent(data, o.transform.as_ref(), &mut HashSet::new());
+            if max_abs > MAX_COORDINATE {
+                diagnostics.push(Diagnostic::new(
+                    format!("objects[{i}].gltf"),
+                    format!(
+                        "once placed, `{}` reaches a coordinate of {max_abs:e}; expected coordinates from -{MAX_COORDINATE:e} to {MAX_COORDINATE:e}, which single-precision tracing can handle",
+                        g.file
+                    ),
+                ));
+            }
+            continue;
+        }
         let Some(mesh) = &o.mesh else { continue };
         let Some(data) = &mesh.data else { continue };
         let transform = o.transform.as_ref();

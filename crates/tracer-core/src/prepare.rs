@@ -18,6 +18,9 @@ use scene_format as fmt;
 use std::collections::HashMap;
 use std::sync::Arc;
 
+mod gltf;
+pub use gltf::model_extent;
+
 /// Why a scene file could not be prepared. `scene_format`'s validation
 /// reports these first, with their place in the file; here they are the
 /// guard for a `SceneFile` built by hand.
@@ -61,8 +64,16 @@ fn parts_named(file: &fmt::SceneFile) -> Result<(SceneParts, Names), PrepareErro
     let mut objects = Vec::new();
     let shared = shared_meshes(file);
     let mut meshes: Vec<Option<Arc<SharedMesh>>> = Vec::new();
+    let mut models = gltf::Models::default();
+    let mut lights: Vec<Light> = file.lights.iter().map(light).collect();
     for (i, o) in file.objects.iter().enumerate() {
         let path = format!("objects[{i}]");
+        if let Some(g) = &o.gltf {
+            let made = models.objects(&path, o, g, &mut materials, &mut lights)?;
+            names.add_objects(i, made.len());
+            objects.extend(made);
+            continue;
+        }
         let material = materials.resolve(&path, o)?;
         let mtl = materials.mtl_materials(&path, o)?;
         let made = match shared[i] {
@@ -88,7 +99,7 @@ fn parts_named(file: &fmt::SceneFile) -> Result<(SceneParts, Names), PrepareErro
         camera: camera(&file.camera),
         objects,
         materials: materials.materials,
-        lights: file.lights.iter().map(light).collect(),
+        lights,
         trace: trace_settings(&file.render),
         encoding: encoding(&file.render),
         samples: file.render.samples,
@@ -185,6 +196,9 @@ fn camera(c: &fmt::Camera) -> Camera {
         fmt::Handedness::Lab => lab,
         fmt::Handedness::Right => lab.right_handed(),
     };
+    if let (fmt::Projection::Orthographic, Some(width)) = (c.projection, c.view_width) {
+        return camera.orthographic(width);
+    }
     let focus = c.focus_distance.unwrap_or_else(|| (look_at - eye).length());
     camera.with_lens(c.aperture, focus)
 }
@@ -212,8 +226,19 @@ fn environment(file: &fmt::SceneFile) -> Result<Option<Arc<Environment>>, Prepar
     Ok(Some(Arc::new(environment)))
 }
 
+/// A light of the file: a point or sphere, a spot, or a directional light
+/// (validation makes sure one of `position` and `direction` is there).
 fn light(l: &fmt::Light) -> Light {
-    Light::new(l.position.into(), l.color.into(), l.radius)
+    let color = Vec3::from(l.color);
+    match (l.position, l.direction) {
+        (Some(p), None) => Light::new(p.into(), color, l.radius),
+        (Some(p), Some(d)) => {
+            let [inner, outer] = l.cone.unwrap_or([0.0, 45.0]);
+            Light::spot(p.into(), Vec3::from(d), color, (inner, outer))
+        }
+        (None, Some(d)) => Light::directional(Vec3::from(d), color),
+        (None, None) => Light::new(Vec3::ZERO, color, l.radius),
+    }
 }
 
 fn trace_settings(r: &fmt::RenderSettings) -> TraceSettings {
@@ -594,8 +619,8 @@ pub fn mesh_extent(data: &fmt::MeshData, transform: Option<&fmt::Transform>) -> 
 /// instance of it is made of (`shared_meshes`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MeshBox {
-    min: Vec3,
-    max: Vec3,
+    pub(crate) min: Vec3,
+    pub(crate) max: Vec3,
     /// Triangles of non-zero area in the file's coordinates.
     pub triangles: usize,
 }

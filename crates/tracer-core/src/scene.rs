@@ -9,7 +9,7 @@ use crate::integrate::lanes::LaneScene;
 use crate::integrate::matte_lanes::MatteLanes;
 use crate::light::area::{AreaShape, EllipsoidLight};
 use crate::light::environment::Environment;
-use crate::light::lights::{AreaLight, Lights, PointSource};
+use crate::light::lights::{AreaLight, Emits, Lights, PointSource};
 use crate::light::Light;
 use crate::material::{Material, Phong};
 use crate::ray::Ray;
@@ -437,13 +437,28 @@ fn sphere_lights_as_emitters(parts: &mut SceneParts) {
 /// the environment around the scene's `bounds`. Planes cannot be sampled:
 /// validation refuses emissive ones.
 fn path_lights(parts: &SceneParts, bounds: Option<(Vec3, Vec3)>) -> Lights {
+    let radius = bounds.map_or(1.0, |(lo, hi)| ((hi - lo).length() / 2.0).max(1e-3));
     let points = parts
         .lights
         .iter()
         .filter_map(|light| match light {
-            Light::Point(p) => Some(PointSource {
-                position: p.position,
-                intensity: p.color,
+            Light::Point(p) => Some(PointSource::point(p.position, p.color)),
+            Light::Spot(s) => Some(PointSource {
+                position: s.position,
+                intensity: s.color,
+                emits: Emits::Cone {
+                    axis: s.axis,
+                    cos_inner: s.cos_inner,
+                    cos_outer: s.cos_outer,
+                },
+            }),
+            Light::Directional(d) => Some(PointSource {
+                position: Vec3::ZERO,
+                intensity: d.color,
+                emits: Emits::Parallel {
+                    direction: d.direction,
+                    radius,
+                },
             }),
             Light::Sphere(_) => None,
         })
@@ -480,7 +495,6 @@ fn path_lights(parts: &SceneParts, bounds: Option<(Vec3, Vec3)>) -> Lights {
         }
     }
     areas.extend(flat_lights(&triangles));
-    let radius = bounds.map_or(1.0, |(lo, hi)| ((hi - lo).length() / 2.0).max(1e-3));
     let environment = parts.environment.clone().map(|e| (e, radius));
     Lights::new(points, areas, &sphere_objects, environment)
 }
