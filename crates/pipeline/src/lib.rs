@@ -15,6 +15,7 @@ pub mod explain_text;
 pub mod lab;
 mod limits;
 mod load;
+mod model_summary;
 mod options;
 pub mod output;
 pub mod pack;
@@ -29,6 +30,7 @@ pub use limits::{BYTES_PER_PRIMITIVE, MAX_PRIMITIVES};
 pub use load::{
     as_written, load, load_from, load_or_part, Checked, Input, Loaded, Warning, DEFAULT_SCENE_NAME,
 };
+pub use model_summary::{summary, Bounds, SceneSummary};
 pub use options::{tile_region, Aov, Gamma, Options, Part, Region};
 pub use render::{
     default_output, image_size, next_pass_samples, next_pass_seconds, prepare_taking, render,

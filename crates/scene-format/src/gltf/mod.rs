@@ -19,6 +19,7 @@ pub mod glb;
 mod material;
 mod mesh;
 mod nodes;
+pub mod scene;
 
 pub use accessor::MAX_ELEMENTS;
 pub use buffers::MAX_BUFFER_BYTES;
