@@ -378,7 +378,9 @@ fn white() -> Color {
 /// `transmittance`, `fresnel`, `absorption`; every key left out is 0
 /// (black, no reflection, opaque). Or a physically based one (the names of
 /// glTF 2.0 and Blender's Principled BSDF): `base_color`, `metallic`,
-/// `roughness`, `transmission`. Both kinds take `ior` (1.5 when left out),
+/// `roughness`, `transmission`, and the textures
+/// `metallic_roughness_texture`, `emission_texture` and `normal_texture`
+/// (Whitted mode reads the factors alone). Both kinds take `ior` (1.5 when left out),
 /// `emission` and `texture`; keys of both kinds in one material are an
 /// error.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]

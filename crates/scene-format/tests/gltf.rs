@@ -323,3 +323,65 @@ fn a_texture_is_read_with_its_image_and_sampler() {
     assert_eq!((pixels.width, pixels.height), (211, 211));
     assert_eq!(image.wrap, scene_format::Wrap::Repeat);
 }
+
+/// The samples' triangle counts, bounds and camera poses against
+/// `scenes/khronos/expected.json`, made by `xtask/peers/gltf_expected.py`
+/// from the spec alone (Python's standard library, no glTF package).
+#[test]
+fn the_samples_match_numbers_worked_out_apart() {
+    let text = std::fs::read_to_string(khronos("expected.json")).unwrap();
+    let expected: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let near =
+        |a: f64, b: f64, what: &str| assert!((a - b).abs() < 1e-5, "{what}: {a} against {b}");
+    let vec3 =
+        |v: &serde_json::Value| -> [f64; 3] { std::array::from_fn(|k| v[k].as_f64().unwrap()) };
+    let samples = expected.as_object().unwrap();
+    assert_eq!(samples.len(), 4, "{:?}", samples.keys());
+    for (name, e) in samples {
+        let data = read(name);
+        assert_eq!(
+            data.triangles() as u64,
+            e["triangles"].as_u64().unwrap(),
+            "{name}"
+        );
+        let (lo, hi) = data.bounds().unwrap();
+        for k in 0..3 {
+            near(
+                f64::from(lo[k]),
+                vec3(&e["bounds"]["min"])[k],
+                &format!("{name} min"),
+            );
+            near(
+                f64::from(hi[k]),
+                vec3(&e["bounds"]["max"])[k],
+                &format!("{name} max"),
+            );
+        }
+        let cameras = e["cameras"].as_array().unwrap();
+        assert_eq!(data.cameras.len(), cameras.len(), "{name}");
+        for (c, want) in data.cameras.iter().zip(cameras) {
+            let c = &c.camera;
+            for (key, got) in [("eye", c.eye), ("look_at", c.look_at), ("up", c.up)] {
+                for (g, w) in got.iter().zip(vec3(&want[key])) {
+                    near(f64::from(*g), w, &format!("{name} {key}"));
+                }
+            }
+            let aspect = f64::from(c.width) / f64::from(c.height);
+            let want_aspect = want["aspect"].as_f64().unwrap();
+            assert!(
+                (aspect - want_aspect).abs() < 2.0 / f64::from(c.height),
+                "{name}"
+            );
+            match (want.get("fov"), want.get("view_width")) {
+                (Some(fov), _) => near(f64::from(c.fov), fov.as_f64().unwrap(), "fov"),
+                (_, Some(w)) => near(
+                    f64::from(c.view_width.unwrap()),
+                    w.as_f64().unwrap(),
+                    "width",
+                ),
+                _ => panic!("{want}"),
+            }
+            assert_eq!(c.handedness, scene_format::Handedness::Right);
+        }
+    }
+}

@@ -19,8 +19,8 @@ pub struct Camera {
     /// A thin lens, for depth of field; `None` is the lab's pinhole.
     pub lens: Option<Lens>,
     /// An orthographic camera's parallel rays (then `lens` is None).
-    #[serde(default)]
-    pub parallel: Option<Parallel>,
+    /// Boxed: most cameras have none.
+    pub parallel: Option<Box<Parallel>>,
 }
 
 /// An orthographic camera: rays along `forward`, each from its image
@@ -138,7 +138,7 @@ impl Camera {
         };
         Camera {
             lens: None,
-            parallel: Some(parallel),
+            parallel: Some(Box::new(parallel)),
             ..self
         }
     }
@@ -184,9 +184,11 @@ impl Camera {
     pub fn with_pixel_shift(self, by: Vec2) -> Camera {
         let mut projection = self.projection;
         projection.z_axis += by.x * projection.x_axis + by.y * projection.y_axis;
-        let parallel = self.parallel.map(|p| Parallel {
-            corner: p.corner + by.x * p.across + by.y * p.down,
-            ..p
+        let parallel = self.parallel.map(|p| {
+            Box::new(Parallel {
+                corner: p.corner + by.x * p.across + by.y * p.down,
+                ..*p
+            })
         });
         Camera {
             projection,

@@ -46,11 +46,71 @@ impl Material {
         }
     }
 
-    /// The radiance given off on the front side.
+    /// The radiance given off on the front side (where it varies over
+    /// the surface, its most: the factor an emission texture multiplies;
+    /// `emission_at` is a hit's own).
     pub fn emission(&self) -> Vec3 {
         match self {
             Material::Principled(p) => p.emission,
             _ => self.surface().emission,
+        }
+    }
+
+    /// The radiance given off on the front side at `hit`: `emission`, times
+    /// the emission texture there, if any.
+    #[inline(always)]
+    pub fn emission_at(&self, hit: &SurfaceHit) -> Vec3 {
+        match self {
+            Material::Principled(p) => p.emission_at(hit.uv),
+            _ => self.surface().emission,
+        }
+    }
+}
+
+/// A tangent-space normal texture: its texels (read as data) and how far
+/// they bend the normal.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NormalMap {
+    pub texture: ColorTexture,
+    /// Scales the texel's x and y (glTF's `normalTexture.scale`).
+    pub strength: f32,
+}
+
+impl NormalMap {
+    /// The shading normal `n` (unit) bent by the texel at `uv`, in the
+    /// frame of `tangent` (x, y, z along u; w the handedness, the
+    /// bitangent w n x tangent pointing up the image); None where the
+    /// tangent gives no frame.
+    pub fn bend(&self, n: Vec3, tangent: glam::Vec4, uv: glam::Vec2) -> Option<Vec3> {
+        let t = tangent.truncate();
+        let t = (t - n * n.dot(t)).try_normalize()?;
+        let b = tangent.w * n.cross(t);
+        let c = self.texture.color(uv) * 2.0 - Vec3::ONE;
+        let m = Vec3::new(c.x * self.strength, c.y * self.strength, c.z);
+        (m.x * t + m.y * b + m.z * n).try_normalize()
+    }
+}
+
+/// A physically based material's parameters at one hit, its textures read.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PrincipledAt {
+    pub base_color: Vec3,
+    pub metallic: f32,
+    pub roughness: f32,
+    pub ior: f32,
+    pub transmission: f32,
+    pub emission: Vec3,
+}
+
+impl PrincipledAt {
+    /// The BSDF's parameters.
+    pub fn params(&self) -> crate::bsdf::principled::Principled {
+        crate::bsdf::principled::Principled {
+            base_color: self.base_color,
+            metallic: self.metallic,
+            roughness: self.roughness,
+            ior: self.ior,
+            transmission: self.transmission,
         }
     }
 }
@@ -67,6 +127,13 @@ pub struct PrincipledMaterial {
     pub emission: Vec3,
     /// Multiplies `base_color` at each hit.
     pub color_texture: Option<ColorTexture>,
+    /// Its blue multiplies `metallic`, its green `roughness` (glTF's
+    /// packing), at each hit.
+    pub metallic_roughness: Option<ColorTexture>,
+    /// Multiplies `emission` at each hit.
+    pub emission_texture: Option<ColorTexture>,
+    /// Bends the shading normal (`Scene::closest_hit`).
+    pub normal_map: Option<NormalMap>,
     /// Whitted mode's reading (`PrincipledMaterial::new`): the lab's kind.
     pub lab: Material,
 }
@@ -114,7 +181,44 @@ impl PrincipledMaterial {
             transmission: p.transmission,
             emission,
             color_texture: None,
+            metallic_roughness: None,
+            emission_texture: None,
+            normal_map: None,
             lab,
+        }
+    }
+
+    /// Its parameters at `hit`, its textures read at the hit's uv.
+    #[inline(always)]
+    pub fn at(&self, hit: &SurfaceHit) -> PrincipledAt {
+        let uv = hit.uv;
+        let base_color = match &self.color_texture {
+            Some(texture) => self.base_color * texture.color(uv),
+            None => self.base_color,
+        };
+        let (metallic, roughness) = match &self.metallic_roughness {
+            Some(texture) => {
+                let texel = texture.color(uv);
+                (self.metallic * texel.z, self.roughness * texel.y)
+            }
+            None => (self.metallic, self.roughness),
+        };
+        PrincipledAt {
+            base_color,
+            metallic,
+            roughness,
+            ior: self.ior,
+            transmission: self.transmission,
+            emission: self.emission_at(uv),
+        }
+    }
+
+    /// `emission` times the emission texture at `uv`, if any.
+    #[inline(always)]
+    pub fn emission_at(&self, uv: glam::Vec2) -> Vec3 {
+        match &self.emission_texture {
+            Some(texture) if self.emission != Vec3::ZERO => self.emission * texture.color(uv),
+            _ => self.emission,
         }
     }
 
@@ -193,6 +297,51 @@ pub struct Glass {
     pub fresnel: bool,
     /// Beer-Lambert coefficient per unit length inside, per channel.
     pub absorption: Vec3,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::texture::{ImageTexels, Wrap};
+
+    /// A normal texture of one texel (data, not colour: (r, g, b) / 255).
+    fn one_texel(rgb: [u8; 3]) -> NormalMap {
+        let texels = ImageTexels::from_raw8(1, 1, Arc::new(vec![rgb]));
+        NormalMap {
+            texture: ColorTexture::Image {
+                texels: Arc::new(texels),
+                scale: glam::Vec2::ONE,
+                wrap: Wrap::Repeat,
+                place: None,
+            },
+            strength: 1.0,
+        }
+    }
+
+    #[test]
+    fn a_normal_texture_bends_the_normal_in_the_tangent_frame() {
+        let (n, uv) = (Vec3::Z, glam::Vec2::splat(0.5));
+        let tangent = glam::Vec4::new(1.0, 0.0, 0.0, 1.0);
+        // (128, 128, 255): straight out, the normal kept (to 1/255).
+        let flat = one_texel([128, 128, 255]).bend(n, tangent, uv).unwrap();
+        assert!((flat - n).length() < 0.01, "{flat}");
+        // Red and blue full: tilted 45 degrees toward the tangent (+x).
+        let right = one_texel([255, 128, 255]).bend(n, tangent, uv).unwrap();
+        let want = Vec3::new(1.0, 0.0, 1.0).normalize();
+        assert!((right - want).length() < 0.01, "{right}");
+        // Green and blue full: toward the bitangent, w n x t = +y, up the image...
+        let up = one_texel([128, 255, 255]).bend(n, tangent, uv).unwrap();
+        let want = Vec3::new(0.0, 1.0, 1.0).normalize();
+        assert!((up - want).length() < 0.01, "{up}");
+        // ...and down it where the handedness is -1 (a mirrored layout).
+        let mirrored = glam::Vec4::new(1.0, 0.0, 0.0, -1.0);
+        let down = one_texel([128, 255, 255]).bend(n, mirrored, uv).unwrap();
+        let want = Vec3::new(0.0, -1.0, 1.0).normalize();
+        assert!((down - want).length() < 0.01, "{down}");
+        // A tangent along the normal gives no frame.
+        let along = glam::Vec4::new(0.0, 0.0, 1.0, 1.0);
+        assert!(one_texel([255, 0, 0]).bend(n, along, uv).is_none());
+    }
 }
 
 /// How a ray's energy divides at a glass surface.

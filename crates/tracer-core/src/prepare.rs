@@ -9,10 +9,10 @@ use crate::geometry::{
 use crate::image::{Encoding, Saturation};
 use crate::light::environment::Environment;
 use crate::light::Light;
-use crate::material::{Glass, Material, Phong, PrincipledMaterial};
+use crate::material::{Glass, Material, NormalMap, Phong, PrincipledMaterial};
 use crate::names::Names;
 use crate::scene::{Integrator, Scene, SceneParts, TraceSettings};
-use crate::texture::{Builtin, ColorTexture, ImageTexels, Texture, Wrap};
+use crate::texture::{Builtin, ColorTexture, ImageTexels, Place, Texture, Wrap};
 use glam::{Vec2, Vec3};
 use scene_format as fmt;
 use std::collections::HashMap;
@@ -510,8 +510,19 @@ fn mesh_objects(
         let uv = uv.map_or(UvMap::IDENTITY, |uv| {
             corner_uv_map(&in_placed_order(uv, mirrors))
         });
+        let tangents = data.tangents.get(k).copied().flatten().map(|t| {
+            // Directions along the surface, placed as the triangle is; a
+            // mirroring placement turns their handedness.
+            let sign = if mirrors { -1.0 } else { 1.0 };
+            let placed = t.map(|[x, y, z, w]| {
+                let d = placement.apply_vector(Vec3::new(x, y, z));
+                d.normalize_or_zero().extend(w * sign)
+            });
+            Box::new(in_placed_order(placed, mirrors))
+        });
         Object {
             vertex_normals,
+            tangents,
             ..Object::new(Shape::Triangle(triangle), materials.of(data, k))
         }
         .with_uv(uv)
@@ -675,9 +686,9 @@ struct MaterialTable<'a> {
     /// materials (an object's texture table makes a material of its own).
     by_key: HashMap<(String, Option<String>), usize>,
     textures: HashMap<Builtin, Arc<Texture>>,
-    /// Decoded images by the address of the file's data: each file is
-    /// decoded to linear once.
-    images: HashMap<usize, Arc<ImageTexels>>,
+    /// Decoded images by the address of the file's data and whether they
+    /// are sRGB colours: each file is decoded to linear once each way.
+    images: HashMap<(usize, bool), Arc<ImageTexels>>,
 }
 
 /// What a texture does to a material.
@@ -703,37 +714,70 @@ impl<'a> MaterialTable<'a> {
     fn texture(&mut self, path: &str, t: &fmt::TextureRef) -> Result<Texturing, PrepareError> {
         match t {
             fmt::TextureRef::Named(name) => self.builtin(path, name).map(Texturing::Lab),
-            fmt::TextureRef::Image(image) => {
-                let data = image
-                    .data
-                    .as_ref()
-                    .ok_or_else(|| PrepareError::ImageNotLoaded {
-                        path: format!("{path}.image"),
-                    })?;
-                let texels = self
-                    .images
-                    .entry(Arc::as_ptr(data) as usize)
-                    .or_insert_with(|| {
-                        Arc::new(match &data.texels {
-                            fmt::Texels::Bytes(t) => {
-                                ImageTexels::from_srgb8(data.width, data.height, t.clone())
-                            }
-                            fmt::Texels::Floats(t) => {
-                                ImageTexels::from_srgb(data.width, data.height, t)
-                            }
-                        })
-                    })
-                    .clone();
-                Ok(Texturing::Color(ColorTexture::Image {
-                    texels,
-                    scale: image.scale.per_axis().into(),
-                    wrap: wrap(image.wrap),
-                }))
-            }
+            fmt::TextureRef::Image(image) => self.image(path, image, true).map(Texturing::Color),
             fmt::TextureRef::Checker(c) => Ok(Texturing::Color(ColorTexture::Checker {
                 colors: c.checker.map(Vec3::from),
                 scale: c.scale.per_axis().into(),
             })),
+        }
+    }
+
+    /// An image texture, its texels decoded from sRGB (`srgb`, colours)
+    /// or read as they are (data: metallic-roughness, normals); each file
+    /// decoded once each way.
+    fn image(
+        &mut self,
+        path: &str,
+        image: &fmt::ImageTexture,
+        srgb: bool,
+    ) -> Result<ColorTexture, PrepareError> {
+        let data = image
+            .data
+            .as_ref()
+            .ok_or_else(|| PrepareError::ImageNotLoaded {
+                path: format!("{path}.image"),
+            })?;
+        let texels = self
+            .images
+            .entry((Arc::as_ptr(data) as usize, srgb))
+            .or_insert_with(|| {
+                let (w, h) = (data.width, data.height);
+                Arc::new(match (&data.texels, srgb) {
+                    (fmt::Texels::Bytes(t), true) => ImageTexels::from_srgb8(w, h, t.clone()),
+                    (fmt::Texels::Floats(t), true) => ImageTexels::from_srgb(w, h, t),
+                    (fmt::Texels::Bytes(t), false) => ImageTexels::from_raw8(w, h, t.clone()),
+                    (fmt::Texels::Floats(t), false) => ImageTexels::from_raw(w, h, t),
+                })
+            })
+            .clone();
+        let placed = image.rotate != 0.0 || image.offset != [0.0; 2] || image.wrap_v.is_some();
+        let place = placed.then(|| {
+            let (sin, cos) = image.rotate.to_radians().sin_cos();
+            Box::new(Place {
+                turn: Vec2::new(cos, sin),
+                offset: Vec2::from(image.offset),
+                wrap_v: wrap(image.wrap_v.unwrap_or(image.wrap)),
+            })
+        });
+        Ok(ColorTexture::Image {
+            texels,
+            scale: image.scale.per_axis().into(),
+            wrap: wrap(image.wrap),
+            place,
+        })
+    }
+
+    /// A data texture (`metallic_roughness_texture`, `normal_texture`) of
+    /// material key `key` at `path`: an image read as it is.
+    fn data_texture(
+        &mut self,
+        path: &str,
+        t: Option<&fmt::TextureRef>,
+        srgb: bool,
+    ) -> Result<Option<ColorTexture>, PrepareError> {
+        match t {
+            Some(fmt::TextureRef::Image(image)) => self.image(path, image, srgb).map(Some),
+            _ => Ok(None),
         }
     }
 
@@ -830,6 +874,15 @@ impl<'a> MaterialTable<'a> {
         if let Some(Texturing::Color(t)) = texture.map(|t| self.texture(path, t)).transpose()? {
             material = material.with_color_texture(t);
         }
+        let mr = m.metallic_roughness_texture.as_ref();
+        material.metallic_roughness = self.data_texture(path, mr, false)?;
+        let emission = m.emission_texture.as_ref();
+        material.emission_texture = self.data_texture(path, emission, true)?;
+        let normals = self.data_texture(path, m.normal_texture.as_ref(), false)?;
+        material.normal_map = normals.map(|texture| NormalMap {
+            texture,
+            strength: m.normal_strength.unwrap_or(1.0),
+        });
         Ok(Material::Principled(Box::new(material)))
     }
 

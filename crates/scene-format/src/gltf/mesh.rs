@@ -313,9 +313,11 @@ impl bevy_mikktspace::Geometry for Mikk<'_> {
         self.normals[self.vertex(face, vert)]
     }
     fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
-        // MikkTSpace in glTF's texture space, where the file's were made.
-        let [u, v] = self.uvs[self.vertex(face, vert)];
-        [u, 1.0 - v]
+        // In the texture space whose v runs up the image (the tracer's and
+        // Blender's, which flips glTF's on import), so that the bitangent,
+        // w (normal x tangent), points up the image: a normal texture's
+        // green, as glTF's writers (Blender's exporter) sign their tangents.
+        self.uvs[self.vertex(face, vert)]
     }
     fn set_tangent(
         &mut self,

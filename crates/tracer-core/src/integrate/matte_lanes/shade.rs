@@ -452,6 +452,7 @@ mod tests {
             uv: Vec2::ZERO,
             front_face: true,
             shadow_offset: Vec3::ZERO,
+            tangent: glam::Vec4::ZERO,
         };
         let sample = lights.sample(Vec3::ZERO, 0.5, Vec2::splat(0.5)).unwrap();
         let (f, _) = Bsdf::new(&material, &hit, Vec3::Y).eval(sample.wi);
