@@ -96,7 +96,7 @@ pub(crate) fn read_uri(
 }
 
 /// A relative URI's `%XX` escapes decoded (glTF writers escape spaces).
-fn percent_decoded(uri: &str) -> Result<String, String> {
+pub(crate) fn percent_decoded(uri: &str) -> Result<String, String> {
     let bytes = uri.as_bytes();
     let mut out = Vec::with_capacity(bytes.len());
     let mut i = 0;

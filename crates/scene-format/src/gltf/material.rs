@@ -287,7 +287,12 @@ impl<'a> Textures<'a> {
         let at = KeyPath::root().key("images").index(index);
         let data = match (&image.uri, image.buffer_view) {
             (Some(uri), _) if !uri.starts_with("data:") => {
-                let name = uri.clone();
+                let name =
+                    buffers::percent_decoded(uri).map_err(|m| Failure::at(at.key("uri"), m))?;
+                if name.contains("://") {
+                    let m = format!("cannot read `{uri}`: only files beside the glTF file and data URIs are read, nothing from the network");
+                    return Err(Failure::at(at.key("uri"), m));
+                }
                 let path = self.base.join(&name);
                 self.cache
                     .get(self.source, &path)
