@@ -454,7 +454,7 @@ impl Validator {
             self.error(
                 path.key(first),
                 format!(
-                    "expected one kind of material: physically based (`base_color`, `metallic`, `roughness`, `transmission`, and their textures) or the lab's Blinn-Phong (`ambient`, `diffuse`, `specular`, `shininess`, `reflectance`, `transmittance`, `fresnel`, `absorption`); found `{first}` with the lab's `{other}`"
+                    "expected one kind of material: physically based (`base_color`, `metallic`, `roughness`, `transmission`) or the lab's Blinn-Phong (`ambient`, `diffuse`, `specular`, `shininess`, `reflectance`, `transmittance`, `fresnel`, `absorption`); found `{first}` with the lab's `{other}`"
                 ),
             );
         }
