@@ -87,21 +87,26 @@ impl PointSource {
             return None;
         }
         let wi = to / distance;
-        let fraction = match self.emits {
+        // A point light's radiance as intensity / d^2 exactly: the lanes'
+        // paths (`matte_lanes`) compute the same bits.
+        let radiance = match self.emits {
             Emits::Cone {
                 axis,
                 cos_inner,
                 cos_outer,
-            } => super::cone_falloff(axis, cos_inner, cos_outer, -wi),
-            _ => 1.0,
+            } => {
+                let fraction = super::cone_falloff(axis, cos_inner, cos_outer, -wi);
+                if fraction <= 0.0 {
+                    return None;
+                }
+                self.intensity * (fraction / distance2)
+            }
+            _ => self.intensity / distance2,
         };
-        if fraction <= 0.0 {
-            return None;
-        }
         Some(DeltaSample {
             wi,
             distance,
-            radiance: self.intensity * (fraction / distance2),
+            radiance,
         })
     }
 
