@@ -577,6 +577,16 @@ window.tracerPage = {
   },
 };
 
+// The help link opens the book's page of the playground, when the book is
+// served beside the page (`book/`, as `cargo xtask web` copies it there);
+// without it the link would lead nowhere, so it stays hidden.
+const helpLink = document.getElementById("help");
+fetch(helpLink.getAttribute("href"), { cache: "no-store" })
+  .then((r) => {
+    if (r.ok) helpLink.hidden = false;
+  })
+  .catch(() => {});
+
 async function start() {
   [wasmModule, scenesIndex] = await Promise.all([
     // Bytes first: compileStreaming refuses a server that does not call
@@ -600,23 +610,32 @@ async function start() {
   const startHash = location.hash;
   if (!(await openShared())) await openScene("reflectance2.toml");
   if (location.hash.length > 1 && !opened) {
-    notice.textContent = "This link's scene could not be read (is the link cut short?): the default scene is shown.";
+    notice.textContent = `${linkUnread()}: the default scene is shown.`;
   }
   started = true;
   // A link pasted while the page started.
   if (location.hash !== startHash && location.hash.length > 1) openShared();
 }
 
-// The scene of a share link in the address bar; false when there is none
-// or it cannot be read.
+// The scene of a share link in the address bar; false when there is none,
+// it cannot be read or it is refused (`refused` then says why).
 let opened = false;
+let refused = "";
 async function openShared() {
   const mine = ++opening;
   const shared = location.hash.length > 1 ? await decodeShare(location.hash.slice(1)) : null;
   if (mine !== opening) return true;
-  opened = Boolean(shared);
-  if (shared) await openScene(shared.name, shared.text, mine);
+  refused = shared?.refused ?? "";
+  opened = Boolean(shared) && !refused;
+  if (opened) await openScene(shared.name, shared.text, mine);
   return opened;
+}
+
+// Why the link in the address bar was not opened.
+function linkUnread() {
+  return refused
+    ? `This link's scene was not opened: ${refused}`
+    : "This link's scene could not be read (is the link cut short?)";
 }
 
 // A link pasted into this tab's address bar changes only the fragment
@@ -625,7 +644,7 @@ let started = false;
 window.addEventListener("hashchange", async () => {
   if (!started) return;
   if (!(await openShared()) && location.hash.length > 1) {
-    notice.textContent = "This link's scene could not be read (is the link cut short?).";
+    notice.textContent = `${linkUnread()}.`;
   }
 });
 

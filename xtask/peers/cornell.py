@@ -29,7 +29,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import cornell_box as box  # noqa: E402
 
 NOT_INSTALLED = 3
-# Pixels of an image, for paths/s (materials.py renders another scene).
+# Pixels of an image, for paths/s (toml_scene.py renders other scenes).
 PIXELS = box.SIZE**2
 
 

@@ -22,6 +22,8 @@ pub fn all() -> Vec<(&'static str, Asset)> {
     vec![
         ("scenes/textures/grid.png", Asset::Image(grid())),
         ("scenes/textures/studio.hdr", Asset::Hdr(studio())),
+        ("scenes/textures/sky.hdr", Asset::Hdr(sky())),
+        ("scenes/textures/tiles.png", Asset::Image(tiles())),
         ("scenes/meshes/bullseye.png", Asset::Image(bullseye())),
         ("scenes/meshes/labelled-box.obj", Asset::Text(box_obj())),
         (
@@ -111,6 +113,69 @@ fn studio() -> Rgb32FImage {
             let floor = 0.04 + 0.02 * (1.0 + up);
             Rgb([floor, 0.95 * floor, 0.9 * floor])
         }
+    })
+}
+
+/// A clear sky as a latitude-longitude environment (512 x 256, linear
+/// radiance; row 0 straight up, the centre column toward -z): blue at the
+/// zenith paling to the horizon, a dull brown ground, and a small warm sun
+/// (2.5 degrees across its radius, radiance 1000) 30 degrees up, toward -x
+/// and a little -z (for a camera looking along -z: on the left, a little
+/// beyond the scene, so shadows fall to the right and toward the camera),
+/// which gives two thirds of the light on the ground. Each row is one colour but for
+/// the sun's, so the file is small.
+fn sky() -> Rgb32FImage {
+    use std::f32::consts::PI;
+    let (w, h) = (512u32, 256u32);
+    let sun = direction(0.32, 60.0 / 180.0);
+    let sun_cos = 2.5f32.to_radians().cos();
+    Rgb32FImage::from_fn(w, h, |x, y| {
+        let (u, v) = ((x as f32 + 0.5) / w as f32, (y as f32 + 0.5) / h as f32);
+        let d = direction(u, v);
+        if d.iter().zip(&sun).map(|(a, b)| a * b).sum::<f32>() >= sun_cos {
+            return Rgb([1000.0, 920.0, 800.0]);
+        }
+        let up = (PI * v).cos();
+        if up < 0.0 {
+            return Rgb([0.16, 0.14, 0.11]);
+        }
+        let t = up.sqrt();
+        let mix = |horizon: f32, zenith: f32| horizon + (zenith - horizon) * t;
+        Rgb([mix(0.75, 0.18), mix(0.85, 0.34), mix(1.0, 0.75)])
+    })
+}
+
+/// The direction of the latitude-longitude point (u, v), as the
+/// environment reads it: v = 0 straight up, u = 0.5 toward -z, 0.75
+/// toward +x.
+fn direction(u: f32, v: f32) -> [f32; 3] {
+    use std::f32::consts::PI;
+    let (theta, phi) = (PI * v, 2.0 * PI * (u - 0.5));
+    [
+        theta.sin() * phi.sin(),
+        theta.cos(),
+        -theta.sin() * phi.cos(),
+    ]
+}
+
+/// Floor tiles (64 x 64, four tiles of 32 x 32 between grout lines 2 texels
+/// wide): terracotta and cream in a checkerboard, each tile a little
+/// lighter toward one corner so that the bilinear lookup has gradients to
+/// follow, not only edges.
+fn tiles() -> RgbImage {
+    RgbImage::from_fn(64, 64, |x, y| {
+        let (i, j) = (x % 32, y % 32);
+        if i < 2 || j < 2 {
+            return Rgb([70, 66, 60]);
+        }
+        let shade = (i + j) as f32 / 62.0;
+        let [r, g, b] = if (x / 32 + y / 32) % 2 == 0 {
+            [176.0, 84.0, 52.0]
+        } else {
+            [214.0, 200.0, 168.0]
+        };
+        let lift = |c: f32| (c + 30.0 * shade).min(255.0) as u8;
+        Rgb([lift(r), lift(g), lift(b)])
     })
 }
 

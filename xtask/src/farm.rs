@@ -222,7 +222,7 @@ fn run_slurm(root: &Path, job: &Job, counts: &[u32]) -> Result<()> {
 }
 
 /// One tile count: `sbatch --wait --array=0-(N-1) tiles.sbatch`, then
-/// `sbatch --wait --dependency=afterok:ID merge.sbatch`, as docs/farm.md
+/// `sbatch --wait --dependency=afterok:ID merge.sbatch`, as docs/src/guide/farm.md
 /// has them.
 fn slurm_tiles(cluster: &slurm::Cluster, root: &Path, job: &Job, n: u32) -> Result<()> {
     let scripts = root.join("farm/slurm");

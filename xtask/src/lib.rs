@@ -3,10 +3,13 @@
 
 pub mod assets;
 pub mod bench;
+pub mod book;
+pub mod cli;
 pub mod farm;
 pub mod gallery;
 pub mod golden;
 pub mod man;
+pub mod oidn;
 pub mod web;
 
 use std::path::{Path, PathBuf};

@@ -1,78 +1,8 @@
 //! Project chores, the cargo-xtask way: `cargo xtask <task>`.
 
-use clap::{Args, Parser, Subcommand};
+use clap::Parser;
 use std::process::ExitCode;
-
-#[derive(Parser)]
-#[command(
-    name = "cargo xtask",
-    bin_name = "cargo xtask",
-    about = "Project chores"
-)]
-struct Cli {
-    #[command(subcommand)]
-    command: Command,
-}
-
-#[derive(Subcommand)]
-enum Command {
-    Golden(GoldenArgs),
-    /// Write the generated files the texture scenes read (images, an OBJ and its MTL)
-    Assets,
-    /// Benchmark the tracer against POV-Ray and Embree on the bench scenes (docs/performance.md)
-    Bench(xtask::bench::BenchArgs),
-    /// Render a scene as N tiles in separate processes, merge them and
-    /// compare with a single render, bit for bit (docs/farm.md)
-    FarmTest(xtask::farm::FarmArgs),
-    Man(ManArgs),
-    Web(WebArgs),
-    /// Write docs/gallery.md: every scene's golden image with its file name
-    /// and the command that renders it
-    Gallery,
-    /// Run a command and print its peak memory and times (used by the bench)
-    #[command(hide = true)]
-    PeakOf {
-        #[arg(required = true, trailing_var_arg = true, allow_hyphen_values = true)]
-        command: Vec<std::ffi::OsString>,
-    },
-}
-
-/// Write a man page per `tracer` command (tracer.1, tracer-render.1, ...)
-#[derive(Args)]
-struct ManArgs {
-    /// The folder to write them in [default: target/man]
-    #[arg(long, value_name = "DIR")]
-    out: Option<std::path::PathBuf>,
-}
-
-/// Build the browser playground: one folder of static files (docs: README, In the browser)
-///
-/// The page, its bundled scripts, the tracer built for wasm32 and every scene
-/// of scenes/ with the files it reads. Any static web server can host it.
-#[derive(Args)]
-struct WebArgs {
-    /// The folder to write [default: target/web]
-    #[arg(long, value_name = "DIR")]
-    out: Option<std::path::PathBuf>,
-    /// Then serve it for trying, on ADDR [default: 127.0.0.1:8000]
-    #[arg(long, value_name = "ADDR", num_args = 0..=1, default_missing_value = "127.0.0.1:8000")]
-    serve: Option<String>,
-}
-
-/// Check every scene's render against its golden image in golden/
-///
-/// Renders every scene, compares each with golden/<NAME>.png (tolerances in
-/// golden/golden.toml), prints a table and writes the report
-/// target/golden/index.html. Exit status 1 when any image fails or has no golden.
-#[derive(Args)]
-struct GoldenArgs {
-    /// Make the renders the new goldens (look at them first: target/golden/)
-    #[arg(long)]
-    bless: bool,
-    /// Only these images (a golden's file stem, e.g. reflectance2) [default: all]
-    #[arg(value_name = "NAME")]
-    names: Vec<String>,
-}
+use xtask::cli::{BookArgs, Cli, Command, GoldenArgs, ManArgs, WebArgs};
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
@@ -84,8 +14,10 @@ fn main() -> ExitCode {
         Command::Bench(args) => xtask::bench::run(&args).map(|()| ExitCode::SUCCESS),
         Command::FarmTest(args) => xtask::farm::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Man(args) => man(&args),
+        Command::Oidn => xtask::oidn::install().map(|_| ExitCode::SUCCESS),
         Command::Web(args) => web(&args),
         Command::Gallery => gallery(),
+        Command::Book(args) => book(&args),
         Command::PeakOf { command } => {
             xtask::bench::memory::peak_of(&command).map(|()| ExitCode::SUCCESS)
         }
@@ -131,6 +63,29 @@ fn man(args: &ManArgs) -> anyhow::Result<ExitCode> {
 fn gallery() -> anyhow::Result<ExitCode> {
     let path = xtask::gallery::write(&xtask::workspace_root())?;
     println!("wrote {}", path.display());
+    Ok(ExitCode::SUCCESS)
+}
+
+fn book(args: &BookArgs) -> anyhow::Result<ExitCode> {
+    let root = xtask::workspace_root();
+    for path in xtask::book::write_generated(&root)? {
+        println!("wrote {}", path.display());
+    }
+    let problems = xtask::book::check(&root)?;
+    for problem in &problems {
+        eprintln!("{problem}");
+    }
+    if !problems.is_empty() {
+        eprintln!("{} problems in the book's pages", problems.len());
+        return Ok(ExitCode::FAILURE);
+    }
+    if args.check {
+        println!("the book's pages are sound");
+        return Ok(ExitCode::SUCCESS);
+    }
+    let out = args.out.clone().unwrap_or_else(xtask::book::default_out);
+    xtask::book::build(&root, &out)?;
+    println!("the book is in {}", out.join("index.html").display());
     Ok(ExitCode::SUCCESS)
 }
 

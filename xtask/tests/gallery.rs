@@ -1,4 +1,4 @@
-//! `cargo xtask gallery`: docs/gallery.md is current, shows every scene and
+//! `cargo xtask gallery`: docs/src/gallery.md is current, shows every scene and
 //! every golden, and each command is one `tracer` accepts.
 
 use std::path::{Path, PathBuf};
@@ -17,7 +17,7 @@ fn the_committed_gallery_is_current() {
     let current = gallery::render(&root()).unwrap();
     assert!(
         committed() == current,
-        "docs/gallery.md is stale: run cargo xtask gallery"
+        "docs/src/gallery.md is stale: run cargo xtask gallery"
     );
 }
 
@@ -34,12 +34,25 @@ fn scene_files(dir: &Path, out: &mut Vec<String>) {
     }
 }
 
-/// The targets of the gallery's image links, `![alt](target)`.
+/// The targets of the gallery's thumbnails, `<img src="target" ..>`; each
+/// is linked to the same image at its full size.
 fn image_links(text: &str) -> Vec<&str> {
-    text.split("![")
+    text.split("<img src=\"")
         .skip(1)
-        .filter_map(|rest| rest.split_once("](")?.1.split_once(')'))
+        .filter_map(|rest| rest.split_once('"'))
         .map(|(target, _)| target)
+        .inspect(|target| {
+            assert!(text.contains(&format!("<a href=\"{target}\"><img src=\"{target}\"")))
+        })
+        .collect()
+}
+
+/// The commands of the gallery's `sh` blocks.
+fn commands(text: &str) -> Vec<&str> {
+    text.split("```sh\n")
+        .skip(1)
+        .filter_map(|rest| rest.split_once("\n```"))
+        .map(|(command, _)| command)
         .collect()
 }
 
@@ -55,15 +68,15 @@ fn every_scene_and_every_golden_is_in_the_gallery_with_its_command() {
             "{scene}: heading"
         );
         assert!(
-            text.contains(&format!("    tracer render {scene} -o ")),
+            text.contains(&format!("```sh\ntracer render {scene} -o ")),
             "{scene}: command"
         );
     }
-    // Every link opens a golden from docs/, and every golden is linked once.
+    // Every link opens a golden from docs/src/, and every golden is linked once.
     let links = image_links(&text);
-    let docs = root().join("docs");
+    let docs = root().join("docs/src");
     for link in &links {
-        assert!(link.starts_with("../golden/"), "{link}");
+        assert!(link.starts_with("../../golden/"), "{link}");
         assert!(docs.join(link).is_file(), "{link} does not open");
     }
     let goldens: Vec<String> = std::fs::read_dir(root().join("golden"))
@@ -73,7 +86,7 @@ fn every_scene_and_every_golden_is_in_the_gallery_with_its_command() {
         .collect();
     assert_eq!(links.len(), goldens.len(), "{links:?}");
     for name in &goldens {
-        let link = format!("../golden/{name}");
+        let link = format!("../../golden/{name}");
         assert_eq!(links.iter().filter(|l| **l == link).count(), 1, "{name}");
     }
     // Every scene has a golden: none is listed as missing.
@@ -85,12 +98,9 @@ fn every_scene_and_every_golden_is_in_the_gallery_with_its_command() {
 #[test]
 fn every_command_is_one_tracer_accepts() {
     let text = committed();
-    let commands: Vec<&str> = text
-        .lines()
-        .filter_map(|line| line.strip_prefix("    "))
-        .collect();
-    assert!(commands.len() >= 29, "{} commands", commands.len());
-    for command in &commands {
+    let all = commands(&text);
+    assert!(all.len() >= 29, "{} commands", all.len());
+    for command in &all {
         let words: Vec<&str> = command.split_whitespace().collect();
         assert_eq!(words[0], "tracer", "{command}");
         if let Err(e) = tracer_cli::command().try_get_matches_from(&words) {
@@ -98,7 +108,7 @@ fn every_command_is_one_tracer_accepts() {
         }
     }
     for block in text.split("\n### ").skip(1) {
-        let command = block.lines().find_map(|l| l.strip_prefix("    ")).unwrap();
+        let command = commands(block)[0];
         let output = command
             .split_whitespace()
             .skip_while(|w| !matches!(*w, "-o" | "--plot"))
@@ -106,7 +116,7 @@ fn every_command_is_one_tracer_accepts() {
             .unwrap_or_else(|| panic!("{command}: no output named"));
         assert_eq!(
             image_links(block),
-            [format!("../golden/{output}")],
+            [format!("../../golden/{output}")],
             "{command}"
         );
     }
@@ -121,9 +131,9 @@ fn a_scene_without_a_golden_is_listed_as_such() {
     std::fs::write(dir.path().join("scenes/more/b.toml"), "[camera]\n").unwrap();
     std::fs::write(dir.path().join("golden/a.png"), b"").unwrap();
     let text = gallery::render(dir.path()).unwrap();
-    assert!(text.contains("### `scenes/a.toml`\n\nA ball.\n\n    tracer render scenes/a.toml -o a.png\n\n![a](../golden/a.png)\n"), "{text}");
+    assert!(text.contains("### `scenes/a.toml`\n\nA ball.\n\n```sh\ntracer render scenes/a.toml -o a.png\n```\n\n<a href=\"../../golden/a.png\"><img src=\"../../golden/a.png\" alt=\"a\" width=\"400\"></a>\n"), "{text}");
     assert!(
-        text.contains("    tracer render scenes/more/b.toml -o more-b.png\n\nNo golden yet: look at the render, then `cargo xtask golden --bless more-b`.\n"),
+        text.contains("```sh\ntracer render scenes/more/b.toml -o more-b.png\n```\n\nNo golden yet: look at the render, then `cargo xtask golden --bless more-b`.\n"),
         "{text}"
     );
 }

@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-/// Every command of `tracer`, as the README lists them (help excluded).
+/// Every command of `tracer`, as the README's table lists them (help excluded).
 const PAGES: [&str; 15] = [
     "tracer-new",
     "tracer-convert",
@@ -97,4 +97,13 @@ fn the_render_page_says_how_it_is_called() {
     assert!(text.contains("\\fBtracer render\\fR"), "synopsis");
     let footer = format!("\"tracer {}\"", env!("CARGO_PKG_VERSION"));
     assert!(text.contains(&footer), "footer names the program");
+}
+
+/// The main page says where the book is, as `tracer --help` does.
+#[test]
+fn the_main_page_points_to_the_book() {
+    let dir = tempfile::tempdir().unwrap();
+    xtask::man::write_pages(dir.path()).unwrap();
+    let text = page(dir.path(), "tracer");
+    assert!(text.contains(&roff("docs/src/SUMMARY.md")), "{text}");
 }

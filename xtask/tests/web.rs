@@ -324,6 +324,30 @@ fn a_share_link_opens_with_its_scene() {
             Duration::from_secs(10),
         )
         .unwrap();
+    // A link whose text inflates past the page's limit of a scene file is
+    // refused, and the page says why (the link made here, in the tab).
+    eval(
+        &mut opened,
+        "(async () => { \
+           const spaces = new Uint8Array(64 * 1024 * 1024 + 1).fill(32); \
+           const packed = new Blob([spaces]).stream().pipeThrough(new CompressionStream('deflate-raw')); \
+           const bytes = new Uint8Array(await new Response(packed).arrayBuffer()); \
+           let s = ''; for (const b of bytes) s += String.fromCharCode(b); \
+           location.hash = '#scene=x.toml&text=' + btoa(s).replace(/\\+/g, '-').replace(/\\//g, '_').replace(/=+$/, ''); \
+         })()",
+    );
+    opened
+        .wait_for(
+            "document.getElementById('notice').textContent.includes('was not opened: its scene is over 64 MiB once inflated')",
+            Duration::from_secs(30),
+        )
+        .unwrap();
+    assert_eq!(
+        eval(&mut opened, "tracerPage.view.state.doc.toString()")
+            .as_str()
+            .unwrap(),
+        edited
+    );
 }
 
 #[test]
@@ -429,7 +453,7 @@ fn every_scene_of_the_menu_renders_as_its_golden_within_maths_last_bits() {
     // Where wasm's maths library (Rust's libm) rounds a last bit otherwise
     // than glibc's: powf in the gamma at a code's step (one level of one
     // channel), sin and cos in the lens' and the lights' samples (a ray a
-    // hair apart). A few pixels by a level; README, In the browser.
+    // hair apart). A few pixels by a level; the book, guide/playground.md.
     let _ = writeln!(
         std::io::stderr(),
         "differing from their goldens: {differing:?}"
@@ -446,11 +470,11 @@ fn every_scene_of_the_menu_renders_as_its_golden_within_maths_last_bits() {
     }
 }
 
-/// Not a check: writes the README's screenshot, docs/playground.png
+/// Not a check: writes the book's screenshot, docs/src/images/playground.png
 /// (`cargo test --release -p xtask --test web -- --ignored screenshot`).
 #[test]
 #[ignore]
-fn screenshot_for_the_readme() {
+fn screenshot_for_the_book() {
     let Some(mut page) = open("?workers=2") else {
         return;
     };
@@ -470,7 +494,11 @@ fn screenshot_for_the_readme() {
     // The editor's marks are drawn on its next frame.
     std::thread::sleep(Duration::from_millis(500));
     let png = page.screenshot().unwrap();
-    std::fs::write(xtask::workspace_root().join("docs/playground.png"), png).unwrap();
+    std::fs::write(
+        xtask::workspace_root().join("docs/src/images/playground.png"),
+        png,
+    )
+    .unwrap();
 }
 
 #[test]
@@ -782,4 +810,95 @@ fn on_a_phone_the_editor_and_the_image_stack_without_sideways_scrolling() {
     );
     assert!(image[0].as_f64().unwrap() > 300.0, "{image}");
     assert_eq!(image[1], true, "{image}");
+}
+
+/// Node.js (the page's bundler runs on it), or `None` with a notice; under
+/// CI (`.ci/run` installs it) that fails instead.
+fn node() -> Option<&'static str> {
+    let found = std::process::Command::new("node")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if found {
+        return Some("node");
+    }
+    assert!(
+        std::env::var_os("CI").is_none(),
+        "CI is set but node is missing (Debian: apt-get install nodejs)"
+    );
+    let _ = writeln!(
+        std::io::stderr(),
+        "SKIPPED: the share link's test needs node"
+    );
+    None
+}
+
+/// The page's share-link code itself (web/src/share.js), run by Node.js,
+/// which has the browser's DecompressionStream: no browser needed.
+#[test]
+fn a_share_link_inflates_to_at_most_the_page_s_scene_limit() {
+    let Some(node) = node() else {
+        return;
+    };
+    let share = xtask::workspace_root().join("web/src/share.js");
+    let url = format!("file://{}", share.display());
+    // A link of about 90 KB whose text inflates to one byte more than the
+    // limit (one of 2 MB inflated to 2 GB), and a scene's own link.
+    let script = format!(
+        r#"import {{ decodeShare, encodeShare, MAX_SCENE_BYTES }} from {url:?};
+import zlib from "node:zlib";
+const small = await decodeShare(await encodeShare("a.toml", "[camera]\nfov = 50\n"));
+const packed = zlib.deflateRawSync(Buffer.alloc(MAX_SCENE_BYTES + 1, 32), {{ level: 9 }});
+const big = await decodeShare(`scene=x.toml&text=${{packed.toString("base64url")}}`);
+console.log(JSON.stringify({{ max: MAX_SCENE_BYTES, small, big, rss: process.memoryUsage().rss }}));
+"#
+    );
+    let out = std::process::Command::new(node)
+        .args(["--input-type=module", "-e", &script])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let result: Value = serde_json::from_slice(&out.stdout).unwrap();
+    // The page's limit is the loader's limit of a scene file.
+    assert_eq!(result["max"], scene_format::read::MAX_SCENE_BYTES);
+    assert_eq!(result["small"]["name"], "a.toml");
+    assert_eq!(result["small"]["text"], "[camera]\nfov = 50\n");
+    let refused = result["big"]["refused"].as_str().unwrap_or_else(|| {
+        panic!(
+            "a link past the limit was opened: {:.200}",
+            result["big"].to_string()
+        )
+    });
+    assert!(refused.contains("over 64 MiB once inflated"), "{refused}");
+}
+
+/// With the book beside the page (`book/`, where `cargo xtask web` copies a
+/// built one), the help link shows and opens the book's playground page.
+#[test]
+fn the_help_link_opens_the_books_playground_page_when_the_book_is_beside() {
+    if chromium().is_none() {
+        return;
+    }
+    let out = xtask::target_dir().join("web-test");
+    let _ = page();
+    let help = out.join("book/guide/playground.html");
+    if !help.is_file() {
+        std::fs::create_dir_all(help.parent().unwrap()).unwrap();
+        std::fs::write(&help, "<h1>The playground</h1>").unwrap();
+    }
+    let mut browser = open("").unwrap();
+    browser
+        .wait_for("!document.getElementById('help').hidden", RENDER)
+        .unwrap();
+    let href = eval(&mut browser, "document.getElementById('help').href");
+    assert!(
+        href.as_str()
+            .unwrap()
+            .ends_with("/book/guide/playground.html"),
+        "{href}"
+    );
 }

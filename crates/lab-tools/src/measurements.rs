@@ -130,12 +130,12 @@ const SHOWN_CHARS: usize = 40;
 fn shown(text: &str) -> String {
     let count = text.chars().count();
     if count <= SHOWN_CHARS {
-        return scene_format::excerpt::escape_controls(text);
+        return scene_format::visible::escape_controls(text);
     }
     let start: String = text.chars().take(SHOWN_CHARS).collect();
     format!(
         "{}... ({count} characters)",
-        scene_format::excerpt::escape_controls(&start)
+        scene_format::visible::escape_controls(&start)
     )
 }
 

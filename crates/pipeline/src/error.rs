@@ -38,6 +38,12 @@ pub enum Error {
     /// An option of path mode's passes for a scene in Whitted mode.
     #[error("{option}: needs path mode, which renders in passes (integrator = \"path\" in [render], or --integrator path); Whitted mode renders in one")]
     NeedsPathMode { option: &'static str },
+    /// `--denoise` for a scene in Whitted mode.
+    #[error("--denoise: needs path mode (integrator = \"path\" in [render], or --integrator path); Whitted mode's images have no path-tracing noise for the denoiser to take out")]
+    DenoiseWhitted,
+    /// The denoiser is missing or failed.
+    #[error(transparent)]
+    Denoise(#[from] crate::denoise::DenoiseError),
     /// A pixel outside the image.
     #[error("pixel ({x}, {y}) is outside the {width}x{height} image; expected X from 0 to {} and Y from 0 to {} (X counts columns from the left, Y rows from the top)", width - 1, height - 1)]
     Pixel {
@@ -50,6 +56,12 @@ pub enum Error {
     #[error("--sample {sample}: the scene renders {samples} sample(s) a pixel; expected 0 to {}", samples - 1)]
     Sample { sample: u32, samples: u32 },
     /// A `--reference` image that cannot be read or is not the render's size.
+    #[error("--light {light}: the scene has {lights} light(s) in [[lights]]; expected 0 to {}", lights.saturating_sub(1))]
+    Light { light: usize, lights: usize },
+
+    #[error("--light: a path's light samples do not say which light they drew; --light picks the light terms of Whitted mode (--integrator whitted)")]
+    LightInPathMode,
+
     #[error("--reference {}: {message}", path.display())]
     Reference { path: PathBuf, message: String },
     /// A `--region` or `--tile` that is empty or leaves the image.
@@ -91,9 +103,13 @@ impl Error {
             | Error::NeedsPathMode { .. }
             | Error::Pixel { .. }
             | Error::Sample { .. }
+            | Error::Light { .. }
+            | Error::LightInPathMode
             | Error::Part(_)
             | Error::Prepare { .. }
             | Error::Measurements { .. } => true,
+            Error::DenoiseWhitted => true,
+            Error::Denoise(e) => e.is_bad_input(),
             Error::Output(e) => e.is_bad_input(),
             Error::Pack(e) => e.is_bad_input(),
             Error::Tile(e) => e.is_bad_input(),

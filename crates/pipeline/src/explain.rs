@@ -8,11 +8,13 @@ use crate::Error;
 use glam::Vec3;
 use scene_format::SceneKind;
 use std::sync::atomic::AtomicBool;
-pub use tracer_core::explain::{Explanation, Lit, Outcome, RayNode, Trace};
+pub use tracer_core::explain::{
+    Cut, Explanation, LeftOut, Limits, Lit, Outcome, RayNode, Trace, DEFAULT_MAX_EVENTS,
+};
 pub use tracer_core::image::Saturation;
 use tracer_core::image::{encode_pixel, Encoding};
 pub use tracer_core::integrate::record::{PathEvent, PathEventKind, RayKind, Stop};
-use tracer_core::names::Names;
+pub use tracer_core::names::Names;
 use tracer_core::{Region, RenderJob};
 
 /// A pixel explained: one sample's tree, and the pixel the render writes.
@@ -33,12 +35,25 @@ pub struct ExplainedPixel {
 }
 
 /// Pixel (x, y) (x from the left, y from the top, of the written image)
-/// of `loaded` rendered with `options`, its sample `sample` explained.
+/// of `loaded` rendered with `options`, its sample `sample` explained
+/// within the default limits.
 pub fn explain(
+    loaded: &Loaded,
+    options: &Options,
+    pixel: (u32, u32),
+    sample: u32,
+) -> Result<ExplainedPixel, Error> {
+    explain_within(loaded, options, pixel, sample, Limits::default())
+}
+
+/// [`explain`], the tree kept within `limits` (`tracer explain
+/// --max-events N --light K`).
+pub fn explain_within(
     loaded: &Loaded,
     options: &Options,
     (x, y): (u32, u32),
     sample: u32,
+    limits: Limits,
 ) -> Result<ExplainedPixel, Error> {
     let SceneKind::Scene3d(file) = &loaded.kind else {
         return Err(Error::CanvasOption {
@@ -46,7 +61,9 @@ pub fn explain(
             option: "explain",
         });
     };
+    let was_path = file.render.integrator == scene_format::Integrator::Path;
     let file = options.apply(file)?;
+    crate::limits::check_path_mode(&loaded.origins, was_path, &file)?;
     let (width, height) = (file.camera.width, file.camera.height);
     if x >= width || y >= height {
         return Err(Error::Pixel {
@@ -60,13 +77,22 @@ pub fn explain(
     if sample >= samples {
         return Err(Error::Sample { sample, samples });
     }
+    if let Some(light) = limits.light {
+        if file.render.integrator == scene_format::Integrator::Path {
+            return Err(Error::LightInPathMode);
+        }
+        let lights = file.lights.len();
+        if light >= lights {
+            return Err(Error::Light { light, lights });
+        }
+    }
     // Not lean: the tree lists the primitives each ray was tested against.
     let (scene, names) =
         tracer_core::prepare::prepare_named(&file).map_err(|e| Error::Prepare {
             scene: loaded.name.clone(),
             message: e.to_string(),
         })?;
-    let explanation = tracer_core::explain::explain(&scene, (x, y), samples, sample);
+    let explanation = tracer_core::explain::explain_within(&scene, (x, y), samples, sample, limits);
     let job = RenderJob {
         region: Region {
             x0: x,

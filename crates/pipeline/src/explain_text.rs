@@ -1,16 +1,19 @@
 //! `tracer explain`'s text: an explained pixel's tree in the lab's words and
 //! order. One formatter for `tracer explain`, the live page of `tracer
 //! watch --serve` and the browser playground (crates/web), so that all
-//! three say the same.
+//! three say the same. Written as it is made (`write_text`), never held
+//! whole, with the control characters of names escaped
+//! (`scene_format::visible`).
 
 use crate::explain::{
-    ExplainedPixel, Lit, Outcome, PathEvent, PathEventKind, RayKind, RayNode, Saturation, Stop,
-    Trace,
+    Cut, ExplainedPixel, Lit, Outcome, PathEvent, PathEventKind, RayKind, RayNode, Saturation,
+    Stop, Trace,
 };
 use crate::load::Loaded;
 use crate::options::Options;
 use crate::Error;
 use glam::{Vec2, Vec3};
+use scene_format::visible::VisibleWriter;
 use std::fmt::Write;
 use tracer_core::names::Names;
 
@@ -36,11 +39,35 @@ fn v2(v: Vec2) -> String {
 }
 
 /// The explanation of pixel (x, y) of the scene `name` as text.
-pub fn text(pixel: &ExplainedPixel, (x, y): (u32, u32), name: &str) -> String {
+pub fn text(pixel: &ExplainedPixel, at: (u32, u32), name: &str) -> String {
+    let mut out = String::new();
+    // Writing to a String cannot fail.
+    let _ = write_text(&mut out, pixel, at, name);
+    out
+}
+
+/// [`text`], written to `out` as it is made: a tree raised to millions of
+/// events (`--max-events`) is never held whole as text. Control
+/// characters (in a material's or the scene's name) are escaped.
+pub fn write_text(
+    out: &mut dyn Write,
+    pixel: &ExplainedPixel,
+    at: (u32, u32),
+    name: &str,
+) -> std::fmt::Result {
+    let mut visible = VisibleWriter { inner: out };
+    write_all(&mut visible, pixel, at, name)
+}
+
+fn write_all(
+    out: &mut dyn Write,
+    pixel: &ExplainedPixel,
+    (x, y): (u32, u32),
+    name: &str,
+) -> std::fmt::Result {
     let e = &pixel.explanation;
     let (width, height) = pixel.size;
-    let mut out = String::new();
-    let _ = writeln!(
+    writeln!(
         out,
         "pixel ({x}, {y}) of {name} ({width}x{height}; X from the left, Y from the top), {}",
         if e.samples == 1 {
@@ -48,7 +75,16 @@ pub fn text(pixel: &ExplainedPixel, (x, y): (u32, u32), name: &str) -> String {
         } else {
             format!("sample {} of {}", e.sample, e.samples)
         }
-    );
+    )?;
+    if let Some(cut) = &e.cut {
+        cut_text(out, cut)?;
+    }
+    if let Some(light) = e.only_light {
+        writeln!(
+            out,
+            "only the terms of lights[{light}] are shown (--light {light}); each local colour is still the sum of every light's"
+        )?;
+    }
     let [u, v, o] = e.projection;
     let _ = writeln!(
         out,
@@ -64,32 +100,66 @@ pub fn text(pixel: &ExplainedPixel, (x, y): (u32, u32), name: &str) -> String {
         }
     );
     match &e.trace {
-        Trace::Whitted { ray } => ray_text(&mut out, ray, 0, &pixel.names),
+        Trace::Whitted { ray } => ray_text(out, ray, 0, &pixel.names)?,
         Trace::Path { ray, events } => {
-            ray_text(&mut out, ray, 0, &pixel.names);
-            path_text(&mut out, events, &pixel.names);
+            ray_text(out, ray, 0, &pixel.names)?;
+            path_text(out, events, &pixel.names)?;
+            if let Some(cut) = e.cut.filter(|c| c.left_out > 0) {
+                writeln!(
+                    out,
+                    "  ... and {} more events, not kept (the tree's limit)",
+                    cut.left_out
+                )?;
+            }
         }
     }
-    encoding_text(&mut out, pixel);
-    out
+    encoding_text(out, pixel)
+}
+
+/// What the tree's limits left out, and how to see it.
+fn cut_text(out: &mut dyn Write, cut: &Cut) -> std::fmt::Result {
+    let limit = if cut.bytes {
+        format!("its limit of {} MiB", tracer_core::explain::MAX_BYTES >> 20)
+    } else {
+        format!("its limit of {} events", cut.max_events)
+    };
+    let mut parts = Vec::new();
+    if cut.rays > 0 {
+        parts.push(format!("{} rays", cut.rays));
+    }
+    if cut.light_terms > 0 {
+        parts.push(format!("{} light terms", cut.light_terms));
+    }
+    let what = if parts.is_empty() {
+        String::new()
+    } else {
+        format!(", among them {}", parts.join(" and "))
+    };
+    writeln!(
+        out,
+        "note: the tree is cut at {limit}: {} events are shown and {} more are not{what} (marked \"not kept\" below). \
+         The colours are the whole sample's. To see more: tracer explain SCENE X Y --max-events N, \
+         or --light K for the terms of lights[K] alone",
+        cut.kept, cut.left_out
+    )
 }
 
 /// A ray of the tree, its children indented below it.
-fn ray_text(out: &mut String, ray: &RayNode, indent: usize, names: &Names) {
+fn ray_text(out: &mut dyn Write, ray: &RayNode, indent: usize, names: &Names) -> std::fmt::Result {
     let pad = "  ".repeat(indent);
     let kind = match ray.kind {
         RayKind::Primary => "primary ray",
         RayKind::Reflected => "mirror ray",
         RayKind::Refracted => "refracted ray",
     };
-    let _ = writeln!(
+    writeln!(
         out,
         "{pad}{kind} from {} along {}, energy {}, depth {}",
         v3(ray.origin),
         v3(ray.direction),
         ray.energy,
         ray.depth
-    );
+    )?;
     if let Some(tested) = &ray.tested {
         let mut missed = Vec::new();
         for t in tested {
@@ -107,21 +177,21 @@ fn ray_text(out: &mut String, ray: &RayNode, indent: usize, names: &Names) {
                     continue;
                 }
             };
-            let _ = writeln!(out, "{pad}  {}: {what}", names.object(t.object));
+            writeln!(out, "{pad}  {}: {what}", names.object(t.object))?;
         }
         if !missed.is_empty() {
-            let _ = writeln!(out, "{pad}  missed: {}", names.objects(&missed));
+            writeln!(out, "{pad}  missed: {}", names.objects(&missed))?;
         }
     }
     let Some(hit) = &ray.hit else {
-        let _ = writeln!(
+        writeln!(
             out,
             "{pad}  nothing hit: the background, times the energy = {}",
             v3(ray.colour)
-        );
-        return;
+        )?;
+        return Ok(());
     };
-    let _ = writeln!(
+    writeln!(
         out,
         "{pad}  nearest hit: {} at t = {:.4}, point {}, normal {}, {} side, material {}, uv {}",
         names.object(hit.object),
@@ -131,96 +201,110 @@ fn ray_text(out: &mut String, ray: &RayNode, indent: usize, names: &Names) {
         if hit.front_face { "front" } else { "back" },
         names.material(hit.material),
         v2(hit.uv)
-    );
+    )?;
     if !hit.front_face && ray.ambient.is_empty() && ray.local.is_none() {
-        let _ = writeln!(
+        writeln!(
             out,
             "{pad}  seen from inside the glass: no light terms (the lab adds them where a surface is seen from outside)"
-        );
+        )?;
     }
     for (light, ambient) in &ray.ambient {
-        let _ = writeln!(
+        writeln!(
             out,
             "{pad}  lights[{light}]: ambient = color * ambient = {}",
             v3(*ambient)
-        );
+        )?;
         for lit in ray.lights.iter().filter(|l| l.term.light == *light) {
-            light_text(out, lit, &pad, names);
+            light_text(out, lit, &pad, names)?;
         }
     }
+    if ray.left_out.light_terms > 0 {
+        writeln!(
+            out,
+            "{pad}  ... and {} more light terms, not kept (the tree's limit; its local colour holds them)",
+            ray.left_out.light_terms
+        )?;
+    }
     if let Some(local) = ray.local {
-        let _ = writeln!(
+        writeln!(
             out,
             "{pad}  local colour (the sum of the terms) = {}",
             v3(local)
-        );
+        )?;
     }
     if let Some(texture) = ray.texture {
-        let _ = writeln!(out, "{pad}  times the lab texture {}", v3(texture));
+        writeln!(out, "{pad}  times the lab texture {}", v3(texture))?;
     }
     if let Some(emitted) = ray.emitted {
-        let _ = writeln!(
+        writeln!(
             out,
             "{pad}  plus its emission {} (seen; in Whitted mode it lights nothing else)",
             v3(emitted)
-        );
+        )?;
     }
     match ray.stopped {
         Some(Stop::MaxDepth { max_depth }) => {
-            let _ = writeln!(
+            writeln!(
                 out,
                 "{pad}  no mirror or refracted ray: depth {} is max_depth = {max_depth}",
                 ray.depth
-            );
+            )?;
         }
         Some(Stop::RayBudget { rays }) => {
-            let _ = writeln!(
+            writeln!(
                 out,
                 "{pad}  no more rays: the sample has traced its {rays} (a budget that keeps a tree of glass and mirrors finite)"
-            );
+            )?;
         }
         Some(Stop::MinEnergy { min_energy }) => {
-            let _ = writeln!(
+            writeln!(
                 out,
                 "{pad}  no mirror or refracted ray: energy {} is at or below min_energy = {min_energy}",
                 ray.energy
-            );
+            )?;
         }
         None => {}
     }
     for child in &ray.children {
-        ray_text(out, child, indent + 1, names);
+        ray_text(out, child, indent + 1, names)?;
+    }
+    if ray.left_out.rays > 0 {
+        writeln!(
+            out,
+            "{pad}  ... and {} more mirror or refracted rays, with their own, not kept (the tree's limit; its colour holds them)",
+            ray.left_out.rays
+        )?;
     }
     if let Some(absorbed) = ray.absorbed {
-        let _ = writeln!(
+        writeln!(
             out,
             "{pad}  times what absorption leaves of it through the glass, exp(-absorption * t) = {}",
             v3(absorbed)
-        );
+        )?;
     }
-    let _ = writeln!(
+    writeln!(
         out,
         "{pad}  colour of this ray (times its energy, with its mirror and refracted rays) = {}",
         v3(ray.colour)
-    );
+    )
 }
 
 /// One light's terms at a hit.
-fn light_text(out: &mut String, lit: &Lit, pad: &str, names: &Names) {
+fn light_text(out: &mut dyn Write, lit: &Lit, pad: &str, names: &Names) -> std::fmt::Result {
     let t = &lit.term;
-    let _ = writeln!(
+    writeln!(
         out,
         "{pad}    from {}: L = {}, N.L = {:.4}",
         v3(t.from),
         v3(t.l),
         t.n_dot_l
-    );
+    )?;
     let Some(shadow) = &t.shadow else {
-        let _ = writeln!(
+        writeln!(
             out,
             "{pad}      N.L at or below 0.001: no diffuse, no specular, no shadow ray"
-        );
-        return;
+        )?;
+        return Ok(());
     };
     let blocked = match (shadow.passes, lit.blocked_by) {
         (Some(p), _) if p == Vec3::ONE => "clear".to_string(),
@@ -228,20 +312,20 @@ fn light_text(out: &mut String, lit: &Lit, pad: &str, names: &Names) {
         (None, Some(b)) => format!("blocked by {} at t = {:.4}", names.object(b.object), b.t),
         (None, None) => "blocked".to_string(),
     };
-    let _ = writeln!(
+    writeln!(
         out,
         "{pad}      shadow ray from {} of length {:.4}: {blocked}",
         v3(shadow.origin),
         shadow.length
-    );
+    )?;
     if shadow.passes.is_none() {
-        return;
+        return Ok(());
     }
-    let _ = writeln!(
+    writeln!(
         out,
         "{pad}      diffuse = color * diffuse * N.L = {}",
         v3(t.diffuse)
-    );
+    )?;
     if let (Some(h), Some(n_dot_h)) = (t.h, t.n_dot_h) {
         let specular = match t.n_dot_h_pow {
             Some(power) => format!(
@@ -251,20 +335,21 @@ fn light_text(out: &mut String, lit: &Lit, pad: &str, names: &Names) {
             None if n_dot_h <= 0.001 => "no specular: N.H at or below 0.001".to_string(),
             None => "no specular: the material has no specular colour".to_string(),
         };
-        let _ = writeln!(
+        writeln!(
             out,
             "{pad}      H = normalize(L + V) = {}, N.H = {n_dot_h:.4}, {specular}",
             v3(h)
-        );
+        )?;
     }
+    Ok(())
 }
 
 /// A path's events, for one sample.
-fn path_text(out: &mut String, events: &[PathEvent], names: &Names) {
-    let _ = writeln!(
+fn path_text(out: &mut dyn Write, events: &[PathEvent], names: &Names) -> std::fmt::Result {
+    writeln!(
         out,
         "the path (one sample; MIS weights by the power heuristic):"
-    );
+    )?;
     for event in events {
         let added = if event.added == Vec3::ZERO {
             String::new()
@@ -340,22 +425,23 @@ fn path_text(out: &mut String, events: &[PathEvent], names: &Names) {
                 if survived { "it does (throughput / that)" } else { "it stops" }
             ),
         };
-        let _ = writeln!(out, "{line}");
+        writeln!(out, "{line}")?;
     }
+    Ok(())
 }
 
 /// The pixel's sum, saturation rule, gamma and 8-bit value.
-fn encoding_text(out: &mut String, pixel: &ExplainedPixel) {
+fn encoding_text(out: &mut dyn Write, pixel: &ExplainedPixel) -> std::fmt::Result {
     let e = &pixel.explanation;
     let c = pixel.linear;
-    let _ = writeln!(out, "this sample's colour = {}", v3(e.colour));
+    writeln!(out, "this sample's colour = {}", v3(e.colour))?;
     if !e.colour.is_finite() {
-        let _ = writeln!(
+        writeln!(
             out,
             "  not a finite number: the render leaves this sample out of the pixel (and counts it)"
-        );
+        )?;
     }
-    let _ = writeln!(
+    writeln!(
         out,
         "pixel colour (linear) = {} {}",
         v3(c),
@@ -364,7 +450,7 @@ fn encoding_text(out: &mut String, pixel: &ExplainedPixel) {
         } else {
             format!("(the mean of its {} samples)", e.samples)
         }
-    );
+    )?;
     let encoding = &pixel.encoding;
     let saturated = match encoding.saturation {
         Saturation::White if c.max_element() > 1.0 => {
@@ -378,10 +464,10 @@ fn encoding_text(out: &mut String, pixel: &ExplainedPixel) {
             "saturation rule \"clamp\": each channel clamped to 0..1 on its own".to_string()
         }
     };
-    let _ = writeln!(out, "{saturated}");
-    let _ = writeln!(
+    writeln!(out, "{saturated}")?;
+    writeln!(
         out,
         "gamma {}: c^(1/{}) on each channel; 8-bit: (int)(c * 255) = ({}, {}, {}), the rendered pixel",
         encoding.gamma, encoding.gamma, pixel.rgb8[0], pixel.rgb8[1], pixel.rgb8[2]
-    );
+    )
 }

@@ -9,6 +9,7 @@
 
 pub mod cache;
 mod clock;
+pub mod denoise;
 mod error;
 pub mod explain;
 pub mod explain_text;
@@ -32,11 +33,13 @@ pub use load::{
 };
 pub use model_summary::{summary, Bounds, SceneSummary};
 pub use options::{tile_region, Aov, Gamma, Options, Part, Region};
+#[cfg(not(target_arch = "wasm32"))]
+pub use render::denoise_picture;
 pub use render::{
-    default_output, image_size, next_pass_samples, next_pass_seconds, prepare_taking, render,
-    render_cancellable, render_prepared, render_prepared_progressive, render_progressive,
-    render_taking,
+    default_output, denoise_rendered, image_size, next_pass_samples, next_pass_seconds,
+    prepare_taking, render, render_cancellable, render_prepared, render_prepared_progressive,
+    render_progressive, render_taking,
 };
-pub use rendered::{Picture, Rendered, ShadedStats, Summary, FORCED_WHITE_WARNING};
+pub use rendered::{Denoising, Picture, Rendered, ShadedStats, Summary, FORCED_WHITE_WARNING};
 pub use scene3d::{Pass, PassCallbacks, PreparedScene};
 pub use tracer_core::LinearImage;

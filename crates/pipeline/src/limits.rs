@@ -1,9 +1,10 @@
 //! What the tracer can build, checked on a loaded scene before anything is
-//! allocated for it: how many primitives, and what each mesh's placement
-//! leaves of it.
+//! allocated for it: how many primitives (and, in path mode, lights made
+//! of emitting triangles), and what each mesh's placement leaves of it.
 
+use crate::Error;
 use scene_format::validate::MAX_COORDINATE;
-use scene_format::{Diagnostic, SceneFile, ShapeRef};
+use scene_format::{Diagnostic, Integrator, Origins, SceneFile, ShapeRef};
 use std::collections::{HashMap, HashSet};
 use tracer_core::prepare::{self, MeshBox};
 
@@ -25,20 +26,50 @@ pub const BYTES_PER_PRIMITIVE: u64 = 170;
 /// The limits a loaded scene breaks, at the object that breaks them: the
 /// one that takes the count of primitives past [`MAX_PRIMITIVES`] (counted
 /// from the OBJ files' triangles, before any is placed; a mesh shared by
-/// several objects counts its triangles once, and one per object), a mesh
+/// several objects counts its triangles once, and one per object; in path
+/// mode every object's emitting triangles once more, each a light), a mesh
 /// whose placement leaves no triangle, or one it moves beyond
 /// `MAX_COORDINATE`.
 pub(crate) fn check(file: &SceneFile) -> Vec<Diagnostic> {
     let shared = tracer_core::prepare::shared_meshes(file);
-    if let Some(d) = primitive_count(file, &shared, MAX_PRIMITIVES) {
+    let path_mode = file.render.integrator == Integrator::Path;
+    if let Some(d) = primitive_count(file, &shared, MAX_PRIMITIVES, path_mode) {
         return vec![d];
     }
     placements(file, &shared)
 }
 
-/// The diagnostic of the object that takes the count of unique primitives
-/// past `max` ([`MAX_PRIMITIVES`]), if one does.
-fn primitive_count(file: &SceneFile, shared: &[Option<usize>], max: usize) -> Option<Diagnostic> {
+/// [`check`]'s count of primitives again, when options made a scene of
+/// Whitted mode (`was_path` false) path traced (`--integrator path`): its
+/// emitting triangles become lights only now.
+pub(crate) fn check_path_mode(
+    origins: &Origins,
+    was_path: bool,
+    file: &SceneFile,
+) -> Result<(), Error> {
+    if was_path || file.render.integrator != Integrator::Path {
+        return Ok(());
+    }
+    let shared = tracer_core::prepare::shared_meshes(file);
+    match primitive_count(file, &shared, MAX_PRIMITIVES, true) {
+        Some(d) => Err(Error::Scene(origins.invalid(vec![d]))),
+        None => Ok(()),
+    }
+}
+
+/// The diagnostic of the object that takes the count of what is built past
+/// `max` ([`MAX_PRIMITIVES`]), if one does: unique primitives, and in
+/// `path_mode` each object's emitting triangles, which path mode makes
+/// lights of one by one, an instance's as a flattened mesh's (a light
+/// takes about what a primitive does: 150 instances of an emitting mesh of
+/// 100,000 triangles peaked at 2.85 GB, 188 bytes a light). This is the
+/// place a light table shared by instances would count them once instead.
+fn primitive_count(
+    file: &SceneFile,
+    shared: &[Option<usize>],
+    max: usize,
+    path_mode: bool,
+) -> Option<Diagnostic> {
     let mut total = 0usize;
     let mut counted = HashSet::new();
     let mut models = HashSet::new();
@@ -55,7 +86,12 @@ fn primitive_count(file: &SceneFile, shared: &[Option<usize>], max: usize) -> Op
             Some(_) => 1,
             None => triangles,
         };
-        total += n;
+        let lights = if path_mode {
+            tracer_core::prepare::emitting_triangles(file, o)
+        } else {
+            0
+        };
+        total += n + lights;
         if total > max {
             let path = if o.mesh.is_some() {
                 format!("objects[{i}].mesh")
@@ -65,10 +101,16 @@ fn primitive_count(file: &SceneFile, shared: &[Option<usize>], max: usize) -> Op
                 format!("objects[{i}]")
             };
             let gb = |n: usize| n as f64 * BYTES_PER_PRIMITIVE as f64 / 1e9;
+            let this = match lights {
+                0 => format!("this one: {n}"),
+                _ => format!(
+                    "this one: {n}, and {lights} emitting triangles, each a light of its own in path mode, for every object that places the mesh"
+                ),
+            };
             return Some(Diagnostic::new(
                 path,
                 format!(
-                    "with this object the scene has {total} primitives (this one: {n}), more than the {max} the tracer builds \
+                    "with this object the scene has {total} primitives ({this}), more than the {max} the tracer builds \
                      (they would take about {:.1} GB to prepare); a mesh file named by several objects (with the same `smooth`) is shared and counts its triangles once, \
                      plus one per object, while a mesh named once is a copy of its triangles of its own",
                     gb(total)
@@ -180,8 +222,8 @@ mod tests {
         let shared = tracer_core::prepare::shared_meshes(&file);
         assert_eq!(shared, [Some(0), None, Some(0), None, Some(0)]);
         // a: 10 + 1, b: 5, a: 1, sphere: 1, a: 1 -> 11, 16, 17, 18, 19.
-        assert!(primitive_count(&file, &shared, 19).is_none());
-        let d = primitive_count(&file, &shared, 18).expect("refused");
+        assert!(primitive_count(&file, &shared, 19, false).is_none());
+        let d = primitive_count(&file, &shared, 18, false).expect("refused");
         assert_eq!(d.path.to_string(), "objects[4].mesh");
         assert!(
             d.message.contains("19 primitives (this one: 1)"),
@@ -193,9 +235,9 @@ mod tests {
             "{}",
             d.message
         );
-        let d = primitive_count(&file, &shared, 17).expect("refused");
+        let d = primitive_count(&file, &shared, 17, false).expect("refused");
         assert_eq!(d.path.to_string(), "objects[3]");
-        let d = primitive_count(&file, &shared, 10).expect("refused");
+        let d = primitive_count(&file, &shared, 10, false).expect("refused");
         assert!(
             d.message.contains("11 primitives (this one: 11)"),
             "{}",
@@ -210,7 +252,35 @@ mod tests {
         file.objects = vec![template; 1000];
         let shared = tracer_core::prepare::shared_meshes(&file);
         assert!(shared.iter().all(|&g| g == Some(0)));
-        assert!(primitive_count(&file, &shared, 10 + 1000).is_none());
-        assert!(primitive_count(&file, &shared, 10 + 999).is_some());
+        assert!(primitive_count(&file, &shared, 10 + 1000, false).is_none());
+        assert!(primitive_count(&file, &shared, 10 + 999, false).is_some());
+    }
+
+    #[test]
+    fn in_path_mode_each_instance_s_emitting_triangles_count_as_lights() {
+        let mut file = scene();
+        // Mesh a (10 triangles) emits; it is placed three times, b once.
+        file.materials.insert(
+            "lamp".to_string(),
+            scene_format::Material {
+                emission: [1.0, 1.0, 1.0],
+                ..scene_format::Material::default()
+            },
+        );
+        for k in [0, 2, 4] {
+            file.objects[k].material = Some(scene_format::MaterialRef::Named("lamp".to_string()));
+        }
+        let shared = tracer_core::prepare::shared_meshes(&file);
+        // Whitted mode builds no lights of them: 19, as before.
+        assert!(primitive_count(&file, &shared, 19, false).is_none());
+        // Path mode: 10 lights for each of the three objects.
+        assert!(primitive_count(&file, &shared, 49, true).is_none());
+        let d = primitive_count(&file, &shared, 48, true).expect("refused");
+        assert_eq!(d.path.to_string(), "objects[4].mesh");
+        assert!(
+            d.message.contains("49 primitives (this one: 1, and 10 emitting triangles, each a light of its own in path mode"),
+            "{}",
+            d.message
+        );
     }
 }

@@ -57,6 +57,11 @@ pub struct Options {
     /// pixels' corners (-0.5 or 0.5) to recognise a tracer that aims
     /// there. No command-line option sets it.
     pub pixel_shift: Option<[f32; 2]>,
+    /// Denoise the shaded image (`--denoise`; the scene's `[render]
+    /// denoise` asks the same): path mode only.
+    pub denoise: bool,
+    /// Overrides `[render] denoise_quality`.
+    pub denoise_quality: Option<crate::denoise::Quality>,
 }
 
 /// A part of the image to render, checked against the image's size.
@@ -143,6 +148,8 @@ impl Options {
             ("--width", self.width.is_some()),
             ("--height", self.height.is_some()),
             ("--region/--tile", self.part.is_some()),
+            ("--denoise", self.denoise),
+            ("--denoise-quality", self.denoise_quality.is_some()),
         ]
         .into_iter()
         .find_map(|(name, set)| set.then_some(name))
@@ -176,6 +183,8 @@ impl Options {
             self.width.is_some(),
             self.height.is_some(),
             self.integrator.is_some(),
+            self.denoise,
+            self.denoise_quality.is_some(),
         ];
         if !overrides.contains(&true) {
             return Ok(Cow::Borrowed(file));
@@ -190,7 +199,14 @@ impl Options {
         if let Some(samples) = self.samples {
             file.render.samples = samples;
         }
+        file.render.denoise |= self.denoise;
+        if self.denoise_quality.is_some() {
+            file.render.denoise_quality = self.denoise_quality;
+        }
         let render = &file.render;
+        if self.denoise && render.integrator == Integrator::Whitted {
+            return Err(Error::DenoiseWhitted);
+        }
         if render.integrator == Integrator::Whitted && render.samples > MAX_SAMPLES {
             return Err(match self.samples {
                 Some(given) => Error::Samples(given),

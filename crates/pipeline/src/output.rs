@@ -219,11 +219,64 @@ fn remove_pending_files_where(which: impl Fn(&Path) -> bool) -> PendingFilesRemo
     let mut list = pending();
     list.retain(|path| {
         if which(path) {
-            let _ = std::fs::remove_file(path);
+            // A pending folder (made here, under a name of its own) goes
+            // with what was written into it.
+            match std::fs::symlink_metadata(path) {
+                Ok(m) if m.is_dir() => drop(std::fs::remove_dir_all(path)),
+                _ => drop(std::fs::remove_file(path)),
+            }
         }
         !which(path)
     });
     PendingFilesRemoved(list)
+}
+
+/// A folder about to take the place of another (`tracer compare
+/// --report`'s report): made beside its place, filled file by file, then
+/// renamed into place whole. Until then it is removed on a signal, as the
+/// temporary files are, and when dropped.
+pub struct PendingFolder {
+    dir: Option<tempfile::TempDir>,
+    path: PathBuf,
+}
+
+impl PendingFolder {
+    /// Makes the folder in `parent`, named `prefix` and random letters.
+    pub fn create(parent: &Path, prefix: &str) -> std::io::Result<PendingFolder> {
+        let mut list = pending();
+        let dir = tempfile::Builder::new().prefix(prefix).tempdir_in(parent)?;
+        let path = dir.path().to_path_buf();
+        list.push(path.clone());
+        Ok(PendingFolder {
+            dir: Some(dir),
+            path,
+        })
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Renames the folder to `target`, where nothing may be (a folder
+    /// there is replaced only if empty, as `rename` does). After a
+    /// signal's cleanup nothing is renamed: the lock is held through.
+    pub fn rename_to(mut self, target: &Path) -> std::io::Result<()> {
+        let mut list = pending();
+        std::fs::rename(&self.path, target)?;
+        // In place now: the TempDir must not remove it.
+        let _ = self.dir.take().map(tempfile::TempDir::keep);
+        list.retain(|p| *p != self.path);
+        Ok(())
+    }
+}
+
+impl Drop for PendingFolder {
+    fn drop(&mut self) {
+        let mut list = pending();
+        // Removed (by TempDir's drop) before it leaves the list.
+        drop(self.dir.take());
+        list.retain(|p| *p != self.path);
+    }
 }
 
 /// An output file about to be written: its format known and its temporary
@@ -390,7 +443,7 @@ impl PendingOutput {
             )?,
             (ImageFormat::Exr, _) => encode_exr(&picture.to_rgb32f())?,
             (ImageFormat::Hdr, _) => encode_dynamic(
-                image::DynamicImage::ImageRgb32F(picture.to_rgb32f()),
+                image::DynamicImage::ImageRgb32F(clamped_to_rgbe(picture.to_rgb32f())),
                 self.format,
             )?,
             _ => encode(&picture.to_rgb8(), self.format)?,
@@ -402,6 +455,40 @@ impl PendingOutput {
     pub fn write_bytes(self, bytes: &[u8]) -> Result<(), OutputError> {
         self.file.write_bytes(bytes)
     }
+
+    /// What `write_picture` cannot write as it is, in words: a Radiance
+    /// .hdr's values above [`RGBE_MAX`], written as that.
+    pub fn picture_warning(&self, picture: &Picture) -> Option<String> {
+        if self.format != ImageFormat::Hdr {
+            return None;
+        }
+        let over = picture
+            .linear
+            .pixels
+            .iter()
+            .filter(|p| p.max_element() > RGBE_MAX)
+            .count();
+        (over > 0).then(|| {
+            format!(
+                "{over} pixel(s) hold values above {RGBE_MAX:.3e}, the largest a Radiance .hdr holds \
+                 (its 8-bit mantissas share an exponent of at most 2^127): written as that value; \
+                 an .exr holds them as they are"
+            )
+        })
+    }
+}
+
+/// The largest value a Radiance RGBE pixel holds: mantissa 255 of 256 at
+/// the largest exponent, 2^127 (about 1.69e38). Larger values encode as
+/// black in the image crate's encoder (their exponent overflows).
+pub const RGBE_MAX: f32 = 255.0 * (1u128 << 119) as f32;
+
+/// `image` with every channel above [`RGBE_MAX`] brought down to it.
+fn clamped_to_rgbe(mut image: image::Rgb32FImage) -> image::Rgb32FImage {
+    for value in image.iter_mut() {
+        *value = value.min(RGBE_MAX);
+    }
+    image
 }
 
 /// Writes `image` to `path`, in the format of its extension, through a
@@ -577,6 +664,38 @@ mod tests {
         std::fs::set_permissions(&old, std::fs::Permissions::from_mode(0o640)).unwrap();
         write_atomically(b"new", &old).unwrap();
         assert_eq!(mode(&old), 0o640);
+    }
+
+    #[test]
+    fn hdr_values_beyond_rgbe_are_written_as_its_largest_and_said() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("big.hdr");
+        let mut linear = tracer_core::image::LinearImage::new(3, 1);
+        // An emission of 3e38 is accepted; RGBE overflows at 2^127 (1.7e38).
+        linear.pixels[0] = glam::Vec3::new(3e38, 1.0, 0.0);
+        linear.pixels[1] = glam::Vec3::splat(1e38);
+        linear.pixels[2] = glam::Vec3::new(1.0, 0.5, 0.25);
+        let picture = Picture {
+            linear,
+            encoding: tracer_core::image::Encoding::default(),
+        };
+        let pending = PendingOutput::create(&path).unwrap();
+        let warning = pending.picture_warning(&picture).expect("a warning");
+        assert!(
+            warning.starts_with("1 pixel(s) hold values above 1.695e38"),
+            "{warning}"
+        );
+        pending.write_picture(&picture, BitDepth::Eight).unwrap();
+        let read = image::open(&path).unwrap().to_rgb32f();
+        let [r, g, _] = read.get_pixel(0, 0).0;
+        assert!(r > 1.6e38 && r <= RGBE_MAX, "{r:e}: not black");
+        // Its other channels share the large exponent: their mantissas are 0.
+        assert_eq!(g, 0.0);
+        let [big, ..] = read.get_pixel(1, 0).0;
+        assert!((big / 1e38 - 1.0).abs() < 0.01, "{big:e}");
+        assert_eq!(read.get_pixel(2, 0).0, [1.0, 0.5, 0.25]);
+        let small = PendingOutput::create(&dir.path().join("s.exr")).unwrap();
+        assert_eq!(small.picture_warning(&picture), None);
     }
 
     #[test]

@@ -12,6 +12,11 @@ use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
+/// Whether the file asks for path mode itself.
+fn is_path(file: &SceneFile) -> bool {
+    file.render.integrator == scene_format::Integrator::Path
+}
+
 /// Renders a loaded scene on the current rayon pool. A shaded 3D render
 /// calls `rows_done(0)` when its rows begin (after preparing the scene),
 /// then `rows_done(n)` from the render threads as `n` more rows are done.
@@ -34,7 +39,9 @@ pub fn render_cancellable(
 ) -> Result<Option<Rendered>, Error> {
     match &loaded.kind {
         SceneKind::Scene3d(file) => {
+            let was_path = is_path(file);
             let file = options.apply(file)?;
+            crate::limits::check_path_mode(&loaded.origins, was_path, &file)?;
             render_3d(file, &loaded.name, options, rows_done, cancel)
         }
         SceneKind::Canvas(file) => draw(file, &loaded.name, options).map(Some),
@@ -53,7 +60,9 @@ pub fn render_taking(
     let never = AtomicBool::new(false);
     let rendered = match loaded.kind {
         SceneKind::Scene3d(file) => {
+            let was_path = is_path(&file);
             let file = Cow::Owned(options.apply_owned(file)?);
+            crate::limits::check_path_mode(&loaded.origins, was_path, &file)?;
             render_3d(file, &loaded.name, options, rows_done, &never)?
         }
         SceneKind::Canvas(ref file) => Some(draw(file, &loaded.name, options)?),
@@ -72,7 +81,9 @@ pub fn prepare_taking(
 ) -> Result<PreparedScene, Error> {
     match loaded.kind {
         SceneKind::Scene3d(file) => {
+            let was_path = is_path(&file);
             let file = Cow::Owned(options.apply_owned(file)?);
+            crate::limits::check_path_mode(&loaded.origins, was_path, &file)?;
             scene3d::prepare_shaded(file, &loaded.name)
         }
         SceneKind::Canvas(_) => Err(Error::CanvasOption {
@@ -98,10 +109,12 @@ pub fn render_prepared(
     let (image, stats) =
         scene3d::shade_prepared(prepared, options.gamma, region, rows_done, &never)
             .expect("never cancelled");
-    Ok(Rendered {
+    let rendered = Rendered {
         image,
         summary: Summary::Shaded(stats),
-    })
+        denoising: None,
+    };
+    scene3d::denoised(prepared, region, rendered, options.part.is_some())
 }
 
 /// The shaded image of a prepared scene in passes: in path mode samples
@@ -109,7 +122,8 @@ pub fn render_prepared(
 /// called after each with the picture so far (its return false stops the
 /// render there); in Whitted mode one pass. The last pass's image, which
 /// for a render that ran to its samples is `render_prepared`'s bit for
-/// bit; None when `cancel` became true. `options.aov` is not looked at.
+/// bit; None when `cancel` became true. `options.aov` is not looked at,
+/// and the image is not denoised (`denoise_rendered`).
 /// `rows_done(n)` as `n` more rows of the current pass are done.
 pub fn render_prepared_progressive(
     prepared: &PreparedScene,
@@ -125,7 +139,46 @@ pub fn render_prepared_progressive(
     Ok(rendered.map(|(image, stats, _)| Rendered {
         image,
         summary: Summary::Shaded(stats),
+        denoising: None,
     }))
+}
+
+/// A shaded render of `prepared` with `options` denoised, when the scene
+/// asks for it (`PreparedScene::denoise`): what `render_prepared` does
+/// after rendering, for a render in passes (`render_prepared_progressive`
+/// leaves it to its caller, who may denoise each pass instead:
+/// `denoise_picture`). A region or tile is given its guides only.
+pub fn denoise_rendered(
+    prepared: &PreparedScene,
+    options: &Options,
+    rendered: Rendered,
+) -> Result<Rendered, Error> {
+    let region = options
+        .part
+        .map(|p| p.region(prepared.size()))
+        .transpose()?;
+    scene3d::denoised(prepared, region, rendered, options.part.is_some())
+}
+
+/// `picture`, a pass of the whole image of `prepared`, denoised at the
+/// scene's quality (`PreparedScene::denoise`; as it is without one), with
+/// the guides kept in `guides` (rendered at the first call): `tracer
+/// watch`'s passes.
+#[cfg(not(target_arch = "wasm32"))]
+pub fn denoise_picture(
+    prepared: &PreparedScene,
+    guides: &mut Option<crate::denoise::Guides>,
+    picture: &Picture,
+) -> Result<Picture, Error> {
+    let Some(quality) = prepared.denoise() else {
+        return Ok(picture.clone());
+    };
+    let guides = guides.get_or_insert_with(|| scene3d::guides(prepared, None));
+    let threads = rayon::current_num_threads();
+    Ok(Picture {
+        linear: crate::denoise::denoise(&picture.linear, guides, quality, threads)?,
+        encoding: picture.encoding,
+    })
 }
 
 /// How many samples a pixel the pass after `samples` (of `total`) adds: 0
@@ -168,6 +221,7 @@ fn draw(file: &CanvasFile, name: &Path, options: &Options) -> Result<Rendered, E
     Ok(Rendered {
         image: draw_canvas(file, options.gamma),
         summary: Summary::Canvas,
+        denoising: None,
     })
 }
 
@@ -182,16 +236,11 @@ fn render_3d(
     let size = (file.camera.width, file.camera.height);
     let region = options.part.map(|p| p.region(size)).transpose()?;
     match options.aov {
-        None => {
-            let shaded = scene3d::shade(file, name, options, region, rows_done, cancel)?;
-            Ok(shaded.map(|(image, stats)| Rendered {
-                image,
-                summary: Summary::Shaded(stats),
-            }))
-        }
+        None => scene3d::shade(file, name, options, region, rows_done, cancel),
         Some(aov) => Ok(Some(Rendered {
             image: scene3d::aov(&file, name, aov, options, region, rows_done)?,
             summary: Summary::Aov(aov),
+            denoising: None,
         })),
     }
 }

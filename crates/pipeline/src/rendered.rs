@@ -1,5 +1,6 @@
 //! What a render gives back: the image and the numbers for its summary.
 
+use crate::denoise::{Guides, Quality};
 use crate::options::Aov;
 use image::{ImageBuffer, Rgb, Rgb32FImage, RgbImage};
 use tracer_core::image::{Encoding, LinearImage};
@@ -9,6 +10,22 @@ use tracer_core::image::{Encoding, LinearImage};
 pub struct Rendered {
     pub image: Picture,
     pub summary: Summary,
+    /// What denoising took and left (`--denoise`), if asked for.
+    pub denoising: Option<Box<Denoising>>,
+}
+
+/// A render's denoising: its guides (which a tile carries, for `tracer
+/// merge --denoise`), and the image before and the time taken when it was
+/// denoised (a tile is not: its edges would not match its neighbours').
+#[derive(Debug, Clone)]
+pub struct Denoising {
+    pub guides: Guides,
+    pub quality: Quality,
+    /// The image as rendered, before denoising; None when not denoised.
+    pub noisy: Option<LinearImage>,
+    /// Seconds the guides took to render, and OIDN to run.
+    pub guide_seconds: f64,
+    pub denoise_seconds: f64,
 }
 
 /// A rendered image before its file format: the renderer's linear values

@@ -4,6 +4,7 @@
 //! that API stays in this file.
 
 use crate::clock::Instant;
+use crate::denoise::{Guides, Quality};
 use crate::options::{Aov, Gamma, Options};
 use crate::rendered::{Picture, ShadedStats};
 use crate::Error;
@@ -24,6 +25,9 @@ pub struct PreparedScene {
     pub(crate) objects: usize,
     /// The scene file's `[render] time_limit`, in seconds.
     pub(crate) time_limit: Option<f32>,
+    /// The denoiser's quality, when the render is to be denoised (`[render]
+    /// denoise` or `--denoise`, in path mode).
+    pub(crate) denoise: Option<Quality>,
     #[serde(skip)]
     pub(crate) prepare_seconds: f64,
 }
@@ -44,6 +48,11 @@ impl PreparedScene {
     pub fn time_limit(&self) -> Option<f64> {
         self.time_limit.map(crate::load::as_written)
     }
+
+    /// The denoiser's quality, if the render is to be denoised.
+    pub fn denoise(&self) -> Option<Quality> {
+        self.denoise
+    }
 }
 
 /// The shaded image, with the scene's gamma (or `options.gamma`) and
@@ -57,19 +66,22 @@ pub(crate) fn shade(
     region: Option<Region>,
     rows_done: &(dyn Fn(u32) + Sync),
     cancel: &AtomicBool,
-) -> Result<Option<(Picture, ShadedStats)>, Error> {
+) -> Result<Option<crate::Rendered>, Error> {
     let mut prepared = prepare_shaded(file, name)?;
     if let Some([x, y]) = options.pixel_shift {
         prepared.scene.shift_pixels(glam::Vec2::new(x, y));
     }
     rows_done(0);
-    Ok(shade_prepared(
-        &prepared,
-        options.gamma,
-        region,
-        rows_done,
-        cancel,
-    ))
+    let Some((image, stats)) = shade_prepared(&prepared, options.gamma, region, rows_done, cancel)
+    else {
+        return Ok(None);
+    };
+    let rendered = crate::Rendered {
+        image,
+        summary: crate::Summary::Shaded(stats),
+        denoising: None,
+    };
+    denoised(&prepared, region, rendered, options.part.is_some()).map(Some)
 }
 
 /// The scene of `file`, prepared and lean (see `prepare_releasing`).
@@ -77,13 +89,90 @@ pub(crate) fn prepare_shaded(file: Cow<SceneFile>, name: &Path) -> Result<Prepar
     let start = Instant::now();
     let objects = file.objects.len();
     let time_limit = file.render.time_limit;
+    let denoise = denoise_asked(&file)?;
     let scene = prepare_releasing(file, name)?;
     Ok(PreparedScene {
         scene,
         objects,
         time_limit,
+        denoise,
         prepare_seconds: start.elapsed().as_secs_f64(),
     })
+}
+
+/// The denoiser's quality if `file` (its options applied) asks for
+/// denoising in path mode; checked before any work that the library is
+/// there. Whitted mode's images have no noise: its `denoise` key is
+/// ignored (with a warning, `scene_format::checks`), and the browser
+/// build has no denoiser.
+fn denoise_asked(file: &SceneFile) -> Result<Option<Quality>, Error> {
+    let render = &file.render;
+    if !render.denoise
+        || render.integrator != scene_format::Integrator::Path
+        || cfg!(target_arch = "wasm32")
+    {
+        return Ok(None);
+    }
+    #[cfg(not(target_arch = "wasm32"))]
+    crate::denoise::available()?;
+    Ok(Some(render.denoise_quality.unwrap_or_default()))
+}
+
+/// Samples per pixel of the denoiser's guides: first hits (and mirrors
+/// and glass) only, so cheap beside the paths; enough to average a
+/// pixel's edges and textures as its paths do.
+pub const GUIDE_SAMPLES: u32 = 16;
+
+/// The guides of `region` (or the whole image) of a prepared scene: the
+/// albedo and shading-normal AOVs, the normal back in -1..1.
+pub(crate) fn guides(prepared: &PreparedScene, region: Option<Region>) -> Guides {
+    let scene = &prepared.scene;
+    let job = job(scene, region).with_samples(GUIDE_SAMPLES);
+    let aov = |aov| tracer_core::render(scene, &job.with_output(Output::Aov(aov)), &|_| {}).image;
+    let albedo = aov(Aov::Albedo);
+    let mut normal = aov(Aov::ShadingNormal);
+    for n in &mut normal.pixels {
+        *n = *n * 2.0 - glam::Vec3::ONE;
+    }
+    Guides { albedo, normal }
+}
+
+/// `rendered`, a shaded render of `region` of `prepared`, denoised when
+/// the scene asks for it: its guides rendered and, unless `guides_only`
+/// (a tile, denoised once merged), OIDN run on the current thread pool's
+/// threads.
+pub(crate) fn denoised(
+    prepared: &PreparedScene,
+    region: Option<Region>,
+    mut rendered: crate::Rendered,
+    guides_only: bool,
+) -> Result<crate::Rendered, Error> {
+    let Some(quality) = prepared.denoise else {
+        return Ok(rendered);
+    };
+    let start = Instant::now();
+    let guides = guides(prepared, region);
+    let guide_seconds = start.elapsed().as_secs_f64();
+    let mut denoising = crate::Denoising {
+        guides,
+        quality,
+        noisy: None,
+        guide_seconds,
+        denoise_seconds: 0.0,
+    };
+    #[cfg(not(target_arch = "wasm32"))]
+    if !guides_only {
+        let start = Instant::now();
+        // As many threads as the render had (its pool, `--threads`).
+        let threads = rayon::current_num_threads();
+        let clean =
+            crate::denoise::denoise(&rendered.image.linear, &denoising.guides, quality, threads)?;
+        denoising.denoise_seconds = start.elapsed().as_secs_f64();
+        denoising.noisy = Some(std::mem::replace(&mut rendered.image.linear, clean));
+    }
+    let _ = guides_only;
+    rendered.denoising = Some(Box::new(denoising));
+    Ok(rendered)
 }
 
 /// `shade` of a prepared scene; progress from the render threads only.

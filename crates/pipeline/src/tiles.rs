@@ -7,13 +7,14 @@
 //! values, from which neither the float file nor (after a gamma) the exact
 //! PNG of the whole render could be remade.
 
+use crate::denoise::{Guides, Quality};
 use crate::load::{Input, Loaded};
 use crate::options::{tile_region, Options, Region};
 use crate::rendered::Picture;
 use exr::prelude::traits::{ReadChannels, ReadLayers, WritableImage};
 use exr::prelude::{
-    AttributeValue, Encoding as ExrEncoding, Image, IntegerBounds, Layer, LayerAttributes,
-    SpecificChannels, Text, Vec2,
+    AttributeValue, ChannelDescription, Encoding as ExrEncoding, Image, IntegerBounds, Layer,
+    LayerAttributes, SpecificChannels, Text, Vec2,
 };
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -76,6 +77,9 @@ pub enum TileError {
     },
     #[error("cannot encode the tile as OpenEXR: {0}")]
     Encode(String),
+    /// `tracer merge --denoise` of tiles without the denoiser's guides.
+    #[error("--denoise: the tiles carry no albedo and normal for the denoiser; render them with `tracer render --denoise --tile I/N -o TILE.exr`")]
+    NoGuides,
     /// `--skip-existing` without an EXR tile to compare with.
     #[error("--skip-existing: only for tiles (--tile or --region with an .exr output), which carry the scene's digest")]
     SkipWithoutTile,
@@ -167,6 +171,15 @@ pub(crate) fn add_file(hash: &mut blake3::Hasher, path: &Path) -> std::io::Resul
     Ok(())
 }
 
+/// The names of a tile's layers when it carries the denoiser's guides (a
+/// multi-part EXR names every part): the colour first, as a reader of the
+/// first layer expects.
+const COLOUR_LAYER: &str = "colour";
+const ALBEDO_LAYER: &str = "albedo";
+const NORMAL_LAYER: &str = "normal";
+/// The denoiser's quality the tile was rendered for, with its guides.
+const DENOISE: &str = "tracer:denoise";
+
 /// A tile as read from its file.
 #[derive(Debug, Clone)]
 pub struct Tile {
@@ -180,23 +193,30 @@ pub struct Tile {
     pub encoding: Encoding,
     /// `(index, count)` of `--tile`.
     pub tile: Option<(u32, u32)>,
+    /// The denoiser's guides of the region and its quality, when the
+    /// render was to be denoised (`--denoise`).
+    pub guides: Option<(Guides, Quality)>,
 }
 
 /// The bytes of the EXR file of `picture`, the `region` of an image of
-/// `size`: linear f32 values, lossless.
+/// `size`: linear f32 values, lossless; with `guides`, the denoiser's
+/// albedo and normal as two more layers.
 pub fn encode(
     picture: &Picture,
     region: Region,
     size: (u32, u32),
     digest: &str,
     tile: Option<(u32, u32)>,
+    guides: Option<(&Guides, Quality)>,
 ) -> Result<Vec<u8>, TileError> {
     let linear = &picture.linear;
-    let width = linear.width as usize;
-    let mut attributes = LayerAttributes {
-        layer_position: Vec2(region.x0 as i32, region.y0 as i32),
+    let position = Vec2(region.x0 as i32, region.y0 as i32);
+    let named = |name: Option<&str>| LayerAttributes {
+        layer_position: position,
+        layer_name: name.map(Text::from),
         ..LayerAttributes::default()
     };
+    let mut attributes = named(guides.map(|_| COLOUR_LAYER));
     let mut put =
         |key: &str, value: AttributeValue| attributes.other.insert(Text::from(key), value);
     put(DIGEST, AttributeValue::Text(Text::from(digest)));
@@ -212,20 +232,26 @@ pub fn encode(
             AttributeValue::Text(Text::from(format!("{index}/{count}").as_str())),
         );
     }
-    let sum = checksum(digest, &picture.encoding, tile, (region, size), linear);
-    put(CHECKSUM, AttributeValue::Text(Text::from(sum.as_str())));
-    let layer = Layer::new(
-        (width, linear.height as usize),
-        attributes,
-        ExrEncoding::FAST_LOSSLESS,
-        SpecificChannels::rgb(|p: Vec2<usize>| {
-            let c = linear.pixels[p.y() * width + p.x()];
-            (c.x, c.y, c.z)
-        }),
+    if let Some((_, quality)) = guides {
+        put(DENOISE, AttributeValue::Text(Text::from(quality.name())));
+    }
+    let guide_images = guides.map(|(g, _)| [&g.albedo, &g.normal]);
+    let sum = checksum(
+        digest,
+        &picture.encoding,
+        tile,
+        (region, size),
+        linear,
+        guide_images,
     );
-    let mut image = Image::from_layer(layer);
-    image.attributes.display_window =
-        IntegerBounds::from_dimensions((size.0 as usize, size.1 as usize));
+    put(CHECKSUM, AttributeValue::Text(Text::from(sum.as_str())));
+    let mut layers = vec![rgb_layer(attributes, linear)];
+    if let Some([albedo, normal]) = guide_images {
+        layers.push(rgb_layer(named(Some(ALBEDO_LAYER)), albedo));
+        layers.push(rgb_layer(named(Some(NORMAL_LAYER)), normal));
+    }
+    let display = IntegerBounds::from_dimensions((size.0 as usize, size.1 as usize));
+    let image = Image::from_layers(exr::prelude::ImageAttributes::new(display), layers);
     let mut bytes = std::io::Cursor::new(Vec::new());
     image
         .write()
@@ -235,14 +261,40 @@ pub fn encode(
     Ok(bytes.into_inner())
 }
 
+/// The EXR layer of `image`: lossless RGB floats (one function makes every
+/// layer, so they are of one type).
+#[allow(clippy::type_complexity)]
+fn rgb_layer(
+    attributes: LayerAttributes,
+    image: &LinearImage,
+) -> Layer<
+    SpecificChannels<
+        impl Fn(Vec2<usize>) -> (f32, f32, f32) + Sync + '_,
+        (ChannelDescription, ChannelDescription, ChannelDescription),
+    >,
+> {
+    let width = image.width as usize;
+    Layer::new(
+        (width, image.height as usize),
+        attributes,
+        ExrEncoding::FAST_LOSSLESS,
+        SpecificChannels::rgb(move |p: Vec2<usize>| {
+            let c = image.pixels[p.y() * width + p.x()];
+            (c.x, c.y, c.z)
+        }),
+    )
+}
+
 /// BLAKE3, in hex, of what a tile says: its digest, encoding, tile number,
-/// region, image size and pixels (their f32 bits, little-endian).
+/// region, image size and pixels (their f32 bits, little-endian), then its
+/// guides' pixels if it has them.
 fn checksum(
     digest: &str,
     encoding: &Encoding,
     tile: Option<(u32, u32)>,
     (region, size): (Region, (u32, u32)),
     linear: &LinearImage,
+    guides: Option<[&LinearImage; 2]>,
 ) -> String {
     let mut hash = blake3::Hasher::new();
     add(&mut hash, digest.as_bytes());
@@ -254,7 +306,8 @@ fn checksum(
         linear.height
     );
     add(&mut hash, said.as_bytes());
-    for c in &linear.pixels {
+    let images = std::iter::once(linear).chain(guides.into_iter().flatten());
+    for c in images.flat_map(|image| &image.pixels) {
         for x in c.to_array() {
             hash.update(&x.to_le_bytes());
         }
@@ -285,11 +338,28 @@ pub fn read(path: &Path) -> Result<Tile, TileError> {
                 image.pixels[i] = glam::Vec3::new(r, g, b);
             },
         )
-        .first_valid_layer()
+        .all_layers()
         .all_attributes()
         .from_buffered(std::io::Cursor::new(bytes))
         .map_err(|e| not_a_tile(format!("not an RGB OpenEXR file ({e})")))?;
-    let other = &image.layer_data.attributes.other;
+    let mut layers = image.layer_data.into_iter();
+    let main = layers
+        .next()
+        .ok_or_else(|| not_a_tile("no layer".to_string()))?;
+    let mut named: Vec<_> = layers
+        .map(|l| {
+            (
+                l.attributes.layer_name.as_ref().map(Text::to_string),
+                l.channel_data.pixels,
+            )
+        })
+        .collect();
+    let mut take = |name: &str| {
+        let at = named.iter().position(|(n, _)| n.as_deref() == Some(name))?;
+        Some(named.swap_remove(at).1)
+    };
+    let guide_images = take(ALBEDO_LAYER).zip(take(NORMAL_LAYER));
+    let other = &main.attributes.other;
     let text = |key: &str| match other.get(&Text::from(key)) {
         Some(AttributeValue::Text(t)) => Some(t.to_string()),
         _ => None,
@@ -314,9 +384,18 @@ pub fn read(path: &Path) -> Result<Tile, TileError> {
         let (i, n) = t.split_once('/')?;
         Some((i.parse().ok()?, n.parse().ok()?))
     });
+    let quality = match text(DENOISE).as_deref() {
+        None => None,
+        Some(name) => Some(
+            Quality::ALL
+                .into_iter()
+                .find(|q| q.name() == name)
+                .ok_or_else(|| not_a_tile(format!("its `{DENOISE}` is not a quality")))?,
+        ),
+    };
     let display = image.attributes.display_window;
-    let position = image.layer_data.attributes.layer_position;
-    let linear = image.layer_data.channel_data.pixels;
+    let position = main.attributes.layer_position;
+    let linear = main.channel_data.pixels;
     let size = (display.size.width() as u32, display.size.height() as u32);
     let region = Region {
         x0: position.x().max(0) as u32,
@@ -339,10 +418,32 @@ pub fn read(path: &Path) -> Result<Tile, TileError> {
         path: path.to_path_buf(),
         reason: reason.to_string(),
     };
-    if checksum(&digest, &encoding, tile, (region, size), &linear) != sum {
+    let guides = match (guide_images, quality) {
+        (Some((albedo, normal)), Some(quality)) => Some((Guides { albedo, normal }, quality)),
+        (None, None) => None,
+        _ => return Err(damaged("it has some of the denoiser's guides but not all")),
+    };
+    let guide_images = guides.as_ref().map(|(g, _)| [&g.albedo, &g.normal]);
+    let sum_now = checksum(
+        &digest,
+        &encoding,
+        tile,
+        (region, size),
+        &linear,
+        guide_images,
+    );
+    if sum_now != sum {
         return Err(damaged(
             "its pixels or attributes are not those it was written with (its checksum fails)",
         ));
+    }
+    let sizes_match = guide_images.is_none_or(|images| {
+        images
+            .iter()
+            .all(|i| (i.width, i.height) == (linear.width, linear.height))
+    });
+    if !sizes_match {
+        return Err(damaged("its guides are not the size of its pixels"));
     }
     if linear.pixels.iter().any(|c| !c.is_finite()) {
         return Err(damaged("it holds pixels that are not finite numbers"));
@@ -354,6 +455,7 @@ pub fn read(path: &Path) -> Result<Tile, TileError> {
         linear,
         encoding,
         tile,
+        guides,
     })
 }
 
@@ -437,7 +539,6 @@ pub fn merge(tiles: &[(PathBuf, Tile)]) -> Result<Picture, TileError> {
     }
     // u32: the owner of each of up to 2^28 pixels, a gigabyte at most.
     let mut owner = vec![u32::MAX; width as usize * height as usize];
-    let mut linear = LinearImage::new(width, height);
     for (n, (path, tile)) in tiles.iter().enumerate() {
         let r = tile.region;
         for y in r.y0..r.y1 {
@@ -452,16 +553,48 @@ pub fn merge(tiles: &[(PathBuf, Tile)]) -> Result<Picture, TileError> {
                     });
                 }
                 owner[at] = n as u32;
-                let from = ((y - r.y0) * tile.linear.width + (x - r.x0)) as usize;
-                linear.pixels[at] = tile.linear.pixels[from];
             }
         }
     }
     // Every pixel has its tile: `first_uncovered` found none without.
     Ok(Picture {
-        linear,
+        linear: paste(tiles, first.size, |t| Some(&t.linear)).expect("every tile has pixels"),
         encoding: first.encoding,
     })
+}
+
+/// The denoiser's guides of the whole image and their quality, when every
+/// tile carries them (tiles `merge` has checked).
+pub fn merged_guides(tiles: &[(PathBuf, Tile)]) -> Option<(Guides, Quality)> {
+    let (_, first) = tiles.first()?;
+    let quality = first.guides.as_ref()?.1;
+    let albedo = paste(tiles, first.size, |t| {
+        t.guides.as_ref().map(|g| &g.0.albedo)
+    })?;
+    let normal = paste(tiles, first.size, |t| {
+        t.guides.as_ref().map(|g| &g.0.normal)
+    })?;
+    Some((Guides { albedo, normal }, quality))
+}
+
+/// The image of `size` that each tile's `image` (of its region) makes;
+/// None if a tile has none.
+fn paste<'a>(
+    tiles: &'a [(PathBuf, Tile)],
+    (width, height): (u32, u32),
+    image: impl Fn(&'a Tile) -> Option<&'a LinearImage>,
+) -> Option<LinearImage> {
+    let mut whole = LinearImage::new(width, height);
+    for (_, tile) in tiles {
+        let (r, part) = (tile.region, image(tile)?);
+        for y in r.y0..r.y1 {
+            let from = ((y - r.y0) * part.width) as usize;
+            let at = (y * width + r.x0) as usize;
+            let n = r.width() as usize;
+            whole.pixels[at..at + n].copy_from_slice(&part.pixels[from..from + n]);
+        }
+    }
+    Some(whole)
 }
 
 /// The first pixel, row by row, that no tile holds: each row's tiles
@@ -550,6 +683,7 @@ mod tests {
             linear,
             encoding,
             tile: None,
+            guides: None,
         };
         (PathBuf::from(format!("{digest}.exr")), tile)
     }

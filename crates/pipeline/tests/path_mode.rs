@@ -62,7 +62,8 @@ fn path_mode_tiles_and_regions_are_the_whole_render_s_pixels_at_any_thread_count
             let picture = render_on(1 + index as usize, &cornell(), &options);
             let digest = tiles::digest(&cornell(), &loaded, &options).unwrap();
             let region = tracer_pipeline::tile_region(index, 3, size);
-            let bytes = tiles::encode(&picture, region, size, &digest, Some((index, 3))).unwrap();
+            let bytes =
+                tiles::encode(&picture, region, size, &digest, Some((index, 3)), None).unwrap();
             let path = dir.path().join(format!("tile-{index}.exr"));
             std::fs::write(&path, bytes).unwrap();
             path

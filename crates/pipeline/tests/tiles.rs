@@ -126,7 +126,7 @@ fn write_tile(dir: &Path, input: &Input, base: &Options, index: u32, count: u32)
     let region = tile_region(index, count, size);
     let picture = render_on(1 + index as usize % 3, input, &options);
     let digest = tiles::digest(input, &loaded, &options).unwrap();
-    let bytes = tiles::encode(&picture, region, size, &digest, Some((index, count))).unwrap();
+    let bytes = tiles::encode(&picture, region, size, &digest, Some((index, count)), None).unwrap();
     let path = dir.join(format!("tile-{index}-of-{count}.exr"));
     std::fs::write(&path, bytes).unwrap();
     path
@@ -193,7 +193,7 @@ fn merge_names_a_missing_an_overlapping_and_a_foreign_tile() {
     let digest = tiles::digest(&dof(), &loaded, &options(None)).unwrap();
     std::fs::write(
         &other,
-        tiles::encode(&part, region, (72, 45), &digest, None).unwrap(),
+        tiles::encode(&part, region, (72, 45), &digest, None, None).unwrap(),
     )
     .unwrap();
     overlapping.push((other.clone(), tiles::read(&other).unwrap()));
@@ -289,7 +289,7 @@ fn made_tile(dir: &Path, name: &str, size: (u32, u32), region: Region, value: f3
         encoding: tracer_core::image::Encoding::default(),
     };
     let digest = "d".repeat(64);
-    let bytes = tiles::encode(&picture, region, size, &digest, None).unwrap();
+    let bytes = tiles::encode(&picture, region, size, &digest, None, None).unwrap();
     let path = dir.join(name);
     std::fs::write(&path, bytes).unwrap();
     path

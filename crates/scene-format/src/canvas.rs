@@ -27,6 +27,7 @@ pub struct CanvasFile {
     /// The JSON Schema an editor checks a JSON canvas against (TOML files
     /// use a `#:schema` comment instead). The tracer ignores it.
     #[serde(rename = "$schema", default, skip_serializing_if = "Option::is_none")]
+    #[schemars(example = "./schema.json")]
     pub schema: Option<String>,
 }
 

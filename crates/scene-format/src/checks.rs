@@ -120,6 +120,12 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
             "ignored in Whitted mode, which renders in one pass; path mode renders in passes that a time limit can stop",
         ));
     }
+    if scene.render.denoise && !path_mode {
+        warnings.push(Diagnostic::new(
+            "render.denoise",
+            "ignored in Whitted mode, whose images have no noise to take out; it is for integrator = \"path\"",
+        ));
+    }
     if scene.render.path_reuse > 1 && !path_mode {
         warnings.push(Diagnostic::new(
             "render.path_reuse",

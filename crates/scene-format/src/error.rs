@@ -3,7 +3,8 @@
 //! as text, each with its source line and a caret.
 
 use crate::diagnostic::{floor_char_boundary, Diagnostic, Location};
-use crate::excerpt::{escape_controls, excerpt, Excerpt, MAX_SHOWN};
+use crate::excerpt::{excerpt, Excerpt, MAX_SHOWN};
+use crate::visible::escape_controls;
 use std::path::{Path, PathBuf};
 
 /// Why a scene file could not be loaded. Its `Display` is the whole report

@@ -5,6 +5,7 @@
 //! escape inside a name never reaches the terminal.
 
 use crate::diagnostic::floor_char_boundary;
+use crate::visible::is_hidden_control;
 use std::ops::Range;
 
 /// Lines longer than this many characters are shown as a window of it.
@@ -78,29 +79,15 @@ fn next_line(text: &str, end: usize) -> Option<Range<usize>> {
 }
 
 /// A character as printed: tabs as one space, control characters (a
-/// terminal escape, a bell) as the replacement character, so the caret
-/// stays aligned and the terminal is not driven by the file.
+/// terminal escape, a bell) and bidirectional controls as the replacement
+/// character, so the caret stays aligned and the terminal is not driven
+/// by the file.
 pub fn printable(c: char) -> char {
     match c {
         '\t' => ' ',
-        c if c.is_control() => '\u{FFFD}',
+        c if is_hidden_control(c) => '\u{FFFD}',
         c => c,
     }
-}
-
-/// Control characters in a message (a name copied from the file) written
-/// as escapes, e.g. `\u{1b}`.
-pub fn escape_controls(message: &str) -> String {
-    if !message.chars().any(char::is_control) {
-        return message.to_string();
-    }
-    message
-        .chars()
-        .map(|c| match c {
-            c if c.is_control() => c.escape_unicode().to_string(),
-            c => c.to_string(),
-        })
-        .collect()
 }
 
 /// The excerpt of `text` showing `span` with `context` lines either side.
@@ -178,6 +165,7 @@ fn window(line: &str, skip: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::visible::escape_controls;
 
     #[test]
     fn lone_carriage_returns_end_lines() {

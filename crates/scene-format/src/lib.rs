@@ -29,6 +29,7 @@ pub mod span_node;
 pub mod span_tree;
 mod suggest;
 pub mod validate;
+pub mod visible;
 
 pub use budget::{Budget, MAX_TRIANGLES};
 pub use canvas::CanvasFile;

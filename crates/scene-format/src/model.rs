@@ -1,6 +1,6 @@
 //! The serde types of a 3D scene file. These names and this nesting are the
 //! contract with users (the scene files they have written, `schema.json`,
-//! the README's reference): extend, never rename.
+//! the book's reference of keys): extend, never rename.
 
 use schemars::JsonSchema;
 use serde::{Deserialize, Deserializer, Serialize};
@@ -11,6 +11,13 @@ pub type Vec3 = [f32; 3];
 pub type Color = [f32; 3];
 /// Texture coordinates (u, v).
 pub type Uv = [f32; 2];
+
+/// Examples the schema gives keys that no scene of `scenes/` uses (the
+/// book's reference shows them). Constants, as schemars' attribute takes a
+/// path but not an array.
+const EXAMPLE_INCLUDE: [&str; 1] = ["lib/materials.toml"];
+const EXAMPLE_SKY: Color = [0.5, 0.6, 0.8];
+const EXAMPLE_UV: [Uv; 3] = [[0.0, 0.0], [1.0, 0.0], [0.5, 1.0]];
 
 /// A 3D scene: a camera, lights, materials and objects.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -45,10 +52,12 @@ pub struct SceneFile {
     /// `lights`, `objects` and `include`; material names are shared, so a
     /// name may be defined once. Default: none.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[schemars(example = EXAMPLE_INCLUDE)]
     pub include: Vec<String>,
     /// The JSON Schema an editor checks a JSON scene against (TOML scenes
     /// use a `#:schema` comment instead). The tracer ignores it.
     #[serde(rename = "$schema", default, skip_serializing_if = "Option::is_none")]
+    #[schemars(example = "./schema.json")]
     pub schema: Option<String>,
 }
 
@@ -66,6 +75,7 @@ pub struct Environment {
     /// sky.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(inner(range(min = 0)))]
+    #[schemars(example = EXAMPLE_SKY)]
     pub color: Option<Color>,
     /// What the radiance is multiplied by (>= 0). Default 1.
     #[serde(default = "one")]
@@ -214,7 +224,7 @@ pub struct RenderSettings {
     pub max_depth: Option<u32>,
     /// The lab's MIN_RAY_ENERGY: no bounce once the energy falls to this.
     /// Whitted only. Default 0.01.
-    #[schemars(range(min = 0))]
+    #[schemars(range(min = 0), extend("x-integrator" = "whitted"))]
     pub min_energy: f32,
     /// The colour of rays that leave the scene (linear, channels >= 0).
     /// With "path" it is a uniform sky that also lights the scene (found by
@@ -239,13 +249,13 @@ pub struct RenderSettings {
     /// Shadow rays per light of `radius` > 0 at each shaded point. Whitted
     /// only: the path tracer samples a sphere light as an emitter, one
     /// point per bounce. Default 16.
-    #[schemars(range(min = 1, max = 4096))]
+    #[schemars(range(min = 1, max = 4096), extend("x-integrator" = "whitted"))]
     pub light_samples: u32,
     /// Path mode: render in passes of doubling samples per pixel (1, 2, 4,
     /// ...) and stop after the last pass that fits in this many seconds
     /// (`tracer render --time-limit` overrides it). Left out: every sample.
     #[serde(skip_serializing_if = "Option::is_none")]
-    #[schemars(extend("exclusiveMinimum" = 0))]
+    #[schemars(extend("exclusiveMinimum" = 0, "x-integrator" = "path"), example = 10)]
     pub time_limit: Option<f32>,
     /// Path mode: how many neighbouring pixels of a row share the light
     /// their paths find beyond the first bounce (path reuse). Where a
@@ -254,7 +264,7 @@ pub struct RenderSettings {
     /// of its indirect light as the group has pixels, unbiased, for one
     /// ray each. 8 gives the Cornell box the least noise for its time. 1
     /// shares nothing. From 1 to 32. Default 1.
-    #[schemars(range(min = 1, max = 32))]
+    #[schemars(range(min = 1, max = 32), extend("x-integrator" = "path"), example = 8)]
     pub path_reuse: u32,
     /// Path mode: camera rays per path for the light a pixel sees
     /// directly (an emitter, the sky), in the pixels where that light
@@ -263,8 +273,49 @@ pub struct RenderSettings {
     /// by this many, stratified together over the pixel's samples, for
     /// what it sees directly; unbiased. Other pixels cost nothing more. 1
     /// is the path's own ray. From 1 to 64. Default 1.
-    #[schemars(range(min = 1, max = 64))]
+    #[schemars(range(min = 1, max = 64), extend("x-integrator" = "path"), example = 8)]
     pub camera_rays: u32,
+    /// Path mode: clean the final image with Intel Open Image Denoise
+    /// (`tracer render --denoise`), guided by the albedo and normal of
+    /// what each pixel sees; the library is installed by `cargo xtask
+    /// oidn`. Default false.
+    #[schemars(extend("x-integrator" = "path"), example = true)]
+    pub denoise: bool,
+    /// The denoiser's quality, as Open Image Denoise names them: "fast",
+    /// "balanced" or "high" (`--denoise-quality` overrides it). Default
+    /// "high".
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("x-integrator" = "path", "default" = "high"), example = &"fast")]
+    pub denoise_quality: Option<DenoiseQuality>,
+}
+
+/// Open Image Denoise's filter quality.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum DenoiseQuality {
+    /// For previews.
+    Fast,
+    /// Between the two.
+    Balanced,
+    /// For final images.
+    #[default]
+    High,
+}
+
+impl DenoiseQuality {
+    pub const ALL: [DenoiseQuality; 3] = [
+        DenoiseQuality::Fast,
+        DenoiseQuality::Balanced,
+        DenoiseQuality::High,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            DenoiseQuality::Fast => "fast",
+            DenoiseQuality::Balanced => "balanced",
+            DenoiseQuality::High => "high",
+        }
+    }
 }
 
 /// Which way light is computed.
@@ -327,6 +378,8 @@ impl Default for RenderSettings {
             time_limit: None,
             path_reuse: 1,
             camera_rays: 1,
+            denoise: false,
+            denoise_quality: None,
         }
     }
 }
@@ -387,8 +440,9 @@ fn white() -> Color {
 #[serde(deny_unknown_fields, default)]
 pub struct Material {
     /// Colour added once per light whatever the light's direction, never
-    /// shadowed (linear, channels from 0 to 1). Default [0, 0, 0].
-    #[schemars(inner(range(min = 0)))]
+    /// shadowed (linear, channels from 0 to 1); path mode ignores it (it
+    /// computes the light that bounces). Default [0, 0, 0].
+    #[schemars(inner(range(min = 0)), extend("x-integrator" = "whitted"))]
     pub ambient: Color,
     /// Lambert colour: times the cosine between the normal and the light
     /// (linear, channels from 0 to 1). Default [0, 0, 0].
@@ -610,6 +664,7 @@ pub struct Object {
     /// vertex order; only with `triangle`. Left out, a triangle's uv are its
     /// barycentrics: [[0, 0], [1, 0], [0, 1]].
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(example = EXAMPLE_UV)]
     pub uv: Option<[Uv; 3]>,
     /// A triangle mesh read from a Wavefront OBJ or a PLY file.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -701,6 +756,7 @@ pub struct Mesh {
     /// A PLY file (ASCII or binary, as scanners write them), relative to the
     /// scene file's folder; faces of more than 3 vertices become fans.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(example = "scans/bunny.ply")]
     pub ply: Option<String>,
     /// Shading normals. Left out: the file's vertex normals (OBJ `vn`, PLY
     /// `nx ny nz`) where it has them, flat elsewhere. true: vertex normals,

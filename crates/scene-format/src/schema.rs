@@ -75,13 +75,13 @@ fn describe_the_one_key(variant: &mut Value) {
     }
 }
 
-/// Defaults are f32 values widened to f64 (0.01 becomes
+/// Defaults and examples are f32 values widened to f64 (0.01 becomes
 /// 0.009999999776482582); show them as written, as the f32's shortest decimal.
 fn tidy_defaults(value: &mut Value) {
     match value {
         Value::Object(map) => {
             for (key, member) in map.iter_mut() {
-                if key == "default" {
+                if key == "default" || key == "examples" {
                     as_written(member);
                 } else {
                     tidy_defaults(member);

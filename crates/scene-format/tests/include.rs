@@ -1,6 +1,6 @@
 //! `include = [...]`: every folder in `tests/include/` is a scene
 //! (`scene.toml`) with the files it includes. The good one merges as the
-//! README says; each bad one is rejected with the problem in the file that
+//! book says (docs/src/guide/include-pack.md); each bad one is rejected with the problem in the file that
 //! holds it, at the key path, line and column listed here (worked out by
 //! reading the files), and its report is snapshotted.
 

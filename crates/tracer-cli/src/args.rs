@@ -4,7 +4,7 @@
 
 use clap::{Args, Subcommand, ValueEnum};
 use std::net::SocketAddr;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use tracer_pipeline::lab::DEFAULT_CHART_SIZE;
 use tracer_pipeline::output::BitDepth;
 use tracer_pipeline::{Aov, Gamma, Input, Options, Part, Region};
@@ -36,6 +36,8 @@ pub struct RenderArgs {
     pub aov: Option<AovArg>,
     #[command(flatten)]
     pub view: ViewArgs,
+    #[command(flatten)]
+    pub denoise: DenoiseArgs,
     /// Render only the pixels X0..X1 by Y0..Y1 (ends exclusive); to an .exr
     /// output a tile for `tracer merge`
     #[arg(long, value_name = "X0,Y0,X1,Y1", value_parser = parse_region, conflicts_with = "tile")]
@@ -122,11 +124,21 @@ pub struct ExplainArgs {
     /// the pixel is the mean of all of its samples)
     #[arg(long, value_name = "K", default_value_t = 0)]
     pub sample: u32,
-    /// Print the tree as JSON instead: its structure is in the README
-    /// ("Learning with the tracer"), its `version` raised when a field
-    /// changes meaning
+    /// Print the tree as JSON instead: its structure is in the book
+    /// (docs/src/reference/explain-json.md), its `version` raised when a
+    /// field changes meaning
     #[arg(long)]
     pub json: bool,
+    /// Keep at most N events of the tree (rays, lights' terms, a path's
+    /// events); beyond, the tree says what it left out. A tree of glass
+    /// under hundreds of lights has millions
+    #[arg(long, value_name = "N", default_value_t = tracer_pipeline::explain::DEFAULT_MAX_EVENTS,
+          value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=100_000_000))]
+    pub max_events: usize,
+    /// Show only the terms of lights[K] (its index in `[[lights]]`) at each
+    /// hit, in Whitted mode
+    #[arg(long, value_name = "K")]
+    pub light: Option<usize>,
     /// Display gamma, overriding the scene's `[render] gamma`
     #[arg(long, value_name = "G", allow_negative_numbers = true)]
     pub gamma: Option<f32>,
@@ -141,6 +153,8 @@ pub struct Explain {
     pub y: u32,
     pub sample: u32,
     pub json: bool,
+    /// What of the tree is kept.
+    pub limits: tracer_pipeline::explain::Limits,
     pub options: Options,
 }
 
@@ -152,6 +166,11 @@ impl ExplainArgs {
             y: self.y,
             sample: self.sample,
             json: self.json,
+            limits: tracer_pipeline::explain::Limits {
+                max_events: self.max_events,
+                light: self.light,
+                ..Default::default()
+            },
             options: Options {
                 gamma: checked(self.gamma)?,
                 ..self.view.options()
@@ -174,6 +193,15 @@ pub struct MergeArgs {
     /// Bits per channel of a PNG output
     #[arg(long, value_name = "BITS", default_value = "8")]
     pub bit_depth: BitDepthArg,
+    /// Denoise the merged image with Intel Open Image Denoise, guided by
+    /// the albedo and normal the tiles carry (tiles rendered with
+    /// --denoise, which are denoised when merged even without this)
+    #[arg(long)]
+    pub denoise: bool,
+    /// The denoiser's quality, overriding the one the tiles were rendered
+    /// for
+    #[arg(long, value_name = "QUALITY")]
+    pub denoise_quality: Option<QualityArg>,
 }
 
 /// What `render` and `watch` share: how many samples, how large, on how
@@ -219,6 +247,69 @@ impl ViewArgs {
             // Set from the output's format once it is known.
             raw_depth: false,
             pixel_shift: None,
+            denoise: false,
+            denoise_quality: None,
+        }
+    }
+}
+
+/// Denoising, in `tracer render` and `tracer watch`.
+#[derive(Args)]
+pub struct DenoiseArgs {
+    /// Path mode: clean the image with Intel Open Image Denoise, guided by
+    /// the albedo and normal of what each pixel sees (as the scene's
+    /// `[render] denoise = true`); install it first with `cargo xtask
+    /// oidn`. A tile (--tile/--region to .exr) carries the guides instead,
+    /// and `tracer merge --denoise` denoises the merged image
+    #[arg(long, conflicts_with = "aov")]
+    pub denoise: bool,
+    /// The denoiser's quality, overriding `[render] denoise_quality`
+    #[arg(long, value_name = "QUALITY", conflicts_with = "aov")]
+    pub denoise_quality: Option<QualityArg>,
+}
+
+impl DenoiseArgs {
+    /// `options` with these set.
+    fn apply(&self, options: Options) -> Options {
+        Options {
+            denoise: self.denoise,
+            denoise_quality: self.denoise_quality.map(Into::into),
+            ..options
+        }
+    }
+}
+
+/// Denoising in `tracer watch` (which has no --aov).
+#[derive(Args)]
+pub struct WatchDenoiseArgs {
+    /// Path mode: denoise each pass shown with Intel Open Image Denoise (as
+    /// the scene's `[render] denoise = true`); install it first with `cargo
+    /// xtask oidn`
+    #[arg(long)]
+    pub denoise: bool,
+    /// The denoiser's quality, overriding `[render] denoise_quality`
+    #[arg(long, value_name = "QUALITY")]
+    pub denoise_quality: Option<QualityArg>,
+}
+
+/// `--denoise-quality`'s values, Open Image Denoise's names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum QualityArg {
+    /// For previews
+    Fast,
+    /// Between the two
+    Balanced,
+    /// For final images (the default)
+    High,
+}
+
+impl From<QualityArg> for tracer_pipeline::denoise::Quality {
+    fn from(q: QualityArg) -> Self {
+        use tracer_pipeline::denoise::Quality;
+        match q {
+            QualityArg::Fast => Quality::Fast,
+            QualityArg::Balanced => Quality::Balanced,
+            QualityArg::High => Quality::High,
         }
     }
 }
@@ -269,11 +360,18 @@ pub enum AovArg {
     RayDirY,
     /// (dir.z + 1) / 2 in blue (gradient-OZ.png)
     RayDirZ,
-    /// (n + 1) / 2 of the surface normal at the nearest hit
+    /// (n + 1) / 2 of the surface normal at the nearest hit (the lab's,
+    /// geometric, not turned toward the ray)
     Normal,
     /// Distance to the nearest hit: near bright, far dark, no hit black (in
     /// .exr and .hdr the distances themselves, 0 for no hit)
     Depth,
+    /// Albedo of the first surface seen that is not a perfect mirror or
+    /// smooth glass (seen through them): the denoiser's guide
+    Albedo,
+    /// (n + 1) / 2 of that surface's shading normal, turned toward the ray;
+    /// grey where nothing is hit: the denoiser's guide
+    ShadingNormal,
 }
 
 impl From<AovArg> for Aov {
@@ -284,6 +382,8 @@ impl From<AovArg> for Aov {
             AovArg::RayDirZ => Aov::RayDirZ,
             AovArg::Normal => Aov::Normal,
             AovArg::Depth => Aov::Depth,
+            AovArg::Albedo => Aov::Albedo,
+            AovArg::ShadingNormal => Aov::ShadingNormal,
         }
     }
 }
@@ -343,6 +443,11 @@ pub struct CheckArgs {
     /// coordinates, +Y up)
     #[arg(long)]
     pub json: bool,
+    /// The files are parts that scenes include: one without a `[camera]`
+    /// passes (exit 0). Without this, a file without one is a warning
+    /// (exit 1): rendering it needs a `[camera]`
+    #[arg(long)]
+    pub part: bool,
 }
 
 /// Render a scene, then again whenever the scene file or a file it reads
@@ -362,6 +467,8 @@ pub struct WatchArgs {
     pub output: Option<PathBuf>,
     #[command(flatten)]
     pub view: ViewArgs,
+    #[command(flatten)]
+    pub denoise: WatchDenoiseArgs,
     /// Also serve a live page at ADDR (a browser shows each render as it
     /// comes, and the scene's errors): loopback only unless ADDR says
     /// otherwise; port 0 picks a free one
@@ -386,7 +493,11 @@ impl WatchArgs {
         Ok(Watch {
             scene: self.scene,
             output,
-            options: self.view.options(),
+            options: Options {
+                denoise: self.denoise.denoise,
+                denoise_quality: self.denoise.denoise_quality.map(Into::into),
+                ..self.view.options()
+            },
             pool: pool(self.view.threads)?,
             serve: self.serve,
         })
@@ -438,6 +549,19 @@ pub struct Render {
     pub quiet: bool,
 }
 
+impl Render {
+    /// The files the command line names for reading: the scene and the
+    /// reference. The output may be none of them (nor any file the scene
+    /// reads, known once it is loaded).
+    pub fn inputs(&self) -> Vec<&Path> {
+        let scene = match &self.input {
+            Input::File(scene) => Some(scene.as_path()),
+            Input::DefaultScene => None,
+        };
+        scene.into_iter().chain(self.reference.as_deref()).collect()
+    }
+}
+
 impl RenderArgs {
     pub fn resolve(self) -> anyhow::Result<Render> {
         Ok(Render {
@@ -451,7 +575,7 @@ impl RenderArgs {
                     (None, Some((index, count))) => Some(Part::Tile { index, count }),
                     (None, None) => None,
                 },
-                ..self.view.options()
+                ..self.denoise.apply(self.view.options())
             },
             bit_depth: self.bit_depth.into(),
             pool: pool(self.view.threads)?,

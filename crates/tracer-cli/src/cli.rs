@@ -1,7 +1,7 @@
 //! The `tracer` command and its subcommands.
 
 use crate::{args, tool_args};
-use clap::{CommandFactory, Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 #[derive(Parser)]
 #[command(
@@ -34,7 +34,32 @@ pub enum Command {
     Compare(crate::compare_args::CompareArgs),
 }
 
-/// The clap definition of `tracer`, for completions and man pages.
+/// The clap definition of `tracer`, for completions and man pages: the
+/// derived one, its help ending with where the book is.
 pub fn command() -> clap::Command {
-    Cli::command()
+    Cli::command().after_help(book_note())
+}
+
+/// The arguments, parsed by [`command`] (so `--help` names the book).
+pub fn parse() -> Cli {
+    let matches = command().get_matches();
+    // The derived definition and `command()` differ only in help text.
+    Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit())
+}
+
+/// Where to read more: the book's pages in the repository, and the HTML
+/// `cargo xtask book` builds, where it has been built beside the source
+/// this binary was built from.
+pub fn book_note() -> String {
+    let mut note = String::from(
+        "The book (a tutorial, a guide by task, every scene key and every message): \
+         docs/src/ in the tracer's repository, from docs/src/SUMMARY.md; \
+         `cargo xtask book` builds it into target/book/.",
+    );
+    let built =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target/book/index.html");
+    if let Ok(path) = built.canonicalize() {
+        note.push_str(&format!(" Built here: {}", path.display()));
+    }
+    note
 }

@@ -42,10 +42,7 @@ fn report_error(e: &anyhow::Error) -> Outcome {
         return Outcome::Ok;
     }
     if let Some(scene) = scene_error(e) {
-        console::stderr(format_args!(
-            "{}",
-            report::render(scene, report::color_wanted())
-        ));
+        console::stderr_report(&report::render(scene, report::color_wanted()));
         return scene_outcome(scene);
     }
     note!("error: {e:#}");

@@ -7,4 +7,4 @@ mod cli;
 pub mod compare_args;
 pub mod tool_args;
 
-pub use cli::{command, Cli, Command};
+pub use cli::{book_note, command, parse, Cli, Command};

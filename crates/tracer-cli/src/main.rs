@@ -6,13 +6,12 @@ mod error;
 mod progress;
 mod report;
 
-use clap::Parser;
 use std::process::ExitCode;
-use tracer_cli::{args, Cli, Command};
+use tracer_cli::{args, Command};
 
 fn main() -> ExitCode {
     // clap exits with 2 on bad arguments, 0 for --help.
-    let cli = Cli::parse();
+    let cli = tracer_cli::parse();
     #[cfg(unix)]
     signals::remove_outputs_on_signal();
     let outcome = match cli.command {

@@ -5,7 +5,8 @@ use miette::{
     Diagnostic, GraphicalReportHandler, LabeledSpan, MietteSpanContents, SourceSpan, SpanContents,
 };
 use scene_format::error::more_problems;
-use scene_format::excerpt::{escape_controls, excerpt, MAX_SHOWN};
+use scene_format::excerpt::{excerpt, MAX_SHOWN};
+use scene_format::visible::escape_controls;
 use scene_format::SceneError;
 use std::fmt;
 

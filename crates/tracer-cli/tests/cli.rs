@@ -739,6 +739,43 @@ fn an_output_that_is_an_input_is_refused_with_exit_2() {
 }
 
 #[test]
+fn a_reference_that_is_the_output_is_refused_with_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cornell = scene("cornell-box.toml");
+    // A reference the render's size: the render would be measured against
+    // it, then written over it.
+    image::Rgb32FImage::from_pixel(8, 8, image::Rgb([0.5, 0.25, 0.125]))
+        .save(d.join("mine.exr"))
+        .unwrap();
+    std::fs::hard_link(d.join("mine.exr"), d.join("linked.exr")).unwrap();
+    let before = std::fs::read(d.join("mine.exr")).unwrap();
+    for (output, reference) in [("mine.exr", "mine.exr"), ("linked.exr", "./mine.exr")] {
+        let args = [
+            "render",
+            &cornell,
+            "-o",
+            output,
+            "--reference",
+            reference,
+            "--width",
+            "8",
+            "--samples",
+            "1",
+        ];
+        let out = tracer(d, &args);
+        let stderr = stderr_of(&out);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains("the output is the input") && stderr.contains("refusing"),
+            "{stderr}"
+        );
+    }
+    assert_eq!(std::fs::read(d.join("mine.exr")).unwrap(), before);
+    assert!(leftovers(d).is_empty());
+}
+
+#[test]
 fn an_output_extension_the_tracer_cannot_write_is_refused_with_the_list() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -1182,12 +1219,23 @@ fn an_included_file_is_checked_and_converted_on_its_own() {
     let stage = "include = [\"look.toml\"]\n[[objects]]\n\
                  sphere = { center = [0, 0, 0], radius = 1 }\nmaterial = \"blue\"\n";
     std::fs::write(d.join("stage.toml"), stage).unwrap();
-    let out = tracer(d, &["check", "look.toml", "stage.toml"]);
+    let out = tracer(d, &["check", "--part", "look.toml", "stage.toml"]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr_of(&out));
     assert!(
         stderr_of(&out).contains("ok: stage.toml, as a file for a scene to include"),
         "{}",
         stderr_of(&out)
+    );
+    // Without --part, a file without a camera is not "ok": a student who
+    // forgot it is told that rendering needs one, and the exit is 1.
+    let out = tracer(d, &["check", "stage.toml"]);
+    let stderr = stderr_of(&out);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("warning: stage.toml has no [camera], so it cannot be rendered")
+            && stderr.contains("tracer check --part stage.toml")
+            && !stderr.contains("ok:"),
+        "{stderr}"
     );
     let out = tracer(d, &["convert", "stage.toml"]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr_of(&out));
@@ -1248,7 +1296,7 @@ fn an_included_file_is_checked_and_converted_on_its_own() {
         "[materials.red]\ndiffuse = [255, 0, 0]\n",
     )
     .unwrap();
-    let out = tracer(d, &["check", "red.toml"]);
+    let out = tracer(d, &["check", "--part", "red.toml"]);
     assert_eq!(out.status.code(), Some(0));
     let stderr = stderr_of(&out);
     assert!(
@@ -1590,7 +1638,7 @@ fn explain_prints_the_tree_and_its_json_has_the_fixed_keys() {
         "{text}"
     );
     // Its JSON: each event's `event` and fields beside `throughput` and
-    // `added`, as the README lists them.
+    // `added`, as the book lists them (docs/src/reference/explain-json.md).
     let cornell = scene("cornell-box.toml");
     let args = ["explain", &cornell, "128", "100", "--sample", "3", "--json"];
     let out = tracer(dir.path(), &args);
@@ -1604,4 +1652,194 @@ fn explain_prints_the_tree_and_its_json_has_the_fixed_keys() {
     assert!(events
         .iter()
         .any(|e| e["event"] == "light_sample" && e["weight"].is_f64()));
+}
+
+/// Nested glass spheres under `lights` point lights, 16x16: each ray of the
+/// tree has every light's terms, and the tree has hundreds of rays.
+fn glass_under_lights(dir: &Path, lights: usize) -> &'static str {
+    let mut text = String::from(
+        "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\nwidth = 16\nheight = 16\n\
+         [render]\nmax_depth = 12\n\
+         [materials.glass]\ndiffuse = [0.1, 0.1, 0.1]\ntransmittance = 0.9\nfresnel = true\n",
+    );
+    for radius in [3.0, 2.5, 2.0, 1.5, 1.0] {
+        text += &format!(
+            "[[objects]]\nsphere = {{ center = [0, 0, 0], radius = {radius} }}\nmaterial = \"glass\"\n"
+        );
+    }
+    for k in 0..lights {
+        let (x, y) = ((k % 20) as f32 - 10.0, (k / 20) as f32 - 7.0);
+        text += &format!("[[lights]]\nposition = [{x}, {y}, 8]\ncolor = [0.01, 0.01, 0.01]\n");
+    }
+    std::fs::write(dir.join("glass.toml"), text).unwrap();
+    "glass.toml"
+}
+
+#[test]
+fn explain_keeps_its_tree_within_its_limit_and_says_what_it_left_out() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let glass = glass_under_lights(d, 300);
+    // The whole tree has about 17,500 events (3.9 MB of text, 23 MB of
+    // JSON); the issue's, of 300 lights too, 387 MB.
+    let out = tracer(d, &["explain", glass, "8", "8"]);
+    assert!(out.status.success(), "{}", stderr_of(&out));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.stdout.len() < 3_000_000, "{} bytes", out.stdout.len());
+    assert!(
+        text.contains("note: the tree is cut at its limit of 10000 events")
+            && text.contains("--max-events N")
+            && text.contains("not kept (the tree's limit"),
+        "{}",
+        &text[..2000]
+    );
+    // The pixel is still the whole sample's, and the image's.
+    let last = text.lines().last().unwrap();
+    assert!(last.contains("the rendered pixel"), "{last}");
+    let out = tracer(d, &["explain", glass, "8", "8", "--json"]);
+    assert!(out.stdout.len() < 16_000_000, "{} bytes", out.stdout.len());
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["cut"]["kept"], 10_000, "{}", json["cut"]);
+    assert!(json["cut"]["left_out"].as_u64().unwrap() > 1000);
+
+    // A smaller limit, and one light's terms alone.
+    let out = tracer(d, &["explain", glass, "8", "8", "--max-events", "40"]);
+    assert!(out.status.success(), "{}", stderr_of(&out));
+    assert!(out.stdout.len() < 20_000, "{} bytes", out.stdout.len());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("limit of 40 events"));
+    let out = tracer(d, &["explain", glass, "8", "8", "--light", "7"]);
+    assert!(out.status.success(), "{}", stderr_of(&out));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("only the terms of lights[7]"),
+        "{}",
+        &text[..2000]
+    );
+    assert!(text.contains("lights[7]: ambient") && !text.contains("lights[8]: ambient"));
+    assert!(!text.contains("the tree is cut"), "{}", &text[..2000]);
+    let out = tracer(d, &["explain", glass, "8", "8", "--light", "300"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr_of(&out).contains("--light 300: the scene has 300 light(s)"));
+}
+
+#[test]
+fn explain_escapes_control_and_bidi_characters_of_names() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // A name that would set the terminal's title and clear the screen,
+    // and one that reverses the text after it.
+    let scene = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\nwidth = 8\nheight = 8\n\
+         [materials.\"red\\u001b]0;PWNED\\u0007\\u001b[2J\\u202egnp.\"]\ndiffuse = [1, 0, 0]\n\
+         [[objects]]\nsphere = { center = [0, 0, 0], radius = 3 }\n\
+         material = \"red\\u001b]0;PWNED\\u0007\\u001b[2J\\u202egnp.\"\n\
+         [[lights]]\nposition = [0, 5, 10]\ncolor = [1, 1, 1]\n";
+    std::fs::write(d.join("s.toml"), scene).unwrap();
+    let out = tracer(d, &["explain", "s.toml", "4", "4"]);
+    assert!(out.status.success(), "{}", stderr_of(&out));
+    let text = String::from_utf8(out.stdout).unwrap();
+    for hidden in ['\u{1b}', '\u{7}', '\u{202e}'] {
+        assert!(!text.contains(hidden), "{hidden:?} echoed: {text}");
+    }
+    assert!(
+        text.contains("`red\\u{1b}]0;PWNED\\u{7}\\u{1b}[2J\\u{202e}gnp.`"),
+        "{text}"
+    );
+    let out = tracer(d, &["explain", "s.toml", "4", "4", "--json"]);
+    let json = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        !json.contains('\u{1b}') && !json.contains('\u{202e}'),
+        "{json}"
+    );
+    let value: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let names = value["names"].to_string();
+    assert!(names.contains("red\\u001b]0;PWNED"), "{names}");
+    // The JSON's strings are the names themselves, escaped only in the text.
+    assert!(json.contains("\\u202egnp."), "{json}");
+}
+
+#[test]
+fn an_hdr_output_keeps_values_beyond_rgbe_as_its_largest_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // An emission of 3e38 is accepted; RGBE holds at most about 1.69e38,
+    // above which the encoder wrote black.
+    std::fs::write(
+        d.join("hot.toml"),
+        "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\nwidth = 4\nheight = 4\n\
+         [materials.hot]\nemission = [3e38, 0, 0]\n\
+         [[objects]]\nsphere = { center = [0, 0, 0], radius = 5 }\nmaterial = \"hot\"\n",
+    )
+    .unwrap();
+    let out = tracer(d, &["render", "hot.toml", "-o", "hot.hdr", "--quiet"]);
+    let stderr = stderr_of(&out);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("hold values above 1.695e38, the largest a Radiance .hdr holds"),
+        "{stderr}"
+    );
+    let image = image::open(d.join("hot.hdr")).unwrap().to_rgb32f();
+    let [r, ..] = image.get_pixel(2, 2).0;
+    assert!(r > 1.6e38, "{r:e}: written black");
+}
+
+/// An OBJ of `n` triangles (a strip), and a scene placing it `objects`
+/// times with an emitting material, in `integrator` mode.
+fn emitting_instances(dir: &Path, n: usize, objects: usize, integrator: &str) {
+    let mut obj = String::new();
+    for k in 0..=n + 1 {
+        obj += &format!("v {} {} 0\n", k / 2, k % 2);
+    }
+    for k in 1..=n {
+        obj += &format!("f {} {} {}\n", k, k + 1, k + 2);
+    }
+    std::fs::write(dir.join("strip.obj"), obj).unwrap();
+    let mut scene = format!(
+        "[camera]\neye = [0, 0, 50]\nlook_at = [0, 0, 0]\nwidth = 8\nheight = 8\n\
+         [render]\nintegrator = \"{integrator}\"\n[materials.lamp]\nemission = [1, 1, 1]\n"
+    );
+    for k in 0..objects {
+        scene += &format!(
+            "[[objects]]\nmesh = {{ obj = \"strip.obj\" }}\nmaterial = \"lamp\"\n\
+             transform = {{ translate = [0, {k}, 0] }}\n"
+        );
+    }
+    std::fs::write(dir.join("lamps.toml"), scene).unwrap();
+}
+
+#[test]
+fn instances_of_an_emitting_mesh_count_their_lights_against_the_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // 1,001 objects placing one mesh of 20,000 emitting triangles: 21,001
+    // primitives to trace, but in path mode 20 million lights, one per
+    // triangle per object (about 3.8 GB): refused before any is made, at
+    // the object that passes the limit.
+    emitting_instances(d, 20_000, 1001, "path");
+    let out = tracer(d, &["check", "lamps.toml"]);
+    let stderr = stderr_of(&out);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("objects[998].mesh")
+            && stderr.contains("20000999 primitives")
+            && stderr.contains("20000 emitting triangles, each a light of its own in path mode"),
+        "{stderr}"
+    );
+    // In Whitted mode they are no lights: the scene is checked fine, and
+    // asking for path mode on the command line is refused the same way.
+    emitting_instances(d, 20_000, 1001, "whitted");
+    let out = tracer(d, &["check", "lamps.toml"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr_of(&out));
+    let args = [
+        "render",
+        "lamps.toml",
+        "--integrator",
+        "path",
+        "-o",
+        "l.png",
+    ];
+    let out = tracer(d, &args);
+    let stderr = stderr_of(&out);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("objects[998].mesh"), "{stderr}");
+    assert!(!d.join("l.png").exists());
 }

@@ -1034,3 +1034,200 @@ fn every_image_of_the_report_loads_in_chromium() {
     assert_eq!((check.total, check.loaded), (14, 13), "{check:?}");
     assert_eq!(check.failed, ["3-heatmap.png"]);
 }
+
+/// A scenes folder of one 8x8 scene, `tiny`, and a class folder holding
+/// its render as `class/tiny-alice.png`: a class report in a moment.
+fn tiny_class(dir: &Path) {
+    std::fs::create_dir_all(dir.join("scenes")).unwrap();
+    std::fs::create_dir_all(dir.join("class")).unwrap();
+    std::fs::write(
+        dir.join("scenes/tiny.toml"),
+        "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\nwidth = 8\nheight = 8\n\
+         [[objects]]\nsphere = { center = [0, 0, 0], radius = 3 }\n\
+         [[lights]]\nposition = [5, 5, 10]\ncolor = [1, 1, 1]\n",
+    )
+    .unwrap();
+    render(dir, "scenes/tiny.toml", "class/tiny-alice.png", &[]);
+}
+
+/// `tracer compare --report class --scenes scenes -o OUT` in `dir`.
+fn class_report(dir: &Path, out: &str) -> Output {
+    let args = [
+        "compare", "--report", "class", "--scenes", "scenes", "-o", out,
+    ];
+    tracer(dir, &args)
+}
+
+#[test]
+fn a_report_folder_holding_other_files_is_refused_and_left_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    tiny_class(d);
+    // What looks like an earlier report, beside a student's other files.
+    let out = d.join("out");
+    std::fs::create_dir_all(out.join("sub")).unwrap();
+    for (name, text) in [
+        ("index.html", "<p>mine</p>"),
+        ("report.csv", "a,b\n"),
+        ("thesis.txt", "chapter 1"),
+        ("sub/data.bin", "data"),
+    ] {
+        std::fs::write(out.join(name), text).unwrap();
+    }
+    let run = class_report(d, "out");
+    let stderr = stderr_of(&run);
+    assert_eq!(run.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("refusing to replace it"), "{stderr}");
+    for (name, text) in [
+        ("index.html", "<p>mine</p>"),
+        ("thesis.txt", "chapter 1"),
+        ("sub/data.bin", "data"),
+    ] {
+        assert_eq!(std::fs::read_to_string(out.join(name)).unwrap(), text);
+    }
+    assert_eq!(leftovers(d), Vec::<String>::new());
+
+    // A report is replaced by the next; once a file of the user's is put
+    // in it, it is not, and the reason names the file.
+    let run = class_report(d, "report");
+    assert_eq!(run.status.code(), Some(0), "{}", stderr_of(&run));
+    let run = class_report(d, "report");
+    assert_eq!(run.status.code(), Some(0), "{}", stderr_of(&run));
+    std::fs::write(d.join("report/thesis.txt"), "chapter 2").unwrap();
+    let run = class_report(d, "report");
+    assert_eq!(run.status.code(), Some(2));
+    assert!(
+        stderr_of(&run).contains("holds thesis.txt, which is not a file of the report"),
+        "{}",
+        stderr_of(&run)
+    );
+    assert!(d.join("report/index.html").is_file());
+    assert_eq!(
+        std::fs::read_to_string(d.join("report/thesis.txt")).unwrap(),
+        "chapter 2"
+    );
+    // An empty folder has nothing to lose: it takes the report.
+    std::fs::create_dir(d.join("empty")).unwrap();
+    let run = class_report(d, "empty");
+    assert_eq!(run.status.code(), Some(0), "{}", stderr_of(&run));
+    assert!(d.join("empty/index.html").is_file());
+    assert_eq!(leftovers(d), Vec::<String>::new());
+}
+
+#[test]
+fn control_and_bidi_characters_of_class_names_are_shown_escaped() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    tiny_class(d);
+    let class = d.join("class");
+    // Clears the screen where printed raw; the other reads "tiny-bob.png"
+    // backwards from its override on, passing for another student's.
+    let image = image::open(class.join("tiny-alice.png"))
+        .unwrap()
+        .into_rgb8();
+    image.save(class.join("tiny-\u{1b}[2Jcarol.png")).unwrap();
+    let mut other = image.clone();
+    other.put_pixel(1, 1, Rgb([255, 0, 255]));
+    other.save(class.join("tiny-\u{202e}gnp.bob.png")).unwrap();
+    // Named after no scene: said on stderr.
+    image.save(class.join("x\u{1b}]0;PWNED\u{7}.png")).unwrap();
+    let run = class_report(d, "report");
+    let (stdout, stderr) = (stdout_of(&run), stderr_of(&run));
+    assert_eq!(run.status.code(), Some(1), "{stdout}{stderr}");
+    let page = std::fs::read_to_string(d.join("report/index.html")).unwrap();
+    for (what, text) in [("table", &stdout), ("notes", &stderr), ("page", &page)] {
+        for hidden in ['\u{1b}', '\u{7}', '\u{202e}'] {
+            assert!(!text.contains(hidden), "{what}: {hidden:?} in {text}");
+        }
+    }
+    assert!(
+        stdout.contains("class/tiny-\\u{1b}[2Jcarol.png"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("class/tiny-\\u{202e}gnp.bob.png"),
+        "{stdout}"
+    );
+    assert!(
+        stderr.contains("skipped: class/x\\u{1b}]0;PWNED\\u{7}.png is named after no scene"),
+        "{stderr}"
+    );
+    assert!(page.contains("tiny-\\u{202e}gnp.bob.png"), "{page}");
+}
+
+#[test]
+fn a_class_file_whose_name_is_not_text_is_said_so() {
+    use std::os::unix::ffi::OsStrExt;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    tiny_class(d);
+    // Latin-1's é: not UTF-8.
+    let name = std::ffi::OsStr::from_bytes(b"tiny-jos\xe9.png");
+    std::fs::copy(d.join("class/tiny-alice.png"), d.join("class").join(name)).unwrap();
+    let run = class_report(d, "report");
+    let stderr = stderr_of(&run);
+    assert_eq!(run.status.code(), Some(0), "{stderr}");
+    assert!(
+        stderr.contains(
+            "skipped: class/tiny-jos\u{fffd}.png its name cannot be read as text (it is not UTF-8)"
+        ),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("named after no scene"), "{stderr}");
+    let page = std::fs::read_to_string(d.join("report/index.html")).unwrap();
+    assert!(page.contains("its name cannot be read as text"), "{page}");
+}
+
+/// The peak resident memory of `tracer ARGS` in `dir`, in bytes, and
+/// whether it exited 0 or 1 (wait4 reports the child's own peak).
+// Waited for by wait4, which clippy does not see.
+#[allow(clippy::zombie_processes)]
+fn peak_memory(dir: &Path, args: &[&str]) -> (u64, i32) {
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_tracer"))
+        .args(args)
+        .current_dir(dir)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut status = 0;
+    // SAFETY: rusage is plain data that wait4 fills in; the pid is our
+    // child's, waited for once.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    let pid = unsafe { libc::wait4(child.id() as libc::pid_t, &mut status, 0, &mut usage) };
+    assert_eq!(pid, child.id() as libc::pid_t);
+    assert!(libc::WIFEXITED(status));
+    // Linux gives ru_maxrss in kilobytes.
+    (usage.ru_maxrss as u64 * 1024, libc::WEXITSTATUS(status))
+}
+
+#[test]
+fn the_report_s_memory_does_not_grow_with_the_class() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    tiny_class(d);
+    // Images of 2048x2048 (12 MB each decoded, a few KB as PNG), another
+    // size than the scene's: each compared at once, without FLIP.
+    let big = RgbImage::from_pixel(2048, 2048, Rgb([10, 20, 30]));
+    std::fs::remove_file(d.join("class/tiny-alice.png")).unwrap();
+    let args = [
+        "compare", "--report", "class", "--scenes", "scenes", "-o", "report",
+    ];
+    let mut peaks = Vec::new();
+    for (k, count) in [(0, 2), (2, 14)] {
+        for i in k..count {
+            big.save(d.join(format!("class/tiny-{i}.png"))).unwrap();
+        }
+        let (peak, code) = peak_memory(d, &args);
+        assert_eq!(code, 1, "images of another size are not within tolerance");
+        peaks.push(peak);
+    }
+    let csv = std::fs::read_to_string(d.join("report/report.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 15, "{csv}");
+    // Holding the 12 more images would take 150 MB more.
+    let (two, fourteen) = (peaks[0], peaks[1]);
+    assert!(
+        fourteen < two + 40_000_000,
+        "2 images: {two} bytes at the peak, 14: {fourteen}"
+    );
+}

@@ -16,7 +16,7 @@ fn stdout_of(out: &Output) -> String {
     String::from_utf8(out.stdout.clone()).unwrap()
 }
 
-/// The commands, as the README lists them.
+/// The commands, as the README's table lists them.
 const COMMANDS: [&str; 10] = [
     "new",
     "convert",

@@ -242,16 +242,22 @@ fn serving_a_scene() -> (tempfile::TempDir, PathBuf, Watching, u16) {
     (dir, scene_path, watching, port)
 }
 
-fn get(path: &str) -> Vec<u8> {
-    format!("GET {path} HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n").into_bytes()
+/// A GET of `path` from the server on `port`, as a browser sends it.
+fn get(port: u16, path: &str) -> Vec<u8> {
+    get_as(&format!("127.0.0.1:{port}"), path)
+}
+
+/// A GET of `path` naming the server `host`.
+fn get_as(host: &str, path: &str) -> Vec<u8> {
+    format!("GET {path} HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n").into_bytes()
 }
 
 #[test]
 fn the_server_serves_the_page_image_and_events_and_nothing_else() {
     let (dir, _, _watching, port) = serving_a_scene();
     std::fs::write(dir.path().join("secret.txt"), "not to be served").unwrap();
-    assert_eq!(status_of(port, &get("/")), "HTTP/1.1 200 OK");
-    assert_eq!(status_of(port, &get("/image.png")), "HTTP/1.1 200 OK");
+    assert_eq!(status_of(port, &get(port, "/")), "HTTP/1.1 200 OK");
+    assert_eq!(status_of(port, &get(port, "/image.png")), "HTTP/1.1 200 OK");
     for path in [
         "/../../etc/passwd",
         "/%2e%2e/%2e%2e/etc/passwd",
@@ -263,17 +269,23 @@ fn the_server_serves_the_page_image_and_events_and_nothing_else() {
         "//etc/passwd",
     ] {
         assert_eq!(
-            status_of(port, &get(path)),
+            status_of(port, &get(port, path)),
             "HTTP/1.1 404 Not Found",
             "{path}"
         );
     }
-    let post = b"POST / HTTP/1.1\r\nHost: x\r\nContent-Length: 3\r\nConnection: close\r\n\r\nabc";
-    assert_eq!(status_of(port, post), "HTTP/1.1 405 Method Not Allowed");
-    let body = b"GET / HTTP/1.1\r\nHost: x\r\nContent-Length: 3\r\nConnection: close\r\n\r\nabc";
-    assert_eq!(status_of(port, body), "HTTP/1.1 413 Payload Too Large");
+    let post = format!("POST / HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nContent-Length: 3\r\nConnection: close\r\n\r\nabc");
+    assert_eq!(
+        status_of(port, post.as_bytes()),
+        "HTTP/1.1 405 Method Not Allowed"
+    );
+    let body = format!("GET / HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nContent-Length: 3\r\nConnection: close\r\n\r\nabc");
+    assert_eq!(
+        status_of(port, body.as_bytes()),
+        "HTTP/1.1 413 Payload Too Large"
+    );
     let huge = format!(
-        "GET / HTTP/1.1\r\nHost: x\r\nX-Big: {}\r\nConnection: close\r\n\r\n",
+        "GET / HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nX-Big: {}\r\nConnection: close\r\n\r\n",
         "a".repeat(100_000)
     );
     let refused = status_of(port, huge.as_bytes());
@@ -282,7 +294,35 @@ fn the_server_serves_the_page_image_and_events_and_nothing_else() {
         "an oversized head was served: {refused}"
     );
     // Still serving after the refusals.
-    assert_eq!(status_of(port, &get("/")), "HTTP/1.1 200 OK");
+    assert_eq!(status_of(port, &get(port, "/")), "HTTP/1.1 200 OK");
+}
+
+#[test]
+fn the_live_page_answers_only_requests_to_its_own_address() {
+    let (_dir, _, _watching, port) = serving_a_scene();
+    // A page of another site whose name was rebound to 127.0.0.1 names
+    // that site: it must not read the image or the scene's numbers.
+    for path in ["/", "/image.png", "/events", "/explain?x=32&y=24"] {
+        for host in [
+            format!("attacker.example:{port}"),
+            "attacker.example".to_string(),
+        ] {
+            assert_eq!(
+                status_of(port, &get_as(&host, path)),
+                "HTTP/1.1 421 Misdirected Request",
+                "{host} {path}"
+            );
+        }
+    }
+    for host in [format!("127.0.0.1:{port}"), format!("localhost:{port}")] {
+        for path in ["/", "/image.png", "/explain?x=32&y=24"] {
+            assert_eq!(
+                status_of(port, &get_as(&host, path)),
+                "HTTP/1.1 200 OK",
+                "{host} {path}"
+            );
+        }
+    }
 }
 
 #[test]
@@ -295,7 +335,7 @@ fn a_vanished_or_silent_client_does_not_stall_rendering() {
     for k in 0..40 {
         let mut stream = std::net::TcpStream::connect(("127.0.0.1", port)).expect("connect");
         if k % 2 == 0 {
-            let _ = stream.write_all(&get("/events"));
+            let _ = stream.write_all(&get(port, "/events"));
         } else {
             let _ = stream.write_all(b"GET / HTTP/1.1\r\n");
         }
@@ -466,15 +506,15 @@ fn a_click_on_the_live_page_shows_that_pixel_s_tree() {
     let (_dir, _scene_path, _watching, port) = serving_a_scene();
     // The endpoint alone: a pixel's tree, a bad query refused.
     assert_eq!(
-        status_of(port, &get("/explain?x=32&y=24")),
+        status_of(port, &get(port, "/explain?x=32&y=24")),
         "HTTP/1.1 200 OK"
     );
     assert_eq!(
-        status_of(port, &get("/explain?x=a&y=2")),
+        status_of(port, &get(port, "/explain?x=a&y=2")),
         "HTTP/1.1 400 Bad Request"
     );
     assert_eq!(
-        status_of(port, &get("/explain?x=640&y=2")),
+        status_of(port, &get(port, "/explain?x=640&y=2")),
         "HTTP/1.1 422 Unprocessable Entity"
     );
     let Some(mut page) = open_page(&format!("http://127.0.0.1:{port}/")) else {
@@ -506,7 +546,7 @@ fn a_click_on_the_live_page_shows_that_pixel_s_tree() {
 /// Asserts that GET `path` is answered 200 within 2 seconds.
 fn assert_served_within_2_s(port: u16, path: &str) {
     let asked = std::time::Instant::now();
-    assert_eq!(status_of(port, &get(path)), "HTTP/1.1 200 OK");
+    assert_eq!(status_of(port, &get(port, path)), "HTTP/1.1 200 OK");
     assert!(
         asked.elapsed() < Duration::from_secs(2),
         "{path}: {:?}",
@@ -533,7 +573,7 @@ fn idle_slow_and_never_reading_clients_do_not_starve_the_page() {
     }
     for _ in 0..40 {
         let mut stream = connect();
-        let _ = stream.write_all(&get("/events"));
+        let _ = stream.write_all(&get(port, "/events"));
         held.push(stream);
     }
     assert_served_within_2_s(port, "/");

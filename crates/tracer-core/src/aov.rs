@@ -1,11 +1,16 @@
 //! Images of one quantity per pixel instead of the shaded colour ("arbitrary
 //! output variables"): the lab's ray-direction images (exercise 6, lab
-//! section 2), the surface normal and the depth, for debugging scenes. The
-//! pixel driver (`render`) computes them, sample by sample.
+//! section 2), the surface normal and the depth, for debugging scenes; and
+//! the albedo and shading normal of what a pixel sees through mirrors and
+//! glass, the denoiser's guides (`guide.rs`). The pixel driver (`render`)
+//! computes them, sample by sample.
+
+mod guide;
 
 use crate::geometry::SurfaceHit;
 use crate::image::{Encoding, Saturation};
 use crate::ray::Ray;
+use crate::sampling::Rng;
 use crate::scene::Scene;
 use glam::Vec3;
 
@@ -26,15 +31,27 @@ pub enum Aov {
     /// from the eye), 0 for no hit. The range is the scene's, not the
     /// image's, so a region of the image gets the greys of the whole.
     Depth,
+    /// The albedo (0 to 1) of the first surface the pixel sees that is not
+    /// a perfect mirror or smooth glass, seen through those
+    /// (`Material::albedo`, times the colours of the mirrors and glass on
+    /// the way); where the ray leaves the scene, what it sees there (the
+    /// environment or background, clamped to 0..1). The denoiser's albedo.
+    Albedo,
+    /// `(n + 1) / 2` of the shading normal of that surface, turned toward
+    /// the ray (in world space); grey (the zero normal) where the ray
+    /// leaves the scene. The denoiser's normal, `2 v - 1`.
+    ShadingNormal,
 }
 
 impl Aov {
-    pub const ALL: [Aov; 5] = [
+    pub const ALL: [Aov; 7] = [
         Aov::RayDirX,
         Aov::RayDirY,
         Aov::RayDirZ,
         Aov::Normal,
         Aov::Depth,
+        Aov::Albedo,
+        Aov::ShadingNormal,
     ];
 
     pub fn name(self) -> &'static str {
@@ -44,12 +61,14 @@ impl Aov {
             Aov::RayDirZ => "ray-dir-z",
             Aov::Normal => "normal",
             Aov::Depth => "depth",
+            Aov::Albedo => "albedo",
+            Aov::ShadingNormal => "shading-normal",
         }
     }
 
     /// Whether its value depends on the ray's nearest hit.
     pub(crate) fn needs_hit(self) -> bool {
-        matches!(self, Aov::Normal | Aov::Depth)
+        !matches!(self, Aov::RayDirX | Aov::RayDirY | Aov::RayDirZ)
     }
 }
 
@@ -80,8 +99,15 @@ impl AovContext {
     }
 
     /// The AOV's value for one primary ray and its nearest hit (looked
-    /// for only when the AOV `needs_hit`).
-    pub(crate) fn value(&self, aov: Aov, ray: &Ray, hit: Option<&SurfaceHit>) -> Vec3 {
+    /// for only when the AOV `needs_hit`) in `scene`; `rng`, the sample's
+    /// random numbers, picks the branch of glass the guides follow.
+    pub(crate) fn value(
+        &self,
+        scene: &Scene,
+        aov: Aov,
+        (ray, hit): (&Ray, Option<&SurfaceHit>),
+        rng: &mut Rng,
+    ) -> Vec3 {
         match aov {
             Aov::RayDirX => channel(0, ray.dir().x),
             Aov::RayDirY => channel(1, ray.dir().y),
@@ -90,6 +116,8 @@ impl AovContext {
             Aov::Depth => hit.map_or(Vec3::ZERO, |hit| {
                 Vec3::splat(self.grey(hit.t * ray.dir().length()))
             }),
+            Aov::Albedo => guide::seen(scene, ray, hit, rng).albedo,
+            Aov::ShadingNormal => (guide::seen(scene, ray, hit, rng).normal + Vec3::ONE) / 2.0,
         }
     }
 
@@ -228,6 +256,132 @@ mod tests {
         let expected = 10.0 * cos - (100.0 * cos * cos - (100.0 - 1.6 * 1.6)).sqrt();
         assert_near(d.get(249, 199), [expected; 3], 1e-4);
         assert_eq!(d.get(0, 0), Vec3::ZERO);
+    }
+
+    fn scene_of(text: &str) -> Scene {
+        let file = scene_format::load_str(text, Format::Toml, Path::new("t.toml")).unwrap();
+        crate::prepare::prepare(&file).unwrap()
+    }
+
+    /// The lab's camera looking down -z at a sphere of `material`, r 1.6.
+    fn sphere_of(material: &str) -> Scene {
+        scene_of(&format!(
+            "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
+             [[objects]]\nsphere = {{ center = [0, 0, 0], radius = 1.6 }}\nmaterial = {material}\n"
+        ))
+    }
+
+    #[test]
+    fn a_lambertian_spheres_albedo_is_its_diffuse_and_a_miss_the_background() {
+        let scene = sphere_of("{ diffuse = [0.2, 0.5, 0.7], specular = [0, 0, 0] }");
+        let albedo = render_aov(&scene, Aov::Albedo);
+        assert_eq!(albedo.get(249, 199), Vec3::new(0.2, 0.5, 0.7));
+        assert_eq!(albedo.get(260, 210), Vec3::new(0.2, 0.5, 0.7));
+        assert_eq!(albedo.get(0, 0), Vec3::ZERO, "the black background");
+        let principled = sphere_of("{ base_color = [0.9, 0.3, 0.1], roughness = 0.5 }");
+        let albedo = render_aov(&principled, Aov::Albedo);
+        assert_near(albedo.get(249, 199), [0.9, 0.3, 0.1], 1e-6);
+    }
+
+    /// A mirror plane at z = 0 facing the eye at z = 10, and behind the
+    /// eye a diffuse wall at z = 20 facing the mirror: the mirror shows it.
+    fn mirror_before_a_wall(mirror: &str) -> Scene {
+        scene_of(&format!(
+            "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
+             [[objects]]\nplane = {{ point = [0, 0, 0], normal = [0, 0, 1] }}\nmaterial = {mirror}\n\
+             [[objects]]\nplane = {{ point = [0, 0, 20], normal = [0, 0, -1] }}\n\
+             material = {{ diffuse = [0.1, 0.6, 0.3], specular = [0, 0, 0] }}\n"
+        ))
+    }
+
+    #[test]
+    fn a_mirrors_albedo_and_normal_are_those_of_what_it_shows() {
+        let scene =
+            mirror_before_a_wall("{ diffuse = [0, 0, 0], specular = [0, 0, 0], reflectance = 1 }");
+        let albedo = render_aov(&scene, Aov::Albedo);
+        assert_near(albedo.get(249, 199), [0.1, 0.6, 0.3], 1e-6);
+        assert_near(albedo.get(10, 20), [0.1, 0.6, 0.3], 1e-6);
+        // The wall faces the mirror: the ray comes back along +z and meets
+        // it head on, its normal (0, 0, -1) toward the ray.
+        let normal = render_aov(&scene, Aov::ShadingNormal);
+        assert_near(normal.get(249, 199), [0.5, 0.5, 0.0], 1e-3);
+        // A smooth metal tints what it shows with its base colour.
+        let gold =
+            mirror_before_a_wall("{ base_color = [1, 0.5, 0.25], metallic = 1, roughness = 0 }");
+        let albedo = render_aov(&gold, Aov::Albedo);
+        assert_near(albedo.get(249, 199), [0.1, 0.3, 0.075], 1e-6);
+        // A mirror that is also diffuse is a surface of its own.
+        let half = mirror_before_a_wall(
+            "{ diffuse = [0.5, 0.5, 0.5], specular = [0, 0, 0], reflectance = 0.5 }",
+        );
+        let albedo = render_aov(&half, Aov::Albedo);
+        assert_near(albedo.get(249, 199), [0.5, 0.5, 0.5], 1e-6);
+    }
+
+    #[test]
+    fn a_spheres_shading_normal_is_the_analytic_normal_where_each_pixel_ray_meets_it() {
+        let scene = sphere_of("{ diffuse = [0.5, 0.5, 0.5] }");
+        let normals = render_aov(&scene, Aov::ShadingNormal);
+        let camera = scene.camera();
+        let mut checked = 0;
+        for (i, j) in [
+            (249, 199),
+            (200, 150),
+            (300, 260),
+            (180, 199),
+            (249, 120),
+            (300, 150),
+        ] {
+            // The one sample a pixel is the ray through its centre.
+            let ray = camera.lens_ray(i as f32 + 0.5, j as f32 + 0.5, glam::Vec2::ZERO);
+            let (o, d) = (ray.origin(), ray.dir().normalize());
+            // |o + t d| = 1.6, the nearer root.
+            let b = o.dot(d);
+            let disc = b * b - (o.length_squared() - 1.6 * 1.6);
+            assert!(disc > 0.0, "pixel ({i}, {j}) sees the sphere");
+            let n = (o + (-b - disc.sqrt()) * d) / 1.6;
+            let got = normals.get(i, j) * 2.0 - Vec3::ONE;
+            assert!((got - n).length() < 1e-3, "({i}, {j}): {got} vs {n}");
+            checked += 1;
+        }
+        assert_eq!(checked, 6);
+        assert_eq!(
+            normals.get(0, 0),
+            Vec3::splat(0.5),
+            "a miss: the zero normal"
+        );
+    }
+
+    #[test]
+    fn smooth_glass_shows_what_is_behind_it_weighted_by_fresnel() {
+        // A thin slab of glass seen head on, a green wall behind it: of
+        // the light through the two faces, 4 % is reflected at each (n =
+        // 1.5), and what is reflected sees the black sky; the samples pick
+        // a branch each, so the mean is near 0.96^2 of the wall's albedo.
+        let scene = scene_of(
+            "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
+             [render]\nsamples = 64\n\
+             [[objects]]\nbox = { min = [-50, -50, -0.5], max = [50, 50, 0.5] }\n\
+             material = { transmission = 1, roughness = 0, base_color = [1, 1, 1] }\n\
+             [[objects]]\nplane = { point = [0, 0, -5], normal = [0, 0, 1] }\n\
+             material = { diffuse = [0, 1, 0], specular = [0, 0, 0] }\n",
+        );
+        let job = RenderJob {
+            region: Region {
+                x0: 200,
+                y0: 150,
+                x1: 300,
+                y1: 250,
+            },
+            samples: 64,
+            output: Output::Aov(Aov::Albedo),
+        };
+        let image = render(&scene, &job, &|_| {}).image;
+        let mean = image.pixels.iter().map(|c| c.y).sum::<f32>() / image.pixels.len() as f32;
+        let expected = 0.96f32 * 0.96;
+        // 640,000 samples of a 0/1 choice of p ~ 0.08: sigma ~ 3e-4.
+        assert!((mean - expected).abs() < 0.003, "{mean} vs {expected}");
+        assert!(image.pixels.iter().all(|c| c.x == 0.0 && c.z == 0.0));
     }
 
     #[test]

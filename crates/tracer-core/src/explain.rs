@@ -1,7 +1,7 @@
 //! Why a pixel has its colour: one sample of it traced again by the
 //! render's own integrator, with a recorder (`integrate::record`) that
-//! keeps every ray, hit, light term and weight. Plain data (serde), for
-//! `tracer explain` to print as text or JSON.
+//! keeps every ray, hit, light term and weight, up to its [`Limits`].
+//! Plain data (serde), for `tracer explain` to print as text or JSON.
 
 use crate::geometry::{Shape, SurfaceHit};
 use crate::integrate::path::PathTracer;
@@ -17,6 +17,54 @@ use serde::Serialize;
 /// Most primitives listed as tested along a ray: beyond, a mesh's
 /// thousands of triangles would bury the tree.
 pub const MAX_TESTED: usize = 64;
+
+/// Events a tree keeps by default (a ray, a light's term, a path's
+/// event): a tree of glass under hundreds of lights has millions, which no
+/// one reads; the lab's scenes have tens to a few hundred.
+pub const DEFAULT_MAX_EVENTS: usize = 10_000;
+/// Bytes a tree keeps at most, whatever the events asked for: its text is
+/// of the same order.
+pub const MAX_BYTES: usize = 256 << 20;
+
+/// How much of a sample's tree is kept. The integrator computes the sample
+/// whole either way (the colour is the render's); what is not kept is
+/// counted in [`Cut`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Limits {
+    /// Events kept at most (the primary ray always is).
+    pub max_events: usize,
+    /// Bytes of the tree's records kept at most.
+    pub max_bytes: usize,
+    /// Only this light's terms (its index in `[[lights]]`), in Whitted
+    /// mode; None: every light's.
+    pub light: Option<usize>,
+}
+
+impl Default for Limits {
+    fn default() -> Limits {
+        Limits {
+            max_events: DEFAULT_MAX_EVENTS,
+            max_bytes: MAX_BYTES,
+            light: None,
+        }
+    }
+}
+
+/// What a tree left out at its limits: counted, so the reader is told.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct Cut {
+    /// The limits it met.
+    pub max_events: usize,
+    /// Events kept, and those left out (a ray left out leaves out all of
+    /// its own: they are counted too).
+    pub kept: usize,
+    pub left_out: usize,
+    /// Of those left out: rays, and lights' terms.
+    pub rays: usize,
+    pub light_terms: usize,
+    /// Whether the bytes' limit was met (else the events').
+    pub bytes: bool,
+}
 
 /// One sample of one pixel, explained.
 #[derive(Debug, Clone, Serialize)]
@@ -34,6 +82,12 @@ pub struct Explanation {
     /// The sample's colour (linear, before the pixel's mean).
     pub colour: Vec3,
     pub trace: Trace,
+    /// What the limits left out; None when the whole tree is kept.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cut: Option<Cut>,
+    /// `Limits::light`: the one light whose terms the tree shows.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub only_light: Option<usize>,
 }
 
 /// What the integrator did with the sample.
@@ -81,6 +135,23 @@ pub struct RayNode {
     pub absorbed: Option<Vec3>,
     /// The ray's colour, times its energy, children included.
     pub colour: Vec3,
+    /// What the tree's limits left out of this ray: its lights' terms and
+    /// its mirror and refracted rays (with theirs).
+    #[serde(skip_serializing_if = "LeftOut::is_none")]
+    pub left_out: LeftOut,
+}
+
+/// Of one ray, what the tree's limits left out.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct LeftOut {
+    pub light_terms: usize,
+    pub rays: usize,
+}
+
+impl LeftOut {
+    pub fn is_none(&self) -> bool {
+        *self == LeftOut::default()
+    }
 }
 
 /// A light's terms at a hit.
@@ -133,17 +204,112 @@ pub enum Outcome {
     Missed,
 }
 
-/// The recorder that builds the tree.
+/// The recorder that builds the tree, within its limits.
 struct TreeRecorder<'a> {
     scene: &'a Scene,
     /// The rays begun and not yet ended, innermost last.
     open: Vec<RayNode>,
     done: Option<RayNode>,
     events: Vec<PathEvent>,
+    limits: Limits,
+    /// Events and bytes kept so far.
+    kept: usize,
+    bytes: usize,
+    /// What was left out.
+    cut: Cut,
+    /// Rays begun past the limits and not yet ended: not kept, and
+    /// nothing of theirs is.
+    skipped: usize,
+}
+
+impl<'a> TreeRecorder<'a> {
+    fn new(scene: &'a Scene, limits: Limits) -> TreeRecorder<'a> {
+        TreeRecorder {
+            scene,
+            open: Vec::new(),
+            done: None,
+            events: Vec::new(),
+            limits,
+            kept: 0,
+            bytes: 0,
+            cut: Cut::default(),
+            skipped: 0,
+        }
+    }
+
+    /// Whether one more event of `bytes` fits the limits: counted as kept
+    /// if so, else as left out.
+    fn keep(&mut self, bytes: usize) -> bool {
+        let events_full = self.kept >= self.limits.max_events;
+        let bytes_full = self.bytes + bytes > self.limits.max_bytes;
+        if events_full || bytes_full {
+            self.cut.left_out += 1;
+            self.cut.bytes |= bytes_full && !events_full;
+            return false;
+        }
+        self.kept += 1;
+        self.bytes += bytes;
+        true
+    }
+
+    /// Whether a light's term is shown: not when it is another light's
+    /// than the one asked for, or inside a ray left out (counted), or past
+    /// the limits (counted at its ray).
+    fn keep_term(&mut self, light: usize, bytes: usize) -> bool {
+        if self.limits.light.is_some_and(|only| only != light) {
+            return false;
+        }
+        if self.skipped > 0 {
+            self.cut.left_out += 1;
+            self.cut.light_terms += 1;
+            return false;
+        }
+        if self.keep(bytes) {
+            return true;
+        }
+        self.cut.light_terms += 1;
+        if let Some(node) = self.open.last_mut() {
+            node.left_out.light_terms += 1;
+        }
+        false
+    }
+
+    /// The open ray that is kept, if the current one is.
+    fn current(&mut self) -> Option<&mut RayNode> {
+        if self.skipped > 0 {
+            return None;
+        }
+        self.open.last_mut()
+    }
+
+    /// What was left out, if anything was.
+    fn cut(&self) -> Option<Cut> {
+        (self.cut.left_out > 0).then_some(Cut {
+            max_events: self.limits.max_events,
+            kept: self.kept,
+            ..self.cut
+        })
+    }
 }
 
 impl Recorder for TreeRecorder<'_> {
     fn ray(&mut self, kind: RayKind, ray: &Ray, energy: f32, depth: u32) {
+        // The primary ray is always kept: the tree's root.
+        let root = self.open.is_empty() && self.done.is_none();
+        if self.skipped > 0 || !root && !self.keep(std::mem::size_of::<RayNode>()) {
+            if self.skipped > 0 {
+                self.cut.left_out += 1;
+            } else if let Some(parent) = self.open.last_mut() {
+                parent.left_out.rays += 1;
+            }
+            self.cut.rays += 1;
+            self.skipped += 1;
+            return;
+        }
+        if root {
+            self.kept += 1;
+            self.bytes += std::mem::size_of::<RayNode>();
+        }
         self.open.push(RayNode {
             kind,
             origin: ray.origin(),
@@ -161,34 +327,45 @@ impl Recorder for TreeRecorder<'_> {
             children: Vec::new(),
             absorbed: None,
             colour: Vec3::ZERO,
+            left_out: LeftOut::default(),
         });
     }
 
     fn emitted(&mut self, emission: Vec3) {
-        if let Some(node) = self.open.last_mut() {
+        if let Some(node) = self.current() {
             node.emitted = Some(emission);
         }
     }
 
     fn absorbed(&mut self, factor: Vec3) {
-        if let Some(node) = self.open.last_mut() {
+        if let Some(node) = self.current() {
             node.absorbed = Some(factor);
         }
     }
 
     fn stopped(&mut self, why: Stop) {
-        if let Some(node) = self.open.last_mut() {
+        if let Some(node) = self.current() {
             node.stopped = Some(why);
         }
     }
 
     fn hit(&mut self, hit: Option<&SurfaceHit>) {
-        let scene = self.scene;
-        let Some(node) = self.open.last_mut() else {
+        let Some(node) = self.current() else {
             return;
         };
         let ray = Ray::new(node.origin, node.direction);
-        node.tested = tested(scene, &ray, hit.map(|h| (h.object, h.t)));
+        let tested = tested(self.scene, &ray, hit.map(|h| (h.object, h.t)));
+        // The list of primitives tested is left out past the bytes' limit
+        // (the hit is kept: a ray without its hit says nothing).
+        let list_bytes = tested
+            .as_ref()
+            .map_or(0, |t| t.len() * std::mem::size_of::<Tested>());
+        let fits = self.bytes + list_bytes <= self.limits.max_bytes;
+        if fits {
+            self.bytes += list_bytes;
+        }
+        let node = self.open.last_mut().expect("the current ray");
+        node.tested = tested.filter(|_| fits);
         node.hit = hit.map(|h| Hit {
             t: h.t,
             point: ray.at(h.t),
@@ -201,12 +378,18 @@ impl Recorder for TreeRecorder<'_> {
     }
 
     fn ambient(&mut self, light: usize, term: Vec3) {
-        if let Some(node) = self.open.last_mut() {
+        if !self.keep_term(light, std::mem::size_of::<(usize, Vec3)>()) {
+            return;
+        }
+        if let Some(node) = self.current() {
             node.ambient.push((light, term));
         }
     }
 
     fn light(&mut self, term: &LightTerm) {
+        if !self.keep_term(term.light, std::mem::size_of::<Lit>()) {
+            return;
+        }
         let blocked_by = term.shadow.filter(|s| s.passes.is_none()).and_then(|s| {
             let ray = Ray::new(s.origin, s.direction);
             let hit = self.scene.closest_hit(&ray, EPSILON, s.length)?;
@@ -215,7 +398,7 @@ impl Recorder for TreeRecorder<'_> {
                 t: hit.t,
             })
         });
-        if let Some(node) = self.open.last_mut() {
+        if let Some(node) = self.current() {
             node.lights.push(Lit {
                 term: *term,
                 blocked_by,
@@ -224,12 +407,16 @@ impl Recorder for TreeRecorder<'_> {
     }
 
     fn local(&mut self, colour: Vec3, texture: Option<Vec3>) {
-        if let Some(node) = self.open.last_mut() {
+        if let Some(node) = self.current() {
             (node.local, node.texture) = (Some(colour), texture);
         }
     }
 
     fn end_ray(&mut self, colour: Vec3) {
+        if self.skipped > 0 {
+            self.skipped -= 1;
+            return;
+        }
         let Some(mut node) = self.open.pop() else {
             return;
         };
@@ -241,7 +428,9 @@ impl Recorder for TreeRecorder<'_> {
     }
 
     fn path(&mut self, event: PathEvent) {
-        self.events.push(event);
+        if self.keep(std::mem::size_of::<PathEvent>()) {
+            self.events.push(event);
+        }
     }
 }
 
@@ -281,22 +470,30 @@ fn behind(shape: &Shape, ray: &Ray) -> Option<f32> {
 }
 
 /// Sample `sample` of pixel (i, j) of `scene` rendered at `samples` a
-/// pixel, traced again with the scene's integrator, explained. Lists the
-/// primitives tested along each ray only for a scene that holds its
-/// objects (`Scene::new`, not `Scene::lean`).
-pub fn explain(scene: &Scene, (i, j): (u32, u32), samples: u32, sample: u32) -> Explanation {
+/// pixel, traced again with the scene's integrator, explained within the
+/// default [`Limits`].
+pub fn explain(scene: &Scene, pixel: (u32, u32), samples: u32, sample: u32) -> Explanation {
+    explain_within(scene, pixel, samples, sample, Limits::default())
+}
+
+/// [`explain`] within `limits`. Lists the primitives tested along each ray
+/// only for a scene that holds its objects (`Scene::new`, not
+/// `Scene::lean`).
+pub fn explain_within(
+    scene: &Scene,
+    (i, j): (u32, u32),
+    samples: u32,
+    sample: u32,
+    limits: Limits,
+) -> Explanation {
     let camera = scene.camera();
     let projection = [
         camera.projection.x_axis,
         camera.projection.y_axis,
         camera.projection.z_axis,
     ];
-    let recorder = TreeRecorder {
-        scene,
-        open: Vec::new(),
-        done: None,
-        events: Vec::new(),
-    };
+    let recorder = TreeRecorder::new(scene, limits);
+    let only_light = limits.light;
     match scene.trace_settings().integrator {
         Integrator::Whitted => {
             let (image_point, lens_point, ray, rng) =
@@ -304,6 +501,7 @@ pub fn explain(scene: &Scene, (i, j): (u32, u32), samples: u32, sample: u32) -> 
             let mut tracer = Whitted::with_recorder(scene, recorder);
             tracer.reseed(rng);
             let colour = tracer.trace(&ray, 1.0, 0);
+            let cut = tracer.rec.cut();
             let tree = tracer.rec.done.expect("the primary ray ended");
             Explanation {
                 sample,
@@ -313,12 +511,15 @@ pub fn explain(scene: &Scene, (i, j): (u32, u32), samples: u32, sample: u32) -> 
                 projection,
                 colour,
                 trace: Trace::Whitted { ray: tree },
+                cut,
+                only_light,
             }
         }
         Integrator::Path => {
             let mut tracer = PathTracer::with_recorder(scene, recorder);
             let mut sampler = PixelSampler::new(i, j, tracer.seed());
             let colour = tracer.sample(&mut sampler, (i, j), sample);
+            let cut = tracer.rec.cut();
             // The camera's ray, as `sample` made it: the first of its numbers.
             let mut again = PixelSampler::new(i, j, tracer.seed());
             again.start(sample);
@@ -328,12 +529,7 @@ pub fn explain(scene: &Scene, (i, j): (u32, u32), samples: u32, sample: u32) -> 
                 None => Vec2::ZERO,
             };
             let ray = camera.lens_ray(image_point.x, image_point.y, lens_point);
-            let mut first = TreeRecorder {
-                scene,
-                open: Vec::new(),
-                done: None,
-                events: Vec::new(),
-            };
+            let mut first = TreeRecorder::new(scene, limits);
             first.ray(RayKind::Primary, &ray, 1.0, 0);
             first.hit(scene.closest_hit(&ray, EPSILON, f32::INFINITY).as_ref());
             first.end_ray(colour);
@@ -348,6 +544,9 @@ pub fn explain(scene: &Scene, (i, j): (u32, u32), samples: u32, sample: u32) -> 
                     ray: first.done.expect("the primary ray ended"),
                     events: tracer.rec.events,
                 },
+                cut,
+                // Path mode's light samples do not name their light.
+                only_light: None,
             }
         }
     }

@@ -28,6 +28,7 @@ pub mod render;
 pub mod sampler;
 pub mod sampling;
 pub mod scene;
+pub mod simd;
 pub mod texture;
 
 pub use camera::Camera;

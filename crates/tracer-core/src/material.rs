@@ -65,6 +65,67 @@ impl Material {
             _ => self.surface().emission,
         }
     }
+
+    /// What the surface sends back at `hit` other than along single
+    /// directions, as path mode reads it (`bsdf/`), each channel 0 to 1:
+    /// the denoiser's albedo guide. A lab material's textured `diffuse`
+    /// plus its highlight's `specular` colour, scaled as `bsdf::LabBsdf`
+    /// scales them (its mirror and glass are left out: single directions);
+    /// a physically based one's textured `base_color` in the share of its
+    /// lobes that are not smooth (the opaque dielectric's diffuse base
+    /// always; its thin specular coat, about 4 %, is left out).
+    pub fn albedo(&self, hit: &SurfaceHit) -> Vec3 {
+        let albedo = match self {
+            Material::Principled(p) => {
+                let [metal, glass, base] = p.shares();
+                let rough = if p.is_smooth() { 0.0 } else { metal + glass };
+                p.textured_base(hit) * (rough + base)
+            }
+            lab => {
+                let (diffuse, specular) = lab.surface().textured(hit);
+                (diffuse + specular) / crate::bsdf::albedo_sum(lab).max(1.0)
+            }
+        };
+        albedo.clamp(Vec3::ZERO, Vec3::ONE)
+    }
+
+    /// How a perfect mirror or smooth glass sends on a ray of unit
+    /// direction `dir` that meets it at `hit` (path mode's reading of it);
+    /// None for a surface with anything else (a diffuse colour, a
+    /// highlight, roughness, an opaque dielectric's base): the surfaces the
+    /// denoiser's guides are followed through.
+    pub fn specular_split(&self, dir: Vec3, hit: &SurfaceHit) -> Option<SpecularSplit> {
+        let facing = if dir.dot(hit.shading_normal) > 0.0 {
+            -hit.shading_normal
+        } else {
+            hit.shading_normal
+        };
+        let reflected = (dir - 2.0 * dir.dot(facing) * facing).normalize();
+        match self {
+            Material::Principled(p) => p.specular_split(dir, hit, facing, reflected),
+            lab => {
+                let surface = lab.surface();
+                if surface.diffuse != Vec3::ZERO || surface.specular != Vec3::ZERO {
+                    return None;
+                }
+                let scale = 1.0 / crate::bsdf::albedo_sum(lab).max(1.0);
+                let split = match lab {
+                    Material::Glass(g) => g.split(dir, hit),
+                    _ => Split {
+                        reflected: surface.reflectance,
+                        transmitted: None,
+                    },
+                };
+                let split = SpecularSplit {
+                    reflected: (reflected, Vec3::splat(split.reflected * scale)),
+                    transmitted: split
+                        .transmitted
+                        .map(|(d, energy)| (d, Vec3::splat(energy * scale))),
+                };
+                (split.energy() > 0.0).then_some(split)
+            }
+        }
+    }
 }
 
 /// A tangent-space normal texture: its texels (read as data) and how far
@@ -115,6 +176,23 @@ impl PrincipledAt {
     }
 }
 
+/// Where a perfectly specular surface sends a ray: its mirror direction
+/// and, through glass, its refracted one, each with the colour of the
+/// light it carries (what a path along it is multiplied by).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpecularSplit {
+    pub reflected: (Vec3, Vec3),
+    /// None for a mirror, or under total internal reflection.
+    pub transmitted: Option<(Vec3, Vec3)>,
+}
+
+impl SpecularSplit {
+    /// The summed channels of both branches' colours.
+    pub fn energy(&self) -> f32 {
+        self.reflected.1.element_sum() + self.transmitted.map_or(0.0, |t| t.1.element_sum())
+    }
+}
+
 /// A physically based material: its parameters (`bsdf::principled`), its
 /// emission and colour texture, and how Whitted mode shades it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -140,7 +218,7 @@ pub struct PrincipledMaterial {
 
 impl PrincipledMaterial {
     /// The material of these parameters, with its Whitted-mode reading, a
-    /// documented approximation (the README's table): the diffuse colour
+    /// documented approximation (the book's table, docs/src/guide/materials.md): the diffuse colour
     /// is `base_color` times the dielectric's opaque share; the highlight's
     /// colour is the reflection at normal incidence (`base_color` for a
     /// metal, the Fresnel F0 of `ior` for a dielectric), its exponent the
@@ -222,6 +300,69 @@ impl PrincipledMaterial {
         }
     }
 
+    /// The shares of the metal, the dielectric that transmits and the
+    /// opaque dielectric in the mixture (`bsdf::principled`'s weights).
+    fn shares(&self) -> [f32; 3] {
+        let unit = |x: f32| if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) };
+        let (metallic, transmission) = (unit(self.metallic), unit(self.transmission));
+        [
+            metallic,
+            (1.0 - metallic) * transmission,
+            (1.0 - metallic) * (1.0 - transmission),
+        ]
+    }
+
+    /// Whether its lobes are single directions (GGX's mirror threshold).
+    fn is_smooth(&self) -> bool {
+        crate::bsdf::microfacet::Ggx::from_roughness(self.roughness).is_smooth()
+    }
+
+    /// `base_color` at `hit`, textured and clamped to 0..1 (as its BSDF
+    /// takes it).
+    fn textured_base(&self, hit: &SurfaceHit) -> Vec3 {
+        let base = match &self.color_texture {
+            Some(texture) => self.base_color * texture.color(hit.uv),
+            None => self.base_color,
+        };
+        base.clamp(Vec3::ZERO, Vec3::ONE)
+    }
+
+    /// `Material::specular_split` of a smooth metal or glass (or a mix of
+    /// the two, without an opaque base): the metal reflects its base
+    /// colour; the glass reflects Fresnel's share, untinted, and refracts
+    /// the rest tinted by its base colour. `facing` is the shading normal
+    /// on `dir`'s side; `reflected` the mirror direction.
+    fn specular_split(
+        &self,
+        dir: Vec3,
+        hit: &SurfaceHit,
+        facing: Vec3,
+        reflected: Vec3,
+    ) -> Option<SpecularSplit> {
+        let [metal, glass, base] = self.shares();
+        if base > 0.0 || !self.is_smooth() {
+            return None;
+        }
+        let colour = self.textured_base(hit);
+        let ior = if self.ior.is_finite() && self.ior > 0.0 {
+            self.ior
+        } else {
+            1.0
+        };
+        let eta = if hit.front_face { 1.0 / ior } else { ior };
+        let refracted = refract(dir, facing, eta);
+        let f = match refracted {
+            Some(_) => fresnel_reflectance(-dir.dot(facing), eta),
+            None => 1.0,
+        };
+        Some(SpecularSplit {
+            reflected: (reflected, metal * colour + Vec3::splat(glass * f)),
+            transmitted: refracted
+                .filter(|_| glass * (1.0 - f) > 0.0)
+                .map(|d| (d, glass * (1.0 - f) * colour)),
+        })
+    }
+
     /// Its parameters, for its BSDF.
     pub fn params(&self) -> crate::bsdf::principled::Principled {
         crate::bsdf::principled::Principled {
@@ -266,6 +407,22 @@ pub struct Phong {
 }
 
 impl Phong {
+    /// The diffuse and highlight colours at `hit`: a colour texture
+    /// multiplies the diffuse one, a lab texture both (it multiplies the
+    /// lab's whole local colour), as path mode reads them.
+    pub fn textured(&self, hit: &SurfaceHit) -> (Vec3, Vec3) {
+        let (mut diffuse, mut specular) = (self.diffuse, self.specular);
+        if let Some(texture) = &self.color_texture {
+            diffuse *= texture.color(hit.uv);
+        }
+        if let Some(texture) = &self.texture {
+            let texel = texture.texel(hit.uv);
+            diffuse *= texel;
+            specular *= texel;
+        }
+        (diffuse, specular)
+    }
+
     /// What an object without a material gets: plain matte grey, so that a
     /// forgotten material still shows the shape.
     pub fn default_grey() -> Phong {

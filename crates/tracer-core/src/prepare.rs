@@ -149,6 +149,33 @@ pub fn shared_meshes(file: &fmt::SceneFile) -> Vec<Option<usize>> {
         .collect()
 }
 
+/// How many of mesh object `o`'s triangles give off light (its material's
+/// emission, or each face's MTL material's when it names none): in path
+/// mode each becomes a light of its own, for every object that places the
+/// mesh, an instance's too (`scene.rs`'s `path_lights`). The limits count
+/// them, as they count what else is built.
+pub fn emitting_triangles(file: &fmt::SceneFile, o: &fmt::Object) -> usize {
+    let Some(data) = o.mesh.as_ref().and_then(|m| m.data.as_ref()) else {
+        return 0;
+    };
+    let emits = |m: &fmt::Material| m.emission != [0.0; 3];
+    match &o.material {
+        Some(fmt::MaterialRef::Inline(m)) if emits(m) => data.triangles.len(),
+        Some(fmt::MaterialRef::Named(name)) if file.materials.get(name).is_some_and(emits) => {
+            data.triangles.len()
+        }
+        Some(_) => 0,
+        // Each face its MTL material, else the default grey.
+        None => (0..data.triangles.len())
+            .filter(|&k| {
+                data.triangle_material(k)
+                    .and_then(|m| data.materials.get(m as usize))
+                    .is_some_and(emits)
+            })
+            .count(),
+    }
+}
+
 /// Mesh object `o` as an instance of its group's shared mesh (prepared
 /// here when `mesh` holds none yet), with material `material` and its
 /// faces' MTL materials `mtl`; nothing when its mesh has no triangle.

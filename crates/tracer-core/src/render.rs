@@ -552,8 +552,8 @@ impl<'a> PixelRenderer<'a> {
         colours: &mut [Vec3],
     ) {
         if !self.needs_hit() {
-            for (ray, colour) in rays.iter().zip(colours) {
-                *colour = self.aov_of(ray, None);
+            for ((ray, rng), colour) in rays.iter().zip(rngs).zip(colours) {
+                *colour = self.aov_of(ray, None, *rng);
             }
             return;
         }
@@ -573,8 +573,8 @@ impl<'a> PixelRenderer<'a> {
             tracer.trace_samples(rays, hits, rngs, colours);
             return;
         }
-        for ((ray, hit), colour) in rays.iter().zip(hits).zip(colours) {
-            *colour = self.aov_of(ray, hit.as_ref());
+        for (((ray, hit), rng), colour) in rays.iter().zip(hits).zip(rngs).zip(colours) {
+            *colour = self.aov_of(ray, hit.as_ref(), *rng);
         }
     }
 
@@ -592,11 +592,12 @@ impl<'a> PixelRenderer<'a> {
     }
 
     /// The AOV or the distance (the outputs other than the shaded
-    /// colour) of a primary ray whose nearest hit is `hit`.
+    /// colour) of a primary ray whose nearest hit is `hit` and whose
+    /// sample's random numbers are `rng`.
     #[inline(always)]
-    fn aov_of(&self, ray: &Ray, hit: Option<&SurfaceHit>) -> Vec3 {
+    fn aov_of(&self, ray: &Ray, hit: Option<&SurfaceHit>, mut rng: Rng) -> Vec3 {
         match self.output {
-            Output::Aov(aov) => self.aov.value(aov, ray, hit),
+            Output::Aov(aov) => self.aov.value(self.scene, aov, (ray, hit), &mut rng),
             _ => self.aov.distance(ray, hit),
         }
     }

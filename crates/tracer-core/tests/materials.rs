@@ -1,6 +1,6 @@
 //! `scenes/materials.toml` (rough and smooth metal and glass under a studio
 //! environment) against Mitsuba 3: `tests/data/materials-mitsuba.exr` is
-//! Mitsuba's render of the same file (`xtask/peers/materials.py reference`,
+//! Mitsuba's render of the same file (`xtask/peers/toml_scene.py reference`,
 //! which builds Mitsuba's scene from the TOML: `roughconductor`,
 //! `roughdielectric`, `envmap`; see `tests/data/README.md`).
 

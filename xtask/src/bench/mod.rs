@@ -1,6 +1,6 @@
 //! `cargo xtask bench`: the tracer against its peers on the benchmark
 //! scenes, all in one run (the machines are noisy: only figures of the same
-//! run compare). See `docs/performance.md`.
+//! run compare). See `docs/src/performance.md`.
 //!
 //! For each scene (the bunny, at 1 and at 16 samples per pixel, its
 //! 1.1M-triangle variant, the lab's reflectance2): BVH build time, render
@@ -15,8 +15,8 @@
 //!   1.1M-triangle bunny.
 //! - `measure`: timing the tracer (with `path`, the files that call
 //!   tracer-core).
-//! - `path`, `path_peers`: the path tracer on the Cornell box against
-//!   Mitsuba 3 and Blender Cycles at equal time (`--only path`).
+//! - `path`, `path_peers`: the path tracer on four scenes against
+//!   Mitsuba 3 (and Blender Cycles) at equal time (`--only path`).
 //! - `process`: timing the whole `tracer render` process on a small scene.
 //! - `pov_scene`: a scene file as POV-Ray SDL.
 //! - `povray`: timing POV-Ray.
@@ -27,7 +27,10 @@
 //!   instances of it (the scene written into `target/bench/`).
 //! - `print`: the report.
 //! - `rusage`: CPU time and peak memory of this process and its children.
+//! - `denoise`: Open Image Denoise on the path tracer's images against the
+//!   Mitsuba references, and its time against `oidnBenchmark`.
 
+mod denoise;
 mod embree;
 mod measure;
 pub mod memory;
@@ -67,11 +70,17 @@ pub struct BenchArgs {
     /// Only these scenes (bunny, bunny-16spp, bunny-1.1m, reflectance2) or
     /// measurements (instancing: peak memory of 1 and 1,000 bunnies;
     /// packets: primary rays at 16 samples per pixel against Embree's
-    /// packet kernels on the same rays; path: the path tracer on the Cornell
-    /// box against Mitsuba 3 and Cycles at equal time; web: the playground
-    /// in headless Chromium against native, one thread, and its workers)
+    /// packet kernels on the same rays; path: the path tracer on four
+    /// scenes against Mitsuba 3 at equal time; web: the playground in
+    /// headless Chromium against native, one thread, and its workers;
+    /// denoise: Open Image Denoise's RMSE against the Mitsuba references and
+    /// its time against oidnBenchmark)
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
+    /// With path: also Mitsuba 3's scalar_rgb, and Blender Cycles on the
+    /// Cornell box (pip install bpy)
+    #[arg(long)]
+    pub all_peers: bool,
 }
 
 /// The `--only` name of the instancing memory measurement.
@@ -104,15 +113,16 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let only = |name: &str| args.only.is_empty() || args.only.iter().any(|o| o == name);
     if !args.only.is_empty() {
         if let Some(unknown) = args.only.iter().find(|o| {
-            ![INSTANCING, PACKETS, path::PATH, web::WEB].contains(&o.as_str())
+            ![INSTANCING, PACKETS, path::PATH, web::WEB, denoise::DENOISE].contains(&o.as_str())
                 && !scenes.iter().any(|s| s.name == *o)
         }) {
             let names: Vec<&str> = scenes.iter().map(|s| s.name).collect();
             bail!(
-                "--only: no scene `{unknown}` (the scenes: {}; or {INSTANCING}, {PACKETS}, {}, {})",
+                "--only: no scene `{unknown}` (the scenes: {}; or {INSTANCING}, {PACKETS}, {}, {}, {})",
                 names.join(", "),
                 path::PATH,
-                web::WEB
+                web::WEB,
+                denoise::DENOISE
             );
         }
         scenes.retain(|s| only(s.name));
@@ -190,7 +200,10 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         }
     }
     if only(path::PATH) {
-        path::report(&path::measure(&root, out_dir.path())?);
+        path::report(&path::measure(&root, out_dir.path(), args.all_peers)?);
+    }
+    if only(denoise::DENOISE) {
+        denoise::report(&denoise::measure(&root)?);
     }
     Ok(())
 }

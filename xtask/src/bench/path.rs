@@ -1,15 +1,19 @@
-//! `cargo xtask bench --only path`: the path tracer on Mitsuba 3's Cornell
-//! box (`scenes/cornell-box.toml`) against Mitsuba 3 and Blender Cycles, and
-//! on `scenes/materials.toml` against Mitsuba 3, at equal time, on 1 and 2
-//! threads. Each renderer renders at doubling
-//! samples per pixel until a render takes the time budget; its RMSE against
-//! the same high-sample reference (Mitsuba's, the scene's `reference`) at
-//! the budget, and the time it takes to reach RMSE 0.01, are read off its
-//! error curve in log-log. The peers run through the scene's script in
+//! `cargo xtask bench --only path`: the path tracer against Mitsuba 3 at
+//! equal time, on 1 and 2 threads, on four scenes: Mitsuba's Cornell box
+//! (`scenes/cornell-box.toml`), metal and glass under a studio's light
+//! (`scenes/materials.toml`), the 70k-triangle bunny and rough gold in the
+//! Cornell box (`scenes/cornell-bunny.toml`) and textures under an HDR sky
+//! (`scenes/courtyard.toml`). Each renderer renders at doubling samples
+//! per pixel until a render takes the time budget; its RMSE against the
+//! same high-sample reference (Mitsuba's, the scene's `reference`) at the
+//! budget, and the time it takes to reach the scene's target RMSE, are read
+//! off its error curve in log-log. The summary is issue 53's table: ours
+//! over the better of Mitsuba's two samplers at equal time (the ratio of
+//! RMSE x sqrt(seconds)). The peers run through the scene's script in
 //! `xtask/peers/` (`path_peers`); one that is not installed is skipped with
 //! one line.
 
-use super::path_peers::{self, BenchScene, FloatImage, Point, Runner};
+use super::path_peers::{self, BenchScene, FloatImage, Peer, Point, Runner};
 use super::rusage;
 use super::THREADS;
 use anyhow::{Context, Result};
@@ -36,6 +40,8 @@ const PEER_SPP: (u32, u32) = (64, 4096);
 pub struct Curve {
     pub scene: &'static str,
     pub renderer: String,
+    /// The peer that rendered it; None for ours.
+    pub peer: Option<Peer>,
     pub threads: usize,
     pub points: Vec<Point>,
     /// CPU seconds over wall seconds of its last render, against the
@@ -76,20 +82,34 @@ fn thread_slot(threads: usize) -> usize {
 }
 
 /// The scenes measured, in the report's order.
-const SCENES: [BenchScene; 2] = [path_peers::CORNELL_BOX, path_peers::MATERIALS];
+const SCENES: [BenchScene; 4] = [
+    path_peers::CORNELL_BOX,
+    path_peers::MATERIALS,
+    path_peers::CORNELL_BUNNY,
+    path_peers::COURTYARD,
+];
 
-/// Our curve and every installed peer's, on each scene and thread count.
-pub fn measure(root: &Path, dir: &Path) -> Result<Vec<Curve>> {
+/// Our curves and every installed peer's, on each scene and thread count:
+/// `Peer::MITSUBA`'s, and with `all_peers` each scene's `more_peers`.
+pub fn measure(root: &Path, dir: &Path, all_peers: bool) -> Result<Vec<Curve>> {
     let mut curves = Vec::new();
-    let peers: Vec<_> = SCENES.iter().flat_map(|b| b.peers).copied().collect();
-    path_peers::install_missing(&peers);
+    let peers_of = |bench: &BenchScene| {
+        let more = if all_peers { bench.more_peers } else { &[] };
+        Peer::MITSUBA
+            .iter()
+            .chain(more)
+            .copied()
+            .collect::<Vec<_>>()
+    };
+    let every_peer: Vec<Peer> = SCENES.iter().flat_map(peers_of).collect();
+    path_peers::install_missing(&every_peer);
     for bench in SCENES {
-        curves.extend(measure_scene(root, dir, bench)?);
+        curves.extend(measure_scene(root, dir, bench, &peers_of(&bench))?);
     }
     Ok(curves)
 }
 
-fn measure_scene(root: &Path, dir: &Path, bench: BenchScene) -> Result<Vec<Curve>> {
+fn measure_scene(root: &Path, dir: &Path, bench: BenchScene, peers: &[Peer]) -> Result<Vec<Curve>> {
     let reference = path_peers::read_image(&root.join(bench.reference))?;
     let scene = load(&root.join(bench.scene))?;
     let shared = with_path_reuse(scene.clone(), SHARED);
@@ -101,11 +121,11 @@ fn measure_scene(root: &Path, dir: &Path, bench: BenchScene) -> Result<Vec<Curve
             "bench: path tracing {} on {threads} thread(s) ...",
             bench.scene
         );
-        for (renderer, scene) in [("tracer (ours)", &scene), (OURS_SHARED, &shared)] {
+        for (renderer, scene) in [(OURS, &scene), (OURS_SHARED, &shared)] {
             let work = (bench.scene, renderer);
             curves.push(ours(work, scene, threads, BUDGET_S[slot], &reference)?);
         }
-        for &peer in bench.peers {
+        for &peer in peers {
             eprintln!("bench: {} on {threads} thread(s) ...", peer.name());
             let (start, max) = PEER_SPP;
             let points = path_peers::until_budget(
@@ -117,11 +137,17 @@ fn measure_scene(root: &Path, dir: &Path, bench: BenchScene) -> Result<Vec<Curve
                 start,
                 max,
                 dir,
-            )?;
+            );
+            // A peer failing twice leaves its curve out, not the run's others.
+            let points = points.unwrap_or_else(|e| {
+                eprintln!("bench: {e:#}; its curve is left out");
+                None
+            });
             if let Some(points) = points {
                 curves.push(Curve {
                     scene: bench.scene,
                     renderer: peer.name(),
+                    peer: Some(peer),
                     threads,
                     points,
                     cpu_share: f64::NAN,
@@ -138,6 +164,9 @@ fn measure_scene(root: &Path, dir: &Path, bench: BenchScene) -> Result<Vec<Curve
 /// rays per path where a pixel shows a light's edge); the scenes' files
 /// leave both at 1.
 const SHARED: (u32, u32) = (8, 8);
+
+/// The name of our curve with the scene's own settings.
+const OURS: &str = "tracer (ours)";
 
 /// The name of that curve.
 const OURS_SHARED: &str = "ours, path_reuse 8, camera_rays 8";
@@ -213,6 +242,7 @@ fn ours(
     Ok(Curve {
         scene: name,
         renderer: renderer.into(),
+        peer: None,
         threads,
         points,
         cpu_share,
@@ -221,7 +251,7 @@ fn ours(
 }
 
 /// The table of every curve, and ours against the best peer at equal time,
-/// scene by scene.
+/// scene by scene; then issue 53's table of the equal-time error ratios.
 pub fn report(curves: &[Curve]) {
     for bench in SCENES {
         let mine: Vec<Curve> = curves
@@ -231,6 +261,7 @@ pub fn report(curves: &[Curve]) {
             .collect();
         report_scene(&bench, &mine);
     }
+    summary(curves);
 }
 
 fn report_scene(bench: &BenchScene, curves: &[Curve]) {
@@ -266,18 +297,11 @@ fn report_scene(bench: &BenchScene, curves: &[Curve]) {
                 show(c.seconds_to(bench.target_rmse), 2),
             );
         }
-        let best = mine
-            .iter()
-            .filter(|c| !is_ours(c))
-            .filter_map(|c| Some((c, c.rmse_at_budget()?)))
-            .min_by(|a, b| a.1.total_cmp(&b.1));
-        for ours in mine.iter().filter(|c| is_ours(c)) {
-            if let (Some((best, best_rmse)), Some(our_rmse)) = (best, ours.rmse_at_budget()) {
+        for ours in mine.iter().filter(|c| c.peer.is_none()) {
+            if let Some((ratio, best)) = equal_time_ratio(ours, &mine) {
                 println!(
-                    "  {} / best peer ({}) at equal time: {:.2} (goal: at most 0.50)",
-                    ours.renderer,
-                    best.renderer,
-                    our_rmse / best_rmse
+                    "  {} / best Mitsuba sampler ({}) at equal time: {ratio:.2} (goal: at most 0.50)",
+                    ours.renderer, best.renderer,
                 );
             }
             if ours.cpu_share < 0.9 * threads as f64 {
@@ -290,9 +314,66 @@ fn report_scene(bench: &BenchScene, curves: &[Curve]) {
     }
 }
 
-/// Whether `curve` is one of ours.
-fn is_ours(curve: &Curve) -> bool {
-    curve.renderer.starts_with("tracer") || curve.renderer.starts_with("ours")
+/// `ours` over the better of `Peer::MITSUBA`'s curves among `curves` (on
+/// its scene and thread count) at equal time: the ratio of their RMSE at
+/// the budget, which is that of their RMSE x sqrt(seconds) wherever the
+/// error falls as the root of the time. With that curve.
+fn equal_time_ratio<'a>(ours: &Curve, curves: &[&'a Curve]) -> Option<(f64, &'a Curve)> {
+    let (best, best_rmse) = best_mitsuba(ours.scene, ours.threads, curves)?;
+    Some((ours.rmse_at_budget()? / best_rmse, best))
+}
+
+/// The curve of `Peer::MITSUBA` with the least RMSE at the budget on
+/// `scene` and `threads`, and that RMSE.
+fn best_mitsuba<'a>(scene: &str, threads: usize, curves: &[&'a Curve]) -> Option<(&'a Curve, f64)> {
+    curves
+        .iter()
+        .filter(|c| c.scene == scene && c.threads == threads)
+        .filter(|c| c.peer.is_some_and(|p| Peer::MITSUBA.contains(&p)))
+        .filter_map(|c| Some((*c, c.rmse_at_budget()?)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+}
+
+/// Issue 53's table: each scene and thread count, ours with the scene's
+/// settings and with `SHARED`'s over the better Mitsuba sampler at equal
+/// time.
+fn summary(curves: &[Curve]) {
+    let all: Vec<&Curve> = curves.iter().collect();
+    println!();
+    println!(
+        "Equal-time error ratio: our RMSE x sqrt(seconds) over the better of Mitsuba 3 \
+         llvm_ad_rgb's independent and multijitter samplers' (below 1: ahead of Mitsuba; \
+         goal: at most 0.5)."
+    );
+    println!();
+    println!(
+        "| scene | threads | Mitsuba's better sampler, RMSE x sqrt(s) | scene defaults | `path_reuse = {}`, `camera_rays = {}` |",
+        SHARED.0, SHARED.1
+    );
+    println!("| --- | ---: | --- | ---: | ---: |");
+    for bench in SCENES {
+        for &threads in &THREADS {
+            let best = best_mitsuba(bench.scene, threads, &all).map_or("-".into(), |(c, rmse)| {
+                let sampler = c.renderer.rsplit(' ').next().unwrap_or("");
+                format!(
+                    "{sampler}, {:.4}",
+                    rmse * BUDGET_S[thread_slot(threads)].sqrt()
+                )
+            });
+            let ratio = |renderer: &str| {
+                let ours = all.iter().find(|c| {
+                    c.scene == bench.scene && c.threads == threads && c.renderer == renderer
+                });
+                show(ours.and_then(|c| equal_time_ratio(c, &all)).map(|r| r.0), 2)
+            };
+            println!(
+                "| `{}` | {threads} | {best} | {} | {} |",
+                bench.scene,
+                ratio(OURS),
+                ratio(OURS_SHARED)
+            );
+        }
+    }
 }
 
 /// The RMSE at `spp` samples per pixel, read off the curve as
@@ -328,6 +409,7 @@ mod tests {
         let curve = Curve {
             scene: "s",
             renderer: "r".into(),
+            peer: None,
             threads: THREADS[0],
             points: vec![point(64, 2.5), point(256, 8.0), point(512, 32.0)],
             cpu_share: 1.0,
@@ -340,5 +422,37 @@ mod tests {
             "{}",
             curve.mpaths()
         );
+    }
+
+    #[test]
+    fn the_ratio_is_against_the_better_of_mitsuba_s_two_samplers_only() {
+        // Each curve one render at the budget: its RMSE there is the point's.
+        let budget = BUDGET_S[thread_slot(THREADS[0])];
+        let curve = |peer: Option<Peer>, rmse| Curve {
+            scene: "s",
+            renderer: peer.map_or(OURS.into(), |p| p.name()),
+            peer,
+            threads: THREADS[0],
+            points: vec![Point {
+                spp: 256,
+                seconds: budget,
+                rmse,
+            }],
+            cpu_share: 1.0,
+            pixels: 1.0,
+        };
+        let [independent, multijitter] = Peer::MITSUBA;
+        let ours = curve(None, 0.006);
+        let curves = [
+            curve(Some(independent), 0.02),
+            curve(Some(multijitter), 0.012),
+            // Faster than both, but not one of the two the issue compares with.
+            curve(Some(Peer::SCALAR), 0.003),
+            curve(Some(Peer::Cycles), 0.001),
+        ];
+        let all: Vec<&Curve> = curves.iter().collect();
+        let (ratio, best) = equal_time_ratio(&ours, &all).unwrap();
+        assert!((ratio - 0.5).abs() < 1e-12, "{ratio}");
+        assert_eq!(best.peer, Some(multijitter));
     }
 }

@@ -18,7 +18,9 @@ pub struct BenchScene {
     /// What the report's heading says of it.
     pub title: &'static str,
     pub scene: &'static str,
-    pub script: &'static str,
+    /// The peers' script and the arguments before its command (paths):
+    /// `toml_scene.py` takes the scene file, whose Mitsuba scene it builds.
+    pub script: &'static [&'static str],
     pub reference: &'static str,
     /// Its reference's own noise, as an RMSE.
     pub reference_noise: f64,
@@ -26,30 +28,53 @@ pub struct BenchScene {
     /// near the time budget, where reading it off needs little
     /// extrapolation.
     pub target_rmse: f64,
-    /// The peers its script renders it in.
-    pub peers: &'static [Peer],
+    /// The peers its script renders it in, beside `Peer::MITSUBA`'s: its
+    /// `--all-peers` ones.
+    pub more_peers: &'static [Peer],
 }
 
 /// Mitsuba 3's Cornell box.
 pub const CORNELL_BOX: BenchScene = BenchScene {
     title: "Mitsuba 3's Cornell box, 256x256, max depth 7 (Mitsuba's 8, Cycles' 6 bounces)",
     scene: "scenes/cornell-box.toml",
-    script: "xtask/peers/cornell.py",
+    script: &["xtask/peers/cornell.py"],
     reference: "crates/tracer-core/tests/data/cornell-box-mitsuba.exr",
     reference_noise: 0.0004,
     target_rmse: 0.01,
-    peers: &Peer::ALL,
+    more_peers: &[Peer::SCALAR, Peer::Cycles],
 };
 
 /// Rough and smooth metal and glass under a studio environment.
 pub const MATERIALS: BenchScene = BenchScene {
     title: "scenes/materials.toml, 480x240, rough metal and glass in an environment, max depth 8 (Mitsuba's 9)",
     scene: "scenes/materials.toml",
-    script: "xtask/peers/materials.py",
+    script: &["xtask/peers/toml_scene.py", "scenes/materials.toml"],
     reference: "crates/tracer-core/tests/data/materials-mitsuba.exr",
     reference_noise: 0.0061,
     target_rmse: 0.08,
-    peers: &[Peer::ALL[0], Peer::ALL[1], Peer::ALL[2]],
+    more_peers: &[Peer::SCALAR],
+};
+
+/// A 70k-triangle mesh and a glossy ball in a room lit by one lamp.
+pub const CORNELL_BUNNY: BenchScene = BenchScene {
+    title: "scenes/cornell-bunny.toml, 256x256, the bunny (69,666 triangles) and rough gold in the Cornell box, max depth 7 (Mitsuba's 8)",
+    scene: "scenes/cornell-bunny.toml",
+    script: &["xtask/peers/toml_scene.py", "scenes/cornell-bunny.toml"],
+    reference: "crates/tracer-core/tests/data/cornell-bunny-mitsuba.exr",
+    reference_noise: 0.0012,
+    target_rmse: 0.02,
+    more_peers: &[Peer::SCALAR],
+};
+
+/// Image textures under an HDR sky with a sun.
+pub const COURTYARD: BenchScene = BenchScene {
+    title: "scenes/courtyard.toml, 320x240, textured floor and crate and rough copper under an HDR sky with a sun, max depth 7 (Mitsuba's 8)",
+    scene: "scenes/courtyard.toml",
+    script: &["xtask/peers/toml_scene.py", "scenes/courtyard.toml"],
+    reference: "crates/tracer-core/tests/data/courtyard-mitsuba.exr",
+    reference_noise: 0.0025,
+    target_rmse: 0.05,
+    more_peers: &[Peer::SCALAR],
 };
 
 /// The script's exit status for a renderer that is not installed (its one
@@ -70,8 +95,10 @@ pub enum Peer {
 }
 
 impl Peer {
-    /// The peers the issue compares against.
-    pub const ALL: [Peer; 4] = [
+    /// The peers every scene is measured against: Mitsuba 3's vectorised
+    /// variant with each of its two samplers (issue 53's "best Mitsuba
+    /// sampler" is the better of these two at equal time).
+    pub const MITSUBA: [Peer; 2] = [
         Peer::Mitsuba {
             variant: "llvm_ad_rgb",
             sampler: "independent",
@@ -80,12 +107,13 @@ impl Peer {
             variant: "llvm_ad_rgb",
             sampler: "multijitter",
         },
-        Peer::Mitsuba {
-            variant: "scalar_rgb",
-            sampler: "independent",
-        },
-        Peer::Cycles,
     ];
+
+    /// Mitsuba 3's scalar variant: one path at a time.
+    pub const SCALAR: Peer = Peer::Mitsuba {
+        variant: "scalar_rgb",
+        sampler: "independent",
+    };
 
     pub fn name(&self) -> String {
         match self {
@@ -126,10 +154,15 @@ pub struct Runner {
 }
 
 impl Runner {
-    pub fn new(root: &Path, script: &str) -> Runner {
+    /// `python3` on `script`: the script and its first arguments, paths
+    /// from `root`.
+    pub fn new(root: &Path, script: &[&str]) -> Runner {
         Runner {
             program: "python3".into(),
-            args: vec![root.join(script).to_string_lossy().into_owned()],
+            args: script
+                .iter()
+                .map(|part| root.join(part).to_string_lossy().into_owned())
+                .collect(),
             timeout: Duration::from_secs(600),
         }
     }
@@ -344,7 +377,7 @@ pub fn until_budget(
     let mut points = Vec::new();
     let mut spp = start_spp.max(1);
     loop {
-        let Some(r) = run(runner, peer, spp, threads, 0, dir)? else {
+        let Some(r) = run_or_retry(runner, peer, spp, threads, dir)? else {
             return Ok(None);
         };
         points.push(Point {
@@ -357,6 +390,22 @@ pub fn until_budget(
         }
         spp = spp.saturating_mul(2).min(max_spp);
     }
+}
+
+/// `run`, tried a second time when it fails: Mitsuba 3.9 once died of
+/// SIGBUS in a bench (not again by hand: perhaps its kernel cache in
+/// ~/.drjit, shared with other processes, changing under it).
+fn run_or_retry(
+    runner: &Runner,
+    peer: Peer,
+    spp: u32,
+    threads: usize,
+    dir: &Path,
+) -> Result<Option<Run>> {
+    run(runner, peer, spp, threads, 0, dir).or_else(|first| {
+        eprintln!("bench: {first:#}; once more");
+        run(runner, peer, spp, threads, 0, dir)
+    })
 }
 
 /// The RMSE at `budget_s`, interpolated in log-log between the renders

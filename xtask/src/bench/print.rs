@@ -1,5 +1,5 @@
 //! The report: Markdown tables of the tracer's figures beside the peers'
-//! from the same run, then the targets of `docs/performance.md`.
+//! from the same run, then the targets of `docs/src/performance.md`.
 
 use super::stats::{median, spread};
 use super::Row;

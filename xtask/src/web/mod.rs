@@ -1,7 +1,9 @@
 //! `cargo xtask web`: the playground, one folder of static files: the page
 //! (web/), its scripts bundled by esbuild (npm packages pinned by
 //! web/package-lock.json), crates/web built for wasm32, and every scene of
-//! scenes/ with the files it reads, listed in `scenes/index.json`.
+//! scenes/ with the files it reads, listed in `scenes/index.json`; and the
+//! book (`cargo xtask book`) as `book/`, when it has been built, which the
+//! page's help link opens.
 
 pub mod serve;
 pub mod toolchain;
@@ -39,7 +41,13 @@ pub fn build(root: &Path, out: &Path) -> Result<()> {
     for page_file in ["index.html", "style.css"] {
         copy(&root.join("web").join(page_file), &out.join(page_file))?;
     }
-    write_scenes(&root.join("scenes"), &out.join("scenes"))
+    write_scenes(&root.join("scenes"), &out.join("scenes"))?;
+    // The book beside the page, for its help link, when it has been built.
+    let book = crate::book::default_out();
+    if book.join("index.html").is_file() {
+        crate::book::build::copy_tree(&book, &out.join("book"))?;
+    }
+    Ok(())
 }
 
 fn copy(from: &Path, to: &Path) -> Result<()> {

@@ -1,59 +1,42 @@
 //! `cargo xtask web --serve`: a tiny static file server for trying the page
-//! (workers and wasm are not allowed from `file://`). GET only, files of the
-//! one folder only, on the address given (127.0.0.1 by default). Not the
-//! `tracer watch --serve` server: that one answers three fixed paths from
-//! memory (the page, the image, the events) and reads no files; this one
-//! only reads files, for a few local tabs and the tests.
+//! (workers and wasm are not allowed from `file://`): files of the one
+//! folder only, on the address given (127.0.0.1 by default). The server
+//! itself is `local_server`'s, as `tracer watch --serve`'s is: GET only,
+//! requests to its own address only, heads bounded in size and time,
+//! connections in number. Unlike that one's, what it serves is files, read
+//! from the folder, for a few local tabs and the tests.
 
 use anyhow::{Context, Result};
-use std::io::{BufRead, BufReader, Write};
-use std::net::{SocketAddr, TcpListener, TcpStream};
+use bytes::Bytes;
+use hyper::StatusCode;
+use local_server::{plain, Limits};
+use std::net::{SocketAddr, ToSocketAddrs};
 use std::path::{Component, Path, PathBuf};
-use std::time::Duration;
+use std::sync::Arc;
 
 /// Serves `dir` on `addr` in a background thread; the address bound.
 pub fn start(dir: &Path, addr: &str) -> Result<SocketAddr> {
-    let listener = TcpListener::bind(addr).with_context(|| format!("cannot listen on {addr}"))?;
-    let bound = listener.local_addr()?;
-    let dir = dir.to_path_buf();
-    std::thread::spawn(move || {
-        for stream in listener.incoming().flatten() {
-            let dir = dir.clone();
-            std::thread::spawn(move || {
-                let _ = answer(&dir, stream);
+    let bind = addr
+        .to_socket_addrs()
+        .with_context(|| format!("cannot listen on {addr}"))?
+        .next()
+        .with_context(|| format!("cannot listen on {addr}: no address"))?;
+    let dir = Arc::new(dir.to_path_buf());
+    let server = local_server::start(bind, Limits::default(), move |request| {
+        let file = file_of(&dir, request.uri().path());
+        async move {
+            // Read on the blocking pool: the server's one thread goes on.
+            let read = tokio::task::spawn_blocking(move || {
+                let file = file?;
+                std::fs::read(&file).ok().map(|body| (file, body))
             });
+            match read.await.ok().flatten() {
+                Some((path, body)) => local_server::bytes(content_type(&path), Bytes::from(body)),
+                None => plain(StatusCode::NOT_FOUND, "not found"),
+            }
         }
-    });
-    Ok(bound)
-}
-
-fn answer(dir: &Path, mut stream: TcpStream) -> std::io::Result<()> {
-    stream.set_read_timeout(Some(Duration::from_secs(5)))?;
-    let mut reader = BufReader::new(stream.try_clone()?);
-    let mut request = String::new();
-    reader.read_line(&mut request)?;
-    // The rest of the head is not needed.
-    let mut line = String::new();
-    while reader.read_line(&mut line)? > 2 {
-        line.clear();
-    }
-    let mut parts = request.split_whitespace();
-    let (method, target) = (parts.next().unwrap_or(""), parts.next().unwrap_or(""));
-    let file = (method == "GET").then(|| file_of(dir, target)).flatten();
-    match file.and_then(|f| std::fs::read(&f).ok().map(|b| (f, b))) {
-        Some((path, body)) => {
-            let head = format!(
-                "HTTP/1.1 200 OK\r\nContent-Type: {}\r\nContent-Length: {}\r\n\
-                 Cache-Control: no-store\r\nConnection: close\r\n\r\n",
-                content_type(&path),
-                body.len()
-            );
-            stream.write_all(head.as_bytes())?;
-            stream.write_all(&body)
-        }
-        None => stream
-            .write_all(b"HTTP/1.1 404 Not Found\r\nContent-Length: 0\r\nConnection: close\r\n\r\n"),
-    }
+    })?;
+    Ok(server.addr)
 }
 
 /// The file a request's target names inside `dir`; none for a path that
@@ -125,5 +108,47 @@ mod tests {
         assert_eq!(file_of(d, "/a%20b/../index.html"), None);
         assert_eq!(file_of(d, "//etc/passwd"), None);
         assert_eq!(file_of(d, "/missing.js"), None);
+    }
+
+    /// The status line of the answer to `request`, sent raw.
+    fn status_of(addr: SocketAddr, request: &[u8]) -> String {
+        use std::io::{Read, Write};
+        let mut stream = std::net::TcpStream::connect(addr).unwrap();
+        stream
+            .set_read_timeout(Some(std::time::Duration::from_secs(10)))
+            .unwrap();
+        let _ = stream.write_all(request);
+        let mut answer = Vec::new();
+        let _ = stream.read_to_end(&mut answer);
+        let answer = String::from_utf8_lossy(&answer);
+        answer.lines().next().unwrap_or("").to_string()
+    }
+
+    #[test]
+    fn an_endless_request_line_and_another_site_s_host_are_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("index.html"), "x").unwrap();
+        let addr = start(dir.path(), "127.0.0.1:0").unwrap();
+        let port = addr.port();
+        let get = |host: &str| {
+            format!("GET / HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n").into_bytes()
+        };
+        assert_eq!(
+            status_of(addr, &get(&format!("127.0.0.1:{port}"))),
+            "HTTP/1.1 200 OK"
+        );
+        // Another site's page, its name rebound to 127.0.0.1.
+        assert_eq!(
+            status_of(addr, &get(&format!("attacker.example:{port}"))),
+            "HTTP/1.1 421 Misdirected Request"
+        );
+        // A request line that never ends (the server once read it into
+        // memory until an allocation failed): refused, and served on.
+        let status = status_of(addr, &vec![b'A'; 4 << 20]);
+        assert_eq!(status, "HTTP/1.1 431 Request Header Fields Too Large");
+        assert_eq!(
+            status_of(addr, &get(&format!("localhost:{port}"))),
+            "HTTP/1.1 200 OK"
+        );
     }
 }

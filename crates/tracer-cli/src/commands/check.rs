@@ -10,6 +10,7 @@ pub fn run(args: &CheckArgs) -> Outcome {
     let color = report::color_wanted();
     let mut outcome = Outcome::Ok;
     let mut bad = 0;
+    let mut no_camera = false;
     for scene in &args.scenes {
         match tracer_pipeline::load_or_part(scene) {
             Ok(Checked::Whole(loaded)) => {
@@ -33,7 +34,7 @@ pub fn run(args: &CheckArgs) -> Outcome {
                     }
                 }
             }
-            Ok(Checked::Part(loaded)) => {
+            Ok(Checked::Part(loaded)) if args.part => {
                 report::warnings(&loaded, &tracer_pipeline::Options::default());
                 note!(
                     "ok: {}, as a file for a scene to include (it has no [camera], which \
@@ -42,12 +43,27 @@ pub fn run(args: &CheckArgs) -> Outcome {
                     scene.display()
                 );
             }
+            Ok(Checked::Part(loaded)) => {
+                report::warnings(&loaded, &tracer_pipeline::Options::default());
+                // A student who forgot the camera must not read "ok".
+                note!(
+                    "warning: {0} has no [camera], so it cannot be rendered: rendering needs a \
+                     [camera] (eye, look_at). Its other keys are right as far as they go. If it \
+                     is a file for scenes to include, `tracer check --part {0}` checks it as one",
+                    scene.display()
+                );
+                no_camera = true;
+            }
             Err(e) => {
                 bad += 1;
-                console::stderr(format_args!("{}", report::render(&e, color)));
+                console::stderr_report(&report::render(&e, color));
                 outcome = outcome.max(scene_outcome(&e));
             }
         }
+    }
+    // Exit 1: not a mistake in a file (2), but not a scene that renders.
+    if no_camera && outcome == Outcome::Ok {
+        outcome = Outcome::Failure;
     }
     if bad > 0 {
         note!(

@@ -4,8 +4,9 @@
 use crate::args::MergeArgs;
 use crate::console::note;
 use anyhow::Result;
+use std::time::Instant;
 use tracer_pipeline::output::{check_not_an_input, PendingOutput};
-use tracer_pipeline::{tiles, Error};
+use tracer_pipeline::{denoise, tiles, Error};
 
 pub fn run(args: &MergeArgs) -> Result<()> {
     check_not_an_input(&args.output, &args.tiles).map_err(Error::from)?;
@@ -20,13 +21,33 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         .map(|path| Ok((path.clone(), tiles::read(path)?)))
         .collect::<Result<Vec<_>, tiles::TileError>>()
         .map_err(Error::from)?;
-    let picture = tiles::merge(&read).map_err(Error::from)?;
+    let mut picture = tiles::merge(&read).map_err(Error::from)?;
+    let guides = tiles::merged_guides(&read);
+    if args.denoise && guides.is_none() {
+        return Err(Error::from(tiles::TileError::NoGuides).into());
+    }
+    let mut denoised = String::new();
+    if let Some((guides, quality)) = guides {
+        let quality = args.denoise_quality.map_or(quality, Into::into);
+        let start = Instant::now();
+        let threads = rayon::current_num_threads();
+        picture.linear =
+            denoise::denoise(&picture.linear, &guides, quality, threads).map_err(Error::from)?;
+        denoised = format!(
+            ", denoised ({}) in {:.3} s",
+            quality.name(),
+            start.elapsed().as_secs_f64()
+        );
+    }
+    if let Some(warning) = pending.picture_warning(&picture) {
+        note!("warning: {}: {warning}", args.output.display());
+    }
     pending
         .write_picture(&picture, depth)
         .map_err(Error::from)?;
     let (width, height) = picture.dimensions();
     note!(
-        "merged {} tiles ({width}x{height}) -> {}",
+        "merged {} tiles ({width}x{height}){denoised} -> {}",
         read.len(),
         args.output.display()
     );

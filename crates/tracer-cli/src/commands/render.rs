@@ -13,7 +13,7 @@ use std::sync::atomic::AtomicBool;
 use tracer_pipeline::cache::{CacheEntry, Cached, SceneCache};
 use tracer_pipeline::output::{check_not_an_input, ImageFormat, PendingOutput};
 use tracer_pipeline::{
-    default_output, tiles, Error, Input, Part, PreparedScene, Rendered, ShadedStats, Summary,
+    default_output, tiles, Error, Part, PreparedScene, Rendered, ShadedStats, Summary,
 };
 
 pub fn run(args: &Render) -> Result<()> {
@@ -23,9 +23,7 @@ pub fn run(args: &Render) -> Result<()> {
         .unwrap_or_else(|| default_output(&args.input.name(), args.options.aov));
     // The output is checked (and its temporary file made) before any work,
     // so a wrong path does not cost a render.
-    if let Input::File(scene) = &args.input {
-        check_not_an_input(&output, &[scene]).map_err(Error::from)?;
-    }
+    check_not_an_input(&output, &args.inputs()).map_err(Error::from)?;
     let pending = PendingOutput::create(&output).map_err(Error::from)?;
     // A tile keeps --gamma in its header, for the 8-bit file of the merge.
     let is_tile = args.options.part.is_some() && pending.format() == ImageFormat::Exr;
@@ -98,17 +96,30 @@ pub fn run(args: &Render) -> Result<()> {
                 Some(Part::Tile { index, count }) => Some((index, count)),
                 _ => None,
             };
-            let bytes = tiles::encode(&rendered.image, *region, size, digest, index)
+            let guides = rendered.denoising.as_ref().map(|d| (&d.guides, d.quality));
+            let bytes = tiles::encode(&rendered.image, *region, size, digest, index, guides)
                 .map_err(Error::from)?;
             pending.write_bytes(&bytes).map_err(Error::from)?;
         }
-        None => pending
-            .write_picture(&rendered.image, args.bit_depth)
-            .map_err(Error::from)?,
+        None => {
+            if let Some(warning) = pending.picture_warning(&rendered.image) {
+                note!("warning: {}: {warning}", output.display());
+            }
+            pending
+                .write_picture(&rendered.image, args.bit_depth)
+                .map_err(Error::from)?
+        }
     }
     if !args.quiet {
         let threads = args.pool.current_num_threads();
         note!("{}", summary(&name, &rendered, threads, &output));
+    }
+    let part_not_denoised = rendered
+        .denoising
+        .as_ref()
+        .is_some_and(|d| d.noisy.is_none());
+    if part_not_denoised && tile.is_none() {
+        note!("note: a region is not denoised alone (its edges would not match its neighbours'); render the parts as .exr tiles, which carry the denoiser's guides, and denoise the whole with `tracer merge --denoise`");
     }
     Ok(())
 }
@@ -227,7 +238,13 @@ fn render_prepared(prepared: &PreparedScene, how: &How) -> Result<Rendered, Erro
         &never,
         (&|_| {}, &mut on_pass),
     )?;
-    Ok(rendered.expect("never cancelled"))
+    let rendered = rendered.expect("never cancelled");
+    let rendered = tracer_pipeline::denoise_rendered(prepared, how.options, rendered)?;
+    if let (Some(reference), Some(_)) = (&plan.reference, &rendered.denoising) {
+        let error = tracer_pipeline::reference::rmse(&rendered.image.linear, reference);
+        note!("denoised: RMSE {error:.5} against the reference");
+    }
+    Ok(rendered)
 }
 
 /// The plan of a render in passes, when one is asked for: `--time-limit`,
@@ -321,12 +338,17 @@ pub(crate) fn summary(scene: &Path, rendered: &Rendered, threads: usize, output:
     match &rendered.summary {
         Summary::Shaded(stats) => format!(
             "rendered {scene} ({width}x{height}, {}) in {:.3} s ({:.3} s to prepare), \
-             {:.1} Mrays/s on {threads} thread{} -> {output}",
+             {:.1} Mrays/s on {threads} thread{}{} -> {output}",
             objects_summary(stats),
             stats.render_seconds,
             stats.prepare_seconds,
             stats.rays as f64 / stats.render_seconds.max(1e-9) / 1e6,
             plural(threads),
+            rendered
+                .denoising
+                .as_deref()
+                .map(denoise_summary)
+                .unwrap_or_default(),
         ),
         Summary::Aov(aov) => format!(
             "rendered {} of {scene} on {threads} thread{} -> {output}",
@@ -334,6 +356,20 @@ pub(crate) fn summary(scene: &Path, rendered: &Rendered, threads: usize, output:
             plural(threads)
         ),
         Summary::Canvas => format!("drew {scene} ({width}x{height}) -> {output}"),
+    }
+}
+
+/// ", denoised (high) in 1.234 s (guides 0.2 s)", or for a tile the
+/// guides alone.
+fn denoise_summary(d: &tracer_pipeline::Denoising) -> String {
+    match d.noisy {
+        Some(_) => format!(
+            ", denoised ({}) in {:.3} s (its guides {:.3} s)",
+            d.quality.name(),
+            d.denoise_seconds,
+            d.guide_seconds
+        ),
+        None => format!(", the denoiser's guides in {:.3} s", d.guide_seconds),
     }
 }
 

@@ -20,9 +20,10 @@
 use super::traverse::{
     slab_test, walk_any, walk_nearest, with_stack, Best, Enter, Entry, Reach, PAD,
 };
-use super::tri4::{OriginTerms, Ray4, Tri4};
+use super::tri4::{Ray4, Tri4};
 use super::wide::{Node, GROUPS, WIDTH};
 use super::{leaf_run, Bvh};
+use crate::geometry::OriginTerms;
 use crate::geometry::SurfaceHit;
 use crate::ray::Ray;
 use glam::{Vec3A, Vec4};
@@ -415,10 +416,11 @@ impl Bvh {
         if rays == 0 {
             return;
         }
-        let test = |block: usize, tris: &Tri4, terms: &OriginTerms, i: usize, best: &mut Best| {
-            let found = tris.intersect_with(terms, &ray4[i], t_min, best.limit(t_max));
-            self.offer_lanes(block, found, t_max, best);
-        };
+        let test =
+            |block: usize, tris: &Tri4, terms: &OriginTerms<Vec4>, i: usize, best: &mut Best| {
+                let found = tris.intersect_with(terms, &ray4[i], t_min, best.limit(t_max));
+                self.offer_lanes(block, found, t_max, best);
+            };
         for block in run {
             let tris = &self.tris[block];
             let terms = tris.origin_terms(origin);

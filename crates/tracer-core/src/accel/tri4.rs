@@ -1,9 +1,9 @@
-//! Four triangles tested at once, one per SIMD lane: Moller-Trumbore with
-//! the very operations of `geometry::triangle::moller_trumbore`, lane by lane, so every
-//! distance is the one the scalar test finds.
+//! Four triangles tested at once, one per SIMD lane: `moller_trumbore`
+//! in four lanes, so every distance is the one the scalar test finds.
 
-use crate::geometry::{SurfaceHit, TriangleHit};
+use crate::geometry::{moller_trumbore, Edges, OriginTerms, SurfaceHit, TriangleHit};
 use crate::ray::Ray;
+use crate::simd::V3;
 use glam::{Vec2, Vec3, Vec4};
 
 /// One triangle as the test needs it: `e1 = v1 - v0`, `e2 = v2 - v0`,
@@ -30,14 +30,6 @@ pub(super) struct Tri4 {
     edge_scale: Vec4,
     pub(super) id: [u32; 4],
     material: [u32; 4],
-}
-
-/// What the test of a block shares among rays of one origin: `s = origin
-/// - v0`, `q = s x e1`, and `e2 . q` (the distance times the determinant).
-pub(super) struct OriginTerms {
-    s: [Vec4; 3],
-    q: [Vec4; 3],
-    t_times_det: Vec4,
 }
 
 /// The ray in every lane.
@@ -107,37 +99,27 @@ impl Tri4 {
 
     /// What the test shares among rays from `origin` (in every lane).
     #[inline(always)]
-    pub(super) fn origin_terms(&self, origin: &[Vec4; 3]) -> OriginTerms {
-        let s = [0, 1, 2].map(|a| origin[a] - self.v0[a]);
-        // q = s x e1
-        let q = cross(&s, &self.e1);
-        let t_times_det = dot(&self.e2, &q);
-        OriginTerms { s, q, t_times_det }
+    pub(super) fn origin_terms(&self, origin: &[Vec4; 3]) -> OriginTerms<Vec4> {
+        OriginTerms::new(v3(origin), v3(&self.v0), v3(&self.e1), v3(&self.e2))
     }
 
     /// `intersect`, for a ray from the origin `terms` were worked out for.
     #[inline(always)]
     pub(super) fn intersect_with(
         &self,
-        terms: &OriginTerms,
+        terms: &OriginTerms<Vec4>,
         r: &Ray4,
         t_min: f32,
         t_max: f32,
     ) -> (u32, Vec4, [Vec4; 2]) {
-        let (d, e1, e2) = (&r.dir, &self.e1, &self.e2);
-        // p = dir x e2, det = e1 . p
-        let p = cross(d, e2);
-        let det = dot(e1, &p);
-        let parallel = det.abs().cmplt(self.edge_scale * r.dir_len);
-        let inv = Vec4::ONE / det;
-        let u = dot(&terms.s, &p) * inv;
-        let u_inside = u.cmpge(Vec4::ZERO) & u.cmple(Vec4::ONE);
-        let v = dot(d, &terms.q) * inv;
-        let v_outside = v.cmplt(Vec4::ZERO) | (u + v).cmpgt(Vec4::ONE);
-        let t = terms.t_times_det * inv;
-        let t_inside = t.cmpgt(Vec4::splat(t_min)) & t.cmplt(Vec4::splat(t_max));
-        let hit = !parallel & u_inside & !v_outside & t_inside;
-        (hit.bitmask(), t, [u, v])
+        let edges = Edges {
+            e1: v3(&self.e1),
+            e2: v3(&self.e2),
+            scale: self.edge_scale,
+        };
+        let range = (Vec4::splat(t_min), Vec4::splat(t_max));
+        let (hit, t, uv) = moller_trumbore(terms, v3(&r.dir), r.dir_len, &edges, range);
+        (hit.bitmask(), t, uv)
     }
 
     /// The hit on `lane` at distance `t` and barycentric `uv`, as
@@ -161,20 +143,10 @@ impl Tri4 {
     }
 }
 
-/// `a x b` lane by lane, as `Vec3::cross`.
+/// Coordinates by axis as a vector of lanes.
 #[inline(always)]
-fn cross(a: &[Vec4; 3], b: &[Vec4; 3]) -> [Vec4; 3] {
-    [
-        a[1] * b[2] - b[1] * a[2],
-        a[2] * b[0] - b[2] * a[0],
-        a[0] * b[1] - b[0] * a[1],
-    ]
-}
-
-/// `a . b` lane by lane, as `Vec3::dot`.
-#[inline(always)]
-fn dot(a: &[Vec4; 3], b: &[Vec4; 3]) -> Vec4 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+fn v3(a: &[Vec4; 3]) -> V3<Vec4> {
+    V3::new(a[0], a[1], a[2])
 }
 
 #[cfg(test)]

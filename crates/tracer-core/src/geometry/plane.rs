@@ -3,6 +3,7 @@
 
 use super::Placement;
 use crate::ray::Ray;
+use crate::simd::{Real, V3};
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
@@ -61,12 +62,10 @@ impl Plane {
     /// ray in the plane or parallel to it misses (as a triangle's edge-on
     /// ray does).
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        let denom = self.normal.dot(ray.dir());
-        if denom.abs() <= f32::EPSILON * ray.dir().length() {
-            return None;
-        }
-        let t = self.normal.dot(self.point - ray.origin()) / denom;
-        (t > t_min && t < t_max).then_some(t)
+        let (origin, dir) = (ray.origin().into(), ray.dir().into());
+        let at = (self.point.into(), self.normal.into());
+        let (hit, t) = plane_distance(at, origin, dir, ray.dir().length(), (t_min, t_max));
+        hit.then_some(t)
     }
 
     /// Coordinates of `p` (a point on the plane) along `u_axis` and `v_axis`
@@ -75,6 +74,25 @@ impl Plane {
         let d = p - self.point;
         Vec2::new(d.dot(self.u_axis), d.dot(self.v_axis))
     }
+}
+
+/// Where rays from `origin` along `dir` (of lengths `dir_len`) cross the
+/// planes through `point` with unit `normal`, lane by lane: which cross
+/// within (t_min, t_max), and where. A ray in the plane or parallel to it
+/// misses (as a triangle's edge-on ray does). The one plane test of every
+/// form.
+#[inline(always)]
+pub fn plane_distance<N: Real>(
+    (point, normal): (V3<N>, V3<N>),
+    origin: V3<N>,
+    dir: V3<N>,
+    dir_len: N,
+    (t_min, t_max): (N, N),
+) -> (N::Mask, N) {
+    let denom = normal.dot(dir);
+    let crossing = !denom.abs().le(N::splat(f32::EPSILON) * dir_len);
+    let t = normal.dot(point - origin) / denom;
+    (crossing & t.gt(t_min) & t.lt(t_max), t)
 }
 
 #[cfg(test)]

@@ -3,6 +3,7 @@
 //! an ellipsoid, solved as the same sphere in its own frame.
 
 use crate::ray::Ray;
+use crate::simd::{Mask, Real, V3};
 use glam::{Mat3, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 use std::f32::consts::PI;
@@ -82,17 +83,10 @@ impl Sphere {
     /// mapped to its round frame, where the distance t stays the same.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         let (v, dir) = self.own_frame(ray);
-        let a = dir.dot(dir);
-        let b = 2.0 * v.dot(dir);
-        let c = v.dot(v) - self.radius * self.radius;
-        let discriminant = b * b - 4.0 * a * c;
-        if discriminant < 0.0 {
-            return None;
-        }
-        let root = discriminant.sqrt();
-        [(-b - root) / (2.0 * a), (-b + root) / (2.0 * a)]
-            .into_iter()
-            .find(|&t| t > t_min && t < t_max)
+        let (v, dir) = (V3::from(v), V3::from(dir));
+        let radius2 = self.radius * self.radius;
+        let (hit, t) = sphere_roots(v, dir, dir.dot(dir), radius2, (t_min, t_max));
+        hit.then_some(t)
     }
 
     /// The outward unit normal at surface point `p`; an ellipsoid's is its
@@ -110,6 +104,34 @@ impl Sphere {
         let v = 0.5 - n.y.clamp(-1.0, 1.0).asin() / PI;
         Vec2::new(u, v)
     }
+}
+
+/// The lab's quadratic (section 3), `A t^2 + B t + C = 0`, lane by lane:
+/// rays whose offsets from the centre are `v` and directions `dir` (`a =
+/// dir . dir`, the direction need not be unit) against spheres of squared
+/// radius `radius2`. Which lanes meet one, and the smaller root in
+/// (t_min, t_max) (else the larger). The one sphere test of every form.
+#[inline(always)]
+pub fn sphere_roots<N: Real>(
+    v: V3<N>,
+    dir: V3<N>,
+    a: N,
+    radius2: N,
+    (t_min, t_max): (N, N),
+) -> (N::Mask, N) {
+    let b = N::splat(2.0) * v.dot(dir);
+    let c = v.dot(v) - radius2;
+    let discriminant = b * b - N::splat(4.0) * a * c;
+    let real = !discriminant.lt(N::zero());
+    if real.none() {
+        return (real, N::zero());
+    }
+    let root = discriminant.sqrt();
+    let near = (-b - root) / (N::splat(2.0) * a);
+    let far = (-b + root) / (N::splat(2.0) * a);
+    let near_in = near.gt(t_min) & near.lt(t_max);
+    let far_in = far.gt(t_min) & far.lt(t_max);
+    (real & (near_in | far_in), N::select(near_in, near, far))
 }
 
 #[cfg(test)]

@@ -2,6 +2,7 @@
 //! normal from the vertex order.
 
 use crate::ray::Ray;
+use crate::simd::{Real, V3};
 use glam::{Vec2, Vec3};
 
 /// Three vertices, in the lab's clockwise order.
@@ -20,17 +21,17 @@ impl Triangle {
     /// Moller-Trumbore, two-sided: a triangle seen from behind is still
     /// hit (and still casts its shadow), unlike GLM's front-face-only test.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<TriangleHit> {
-        let (e1, e2, edge_scale) = self.edges();
-        moller_trumbore(
-            self.v0,
-            e1,
-            e2,
-            edge_scale,
-            ray,
-            ray.dir().length(),
-            t_min,
-            t_max,
-        )
+        let (e1, e2, scale) = self.edges();
+        let (e1, e2) = (e1.into(), e2.into());
+        let terms = OriginTerms::new(ray.origin().into(), self.v0.into(), e1, e2);
+        let edges = Edges { e1, e2, scale };
+        let dir_len = ray.dir().length();
+        let (hit, t, [u, v]) =
+            moller_trumbore(&terms, ray.dir().into(), dir_len, &edges, (t_min, t_max));
+        hit.then_some(TriangleHit {
+            t,
+            uv: Vec2::new(u, v),
+        })
     }
 
     /// The edges from `v0` and the scale of the parallel test,
@@ -55,43 +56,63 @@ pub struct TriangleHit {
     pub uv: Vec2,
 }
 
-/// Moller-Trumbore on the edges `e1 = v1 - v0`, `e2 = v2 - v0` and
-/// `edge_scale = EPSILON * |e1| * |e2|` (`Triangle::edges`) and
-/// `dir_len = |ray.dir|`. The BVH's four-lane test (`bvh/tri4.rs`) does the
-/// same operations in the same order.
-#[allow(clippy::too_many_arguments)]
+/// A triangle's edges from `v0` and the scale of its parallel test
+/// (`Triangle::edges`), one per lane.
+#[derive(Debug, Clone, Copy)]
+pub struct Edges<N> {
+    pub e1: V3<N>,
+    pub e2: V3<N>,
+    pub scale: N,
+}
+
+/// What Moller-Trumbore shares among rays from one origin: `s = origin -
+/// v0`, `q = s x e1` and `e2 . q` (the distance times the determinant).
+#[derive(Debug, Clone, Copy)]
+pub struct OriginTerms<N> {
+    s: V3<N>,
+    q: V3<N>,
+    t_times_det: N,
+}
+
+impl<N: Real> OriginTerms<N> {
+    #[inline(always)]
+    pub fn new(origin: V3<N>, v0: V3<N>, e1: V3<N>, e2: V3<N>) -> Self {
+        let s = origin - v0;
+        let q = s.cross(e1);
+        OriginTerms {
+            s,
+            q,
+            t_times_det: e2.dot(q),
+        }
+    }
+}
+
+/// Moller-Trumbore, two-sided, lane by lane: the rays from the origins of
+/// `terms` along `dir` (of lengths `dir_len`) against the triangles of
+/// `edges`, within (t_min, t_max). Which lanes hit, the distances and the
+/// barycentric (u, v). The one test of every form: one ray and one
+/// triangle, the BVH's four triangles against one ray (`accel/tri4.rs`),
+/// and rays in lanes against one triangle.
 #[inline(always)]
-fn moller_trumbore(
-    v0: Vec3,
-    e1: Vec3,
-    e2: Vec3,
-    edge_scale: f32,
-    ray: &Ray,
-    dir_len: f32,
-    t_min: f32,
-    t_max: f32,
-) -> Option<TriangleHit> {
-    let p = ray.dir().cross(e2);
-    let det = e1.dot(p);
-    if det.abs() < edge_scale * dir_len {
-        return None; // the ray runs parallel to the plane
-    }
-    let inv = 1.0 / det;
-    let s = ray.origin() - v0;
-    let u = s.dot(p) * inv;
-    if !(0.0..=1.0).contains(&u) {
-        return None;
-    }
-    let q = s.cross(e1);
-    let v = ray.dir().dot(q) * inv;
-    if v < 0.0 || u + v > 1.0 {
-        return None;
-    }
-    let t = e2.dot(q) * inv;
-    (t > t_min && t < t_max).then_some(TriangleHit {
-        t,
-        uv: Vec2::new(u, v),
-    })
+pub fn moller_trumbore<N: Real>(
+    terms: &OriginTerms<N>,
+    dir: V3<N>,
+    dir_len: N,
+    edges: &Edges<N>,
+    (t_min, t_max): (N, N),
+) -> (N::Mask, N, [N; 2]) {
+    let p = dir.cross(edges.e2);
+    let det = edges.e1.dot(p);
+    // The ray runs parallel to the plane.
+    let parallel = det.abs().lt(edges.scale * dir_len);
+    let inv = N::one() / det;
+    let u = terms.s.dot(p) * inv;
+    let u_inside = u.ge(N::zero()) & u.le(N::one());
+    let v = dir.dot(terms.q) * inv;
+    let v_outside = v.lt(N::zero()) | (u + v).gt(N::one());
+    let t = terms.t_times_det * inv;
+    let t_inside = t.gt(t_min) & t.lt(t_max);
+    (!parallel & u_inside & !v_outside & t_inside, t, [u, v])
 }
 
 #[cfg(test)]

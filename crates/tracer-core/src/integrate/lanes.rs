@@ -9,14 +9,19 @@
 
 use super::whitted::COS_THRESHOLD;
 use super::RayStats;
-use crate::geometry::{Object, Shape, Triangle};
+use crate::geometry::{
+    moller_trumbore, plane_distance, sphere_roots, Edges, Object, OriginTerms, Shape, Triangle,
+};
 use crate::light::Light;
 use crate::material::{Material, Phong};
 use crate::ray::Ray;
 use crate::scene::TraceSettings;
+use crate::simd::Real;
 use crate::EPSILON;
 use glam::{BVec4A, Vec3, Vec4};
-use std::ops::{Add, Div, Mul, Neg, Sub};
+
+/// Three-vectors of four lanes.
+type V3 = crate::simd::V3<Vec4>;
 
 /// Scenes of up to this many objects are shaded in lanes: every ray tests
 /// every object, as the small scenes' flat search does (`accel::flat`).
@@ -220,7 +225,10 @@ impl LaneScene {
             &self.surfaces[index]
         });
         let lanes = |f: &dyn Fn(&Surface) -> f32| Vec4::from_array(surfaces.map(f));
-        let v3 = |f: &dyn Fn(&Surface) -> Vec3| V3::gather(surfaces.map(f));
+        let v3 = |f: &dyn Fn(&Surface) -> Vec3| {
+            let v = surfaces.map(f);
+            V3::from_fn(|k| v[k])
+        };
         let sphere = BVec4A::from_array(surfaces.map(|s| s.sphere));
         let mut n = v3(&|s| s.normal);
         if (sphere & hit).any() {
@@ -363,21 +371,9 @@ impl Surface {
 #[inline(always)]
 fn sphere_hit(rays: &Rays4, center: Vec3, radius2: f32, limit: Vec4) -> (Vec4, BVec4A) {
     let v = rays.origin - V3::splat(center);
-    let a = rays.dir_dot;
-    let b = Vec4::splat(2.0) * v.dot(rays.dir);
-    let c = v.dot(v) - Vec4::splat(radius2);
-    let discriminant = b * b - Vec4::splat(4.0) * a * c;
-    let real = !discriminant.cmplt(Vec4::ZERO);
-    if !real.any() {
-        return (Vec4::ZERO, real);
-    }
-    let root = sqrt(discriminant);
-    let near = (-b - root) / (Vec4::splat(2.0) * a);
-    let far = (-b + root) / (Vec4::splat(2.0) * a);
-    let t_min = Vec4::splat(EPSILON);
-    let near_in = near.cmpgt(t_min) & near.cmplt(limit);
-    let far_in = far.cmpgt(t_min) & far.cmplt(limit);
-    (Vec4::select(near_in, near, far), real & (near_in | far_in))
+    let range = (Vec4::splat(EPSILON), limit);
+    let (hit, t) = sphere_roots(v, rays.dir, rays.dir_dot, Vec4::splat(radius2), range);
+    (t, hit)
 }
 
 /// `Triangle::intersect` (Moller-Trumbore) by lane.
@@ -389,30 +385,24 @@ fn triangle_hit(
     limit: Vec4,
 ) -> (Vec4, BVec4A) {
     let (e1, e2) = (V3::splat(e1), V3::splat(e2));
-    let p = rays.dir.cross(e2);
-    let det = e1.dot(p);
-    let facing = !det.abs().cmplt(Vec4::splat(edge_scale) * rays.dir_len);
-    let inv = Vec4::ONE / det;
-    let s = rays.origin - V3::splat(v0);
-    let u = s.dot(p) * inv;
-    let q = s.cross(e1);
-    let v = rays.dir.dot(q) * inv;
-    let t = e2.dot(q) * inv;
-    let inside =
-        u.cmpge(Vec4::ZERO) & u.cmple(Vec4::ONE) & !v.cmplt(Vec4::ZERO) & !(u + v).cmpgt(Vec4::ONE);
-    let ahead = t.cmpgt(Vec4::splat(EPSILON)) & t.cmplt(limit);
-    (t, facing & inside & ahead)
+    let terms = OriginTerms::new(rays.origin, V3::splat(v0), e1, e2);
+    let edges = Edges {
+        e1,
+        e2,
+        scale: Vec4::splat(edge_scale),
+    };
+    let range = (Vec4::splat(EPSILON), limit);
+    let (hit, t, _) = moller_trumbore(&terms, rays.dir, rays.dir_len, &edges, range);
+    (t, hit)
 }
 
 /// `Plane::intersect` by lane.
 #[inline(always)]
 fn plane_hit(rays: &Rays4, point: Vec3, normal: Vec3, limit: Vec4) -> (Vec4, BVec4A) {
-    let normal = V3::splat(normal);
-    let denom = normal.dot(rays.dir);
-    let crossing = !denom.abs().cmple(Vec4::splat(f32::EPSILON) * rays.dir_len);
-    let t = normal.dot(V3::splat(point) - rays.origin) / denom;
-    let ahead = t.cmpgt(Vec4::splat(EPSILON)) & t.cmplt(limit);
-    (t, crossing & ahead)
+    let at = (V3::splat(point), V3::splat(normal));
+    let range = (Vec4::splat(EPSILON), limit);
+    let (hit, t) = plane_distance(at, rays.origin, rays.dir, rays.dir_len, range);
+    (t, hit)
 }
 
 /// The shading inputs of four hits.
@@ -439,8 +429,8 @@ impl Rays4 {
     /// The lanes of `rays` (one to four); lanes past the last repeat it.
     fn new(rays: &[Ray]) -> Rays4 {
         let ray = |k: usize| rays[k.min(rays.len() - 1)];
-        let origin = V3::gather(std::array::from_fn(|k| ray(k).origin()));
-        let dir = V3::gather(std::array::from_fn(|k| ray(k).dir()));
+        let origin = V3::from_fn(|k| ray(k).origin());
+        let dir = V3::from_fn(|k| ray(k).dir());
         Rays4::from_lanes(origin, dir)
     }
 
@@ -450,7 +440,7 @@ impl Rays4 {
             origin,
             dir,
             dir_dot,
-            dir_len: sqrt(dir_dot),
+            dir_len: dir_dot.sqrt(),
         }
     }
 
@@ -465,138 +455,6 @@ impl Rays4 {
         let dir = (v - n * (Vec4::splat(2.0) * v.dot(n))).normalize();
         Rays4::from_lanes(p, dir)
     }
-}
-
-/// Three-vectors of four lanes, component by component; glam's `Vec3`
-/// arithmetic, in its order of operations.
-#[derive(Debug, Clone, Copy)]
-struct V3 {
-    x: Vec4,
-    y: Vec4,
-    z: Vec4,
-}
-
-impl V3 {
-    fn splat(v: Vec3) -> V3 {
-        V3 {
-            x: Vec4::splat(v.x),
-            y: Vec4::splat(v.y),
-            z: Vec4::splat(v.z),
-        }
-    }
-
-    fn gather(v: [Vec3; 4]) -> V3 {
-        V3 {
-            x: Vec4::from_array(v.map(|v| v.x)),
-            y: Vec4::from_array(v.map(|v| v.y)),
-            z: Vec4::from_array(v.map(|v| v.z)),
-        }
-    }
-
-    fn lane(self, k: usize) -> Vec3 {
-        Vec3::new(self.x[k], self.y[k], self.z[k])
-    }
-
-    fn select(mask: BVec4A, a: V3, b: V3) -> V3 {
-        V3 {
-            x: Vec4::select(mask, a.x, b.x),
-            y: Vec4::select(mask, a.y, b.y),
-            z: Vec4::select(mask, a.z, b.z),
-        }
-    }
-
-    fn dot(self, o: V3) -> Vec4 {
-        self.x * o.x + self.y * o.y + self.z * o.z
-    }
-
-    fn cross(self, o: V3) -> V3 {
-        V3 {
-            x: self.y * o.z - o.y * self.z,
-            y: self.z * o.x - o.z * self.x,
-            z: self.x * o.y - o.x * self.y,
-        }
-    }
-
-    fn length(self) -> Vec4 {
-        sqrt(self.dot(self))
-    }
-
-    fn normalize(self) -> V3 {
-        self * (Vec4::ONE / self.length())
-    }
-}
-
-impl Add for V3 {
-    type Output = V3;
-    fn add(self, o: V3) -> V3 {
-        V3 {
-            x: self.x + o.x,
-            y: self.y + o.y,
-            z: self.z + o.z,
-        }
-    }
-}
-
-impl Sub for V3 {
-    type Output = V3;
-    fn sub(self, o: V3) -> V3 {
-        V3 {
-            x: self.x - o.x,
-            y: self.y - o.y,
-            z: self.z - o.z,
-        }
-    }
-}
-
-impl Mul for V3 {
-    type Output = V3;
-    fn mul(self, o: V3) -> V3 {
-        V3 {
-            x: self.x * o.x,
-            y: self.y * o.y,
-            z: self.z * o.z,
-        }
-    }
-}
-
-impl Mul<Vec4> for V3 {
-    type Output = V3;
-    fn mul(self, s: Vec4) -> V3 {
-        V3 {
-            x: self.x * s,
-            y: self.y * s,
-            z: self.z * s,
-        }
-    }
-}
-
-impl Div<Vec4> for V3 {
-    type Output = V3;
-    fn div(self, s: Vec4) -> V3 {
-        V3 {
-            x: self.x / s,
-            y: self.y / s,
-            z: self.z / s,
-        }
-    }
-}
-
-impl Neg for V3 {
-    type Output = V3;
-    fn neg(self) -> V3 {
-        V3 {
-            x: -self.x,
-            y: -self.y,
-            z: -self.z,
-        }
-    }
-}
-
-/// The square root of each lane, correctly rounded as `f32::sqrt` (the
-/// compiler makes it one SIMD square root).
-#[inline(always)]
-fn sqrt(v: Vec4) -> Vec4 {
-    Vec4::from_array(v.to_array().map(f32::sqrt))
 }
 
 /// How many lanes `mask` holds.

@@ -11,12 +11,12 @@
 
 use super::comparison::Comparison;
 use super::input::{self, BadInput, Reference};
-use super::page::{self, Class, Entry, Unreadable};
+use super::page::{self, Class, Entry, Report, Unmatched, Unreadable};
 use super::pair::percent;
 use crate::console::{self, note};
 use anyhow::Result;
-use image::RgbImage;
 use rayon::prelude::*;
+use scene_format::visible::escape_controls;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -38,8 +38,8 @@ pub fn run(
     page::check_out(out)?;
     let names = scene_names(scenes)?;
     let (matched, unmatched) = submissions(dir, out, &names)?;
-    for path in &unmatched {
-        note!("skipped: {} is named after no scene", path.display());
+    for u in &unmatched {
+        note!("skipped: {} {}", u.path.display(), u.why());
     }
     if matched.is_empty() {
         return Err(BadInput(format!(
@@ -50,20 +50,20 @@ pub fn run(
         ))
         .into());
     }
-    let (readable, mut unreadable) = read_images(matched);
-    let (references, failed) = render_scenes(&readable, &names, samples);
+    let (references, failed) = render_scenes(&matched, &names, samples);
     // A scene that cannot be rendered leaves its images uncompared, not
     // the whole class.
-    let (readable, uncompared): (Vec<_>, Vec<_>) = readable
+    let (matched, uncompared): (Vec<_>, Vec<_>) = matched
         .into_iter()
-        .partition(|(_, scene, _)| references.contains_key(scene));
-    if readable.is_empty() && !uncompared.is_empty() {
+        .partition(|(_, scene)| references.contains_key(scene));
+    if matched.is_empty() {
         return Err(BadInput(
             "no image was compared: none of the scenes they are named after could be rendered (see above)".to_string(),
         )
         .into());
     }
-    for (path, scene, _) in uncompared {
+    let mut unreadable = Vec::new();
+    for (path, scene) in uncompared {
         let why = failed[&scene].clone();
         note!("not compared: {}: {why}", path.display());
         unreadable.push(Unreadable {
@@ -73,26 +73,19 @@ pub fn run(
             scene_failed: true,
         });
     }
-    let mut entries: Vec<Entry> = readable
-        .into_par_iter()
-        .map(|(path, scene, image)| {
-            let reference = &references[&scene];
-            let comparison = Comparison::new(&image, reference, tolerance);
-            Entry {
-                path,
-                scene,
-                image,
-                comparison,
-            }
-        })
-        .collect();
+    let report = Report::begin(out)?;
+    for (scene, reference) in &references {
+        report.reference(scene, reference)?;
+    }
+    let (mut entries, more) = compare_all(matched, &references, tolerance, &report)?;
+    unreadable.extend(more);
     entries.sort_by(|a, b| Comparison::worse_first(&a.comparison, &b.comparison));
     let class = Class {
         entries,
         unreadable,
         unmatched,
     };
-    page::write(out, &class, &references, tolerance)?;
+    report.finish(out, &class, &references, tolerance)?;
     console::stdout(&table(&class, references.len()))?;
     note!("report -> {}", out.join("index.html").display());
     Ok(class.unreadable.is_empty()
@@ -102,28 +95,58 @@ pub fn run(
             .all(|e| e.comparison.within_tolerance()))
 }
 
-/// The images read, and those that could not be: one student's broken
-/// file is reported beside the others' results, not the end of the report.
-fn read_images(
+/// Each image compared with its scene's reference, its copy and heat-map
+/// written to the report at once: a few images at a time (one per
+/// thread) are in memory, whatever the size of the class. Those that
+/// cannot be read are reported beside the others' results: one
+/// student's broken file is not the end of the report.
+fn compare_all(
     matched: Vec<(PathBuf, String)>,
-) -> (Vec<(PathBuf, String, RgbImage)>, Vec<Unreadable>) {
-    let mut readable = Vec::new();
+    references: &BTreeMap<String, Reference>,
+    tolerance: u8,
+    report: &Report,
+) -> Result<(Vec<Entry>, Vec<Unreadable>)> {
+    let mut entries = Vec::new();
     let mut unreadable = Vec::new();
-    for (path, scene) in matched {
-        match input::image_at(&path) {
-            Ok(image) => readable.push((path, scene, image)),
-            Err(why) => {
-                note!("not compared: {}: {why}", path.display());
-                unreadable.push(Unreadable {
-                    path,
-                    scene,
-                    why,
-                    scene_failed: false,
-                });
+    let at_once = rayon::current_num_threads().max(1);
+    let indexed: Vec<_> = matched.into_iter().enumerate().collect();
+    for group in indexed.chunks(at_once) {
+        // Read in turn, so their notes come in path order.
+        let mut read = Vec::new();
+        for (index, (path, scene)) in group {
+            match input::image_at(path) {
+                Ok(image) => read.push((*index, path, scene, image)),
+                Err(why) => {
+                    note!("not compared: {}: {why}", path.display());
+                    unreadable.push(Unreadable {
+                        path: path.clone(),
+                        scene: scene.clone(),
+                        why,
+                        scene_failed: false,
+                    });
+                }
             }
         }
+        let compared: Vec<Result<Entry>> = read
+            .into_par_iter()
+            .map(|(index, path, scene, image)| {
+                let mut comparison = Comparison::new(&image, &references[scene], tolerance);
+                let heat_map = comparison.take_heat_map();
+                report.image(index, &image, heat_map.as_ref())?;
+                Ok(Entry {
+                    path: path.clone(),
+                    scene: scene.clone(),
+                    index,
+                    comparison,
+                    heat_map: heat_map.is_some(),
+                })
+            })
+            .collect();
+        for entry in compared {
+            entries.push(entry?);
+        }
     }
-    (readable, unreadable)
+    Ok((entries, unreadable))
 }
 
 /// Every scene file below `scenes` by its name.
@@ -160,7 +183,7 @@ fn submissions(
     dir: &Path,
     out: &Path,
     names: &BTreeMap<String, PathBuf>,
-) -> Result<(Vec<(PathBuf, String)>, Vec<PathBuf>)> {
+) -> Result<(Vec<(PathBuf, String)>, Vec<Unmatched>)> {
     let out = out.canonicalize().ok();
     let mut matched = Vec::new();
     let mut unmatched = Vec::new();
@@ -174,10 +197,27 @@ fn submissions(
         }
         match scene_of(&path, names) {
             Some(scene) => matched.push((path, scene.to_string())),
-            None => unmatched.push(path),
+            None => {
+                let name_not_text = !name_is_text(&path);
+                unmatched.push(Unmatched {
+                    path,
+                    name_not_text,
+                })
+            }
         }
     }
     Ok((matched, unmatched))
+}
+
+/// Whether the names the rule reads (the file's stem and its folder's
+/// name) are text: a name that is not UTF-8 cannot match a scene's.
+fn name_is_text(path: &Path) -> bool {
+    let stem = path.file_stem().is_none_or(|s| s.to_str().is_some());
+    let folder = path
+        .parent()
+        .and_then(Path::file_name)
+        .is_none_or(|f| f.to_str().is_some());
+    stem && folder
 }
 
 /// The scene `path` is named after (see the module's rule).
@@ -241,13 +281,13 @@ fn files(dir: &Path, extensions: &[&str]) -> Result<Vec<PathBuf>> {
 /// by why: one scene's trouble (mistakes, `--samples` it cannot take) is
 /// its images', not the class's.
 fn render_scenes(
-    matched: &[(PathBuf, String, RgbImage)],
+    matched: &[(PathBuf, String)],
     names: &BTreeMap<String, PathBuf>,
     samples: Option<u32>,
 ) -> (BTreeMap<String, Reference>, BTreeMap<String, String>) {
     let mut references = BTreeMap::new();
     let mut failed = BTreeMap::new();
-    for (_, scene, _) in matched {
+    for (_, scene) in matched {
         if references.contains_key(scene) || failed.contains_key(scene) {
             continue;
         }
@@ -278,7 +318,8 @@ fn render_scenes(
 /// images that could not be read.
 fn table(class: &Class, scenes: usize) -> String {
     let entries = &class.entries;
-    let shown = |path: &Path| path.display().to_string();
+    // Names from the class's files: their control characters made visible.
+    let shown = |path: &Path| escape_controls(&path.display().to_string());
     let paths = entries
         .iter()
         .map(|e| shown(&e.path))
@@ -288,7 +329,7 @@ fn table(class: &Class, scenes: usize) -> String {
         .iter()
         .map(|e| &e.scene)
         .chain(class.unreadable.iter().map(|u| &u.scene))
-        .map(|s| s.chars().count())
+        .map(|s| escape_controls(s).chars().count())
         .fold(5, usize::max);
     let mut out = format!(
         "{:>12}  {:>6}  {:<width$}  {:<scene_width$}  mistakes\n",
@@ -296,8 +337,10 @@ fn table(class: &Class, scenes: usize) -> String {
     );
     let mut line = |off: &str, flip: &str, path: &Path, scene: &str, words: &str| {
         let line = format!(
-            "{off:>12}  {flip:>6}  {:<width$}  {scene:<scene_width$}  {words}",
-            shown(path)
+            "{off:>12}  {flip:>6}  {:<width$}  {:<scene_width$}  {}",
+            shown(path),
+            escape_controls(scene),
+            escape_controls(words)
         );
         out += line.trim_end();
         out.push('\n');

@@ -73,6 +73,17 @@ impl Comparison {
         }
     }
 
+    /// The heat-map, taken out (the report writes it and keeps only the
+    /// numbers); `None` as for [`heat_map`](Self::heat_map).
+    pub fn take_heat_map(&mut self) -> Option<RgbImage> {
+        match self {
+            Comparison::Sizes { .. } => None,
+            Comparison::Compared { flip, .. } => {
+                flip.as_mut().map(|f| std::mem::take(&mut f.heat_map))
+            }
+        }
+    }
+
     /// The mistakes that explain the difference, in words.
     pub fn diagnoses(&self) -> Vec<String> {
         match self {

@@ -1,24 +1,34 @@
 //! The report of `tracer compare --report`: a folder holding `index.html`
 //! (every image beside its reference and heat-map, with its numbers, worst
 //! first; the page links only files beside it, so it opens from disk),
-//! `report.csv` (one row per image, in the same order) and the images.
+//! `report.csv` (one row per image, in the same order), the images, and
+//! `.tracer-report`, the list of the files it wrote. The folder is made
+//! beside its place and filled as each image is compared (so memory does
+//! not grow with the class), then takes its place whole. A folder already
+//! there is replaced only if it holds nothing but the files its own list
+//! names: an earlier report, never a user's files.
 
 use super::comparison::Comparison;
 use super::input::{BadInput, Reference};
 use super::pair::{percent, rgb};
 use anyhow::{Context, Result};
 use image::RgbImage;
+use scene_format::visible::escape_controls;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use tracer_pipeline::output::{encode, ImageFormat};
+use tracer_pipeline::output::{encode, ImageFormat, PendingFolder};
 
-/// One image of the class, compared.
+/// One image of the class, compared; its files are in the report folder.
 pub struct Entry {
     pub path: PathBuf,
     pub scene: String,
-    pub image: RgbImage,
+    /// Its place among the class's images (their path order): its files'
+    /// names until it is ranked.
+    pub index: usize,
+    /// The comparison, its heat-map already written (and let go).
     pub comparison: Comparison,
+    pub heat_map: bool,
 }
 
 /// An image of the class that could not be read, and why.
@@ -31,16 +41,38 @@ pub struct Unreadable {
     pub scene_failed: bool,
 }
 
+/// An image named after no scene.
+pub struct Unmatched {
+    pub path: PathBuf,
+    /// Its name (or its folder's) is not UTF-8: it cannot be matched.
+    pub name_not_text: bool,
+}
+
+impl Unmatched {
+    /// Why it was skipped, after its path.
+    pub fn why(&self) -> &'static str {
+        if self.name_not_text {
+            "its name cannot be read as text (it is not UTF-8), so no scene's name can match it; rename it"
+        } else {
+            "is named after no scene"
+        }
+    }
+}
+
 /// What the report shows: the images compared, worst first, those that
 /// could not be read and those named after no scene.
 pub struct Class {
     pub entries: Vec<Entry>,
     pub unreadable: Vec<Unreadable>,
-    pub unmatched: Vec<PathBuf>,
+    pub unmatched: Vec<Unmatched>,
 }
 
-/// The files that show that `out` is a report, which may be replaced.
-const REPORT_FILES: [&str; 2] = ["index.html", "report.csv"];
+/// The list of the files a report wrote, in the report: what shows that
+/// a folder is a report, which may be replaced.
+const LIST: &str = ".tracer-report";
+/// The list's first line.
+const LIST_HEADER: &str =
+    "# The files `tracer compare --report` wrote here; the next report replaces them.";
 
 /// Refuses, before the work, an `out` that could not take the report: in
 /// a folder that does not exist, or something else than an earlier report
@@ -54,19 +86,60 @@ pub fn check_out(out: &Path) -> Result<()> {
             parent.display()
         );
     }
-    if out.exists() && !is_report(out) {
-        return Err(BadInput(format!(
-            "{}: exists and is not a report of `tracer compare --report`; refusing to replace it",
-            out.display()
-        ))
-        .into());
+    if std::fs::symlink_metadata(out).is_ok() && !is_empty_folder(out) {
+        if let Err(why) = report_files(out) {
+            return Err(BadInput(format!(
+                "{}: exists and {why}; refusing to replace it (choose another -o, or empty it)",
+                out.display()
+            ))
+            .into());
+        }
     }
     Ok(())
 }
 
-/// Whether `dir` is a report `tracer compare --report` wrote.
+/// Whether `dir` is a folder that holds nothing: nothing to lose.
+fn is_empty_folder(dir: &Path) -> bool {
+    std::fs::read_dir(dir).is_ok_and(|mut entries| entries.next().is_none())
+}
+
+/// Whether `dir` is a report `tracer compare --report` wrote and nothing
+/// else.
 pub fn is_report(dir: &Path) -> bool {
-    dir.is_dir() && REPORT_FILES.iter().all(|f| dir.join(f).is_file())
+    report_files(dir).is_ok()
+}
+
+/// Why `dir` is not a report and nothing else, if it is not: not a folder,
+/// without the list of the files a report wrote, or holding another file.
+fn report_files(dir: &Path) -> Result<(), String> {
+    if !std::fs::symlink_metadata(dir).is_ok_and(|m| m.is_dir()) {
+        return Err("is not a folder".to_string());
+    }
+    let not_listed = || {
+        format!("is not a report of `tracer compare --report` (it has no {LIST}, the list of the files a report wrote)")
+    };
+    let list = std::fs::read_to_string(dir.join(LIST)).map_err(|_| not_listed())?;
+    let mut lines = list.lines();
+    if lines.next() != Some(LIST_HEADER) {
+        return Err(not_listed());
+    }
+    let written: Vec<&str> = lines.collect();
+    let entries = std::fs::read_dir(dir).map_err(|e| format!("cannot be read ({e})"))?;
+    for entry in entries {
+        let entry = entry.map_err(|e| format!("cannot be read ({e})"))?;
+        let name = entry.file_name();
+        let ours = name
+            .to_str()
+            .is_some_and(|n| n == LIST || written.contains(&n));
+        let file = entry.file_type().is_ok_and(|t| t.is_file());
+        if !ours || !file {
+            let name = escape_controls(&name.to_string_lossy());
+            return Err(format!(
+                "holds {name}, which is not a file of the report written there"
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn parent_of(path: &Path) -> &Path {
@@ -76,66 +149,106 @@ fn parent_of(path: &Path) -> &Path {
     }
 }
 
-/// Writes the report folder `out` whole: it is made beside `out` and then
-/// takes its place, so an old report is never mixed with a new one.
-pub fn write(
-    out: &Path,
-    class: &Class,
-    references: &BTreeMap<String, Reference>,
-    tolerance: u8,
-) -> Result<()> {
-    let entries = &class.entries;
-    // Everything is encoded before the folder is made: it lives for the
-    // few writes only (a signal then would leave it behind).
-    let mut files = vec![
-        (
-            "index.html".to_string(),
-            html(class, tolerance).into_bytes(),
-        ),
-        ("report.csv".to_string(), csv(class)?),
-    ];
-    for (scene, reference) in references {
-        files.push((reference_file(scene), png(&reference.image)?));
+/// The report being written: its folder beside `out`, filled as the
+/// images are compared.
+pub struct Report {
+    folder: PendingFolder,
+}
+
+impl Report {
+    /// Makes the report's folder beside `out` (checked by `check_out`).
+    pub fn begin(out: &Path) -> Result<Report> {
+        let parent = parent_of(out);
+        let folder = PendingFolder::create(parent, ".tracer-report-")
+            .with_context(|| format!("cannot create a folder in {}", parent.display()))?;
+        Ok(Report { folder })
     }
-    for (rank, e) in entries.iter().enumerate() {
-        files.push((image_file(rank, entries.len()), png(&e.image)?));
-        if let Some(map) = e.comparison.heat_map() {
-            files.push((heat_map_file(rank, entries.len()), png(map)?));
+
+    fn write(&self, name: &str, bytes: &[u8]) -> Result<()> {
+        std::fs::write(self.folder.path().join(name), bytes)
+            .with_context(|| format!("cannot write {name} of the report"))
+    }
+
+    /// A scene's reference image.
+    pub fn reference(&self, scene: &str, reference: &Reference) -> Result<()> {
+        self.write(&reference_file(scene), &png(&reference.image)?)
+    }
+
+    /// Image `index` of the class and its heat-map, named by `index` until
+    /// ranked: written now, so nothing of them stays in memory.
+    pub fn image(&self, index: usize, image: &RgbImage, heat_map: Option<&RgbImage>) -> Result<()> {
+        self.write(&unranked(index, "image"), &png(image)?)?;
+        if let Some(map) = heat_map {
+            self.write(&unranked(index, "heatmap"), &png(map)?)?;
         }
+        Ok(())
     }
-    replace_folder(out, &files)
+
+    /// The images' files named by their rank, the page, the CSV and the
+    /// list written; then the folder takes the place of `out`.
+    pub fn finish(
+        self,
+        out: &Path,
+        class: &Class,
+        references: &BTreeMap<String, Reference>,
+        tolerance: u8,
+    ) -> Result<()> {
+        let entries = &class.entries;
+        let mut names = vec!["index.html".to_string(), "report.csv".to_string()];
+        names.extend(references.keys().map(|scene| reference_file(scene)));
+        let dir = self.folder.path();
+        for (rank, e) in entries.iter().enumerate() {
+            let mut files = vec![(unranked(e.index, "image"), image_file(rank, entries.len()))];
+            if e.heat_map {
+                files.push((
+                    unranked(e.index, "heatmap"),
+                    heat_map_file(rank, entries.len()),
+                ));
+            }
+            for (from, to) in files {
+                std::fs::rename(dir.join(&from), dir.join(&to))
+                    .with_context(|| format!("cannot name {to} of the report"))?;
+                names.push(to);
+            }
+        }
+        self.write("index.html", html(class, tolerance).as_bytes())?;
+        self.write("report.csv", &csv(class)?)?;
+        self.write(
+            LIST,
+            (LIST_HEADER.to_string() + "\n" + &names.join("\n") + "\n").as_bytes(),
+        )?;
+        replace_folder(out, self.folder)
+    }
+}
+
+/// Image `index`'s file before it is ranked.
+fn unranked(index: usize, what: &str) -> String {
+    format!("unranked-{index}-{what}.png")
 }
 
 fn png(image: &RgbImage) -> Result<Vec<u8>> {
     Ok(encode(image, ImageFormat::Png)?)
 }
 
-fn replace_folder(out: &Path, files: &[(String, Vec<u8>)]) -> Result<()> {
+/// Puts `staging` in the place of `out`: an earlier report there (checked
+/// again: a file added to it since the start is not lost) is moved aside
+/// and deleted once the new one is in place.
+fn replace_folder(out: &Path, staging: PendingFolder) -> Result<()> {
+    check_out(out)?;
     let parent = parent_of(out);
-    let staging = tempfile::Builder::new()
-        .prefix(".tracer-report-")
-        .tempdir_in(parent)
-        .with_context(|| format!("cannot create a folder in {}", parent.display()))?;
-    for (name, bytes) in files {
-        std::fs::write(staging.path().join(name), bytes)
-            .with_context(|| format!("cannot write {name} of the report"))?;
-    }
-    // The old report is moved aside, not deleted, until the new one is in place.
     let old = tempfile::Builder::new()
         .prefix(".tracer-old-report-")
         .tempdir_in(parent)
         .with_context(|| format!("cannot create a folder in {}", parent.display()))?;
     let aside = old.path().join("report");
-    if out.exists() {
+    if std::fs::symlink_metadata(out).is_ok() {
         std::fs::rename(out, &aside)
             .with_context(|| format!("cannot replace {}", out.display()))?;
     }
-    if let Err(e) = std::fs::rename(staging.path(), out) {
+    if let Err(e) = staging.rename_to(out) {
         let _ = std::fs::rename(&aside, out);
         return Err(e).with_context(|| format!("cannot write {}", out.display()));
     }
-    // Now in place: `staging` must not remove it.
-    let _ = staging.keep();
     Ok(())
 }
 
@@ -264,8 +377,18 @@ fn html(class: &Class, tolerance: u8) -> String {
     }
     if !class.unmatched.is_empty() {
         page += "<h2>Not compared: named after no scene</h2>\n<ul>\n";
-        for path in &class.unmatched {
-            let _ = writeln!(page, "<li>{}</li>", escape(&path.display().to_string()));
+        for u in &class.unmatched {
+            let why = if u.name_not_text {
+                format!(": {}", u.why())
+            } else {
+                String::new()
+            };
+            let _ = writeln!(
+                page,
+                "<li>{}{}</li>",
+                escape(&u.path.display().to_string()),
+                escape(&why)
+            );
         }
         page += "</ul>\n";
     }
@@ -321,7 +444,7 @@ fn section(rank: usize, count: usize, e: &Entry) -> String {
     s += "<div class=\"row\">\n";
     s += &figure("image", Some(&image_file(rank, count)));
     s += &figure("reference", Some(&reference_file(&e.scene)));
-    let heat_map = e.comparison.heat_map().map(|_| heat_map_file(rank, count));
+    let heat_map = e.heat_map.then(|| heat_map_file(rank, count));
     s += &figure("heat-map", heat_map.as_deref());
     s + "</div>\n</section>\n"
 }
@@ -372,8 +495,12 @@ fn figure(label: &str, file: Option<&str>) -> String {
     format!("<figure><figcaption>{label}</figcaption>{content}</figure>\n")
 }
 
+/// Text for the page: control and bidirectional characters made visible
+/// (a name holding U+202E would show reversed, as another student's),
+/// then HTML's own characters escaped.
 fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
+    escape_controls(text)
+        .replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
         .replace('"', "&quot;")
@@ -448,6 +575,10 @@ mod tests {
     #[test]
     fn names_are_escaped_for_html_and_urls() {
         assert_eq!(escape("a<b>&\"c"), "a&lt;b&gt;&amp;&quot;c");
+        assert_eq!(
+            escape("alice\u{202e}gnp.bob\u{1b}[2J"),
+            "alice\\u{202e}gnp.bob\\u{1b}[2J"
+        );
         assert_eq!(
             url_escape("reference-my scene#1.png"),
             "reference-my%20scene%231.png"

@@ -66,7 +66,9 @@ pub fn run(
         reference_read: &reference_read,
         image_size: picture.dimensions(),
     };
-    console::stdout(&text(&names, &comparison, tolerance))?;
+    // File names in it have their control characters made visible.
+    let text = text(&names, &comparison, tolerance);
+    console::stdout(&scene_format::visible::escape_controls_in_lines(&text))?;
     Ok(comparison.within_tolerance())
 }
 

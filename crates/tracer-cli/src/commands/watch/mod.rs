@@ -60,10 +60,7 @@ pub fn run(args: &Watch) -> Result<()> {
             Err(e) => {
                 // Still watched: the fix is an edit of the same file(s).
                 changes.watch(&files_of_failed_load(&last_read, &e));
-                console::stderr(format_args!(
-                    "{}",
-                    report::render(&e, report::color_wanted())
-                ));
+                console::stderr_report(&report::render(&e, report::color_wanted()));
                 note!("keeping the last good image; waiting for the next edit");
                 if let Some(server) = &server {
                     server.error(&report::render(&e, false));
@@ -137,11 +134,30 @@ fn render_passes(args: &Watch, loaded: &Loaded, changes: &Changes, server: Optio
 fn render_in_passes(args: &Watch, loaded: &Loaded, changes: &Changes, server: Option<&Server>) {
     let start = Instant::now();
     let cancel = changes.pending();
+    let prepared = args
+        .pool
+        .install(|| tracer_pipeline::prepare_taking(loaded.clone(), &args.options, "watch"));
+    let prepared = match prepared {
+        Ok(prepared) => prepared,
+        Err(e) => return note!("error: {e:#}"),
+    };
     let mut failed = None;
+    // Each pass is denoised when the scene asks for it, with the guides
+    // rendered once.
+    let mut guides = None;
     let mut on_pass = |pass: tracer_pipeline::Pass| {
+        let picture = tracer_pipeline::denoise_picture(&prepared, &mut guides, pass.picture);
+        let picture = match picture {
+            Ok(picture) => picture,
+            Err(e) => {
+                failed = Some(e.into());
+                return false;
+            }
+        };
         let rendered = Rendered {
-            image: pass.picture.clone(),
+            image: picture,
             summary: Summary::Shaded(pass.stats.clone()),
+            denoising: None,
         };
         let pass = Pass {
             is_preview: false,
@@ -157,10 +173,9 @@ fn render_in_passes(args: &Watch, loaded: &Loaded, changes: &Changes, server: Op
         }
     };
     let rendered = args.pool.install(|| {
-        tracer_pipeline::render_progressive(
-            loaded,
+        tracer_pipeline::render_prepared_progressive(
+            &prepared,
             &args.options,
-            "watch",
             cancel,
             (&|_| {}, &mut on_pass),
         )
@@ -211,6 +226,9 @@ fn write(
         rendered.image = rendered.image.enlarged(size);
     }
     let pending = PendingOutput::create(&args.output).map_err(Error::from)?;
+    if let Some(warning) = pending.picture_warning(&rendered.image) {
+        note!("warning: {}: {warning}", args.output.display());
+    }
     pending
         .write_picture(&rendered.image, BitDepth::Eight)
         .map_err(Error::from)?;
@@ -234,7 +252,7 @@ fn write(
             _ => None,
         };
         let info = serde_json::json!({
-            "scene": loaded.name.display().to_string(),
+            "scene": scene_format::visible::escape_controls(&loaded.name.display().to_string()),
             "pass": if pass.is_preview { "preview" } else { "full" },
             "width": width,
             "height": height,

@@ -1,18 +1,19 @@
 //! The live page of `tracer watch --serve`: the page, the latest image and
 //! a stream of events (server-sent events), nothing else. No path reaches
-//! the file system; a request's head is bounded in size and time, the
-//! connections in number; a slow or vanished client is dropped rather than
-//! waited for, so rendering never stalls on it.
+//! the file system; the server (`local_server`) answers only requests to
+//! its own address, bounds a request's head in size and time and the
+//! connections in number, and drops a slow or vanished client rather than
+//! waiting for it, so rendering never stalls on it. A clicked pixel's
+//! tree is worked out for a few requests at a time, each tree bounded.
 
 use crate::console::note;
-use anyhow::{Context, Result};
+use anyhow::Result;
 use bytes::Bytes;
-use http_body_util::{combinators::BoxBody, BodyExt, Full};
+use http_body_util::BodyExt;
 use hyper::body::{Body, Frame, Incoming};
-use hyper::{Method, Request, Response, StatusCode};
-use hyper_util::rt::{TokioIo, TokioTimer};
+use hyper::{Request, Response, StatusCode};
+use local_server::{bytes, plain, Limits, Reply};
 use std::convert::Infallible;
-use std::future::Future;
 use std::net::SocketAddr;
 use std::pin::Pin;
 use std::sync::{Arc, Mutex};
@@ -22,21 +23,12 @@ use tokio::sync::{mpsc, Semaphore};
 
 /// The page: one file, no external resources.
 const PAGE: &str = include_str!("page.html");
-/// Connections served at once; one more is closed as soon as it is
-/// accepted (rather than left waiting in the backlog, where a crowd of
-/// idle clients would keep a page waiting for ever).
-const MAX_CONNECTIONS: usize = 512;
 /// Event streams open at once (a page holds one): more are answered 503,
 /// so never-reading streams cannot take every connection.
 const MAX_EVENT_STREAMS: usize = 64;
-/// Bytes of a request's head (request line and headers).
-const MAX_HEAD_BYTES: usize = 8 * 1024;
-/// Time a client has to send its request's head, counted from when the
-/// connection waits for one: an idle or byte-a-second client is closed.
-const HEAD_TIMEOUT: Duration = Duration::from_secs(3);
-/// Time a write may wait on a client that does not read before the
-/// connection is dropped.
-const WRITE_TIMEOUT: Duration = Duration::from_secs(5);
+/// Pixels explained at once: more are answered 503 (busy). Each tree is
+/// bounded (`tracer_core::explain::Limits`), so their memory is too.
+const MAX_EXPLAINS: usize = 2;
 /// Events queued for one client before it counts as too slow and is dropped.
 const CLIENT_QUEUE: usize = 16;
 /// How often an idle event stream gets a comment, which finds vanished clients.
@@ -76,18 +68,17 @@ pub struct Server {
 impl Server {
     /// Binds `addr` and serves on a thread of its own.
     pub fn start(addr: SocketAddr) -> Result<Server> {
-        let runtime = tokio::runtime::Builder::new_current_thread()
-            .enable_all()
-            .build()
-            .context("cannot start the page's server")?;
-        let listener = runtime
-            .block_on(tokio::net::TcpListener::bind(addr))
-            .with_context(|| format!("cannot serve the page on {addr}"))?;
-        let addr = listener.local_addr()?;
         let state = Arc::new(Mutex::new(State::default()));
+        let explains = Arc::new(Semaphore::new(MAX_EXPLAINS));
         let served = state.clone();
-        std::thread::spawn(move || runtime.block_on(serve(listener, served)));
-        Ok(Server { state, addr })
+        let server = local_server::start(addr, Limits::default(), move |request| {
+            respond(request, served.clone(), explains.clone())
+        })?;
+        server.runtime.spawn(keep_alive(state.clone()));
+        Ok(Server {
+            state,
+            addr: server.addr,
+        })
     }
 
     /// A new image (PNG bytes) and its numbers, for the page.
@@ -121,31 +112,6 @@ fn event(name: &str, data: &serde_json::Value) -> Bytes {
     Bytes::from(format!("event: {name}\ndata: {data}\n\n"))
 }
 
-async fn serve(listener: tokio::net::TcpListener, state: Arc<Mutex<State>>) {
-    let slots = Arc::new(Semaphore::new(MAX_CONNECTIONS));
-    tokio::spawn(keep_alive(state.clone()));
-    loop {
-        let Ok((stream, _)) = listener.accept().await else {
-            continue;
-        };
-        let Ok(slot) = slots.clone().try_acquire_owned() else {
-            // Full: closed at once (dropped), the client told by the close.
-            continue;
-        };
-        let state = state.clone();
-        tokio::spawn(async move {
-            let service = hyper::service::service_fn(move |r| respond(r, state.clone()));
-            let _ = hyper::server::conn::http1::Builder::new()
-                .timer(TokioTimer::new())
-                .header_read_timeout(HEAD_TIMEOUT)
-                .max_buf_size(MAX_HEAD_BYTES)
-                .serve_connection(TokioIo::new(WriteTimeout::new(stream)), service)
-                .await;
-            drop(slot);
-        });
-    }
-}
-
 async fn keep_alive(state: Arc<Mutex<State>>) {
     let mut ticks = tokio::time::interval(KEEP_ALIVE);
     loop {
@@ -155,19 +121,14 @@ async fn keep_alive(state: Arc<Mutex<State>>) {
     }
 }
 
-type Reply = Response<BoxBody<Bytes, Infallible>>;
-
+/// The reply to a request the server let through (GET or HEAD, to its
+/// own address).
 async fn respond(
     request: Request<Incoming>,
     state: Arc<Mutex<State>>,
-) -> Result<Reply, Infallible> {
-    if request.method() != Method::GET && request.method() != Method::HEAD {
-        return Ok(plain(StatusCode::METHOD_NOT_ALLOWED, "only GET"));
-    }
-    if request.body().size_hint().lower() > 0 {
-        return Ok(plain(StatusCode::PAYLOAD_TOO_LARGE, "no request body"));
-    }
-    Ok(match request.uri().path() {
+    explains: Arc<Semaphore>,
+) -> Reply {
+    match request.uri().path() {
         "/" => bytes(
             "text/html; charset=utf-8",
             Bytes::from_static(PAGE.as_bytes()),
@@ -177,15 +138,15 @@ async fn respond(
             None => plain(StatusCode::NOT_FOUND, "no image yet"),
         },
         "/events" => events(&state),
-        "/explain" => explain(request.uri().query(), &state).await,
+        "/explain" => explain(request.uri().query(), &state, &explains).await,
         _ => plain(StatusCode::NOT_FOUND, "not found"),
-    })
+    }
 }
 
 /// `/explain?x=X&y=Y`: the tree of pixel (X, Y) of the scene shown, worked
 /// out on a thread of the blocking pool (a large scene takes a moment to
-/// prepare), as text.
-async fn explain(query: Option<&str>, state: &Mutex<State>) -> Reply {
+/// prepare), as text; at most `MAX_EXPLAINS` at once, more answered 503.
+async fn explain(query: Option<&str>, state: &Mutex<State>, explains: &Arc<Semaphore>) -> Reply {
     let Some((x, y)) = query.and_then(pixel_of) else {
         return plain(
             StatusCode::BAD_REQUEST,
@@ -195,7 +156,18 @@ async fn explain(query: Option<&str>, state: &Mutex<State>) -> Reply {
     let Some(explainer) = state.lock().expect("the page's state").explain.clone() else {
         return plain(StatusCode::NOT_FOUND, "no scene yet");
     };
-    match tokio::task::spawn_blocking(move || explainer(x, y)).await {
+    let Ok(slot) = explains.clone().try_acquire_owned() else {
+        return plain(
+            StatusCode::SERVICE_UNAVAILABLE,
+            "busy explaining other pixels; click again in a moment",
+        );
+    };
+    let work = move || {
+        let text = explainer(x, y);
+        drop(slot);
+        text
+    };
+    match tokio::task::spawn_blocking(work).await {
         Ok(Ok(text)) => bytes("text/plain; charset=utf-8", Bytes::from(text)),
         Ok(Err(why)) => {
             let mut reply = bytes("text/plain; charset=utf-8", Bytes::from(why));
@@ -217,23 +189,6 @@ fn pixel_of(query: &str) -> Option<(u32, u32)> {
         }
     }
     Some((x?, y?))
-}
-
-fn bytes(content_type: &str, body: Bytes) -> Reply {
-    Response::builder()
-        .header("content-type", content_type)
-        .header("cache-control", "no-store")
-        .body(Full::new(body).boxed())
-        .expect("a valid response")
-}
-
-fn plain(status: StatusCode, text: &'static str) -> Reply {
-    let mut reply = bytes(
-        "text/plain; charset=utf-8",
-        Bytes::from_static(text.as_bytes()),
-    );
-    *reply.status_mut() = status;
-    reply
 }
 
 /// A new event stream: what the page shows now, then every change.
@@ -274,88 +229,10 @@ impl Body for EventStream {
     }
 }
 
-/// A connection whose writes fail after waiting `WRITE_TIMEOUT` on a
-/// client that does not read: its task ends and its slot is freed.
-struct WriteTimeout<S = tokio::net::TcpStream> {
-    stream: S,
-    limit: Duration,
-    /// Set when a write first waits; cleared when one goes through.
-    deadline: Option<Pin<Box<tokio::time::Sleep>>>,
-}
-
-impl<S> WriteTimeout<S> {
-    fn new(stream: S) -> WriteTimeout<S> {
-        WriteTimeout::with_limit(stream, WRITE_TIMEOUT)
-    }
-
-    fn with_limit(stream: S, limit: Duration) -> WriteTimeout<S> {
-        WriteTimeout {
-            stream,
-            limit,
-            deadline: None,
-        }
-    }
-
-    /// `result` of a write, or an error once the writes waited too long.
-    fn timed<T>(
-        &mut self,
-        cx: &mut TaskContext<'_>,
-        result: Poll<std::io::Result<T>>,
-    ) -> Poll<std::io::Result<T>> {
-        if result.is_ready() {
-            self.deadline = None;
-            return result;
-        }
-        let limit = self.limit;
-        let deadline = self
-            .deadline
-            .get_or_insert_with(|| Box::pin(tokio::time::sleep(limit)));
-        match deadline.as_mut().poll(cx) {
-            Poll::Ready(()) => Poll::Ready(Err(std::io::ErrorKind::TimedOut.into())),
-            Poll::Pending => Poll::Pending,
-        }
-    }
-}
-
-impl<S: tokio::io::AsyncRead + Unpin> tokio::io::AsyncRead for WriteTimeout<S> {
-    fn poll_read(
-        mut self: Pin<&mut Self>,
-        cx: &mut TaskContext<'_>,
-        buf: &mut tokio::io::ReadBuf<'_>,
-    ) -> Poll<std::io::Result<()>> {
-        Pin::new(&mut self.stream).poll_read(cx, buf)
-    }
-}
-
-impl<S: tokio::io::AsyncWrite + Unpin> tokio::io::AsyncWrite for WriteTimeout<S> {
-    fn poll_write(
-        mut self: Pin<&mut Self>,
-        cx: &mut TaskContext<'_>,
-        buf: &[u8],
-    ) -> Poll<std::io::Result<usize>> {
-        let result = Pin::new(&mut self.stream).poll_write(cx, buf);
-        self.timed(cx, result)
-    }
-
-    fn poll_flush(mut self: Pin<&mut Self>, cx: &mut TaskContext<'_>) -> Poll<std::io::Result<()>> {
-        let result = Pin::new(&mut self.stream).poll_flush(cx);
-        self.timed(cx, result)
-    }
-
-    fn poll_shutdown(
-        mut self: Pin<&mut Self>,
-        cx: &mut TaskContext<'_>,
-    ) -> Poll<std::io::Result<()>> {
-        let result = Pin::new(&mut self.stream).poll_shutdown(cx);
-        self.timed(cx, result)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use std::io::{Read, Write};
-    use tokio::io::AsyncWriteExt;
 
     /// The status line of the answer to GET `path`, and the stream, left
     /// open (an event stream's answer never ends).
@@ -364,7 +241,8 @@ mod tests {
         stream
             .set_read_timeout(Some(Duration::from_secs(10)))
             .unwrap();
-        let request = format!("GET {path} HTTP/1.1\r\nHost: localhost\r\n\r\n");
+        let port = addr.port();
+        let request = format!("GET {path} HTTP/1.1\r\nHost: localhost:{port}\r\n\r\n");
         stream.write_all(request.as_bytes()).unwrap();
         let mut line = Vec::new();
         let mut byte = [0u8; 1];
@@ -393,65 +271,38 @@ mod tests {
         drop(streams);
     }
 
-    /// Writes of 64 bytes for `for_time` through a `WriteTimeout` of
-    /// 200 ms to a peer of a 64-byte buffer that reads every `read_every`
-    /// (never, if None): the first error, or Ok (an error of kind Other if
-    /// a write never ended).
-    fn write_to_a_peer(read_every: Option<Duration>, for_time: Duration) -> std::io::Result<()> {
-        let runtime = tokio::runtime::Builder::new_current_thread()
-            .enable_time()
-            .build()
-            .unwrap();
-        runtime.block_on(async {
-            let (near, mut far) = tokio::io::duplex(64);
-            let mut conn = WriteTimeout::with_limit(near, Duration::from_millis(200));
-            // Held open and never read, or read by a task of its own.
-            let _unread = match read_every {
-                None => Some(far),
-                Some(every) => {
-                    tokio::spawn(async move {
-                        use tokio::io::AsyncReadExt;
-                        let mut buf = [0u8; 64];
-                        while far.read(&mut buf).await.unwrap_or(0) > 0 {
-                            tokio::time::sleep(every).await;
-                        }
-                    });
-                    None
-                }
-            };
-            let writes = async {
-                let start = tokio::time::Instant::now();
-                while start.elapsed() < for_time {
-                    conn.write_all(&[7u8; 64]).await?;
-                }
-                Ok(())
-            };
-            // A write that waits for ever fails the test rather than hangs it.
-            let hung = std::io::Error::other("a write waited for ever");
-            let bound = for_time + Duration::from_secs(2);
-            tokio::time::timeout(bound, writes)
-                .await
-                .unwrap_or(Err(hung))
-        })
-    }
-
     #[test]
-    fn a_client_that_does_not_read_is_dropped_after_the_write_timeout() {
-        let start = std::time::Instant::now();
-        let result = write_to_a_peer(None, Duration::from_secs(5));
-        let err = result.expect_err("writes to a peer that never reads went on");
-        assert_eq!(err.kind(), std::io::ErrorKind::TimedOut);
-        let waited = start.elapsed();
-        assert!(
-            waited >= Duration::from_millis(200) && waited < Duration::from_secs(3),
-            "{waited:?}"
-        );
-    }
-
-    #[test]
-    fn a_slow_reader_is_kept_while_each_write_goes_through_in_time() {
-        // A read every 50 ms, each write waiting less than the 200 ms limit.
-        let result = write_to_a_peer(Some(Duration::from_millis(50)), Duration::from_secs(1));
-        assert!(result.is_ok(), "{result:?}");
+    fn pixels_are_explained_a_few_at_a_time_and_more_told_busy() {
+        use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+        let server = Server::start("127.0.0.1:0".parse().unwrap()).unwrap();
+        // An explainer that holds its thread until released.
+        let started = Arc::new(AtomicUsize::new(0));
+        let released = Arc::new(AtomicBool::new(false));
+        let (s, r) = (started.clone(), released.clone());
+        server.explain_with(Arc::new(move |_, _| {
+            s.fetch_add(1, Ordering::SeqCst);
+            while !r.load(Ordering::SeqCst) {
+                std::thread::sleep(Duration::from_millis(5));
+            }
+            Ok("the tree".to_string())
+        }));
+        let addr = server.addr;
+        let held: Vec<_> = (0..MAX_EXPLAINS)
+            .map(|k| std::thread::spawn(move || get(addr, &format!("/explain?x={k}&y=0")).0))
+            .collect();
+        let waited = std::time::Instant::now();
+        while started.load(Ordering::SeqCst) < MAX_EXPLAINS {
+            assert!(waited.elapsed() < Duration::from_secs(10), "never started");
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        let (busy, _) = get(addr, "/explain?x=9&y=9");
+        assert_eq!(busy, "HTTP/1.1 503 Service Unavailable");
+        released.store(true, Ordering::SeqCst);
+        for answer in held {
+            assert_eq!(answer.join().unwrap(), "HTTP/1.1 200 OK");
+        }
+        assert_eq!(started.load(Ordering::SeqCst), MAX_EXPLAINS);
+        // Free again.
+        assert_eq!(get(addr, "/explain?x=9&y=9").0, "HTTP/1.1 200 OK");
     }
 }

@@ -3,6 +3,8 @@
 //! rays, compiled for each processor's widest SIMD registers.
 
 use super::{lane, set, Tri, F, LANES, V};
+use crate::geometry::{moller_trumbore, Edges, OriginTerms};
+use crate::simd::{Mask, Real, F16, V3};
 use crate::EPSILON;
 use glam::Vec3;
 use multiversion::multiversion;
@@ -14,17 +16,17 @@ use multiversion::multiversion;
 /// registers (the same arithmetic: nothing is fused).
 #[multiversion(targets("x86_64+avx512f+avx512bw+avx512dq+avx512vl", "x86_64+avx2"))]
 pub(super) fn nearest(tris: &[Tri], rays: &Rays) -> (F, [u32; LANES]) {
-    let mut best = [f32::INFINITY; LANES];
+    let mut best = F16::splat(f32::INFINITY);
     let mut id = [u32::MAX; LANES];
     let dir_len = rays.dir_len();
     for (j, tri) in tris.iter().enumerate() {
+        let (hit, t) = rays.intersect(tri, best, dir_len);
+        best = F16::select(hit, t, best);
         for k in 0..LANES {
-            let (hit, t) = rays.intersect(k, tri, best[k], &dir_len);
-            best[k] = if hit { t } else { best[k] };
-            id[k] = if hit { j as u32 } else { id[k] };
+            id[k] = if hit.lane(k) { j as u32 } else { id[k] };
         }
     }
-    (best, id)
+    (best.0, id)
 }
 
 /// Whether something of `tris` lies on each lane's ray in (EPSILON,
@@ -33,22 +35,21 @@ pub(super) fn nearest(tris: &[Tri], rays: &Rays) -> (F, [u32; LANES]) {
 /// blocked.
 #[multiversion(targets("x86_64+avx512f+avx512bw+avx512dq+avx512vl", "x86_64+avx2"))]
 pub(super) fn occluded(tris: &[Tri], rays: &Rays, reach: &F) -> [u32; LANES] {
-    let mut blocked = reach.map(|r| u32::from(r == f32::NEG_INFINITY));
+    let reach = F16(*reach);
+    let mut blocked = reach.eq(F16::splat(f32::NEG_INFINITY));
     let dir_len = rays.dir_len();
     // Whether all are blocked is asked every few triangles only: it is
     // rarely so, and asked after each triangle the question took 3.5 % of
     // the Cornell box's time.
     for group in tris.chunks(8) {
         for tri in group {
-            for k in 0..LANES {
-                blocked[k] |= rays.intersect(k, tri, reach[k], &dir_len).0 as u32;
-            }
+            blocked = blocked | rays.intersect(tri, reach, dir_len).0;
         }
-        if blocked.iter().all(|&b| b != 0) {
+        if blocked.all() {
             break;
         }
     }
-    blocked
+    blocked.0.map(|b| b & 1)
 }
 
 /// The lanes' rays by axis, for the triangle test in lanes.
@@ -80,51 +81,29 @@ impl Rays {
 
     /// Each direction's length, as `Vec3::length` (the test's scale).
     #[inline(always)]
-    fn dir_len(&self) -> F {
-        let d = &self.dir;
-        std::array::from_fn(|k| (d[0][k] * d[0][k] + d[1][k] * d[1][k] + d[2][k] * d[2][k]).sqrt())
+    fn dir_len(&self) -> F16 {
+        by_axis(&self.dir).length()
     }
 
-    /// Moller-Trumbore of lane `k`'s ray against `tri` within (EPSILON,
-    /// t_max): `Tri4::intersect_with`'s operations in its order, so the
-    /// one-ray search's distances bit for bit. Whether it hits, and where.
+    /// `moller_trumbore` of every lane's ray against `tri` within
+    /// (EPSILON, t_max): whether each hits, and where.
     #[inline(always)]
-    fn intersect(&self, k: usize, tri: &Tri, t_max: f32, dir_len: &F) -> (bool, f32) {
-        let (v0, e1, e2) = (tri.v0.to_array(), tri.e1.to_array(), tri.e2.to_array());
-        let o = [self.origin[0][k], self.origin[1][k], self.origin[2][k]];
-        let d = [self.dir[0][k], self.dir[1][k], self.dir[2][k]];
-        let s = [o[0] - v0[0], o[1] - v0[1], o[2] - v0[2]];
-        let q = cross(s, e1);
-        let t_times_det = dot(e2, q);
-        let p = cross(d, e2);
-        let det = dot(e1, p);
-        let parallel = det.abs() < tri.edge_scale * dir_len[k];
-        let inv = 1.0 / det;
-        let u = dot(s, p) * inv;
-        // `&` and `|`, not `&&` and `||` (nor `contains`): no branch, so
-        // the lanes are tested in SIMD registers.
-        #[allow(clippy::manual_range_contains)]
-        let u_inside = (u >= 0.0) & (u <= 1.0);
-        let v = dot(d, q) * inv;
-        let v_outside = (v < 0.0) | (u + v > 1.0);
-        let t = t_times_det * inv;
-        let t_inside = (t > EPSILON) & (t < t_max);
-        (!parallel & u_inside & !v_outside & t_inside, t)
+    fn intersect(&self, tri: &Tri, t_max: F16, dir_len: F16) -> (crate::simd::M16, F16) {
+        let (e1, e2) = (V3::splat(tri.e1), V3::splat(tri.e2));
+        let terms = OriginTerms::new(by_axis(&self.origin), V3::splat(tri.v0), e1, e2);
+        let edges = Edges {
+            e1,
+            e2,
+            scale: F16::splat(tri.edge_scale),
+        };
+        let range = (F16::splat(EPSILON), t_max);
+        let (hit, t, _) = moller_trumbore(&terms, by_axis(&self.dir), dir_len, &edges, range);
+        (hit, t)
     }
 }
 
-/// `a x b`, as `Vec3::cross`.
+/// A vector per lane, kept by axis, as lane numbers.
 #[inline(always)]
-fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [
-        a[1] * b[2] - b[1] * a[2],
-        a[2] * b[0] - b[2] * a[0],
-        a[0] * b[1] - b[0] * a[1],
-    ]
-}
-
-/// `a . b`, as `Vec3::dot`.
-#[inline(always)]
-fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+fn by_axis(v: &V) -> V3<F16> {
+    V3::new(F16(v[0]), F16(v[1]), F16(v[2]))
 }

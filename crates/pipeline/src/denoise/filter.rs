@@ -1,0 +1,186 @@
+//! OIDN's `RT` filter run on the images in place: a CPU device, the
+//! albedo and normal prefiltered first and then given with `cleanAux`, as
+//! OIDN's documentation advises for final frames and as Blender does. The
+//! images are OIDN's "shared" images, our own pixels, so nothing is copied.
+
+use super::library::{c_name, Api, Handle};
+use super::{oidn_quality, DenoiseError, Quality};
+use glam::Vec3;
+use std::ffi::{c_void, CStr};
+
+/// `OIDN_DEVICE_TYPE_CPU`.
+const DEVICE_CPU: i32 = 1;
+/// `OIDN_FORMAT_FLOAT3`: three f32 a pixel, as glam's `Vec3`.
+const FORMAT_FLOAT3: i32 = 3;
+const _: () = assert!(std::mem::size_of::<Vec3>() == 12);
+
+/// A CPU device, released when dropped.
+pub(super) struct Device {
+    api: &'static Api,
+    handle: Handle,
+}
+
+impl Device {
+    /// A committed CPU device of `threads` threads (0: OIDN's choice, one
+    /// per core).
+    pub(super) fn new(api: &'static Api, threads: usize) -> Result<Device, DenoiseError> {
+        // SAFETY: OIDN's C API, called as oidn.h declares it.
+        let handle = unsafe { (api.new_device)(DEVICE_CPU) };
+        if handle.is_null() {
+            return Err(DenoiseError::Oidn(
+                "no CPU device could be made (oidnNewDevice)".to_string(),
+            ));
+        }
+        let device = Device { api, handle };
+        let threads = i32::try_from(threads).unwrap_or(0);
+        // SAFETY: as above; the name is NUL-terminated.
+        unsafe {
+            (api.set_device_int)(handle, c_name(c"numThreads"), threads);
+            (api.commit_device)(handle);
+        }
+        device.check()?;
+        Ok(device)
+    }
+
+    /// OIDN's version, e.g. 20501 for 2.5.1.
+    pub(super) fn version(&self) -> i32 {
+        // SAFETY: as above.
+        unsafe { (self.api.get_device_int)(self.handle, c_name(c"version")) }
+    }
+
+    /// The device's first error since the last check, if any.
+    fn check(&self) -> Result<(), DenoiseError> {
+        let mut message = std::ptr::null();
+        // SAFETY: as above; OIDN's message lives until the next call.
+        let code = unsafe { (self.api.get_device_error)(self.handle, &mut message) };
+        if code == 0 {
+            return Ok(());
+        }
+        let text = if message.is_null() {
+            String::new()
+        } else {
+            // SAFETY: a NUL-terminated string from OIDN.
+            unsafe { CStr::from_ptr(message) }
+                .to_string_lossy()
+                .into_owned()
+        };
+        Err(DenoiseError::Oidn(format!("error {code}: {text}")))
+    }
+
+    /// The `RT` filter on `colour` (HDR, linear), guided by `albedo` and
+    /// `normal` (prefiltered here, in place), into `output`: all
+    /// `width` x `height`, rows top to bottom.
+    pub(super) fn denoise(
+        &self,
+        (width, height): (usize, usize),
+        colour: &[Vec3],
+        albedo: &mut [Vec3],
+        normal: &mut [Vec3],
+        output: &mut [Vec3],
+        quality: Quality,
+    ) -> Result<(), DenoiseError> {
+        let size = width * height;
+        assert!(
+            [colour.len(), albedo.len(), normal.len(), output.len()] == [size; 4],
+            "every image is width x height"
+        );
+        let image = Image { width, height };
+        for (name, pixels) in [(c"albedo", &mut *albedo), (c"normal", &mut *normal)] {
+            let filter = Filter::new(self, quality)?;
+            filter.set(name, image, pixels.as_mut_ptr());
+            filter.set(c"output", image, pixels.as_mut_ptr());
+            filter.run()?;
+        }
+        let filter = Filter::new(self, quality)?;
+        // OIDN only reads its inputs: the cast to *mut is its C signature.
+        filter.set(c"color", image, colour.as_ptr().cast_mut());
+        filter.set(c"albedo", image, albedo.as_mut_ptr());
+        filter.set(c"normal", image, normal.as_mut_ptr());
+        filter.set(c"output", image, output.as_mut_ptr());
+        filter.set_bool(c"hdr", true);
+        filter.set_bool(c"cleanAux", true);
+        filter.run()
+    }
+}
+
+impl Drop for Device {
+    fn drop(&mut self) {
+        // SAFETY: the handle is ours, released once.
+        unsafe { (self.api.release_device)(self.handle) }
+    }
+}
+
+/// The size of an image given to a filter.
+#[derive(Clone, Copy)]
+struct Image {
+    width: usize,
+    height: usize,
+}
+
+/// An `RT` filter of a device, released when dropped.
+struct Filter<'d> {
+    device: &'d Device,
+    handle: Handle,
+}
+
+impl<'d> Filter<'d> {
+    fn new(device: &'d Device, quality: Quality) -> Result<Filter<'d>, DenoiseError> {
+        let api = device.api;
+        // SAFETY: as above.
+        let handle = unsafe { (api.new_filter)(device.handle, c_name(c"RT")) };
+        device.check()?;
+        if handle.is_null() {
+            return Err(DenoiseError::Oidn(
+                "no RT filter (oidnNewFilter)".to_string(),
+            ));
+        }
+        let filter = Filter { device, handle };
+        // SAFETY: as above.
+        unsafe { (api.set_filter_int)(handle, c_name(c"quality"), oidn_quality(quality)) };
+        Ok(filter)
+    }
+
+    /// Image `name` at `pixels` (which must outlive the filter's run).
+    fn set(&self, name: &'static CStr, image: Image, pixels: *mut Vec3) {
+        let stride = std::mem::size_of::<Vec3>();
+        // SAFETY: `pixels` holds width * height pixels of 3 f32, rows
+        // packed, and lives until `run` returns (the caller's borrow).
+        unsafe {
+            (self.device.api.set_shared_filter_image)(
+                self.handle,
+                c_name(name),
+                pixels.cast::<c_void>(),
+                FORMAT_FLOAT3,
+                image.width,
+                image.height,
+                0,
+                stride,
+                stride * image.width,
+            )
+        }
+    }
+
+    fn set_bool(&self, name: &'static CStr, value: bool) {
+        // SAFETY: as above.
+        unsafe { (self.device.api.set_filter_bool)(self.handle, c_name(name), value) }
+    }
+
+    /// Commits and executes the filter (synchronously: OIDN's
+    /// `oidnExecuteFilter` waits for it).
+    fn run(&self) -> Result<(), DenoiseError> {
+        let api = self.device.api;
+        // SAFETY: as above.
+        unsafe { (api.commit_filter)(self.handle) };
+        self.device.check()?;
+        // SAFETY: as above.
+        unsafe { (api.execute_filter)(self.handle) };
+        self.device.check()
+    }
+}
+
+impl Drop for Filter<'_> {
+    fn drop(&mut self) {
+        // SAFETY: the handle is ours, released once.
+        unsafe { (self.device.api.release_filter)(self.handle) }
+    }
+}

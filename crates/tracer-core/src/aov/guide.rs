@@ -1,0 +1,84 @@
+//! What a pixel sees, for the denoiser: the albedo and shading normal of
+//! the first surface a primary ray meets that is not a perfect mirror or
+//! smooth glass, the ray followed through those (as Open Image Denoise's
+//! documentation asks, and Blender's denoising passes do), each sample of
+//! a pixel on its own, the pixel the mean of its samples.
+//!
+//! Where glass both reflects and refracts, each sample follows one branch,
+//! picked by its own random numbers (the pixel's sample stream, after its
+//! position) in proportion to the branch's energy and weighted by energy
+//! over probability: a pixel's mean is then the two branches' albedos
+//! weighted by Fresnel, and a sample costs one ray a surface.
+
+use crate::geometry::SurfaceHit;
+use crate::material::SpecularSplit;
+use crate::ray::Ray;
+use crate::sampling::{unit_float, Rng};
+use crate::scene::Scene;
+use crate::EPSILON;
+use glam::Vec3;
+
+/// Mirrors and glass followed at most: a ray caught between two mirrors
+/// stops there, seeing black.
+const MAX_SPECULAR: u32 = 16;
+
+/// One sample's guides.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Seen {
+    pub albedo: Vec3,
+    /// Unit, toward the ray; zero where the ray left the scene.
+    pub normal: Vec3,
+}
+
+/// The guides of a primary `ray` whose nearest hit is `hit`.
+pub(crate) fn seen(scene: &Scene, ray: &Ray, hit: Option<&SurfaceHit>, rng: &mut Rng) -> Seen {
+    let mut weight = Vec3::ONE;
+    let mut ray = *ray;
+    let mut hit = hit.copied();
+    for _ in 0..=MAX_SPECULAR {
+        let dir = ray.dir().normalize();
+        let Some(h) = hit else {
+            let background = scene.background(dir).clamp(Vec3::ZERO, Vec3::ONE);
+            return Seen {
+                albedo: weight * background,
+                normal: Vec3::ZERO,
+            };
+        };
+        let material = scene.material(h.material);
+        let Some(split) = material.specular_split(dir, &h) else {
+            let normal = if dir.dot(h.shading_normal) > 0.0 {
+                -h.shading_normal
+            } else {
+                h.shading_normal
+            };
+            return Seen {
+                albedo: weight * material.albedo(&h),
+                normal,
+            };
+        };
+        let (next, colour) = pick(&split, rng);
+        weight *= colour;
+        ray = Ray::new(ray.at(h.t), next);
+        hit = scene.closest_hit(&ray, EPSILON, f32::INFINITY);
+    }
+    Seen {
+        albedo: Vec3::ZERO,
+        normal: Vec3::ZERO,
+    }
+}
+
+/// One branch of `split` (direction and weight), picked with probability
+/// in proportion to its energy.
+fn pick(split: &SpecularSplit, rng: &mut Rng) -> (Vec3, Vec3) {
+    let (reflected, colour) = split.reflected;
+    let Some((refracted, through)) = split.transmitted else {
+        return (reflected, colour);
+    };
+    let total = split.energy();
+    let p_through = through.element_sum() / total;
+    if unit_float(rng.next_u64()) < p_through {
+        (refracted, through / p_through)
+    } else {
+        (reflected, colour / (1.0 - p_through))
+    }
+}
