@@ -433,7 +433,8 @@ fn white() -> Color {
 /// glTF 2.0 and Blender's Principled BSDF): `base_color`, `metallic`,
 /// `roughness`, `transmission`, and the textures
 /// `metallic_roughness_texture`, `emission_texture` and `normal_texture`
-/// (Whitted mode reads the factors alone). Both kinds take `ior` (1.5 when left out),
+/// (Whitted mode reads `metallic`, `roughness` and `emission` without
+/// their textures). Both kinds take `ior` (1.5 when left out),
 /// `emission` and `texture`; keys of both kinds in one material are an
 /// error.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -650,7 +651,7 @@ impl<'de> Deserialize<'de> for MaterialRef {
 }
 
 /// One object: exactly one shape key (`sphere`, `triangle`, `mesh`,
-/// `plane`, `box`, `quad`) and its material.
+/// `plane`, `box`, `quad`, `gltf`) and its material.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Object {
