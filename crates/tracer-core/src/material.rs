@@ -73,13 +73,15 @@ impl Material {
     /// scales them (its mirror and glass are left out: single directions);
     /// a physically based one's textured `base_color` in the share of its
     /// lobes that are not smooth (the opaque dielectric's diffuse base
-    /// always; its thin specular coat, about 4 %, is left out).
+    /// always; its thin specular coat, about 4 %, is left out), its
+    /// metallic and roughness as its textures make them there.
     pub fn albedo(&self, hit: &SurfaceHit) -> Vec3 {
         let albedo = match self {
             Material::Principled(p) => {
-                let [metal, glass, base] = p.shares();
-                let rough = if p.is_smooth() { 0.0 } else { metal + glass };
-                p.textured_base(hit) * (rough + base)
+                let at = p.at(hit);
+                let [metal, glass, base] = at.shares();
+                let rough = if at.is_smooth() { 0.0 } else { metal + glass };
+                at.unit_base() * (rough + base)
             }
             lab => {
                 let (diffuse, specular) = lab.surface().textured(hit);
@@ -173,6 +175,28 @@ impl PrincipledAt {
             ior: self.ior,
             transmission: self.transmission,
         }
+    }
+
+    /// The shares of the metal, the dielectric that transmits and the
+    /// opaque dielectric in the mixture (`bsdf::principled`'s weights).
+    fn shares(&self) -> [f32; 3] {
+        let unit = |x: f32| if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) };
+        let (metallic, transmission) = (unit(self.metallic), unit(self.transmission));
+        [
+            metallic,
+            (1.0 - metallic) * transmission,
+            (1.0 - metallic) * (1.0 - transmission),
+        ]
+    }
+
+    /// Whether its lobes are single directions (GGX's mirror threshold).
+    fn is_smooth(&self) -> bool {
+        crate::bsdf::microfacet::Ggx::from_roughness(self.roughness).is_smooth()
+    }
+
+    /// `base_color` clamped to 0..1, as its BSDF takes it.
+    fn unit_base(&self) -> Vec3 {
+        self.base_color.clamp(Vec3::ZERO, Vec3::ONE)
     }
 }
 
@@ -300,38 +324,12 @@ impl PrincipledMaterial {
         }
     }
 
-    /// The shares of the metal, the dielectric that transmits and the
-    /// opaque dielectric in the mixture (`bsdf::principled`'s weights).
-    fn shares(&self) -> [f32; 3] {
-        let unit = |x: f32| if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) };
-        let (metallic, transmission) = (unit(self.metallic), unit(self.transmission));
-        [
-            metallic,
-            (1.0 - metallic) * transmission,
-            (1.0 - metallic) * (1.0 - transmission),
-        ]
-    }
-
-    /// Whether its lobes are single directions (GGX's mirror threshold).
-    fn is_smooth(&self) -> bool {
-        crate::bsdf::microfacet::Ggx::from_roughness(self.roughness).is_smooth()
-    }
-
-    /// `base_color` at `hit`, textured and clamped to 0..1 (as its BSDF
-    /// takes it).
-    fn textured_base(&self, hit: &SurfaceHit) -> Vec3 {
-        let base = match &self.color_texture {
-            Some(texture) => self.base_color * texture.color(hit.uv),
-            None => self.base_color,
-        };
-        base.clamp(Vec3::ZERO, Vec3::ONE)
-    }
-
     /// `Material::specular_split` of a smooth metal or glass (or a mix of
     /// the two, without an opaque base): the metal reflects its base
     /// colour; the glass reflects Fresnel's share, untinted, and refracts
-    /// the rest tinted by its base colour. `facing` is the shading normal
-    /// on `dir`'s side; `reflected` the mirror direction.
+    /// the rest tinted by its base colour (each as its textures make it at
+    /// `hit`). `facing` is the shading normal on `dir`'s side; `reflected`
+    /// the mirror direction.
     fn specular_split(
         &self,
         dir: Vec3,
@@ -339,11 +337,12 @@ impl PrincipledMaterial {
         facing: Vec3,
         reflected: Vec3,
     ) -> Option<SpecularSplit> {
-        let [metal, glass, base] = self.shares();
-        if base > 0.0 || !self.is_smooth() {
+        let at = self.at(hit);
+        let [metal, glass, base] = at.shares();
+        if base > 0.0 || !at.is_smooth() {
             return None;
         }
-        let colour = self.textured_base(hit);
+        let colour = at.unit_base();
         let ior = if self.ior.is_finite() && self.ior > 0.0 {
             self.ior
         } else {
@@ -473,6 +472,40 @@ mod tests {
             },
             strength: 1.0,
         }
+    }
+
+    #[test]
+    fn the_albedo_guide_reads_metallic_and_roughness_as_their_texture_makes_them() {
+        // A smooth metal by its factors, whose texture (blue 0) makes it a
+        // dielectric: its diffuse base, all of base_color, is the albedo.
+        let principled = crate::bsdf::principled::Principled {
+            base_color: Vec3::splat(0.5),
+            metallic: 1.0,
+            roughness: 0.0,
+            ior: 1.5,
+            transmission: 0.0,
+        };
+        let mut metal = PrincipledMaterial::new(principled, Vec3::ZERO);
+        let hit = SurfaceHit {
+            t: 1.0,
+            object: 0,
+            material: 0,
+            geometric_normal: Vec3::Z,
+            shading_normal: Vec3::Z,
+            uv: glam::Vec2::splat(0.5),
+            front_face: true,
+            shadow_offset: Vec3::ZERO,
+            tangent: glam::Vec4::ZERO,
+        };
+        // Untextured, a smooth metal is followed, not a guide's colour.
+        assert_eq!(
+            Material::Principled(Box::new(metal.clone())).albedo(&hit),
+            Vec3::ZERO
+        );
+        metal.metallic_roughness = Some(one_texel([0, 0, 0]).texture);
+        let material = Material::Principled(Box::new(metal));
+        assert_eq!(material.albedo(&hit), Vec3::splat(0.5));
+        assert!(material.specular_split(-Vec3::Z, &hit).is_none());
     }
 
     #[test]
