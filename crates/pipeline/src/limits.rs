@@ -283,4 +283,59 @@ mod tests {
             d.message
         );
     }
+    #[test]
+    fn in_path_mode_a_gltf_model_s_emitting_triangles_count_as_lights() {
+        let text = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
+            [[objects]]\ngltf = { file = \"m.gltf\" }\n";
+        let mut file = scene_format::load_str(
+            text,
+            scene_format::Format::Toml,
+            std::path::Path::new("s.toml"),
+        )
+        .expect("a scene");
+        // A mesh of 10 triangles of the file's emitting material 0, placed
+        // by two nodes, and one of 5 without a material (glTF's default).
+        let t = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let lamp = Arc::new(MeshData {
+            triangles: vec![t; 10],
+            triangle_materials: vec![Some(0); 10],
+            ..MeshData::default()
+        });
+        let emitting = scene_format::Material {
+            emission: [1.0, 1.0, 1.0],
+            ..scene_format::Material::default()
+        };
+        let at = |mesh, node| scene_format::gltf::PlacedMesh {
+            mesh,
+            node,
+            matrix: glam::Mat4::IDENTITY.to_cols_array(),
+        };
+        let model = scene_format::gltf::GltfData {
+            meshes: vec![Some(lamp), Some(mesh(5))],
+            materials: vec![emitting.clone()],
+            placed: vec![at(0, 0), at(0, 1), at(1, 2)],
+            ..Default::default()
+        };
+        file.objects[0].gltf.as_mut().unwrap().data = Some(Arc::new(model));
+        let shared = tracer_core::prepare::shared_meshes(&file);
+        // Whitted mode: the lamp mesh once and an instance each (10 + 2),
+        // the other mesh's 5 triangles: 17.
+        assert!(primitive_count(&file, &shared, 17, false).is_none());
+        assert!(primitive_count(&file, &shared, 16, false).is_some());
+        // Path mode: and the lamp's 10 emitting triangles at each of its
+        // two places.
+        assert!(primitive_count(&file, &shared, 37, true).is_none());
+        let d = primitive_count(&file, &shared, 36, true).expect("refused");
+        assert_eq!(d.path.to_string(), "objects[0].gltf");
+        assert!(
+            d.message
+                .contains("(this one: 17, and 20 emitting triangles"),
+            "{}",
+            d.message
+        );
+        // The object's emitting material for all: every placed triangle.
+        file.objects[0].material = Some(scene_format::MaterialRef::Inline(emitting));
+        assert!(primitive_count(&file, &shared, 17 + 25, true).is_none());
+        assert!(primitive_count(&file, &shared, 17 + 24, true).is_some());
+    }
 }

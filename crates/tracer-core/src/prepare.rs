@@ -149,12 +149,15 @@ pub fn shared_meshes(file: &fmt::SceneFile) -> Vec<Option<usize>> {
         .collect()
 }
 
-/// How many of mesh object `o`'s triangles give off light (its material's
-/// emission, or each face's MTL material's when it names none): in path
-/// mode each becomes a light of its own, for every object that places the
-/// mesh, an instance's too (`scene.rs`'s `path_lights`). The limits count
-/// them, as they count what else is built.
+/// How many of mesh or glTF object `o`'s triangles give off light (its
+/// material's emission, or each face's MTL or glTF material's when it
+/// names none): in path mode each becomes a light of its own, for every
+/// object or node that places the mesh, an instance's too (`scene.rs`'s
+/// `path_lights`). The limits count them, as they count what else is built.
 pub fn emitting_triangles(file: &fmt::SceneFile, o: &fmt::Object) -> usize {
+    if let Some(model) = o.gltf.as_ref().and_then(|g| g.data.as_ref()) {
+        return gltf::emitting_triangles(file, o, model);
+    }
     let Some(data) = o.mesh.as_ref().and_then(|m| m.data.as_ref()) else {
         return 0;
     };

@@ -136,6 +136,39 @@ fn placed_light(l: &fmt::Light, object: &Placement) -> fmt::Light {
     placed
 }
 
+/// The triangles of glTF object `o` (its model `data`) whose material
+/// emits, every node's placement of them counted (`emitting_triangles` of
+/// a mesh object): the object's `material` for all, else each triangle's
+/// of the file (glTF's default material emits nothing).
+pub(super) fn emitting_triangles(
+    file: &fmt::SceneFile,
+    o: &fmt::Object,
+    data: &fmt::gltf::GltfData,
+) -> usize {
+    let emits = |m: &fmt::Material| m.emission != [0.0; 3];
+    let all = match &o.material {
+        Some(fmt::MaterialRef::Inline(m)) => Some(emits(m)),
+        Some(fmt::MaterialRef::Named(name)) => Some(file.materials.get(name).is_some_and(emits)),
+        None => None,
+    };
+    let of_mesh = |mesh: &fmt::MeshData| match all {
+        Some(true) => mesh.triangles.len(),
+        Some(false) => 0,
+        None => (0..mesh.triangles.len())
+            .filter(|&k| {
+                mesh.triangle_material(k)
+                    .and_then(|m| data.materials.get(m as usize))
+                    .is_some_and(emits)
+            })
+            .count(),
+    };
+    data.placed
+        .iter()
+        .filter_map(|p| data.mesh(p.mesh))
+        .map(|mesh| of_mesh(mesh))
+        .sum()
+}
+
 /// What a glTF object makes, found without building it: the primitives
 /// (a mesh one node places, its triangles; a mesh several place, its
 /// triangles once, by the address of its data in `shared`, and one
