@@ -106,7 +106,7 @@ fn the_goldens_hold_the_labs_hand_worked_values() {
     assert_eq!(px("shadows", 100, 150), [70, 70, 70]);
     // The lab's scenes are all 500x400; the scenes beyond the lab (checked
     // by the physics tests of tracer-core) are not.
-    const BEYOND_LAB: [&str; 16] = [
+    const BEYOND_LAB: [&str; 17] = [
         "antialiasing",
         "bench-bunny",
         "boxes",
@@ -115,6 +115,7 @@ fn the_goldens_hold_the_labs_hand_worked_values() {
         "courtyard",
         "ellipsoids",
         "global-illumination",
+        "gltf-box",
         "depth-of-field",
         "glass",
         "materials",

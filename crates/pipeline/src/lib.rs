@@ -16,6 +16,7 @@ pub mod explain_text;
 pub mod lab;
 mod limits;
 mod load;
+mod model_summary;
 mod options;
 pub mod output;
 pub mod pack;
@@ -30,6 +31,7 @@ pub use limits::{BYTES_PER_PRIMITIVE, MAX_PRIMITIVES};
 pub use load::{
     as_written, load, load_from, load_or_part, Checked, Input, Loaded, Warning, DEFAULT_SCENE_NAME,
 };
+pub use model_summary::{summary, Bounds, SceneSummary};
 pub use options::{tile_region, Aov, Gamma, Options, Part, Region};
 #[cfg(not(target_arch = "wasm32"))]
 pub use render::denoise_picture;

@@ -72,9 +72,13 @@ fn primitive_count(
 ) -> Option<Diagnostic> {
     let mut total = 0usize;
     let mut counted = HashSet::new();
+    let mut models = HashSet::new();
     for (i, o) in file.objects.iter().enumerate() {
         let triangles = match o.shapes().as_slice() {
             [ShapeRef::Mesh(m)] => m.data.as_ref().map_or(0, |d| d.triangles.len()),
+            [ShapeRef::Gltf(g)] => g.data.as_ref().map_or(0, |d| {
+                prepare::model_extent(d, o.transform.as_ref(), &mut models).0
+            }),
             _ => 1,
         };
         let n = match shared[i] {
@@ -91,6 +95,8 @@ fn primitive_count(
         if total > max {
             let path = if o.mesh.is_some() {
                 format!("objects[{i}].mesh")
+            } else if o.gltf.is_some() {
+                format!("objects[{i}].gltf")
             } else {
                 format!("objects[{i}]")
             };
@@ -124,6 +130,21 @@ fn placements(file: &SceneFile, shared: &[Option<usize>]) -> Vec<Diagnostic> {
     let mut boxes: HashMap<usize, MeshBox> = HashMap::new();
     let mut diagnostics = Vec::new();
     for (i, o) in file.objects.iter().enumerate() {
+        if let Some(d) = o.gltf.as_ref().and_then(|g| Some((g, g.data.as_ref()?))) {
+            let (g, data) = d;
+            let (_, max_abs) =
+                prepare::model_extent(data, o.transform.as_ref(), &mut HashSet::new());
+            if max_abs > MAX_COORDINATE {
+                diagnostics.push(Diagnostic::new(
+                    format!("objects[{i}].gltf"),
+                    format!(
+                        "once placed, `{}` reaches a coordinate of {max_abs:e}; expected coordinates from -{MAX_COORDINATE:e} to {MAX_COORDINATE:e}, which single-precision tracing can handle",
+                        g.file
+                    ),
+                ));
+            }
+            continue;
+        }
         let Some(mesh) = &o.mesh else { continue };
         let Some(data) = &mesh.data else { continue };
         let transform = o.transform.as_ref();
@@ -261,5 +282,60 @@ mod tests {
             "{}",
             d.message
         );
+    }
+    #[test]
+    fn in_path_mode_a_gltf_model_s_emitting_triangles_count_as_lights() {
+        let text = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
+            [[objects]]\ngltf = { file = \"m.gltf\" }\n";
+        let mut file = scene_format::load_str(
+            text,
+            scene_format::Format::Toml,
+            std::path::Path::new("s.toml"),
+        )
+        .expect("a scene");
+        // A mesh of 10 triangles of the file's emitting material 0, placed
+        // by two nodes, and one of 5 without a material (glTF's default).
+        let t = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let lamp = Arc::new(MeshData {
+            triangles: vec![t; 10],
+            triangle_materials: vec![Some(0); 10],
+            ..MeshData::default()
+        });
+        let emitting = scene_format::Material {
+            emission: [1.0, 1.0, 1.0],
+            ..scene_format::Material::default()
+        };
+        let at = |mesh, node| scene_format::gltf::PlacedMesh {
+            mesh,
+            node,
+            matrix: glam::Mat4::IDENTITY.to_cols_array(),
+        };
+        let model = scene_format::gltf::GltfData {
+            meshes: vec![Some(lamp), Some(mesh(5))],
+            materials: vec![emitting.clone()],
+            placed: vec![at(0, 0), at(0, 1), at(1, 2)],
+            ..Default::default()
+        };
+        file.objects[0].gltf.as_mut().unwrap().data = Some(Arc::new(model));
+        let shared = tracer_core::prepare::shared_meshes(&file);
+        // Whitted mode: the lamp mesh once and an instance each (10 + 2),
+        // the other mesh's 5 triangles: 17.
+        assert!(primitive_count(&file, &shared, 17, false).is_none());
+        assert!(primitive_count(&file, &shared, 16, false).is_some());
+        // Path mode: and the lamp's 10 emitting triangles at each of its
+        // two places.
+        assert!(primitive_count(&file, &shared, 37, true).is_none());
+        let d = primitive_count(&file, &shared, 36, true).expect("refused");
+        assert_eq!(d.path.to_string(), "objects[0].gltf");
+        assert!(
+            d.message
+                .contains("(this one: 17, and 20 emitting triangles"),
+            "{}",
+            d.message
+        );
+        // The object's emitting material for all: every placed triangle.
+        file.objects[0].material = Some(scene_format::MaterialRef::Inline(emitting));
+        assert!(primitive_count(&file, &shared, 17 + 25, true).is_none());
+        assert!(primitive_count(&file, &shared, 17 + 24, true).is_some());
     }
 }

@@ -258,6 +258,10 @@ fn checked(name: PathBuf, loaded: scene_format::LoadedScene) -> Result<Loaded, S
         }
     }
     let warnings = match &loaded.kind {
+        // A model rendered on its own: its warnings at their JSON paths.
+        SceneKind::Scene3d(file) if scene_format::gltf::scene::is_gltf(&name) => {
+            scene_format::gltf::scene::warnings(file)
+        }
         SceneKind::Scene3d(file) => scene_format::warnings(file),
         SceneKind::Canvas(_) => Vec::new(),
     };

@@ -27,16 +27,17 @@ pub fn invalid(
 /// what was meant. The meshes' warnings come first.
 pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
     let mut warnings = mesh_warnings(scene);
+    warnings.extend(crate::gltf::warnings(scene));
     let path_mode = scene.render.integrator == Integrator::Path;
     if path_mode {
         let dark = scene.render.background == [0.0; 3] && scene.environment.is_none();
-        if scene.lights.is_empty() && !emits(scene) && dark {
+        if scene.lights.is_empty() && !has_gltf_lights(scene) && !emits(scene) && dark {
             warnings.push(Diagnostic::new(
                 "lights",
                 "no lights, no emissive material and a black background: nothing gives off light, so the image is black; add [[lights]] or a material with `emission`",
             ));
         }
-    } else if scene.lights.is_empty() {
+    } else if scene.lights.is_empty() && !has_gltf_lights(scene) {
         // The lab adds ambient once per light: no light, no light at all.
         let message = if emits(scene) {
             "no lights: in Whitted mode an emissive material is seen but lights nothing else, so every other object renders black; path mode (integrator = \"path\") makes it a light"
@@ -211,12 +212,29 @@ fn emits(scene: &SceneFile) -> bool {
         .filter(|o| o.material.is_none())
         .filter_map(|o| o.mesh.as_ref()?.data.as_ref())
         .flat_map(|data| &data.materials);
+    // A glTF model without a material of the scene takes its file's.
+    let from_gltf = scene
+        .objects
+        .iter()
+        .filter(|o| o.material.is_none())
+        .filter_map(|o| o.gltf.as_ref()?.data.as_ref())
+        .flat_map(|data| &data.materials);
     scene
         .materials
         .values()
         .chain(inline)
         .chain(from_mtl)
+        .chain(from_gltf)
         .any(crate::Material::is_emissive)
+}
+
+/// Whether a glTF model of the scene brings lights of its own.
+fn has_gltf_lights(scene: &SceneFile) -> bool {
+    scene
+        .objects
+        .iter()
+        .filter_map(|o| o.gltf.as_ref()?.data.as_ref())
+        .any(|data| !data.lights.is_empty())
 }
 
 /// What the path tracer reads differently from the lab: `ambient`, which

@@ -20,7 +20,7 @@ pub enum SceneError {
         source: std::io::Error,
     },
     /// The file's extension is neither `.toml` nor `.json`.
-    #[error("{file}: unknown scene file type; expected a .toml or .json file (or a .zip of `tracer pack`)")]
+    #[error("{file}: unknown scene file type; expected a .toml or .json file, a glTF model (.gltf, .glb) or a .zip of `tracer pack`")]
     UnknownFormat { file: PathBuf },
     /// The file was read but holds problems: a parse error (the first
     /// one only) or every value that failed validation, in file order.

@@ -177,6 +177,24 @@ impl ImageCache {
     }
 }
 
+impl ImageCache {
+    /// The image of `bytes` (a glTF file's embedded image), known by
+    /// `key` (the file and the image's place in it), decoded once, if the
+    /// scene's budget has room for its texels.
+    pub fn decoded(&mut self, key: &Path, bytes: &[u8]) -> Result<Arc<ImageData>, String> {
+        if let Some(read) = self.read.get(key) {
+            return read.clone();
+        }
+        let read = decode(bytes, self.texels_left).map(Arc::new);
+        if let Ok(image) = &read {
+            let texels = u64::from(image.width) * u64::from(image.height);
+            self.texels_left = self.texels_left.saturating_sub(texels);
+        }
+        self.read.insert(key.to_path_buf(), read.clone());
+        read
+    }
+}
+
 /// Reads the image of every image texture of one file's materials, inline
 /// materials and objects from `source`, relative to `base` (that file's
 /// folder). Every image that cannot be read gives a diagnostic at its
@@ -191,26 +209,18 @@ pub fn load_part_images(
     let root = KeyPath::root();
     let mut images = (source, cache);
     for (name, m) in materials.iter_mut() {
-        let path = root.key("materials").key(name).key("texture");
-        load(
-            m.texture.as_mut(),
-            path,
-            base,
-            &mut images,
-            &mut diagnostics,
-        );
+        let path = root.key("materials").key(name);
+        for (key, texture) in textures_of(m) {
+            load(texture, path.key(key), base, &mut images, &mut diagnostics);
+        }
     }
     for (i, o) in objects.iter_mut().enumerate() {
         let object = root.key("objects").index(i);
         if let Some(crate::MaterialRef::Inline(m)) = o.material.as_mut() {
-            let path = object.key("material").key("texture");
-            load(
-                m.texture.as_mut(),
-                path,
-                base,
-                &mut images,
-                &mut diagnostics,
-            );
+            let path = object.key("material");
+            for (key, texture) in textures_of(m) {
+                load(texture, path.key(key), base, &mut images, &mut diagnostics);
+            }
         }
         let path = object.key("texture");
         load(
@@ -222,6 +232,19 @@ pub fn load_part_images(
         );
     }
     diagnostics
+}
+
+/// A material's texture keys, each with its name.
+fn textures_of(m: &mut Material) -> [(&'static str, Option<&mut TextureRef>); 4] {
+    [
+        ("texture", m.texture.as_mut()),
+        (
+            "metallic_roughness_texture",
+            m.metallic_roughness_texture.as_mut(),
+        ),
+        ("emission_texture", m.emission_texture.as_mut()),
+        ("normal_texture", m.normal_texture.as_mut()),
+    ]
 }
 
 fn load(

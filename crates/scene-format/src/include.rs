@@ -479,10 +479,13 @@ impl Loader<'_> {
         let images = &mut self.images;
         let read = (&mut *images, &mut self.budget);
         let meshes = obj::load_object_meshes(&mut part.objects, base, self.source, read);
+        let read = (&mut *images, &mut self.budget);
+        let models = crate::gltf::load_objects(&mut part.objects, base, self.source, read);
         let items = (&mut part.materials, part.objects.as_mut_slice());
         let textures = images::load_part_images(items, base, self.source, images);
         let problems = &mut self.problems[part.file].meshes;
         problems.extend(meshes);
+        problems.extend(models);
         problems.extend(textures);
     }
 

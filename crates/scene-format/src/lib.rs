@@ -7,6 +7,7 @@ pub mod checks;
 pub mod diagnostic;
 pub mod error;
 pub mod excerpt;
+pub mod gltf;
 pub mod images;
 pub mod include;
 pub mod json_spans;

@@ -138,6 +138,9 @@ pub fn load_file(path: &Path) -> Result<LoadedScene, SceneError> {
 /// Reads the scene file at `path` of `source`, a 3D scene with its
 /// included files and meshes, or a 2D canvas.
 pub fn load_from(source: &dyn Source, path: &Path) -> Result<LoadedScene, SceneError> {
+    if crate::gltf::scene::is_gltf(path) {
+        return crate::gltf::scene::load(source, path);
+    }
     let name = source.name(path);
     let format =
         Format::from_path(path).ok_or_else(|| SceneError::UnknownFormat { file: name.clone() })?;

@@ -135,6 +135,35 @@ pub struct Camera {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(extend("exclusiveMinimum" = 0))]
     pub focus_distance: Option<f32>,
+    /// "perspective" (rays from the eye, `fov` wide) or "orthographic"
+    /// (parallel rays along the view direction, from a plane through the
+    /// eye `view_width` wide; `fov` and `aperture` are not used). Default
+    /// "perspective".
+    #[serde(default, skip_serializing_if = "Projection::is_perspective")]
+    pub projection: Projection,
+    /// An orthographic camera's view: how many scene units the image
+    /// spans across (the height follows the image's shape). Only with
+    /// `projection = "orthographic"`, which needs it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("exclusiveMinimum" = 0))]
+    pub view_width: Option<f32>,
+}
+
+/// How a camera's rays leave it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum Projection {
+    /// Rays from the eye through the image (a pinhole, or a thin lens).
+    #[default]
+    Perspective,
+    /// Parallel rays along the view direction.
+    Orthographic,
+}
+
+impl Projection {
+    fn is_perspective(&self) -> bool {
+        *self == Projection::Perspective
+    }
 }
 
 /// Which way world +x runs in the image.
@@ -355,16 +384,32 @@ impl Default for RenderSettings {
     }
 }
 
-/// A light: a point, or a sphere with `radius`. In path mode a point
-/// light's `color` is its intensity (its light falls off with the square
-/// of the distance: 1 gives an irradiance of 1 at distance 1, facing it),
+/// A light: a point (`position`), a sphere with `radius`, a spot
+/// (`position` and `direction`, with `cone`) or a directional light
+/// (`direction` alone). In path mode a point or spot light's `color` is
+/// its intensity (its light falls off with the square of the distance: 1
+/// gives an irradiance of 1 at distance 1, facing it; glTF's candela),
 /// and a sphere light is a sphere that emits, of the same total light.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Light {
     /// Where the light is (a sphere light's centre); coordinates from -1e6
-    /// to 1e6.
-    pub position: Vec3,
+    /// to 1e6. Left out, the light is directional (a sun: `direction`
+    /// alone).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub position: Option<Vec3>,
+    /// Where the light shines: with `position`, a spot light's axis (its
+    /// cone is `cone`); without, a directional light's direction of
+    /// travel, from infinitely far away, its `color` the irradiance it
+    /// gives a surface facing it (glTF's lux). Any non-zero length.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub direction: Option<Vec3>,
+    /// A spot light's cone: [inner, outer] angles in degrees from its
+    /// axis, 0 <= inner <= outer <= 90; full strength inside `inner`,
+    /// fading to none at `outer` as glTF's `KHR_lights_punctual` fades it.
+    /// Only with `position` and `direction`. Default [0, 45].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cone: Option<[f32; 2]>,
     /// The light's colour and strength (linear, channels >= 0); it scales
     /// diffuse, specular and ambient alike. Default [1, 1, 1], white.
     #[serde(default = "white")]
@@ -386,7 +431,10 @@ fn white() -> Color {
 /// `transmittance`, `fresnel`, `absorption`; every key left out is 0
 /// (black, no reflection, opaque). Or a physically based one (the names of
 /// glTF 2.0 and Blender's Principled BSDF): `base_color`, `metallic`,
-/// `roughness`, `transmission`. Both kinds take `ior` (1.5 when left out),
+/// `roughness`, `transmission`, and the textures
+/// `metallic_roughness_texture`, `emission_texture` and `normal_texture`
+/// (Whitted mode reads `metallic`, `roughness` and `emission` without
+/// their textures). Both kinds take `ior` (1.5 when left out),
 /// `emission` and `texture`; keys of both kinds in one material are an
 /// error.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -463,6 +511,27 @@ pub struct Material {
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schemars(range(min = 0, max = 1))]
     pub transmission: Option<f32>,
+    /// Physically based: an image whose blue channel multiplies
+    /// `metallic` and green channel `roughness` at each point (glTF's
+    /// packing; its values are linear, not sRGB): `{ image = "mr.png" }`.
+    /// Default: none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub metallic_roughness_texture: Option<TextureRef>,
+    /// An image (sRGB colours) that multiplies `emission` at each point.
+    /// Default: none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub emission_texture: Option<TextureRef>,
+    /// A tangent-space normal map (linear values; red along the texture's
+    /// u, green along v, blue out of the surface, as glTF's and
+    /// Blender's): it bends the shading normal at each point. A mesh's
+    /// tangents come from its file, or are made by MikkTSpace. Default:
+    /// none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub normal_texture: Option<TextureRef>,
+    /// How far `normal_texture` bends the normal: its x and y are scaled
+    /// by this (glTF's `normalTexture.scale`). Default 1.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub normal_strength: Option<f32>,
 }
 
 impl Default for Material {
@@ -483,6 +552,10 @@ impl Default for Material {
             metallic: None,
             roughness: None,
             transmission: None,
+            metallic_roughness_texture: None,
+            emission_texture: None,
+            normal_texture: None,
+            normal_strength: None,
         }
     }
 }
@@ -504,6 +577,10 @@ impl Material {
             ("metallic", self.metallic.is_some()),
             ("roughness", self.roughness.is_some()),
             ("transmission", self.transmission.is_some()),
+            (
+                "metallic_roughness_texture",
+                self.metallic_roughness_texture.is_some(),
+            ),
         ]
         .into_iter()
         .filter_map(|(key, set)| set.then_some(key))
@@ -539,6 +616,9 @@ pub const DEFAULT_IOR: f32 = 1.5;
 /// A material given by name (a key of `[materials]`) or inline.
 #[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
 #[serde(untagged)]
+// Parsed once per object, never in a render's loop: the inline material's
+// size costs nothing worth a box (and every match on it).
+#[allow(clippy::large_enum_variant)]
 pub enum MaterialRef {
     Named(String),
     Inline(Material),
@@ -571,7 +651,7 @@ impl<'de> Deserialize<'de> for MaterialRef {
 }
 
 /// One object: exactly one shape key (`sphere`, `triangle`, `mesh`,
-/// `plane`, `box`, `quad`) and its material.
+/// `plane`, `box`, `quad`, `gltf`) and its material.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Object {
@@ -599,6 +679,11 @@ pub struct Object {
     /// A parallelogram: `corner + s * edge_u + t * edge_v`, s and t in 0..1.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub quad: Option<Quad>,
+    /// A glTF 2.0 model: `{ file = "model.glb" }` (or a .gltf file with
+    /// its .bin files and images beside it), its meshes, materials and
+    /// lights placed by its nodes, then by this object's `transform`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gltf: Option<Gltf>,
     /// Where the shape goes: a list of steps `[{ translate = [..] },
     /// { rotate = [..] }, { scale = .. }]` (the lab's matrix product: the
     /// last step acts first), or the table `{ translate, rotate, scale }`
@@ -738,6 +823,11 @@ pub struct MeshData {
     /// The file's texture coordinates at each corner, where the face has
     /// them; empty when no face has any, else parallel to `triangles`.
     pub uvs: Vec<Option<[Uv; 3]>>,
+    /// Tangents at each corner (x, y, z along the texture's u, w = +-1 the
+    /// handedness: bitangent = w (normal x tangent)), where the face has
+    /// them (a glTF file's, or made for its normal texture); empty when no
+    /// face has any, else parallel to `triangles`.
+    pub tangents: Vec<Option<[[f32; 4]; 3]>>,
     /// Faces of zero area, left out.
     pub skipped_degenerate: usize,
     /// Faces that repeat an earlier face, left out (`repeated_faces`).
@@ -897,6 +987,35 @@ pub enum ShapeRef<'a> {
     Plane(&'a Plane),
     Box(&'a BoxShape),
     Quad(&'a Quad),
+    Gltf(&'a Gltf),
+}
+
+/// A glTF model as an object's shape: the file, and which part of it.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Gltf {
+    /// The .gltf or .glb file, relative to the scene file's folder.
+    pub file: String,
+    /// Which of the file's scenes: its index (from 0) or its name.
+    /// Default: the file's own `scene`, else its first.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scene: Option<GltfPick>,
+    /// Only this node and the nodes under it (its index or its name),
+    /// placed where its parents place it. Default: every node of the scene.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub node: Option<GltfPick>,
+    /// What the file holds, filled in by `load_path`; not part of the file.
+    #[serde(skip)]
+    #[schemars(skip)]
+    pub data: Option<Arc<crate::gltf::GltfData>>,
+}
+
+/// A scene or node of a glTF file: its index or its name.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(untagged, expecting = "an index (a whole number from 0) or a name")]
+pub enum GltfPick {
+    Index(usize),
+    Name(String),
 }
 
 impl Object {
@@ -920,6 +1039,9 @@ impl Object {
         }
         if let Some(q) = &self.quad {
             shapes.push(ShapeRef::Quad(q));
+        }
+        if let Some(g) = &self.gltf {
+            shapes.push(ShapeRef::Gltf(g));
         }
         shapes
     }
@@ -977,10 +1099,30 @@ pub struct ImageTexture {
     /// other copy. Default "repeat".
     #[serde(default)]
     pub wrap: Wrap,
+    /// A different wrap along v (the image's height) than along u
+    /// (`wrap`). Default: `wrap`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wrap_v: Option<Wrap>,
+    /// Degrees the texture is turned counter-clockwise in uv, after
+    /// `scale`. Default 0.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub rotate: f32,
+    /// Added to uv last, after `scale` and `rotate`: [du, dv]. Default
+    /// [0, 0].
+    #[serde(default, skip_serializing_if = "is_origin")]
+    pub offset: Uv,
     /// The image's texels, filled in by `load_path`; not part of the file.
     #[serde(skip)]
     #[schemars(skip)]
     pub data: Option<Arc<ImageData>>,
+}
+
+fn is_zero(x: &f32) -> bool {
+    *x == 0.0
+}
+
+fn is_origin(uv: &Uv) -> bool {
+    *uv == [0.0; 2]
 }
 
 /// A checkerboard in the surface's uv: squares 1 / scale wide, starting
@@ -1092,6 +1234,9 @@ struct TextureTable {
     checker: Option<[Color; 2]>,
     scale: Option<TextureScale>,
     wrap: Option<Wrap>,
+    wrap_v: Option<Wrap>,
+    rotate: Option<f32>,
+    offset: Option<Uv>,
 }
 
 /// By hand, as `MaterialRef`: a misspelt key or a wrong type inside the
@@ -1128,8 +1273,16 @@ impl TextureTable {
                 image,
                 scale,
                 wrap: self.wrap.unwrap_or_default(),
+                wrap_v: self.wrap_v,
+                rotate: self.rotate.unwrap_or(0.0),
+                offset: self.offset.unwrap_or([0.0; 2]),
                 data: None,
             })),
+            (None, Some(_))
+                if self.wrap_v.is_some() || self.rotate.is_some() || self.offset.is_some() =>
+            {
+                Err("expected `wrap_v`, `rotate` and `offset` only with `image`")
+            }
             (None, Some(checker)) if self.wrap.is_none() => {
                 Ok(TextureRef::Checker(CheckerTexture { checker, scale }))
             }

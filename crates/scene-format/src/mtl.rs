@@ -196,6 +196,9 @@ fn diffuse_map(
             image: file.to_string(),
             scale: TextureScale::default(),
             wrap: Wrap::Repeat,
+            wrap_v: None,
+            rotate: 0.0,
+            offset: [0.0; 2],
             data: Some(data),
         })),
         Err(e) => {

@@ -79,7 +79,7 @@ fn validate_with(scene: &SceneFile, mut v: Validator) -> Vec<Diagnostic> {
     v.render(&root.key("render"), &scene.render);
     for (i, light) in scene.lights.iter().enumerate() {
         let path = root.key("lights").index(i);
-        v.point(path.key("position"), light.position);
+        v.light_kind(&path, light);
         v.color(path.key("color"), light.color);
         v.light_radius(&path, light);
     }
@@ -193,6 +193,7 @@ impl Validator {
         }
         self.image_size(path, c.width, c.height);
         self.length(path.key("aperture"), c.aperture, "a lens radius");
+        self.projection(path, c);
         if let Some(f) = c.focus_distance {
             let key = path.key("focus_distance");
             if self.finite(&key, f) && f <= 0.0 {
@@ -230,6 +231,37 @@ impl Validator {
                     show(c.up)
                 ),
             );
+        }
+    }
+
+    /// An orthographic camera's `view_width` (needed, and only there), and
+    /// no lens on it.
+    fn projection(&mut self, path: &KeyPath, c: &Camera) {
+        let key = path.key("view_width");
+        match (c.projection, c.view_width) {
+            (Projection::Orthographic, None) => self.error(
+                path.key("projection"),
+                "an orthographic camera needs `view_width`: how many scene units the image spans across",
+            ),
+            (Projection::Perspective, Some(_)) => self.error(
+                key,
+                "expected `view_width` only with `projection = \"orthographic\"`; a perspective camera's view is `fov` wide",
+            ),
+            (Projection::Orthographic, Some(w)) => {
+                if self.finite(&key, w) && !(w > 0.0 && w <= MAX_DISTANCE) {
+                    self.error(
+                        key,
+                        format!("expected a width > 0 and at most {MAX_DISTANCE:e}, found {}", num(w)),
+                    );
+                }
+                if c.aperture != 0.0 {
+                    self.error(
+                        path.key("aperture"),
+                        "expected no `aperture` on an orthographic camera: its parallel rays have no lens to blur with",
+                    );
+                }
+            }
+            (Projection::Perspective, None) => {}
         }
     }
 
@@ -366,6 +398,26 @@ impl Validator {
         }
         if let Some(t) = &m.texture {
             self.texture(&path.key("texture"), t);
+        }
+        for (key, t) in [
+            ("metallic_roughness_texture", &m.metallic_roughness_texture),
+            ("emission_texture", &m.emission_texture),
+            ("normal_texture", &m.normal_texture),
+        ] {
+            let Some(t) = t else { continue };
+            match t {
+                TextureRef::Image(_) => self.texture(&path.key(key), t),
+                _ => self.error(
+                    path.key(key),
+                    format!("expected an image table on `{key}`: {{ image = \"file.png\" }}"),
+                ),
+            }
+        }
+        if let Some(s) = m.normal_strength {
+            let key = path.key("normal_strength");
+            if self.finite(&key, s) && m.normal_texture.is_none() {
+                self.error(key, "expected `normal_strength` only with `normal_texture`");
+            }
         }
         self.transmission(path, m);
         self.physical(path, m);
@@ -530,13 +582,19 @@ impl Validator {
         match o.shapes().as_slice() {
             [] => self.error(
                 path,
-                "expected a shape: one of `sphere`, `triangle`, `mesh`, `plane`, `box`, `quad`; found none",
+                "expected a shape: one of `sphere`, `triangle`, `mesh`, `plane`, `box`, `quad`, `gltf`; found none",
             ),
             [shape] => self.shape(path, shape),
             _ => self.error(
                 path,
-                "expected exactly one shape per object; found several of `sphere`, `triangle`, `mesh`, `plane`, `box`, `quad`",
+                "expected exactly one shape per object; found several of `sphere`, `triangle`, `mesh`, `plane`, `box`, `quad`, `gltf`",
             ),
+        }
+        if o.gltf.is_some() && o.texture.is_some() {
+            self.error(
+                path.key("texture"),
+                "expected no `texture` on a `gltf` object: its materials have their own (`material` replaces them all)",
+            );
         }
         if let Some(t) = &o.transform {
             self.transform(&path.key("transform"), t);
@@ -670,6 +728,62 @@ impl Validator {
         }
     }
 
+    /// A light's kind by its keys: `position` (a point, or with
+    /// `direction` a spot and its `cone`) or `direction` alone (a
+    /// directional light).
+    fn light_kind(&mut self, path: &KeyPath, light: &crate::Light) {
+        if let Some(p) = light.position {
+            self.point(path.key("position"), p);
+        }
+        if let Some(d) = light.direction {
+            let key = path.key("direction");
+            if self.point(&key, d) && length(d) == 0.0 {
+                self.error(
+                    key,
+                    format!("expected a non-zero vector, found {}", show(d)),
+                );
+            }
+        }
+        match (light.position, light.direction) {
+            (None, None) => self.error(
+                path.key("position"),
+                format!(
+                    "missing key `position` in `{path}`: a point or spot light needs it (a directional light has `direction` and no `position`)"
+                ),
+            ),
+            (None, Some(_)) if light.radius != 0.0 => self.error(
+                path.key("radius"),
+                "expected no `radius` on a directional light (`direction` without `position`): it has no place to be a sphere at",
+            ),
+            (Some(_), Some(_)) if light.radius != 0.0 => self.error(
+                path.key("radius"),
+                "expected no `radius` on a spot light (`position` and `direction`); a sphere light shines every way",
+            ),
+            _ => {}
+        }
+        let Some(cone) = light.cone else { return };
+        let key = path.key("cone");
+        if light.position.is_none() || light.direction.is_none() {
+            self.error(
+                &key,
+                "expected `cone` only on a spot light, which has both `position` and `direction`",
+            );
+        } else if !(cone.iter().all(|x| x.is_finite())
+            && 0.0 <= cone[0]
+            && cone[0] <= cone[1]
+            && cone[1] <= 90.0)
+        {
+            self.error(
+                key,
+                format!(
+                    "expected [inner, outer] degrees with 0 <= inner <= outer <= 90, found [{}, {}]",
+                    num(cone[0]),
+                    num(cone[1])
+                ),
+            );
+        }
+    }
+
     /// A light's radius: 0 (a point) or a sphere's, whose radiance in path
     /// mode, its color over pi r^2, a float must hold (else it would light
     /// nothing, silently).
@@ -706,6 +820,14 @@ impl Validator {
     fn shape(&mut self, path: &KeyPath, shape: &ShapeRef) {
         match shape {
             ShapeRef::Mesh(m) => self.mesh(&path.key("mesh"), m),
+            ShapeRef::Gltf(g) => {
+                if g.file.trim().is_empty() {
+                    self.error(
+                        path.key("gltf").key("file"),
+                        "expected the path of a .gltf or .glb file",
+                    );
+                }
+            }
             ShapeRef::Sphere(s) => {
                 self.point(path.key("sphere").key("center"), s.center);
                 let r = path.key("sphere").key("radius");

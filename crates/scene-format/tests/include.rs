@@ -130,7 +130,7 @@ fn included_items_come_first_in_list_order_then_the_scenes_own() {
     };
     // common.toml includes nested.toml first, then has its own; then
     // more.json; then the scene's own.
-    let lights: Vec<[f32; 3]> = scene.lights.iter().map(|l| l.position).collect();
+    let lights: Vec<[f32; 3]> = scene.lights.iter().map(|l| l.position.unwrap()).collect();
     assert_eq!(lights, [[1.0; 3], [2.0; 3], [3.0; 3]]);
     let objects: Vec<String> = scene.objects.iter().map(shape).collect();
     assert_eq!(

@@ -430,12 +430,19 @@ pub struct FitArgs {
 /// found is reported, with its file, line, column and key.
 #[derive(Args)]
 pub struct CheckArgs {
-    /// Scene files (.toml or .json, or .zip archives made by `tracer
-    /// pack`): 3D scenes, 2D canvas scenes, or files a scene includes
+    /// Scene files (.toml or .json, glTF models (.gltf, .glb), or .zip
+    /// archives made by `tracer pack`): 3D scenes, 2D canvas scenes, or
+    /// files a scene includes
     /// (checked on their own: their keys, values, includes and meshes; a
     /// material named from another file is left to the scene)
     #[arg(required = true, value_name = "SCENE")]
     pub scenes: Vec<PathBuf>,
+    /// Print each 3D scene's summary as a line of JSON on stdout: its
+    /// `objects`, `triangles`, `lights`, `cameras` and `bounds` (`{"min":
+    /// [x, y, z], "max": [x, y, z]}`; a glTF file's in its own
+    /// coordinates, +Y up)
+    #[arg(long)]
+    pub json: bool,
     /// The files are parts that scenes include: one without a `[camera]`
     /// passes (exit 0). Without this, a file without one is a warning
     /// (exit 1): rendering it needs a `[camera]`

@@ -186,14 +186,14 @@ fn every_scene_in_the_book_is_one_the_tracer_accepts() {
             let path = scenes.path().join(&name);
             std::fs::create_dir_all(path.parent().unwrap()).unwrap();
             std::fs::write(&path, &file).unwrap();
-            // A kept file that is not a whole scene is a part for others to include.
+            // A part kept for later scenes is checked as the page says to check one.
             let part = kept.is_some() && !whole;
-            let check: &[&str] = if part {
-                &["check", "--part"]
+            let args: &[&str] = if part {
+                &["check", "--part", &name]
             } else {
-                &["check"]
+                &["check", &name]
             };
-            let (ok, output) = tracer(scenes.path(), &[check, &[name.as_str()]].concat());
+            let (ok, output) = tracer(scenes.path(), args);
             checked += 1;
             match &expected {
                 Some((_, shown)) if !same_text(shown, &output) => problems.push(format!(

@@ -391,7 +391,9 @@ fn schema_is_json_describing_the_scene_keys() {
         "handedness",
         "height",
         "look_at",
+        "projection",
         "up",
+        "view_width",
         "width",
     ];
     assert_eq!(keys, expected);

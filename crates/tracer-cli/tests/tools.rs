@@ -105,6 +105,29 @@ fn load(path: &Path) -> SceneKind {
     scene_format::load_any(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
+/// `kind` with its `$schema` and the directive it names, if any: a TOML
+/// scene's `#:schema` directive is a comment its load leaves out, the JSON
+/// member it becomes is read (the tracer ignores both).
+fn schema_apart(kind: SceneKind) -> (SceneKind, Option<String>) {
+    match kind {
+        SceneKind::Scene3d(mut f) => {
+            let schema = f.schema.take();
+            (SceneKind::Scene3d(f), schema)
+        }
+        SceneKind::Canvas(mut c) => {
+            let schema = c.schema.take();
+            (SceneKind::Canvas(c), schema)
+        }
+    }
+}
+
+/// The path a TOML scene's `#:schema` directive names, if it has one.
+fn directive(toml: &Path) -> Option<String> {
+    let text = std::fs::read_to_string(toml).unwrap();
+    let first = text.lines().next()?;
+    Some(first.strip_prefix("#:schema")?.trim().to_string())
+}
+
 fn succeeds(out: Output) {
     assert!(
         out.status.success(),
@@ -133,8 +156,16 @@ fn every_scene_converts_to_json_and_back_with_every_value() {
             &["convert", &name(&json), "-o", &name(&back)],
         ));
         let original = load(&toml);
-        assert_eq!(load(&json), original, "{}", file.display());
+        let (from_json, schema) = schema_apart(load(&json));
+        assert_eq!(from_json, original, "{}", file.display());
+        assert_eq!(schema, directive(&toml), "{}: $schema", file.display());
         assert_eq!(load(&back), original, "{} and back", file.display());
+        assert_eq!(
+            directive(&back),
+            directive(&toml),
+            "{}: #:schema",
+            file.display()
+        );
         let text = std::fs::read_to_string(&json).unwrap();
         assert!(
             text.trim_start().starts_with('{'),

@@ -18,6 +18,22 @@ pub struct Camera {
     pub projection: Mat3,
     /// A thin lens, for depth of field; `None` is the lab's pinhole.
     pub lens: Option<Lens>,
+    /// An orthographic camera's parallel rays (then `lens` is None).
+    /// Boxed: most cameras have none.
+    pub parallel: Option<Box<Parallel>>,
+}
+
+/// An orthographic camera: rays along `forward`, each from its image
+/// point's place on the plane through the eye facing the view.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Parallel {
+    /// The unit view direction.
+    pub forward: Vec3,
+    /// Where the ray of image point (0, 0), the image's top left, starts.
+    pub corner: Vec3,
+    /// The step in scene units of one pixel along a row and down a column.
+    pub across: Vec3,
+    pub down: Vec3,
 }
 
 /// A thin lens centred on the eye, facing the view direction.
@@ -69,6 +85,7 @@ impl Camera {
             height,
             projection: Mat3::from_cols(u, v, o),
             lens: None,
+            parallel: None,
         }
     }
 
@@ -106,6 +123,32 @@ impl Camera {
         }
     }
 
+    /// The same view as an orthographic camera whose image spans
+    /// `view_width` scene units across: parallel rays along the view
+    /// direction, from the plane through the eye (no lens).
+    pub fn orthographic(self, view_width: f32) -> Camera {
+        let [u, v, _] = self.projection.to_cols_array_2d().map(Vec3::from);
+        let (w, h) = (self.width as f32, self.height as f32);
+        let step = view_width / w;
+        let parallel = Parallel {
+            forward: self.view_direction(),
+            corner: self.eye - (w / 2.0 * step) * u - (h / 2.0 * step) * v,
+            across: step * u,
+            down: step * v,
+        };
+        Camera {
+            lens: None,
+            parallel: Some(Box::new(parallel)),
+            ..self
+        }
+    }
+
+    /// Whether every ray leaves the eye itself (no lens, not
+    /// orthographic): the rays `pinhole_rays4` makes.
+    pub fn is_pinhole(&self) -> bool {
+        self.lens.is_none() && self.parallel.is_none()
+    }
+
     /// The unit direction through the image's centre.
     pub fn view_direction(&self) -> Vec3 {
         let centre = Vec2::new(self.width as f32, self.height as f32) / 2.0;
@@ -115,9 +158,13 @@ impl Camera {
     /// The ray through image point (fx, fy) from `lens_point`, a point of
     /// the unit disk: on a thin lens it leaves that point of the lens and
     /// crosses the pinhole ray where it meets the plane in focus; without
-    /// a lens it is the pinhole ray.
+    /// a lens it is the pinhole ray; an orthographic camera's ray is
+    /// parallel to the view, from the image point's place.
     #[inline(always)]
     pub fn lens_ray(&self, fx: f32, fy: f32, lens_point: Vec2) -> Ray {
+        if let Some(p) = &self.parallel {
+            return Ray::new(p.corner + fx * p.across + fy * p.down, p.forward);
+        }
         let pinhole = self.ray(fx, fy);
         let Some(lens) = &self.lens else {
             return pinhole;
@@ -137,7 +184,17 @@ impl Camera {
     pub fn with_pixel_shift(self, by: Vec2) -> Camera {
         let mut projection = self.projection;
         projection.z_axis += by.x * projection.x_axis + by.y * projection.y_axis;
-        Camera { projection, ..self }
+        let parallel = self.parallel.map(|p| {
+            Box::new(Parallel {
+                corner: p.corner + by.x * p.across + by.y * p.down,
+                ..*p
+            })
+        });
+        Camera {
+            projection,
+            parallel,
+            ..self
+        }
     }
 
     /// The ray through image point (fx, fy); a pixel's centre is (i + 0.5, j + 0.5).
@@ -343,6 +400,29 @@ mod tests {
         let no_lens = lab_camera().with_lens(0.0, 4.0);
         assert_eq!(no_lens.lens, None);
         assert_eq!(no_lens.lens_ray(3.5, 4.5, Vec2::X), no_lens.ray(3.5, 4.5));
+    }
+
+    #[test]
+    fn an_orthographic_camera_casts_parallel_rays_across_its_width() {
+        let cam = lab_camera().right_handed().orthographic(5.0);
+        assert!(!cam.is_pinhole());
+        // 500 pixels span 5 units: 0.01 a pixel, +x to the right.
+        let left = cam.lens_ray(0.0, 200.0, Vec2::ZERO);
+        let right = cam.lens_ray(500.0, 200.0, Vec2::ZERO);
+        assert_eq!(left.dir(), Vec3::NEG_Z);
+        assert_eq!(right.dir(), Vec3::NEG_Z);
+        assert!(
+            (left.origin() - Vec3::new(-2.5, 0.0, 10.0)).length() < 1e-5,
+            "{}",
+            left.origin()
+        );
+        assert!((right.origin() - Vec3::new(2.5, 0.0, 10.0)).length() < 1e-5);
+        let top = cam.lens_ray(250.0, 0.0, Vec2::ZERO);
+        assert!(
+            (top.origin() - Vec3::new(0.0, 2.0, 10.0)).length() < 1e-5,
+            "{}",
+            top.origin()
+        );
     }
 
     #[test]

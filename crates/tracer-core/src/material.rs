@@ -46,10 +46,22 @@ impl Material {
         }
     }
 
-    /// The radiance given off on the front side.
+    /// The radiance given off on the front side (where it varies over
+    /// the surface, its most: the factor an emission texture multiplies;
+    /// `emission_at` is a hit's own).
     pub fn emission(&self) -> Vec3 {
         match self {
             Material::Principled(p) => p.emission,
+            _ => self.surface().emission,
+        }
+    }
+
+    /// The radiance given off on the front side at `hit`: `emission`, times
+    /// the emission texture there, if any.
+    #[inline(always)]
+    pub fn emission_at(&self, hit: &SurfaceHit) -> Vec3 {
+        match self {
+            Material::Principled(p) => p.emission_at(hit.uv),
             _ => self.surface().emission,
         }
     }
@@ -61,13 +73,15 @@ impl Material {
     /// scales them (its mirror and glass are left out: single directions);
     /// a physically based one's textured `base_color` in the share of its
     /// lobes that are not smooth (the opaque dielectric's diffuse base
-    /// always; its thin specular coat, about 4 %, is left out).
+    /// always; its thin specular coat, about 4 %, is left out), its
+    /// metallic and roughness as its textures make them there.
     pub fn albedo(&self, hit: &SurfaceHit) -> Vec3 {
         let albedo = match self {
             Material::Principled(p) => {
-                let [metal, glass, base] = p.shares();
-                let rough = if p.is_smooth() { 0.0 } else { metal + glass };
-                p.textured_base(hit) * (rough + base)
+                let at = p.at(hit);
+                let [metal, glass, base] = at.shares();
+                let rough = if at.is_smooth() { 0.0 } else { metal + glass };
+                at.unit_base() * (rough + base)
             }
             lab => {
                 let (diffuse, specular) = lab.surface().textured(hit);
@@ -116,6 +130,76 @@ impl Material {
     }
 }
 
+/// A tangent-space normal texture: its texels (read as data) and how far
+/// they bend the normal.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NormalMap {
+    pub texture: ColorTexture,
+    /// Scales the texel's x and y (glTF's `normalTexture.scale`).
+    pub strength: f32,
+}
+
+impl NormalMap {
+    /// The shading normal `n` (unit) bent by the texel at `uv`, in the
+    /// frame of `tangent` (x, y, z along u; w the handedness, the
+    /// bitangent w n x tangent pointing up the image); None where the
+    /// tangent gives no frame.
+    pub fn bend(&self, n: Vec3, tangent: glam::Vec4, uv: glam::Vec2) -> Option<Vec3> {
+        let t = tangent.truncate();
+        let t = (t - n * n.dot(t)).try_normalize()?;
+        let b = tangent.w * n.cross(t);
+        let c = self.texture.color(uv) * 2.0 - Vec3::ONE;
+        let m = Vec3::new(c.x * self.strength, c.y * self.strength, c.z);
+        (m.x * t + m.y * b + m.z * n).try_normalize()
+    }
+}
+
+/// A physically based material's parameters at one hit, its textures read.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PrincipledAt {
+    pub base_color: Vec3,
+    pub metallic: f32,
+    pub roughness: f32,
+    pub ior: f32,
+    pub transmission: f32,
+    pub emission: Vec3,
+}
+
+impl PrincipledAt {
+    /// The BSDF's parameters.
+    pub fn params(&self) -> crate::bsdf::principled::Principled {
+        crate::bsdf::principled::Principled {
+            base_color: self.base_color,
+            metallic: self.metallic,
+            roughness: self.roughness,
+            ior: self.ior,
+            transmission: self.transmission,
+        }
+    }
+
+    /// The shares of the metal, the dielectric that transmits and the
+    /// opaque dielectric in the mixture (`bsdf::principled`'s weights).
+    fn shares(&self) -> [f32; 3] {
+        let unit = |x: f32| if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) };
+        let (metallic, transmission) = (unit(self.metallic), unit(self.transmission));
+        [
+            metallic,
+            (1.0 - metallic) * transmission,
+            (1.0 - metallic) * (1.0 - transmission),
+        ]
+    }
+
+    /// Whether its lobes are single directions (GGX's mirror threshold).
+    fn is_smooth(&self) -> bool {
+        crate::bsdf::microfacet::Ggx::from_roughness(self.roughness).is_smooth()
+    }
+
+    /// `base_color` clamped to 0..1, as its BSDF takes it.
+    fn unit_base(&self) -> Vec3 {
+        self.base_color.clamp(Vec3::ZERO, Vec3::ONE)
+    }
+}
+
 /// Where a perfectly specular surface sends a ray: its mirror direction
 /// and, through glass, its refracted one, each with the colour of the
 /// light it carries (what a path along it is multiplied by).
@@ -145,6 +229,13 @@ pub struct PrincipledMaterial {
     pub emission: Vec3,
     /// Multiplies `base_color` at each hit.
     pub color_texture: Option<ColorTexture>,
+    /// Its blue multiplies `metallic`, its green `roughness` (glTF's
+    /// packing), at each hit.
+    pub metallic_roughness: Option<ColorTexture>,
+    /// Multiplies `emission` at each hit.
+    pub emission_texture: Option<ColorTexture>,
+    /// Bends the shading normal (`Scene::closest_hit`).
+    pub normal_map: Option<NormalMap>,
     /// Whitted mode's reading (`PrincipledMaterial::new`): the lab's kind.
     pub lab: Material,
 }
@@ -192,42 +283,53 @@ impl PrincipledMaterial {
             transmission: p.transmission,
             emission,
             color_texture: None,
+            metallic_roughness: None,
+            emission_texture: None,
+            normal_map: None,
             lab,
         }
     }
 
-    /// The shares of the metal, the dielectric that transmits and the
-    /// opaque dielectric in the mixture (`bsdf::principled`'s weights).
-    fn shares(&self) -> [f32; 3] {
-        let unit = |x: f32| if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) };
-        let (metallic, transmission) = (unit(self.metallic), unit(self.transmission));
-        [
-            metallic,
-            (1.0 - metallic) * transmission,
-            (1.0 - metallic) * (1.0 - transmission),
-        ]
-    }
-
-    /// Whether its lobes are single directions (GGX's mirror threshold).
-    fn is_smooth(&self) -> bool {
-        crate::bsdf::microfacet::Ggx::from_roughness(self.roughness).is_smooth()
-    }
-
-    /// `base_color` at `hit`, textured and clamped to 0..1 (as its BSDF
-    /// takes it).
-    fn textured_base(&self, hit: &SurfaceHit) -> Vec3 {
-        let base = match &self.color_texture {
-            Some(texture) => self.base_color * texture.color(hit.uv),
+    /// Its parameters at `hit`, its textures read at the hit's uv.
+    #[inline(always)]
+    pub fn at(&self, hit: &SurfaceHit) -> PrincipledAt {
+        let uv = hit.uv;
+        let base_color = match &self.color_texture {
+            Some(texture) => self.base_color * texture.color(uv),
             None => self.base_color,
         };
-        base.clamp(Vec3::ZERO, Vec3::ONE)
+        let (metallic, roughness) = match &self.metallic_roughness {
+            Some(texture) => {
+                let texel = texture.color(uv);
+                (self.metallic * texel.z, self.roughness * texel.y)
+            }
+            None => (self.metallic, self.roughness),
+        };
+        PrincipledAt {
+            base_color,
+            metallic,
+            roughness,
+            ior: self.ior,
+            transmission: self.transmission,
+            emission: self.emission_at(uv),
+        }
+    }
+
+    /// `emission` times the emission texture at `uv`, if any.
+    #[inline(always)]
+    pub fn emission_at(&self, uv: glam::Vec2) -> Vec3 {
+        match &self.emission_texture {
+            Some(texture) if self.emission != Vec3::ZERO => self.emission * texture.color(uv),
+            _ => self.emission,
+        }
     }
 
     /// `Material::specular_split` of a smooth metal or glass (or a mix of
     /// the two, without an opaque base): the metal reflects its base
     /// colour; the glass reflects Fresnel's share, untinted, and refracts
-    /// the rest tinted by its base colour. `facing` is the shading normal
-    /// on `dir`'s side; `reflected` the mirror direction.
+    /// the rest tinted by its base colour (each as its textures make it at
+    /// `hit`). `facing` is the shading normal on `dir`'s side; `reflected`
+    /// the mirror direction.
     fn specular_split(
         &self,
         dir: Vec3,
@@ -235,11 +337,12 @@ impl PrincipledMaterial {
         facing: Vec3,
         reflected: Vec3,
     ) -> Option<SpecularSplit> {
-        let [metal, glass, base] = self.shares();
-        if base > 0.0 || !self.is_smooth() {
+        let at = self.at(hit);
+        let [metal, glass, base] = at.shares();
+        if base > 0.0 || !at.is_smooth() {
             return None;
         }
-        let colour = self.textured_base(hit);
+        let colour = at.unit_base();
         let ior = if self.ior.is_finite() && self.ior > 0.0 {
             self.ior
         } else {
@@ -350,6 +453,85 @@ pub struct Glass {
     pub fresnel: bool,
     /// Beer-Lambert coefficient per unit length inside, per channel.
     pub absorption: Vec3,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::texture::{ImageTexels, Wrap};
+
+    /// A normal texture of one texel (data, not colour: (r, g, b) / 255).
+    fn one_texel(rgb: [u8; 3]) -> NormalMap {
+        let texels = ImageTexels::from_raw8(1, 1, Arc::new(vec![rgb]));
+        NormalMap {
+            texture: ColorTexture::Image {
+                texels: Arc::new(texels),
+                scale: glam::Vec2::ONE,
+                wrap: Wrap::Repeat,
+                place: None,
+            },
+            strength: 1.0,
+        }
+    }
+
+    #[test]
+    fn the_albedo_guide_reads_metallic_and_roughness_as_their_texture_makes_them() {
+        // A smooth metal by its factors, whose texture (blue 0) makes it a
+        // dielectric: its diffuse base, all of base_color, is the albedo.
+        let principled = crate::bsdf::principled::Principled {
+            base_color: Vec3::splat(0.5),
+            metallic: 1.0,
+            roughness: 0.0,
+            ior: 1.5,
+            transmission: 0.0,
+        };
+        let mut metal = PrincipledMaterial::new(principled, Vec3::ZERO);
+        let hit = SurfaceHit {
+            t: 1.0,
+            object: 0,
+            material: 0,
+            geometric_normal: Vec3::Z,
+            shading_normal: Vec3::Z,
+            uv: glam::Vec2::splat(0.5),
+            front_face: true,
+            shadow_offset: Vec3::ZERO,
+            tangent: glam::Vec4::ZERO,
+        };
+        // Untextured, a smooth metal is followed, not a guide's colour.
+        assert_eq!(
+            Material::Principled(Box::new(metal.clone())).albedo(&hit),
+            Vec3::ZERO
+        );
+        metal.metallic_roughness = Some(one_texel([0, 0, 0]).texture);
+        let material = Material::Principled(Box::new(metal));
+        assert_eq!(material.albedo(&hit), Vec3::splat(0.5));
+        assert!(material.specular_split(-Vec3::Z, &hit).is_none());
+    }
+
+    #[test]
+    fn a_normal_texture_bends_the_normal_in_the_tangent_frame() {
+        let (n, uv) = (Vec3::Z, glam::Vec2::splat(0.5));
+        let tangent = glam::Vec4::new(1.0, 0.0, 0.0, 1.0);
+        // (128, 128, 255): straight out, the normal kept (to 1/255).
+        let flat = one_texel([128, 128, 255]).bend(n, tangent, uv).unwrap();
+        assert!((flat - n).length() < 0.01, "{flat}");
+        // Red and blue full: tilted 45 degrees toward the tangent (+x).
+        let right = one_texel([255, 128, 255]).bend(n, tangent, uv).unwrap();
+        let want = Vec3::new(1.0, 0.0, 1.0).normalize();
+        assert!((right - want).length() < 0.01, "{right}");
+        // Green and blue full: toward the bitangent, w n x t = +y, up the image...
+        let up = one_texel([128, 255, 255]).bend(n, tangent, uv).unwrap();
+        let want = Vec3::new(0.0, 1.0, 1.0).normalize();
+        assert!((up - want).length() < 0.01, "{up}");
+        // ...and down it where the handedness is -1 (a mirrored layout).
+        let mirrored = glam::Vec4::new(1.0, 0.0, 0.0, -1.0);
+        let down = one_texel([128, 255, 255]).bend(n, mirrored, uv).unwrap();
+        let want = Vec3::new(0.0, -1.0, 1.0).normalize();
+        assert!((down - want).length() < 0.01, "{down}");
+        // A tangent along the normal gives no frame.
+        let along = glam::Vec4::new(0.0, 0.0, 1.0, 1.0);
+        assert!(one_texel([255, 0, 0]).bend(n, along, uv).is_none());
+    }
 }
 
 /// How a ray's energy divides at a glass surface.

@@ -9,14 +9,17 @@ use crate::geometry::{
 use crate::image::{Encoding, Saturation};
 use crate::light::environment::Environment;
 use crate::light::Light;
-use crate::material::{Glass, Material, Phong, PrincipledMaterial};
+use crate::material::{Glass, Material, NormalMap, Phong, PrincipledMaterial};
 use crate::names::Names;
 use crate::scene::{Integrator, Scene, SceneParts, TraceSettings};
-use crate::texture::{Builtin, ColorTexture, ImageTexels, Texture, Wrap};
+use crate::texture::{Builtin, ColorTexture, ImageTexels, Place, Texture, Wrap};
 use glam::{Vec2, Vec3};
 use scene_format as fmt;
 use std::collections::HashMap;
 use std::sync::Arc;
+
+mod gltf;
+pub use gltf::model_extent;
 
 /// Why a scene file could not be prepared. `scene_format`'s validation
 /// reports these first, with their place in the file; here they are the
@@ -61,8 +64,16 @@ fn parts_named(file: &fmt::SceneFile) -> Result<(SceneParts, Names), PrepareErro
     let mut objects = Vec::new();
     let shared = shared_meshes(file);
     let mut meshes: Vec<Option<Arc<SharedMesh>>> = Vec::new();
+    let mut models = gltf::Models::default();
+    let mut lights: Vec<Light> = file.lights.iter().map(light).collect();
     for (i, o) in file.objects.iter().enumerate() {
         let path = format!("objects[{i}]");
+        if let Some(g) = &o.gltf {
+            let made = models.objects(&path, o, g, &mut materials, &mut lights)?;
+            names.add_objects(i, made.len());
+            objects.extend(made);
+            continue;
+        }
         let material = materials.resolve(&path, o)?;
         let mtl = materials.mtl_materials(&path, o)?;
         let made = match shared[i] {
@@ -88,7 +99,7 @@ fn parts_named(file: &fmt::SceneFile) -> Result<(SceneParts, Names), PrepareErro
         camera: camera(&file.camera),
         objects,
         materials: materials.materials,
-        lights: file.lights.iter().map(light).collect(),
+        lights,
         trace: trace_settings(&file.render),
         encoding: encoding(&file.render),
         samples: file.render.samples,
@@ -138,12 +149,15 @@ pub fn shared_meshes(file: &fmt::SceneFile) -> Vec<Option<usize>> {
         .collect()
 }
 
-/// How many of mesh object `o`'s triangles give off light (its material's
-/// emission, or each face's MTL material's when it names none): in path
-/// mode each becomes a light of its own, for every object that places the
-/// mesh, an instance's too (`scene.rs`'s `path_lights`). The limits count
-/// them, as they count what else is built.
+/// How many of mesh or glTF object `o`'s triangles give off light (its
+/// material's emission, or each face's MTL or glTF material's when it
+/// names none): in path mode each becomes a light of its own, for every
+/// object or node that places the mesh, an instance's too (`scene.rs`'s
+/// `path_lights`). The limits count them, as they count what else is built.
 pub fn emitting_triangles(file: &fmt::SceneFile, o: &fmt::Object) -> usize {
+    if let Some(model) = o.gltf.as_ref().and_then(|g| g.data.as_ref()) {
+        return gltf::emitting_triangles(file, o, model);
+    }
     let Some(data) = o.mesh.as_ref().and_then(|m| m.data.as_ref()) else {
         return 0;
     };
@@ -212,6 +226,9 @@ fn camera(c: &fmt::Camera) -> Camera {
         fmt::Handedness::Lab => lab,
         fmt::Handedness::Right => lab.right_handed(),
     };
+    if let (fmt::Projection::Orthographic, Some(width)) = (c.projection, c.view_width) {
+        return camera.orthographic(width);
+    }
     let focus = c.focus_distance.unwrap_or_else(|| (look_at - eye).length());
     camera.with_lens(c.aperture, focus)
 }
@@ -239,8 +256,19 @@ fn environment(file: &fmt::SceneFile) -> Result<Option<Arc<Environment>>, Prepar
     Ok(Some(Arc::new(environment)))
 }
 
+/// A light of the file: a point or sphere, a spot, or a directional light
+/// (validation makes sure one of `position` and `direction` is there).
 fn light(l: &fmt::Light) -> Light {
-    Light::new(l.position.into(), l.color.into(), l.radius)
+    let color = Vec3::from(l.color);
+    match (l.position, l.direction) {
+        (Some(p), None) => Light::new(p.into(), color, l.radius),
+        (Some(p), Some(d)) => {
+            let [inner, outer] = l.cone.unwrap_or([0.0, 45.0]);
+            Light::spot(p.into(), Vec3::from(d), color, (inner, outer))
+        }
+        (None, Some(d)) => Light::directional(Vec3::from(d), color),
+        (None, None) => Light::new(Vec3::ZERO, color, l.radius),
+    }
 }
 
 fn trace_settings(r: &fmt::RenderSettings) -> TraceSettings {
@@ -512,8 +540,19 @@ fn mesh_objects(
         let uv = uv.map_or(UvMap::IDENTITY, |uv| {
             corner_uv_map(&in_placed_order(uv, mirrors))
         });
+        let tangents = data.tangents.get(k).copied().flatten().map(|t| {
+            // Directions along the surface, placed as the triangle is; a
+            // mirroring placement turns their handedness.
+            let sign = if mirrors { -1.0 } else { 1.0 };
+            let placed = t.map(|[x, y, z, w]| {
+                let d = placement.apply_vector(Vec3::new(x, y, z));
+                d.normalize_or_zero().extend(w * sign)
+            });
+            Box::new(in_placed_order(placed, mirrors))
+        });
         Object {
             vertex_normals,
+            tangents,
             ..Object::new(Shape::Triangle(triangle), materials.of(data, k))
         }
         .with_uv(uv)
@@ -621,8 +660,8 @@ pub fn mesh_extent(data: &fmt::MeshData, transform: Option<&fmt::Transform>) -> 
 /// instance of it is made of (`shared_meshes`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MeshBox {
-    min: Vec3,
-    max: Vec3,
+    pub(crate) min: Vec3,
+    pub(crate) max: Vec3,
     /// Triangles of non-zero area in the file's coordinates.
     pub triangles: usize,
 }
@@ -677,9 +716,9 @@ struct MaterialTable<'a> {
     /// materials (an object's texture table makes a material of its own).
     by_key: HashMap<(String, Option<String>), usize>,
     textures: HashMap<Builtin, Arc<Texture>>,
-    /// Decoded images by the address of the file's data: each file is
-    /// decoded to linear once.
-    images: HashMap<usize, Arc<ImageTexels>>,
+    /// Decoded images by the address of the file's data and whether they
+    /// are sRGB colours: each file is decoded to linear once each way.
+    images: HashMap<(usize, bool), Arc<ImageTexels>>,
 }
 
 /// What a texture does to a material.
@@ -705,37 +744,70 @@ impl<'a> MaterialTable<'a> {
     fn texture(&mut self, path: &str, t: &fmt::TextureRef) -> Result<Texturing, PrepareError> {
         match t {
             fmt::TextureRef::Named(name) => self.builtin(path, name).map(Texturing::Lab),
-            fmt::TextureRef::Image(image) => {
-                let data = image
-                    .data
-                    .as_ref()
-                    .ok_or_else(|| PrepareError::ImageNotLoaded {
-                        path: format!("{path}.image"),
-                    })?;
-                let texels = self
-                    .images
-                    .entry(Arc::as_ptr(data) as usize)
-                    .or_insert_with(|| {
-                        Arc::new(match &data.texels {
-                            fmt::Texels::Bytes(t) => {
-                                ImageTexels::from_srgb8(data.width, data.height, t.clone())
-                            }
-                            fmt::Texels::Floats(t) => {
-                                ImageTexels::from_srgb(data.width, data.height, t)
-                            }
-                        })
-                    })
-                    .clone();
-                Ok(Texturing::Color(ColorTexture::Image {
-                    texels,
-                    scale: image.scale.per_axis().into(),
-                    wrap: wrap(image.wrap),
-                }))
-            }
+            fmt::TextureRef::Image(image) => self.image(path, image, true).map(Texturing::Color),
             fmt::TextureRef::Checker(c) => Ok(Texturing::Color(ColorTexture::Checker {
                 colors: c.checker.map(Vec3::from),
                 scale: c.scale.per_axis().into(),
             })),
+        }
+    }
+
+    /// An image texture, its texels decoded from sRGB (`srgb`, colours)
+    /// or read as they are (data: metallic-roughness, normals); each file
+    /// decoded once each way.
+    fn image(
+        &mut self,
+        path: &str,
+        image: &fmt::ImageTexture,
+        srgb: bool,
+    ) -> Result<ColorTexture, PrepareError> {
+        let data = image
+            .data
+            .as_ref()
+            .ok_or_else(|| PrepareError::ImageNotLoaded {
+                path: format!("{path}.image"),
+            })?;
+        let texels = self
+            .images
+            .entry((Arc::as_ptr(data) as usize, srgb))
+            .or_insert_with(|| {
+                let (w, h) = (data.width, data.height);
+                Arc::new(match (&data.texels, srgb) {
+                    (fmt::Texels::Bytes(t), true) => ImageTexels::from_srgb8(w, h, t.clone()),
+                    (fmt::Texels::Floats(t), true) => ImageTexels::from_srgb(w, h, t),
+                    (fmt::Texels::Bytes(t), false) => ImageTexels::from_raw8(w, h, t.clone()),
+                    (fmt::Texels::Floats(t), false) => ImageTexels::from_raw(w, h, t),
+                })
+            })
+            .clone();
+        let placed = image.rotate != 0.0 || image.offset != [0.0; 2] || image.wrap_v.is_some();
+        let place = placed.then(|| {
+            let (sin, cos) = image.rotate.to_radians().sin_cos();
+            Box::new(Place {
+                turn: Vec2::new(cos, sin),
+                offset: Vec2::from(image.offset),
+                wrap_v: wrap(image.wrap_v.unwrap_or(image.wrap)),
+            })
+        });
+        Ok(ColorTexture::Image {
+            texels,
+            scale: image.scale.per_axis().into(),
+            wrap: wrap(image.wrap),
+            place,
+        })
+    }
+
+    /// A data texture (`metallic_roughness_texture`, `normal_texture`) of
+    /// material key `key` at `path`: an image read as it is.
+    fn data_texture(
+        &mut self,
+        path: &str,
+        t: Option<&fmt::TextureRef>,
+        srgb: bool,
+    ) -> Result<Option<ColorTexture>, PrepareError> {
+        match t {
+            Some(fmt::TextureRef::Image(image)) => self.image(path, image, srgb).map(Some),
+            _ => Ok(None),
         }
     }
 
@@ -832,6 +904,15 @@ impl<'a> MaterialTable<'a> {
         if let Some(Texturing::Color(t)) = texture.map(|t| self.texture(path, t)).transpose()? {
             material = material.with_color_texture(t);
         }
+        let mr = m.metallic_roughness_texture.as_ref();
+        material.metallic_roughness = self.data_texture(path, mr, false)?;
+        let emission = m.emission_texture.as_ref();
+        material.emission_texture = self.data_texture(path, emission, true)?;
+        let normals = self.data_texture(path, m.normal_texture.as_ref(), false)?;
+        material.normal_map = normals.map(|texture| NormalMap {
+            texture,
+            strength: m.normal_strength.unwrap_or(1.0),
+        });
         Ok(Material::Principled(Box::new(material)))
     }
 

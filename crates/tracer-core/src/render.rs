@@ -331,7 +331,9 @@ impl<'a> PixelRenderer<'a> {
             samples,
             strata: Strata::new(samples),
             lens_order: Shuffle::new(samples),
-            thin_lens: scene.camera().lens.is_some(),
+            // An orthographic camera's rays, as a lens's, each start
+            // elsewhere: made one at a time by `lens_ray`.
+            thin_lens: !scene.camera().is_pinhole(),
             output: job.output,
             aov: AovContext::new(scene),
             lanes: scene.lanes().filter(|_| job.output == Output::Shading),

@@ -9,7 +9,7 @@ use crate::integrate::lanes::LaneScene;
 use crate::integrate::matte_lanes::MatteLanes;
 use crate::light::area::{AreaShape, EllipsoidLight};
 use crate::light::environment::Environment;
-use crate::light::lights::{AreaLight, Lights, PointSource};
+use crate::light::lights::{AreaLight, Emits, Lights, PointSource};
 use crate::light::Light;
 use crate::material::{Material, Phong};
 use crate::ray::Ray;
@@ -71,6 +71,9 @@ pub struct Scene {
     /// Whether some material lets light through, so shadow rays must look
     /// past the first surface.
     transparency: bool,
+    /// Whether some material has a normal texture, which `closest_hit`
+    /// bends the shading normal by.
+    normal_maps: bool,
     /// `unique_primitives`, counted before a lean scene let its objects go.
     primitives: usize,
     bounds: Option<(Vec3, Vec3)>,
@@ -174,6 +177,10 @@ impl Scene {
         let bounds = bvh.bounds();
         let accel = Accel::Bvh(bvh);
         let transparency = parts.materials.iter().any(Material::is_transparent);
+        let normal_maps = parts
+            .materials
+            .iter()
+            .any(|m| matches!(m, Material::Principled(p) if p.normal_map.is_some()));
         // The lanes see the background colour only.
         let lanes = if path_mode || parts.environment.is_some() {
             None
@@ -209,6 +216,7 @@ impl Scene {
             samples: parts.samples.max(1),
             accel,
             transparency,
+            normal_maps,
         }
     }
 
@@ -358,10 +366,33 @@ impl Scene {
     /// The nearest hit in (t_min, t_max); of hits at the same distance, the
     /// object listed first.
     pub fn closest_hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
-        match &self.accel {
+        let hit = match &self.accel {
             Accel::Bvh(bvh) => bvh.closest_hit(ray, t_min, t_max),
             Accel::BruteForce => brute_force::closest_hit(&self.objects, ray, t_min, t_max),
+        };
+        match hit {
+            Some(hit) if self.normal_maps => Some(self.bent(hit)),
+            hit => hit,
         }
+    }
+
+    /// `hit` with its shading normal bent by its material's normal
+    /// texture, where it has one and the hit a tangent.
+    fn bent(&self, mut hit: SurfaceHit) -> SurfaceHit {
+        let Material::Principled(p) = &self.materials[hit.material] else {
+            return hit;
+        };
+        let Some(map) = p
+            .normal_map
+            .as_ref()
+            .filter(|_| hit.tangent != glam::Vec4::ZERO)
+        else {
+            return hit;
+        };
+        if let Some(n) = map.bend(hit.shading_normal, hit.tangent, hit.uv) {
+            hit.shading_normal = n;
+        }
+        hit
     }
 
     /// The nearest hits of `rays` (at most `accel::PACKET`) in (t_min,
@@ -375,11 +406,16 @@ impl Scene {
         hits: &mut [Option<SurfaceHit>],
     ) {
         match &self.accel {
-            Accel::Bvh(bvh) => bvh.closest_hits(rays, t_min, t_max, hits),
+            Accel::Bvh(bvh) => bvh.closest_hits(rays, t_min, t_max, &mut *hits),
             Accel::BruteForce => {
-                for (ray, hit) in rays.iter().zip(hits) {
+                for (ray, hit) in rays.iter().zip(hits.iter_mut()) {
                     *hit = brute_force::closest_hit(&self.objects, ray, t_min, t_max);
                 }
+            }
+        }
+        if self.normal_maps {
+            for hit in hits.iter_mut() {
+                *hit = hit.map(|h| self.bent(h));
             }
         }
     }
@@ -437,13 +473,28 @@ fn sphere_lights_as_emitters(parts: &mut SceneParts) {
 /// the environment around the scene's `bounds`. Planes cannot be sampled:
 /// validation refuses emissive ones.
 fn path_lights(parts: &SceneParts, bounds: Option<(Vec3, Vec3)>) -> Lights {
+    let radius = bounds.map_or(1.0, |(lo, hi)| ((hi - lo).length() / 2.0).max(1e-3));
     let points = parts
         .lights
         .iter()
         .filter_map(|light| match light {
-            Light::Point(p) => Some(PointSource {
-                position: p.position,
-                intensity: p.color,
+            Light::Point(p) => Some(PointSource::point(p.position, p.color)),
+            Light::Spot(s) => Some(PointSource {
+                position: s.position,
+                intensity: s.color,
+                emits: Emits::Cone {
+                    axis: s.axis,
+                    cos_inner: s.cos_inner,
+                    cos_outer: s.cos_outer,
+                },
+            }),
+            Light::Directional(d) => Some(PointSource {
+                position: Vec3::ZERO,
+                intensity: d.color,
+                emits: Emits::Parallel {
+                    direction: d.direction,
+                    radius,
+                },
             }),
             Light::Sphere(_) => None,
         })
@@ -480,7 +531,6 @@ fn path_lights(parts: &SceneParts, bounds: Option<(Vec3, Vec3)>) -> Lights {
         }
     }
     areas.extend(flat_lights(&triangles));
-    let radius = bounds.map_or(1.0, |(lo, hi)| ((hi - lo).length() / 2.0).max(1e-3));
     let environment = parts.environment.clone().map(|e| (e, radius));
     Lights::new(points, areas, &sphere_objects, environment)
 }

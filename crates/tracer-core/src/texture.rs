@@ -173,12 +173,15 @@ pub struct ImageTexels {
 enum Linear {
     Srgb8(Arc<Vec<[u8; 3]>>),
     Floats(Vec<Vec3>),
+    /// An 8-bit image of data, not colour (glTF's metallic-roughness and
+    /// normal textures): each byte v is v / 255.
+    Raw8(Arc<Vec<[u8; 3]>>),
 }
 
 impl Linear {
     fn len(&self) -> usize {
         match self {
-            Linear::Srgb8(t) => t.len(),
+            Linear::Srgb8(t) | Linear::Raw8(t) => t.len(),
             Linear::Floats(t) => t.len(),
         }
     }
@@ -208,6 +211,20 @@ impl ImageTexels {
         ImageTexels::new(width, height, Linear::Srgb8(srgb))
     }
 
+    /// The image of 8-bit data texels (v / 255 each, no sRGB curve),
+    /// shared with the scene's model. Panics unless there are `width *
+    /// height` (> 0).
+    pub fn from_raw8(width: u32, height: u32, texels: Arc<Vec<[u8; 3]>>) -> Self {
+        ImageTexels::new(width, height, Linear::Raw8(texels))
+    }
+
+    /// The image of data texels as they are (no sRGB curve): a 16-bit
+    /// image's floats.
+    pub fn from_raw(width: u32, height: u32, texels: &[[f32; 3]]) -> Self {
+        let texels = texels.iter().map(|&c| Vec3::from(c)).collect();
+        ImageTexels::new(width, height, Linear::Floats(texels))
+    }
+
     fn new(width: u32, height: u32, texels: Linear) -> Self {
         assert!(width > 0 && height > 0, "an empty image");
         assert_eq!(
@@ -223,12 +240,20 @@ impl ImageTexels {
     }
 
     /// The texel at column `x`, row `y`, wrapped into the image.
+    #[cfg(test)]
     fn texel(&self, x: i64, y: i64, wrap: Wrap) -> Vec3 {
-        let x = wrap.index(x, i64::from(self.width));
-        let y = wrap.index(y, i64::from(self.height));
+        self.texel2(x, y, wrap, wrap)
+    }
+
+    /// The texel at column `x`, row `y`, wrapped into the image by `wrap_u`
+    /// across and `wrap_v` down.
+    fn texel2(&self, x: i64, y: i64, wrap_u: Wrap, wrap_v: Wrap) -> Vec3 {
+        let x = wrap_u.index(x, i64::from(self.width));
+        let y = wrap_v.index(y, i64::from(self.height));
         let i = (y * i64::from(self.width) + x) as usize;
         match &self.texels {
             Linear::Srgb8(t) => Vec3::from(t[i].map(|v| SRGB8_TO_LINEAR[usize::from(v)])),
+            Linear::Raw8(t) => Vec3::from(t[i].map(|v| f32::from(v) / 255.0)),
             Linear::Floats(t) => t[i],
         }
     }
@@ -237,19 +262,21 @@ impl ImageTexels {
     /// the left edge, v from the bottom edge; at a texel's centre
     /// ((i + 0.5) / width, 1 - (j + 0.5) / height) it is that texel.
     pub fn bilinear(&self, uv: Vec2, wrap: Wrap) -> Vec3 {
+        self.bilinear2(uv, [wrap, wrap])
+    }
+
+    /// `bilinear` with a wrap mode along u and another along v.
+    pub fn bilinear2(&self, uv: Vec2, [wrap_u, wrap_v]: [Wrap; 2]) -> Vec3 {
         let x = uv.x * self.width as f32 - 0.5;
         let y = (1.0 - uv.y) * self.height as f32 - 0.5;
         let (x0, y0) = (x.floor(), y.floor());
         let (fx, fy) = (x - x0, y - y0);
         // `as` saturates (NaN gives 0): no index overflows.
         let (i, j) = (x0 as i64, y0 as i64);
-        let top = self
-            .texel(i, j, wrap)
-            .lerp(self.texel(i.saturating_add(1), j, wrap), fx);
-        let bottom = self.texel(i, j.saturating_add(1), wrap).lerp(
-            self.texel(i.saturating_add(1), j.saturating_add(1), wrap),
-            fx,
-        );
+        let texel = |x: i64, y: i64| self.texel2(x, y, wrap_u, wrap_v);
+        let (i1, j1) = (i.saturating_add(1), j.saturating_add(1));
+        let top = texel(i, j).lerp(texel(i1, j), fx);
+        let bottom = texel(i, j1).lerp(texel(i1, j1), fx);
         top.lerp(bottom, fy)
     }
 }
@@ -258,14 +285,28 @@ impl ImageTexels {
 /// colours of its material (not the specular, not the reflection).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum ColorTexture {
-    /// An image, sampled at (u * scale.x, v * scale.y).
+    /// An image, sampled at (u * scale.x, v * scale.y), turned by `turn`
+    /// and moved by `offset` when it has `place`.
     Image {
         texels: Arc<ImageTexels>,
         scale: Vec2,
         wrap: Wrap,
+        /// How uv is placed beyond `scale`, and a wrap along v of its own:
+        /// None for most textures.
+        place: Option<Box<Place>>,
     },
     /// Squares 1 / scale wide in uv, `colors[0]` on the square at the origin.
     Checker { colors: [Vec3; 2], scale: Vec2 },
+}
+
+/// A texture's uv turned and moved after its scale (a glTF file's
+/// `KHR_texture_transform`), and its wrap mode along v.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Place {
+    /// (cos, sin) of the counter-clockwise turn.
+    pub turn: Vec2,
+    pub offset: Vec2,
+    pub wrap_v: Wrap,
 }
 
 impl ColorTexture {
@@ -276,7 +317,19 @@ impl ColorTexture {
                 texels,
                 scale,
                 wrap,
+                place: None,
             } => texels.bilinear(uv * *scale, *wrap),
+            ColorTexture::Image {
+                texels,
+                scale,
+                wrap,
+                place: Some(p),
+            } => {
+                let s = uv * *scale;
+                let (c, n) = (p.turn.x, p.turn.y);
+                let at = Vec2::new(c * s.x - n * s.y, n * s.x + c * s.y) + p.offset;
+                texels.bilinear2(at, [*wrap, p.wrap_v])
+            }
             ColorTexture::Checker { colors, scale } => {
                 let cell = (uv * *scale).floor();
                 let parity = (cell.x as i64).wrapping_add(cell.y as i64).rem_euclid(2);

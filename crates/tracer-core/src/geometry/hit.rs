@@ -3,7 +3,7 @@
 
 use super::{Plane, Sphere, TriangleHit};
 use crate::ray::Ray;
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 
 /// A ray's hit on an object's surface.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -36,6 +36,12 @@ pub struct SurfaceHit {
     /// curved surface instead (Hanika, "Hacking the shadow terminator",
     /// Ray Tracing Gems II, 2021).
     pub shadow_offset: Vec3,
+    /// The tangent along the texture's u at the hit (x, y, z) and the
+    /// handedness (w, +-1: bitangent = w normal x tangent), interpolated
+    /// from a mesh's vertex tangents; zero where the mesh has none. A
+    /// normal texture bends the shading normal in this frame
+    /// (`Scene::closest_hit`).
+    pub tangent: Vec4,
 }
 
 impl SurfaceHit {
@@ -58,6 +64,7 @@ impl SurfaceHit {
             uv: sphere.uv(point, normal),
             front_face: ray.dir().dot(normal) < 0.0,
             shadow_offset: Vec3::ZERO,
+            tangent: Vec4::ZERO,
         }
     }
 
@@ -82,6 +89,7 @@ impl SurfaceHit {
             uv: hit.uv,
             front_face: ray.dir().dot(normal) < 0.0,
             shadow_offset: Vec3::ZERO,
+            tangent: Vec4::ZERO,
         }
     }
 
@@ -114,6 +122,18 @@ impl SurfaceHit {
         self
     }
 
+    /// This hit with the vertex `tangents` interpolated at barycentric `b`
+    /// (their handedness is the first corner's: a triangle has one).
+    pub fn with_tangents(mut self, tangents: &[Vec4; 3], b: Vec2) -> SurfaceHit {
+        let weights = [1.0 - b.x - b.y, b.x, b.y];
+        let t = weights[0] * tangents[0].truncate()
+            + weights[1] * tangents[1].truncate()
+            + weights[2] * tangents[2].truncate();
+        let sign = if tangents[0].w < 0.0 { -1.0 } else { 1.0 };
+        self.tangent = t.normalize_or_zero().extend(sign);
+        self
+    }
+
     /// The hit on a plane at distance `t` along `ray`.
     pub fn on_plane(
         plane: &Plane,
@@ -131,6 +151,7 @@ impl SurfaceHit {
             uv: plane.uv(ray.at(t)),
             front_face: ray.dir().dot(plane.normal) < 0.0,
             shadow_offset: Vec3::ZERO,
+            tangent: Vec4::ZERO,
         }
     }
 }

@@ -154,6 +154,15 @@ impl Instance {
             uv: local.uv,
             front_face: ray.dir().dot(geometric_normal) < 0.0,
             shadow_offset: self.to_world.apply_vector(local.shadow_offset),
+            // Along the surface: placed as a direction, its handedness
+            // turned by a mirroring placement.
+            tangent: if local.tangent == glam::Vec4::ZERO {
+                local.tangent
+            } else {
+                let sign = if self.to_world.mirrors() { -1.0 } else { 1.0 };
+                let t = self.to_world.apply_vector(local.tangent.truncate());
+                t.normalize_or_zero().extend(local.tangent.w * sign)
+            },
         }
     }
 

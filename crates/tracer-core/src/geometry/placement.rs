@@ -28,6 +28,11 @@ impl Placement {
         }
     }
 
+    /// The placement `p -> linear p + translate` (a glTF node's matrix).
+    pub fn affine(linear: Mat3, translate: Vec3) -> Placement {
+        Placement { linear, translate }
+    }
+
     /// A move by `v`.
     pub fn translation(v: Vec3) -> Placement {
         Placement {

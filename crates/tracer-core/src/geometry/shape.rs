@@ -2,7 +2,7 @@
 
 use super::{Instance, Plane, Sphere, SurfaceHit, Triangle};
 use crate::ray::Ray;
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
@@ -57,11 +57,14 @@ pub struct Object {
     pub shape: Shape,
     pub material: usize,
     /// None for the identity (most triangles): boxed, so that an object of
-    /// a million-triangle mesh takes 64 bytes, not 96.
+    /// a million-triangle mesh takes 72 bytes, not 96.
     pub uv: Option<Box<UvMap>>,
     /// Unit normals at `v0`, `v1`, `v2`, on the side of the triangle's own
     /// normal; None shades the triangle flat. Boxed: most objects have none.
     pub vertex_normals: Option<Box<[Vec3; 3]>>,
+    /// Tangents at `v0`, `v1`, `v2` (`SurfaceHit::tangent`), for a normal
+    /// texture; None for most triangles.
+    pub tangents: Option<Box<[Vec4; 3]>>,
 }
 
 impl Shape {
@@ -106,6 +109,7 @@ impl Object {
             material,
             uv: None,
             vertex_normals: None,
+            tangents: None,
         }
     }
 
@@ -142,10 +146,14 @@ impl Object {
                 hit.uv = self.uv_map().apply(hit.uv);
                 let (e1, e2, _) = tri.edges();
                 let surface = SurfaceHit::on_triangle(e1, e2, ray, hit, index, self.material);
-                Some(match &self.vertex_normals {
+                let surface = match &self.vertex_normals {
                     Some(normals) => {
                         surface.with_vertex_normals(ray, [tri.v0, e1, e2], normals, barycentric)
                     }
+                    None => surface,
+                };
+                Some(match &self.tangents {
+                    Some(tangents) => surface.with_tangents(tangents, barycentric),
                     None => surface,
                 })
             }

@@ -654,7 +654,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         p: Vec3,
         bounce: &Bounce,
     ) -> (Vec3, f32) {
-        let emission = material.emission();
+        let emission = material.emission_at(hit);
         if emission == Vec3::ZERO || !hit.front_face {
             return (Vec3::ZERO, 0.0);
         }

@@ -225,7 +225,7 @@ impl<'a, R: Recorder> Whitted<'a, R> {
         }
         let points = scene.lights().iter().filter_map(|light| match light {
             Light::Point(point) => Some(point.position),
-            Light::Sphere(_) => None,
+            _ => None,
         });
         for from in points.take(AHEAD_LIGHTS) {
             let (mut samples, mut shadow_rays, mut lengths) =
@@ -442,6 +442,14 @@ impl<'a, R: Recorder> Whitted<'a, R> {
                     self.direct(m, &at, (k, light.position), light.color, &mut colour);
                 }
                 Light::Sphere(light) => colour += self.sphere_light(m, &at, (k, light)),
+                Light::Spot(light) => {
+                    let color = light.color * light.falloff(at.p);
+                    self.direct(m, &at, (k, light.position), color, &mut colour);
+                }
+                Light::Directional(light) => {
+                    let from = at.p - light.direction * crate::light::FAR_AWAY;
+                    self.direct(m, &at, (k, from), light.color, &mut colour);
+                }
             }
         }
         colour

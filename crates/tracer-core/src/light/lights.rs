@@ -19,12 +19,114 @@ pub struct AreaLight {
     pub radiance: Vec3,
 }
 
-/// A point light of path mode: its intensity falls off with the square
-/// of the distance.
+/// A light of no size in path mode (a delta light: no path can meet it,
+/// only light sampling finds it): a point light, whose intensity falls off
+/// with the square of the distance, a spot light, or a directional one.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PointSource {
+    /// Where it is (not read for a directional light).
     pub position: Vec3,
+    /// Its intensity; a directional light's irradiance.
     pub intensity: Vec3,
+    pub emits: Emits,
+}
+
+/// Which way a light of no size sends its light.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Emits {
+    /// Every way alike: a point light.
+    Everywhere,
+    /// Into a cone about unit `axis`, as glTF's spot light
+    /// (`super::cone_falloff`).
+    Cone {
+        axis: Vec3,
+        cos_inner: f32,
+        cos_outer: f32,
+    },
+    /// All along unit `direction`, from infinitely far away; `radius` is
+    /// the scene's (its power is the irradiance over the scene's disk).
+    Parallel { direction: Vec3, radius: f32 },
+}
+
+/// What a light of no size brings to a point: the unit direction toward
+/// it, the distance (infinite for a directional light) and the radiance
+/// arriving (the whole irradiance along that one direction).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DeltaSample {
+    pub wi: Vec3,
+    pub distance: f32,
+    pub radiance: Vec3,
+}
+
+impl PointSource {
+    /// A point light at `position` of `intensity`.
+    pub fn point(position: Vec3, intensity: Vec3) -> PointSource {
+        PointSource {
+            position,
+            intensity,
+            emits: Emits::Everywhere,
+        }
+    }
+
+    /// Its light at `from`: the one function every kind of light of no
+    /// size is sampled through. None where it sends nothing (outside a
+    /// spot's cone, at the light itself).
+    #[inline(always)]
+    pub fn arriving(&self, from: Vec3) -> Option<DeltaSample> {
+        if let Emits::Parallel { direction, .. } = self.emits {
+            return Some(DeltaSample {
+                wi: -direction,
+                distance: f32::INFINITY,
+                radiance: self.intensity,
+            });
+        }
+        let to = self.position - from;
+        let distance2 = to.length_squared();
+        let distance = distance2.sqrt();
+        if distance.is_nan() || distance <= 0.0 {
+            return None;
+        }
+        let wi = to / distance;
+        // A point light's radiance as intensity / d^2 exactly: the lanes'
+        // paths (`matte_lanes`) compute the same bits.
+        let radiance = match self.emits {
+            Emits::Cone {
+                axis,
+                cos_inner,
+                cos_outer,
+            } => {
+                let fraction = super::cone_falloff(axis, cos_inner, cos_outer, -wi);
+                if fraction <= 0.0 {
+                    return None;
+                }
+                self.intensity * (fraction / distance2)
+            }
+            _ => self.intensity / distance2,
+        };
+        Some(DeltaSample {
+            wi,
+            distance,
+            radiance,
+        })
+    }
+
+    /// The power it gives off, by luminance, for the pick among lights:
+    /// 4 pi I for a point, pbrt-v4's 2 pi I (1 - (cos inner + cos outer)
+    /// / 2) for a spot, E pi r^2 over the scene's disk for a directional
+    /// light.
+    fn power(&self) -> f64 {
+        let i = f64::from(luminance(self.intensity));
+        let pi = std::f64::consts::PI;
+        match self.emits {
+            Emits::Everywhere => 4.0 * pi * i,
+            Emits::Cone {
+                cos_inner,
+                cos_outer,
+                ..
+            } => 2.0 * pi * i * (1.0 - 0.5 * f64::from(cos_inner + cos_outer)),
+            Emits::Parallel { radius, .. } => pi * f64::from(radius).powi(2) * i,
+        }
+    }
 }
 
 /// What a light sample brings to a shaded point.
@@ -76,7 +178,7 @@ impl Lights {
         sphere_objects: &[u32],
         environment: Option<(Arc<Environment>, f32)>,
     ) -> Lights {
-        let point_power = |p: &PointSource| 4.0 * PI as f64 * f64::from(luminance(p.intensity));
+        let point_power = PointSource::power;
         // One-sided: a surface of radiance L and area A gives off pi L A.
         let area_power = |a: &AreaLight| {
             PI as f64 * f64::from(luminance(a.radiance)) * f64::from(a.shape.area())
@@ -138,16 +240,11 @@ impl Lights {
     pub fn sample(&self, from: Vec3, pick: f32, u: Vec2) -> Option<LightSample> {
         let (i, pmf) = self.table.as_ref()?.sample(pick);
         if let Some(p) = self.points.get(i) {
-            let to = p.position - from;
-            let distance2 = to.length_squared();
-            let distance = distance2.sqrt();
-            if distance.is_nan() || distance <= 0.0 {
-                return None;
-            }
+            let s = p.arriving(from)?;
             return Some(LightSample {
-                wi: to / distance,
-                distance,
-                radiance: p.intensity / distance2,
+                wi: s.wi,
+                distance: s.distance,
+                radiance: s.radiance,
                 pdf: pmf,
                 point: true,
             });

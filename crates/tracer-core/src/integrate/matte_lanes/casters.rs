@@ -153,10 +153,7 @@ mod tests {
 
     /// The triangles a point light at `position` keeps, by id.
     fn kept_for_a_point_at(position: [f32; 3]) -> Vec<u32> {
-        let point = PointSource {
-            position: Vec3::from(position),
-            intensity: Vec3::ONE,
-        };
+        let point = PointSource::point(Vec3::from(position), Vec3::ONE);
         let lights = Lights::new(vec![point], Vec::new(), &[], None);
         let casters = shadow_casters(&room(), &lights);
         casters[0].iter().map(|t| t.material).collect()

@@ -182,6 +182,7 @@ fn matte(m: &Material) -> Option<Matte> {
         uv: Vec2::ZERO,
         front_face: true,
         shadow_offset: Vec3::ZERO,
+        tangent: glam::Vec4::ZERO,
     };
     let (albedo, p_lambert) = LabBsdf::new(m, &hit, Vec3::Z).lambert_only()?;
     Some(Matte {

@@ -111,10 +111,15 @@ impl Picked {
     }
 }
 
-/// Whether the scene's lights can be sampled in lanes: points and flat
-/// emitters (triangles, parallelograms), no environment.
+/// Whether the scene's lights can be sampled in lanes: points (no spot
+/// or directional light) and flat emitters (triangles, parallelograms), no
+/// environment.
 pub(super) fn lanes_can_sample(lights: &Lights) -> bool {
     !lights.has_environment()
+        && lights
+            .points()
+            .iter()
+            .all(|p| p.emits == crate::light::lights::Emits::Everywhere)
         && lights.areas().iter().all(|a| {
             matches!(
                 a.shape,
@@ -413,10 +418,7 @@ mod tests {
     /// (which the film drops), not a finite value of their own.
     #[test]
     fn a_nan_cosine_is_lit_as_the_one_path_tracer_lights_it() {
-        let point = PointSource {
-            position: Vec3::Y,
-            intensity: Vec3::ONE,
-        };
+        let point = PointSource::point(Vec3::Y, Vec3::ONE);
         let lights = Lights::new(vec![point], vec![], &[], None);
         let n = Vec3::new(f32::NAN, 0.0, 0.0);
         let mut hits = Hits::NONE;
@@ -450,6 +452,7 @@ mod tests {
             uv: Vec2::ZERO,
             front_face: true,
             shadow_offset: Vec3::ZERO,
+            tangent: glam::Vec4::ZERO,
         };
         let sample = lights.sample(Vec3::ZERO, 0.5, Vec2::splat(0.5)).unwrap();
         let (f, _) = Bsdf::new(&material, &hit, Vec3::Y).eval(sample.wi);
