@@ -12,6 +12,7 @@ mod clock;
 pub mod denoise;
 mod error;
 pub mod explain;
+pub mod explain_draw;
 pub mod explain_text;
 pub mod lab;
 mod limits;
