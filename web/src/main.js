@@ -11,6 +11,8 @@ import { setDiagnostics, lintGutter } from "@codemirror/lint";
 import { undo } from "@codemirror/commands";
 import { decodeShare, encodeShare } from "./share.js";
 import { zip } from "./zip.js";
+import { drawRays, legend } from "./rays.js";
+import { showTree, linkHover, Stepper } from "./steps.js";
 
 const DEBOUNCE_MS = 300;
 // More workers than this give no speed and each holds a wasm instance.
@@ -31,6 +33,9 @@ const explainPanel = document.getElementById("explain");
 const explainSample = document.getElementById("explain-sample");
 const stopButton = document.getElementById("stop");
 const marker = document.getElementById("marker");
+const raysOverlay = document.getElementById("rays");
+const raysLegend = document.getElementById("rays-legend");
+const stepBar = document.getElementById("steps");
 const notice = document.getElementById("notice");
 const params = new URLSearchParams(location.search);
 // `?workers=N` (tests, the bench) overrides one worker per core.
@@ -351,7 +356,7 @@ async function explainPixel(x, y) {
   explainPanel.dataset.asked = asked;
   explainPanel.dataset.state = "computing";
   explainPanel.textContent = `Pixel (${x}, ${y}): explaining…`;
-  const job = { scene: scene.name, files: folderFiles(), explain: [x, y], sample };
+  const job = { scene: scene.name, files: folderFiles(), explain: [x, y], sample, view: true };
   const answer = await runJob(explainWorker, job);
   // A later click owns the panel now.
   if (explainPanel.dataset.asked !== asked || explainPanel.dataset.state !== "computing") return;
@@ -360,7 +365,43 @@ async function explainPixel(x, y) {
   // The text names the pixel; an error does not.
   // The page's sample box, not the command line's --sample.
   const why = answer.ok ? "" : answer.error.text.replace(/^--sample /, "sample ");
-  explainPanel.textContent = answer.ok ? answer.text : `Pixel (${x}, ${y})\n\n${why}`;
+  if (!answer.ok) {
+    explainPanel.textContent = `Pixel (${x}, ${y})\n\n${why}`;
+    hideRays();
+    return;
+  }
+  shownView = answer.view;
+  showTree(explainPanel, shownView.lines);
+  drawRays(raysOverlay, shownView.drawing);
+  legend(raysLegend, shownView.drawing);
+  stepBar.hidden = false;
+  stepper.reset(shownView.lines);
+}
+
+// The explained pixel's lines and drawing, while shown.
+let shownView = null;
+const stepper = new Stepper(
+  explainPanel,
+  raysOverlay,
+  document.getElementById("step-back"),
+  document.getElementById("step-next"),
+  document.getElementById("step-where"),
+);
+linkHover(explainPanel, raysOverlay);
+// The marks keep their size on screen as the image's is changed.
+new ResizeObserver(() => {
+  if (shownView && !raysOverlay.hasAttribute("hidden")) {
+    drawRays(raysOverlay, shownView.drawing);
+    stepper.go(stepper.step);
+  }
+}).observe(canvas);
+
+function hideRays() {
+  shownView = null;
+  raysOverlay.setAttribute("hidden", "");
+  raysOverlay.replaceChildren();
+  raysLegend.hidden = true;
+  stepBar.hidden = true;
 }
 
 // ---- Errors -----------------------------------------------------------
@@ -487,6 +528,7 @@ function resetExplain() {
   explainPanel.textContent = "Click the image to see why a pixel has its colour.";
   explainSample.value = 0;
   marker.hidden = true;
+  hideRays();
   notice.textContent = "";
 }
 
