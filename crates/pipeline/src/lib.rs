@@ -13,6 +13,7 @@ pub mod denoise;
 mod error;
 pub mod explain;
 pub mod explain_draw;
+pub mod explain_scene;
 pub mod explain_steps;
 pub mod explain_text;
 pub mod lab;

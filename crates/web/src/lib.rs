@@ -495,9 +495,11 @@ pub fn explain(
 }
 
 /// [`explain`]'s text as the page shows it, and what it draws: JSON,
-/// `{"lines": [...], "drawing": {...}}`, each line of the text with its
-/// depth, step, lab section and ray (`explain_steps::Line`), and the
-/// drawing `tracer explain --json` gives (`explain_draw::Drawing`).
+/// `{"lines": [...], "drawing": {...}, "scene": {...}}`, each line of the
+/// text with its depth, step, lab section and ray
+/// (`explain_steps::Line`), the drawing `tracer explain --json` gives
+/// (`explain_draw::Drawing`), and the scene's shapes and camera for the 3D
+/// view (`explain_scene::SceneView`).
 pub fn explain_view(
     files: &Memory,
     path: &Path,
@@ -506,7 +508,12 @@ pub fn explain_view(
 ) -> Result<String, String> {
     let (text, pixel) = explained(files, path, (x, y), sample)?;
     let lines = tracer_pipeline::explain_steps::lines(&text, &pixel);
-    Ok(serde_json::json!({ "lines": lines, "drawing": pixel.drawing }).to_string())
+    let view = serde_json::json!({
+        "lines": lines,
+        "drawing": pixel.drawing,
+        "scene": pixel.scene_view,
+    });
+    Ok(view.to_string())
 }
 
 /// The text of [`explain`] and the explained pixel.

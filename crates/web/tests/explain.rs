@@ -200,3 +200,45 @@ fn a_mirror_ray_s_line_and_a_path_s_events_are_linked_to_their_drawn_rays() {
         "shadow"
     );
 }
+
+#[test]
+fn the_3d_view_holds_each_object_of_the_file_and_the_pixel_on_the_image_plane() {
+    for (name, pixel) in [
+        ("reflectance2.toml", (250, 330)),
+        ("cornell-box.toml", (128, 100)),
+    ] {
+        let (_, view) = view(name, pixel, 0);
+        let scene = &view["scene"];
+        let file = std::fs::read_to_string(scenes().join(name)).unwrap();
+        let objects = scene["objects"].as_array().unwrap();
+        assert_eq!(
+            objects.len(),
+            file.lines().filter(|l| l.trim() == "[[objects]]").count(),
+            "{name}"
+        );
+        for (k, o) in objects.iter().enumerate() {
+            assert_eq!(o["name"], format!("objects[{k}]"));
+            let shapes =
+                o["spheres"].as_array().unwrap().len() + o["triangles"].as_array().unwrap().len();
+            assert!(shapes > 0, "{name} {o}");
+        }
+        // The clicked pixel on the image plane is along the primary ray.
+        let v = |j: &serde_json::Value| [0, 1, 2].map(|k| j[k].as_f64().unwrap());
+        let (eye, at) = (v(&scene["camera"]["eye"]), v(&scene["camera"]["pixel"]));
+        let d = [at[0] - eye[0], at[1] - eye[1], at[2] - eye[2]];
+        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let primary = v(&view["drawing"]["rays"][0]["direction"]);
+        // Sample 0 of a path-traced pixel is jittered: within the pixel.
+        let cos = (0..3).map(|k| d[k] / len * primary[k]).sum::<f64>();
+        assert!(cos > 0.99999, "{name}: {cos}");
+    }
+    // reflectance2: three balls and a plane (two triangles).
+    let (_, view) = view("reflectance2.toml", (250, 330), 0);
+    let spheres: usize = view["scene"]["objects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|o| o["spheres"].as_array().unwrap().len())
+        .sum();
+    assert_eq!(spheres, 3);
+}
