@@ -13,6 +13,7 @@ import { decodeShare, encodeShare } from "./share.js";
 import { zip } from "./zip.js";
 import { drawRays, legend } from "./rays.js";
 import { showTree, linkHover, Stepper } from "./steps.js";
+import { View3d } from "./view3d.js";
 
 const DEBOUNCE_MS = 300;
 // More workers than this give no speed and each holds a wasm instance.
@@ -295,6 +296,12 @@ async function render() {
   canvas.dataset.state = "done";
   window.tracerPage.renders += 1;
   if (fullWidth * fullHeight > RELEASE_PIXELS) releaseMemory();
+  // The pixel explained follows the edit, as the image does: its tree,
+  // its rays and the 3D view anew (its viewpoint kept).
+  if (shownView && shownViewScene === scene.name && explainPanel.dataset.state === "done") {
+    const [x, y] = explainPanel.dataset.pixel.split(",").map(Number);
+    if (x < fullWidth && y < fullHeight) explainPixel(x, y);
+  }
 }
 
 const pathsAPixel = (n) => `${n} path${n === 1 ? "" : "s"} a pixel`;
@@ -370,24 +377,31 @@ async function explainPixel(x, y) {
     hideRays();
     return;
   }
+  // Another pixel of the same scene keeps the 3D view's viewpoint.
+  const sameScene = shownView !== null && shownViewScene === scene.name;
   shownView = answer.view;
+  shownViewScene = scene.name;
   showTree(explainPanel, shownView.lines);
   drawRays(raysOverlay, shownView.drawing);
+  view3d.show(shownView, sameScene);
   legend(raysLegend, shownView.drawing);
   stepBar.hidden = false;
   stepper.reset(shownView.lines);
 }
 
-// The explained pixel's lines and drawing, while shown.
+// The explained pixel's lines and drawing, while shown, and its scene's name.
 let shownView = null;
+let shownViewScene = null;
+const view3d = new View3d(document.getElementById("view3d"));
 const stepper = new Stepper(
   explainPanel,
   raysOverlay,
   document.getElementById("step-back"),
   document.getElementById("step-next"),
   document.getElementById("step-where"),
+  (rays) => view3d.highlight(rays),
 );
-linkHover(explainPanel, raysOverlay);
+linkHover(explainPanel, raysOverlay, (rays) => view3d.highlight(rays || stepper.rays));
 // The marks keep their size on screen as the image's is changed.
 new ResizeObserver(() => {
   if (shownView && !raysOverlay.hasAttribute("hidden")) {
@@ -402,6 +416,7 @@ function hideRays() {
   raysOverlay.replaceChildren();
   raysLegend.hidden = true;
   stepBar.hidden = true;
+  view3d.hide();
 }
 
 // ---- Errors -----------------------------------------------------------

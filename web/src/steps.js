@@ -51,10 +51,12 @@ export function showTree(panel, lines) {
 }
 
 // Hovering a drawn ray lights its lines; hovering a line lights its ray.
-export function linkHover(panel, svg) {
+// `onRays` hears of the rays lit (none: back to the step's).
+export function linkHover(panel, svg, onRays) {
   const light = (ray, on) => {
     for (const e of svg.querySelectorAll(`g.ray[data-ray="${ray}"]`)) e.classList.toggle("hot", on);
     for (const e of panel.querySelectorAll(`.line[data-ray="${ray}"]`)) e.classList.toggle("hot", on);
+    onRays(on ? [ray] : null);
   };
   const hover = (root, selector) => {
     root.addEventListener("mouseover", (e) => {
@@ -73,8 +75,10 @@ export function linkHover(panel, svg) {
 // Next and Back over the steps of the tree in `panel`: each step's lines
 // and its ray marked `current`, its folds opened, `where` saying which.
 export class Stepper {
-  constructor(panel, svg, back, next, where) {
-    Object.assign(this, { panel, svg, back, next, where });
+  // `onStep` hears of each step's rays (none before the first step).
+  constructor(panel, svg, back, next, where, onStep) {
+    Object.assign(this, { panel, svg, back, next, where, onStep });
+    this.rays = [];
     this.step = -1;
     this.count = 0;
     back.addEventListener("click", () => this.go(this.step - 1));
@@ -102,6 +106,8 @@ export class Stepper {
         for (const g of this.svg.querySelectorAll(`g.ray[data-ray="${ray}"]`)) g.classList.add("current");
       }
     }
+    this.rays = [...new Set(rows.map((r) => r.dataset.ray).filter((r) => r !== undefined))];
+    this.onStep(this.rays);
     if (rows[0]) rows[0].scrollIntoView({ block: "nearest" });
     this.panel.dataset.step = step;
     this.back.disabled = step <= 0;

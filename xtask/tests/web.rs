@@ -1062,3 +1062,53 @@ fn screenshot_of_a_pixels_rays_for_the_book() {
     )
     .unwrap();
 }
+
+#[test]
+fn the_3d_view_holds_as_many_objects_as_the_scene_and_follows_an_edit() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    render_scene(&mut page, "reflectance2.toml");
+    click_pixel(&mut page, (250, 330));
+    let file =
+        std::fs::read_to_string(xtask::workspace_root().join("scenes/reflectance2.toml")).unwrap();
+    let objects = file.lines().filter(|l| l.trim() == "[[objects]]").count();
+    let shown = eval(
+        &mut page,
+        "(() => { const v = document.getElementById('view3d'); \
+         const c = v.querySelector('canvas'); \
+         return [v.hidden, Number(v.dataset.objects), Number(v.dataset.rays), c.width > 0, \
+         document.querySelectorAll('#rays g.ray').length]; })()",
+    );
+    assert_eq!(shown[0], false, "{shown}");
+    assert_eq!(shown[1], objects, "{shown}");
+    assert_eq!(
+        shown[2], shown[4],
+        "the same rays as over the image: {shown}"
+    );
+    // The 3D view's canvas is drawn: not one colour.
+    let colours = eval(
+        &mut page,
+        "(() => { const c = document.querySelector('#view3d canvas'); \
+         const g = c.getContext('webgl2') || c.getContext('webgl'); \
+         const px = new Uint8Array(c.width * c.height * 4); \
+         g.readPixels(0, 0, c.width, c.height, g.RGBA, g.UNSIGNED_BYTE, px); \
+         const seen = new Set(); for (let k = 0; k < px.length; k += 4 * 97) seen.add(px[k] << 16 | px[k + 1] << 8 | px[k + 2]); \
+         return seen.size; })()",
+    );
+    assert!(colours.as_u64().unwrap() > 20, "{colours}");
+    // An object added to the file: the image renders again, and the view
+    // and the explanation follow.
+    let more = format!(
+        "{file}\n[[objects]]\nsphere = {{ center = [3, 2, 0], radius = 0.5 }}\nmaterial = \"red\"\n"
+    );
+    type_text(&mut page, &more);
+    page.wait_for(
+        &format!(
+            "Number(document.getElementById('view3d').dataset.objects) === {}",
+            objects + 1
+        ),
+        RENDER,
+    )
+    .unwrap();
+}

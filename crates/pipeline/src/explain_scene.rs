@@ -86,11 +86,13 @@ pub fn scene_view(scene: &Scene, names: &Names, pixel: (u32, u32)) -> SceneView 
             Shape::Sphere(s) => view.spheres.push((s.center, s.radius)),
             Shape::Triangle(t) => add([t.v0, t.v1, t.v2]),
             Shape::Plane(p) => {
-                // A square on the plane round the scene's centre, as wide
-                // as the scene: enough to see it is a floor or a wall.
+                // A square on the plane round the scene's centre, a little
+                // wider than the scene: enough to see it is a floor or a
+                // wall without hiding the rest.
                 let centre = (lo + hi) / 2.0;
                 let on = centre - p.normal * (centre - p.point).dot(p.normal);
-                let (u, v) = (p.u_axis.normalize() * size, p.v_axis.normalize() * size);
+                let half = 0.6 * size;
+                let (u, v) = (p.u_axis.normalize() * half, p.v_axis.normalize() * half);
                 let c = [on - u - v, on + u - v, on + u + v, on - u + v];
                 add([c[0], c[1], c[2]]);
                 add([c[0], c[2], c[3]]);
