@@ -11,6 +11,9 @@ import { setDiagnostics, lintGutter } from "@codemirror/lint";
 import { undo } from "@codemirror/commands";
 import { decodeShare, encodeShare } from "./share.js";
 import { zip } from "./zip.js";
+import { drawRays, legend } from "./rays.js";
+import { showTree, linkHover, Stepper } from "./steps.js";
+import { View3d } from "./view3d.js";
 
 const DEBOUNCE_MS = 300;
 // More workers than this give no speed and each holds a wasm instance.
@@ -31,6 +34,9 @@ const explainPanel = document.getElementById("explain");
 const explainSample = document.getElementById("explain-sample");
 const stopButton = document.getElementById("stop");
 const marker = document.getElementById("marker");
+const raysOverlay = document.getElementById("rays");
+const raysLegend = document.getElementById("rays-legend");
+const stepBar = document.getElementById("steps");
 const notice = document.getElementById("notice");
 const params = new URLSearchParams(location.search);
 // `?workers=N` (tests, the bench) overrides one worker per core.
@@ -290,6 +296,12 @@ async function render() {
   canvas.dataset.state = "done";
   window.tracerPage.renders += 1;
   if (fullWidth * fullHeight > RELEASE_PIXELS) releaseMemory();
+  // The pixel explained follows the edit, as the image does: its tree,
+  // its rays and the 3D view anew (its viewpoint kept).
+  if (shownView && shownViewScene === scene.name && explainPanel.dataset.state === "done") {
+    const [x, y] = explainPanel.dataset.pixel.split(",").map(Number);
+    if (x < fullWidth && y < fullHeight) explainPixel(x, y);
+  }
 }
 
 const pathsAPixel = (n) => `${n} path${n === 1 ? "" : "s"} a pixel`;
@@ -351,7 +363,7 @@ async function explainPixel(x, y) {
   explainPanel.dataset.asked = asked;
   explainPanel.dataset.state = "computing";
   explainPanel.textContent = `Pixel (${x}, ${y}): explaining…`;
-  const job = { scene: scene.name, files: folderFiles(), explain: [x, y], sample };
+  const job = { scene: scene.name, files: folderFiles(), explain: [x, y], sample, view: true };
   const answer = await runJob(explainWorker, job);
   // A later click owns the panel now.
   if (explainPanel.dataset.asked !== asked || explainPanel.dataset.state !== "computing") return;
@@ -360,7 +372,51 @@ async function explainPixel(x, y) {
   // The text names the pixel; an error does not.
   // The page's sample box, not the command line's --sample.
   const why = answer.ok ? "" : answer.error.text.replace(/^--sample /, "sample ");
-  explainPanel.textContent = answer.ok ? answer.text : `Pixel (${x}, ${y})\n\n${why}`;
+  if (!answer.ok) {
+    explainPanel.textContent = `Pixel (${x}, ${y})\n\n${why}`;
+    hideRays();
+    return;
+  }
+  // Another pixel of the same scene keeps the 3D view's viewpoint.
+  const sameScene = shownView !== null && shownViewScene === scene.name;
+  shownView = answer.view;
+  shownViewScene = scene.name;
+  showTree(explainPanel, shownView.lines);
+  drawRays(raysOverlay, shownView.drawing);
+  view3d.show(shownView, sameScene);
+  legend(raysLegend, shownView.drawing);
+  stepBar.hidden = false;
+  stepper.reset(shownView.lines);
+}
+
+// The explained pixel's lines and drawing, while shown, and its scene's name.
+let shownView = null;
+let shownViewScene = null;
+const view3d = new View3d(document.getElementById("view3d"));
+const stepper = new Stepper(
+  explainPanel,
+  raysOverlay,
+  document.getElementById("step-back"),
+  document.getElementById("step-next"),
+  document.getElementById("step-where"),
+  (rays) => view3d.highlight(rays),
+);
+linkHover(explainPanel, raysOverlay, (rays) => view3d.highlight(rays || stepper.rays));
+// The marks keep their size on screen as the image's is changed.
+new ResizeObserver(() => {
+  if (shownView && !raysOverlay.hasAttribute("hidden")) {
+    drawRays(raysOverlay, shownView.drawing);
+    stepper.go(stepper.step);
+  }
+}).observe(canvas);
+
+function hideRays() {
+  shownView = null;
+  raysOverlay.setAttribute("hidden", "");
+  raysOverlay.replaceChildren();
+  raysLegend.hidden = true;
+  stepBar.hidden = true;
+  view3d.hide();
 }
 
 // ---- Errors -----------------------------------------------------------
@@ -487,6 +543,7 @@ function resetExplain() {
   explainPanel.textContent = "Click the image to see why a pixel has its colour.";
   explainSample.value = 0;
   marker.hidden = true;
+  hideRays();
   notice.textContent = "";
 }
 

@@ -68,9 +68,12 @@ function run(job) {
     if (job.explain) {
       // One pixel's tree, as `tracer explain` prints it.
       const [x, y] = job.explain;
-      const rc = t.tracer_explain(name[0], name[1], x, y, job.sample || 0);
+      // With `view`: its lines and the rays to draw, as JSON.
+      const call = job.view ? t.tracer_explain_view : t.tracer_explain;
+      const rc = call(name[0], name[1], x, y, job.sample || 0);
       const answer = new TextDecoder().decode(result(t));
-      return rc === 0 ? { ok: true, text: answer } : { ok: false, error: JSON.parse(answer) };
+      if (rc !== 0) return { ok: false, error: JSON.parse(answer) };
+      return job.view ? { ok: true, view: JSON.parse(answer) } : { ok: true, text: answer };
     }
     const [x0, y0, x1, y1] = job.region || [0, 0, 0, 0];
     jobId = job.id;

@@ -922,3 +922,213 @@ fn the_help_link_opens_the_books_playground_page_when_the_book_is_beside() {
         "{href}"
     );
 }
+
+/// Clicks the image's pixel (x, y), as a user does, and waits for its
+/// explanation; the pixel the page names and the canvas's box.
+fn click_pixel(page: &mut Browser, (x, y): (u32, u32)) -> ((u32, u32), Vec<f64>) {
+    let rect = eval(
+        page,
+        "(() => { const c = document.getElementById('image'); c.scrollIntoView(); \
+         const r = c.getBoundingClientRect(); return [r.left, r.top, r.width, r.height, c.width, c.height]; })()",
+    );
+    let rect: Vec<f64> = serde_json::from_value(rect).unwrap();
+    let at =
+        |i: usize, p: u32| (rect[i] + (f64::from(p) + 0.5) * rect[i + 2] / rect[i + 4]).round();
+    for kind in ["mousePressed", "mouseReleased"] {
+        page.call(
+            "Input.dispatchMouseEvent",
+            serde_json::json!({ "type": kind, "x": at(0, x), "y": at(1, y), "button": "left", "clickCount": 1 }),
+        )
+        .unwrap();
+    }
+    page.wait_for(
+        "document.getElementById('explain').dataset.state === 'done'",
+        RENDER,
+    )
+    .unwrap();
+    let named = eval(page, "document.getElementById('explain').dataset.pixel");
+    let (nx, ny) = named.as_str().unwrap().split_once(',').unwrap();
+    ((nx.parse().unwrap(), ny.parse().unwrap()), rect)
+}
+
+#[test]
+fn a_click_draws_the_pixels_rays_its_first_hit_on_the_pixel_and_a_blocked_shadow_ray_dashed_red() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    // shadows.toml's pixel (100, 150): the wall, in the red ball's shadow
+    // (`tracer explain` says: blocked by objects[1]).
+    render_scene(&mut page, "shadows.toml");
+    let ((x, y), rect) = click_pixel(&mut page, (100, 150));
+    assert!(x.abs_diff(100) <= 1 && y.abs_diff(150) <= 1, "({x}, {y})");
+    // The primary ray's hit ring is drawn centred on the pixel's centre,
+    // where the canvas is now (the explanation's lines may have brought a
+    // scroll bar and moved it).
+    let now = eval(
+        &mut page,
+        "(() => { const c = document.getElementById('image').getBoundingClientRect(); \
+         const r = document.querySelector('#rays g.ray[data-ray=\"0\"] circle.hit')\
+         .getBoundingClientRect(); \
+         return [c.left, c.top, c.width, c.height, r.left + r.width / 2, r.top + r.height / 2]; })()",
+    );
+    let now: Vec<f64> = serde_json::from_value(now).unwrap();
+    let centre = |i: usize, p: u32| now[i] + (f64::from(p) + 0.5) * now[i + 2] / rect[i + 4];
+    let ring = [now[4], now[5]];
+    assert!(
+        (ring[0] - centre(0, x)).abs() < 0.75 && (ring[1] - centre(1, y)).abs() < 0.75,
+        "ring at {ring:?}, pixel ({x}, {y}) at ({}, {})",
+        centre(0, x),
+        centre(1, y)
+    );
+    // Its shadow ray: blocked, dashed, red, named by its blocker.
+    let shadow = eval(
+        &mut page,
+        "(() => { const g = document.querySelector('#rays g.ray.shadow'); \
+         const line = g.querySelector('line.stroke'); \
+         return [g.classList.contains('blocked'), line.getAttribute('stroke-dasharray') || '', \
+         getComputedStyle(line).stroke, g.querySelector('title').textContent, \
+         g.querySelector('text.blocker').textContent]; })()",
+    );
+    assert_eq!(shadow[0], true, "{shadow}");
+    assert!(!shadow[1].as_str().unwrap().is_empty(), "dashed: {shadow}");
+    assert_eq!(shadow[2], "rgb(255, 40, 40)", "{shadow}");
+    assert_eq!(shadow[3], "shadow ray to lights[0]: blocked by objects[1]");
+    assert_eq!(shadow[4], "objects[1]");
+    // Hovering the shadow ray's line of the explanation lights its ray.
+    let hot = eval(
+        &mut page,
+        "(() => { const row = [...document.querySelectorAll('#explain .line')]\
+         .find(r => r.textContent.startsWith('shadow ray from')); \
+         row.dispatchEvent(new MouseEvent('mouseover', { bubbles: true })); \
+         const ray = row.dataset.ray; \
+         return [ray, document.querySelector(`#rays g.ray[data-ray=\"${ray}\"]`).classList.contains('hot')]; })()",
+    );
+    assert_eq!(hot[1], true, "{hot}");
+}
+
+#[test]
+fn next_visits_every_step_of_the_explanation_once_in_order_and_back_returns() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    render_scene(&mut page, "reflectance2.toml");
+    click_pixel(&mut page, (250, 330));
+    // Next until it is disabled: each step once, in the text's order, its
+    // lines (and only they) marked current.
+    let walk = eval(
+        &mut page,
+        "(() => { const next = document.getElementById('step-next'); \
+         const panel = document.getElementById('explain'); \
+         const rows = [...panel.querySelectorAll('.line')]; \
+         const steps = rows.map(r => Number(r.dataset.step)); \
+         const visited = []; let wrong = 0; \
+         while (!next.disabled && visited.length < 1000) { next.click(); \
+           const s = Number(panel.dataset.step); visited.push(s); \
+           const current = rows.filter(r => r.classList.contains('current')); \
+           if (current.length === 0 || current.some(r => Number(r.dataset.step) !== s) \
+               || current.length !== steps.filter(t => t === s).length) wrong += 1; } \
+         return { steps, visited, wrong, lines: rows.length }; })()",
+    );
+    let steps: Vec<u64> = serde_json::from_value(walk["steps"].clone()).unwrap();
+    let visited: Vec<u64> = serde_json::from_value(walk["visited"].clone()).unwrap();
+    let count = steps.iter().max().unwrap() + 1;
+    assert_eq!(visited, (0..count).collect::<Vec<_>>(), "{walk}");
+    assert_eq!(walk["wrong"], 0, "{walk}");
+    // The mirror ray's line is a step whose ray is drawn current then.
+    let mirror = eval(
+        &mut page,
+        "(() => { const row = [...document.querySelectorAll('#explain .line')]\
+         .find(r => r.textContent.startsWith('mirror ray from')); \
+         const panel = document.getElementById('explain'); \
+         while (Number(panel.dataset.step) > Number(row.dataset.step)) document.getElementById('step-back').click(); \
+         const g = document.querySelector(`#rays g.ray[data-ray=\"${row.dataset.ray}\"]`); \
+         return [row.classList.contains('current'), g.classList.contains('current'), g.classList.contains('reflected')]; })()",
+    );
+    assert_eq!(mirror, serde_json::json!([true, true, true]));
+}
+
+/// Not a check: writes the book's picture of a pixel's rays in the
+/// playground, docs/src/images/playground-explain.png, stepped to its
+/// mirror ray (`cargo test --release -p xtask --test web -- --ignored
+/// screenshot`).
+#[test]
+#[ignore]
+fn screenshot_of_a_pixels_rays_for_the_book() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    // A laptop's screen.
+    let metrics = serde_json::json!({
+        "width": 1280, "height": 900, "deviceScaleFactor": 1, "mobile": false
+    });
+    page.call("Emulation.setDeviceMetricsOverride", metrics)
+        .unwrap();
+    render_scene(&mut page, "reflectance2.toml");
+    click_pixel(&mut page, (250, 330));
+    eval(
+        &mut page,
+        "(() => { const row = [...document.querySelectorAll('#explain .line')]\
+         .find(r => r.textContent.startsWith('mirror ray from')); \
+         const panel = document.getElementById('explain'); \
+         while (Number(panel.dataset.step) < Number(row.dataset.step)) \
+           document.getElementById('step-next').click(); \
+         window.scrollTo(0, 0); })()",
+    );
+    std::thread::sleep(Duration::from_millis(300));
+    let png = page.screenshot().unwrap();
+    std::fs::write(
+        xtask::workspace_root().join("docs/src/images/playground-explain.png"),
+        png,
+    )
+    .unwrap();
+}
+
+#[test]
+fn the_3d_view_holds_as_many_objects_as_the_scene_and_follows_an_edit() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    render_scene(&mut page, "reflectance2.toml");
+    click_pixel(&mut page, (250, 330));
+    let file =
+        std::fs::read_to_string(xtask::workspace_root().join("scenes/reflectance2.toml")).unwrap();
+    let objects = file.lines().filter(|l| l.trim() == "[[objects]]").count();
+    let shown = eval(
+        &mut page,
+        "(() => { const v = document.getElementById('view3d'); \
+         const c = v.querySelector('canvas'); \
+         return [v.hidden, Number(v.dataset.objects), Number(v.dataset.rays), c.width > 0, \
+         document.querySelectorAll('#rays g.ray').length]; })()",
+    );
+    assert_eq!(shown[0], false, "{shown}");
+    assert_eq!(shown[1], objects, "{shown}");
+    assert_eq!(
+        shown[2], shown[4],
+        "the same rays as over the image: {shown}"
+    );
+    // The 3D view's canvas is drawn: not one colour.
+    let colours = eval(
+        &mut page,
+        "(() => { const c = document.querySelector('#view3d canvas'); \
+         const g = c.getContext('webgl2') || c.getContext('webgl'); \
+         const px = new Uint8Array(c.width * c.height * 4); \
+         g.readPixels(0, 0, c.width, c.height, g.RGBA, g.UNSIGNED_BYTE, px); \
+         const seen = new Set(); for (let k = 0; k < px.length; k += 4 * 97) seen.add(px[k] << 16 | px[k + 1] << 8 | px[k + 2]); \
+         return seen.size; })()",
+    );
+    assert!(colours.as_u64().unwrap() > 20, "{colours}");
+    // An object added to the file: the image renders again, and the view
+    // and the explanation follow.
+    let more = format!(
+        "{file}\n[[objects]]\nsphere = {{ center = [3, 2, 0], radius = 0.5 }}\nmaterial = \"red\"\n"
+    );
+    type_text(&mut page, &more);
+    page.wait_for(
+        &format!(
+            "Number(document.getElementById('view3d').dataset.objects) === {}",
+            objects + 1
+        ),
+        RENDER,
+    )
+    .unwrap();
+}

@@ -32,6 +32,10 @@ pub struct ExplainedPixel {
     pub path_traced: bool,
     /// What the file calls the objects and materials the tree numbers.
     pub names: Names,
+    /// Where the tree's rays are, in the scene and in the image.
+    pub drawing: crate::explain_draw::Drawing,
+    /// The scene's shapes and camera, for the playground's 3D view.
+    pub scene_view: crate::explain_scene::SceneView,
 }
 
 /// Pixel (x, y) (x from the left, y from the top, of the written image)
@@ -93,6 +97,8 @@ pub fn explain_within(
             message: e.to_string(),
         })?;
     let explanation = tracer_core::explain::explain_within(&scene, (x, y), samples, sample, limits);
+    let drawing = crate::explain_draw::drawing(&scene, &explanation, (x, y), &names);
+    let scene_view = crate::explain_scene::scene_view(&scene, &names, (x, y));
     let job = RenderJob {
         region: Region {
             x0: x,
@@ -119,5 +125,7 @@ pub fn explain_within(
         encoding,
         path_traced: scene.trace_settings().integrator == tracer_core::scene::Integrator::Path,
         names,
+        drawing,
+        scene_view,
     })
 }

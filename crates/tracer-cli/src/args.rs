@@ -129,6 +129,11 @@ pub struct ExplainArgs {
     /// field changes meaning
     #[arg(long)]
     pub json: bool,
+    /// Also write the render with the pixel's ray tree drawn over it (its
+    /// hits ringed, shadow rays dashed red where blocked, the lights
+    /// marked) and a legend below, for a report or an exercise sheet
+    #[arg(long, value_name = "OUT.png")]
+    pub draw: Option<PathBuf>,
     /// Keep at most N events of the tree (rays, lights' terms, a path's
     /// events); beyond, the tree says what it left out. A tree of glass
     /// under hundreds of lights has millions
@@ -153,6 +158,8 @@ pub struct Explain {
     pub y: u32,
     pub sample: u32,
     pub json: bool,
+    /// Where to write the render with the ray tree drawn over it.
+    pub draw: Option<PathBuf>,
     /// What of the tree is kept.
     pub limits: tracer_pipeline::explain::Limits,
     pub options: Options,
@@ -166,6 +173,7 @@ impl ExplainArgs {
             y: self.y,
             sample: self.sample,
             json: self.json,
+            draw: self.draw,
             limits: tracer_pipeline::explain::Limits {
                 max_events: self.max_events,
                 light: self.light,

@@ -3,7 +3,7 @@
 //! image and a thin lens.
 
 use crate::ray::Ray;
-use glam::{Mat3, Vec2, Vec3, Vec4};
+use glam::{DVec2, DVec3, Mat3, Vec2, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 
 /// The lab's pinhole camera: the eye, the image size, and the projection
@@ -232,6 +232,24 @@ impl Camera {
     pub fn primary_ray(&self, i: u32, j: u32) -> Ray {
         self.ray(i as f32 + 0.5, j as f32 + 0.5)
     }
+
+    /// `ray` undone: the image coordinates of `offset`, a vector from the
+    /// eye, as homogeneous (x, y, w), P^-1 offset: the image point is
+    /// (x / w, y / w), in front of the eye when w > 0. A direction gives
+    /// its vanishing point. Linear, so that a line can be clipped to the
+    /// image before the division (`seen_at`); in f64, so that a point
+    /// projects back to its image point to well under a pixel.
+    pub fn image_homogeneous(&self, offset: DVec3) -> DVec3 {
+        self.projection.as_dmat3().inverse() * offset
+    }
+
+    /// The image point where `point` is seen through the pinhole (the eye),
+    /// (x from the left, y from the top, in pixels); None behind the eye.
+    /// The point `ray(fx, fy)` meets is seen at (fx, fy).
+    pub fn seen_at(&self, point: Vec3) -> Option<DVec2> {
+        let q = self.image_homogeneous((point - self.eye).as_dvec3());
+        (q.z > 0.0).then(|| DVec2::new(q.x / q.z, q.y / q.z))
+    }
 }
 
 #[cfg(test)]
@@ -438,5 +456,29 @@ mod tests {
             );
         }
         assert_eq!(cam.clone().with_pixel_shift(Vec2::ZERO), cam);
+    }
+
+    #[test]
+    fn a_point_a_ray_meets_is_seen_at_the_rays_image_point() {
+        let oblique = Camera::new(
+            Vec3::new(3.0, 2.0, 9.0),
+            Vec3::new(-1.0, 0.5, 0.0),
+            Vec3::new(0.2, 1.0, 0.0),
+            70.0,
+            320,
+            200,
+        );
+        for cam in [lab_camera(), lab_camera().right_handed(), oblique] {
+            for (fx, fy) in [(0.5, 0.5), (250.25, 199.75), (319.5, 10.0), (-40.0, 600.0)] {
+                for t in [0.5, 7.0, 300.0] {
+                    let seen = cam.seen_at(cam.ray(fx, fy).at(t)).unwrap();
+                    let off = (seen - DVec2::new(fx.into(), fy.into())).length();
+                    assert!(off < 1e-3, "({fx}, {fy}) at t = {t}: seen at {seen}");
+                }
+            }
+            // Behind the eye: not seen.
+            let behind = cam.eye - 2.0 * cam.view_direction();
+            assert_eq!(cam.seen_at(behind), None);
+        }
     }
 }

@@ -110,6 +110,9 @@ pub struct RayNode {
     pub origin: Vec3,
     /// Unit length.
     pub direction: Vec3,
+    /// Where it ends: its nearest hit's point; None when it leaves the
+    /// scene.
+    pub end: Option<Vec3>,
     pub energy: f32,
     pub depth: u32,
     /// Each primitive tested along the ray (when there are at most
@@ -167,6 +170,8 @@ pub struct Lit {
 pub struct Blocker {
     pub object: usize,
     pub t: f32,
+    /// Where the shadow ray meets it.
+    pub point: Vec3,
 }
 
 /// The nearest hit of a ray.
@@ -314,6 +319,7 @@ impl Recorder for TreeRecorder<'_> {
             kind,
             origin: ray.origin(),
             direction: ray.dir(),
+            end: None,
             energy,
             depth,
             tested: None,
@@ -366,6 +372,7 @@ impl Recorder for TreeRecorder<'_> {
         }
         let node = self.open.last_mut().expect("the current ray");
         node.tested = tested.filter(|_| fits);
+        node.end = hit.map(|h| ray.at(h.t));
         node.hit = hit.map(|h| Hit {
             t: h.t,
             point: ray.at(h.t),
@@ -396,6 +403,7 @@ impl Recorder for TreeRecorder<'_> {
             Some(Blocker {
                 object: hit.object,
                 t: hit.t,
+                point: ray.at(hit.t),
             })
         });
         if let Some(node) = self.current() {

@@ -163,6 +163,31 @@ pub unsafe extern "C" fn tracer_explain(
     }
 }
 
+/// As [`tracer_explain`], with the text's lines and the rays to draw as
+/// JSON ([`explain_view`]): what the page shows.
+///
+/// # Safety
+/// `path`, `path_len` are those of a buffer of `tracer_alloc`.
+#[no_mangle]
+pub unsafe extern "C" fn tracer_explain_view(
+    path: *const u8,
+    path_len: usize,
+    x: u32,
+    y: u32,
+    sample: u32,
+) -> u32 {
+    // SAFETY: as the caller promises.
+    let path = String::from_utf8_lossy(unsafe { bytes(path, path_len) }).into_owned();
+    let done = STATE.with_borrow(|s| explain_view(&s.files, Path::new(&path), (x, y), sample));
+    match done {
+        Ok(json) => STATE.with_borrow_mut(|s| {
+            s.result = json.into_bytes();
+            0
+        }),
+        Err(json) => fail(json),
+    }
+}
+
 /// The width of the last render's image.
 #[no_mangle]
 pub extern "C" fn tracer_width() -> u32 {
@@ -466,19 +491,54 @@ pub fn explain(
     (x, y): (u32, u32),
     sample: u32,
 ) -> Result<String, String> {
+    explained(files, path, (x, y), sample).map(|(text, _)| text)
+}
+
+/// [`explain`]'s text as the page shows it, and what it draws: JSON,
+/// `{"lines": [...], "drawing": {...}, "scene": {...}}`, each line of the
+/// text with its depth, step, lab section and ray
+/// (`explain_steps::Line`), the drawing `tracer explain --json` gives
+/// (`explain_draw::Drawing`), and the scene's shapes and camera for the 3D
+/// view (`explain_scene::SceneView`).
+pub fn explain_view(
+    files: &Memory,
+    path: &Path,
+    (x, y): (u32, u32),
+    sample: u32,
+) -> Result<String, String> {
+    let (text, pixel) = explained(files, path, (x, y), sample)?;
+    let lines = tracer_pipeline::explain_steps::lines(&text, &pixel);
+    let view = serde_json::json!({
+        "lines": lines,
+        "drawing": pixel.drawing,
+        "scene": pixel.scene_view,
+    });
+    Ok(view.to_string())
+}
+
+/// The text of [`explain`] and the explained pixel.
+fn explained(
+    files: &Memory,
+    path: &Path,
+    (x, y): (u32, u32),
+    sample: u32,
+) -> Result<(String, tracer_pipeline::explain::ExplainedPixel), String> {
     let loaded = load(files, path)?;
     let options = Options::default();
-    let text = tracer_pipeline::explain_text::tree_text(&loaded, &options, (x, y), sample)
+    let pixel = tracer_pipeline::explain::explain(&loaded, &options, (x, y), sample)
         .map_err(|e| error_json(&e))?;
+    let text =
+        tracer_pipeline::explain_text::text(&pixel, (x, y), &loaded.name.display().to_string());
     // The page's render stops at the scene's time limit; this traces every
     // sample, as `tracer explain` says on its stderr.
-    Ok(match loaded.time_limit_not_kept(&options) {
+    let text = match loaded.time_limit_not_kept(&options) {
         Some(limit) => format!(
             "note: the scene's time_limit ({limit} s) is not used here: the pixel is the mean of \
              all its samples, where the image shown may have stopped at fewer\n{text}"
         ),
         _ => text,
-    })
+    };
+    Ok((text, pixel))
 }
 
 /// The scene at `path`: from the folder, or from the archive `path` is.

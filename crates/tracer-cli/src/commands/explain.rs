@@ -11,13 +11,17 @@
 
 use crate::args::Explain;
 use crate::console;
+use crate::console::note;
 use anyhow::Result;
 use glam::{Vec2, Vec3};
 use serde::Serialize;
 use std::fmt;
 use std::io;
 use tracer_pipeline::explain::{Cut, ExplainedPixel, PathEvent, RayNode, Saturation, Trace};
+use tracer_pipeline::explain_draw::Drawing;
 use tracer_pipeline::explain_text::write_text;
+use tracer_pipeline::output::{check_not_an_input, PendingOutput};
+use tracer_pipeline::Error;
 
 /// The version of the JSON's structure: raised when a field changes
 /// meaning or goes (new fields may come without it).
@@ -28,6 +32,14 @@ pub fn run(args: &Explain) -> Result<()> {
     crate::report::warnings(&loaded, &args.options);
     crate::report::time_limit_unused(&loaded, &args.options);
     let at = (args.x, args.y);
+    // A wrong output is refused before any work.
+    let drawn = match &args.draw {
+        Some(path) => {
+            check_not_an_input(path, &loaded.files_read).map_err(Error::from)?;
+            Some(PendingOutput::create_8bit(path).map_err(Error::from)?)
+        }
+        None => None,
+    };
     let pixel = tracer_pipeline::explain::explain_within(
         &loaded,
         &args.options,
@@ -35,6 +47,26 @@ pub fn run(args: &Explain) -> Result<()> {
         args.sample,
         args.limits,
     )?;
+    if let Some(output) = drawn {
+        let rendered = tracer_pipeline::render(&loaded, &args.options, &|_| {})?;
+        let image = rendered.image.to_rgb8();
+        let picture =
+            super::explain_draw::draw(&image, &pixel.drawing).map_err(anyhow::Error::msg)?;
+        let path = output.path().to_path_buf();
+        output.write_image(&picture).map_err(Error::from)?;
+        let k = super::explain_draw::enlargement(image.width(), image.height());
+        let enlarged = if k > 1 {
+            format!(", enlarged {k} times")
+        } else {
+            String::new()
+        };
+        note!(
+            "the render with pixel ({}, {})'s rays drawn over it{enlarged} -> {}",
+            at.0,
+            at.1,
+            path.display()
+        );
+    }
     if args.json {
         return console::stdout_streamed(|out| {
             let mut serializer =
@@ -78,6 +110,7 @@ impl fmt::Write for IoText<'_> {
 struct Json<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     cut: Option<Cut>,
+    drawing: &'a Drawing,
     encoding: JsonEncoding,
     #[serde(skip_serializing_if = "Option::is_none")]
     events: Option<&'a [PathEvent]>,
@@ -114,6 +147,7 @@ fn json(pixel: &ExplainedPixel, (x, y): (u32, u32)) -> Json<'_> {
     };
     Json {
         cut: e.cut,
+        drawing: &pixel.drawing,
         encoding: JsonEncoding {
             gamma: tracer_pipeline::as_written(pixel.encoding.gamma),
             saturation: match pixel.encoding.saturation {

@@ -6,6 +6,7 @@ pub mod compare;
 pub mod completions;
 pub mod convert;
 pub mod explain;
+pub mod explain_draw;
 pub mod gamma_fit;
 pub mod merge;
 pub mod new;
