@@ -362,17 +362,6 @@ impl PrincipledMaterial {
         })
     }
 
-    /// Its parameters, for its BSDF.
-    pub fn params(&self) -> crate::bsdf::principled::Principled {
-        crate::bsdf::principled::Principled {
-            base_color: self.base_color,
-            metallic: self.metallic,
-            roughness: self.roughness,
-            ior: self.ior,
-            transmission: self.transmission,
-        }
-    }
-
     /// The same material with a colour texture on `base_color` (and on the
     /// diffuse colour of its Whitted-mode reading).
     pub fn with_color_texture(mut self, texture: ColorTexture) -> PrincipledMaterial {
