@@ -152,15 +152,8 @@ pub unsafe extern "C" fn tracer_explain(
     sample: u32,
 ) -> u32 {
     // SAFETY: as the caller promises.
-    let path = String::from_utf8_lossy(unsafe { bytes(path, path_len) }).into_owned();
-    let done = STATE.with_borrow(|s| explain(&s.files, Path::new(&path), (x, y), sample));
-    match done {
-        Ok(text) => STATE.with_borrow_mut(|s| {
-            s.result = text.into_bytes();
-            0
-        }),
-        Err(json) => fail(json),
-    }
+    let path = unsafe { bytes(path, path_len) };
+    answer_explained(path, (x, y), sample, explain)
 }
 
 /// As [`tracer_explain`], with the text's lines and the rays to draw as
@@ -177,11 +170,22 @@ pub unsafe extern "C" fn tracer_explain_view(
     sample: u32,
 ) -> u32 {
     // SAFETY: as the caller promises.
-    let path = String::from_utf8_lossy(unsafe { bytes(path, path_len) }).into_owned();
-    let done = STATE.with_borrow(|s| explain_view(&s.files, Path::new(&path), (x, y), sample));
-    match done {
-        Ok(json) => STATE.with_borrow_mut(|s| {
-            s.result = json.into_bytes();
+    let path = unsafe { bytes(path, path_len) };
+    answer_explained(path, (x, y), sample, explain_view)
+}
+
+/// [`explain`] or [`explain_view`]: a pixel's sample of a scene of the
+/// files, answered, or the error's JSON.
+type Explainer = fn(&Memory, &Path, (u32, u32), u32) -> Result<String, String>;
+
+/// `answer_of` pixel `at`'s sample `sample` of the scene at `path` (the
+/// text, or the page's view): 0 with it as the result, or 1 with the
+/// error's JSON.
+fn answer_explained(path: &[u8], at: (u32, u32), sample: u32, answer_of: Explainer) -> u32 {
+    let path = String::from_utf8_lossy(path).into_owned();
+    match STATE.with_borrow(|s| answer_of(&s.files, Path::new(&path), at, sample)) {
+        Ok(answer) => STATE.with_borrow_mut(|s| {
+            s.result = answer.into_bytes();
             0
         }),
         Err(json) => fail(json),
