@@ -60,9 +60,10 @@ fn copy(from: &Path, to: &Path) -> Result<()> {
 }
 
 /// The page's scripts bundled into `out` (`npm ci` first when the packages
-/// are not installed).
+/// installed are not those of the lock file: none yet, or a checkout that
+/// changed it since).
 fn bundle(web: &Path, out: &Path) -> Result<()> {
-    if !web.join("node_modules").is_dir() {
+    if !packages_installed(web) {
         run(Command::new("npm")
             .args(["ci", "--no-audit", "--no-fund"])
             .current_dir(web))
@@ -81,6 +82,29 @@ fn bundle(web: &Path, out: &Path) -> Result<()> {
         ])
         .arg(format!("--outdir={}", out.display())))
     .context("esbuild")
+}
+
+/// Whether `web/node_modules` holds the versions `web/package-lock.json`
+/// names: npm keeps what it installed in `node_modules/.package-lock.json`.
+pub fn packages_installed(web: &Path) -> bool {
+    let versions = |path: &Path| -> Option<Vec<(String, String)>> {
+        let text = std::fs::read_to_string(path).ok()?;
+        let json: serde_json::Value = serde_json::from_str(&text).ok()?;
+        let mut list: Vec<(String, String)> = json
+            .get("packages")?
+            .as_object()?
+            .iter()
+            // "" is the page's own package, which is not installed; an
+            // optional one (esbuild's binary for another platform) may not be.
+            .filter(|(name, p)| !name.is_empty() && p["optional"] != true)
+            .map(|(name, p)| (name.clone(), p["version"].to_string()))
+            .collect();
+        list.sort();
+        Some(list)
+    };
+    let wanted = versions(&web.join("package-lock.json"));
+    let installed = versions(&web.join("node_modules/.package-lock.json"));
+    wanted.is_some() && wanted == installed
 }
 
 fn run(command: &mut Command) -> Result<()> {
@@ -176,6 +200,30 @@ pub fn default_out() -> PathBuf {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn packages_are_installed_again_when_the_lock_file_names_others() {
+        let web = tempfile::tempdir().unwrap();
+        std::fs::create_dir(web.path().join("node_modules")).unwrap();
+        let lock = r#"{"packages": {"": {"name": "page"},
+            "node_modules/three": {"version": "0.171.0"},
+            "node_modules/@esbuild/darwin-arm64": {"version": "0.24.0", "optional": true}}}"#;
+        std::fs::write(web.path().join("package-lock.json"), lock).unwrap();
+        let installed = |packages: &str| {
+            let hidden = format!(r#"{{"packages": {{{packages}}}}}"#);
+            std::fs::write(web.path().join("node_modules/.package-lock.json"), hidden).unwrap();
+            packages_installed(web.path())
+        };
+        assert!(!packages_installed(web.path()), "nothing installed yet");
+        assert!(installed(r#""node_modules/three": {"version": "0.171.0"}"#));
+        assert!(!installed(
+            r#""node_modules/three": {"version": "0.170.0"}"#
+        ));
+        assert!(!installed(""));
+        let more = r#""node_modules/three": {"version": "0.171.0"},
+            "node_modules/gone": {"version": "1.0.0"}"#;
+        assert!(!installed(more));
+    }
 
     #[test]
     fn the_menu_lists_the_lab_first_then_every_scene_with_its_files() {
