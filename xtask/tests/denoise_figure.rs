@@ -21,7 +21,13 @@ fn a_figure_holds_its_three_panels_unchanged_side_by_side() {
     assert_eq!(out.dimensions(), figure::figure_size((w, h)));
     for (i, value) in [(0, 10), (1, 20), (2, 30)] {
         let (x0, y0) = figure::panel_origin(i, w);
-        for (x, y) in [(0, 0), (w - 1, 0), (0, h - 1), (w - 1, h - 1), (w / 2, h / 2)] {
+        for (x, y) in [
+            (0, 0),
+            (w - 1, 0),
+            (0, h - 1),
+            (w - 1, h - 1),
+            (w / 2, h / 2),
+        ] {
             assert_eq!(out.get_pixel(x0 + x, y0 + y), &Rgb([value, 0, 255 - value]));
         }
     }
@@ -107,12 +113,13 @@ fn the_committed_figures_show_denoising_closer_to_the_reference() {
         let mut off = 0;
         for (x, y, p) in shown_reference.enumerate_pixels() {
             let want = encode(reference.get_pixel(x / k, y / k).0);
-            off += usize::from(
-                p.0.iter()
-                    .zip(want)
-                    .any(|(&a, b)| a.abs_diff(b) > 1),
-            );
+            off += usize::from(p.0.iter().zip(want).any(|(&a, b)| a.abs_diff(b) > 1));
         }
-        assert_eq!(off, 0, "{}: the reference panel is not the EXR", path.display());
+        assert_eq!(
+            off,
+            0,
+            "{}: the reference panel is not the EXR",
+            path.display()
+        );
     }
 }

@@ -73,9 +73,8 @@ pub fn write_all(root: &Path) -> Result<Vec<PathBuf>> {
     let mut written = Vec::new();
     for bench in SCENES {
         eprintln!("denoise figure: {} at {SPP} paths a pixel ...", bench.scene);
-        let reference = super::denoise::to_linear(&path_peers::read_image(
-            &root.join(bench.reference),
-        )?);
+        let reference =
+            super::denoise::to_linear(&path_peers::read_image(&root.join(bench.reference))?);
         let loaded = tracer_pipeline::load(&Input::File(root.join(bench.scene)))?;
         let options = Options {
             samples: Some(SPP),
