@@ -28,6 +28,9 @@ pub enum Command {
     /// Install Intel Open Image Denoise for `tracer render --denoise` (from
     /// PyPI's pyoidn wheel, with pip) into target/oidn
     Oidn,
+    /// Write the book's denoising figures, docs/src/images/denoise-*.png:
+    /// noisy, denoised and reference side by side (after `cargo xtask oidn`)
+    DenoiseFigures,
     Web(WebArgs),
     /// Write docs/src/gallery.md: every scene's golden image with its file
     /// name and the command that renders it

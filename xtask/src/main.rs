@@ -15,6 +15,7 @@ fn main() -> ExitCode {
         Command::FarmTest(args) => xtask::farm::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Man(args) => man(&args),
         Command::Oidn => xtask::oidn::install().map(|_| ExitCode::SUCCESS),
+        Command::DenoiseFigures => denoise_figures(),
         Command::Web(args) => web(&args),
         Command::Gallery => gallery(),
         Command::Book(args) => book(&args),
@@ -57,6 +58,13 @@ fn man(args: &ManArgs) -> anyhow::Result<ExitCode> {
         .unwrap_or_else(|| xtask::target_dir().join("man"));
     let pages = xtask::man::write_pages(&dir)?;
     println!("{} man pages in {}", pages.len(), dir.display());
+    Ok(ExitCode::SUCCESS)
+}
+
+fn denoise_figures() -> anyhow::Result<ExitCode> {
+    for path in xtask::bench::denoise_figure::write_all(&xtask::workspace_root())? {
+        println!("wrote {}", path.display());
+    }
     Ok(ExitCode::SUCCESS)
 }
 

@@ -5,8 +5,10 @@
 //! goal: denoised at N below noisy at 16 N); and OIDN's time on a
 //! 1920x1080 image through the tracer against `oidnBenchmark`'s (shipped
 //! with the library) in the same run. Renders go through the pipeline, as
-//! `tracer render --samples N --denoise` makes them.
+//! `tracer render --samples N --denoise` makes them; those at 16 paths
+//! also make the book's figures (`denoise_figure`).
 
+use super::denoise_figure;
 use super::path_peers::{self, BenchScene};
 use anyhow::{bail, Context, Result};
 use std::path::Path;
@@ -88,6 +90,9 @@ fn scene_errors(root: &Path, bench: BenchScene) -> Result<SceneErrors> {
                     .push((spp, rmse(noisy, &reference), dim(noisy, &reference)));
                 let (all, below) = (rmse(image, &reference), dim(image, &reference));
                 result.denoised.push((spp, all, below, d.denoise_seconds));
+                if spp == denoise_figure::SPP {
+                    denoise_figure::write(root, &bench, &rendered, &reference)?;
+                }
             }
             None => result
                 .noisy
@@ -153,7 +158,7 @@ fn benchmark(name: &str, quality: Quality) -> Option<f64> {
     Some(msec? / 1e3)
 }
 
-fn to_linear(image: &path_peers::FloatImage) -> LinearImage {
+pub(super) fn to_linear(image: &path_peers::FloatImage) -> LinearImage {
     let mut linear = LinearImage::new(image.width, image.height);
     for (pixel, rgb) in linear.pixels.iter_mut().zip(image.rgb.chunks(3)) {
         *pixel = glam::Vec3::new(rgb[0], rgb[1], rgb[2]);
@@ -168,7 +173,7 @@ fn rmse(a: &LinearImage, b: &LinearImage) -> f64 {
 /// The RMSE over the pixels whose reference has every channel below 1: the
 /// image without the lamps and highlights, whose values of 10 or more
 /// weigh in the RMSE far beyond what a display shows of them.
-fn dim(a: &LinearImage, reference: &LinearImage) -> f64 {
+pub(super) fn dim(a: &LinearImage, reference: &LinearImage) -> f64 {
     let (mut sum, mut n) = (0.0, 0usize);
     for (x, r) in a.pixels.iter().zip(&reference.pixels) {
         if r.max_element() < 1.0 {

@@ -31,6 +31,7 @@
 //!   Mitsuba references, and its time against `oidnBenchmark`.
 
 mod denoise;
+pub mod denoise_figure;
 mod embree;
 mod measure;
 pub mod memory;
