@@ -561,6 +561,57 @@ fn a_dropped_json_scene_renders_as_its_toml() {
 }
 
 #[test]
+fn a_dropped_gltf_with_its_bin_renders_as_tracer_render_and_its_mistake_is_located() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    let path = xtask::workspace_root().join("scenes/khronos/BoxTextured.gltf");
+    let text = std::fs::read_to_string(&path).unwrap();
+    // The model's buffer moved out to a .bin dropped along, as exporters write it.
+    let dropped = format!(
+        "(() => {{ const m = JSON.parse({}); const uri = m.buffers[0].uri; \
+         const bin = Uint8Array.from(atob(uri.slice(uri.indexOf(',') + 1)), c => c.charCodeAt(0)); \
+         m.buffers[0].uri = 'box.bin'; \
+         tracerPage.addFiles({{'box.gltf': JSON.stringify(m, null, 2), 'box.bin': bin}}); }})()",
+        serde_json::to_string(&text).unwrap()
+    );
+    eval(&mut page, &dropped);
+    page.wait_for(
+        "document.getElementById('status').textContent.startsWith('box.gltf: ')",
+        RENDER,
+    )
+    .unwrap();
+    wait_done(&mut page);
+    let loaded = tracer_pipeline::load(&tracer_pipeline::Input::File(path)).unwrap();
+    let rendered = tracer_pipeline::render(&loaded, &Default::default(), &|_| {}).unwrap();
+    let rgb = rendered.image.to_rgb8();
+    let shown = canvas_image(&mut page).unwrap();
+    assert_eq!(shown.dimensions(), rgb.dimensions());
+    assert!(
+        rgb.pixels()
+            .zip(shown.pixels())
+            .all(|(a, b)| a.0 == b.0[..3]),
+        "the page's render differs from tracer render's"
+    );
+    // A node index out of range: the error names the file and the JSON path.
+    eval(
+        &mut page,
+        "tracerPage.addFiles({'broken.gltf': \
+         '{\"asset\": {\"version\": \"2.0\"}, \"scenes\": [{\"nodes\": [3]}]}'})",
+    );
+    page.wait_for(
+        "document.getElementById('image').dataset.state === 'error'",
+        RENDER,
+    )
+    .unwrap();
+    let text = status(&mut page);
+    assert!(
+        text.contains("broken.gltf") && text.contains("scenes[0].nodes[0]"),
+        "{text}"
+    );
+}
+
+#[test]
 fn a_click_on_the_image_explains_that_pixel_as_tracer_explain_does() {
     let Some(mut page) = open("?workers=2") else {
         return;
