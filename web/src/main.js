@@ -526,6 +526,8 @@ async function addFiles(list) {
     }
     if (sceneFile) {
       scene.name = sceneFile[0];
+      // A scene file dropped after an archive is the scene now, not the archive.
+      scene.archive = null;
       menu.value = "";
       setText(new TextDecoder().decode(sceneFile[1]), sceneFile[0]);
     }
