@@ -47,13 +47,13 @@ const workerCount = Math.min(
 
 // The scene: its path in the folder (the name messages give it), and the
 // folder's other files, path -> bytes. `archive` is set when the scene is
-// a dropped `tracer pack` archive, rendered as it is.
+// a dropped `tracer pack` archive or .glb model, rendered as it is.
 const scene = { name: "reflectance2.toml", files: new Map(), archive: null };
 let scenesIndex = [];
 let wasmModule = null;
 
 const languageOf = (name) =>
-  name.toLowerCase().endsWith(".json") ? json() : StreamLanguage.define(toml);
+  /\.(json|gltf)$/i.test(name) ? json() : StreamLanguage.define(toml);
 
 // The editor's setup for a file `name`; typing re-renders.
 const extensions = (name) => [
@@ -497,23 +497,28 @@ function showFolder() {
   folderNote.textContent = names.length ? `Files of the scene: ${names.join(", ")}` : "";
 }
 
-const SCENE_FILE = /\.(toml|json)$/i;
+// A glTF model is a scene of its own, rendered as `tracer render model.gltf`
+// renders it (the wasm's pipeline reads it, with its .bin and images).
+const SCENE_FILE = /\.(toml|json|gltf)$/i;
 
-// Files dropped or picked: a scene file (or a `tracer pack` archive) among
-// them starts a new folder; other files join the scene's folder.
+// Files dropped or picked: a scene file (or a `tracer pack` archive, or a
+// binary .glb) among them starts a new folder; other files join the scene's
+// folder (an archive holds its own).
 async function addFiles(list) {
   opening += 1;
   const entries = await Promise.all(
     [...list].map(async (f) => [f.name, new Uint8Array(await f.arrayBuffer())]),
   );
-  const zip = entries.find(([n]) => /\.zip$/i.test(n));
+  const zip = entries.find(([n]) => /\.(zip|glb)$/i.test(n));
   const sceneFile = entries.find(([n]) => SCENE_FILE.test(n));
   if (zip) {
+    const glb = /\.glb$/i.test(zip[0]);
     scene.name = zip[0];
-    scene.files = new Map();
+    scene.files = new Map(glb ? entries.filter(([n]) => n !== zip[0]) : []);
     scene.archive = zip[1];
     menu.value = "";
-    setText(`# ${zip[0]}: a scene packed by \`tracer pack\`, rendered as it is.\n# Edit here to render this text instead.\n`, "x.toml");
+    const what = glb ? "a binary glTF model" : "a scene packed by `tracer pack`";
+    setText(`# ${zip[0]}: ${what}, rendered as it is.\n# Edit here to render this text instead.\n`, "x.toml");
   } else {
     if (sceneFile) scene.files = new Map();
     for (const [name, bytes] of entries) {
@@ -521,6 +526,8 @@ async function addFiles(list) {
     }
     if (sceneFile) {
       scene.name = sceneFile[0];
+      // A scene file dropped after an archive is the scene now, not the archive.
+      scene.archive = null;
       menu.value = "";
       setText(new TextDecoder().decode(sceneFile[1]), sceneFile[0]);
     }

@@ -561,6 +561,85 @@ fn a_dropped_json_scene_renders_as_its_toml() {
 }
 
 #[test]
+fn a_dropped_gltf_with_its_bin_renders_as_tracer_render_and_its_mistake_is_located() {
+    let Some(mut page) = open("?workers=2") else {
+        return;
+    };
+    let path = xtask::workspace_root().join("scenes/khronos/BoxTextured.gltf");
+    let text = std::fs::read_to_string(&path).unwrap();
+    // The model's buffer moved out to a .bin dropped along, as exporters write it.
+    let dropped = format!(
+        "(() => {{ const m = JSON.parse({}); const uri = m.buffers[0].uri; \
+         const bin = Uint8Array.from(atob(uri.slice(uri.indexOf(',') + 1)), c => c.charCodeAt(0)); \
+         m.buffers[0].uri = 'box.bin'; \
+         tracerPage.addFiles({{'box.gltf': JSON.stringify(m, null, 2), 'box.bin': bin}}); }})()",
+        serde_json::to_string(&text).unwrap()
+    );
+    eval(&mut page, &dropped);
+    page.wait_for(
+        "document.getElementById('status').textContent.startsWith('box.gltf: ')",
+        RENDER,
+    )
+    .unwrap();
+    wait_done(&mut page);
+    let loaded = tracer_pipeline::load(&tracer_pipeline::Input::File(path)).unwrap();
+    let rendered = tracer_pipeline::render(&loaded, &Default::default(), &|_| {}).unwrap();
+    let rgb = rendered.image.to_rgb8();
+    let shown = canvas_image(&mut page).unwrap();
+    assert_eq!(shown.dimensions(), rgb.dimensions());
+    assert!(
+        rgb.pixels()
+            .zip(shown.pixels())
+            .all(|(a, b)| a.0 == b.0[..3]),
+        "the page's render differs from tracer render's"
+    );
+    // The same model as one .glb (its JSON and its buffer in chunks), dropped alone.
+    let glb = format!(
+        "(() => {{ const m = JSON.parse({}); const uri = m.buffers[0].uri; \
+         const bin = Uint8Array.from(atob(uri.slice(uri.indexOf(',') + 1)), c => c.charCodeAt(0)); \
+         delete m.buffers[0].uri; \
+         const pad = (b, fill) => {{ const p = new Uint8Array((b.length + 3) & ~3).fill(fill); p.set(b); return p; }}; \
+         const json = pad(new TextEncoder().encode(JSON.stringify(m)), 0x20); const data = pad(bin, 0); \
+         const out = new Uint8Array(12 + 8 + json.length + 8 + data.length); const v = new DataView(out.buffer); \
+         v.setUint32(0, 0x46546C67, true); v.setUint32(4, 2, true); v.setUint32(8, out.length, true); \
+         v.setUint32(12, json.length, true); v.setUint32(16, 0x4E4F534A, true); out.set(json, 20); \
+         const at = 20 + json.length; v.setUint32(at, data.length, true); v.setUint32(at + 4, 0x004E4942, true); \
+         out.set(data, at + 8); tracerPage.addFiles({{'box.glb': out}}); }})()",
+        serde_json::to_string(&text).unwrap()
+    );
+    eval(&mut page, &glb);
+    page.wait_for(
+        "document.getElementById('status').textContent.startsWith('box.glb: ')",
+        RENDER,
+    )
+    .unwrap();
+    wait_done(&mut page);
+    let shown = canvas_image(&mut page).unwrap();
+    assert!(
+        rgb.pixels()
+            .zip(shown.pixels())
+            .all(|(a, b)| a.0 == b.0[..3]),
+        "the page's render of the .glb differs from tracer render's"
+    );
+    // A node index out of range: the error names the file and the JSON path.
+    eval(
+        &mut page,
+        "tracerPage.addFiles({'broken.gltf': \
+         '{\"asset\": {\"version\": \"2.0\"}, \"scenes\": [{\"nodes\": [3]}]}'})",
+    );
+    page.wait_for(
+        "document.getElementById('image').dataset.state === 'error'",
+        RENDER,
+    )
+    .unwrap();
+    let text = status(&mut page);
+    assert!(
+        text.contains("broken.gltf") && text.contains("scenes[0].nodes[0]"),
+        "{text}"
+    );
+}
+
+#[test]
 fn a_click_on_the_image_explains_that_pixel_as_tracer_explain_does() {
     let Some(mut page) = open("?workers=2") else {
         return;

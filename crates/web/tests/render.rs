@@ -276,3 +276,36 @@ fn a_previews_one_sample_brings_no_warning_of_the_scenes_samples() {
         image.warnings
     );
 }
+
+#[test]
+fn a_gltf_model_renders_as_tracer_render_renders_it() {
+    let name = "khronos/BoxTextured.gltf";
+    let mut files = Memory::new();
+    let bytes = std::fs::read(scenes().join(name)).unwrap();
+    files.insert(Path::new("BoxTextured.gltf"), bytes).unwrap();
+    let image = render(&files, Path::new("BoxTextured.gltf"), &Request::default()).unwrap();
+    let expected = native_rgba(name);
+    assert_eq!(image.rgba.len(), expected.len());
+    assert!(image.rgba == expected, "differs from tracer render");
+    // Not a blank image: the textured box is there.
+    assert!(image.rgba.chunks(4).any(|p| p != &image.rgba[..4]));
+}
+
+#[test]
+fn a_broken_gltf_model_s_error_names_its_json_path() {
+    let mut files = Memory::new();
+    let text = r#"{"asset": {"version": "2.0"}, "scenes": [{"nodes": [3]}]}"#;
+    files.insert(Path::new("m.gltf"), text.into()).unwrap();
+    let json = render(&files, Path::new("m.gltf"), &Request::default()).unwrap_err();
+    let value: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let loaded = tracer_pipeline::load_from(&files, Path::new("m.gltf")).unwrap_err();
+    assert_eq!(value["text"], loaded.to_string());
+    assert_eq!(value["problems"][0]["file"], "m.gltf", "{json}");
+    assert!(
+        value["text"]
+            .as_str()
+            .unwrap()
+            .contains("scenes[0].nodes[0]"),
+        "{json}"
+    );
+}
