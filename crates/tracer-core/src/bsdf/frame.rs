@@ -1,7 +1,28 @@
 //! The local frame of a shaded point: the BSDFs work with directions
 //! whose z is the cosine to the shading normal.
 
+use crate::simd::{Real, V3};
 use glam::Vec3;
+
+/// Two unit tangents `s`, `t` making a right-handed orthonormal frame with
+/// unit `n`, for any lane width, without branches on its direction (Duff
+/// et al., "Building an orthonormal basis, revisited", 2017).
+#[inline(always)]
+pub fn tangents<N: Real>(n: V3<N>) -> (V3<N>, V3<N>) {
+    let sign = N::one().copysign(n.z);
+    let a = N::splat(-1.0) / (sign + n.z);
+    let b = n.x * n.y * a;
+    (
+        V3::new(N::one() + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        V3::new(b, sign + n.y * n.y * a, -n.y),
+    )
+}
+
+/// Local direction `v` in the world, of the frame of axes `(s, t, n)`.
+#[inline(always)]
+pub fn to_world<N: Real>((s, t, n): (V3<N>, V3<N>, V3<N>), v: V3<N>) -> V3<N> {
+    s * v.x + t * v.y + n * v.z
+}
 
 /// An orthonormal frame around a unit normal `n`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -12,15 +33,12 @@ pub struct Frame {
 }
 
 impl Frame {
-    /// A frame around unit `n`, without branches on its direction (Duff et
-    /// al., "Building an orthonormal basis, revisited", 2017).
+    /// A frame around unit `n` (`tangents`).
     pub fn new(n: Vec3) -> Frame {
-        let sign = 1.0f32.copysign(n.z);
-        let a = -1.0 / (sign + n.z);
-        let b = n.x * n.y * a;
+        let (s, t) = tangents(V3::from(n));
         Frame {
-            s: Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
-            t: Vec3::new(b, sign + n.y * n.y * a, -n.y),
+            s: s.into(),
+            t: t.into(),
             n,
         }
     }
@@ -34,7 +52,8 @@ impl Frame {
     /// Local direction `v` in the world.
     #[inline(always)]
     pub fn to_world(&self, v: Vec3) -> Vec3 {
-        v.x * self.s + v.y * self.t + v.z * self.n
+        let axes = (V3::from(self.s), V3::from(self.t), V3::from(self.n));
+        to_world(axes, V3::from(v)).into()
     }
 }
 

@@ -19,9 +19,9 @@
 //!
 //! `Bsdf` is a material of either kind at one hit, in its local frame.
 
-mod frame;
+pub(crate) mod frame;
 mod lab;
-mod lambert;
+pub(crate) mod lambert;
 mod phong;
 mod specular;
 

@@ -9,6 +9,7 @@ pub(crate) mod matte_lanes;
 pub mod path;
 pub mod record;
 pub mod reuse;
+mod roulette;
 mod seen;
 pub mod whitted;
 

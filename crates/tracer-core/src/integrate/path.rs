@@ -12,6 +12,7 @@ use super::inside::Inside;
 use super::matte_lanes::{self, MatteLanes, LANES};
 use super::record::{PathEvent, PathEventKind, Recorder, Silent};
 use super::reuse::{self, Combiner, Connection, FirstBounces};
+use super::roulette::{roulette, ROULETTE_DEPTH};
 use super::seen;
 use super::RayStats;
 use crate::bsdf::Bsdf;
@@ -21,14 +22,12 @@ use crate::material::{Glass, Material};
 use crate::ray::Ray;
 use crate::sampler::PixelSampler;
 use crate::sampling::concentric_disk;
+use crate::sampling::mis::power_heuristic;
 use crate::scene::Scene;
+use crate::simd::V3;
 use crate::EPSILON;
 use glam::{DVec3, Vec2, Vec3};
 use std::ops::Range;
-
-/// Bounces before Russian roulette may end a path: the first few carry
-/// most of the light, and ending them early costs more noise than time.
-pub(super) const ROULETTE_DEPTH: u32 = 5;
 
 /// How much shorter than a light sample's distance its shadow ray stops,
 /// relative: the light's own surface must not count as in the way.
@@ -608,19 +607,17 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             if depth < ROULETTE_DEPTH {
                 sampler.skip(1);
             } else {
-                let survive = sampler.get1();
-                let q = (throughput * eta_scale).max_element();
-                if q < 1.0 {
-                    let survived = survive < q;
+                let r = roulette(V3::from(throughput), eta_scale, true, sampler.get1());
+                if r.played {
                     let kind = PathEventKind::Roulette {
-                        survive: q,
-                        survived,
+                        survive: r.q,
+                        survived: r.survived,
                     };
                     self.record(kind, throughput, Vec3::ZERO);
-                    if !survived {
+                    if !r.survived {
                         break;
                     }
-                    throughput /= q;
+                    throughput = r.throughput.into();
                 }
             }
             if throughput == Vec3::ZERO {
@@ -801,19 +798,4 @@ impl PixelSum {
     pub fn mean(&self) -> Vec3 {
         (self.sum / f64::from(self.kept.max(1))).as_vec3()
     }
-}
-
-/// Veach's power heuristic (exponent 2) for one sample of each strategy:
-/// the weight of the strategy of density `a` at a point where the other
-/// has density `b`.
-#[inline(always)]
-pub fn power_heuristic(a: f32, b: f32) -> f32 {
-    let (a2, b2) = (a * a, b * b);
-    if a2.is_infinite() {
-        return 1.0;
-    }
-    if a2 + b2 == 0.0 {
-        return 0.0;
-    }
-    a2 / (a2 + b2)
 }

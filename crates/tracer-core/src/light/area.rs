@@ -4,7 +4,10 @@
 //! visible cap, with no samples wasted on the far side), an ellipsoid by
 //! the area of the round sphere it stretches.
 
+use super::toward::{flat_pdf, flat_shape_point, toward};
 use crate::bsdf::Frame;
+use crate::sampling::warp::square_to_triangle;
+use crate::simd::V3;
 use glam::{Mat3, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 use std::f32::consts::PI;
@@ -170,8 +173,9 @@ impl AreaShape {
                 normal,
                 area,
             } => {
-                let (b1, b2) = square_to_triangle(u);
-                flat_point(*v0 + b1 * *e1 + b2 * *e2, *normal, *area, from)
+                let b = square_to_triangle((u.x, u.y));
+                let point = flat_shape_point(V3::from(*v0), (V3::from(*e1), V3::from(*e2)), b);
+                flat_point(point.into(), *normal, *area, from)
             }
             AreaShape::Parallelogram {
                 corner,
@@ -179,7 +183,11 @@ impl AreaShape {
                 e2,
                 normal,
                 area,
-            } => flat_point(*corner + u.x * *e1 + u.y * *e2, *normal, *area, from),
+            } => {
+                let (e1, e2) = (V3::from(*e1), V3::from(*e2));
+                let point = flat_shape_point(V3::from(*corner), (e1, e2), (u.x, u.y));
+                flat_point(point.into(), *normal, *area, from)
+            }
             AreaShape::Sphere { center, radius } => sphere_sample(*center, *radius, from, u),
             AreaShape::Ellipsoid(e) => e.sample(from, u),
         }
@@ -217,34 +225,17 @@ impl AreaShape {
 /// None when it faces away.
 #[inline(always)]
 fn flat_point(point: Vec3, normal: Vec3, area: f32, from: Vec3) -> Option<AreaPoint> {
-    let to = point - from;
-    let distance2 = to.length_squared();
-    let distance = distance2.sqrt();
-    let wi = to / distance;
-    let cos = -wi.dot(normal);
-    if cos <= 0.0 || distance.is_nan() || distance <= 0.0 {
+    let way = toward(V3::from(from), V3::from(point));
+    let (pdf, facing) = flat_pdf(&way, V3::from(normal), area);
+    if !(facing && way.apart) {
         return None;
     }
     Some(AreaPoint {
         point,
-        wi,
-        distance,
-        pdf: distance2 / (cos * area),
+        wi: way.wi.into(),
+        distance: way.distance,
+        pdf,
     })
-}
-
-/// Heitz's low-distortion map of the unit square onto a triangle ("A
-/// low-distortion map between triangle and square", 2019): barycentric
-/// (b1, b2), uniform by area, strata kept compact.
-#[inline(always)]
-fn square_to_triangle(u: Vec2) -> (f32, f32) {
-    if u.y > u.x {
-        let b1 = u.x / 2.0;
-        (b1, u.y - b1)
-    } else {
-        let b2 = u.y / 2.0;
-        (u.x - b2, b2)
-    }
 }
 
 /// The cone of directions a sphere fills, seen from a point outside it.
@@ -325,26 +316,6 @@ fn sphere_sample(center: Vec3, radius: f32, from: Vec3, u: Vec2) -> Option<AreaP
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_triangle_map_is_uniform_by_area() {
-        // The share of points with b1 + b2 < 1/2 is the small triangle's
-        // area, a quarter; with b1 < 1/2, three quarters.
-        let n = 200u32;
-        let (mut corner, mut left) = (0, 0);
-        for i in 0..n {
-            for j in 0..n {
-                let u = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
-                let (b1, b2) = square_to_triangle(u);
-                assert!(b1 >= 0.0 && b2 >= 0.0 && b1 + b2 <= 1.0);
-                corner += usize::from(b1 + b2 < 0.5);
-                left += usize::from(b1 < 0.5);
-            }
-        }
-        let total = (n * n) as f32;
-        assert!((corner as f32 / total - 0.25).abs() < 0.005);
-        assert!((left as f32 / total - 0.75).abs() < 0.005);
-    }
 
     #[test]
     fn sphere_points_lie_on_the_visible_cap_with_the_cone_s_density() {

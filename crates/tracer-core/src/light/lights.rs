@@ -7,6 +7,8 @@
 use super::alias::AliasTable;
 use super::area::AreaShape;
 use super::environment::Environment;
+use super::toward::toward;
+use crate::simd::V3;
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 use std::f32::consts::PI;
@@ -80,13 +82,11 @@ impl PointSource {
                 radiance: self.intensity,
             });
         }
-        let to = self.position - from;
-        let distance2 = to.length_squared();
-        let distance = distance2.sqrt();
-        if distance.is_nan() || distance <= 0.0 {
+        let way = toward(V3::from(from), V3::from(self.position));
+        if !way.apart {
             return None;
         }
-        let wi = to / distance;
+        let (wi, distance, distance2) = (Vec3::from(way.wi), way.distance, way.distance2);
         // A point light's radiance as intensity / d^2 exactly: the lanes'
         // paths (`matte_lanes`) compute the same bits.
         let radiance = match self.emits {

@@ -18,6 +18,10 @@ impl Mask for BVec4A {
         self.test(k)
     }
     #[inline(always)]
+    fn set_lane(&mut self, k: usize, b: bool) {
+        self.set(k, b);
+    }
+    #[inline(always)]
     fn any(self) -> bool {
         BVec4A::any(self)
     }
@@ -69,6 +73,33 @@ impl Real for Vec4 {
     #[inline(always)]
     fn copysign(self, sign: Vec4) -> Vec4 {
         Vec4::copysign(self, sign)
+    }
+    #[inline(always)]
+    fn powf(self, e: Vec4) -> Vec4 {
+        Real::from_fn(|k| self[k].powf(e[k]))
+    }
+    #[inline(always)]
+    fn exp2(self) -> Vec4 {
+        Real::from_fn(|k| self[k].exp2())
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (Vec4, Vec4) {
+        (
+            Real::from_fn(|k| self[k].sin()),
+            Real::from_fn(|k| self[k].cos()),
+        )
+    }
+    #[inline(always)]
+    fn acos(self) -> Vec4 {
+        Real::from_fn(|k| self[k].acos())
+    }
+    #[inline(always)]
+    fn asin(self) -> Vec4 {
+        Real::from_fn(|k| self[k].asin())
+    }
+    #[inline(always)]
+    fn atan2(self, x: Vec4) -> Vec4 {
+        Real::from_fn(|k| self[k].atan2(x[k]))
     }
     #[inline(always)]
     fn lt(self, o: Vec4) -> BVec4A {

@@ -33,6 +33,7 @@ pub trait Mask:
     fn from_fn(f: impl FnMut(usize) -> bool) -> Self;
     /// Lane `k`'s flag.
     fn lane(self, k: usize) -> bool;
+    fn set_lane(&mut self, k: usize, b: bool);
     /// Whether some lane is set.
     fn any(self) -> bool;
     /// Whether every lane is set.
@@ -81,6 +82,14 @@ pub trait Real:
     fn max(self, o: Self) -> Self;
     /// The size of `self` with the sign of `sign`.
     fn copysign(self, sign: Self) -> Self;
+    fn powf(self, e: Self) -> Self;
+    fn exp2(self) -> Self;
+    /// The sine and the cosine, as `f32::sin` and `f32::cos`.
+    fn sin_cos(self) -> (Self, Self);
+    fn acos(self) -> Self;
+    fn asin(self) -> Self;
+    /// `self.atan2(x)`: the angle of (x, self).
+    fn atan2(self, x: Self) -> Self;
 
     fn lt(self, o: Self) -> Self::Mask;
     fn le(self, o: Self) -> Self::Mask;
@@ -128,6 +137,10 @@ impl Mask for bool {
     #[inline(always)]
     fn lane(self, _k: usize) -> bool {
         self
+    }
+    #[inline(always)]
+    fn set_lane(&mut self, _k: usize, b: bool) {
+        *self = b;
     }
     #[inline(always)]
     fn any(self) -> bool {
@@ -179,6 +192,30 @@ impl Real for f32 {
     #[inline(always)]
     fn copysign(self, sign: f32) -> f32 {
         f32::copysign(self, sign)
+    }
+    #[inline(always)]
+    fn powf(self, e: f32) -> f32 {
+        f32::powf(self, e)
+    }
+    #[inline(always)]
+    fn exp2(self) -> f32 {
+        f32::exp2(self)
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (f32, f32) {
+        (f32::sin(self), f32::cos(self))
+    }
+    #[inline(always)]
+    fn acos(self) -> f32 {
+        f32::acos(self)
+    }
+    #[inline(always)]
+    fn asin(self) -> f32 {
+        f32::asin(self)
+    }
+    #[inline(always)]
+    fn atan2(self, x: f32) -> f32 {
+        f32::atan2(self, x)
     }
     #[inline(always)]
     fn lt(self, o: f32) -> bool {

@@ -83,6 +83,21 @@ impl<N: Real> V3<N> {
         self * (N::one() / self.length())
     }
 
+    /// `Vec3::try_normalize` lane by lane: the unit vector, and where it is
+    /// one (the length's reciprocal finite and above 0).
+    #[inline(always)]
+    pub fn try_normalize(self) -> (Self, N::Mask) {
+        let rcp = N::one() / self.length();
+        (self * rcp, rcp.gt(N::zero()) & !rcp.is_infinite())
+    }
+
+    /// The unit vector, or `fallback` where there is none.
+    #[inline(always)]
+    pub fn normalize_or(self, fallback: V3<N>) -> Self {
+        let (unit, ok) = self.try_normalize();
+        V3::select(ok, unit, fallback)
+    }
+
     /// Lane by lane, `a` where `m` is set, else `b`.
     #[inline(always)]
     pub fn select(m: N::Mask, a: Self, b: Self) -> Self {

@@ -3,6 +3,10 @@
 //! four SSE), in the widest form the processor has where the calling
 //! function is compiled for it (`multiversion`).
 
+// Plain loops over the lanes, indexing several arrays at once: the form
+// the compiler turns into SIMD instructions.
+#![allow(clippy::needless_range_loop)]
+
 use super::{Mask, Real};
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
@@ -21,24 +25,38 @@ const ON: u32 = u32::MAX;
 
 #[inline(always)]
 fn map(a: F16, f: impl Fn(f32) -> f32) -> F16 {
-    F16(std::array::from_fn(|k| f(a.0[k])))
+    let mut r = [0.0; 16];
+    for k in 0..16 {
+        r[k] = f(a.0[k]);
+    }
+    F16(r)
 }
 
 #[inline(always)]
 fn zip(a: F16, b: F16, f: impl Fn(f32, f32) -> f32) -> F16 {
-    F16(std::array::from_fn(|k| f(a.0[k], b.0[k])))
+    let mut r = [0.0; 16];
+    for k in 0..16 {
+        r[k] = f(a.0[k], b.0[k]);
+    }
+    F16(r)
 }
 
 #[inline(always)]
 fn compare(a: F16, b: F16, f: impl Fn(f32, f32) -> bool) -> M16 {
-    M16(std::array::from_fn(
-        |k| if f(a.0[k], b.0[k]) { ON } else { 0 },
-    ))
+    let mut r = [0; 16];
+    for k in 0..16 {
+        r[k] = if f(a.0[k], b.0[k]) { ON } else { 0 };
+    }
+    M16(r)
 }
 
 #[inline(always)]
 fn bits(a: M16, b: M16, f: impl Fn(u32, u32) -> u32) -> M16 {
-    M16(std::array::from_fn(|k| f(a.0[k], b.0[k])))
+    let mut r = [0; 16];
+    for k in 0..16 {
+        r[k] = f(a.0[k], b.0[k]);
+    }
+    M16(r)
 }
 
 impl Mask for M16 {
@@ -57,6 +75,10 @@ impl Mask for M16 {
     #[inline(always)]
     fn lane(self, k: usize) -> bool {
         self.0[k] != 0
+    }
+    #[inline(always)]
+    fn set_lane(&mut self, k: usize, b: bool) {
+        self.0[k] = if b { ON } else { 0 };
     }
     #[inline(always)]
     fn any(self) -> bool {
@@ -169,6 +191,37 @@ impl Real for F16 {
     fn copysign(self, sign: F16) -> F16 {
         zip(self, sign, f32::copysign)
     }
+    // The transcendental functions are libm's, lane by lane: the same
+    // values as one lane's.
+    #[inline(always)]
+    fn powf(self, e: F16) -> F16 {
+        zip(self, e, f32::powf)
+    }
+    #[inline(always)]
+    fn exp2(self) -> F16 {
+        map(self, f32::exp2)
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (F16, F16) {
+        // One loop: each lane's sine and cosine in one call (sincosf).
+        let (mut sin, mut cos) = ([0.0; 16], [0.0; 16]);
+        for k in 0..16 {
+            (sin[k], cos[k]) = (self.0[k].sin(), self.0[k].cos());
+        }
+        (F16(sin), F16(cos))
+    }
+    #[inline(always)]
+    fn acos(self) -> F16 {
+        map(self, f32::acos)
+    }
+    #[inline(always)]
+    fn asin(self) -> F16 {
+        map(self, f32::asin)
+    }
+    #[inline(always)]
+    fn atan2(self, x: F16) -> F16 {
+        zip(self, x, f32::atan2)
+    }
     #[inline(always)]
     fn lt(self, o: F16) -> M16 {
         compare(self, o, |a, b| a < b)
@@ -199,8 +252,10 @@ impl Real for F16 {
     }
     #[inline(always)]
     fn select(m: M16, a: F16, b: F16) -> F16 {
-        F16(std::array::from_fn(|k| {
-            f32::from_bits((a.0[k].to_bits() & m.0[k]) | (b.0[k].to_bits() & !m.0[k]))
-        }))
+        let mut r = [0.0; 16];
+        for k in 0..16 {
+            r[k] = f32::from_bits((a.0[k].to_bits() & m.0[k]) | (b.0[k].to_bits() & !m.0[k]));
+        }
+        F16(r)
     }
 }

@@ -34,7 +34,6 @@ mod casters;
 mod rays;
 mod shade;
 
-use super::path::power_heuristic;
 use super::reuse::{self, Connection, FirstVertex, Shared};
 use super::RayStats;
 use crate::bsdf::LabBsdf;
@@ -44,6 +43,8 @@ use crate::light::Light;
 use crate::material::Material;
 use crate::ray::Ray;
 use crate::sampler::{LaneSamplers, PixelSampler};
+use crate::sampling::mis::power_heuristic;
+use crate::simd::{F16, V3};
 use glam::{Vec2, Vec3};
 use multiversion::multiversion;
 use rays::Rays;
@@ -494,6 +495,18 @@ impl Paths {
             self.throughput_second[k],
         )
     }
+}
+
+/// Lanes by axis as vectors of lanes.
+#[inline(always)]
+fn by_axis(v: &V) -> V3<F16> {
+    V3::new(F16(v[0]), F16(v[1]), F16(v[2]))
+}
+
+/// Vectors of lanes as lanes by axis.
+#[inline(always)]
+fn axes(v: V3<F16>) -> V {
+    [v.x.0, v.y.0, v.z.0]
 }
 
 /// Lane `k` of `v`.

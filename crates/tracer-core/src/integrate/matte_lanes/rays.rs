@@ -2,7 +2,7 @@
 //! one triangle at a time, each triangle's numbers read once for sixteen
 //! rays, compiled for each processor's widest SIMD registers.
 
-use super::{lane, set, Tri, F, LANES, V};
+use super::{by_axis, lane, set, Tri, F, LANES, V};
 use crate::geometry::{moller_trumbore, Edges, OriginTerms};
 use crate::simd::{Mask, Real, F16, V3};
 use crate::EPSILON;
@@ -100,10 +100,4 @@ impl Rays {
         let (hit, t, _) = moller_trumbore(&terms, by_axis(&self.dir), dir_len, &edges, range);
         (hit, t)
     }
-}
-
-/// A vector per lane, kept by axis, as lane numbers.
-#[inline(always)]
-fn by_axis(v: &V) -> V3<F16> {
-    V3::new(F16(v[0]), F16(v[1]), F16(v[2]))
 }

@@ -9,13 +9,18 @@
 //! table's pick, the disk's sine and cosine) is done a lane at a time
 //! with the one-path tracer's own functions.
 
-use super::{set, Numbers, Paths, F, LANES, V};
-use crate::integrate::path::{ROULETTE_DEPTH, SHADOW_SHORTEN};
+use super::{axes, by_axis, set, Numbers, Paths, F, LANES, V};
+use crate::bsdf::frame::{tangents, to_world};
+use crate::bsdf::lambert::{lambert_f, lambert_pdf};
+use crate::integrate::path::SHADOW_SHORTEN;
+use crate::integrate::roulette::{roulette, ROULETTE_DEPTH};
 use crate::light::area::AreaShape;
 use crate::light::lights::Lights;
-use crate::sampling::concentric_disk;
+use crate::light::toward::{flat_pdf, flat_shape_point, toward};
+use crate::sampling::mis::power_heuristic;
+use crate::sampling::warp::{cosine_hemisphere, square_to_triangle};
+use crate::simd::{Mask, Real, F16, M16, V3};
 use multiversion::multiversion;
-use std::f32::consts::FRAC_1_PI;
 
 /// A flag per lane.
 pub(super) type M = [bool; LANES];
@@ -52,27 +57,15 @@ pub(super) struct Frames {
     n: V,
 }
 
-/// `Frame::new` of each lane's normal (Duff et al.'s basis).
+/// `Frame::new` of each lane's normal.
 #[multiversion(targets("x86_64+avx512f+avx512bw+avx512dq+avx512vl", "x86_64+avx2"))]
 pub(super) fn frames(n: &V) -> Frames {
-    let [nx, ny, nz] = n;
-    let mut f = Frames {
-        s: [[0.0; LANES]; 3],
-        t: [[0.0; LANES]; 3],
+    let (s, t) = tangents(by_axis(n));
+    Frames {
+        s: axes(s),
+        t: axes(t),
         n: *n,
-    };
-    for k in 0..LANES {
-        let sign = 1.0f32.copysign(nz[k]);
-        let a = -1.0 / (sign + nz[k]);
-        let b = nx[k] * ny[k] * a;
-        f.s[0][k] = 1.0 + sign * nx[k] * nx[k] * a;
-        f.s[1][k] = sign * b;
-        f.s[2][k] = -sign * nx[k];
-        f.t[0][k] = b;
-        f.t[1][k] = sign + ny[k] * ny[k] * a;
-        f.t[2][k] = -ny[k];
     }
-    f
 }
 
 /// The kind of light each lane picked.
@@ -212,101 +205,44 @@ pub(super) fn light_terms(
     u: &(F, F),
     throughput: &V,
 ) -> Pending {
-    let mut out = Pending {
-        added: [[0.0; LANES]; 3],
-        shadow: [false; LANES],
-        wi: [[0.0; LANES]; 3],
-        reach: [0.0; LANES],
-    };
-    let (p, from) = (picked, &hits.from);
-    for k in 0..LANES {
-        let kind = p.kind[k];
-        let (ux, uy) = (u.0[k], u.1[k]);
-        // `square_to_triangle`, or a parallelogram's (u.x, u.y).
-        let upper = uy > ux;
-        let tb1 = if upper { ux / 2.0 } else { ux - uy / 2.0 };
-        let tb2 = if upper { uy - ux / 2.0 } else { uy / 2.0 };
-        let flat_triangle = kind == Kind::Triangle;
-        let (b1, b2) = if flat_triangle { (tb1, tb2) } else { (ux, uy) };
-        let is_point = kind == Kind::Point;
-        let mut to = [0.0f32; 3];
-        for a in 0..3 {
-            let on_shape = p.v0[a][k] + b1 * p.e1[a][k] + b2 * p.e2[a][k];
-            let point = if is_point { p.v0[a][k] } else { on_shape };
-            to[a] = point - from[a][k];
-        }
-        let distance2 = to[0] * to[0] + to[1] * to[1] + to[2] * to[2];
-        let distance = distance2.sqrt();
-        let wi = to.map(|x| x / distance);
-        let n = [p.normal[0][k], p.normal[1][k], p.normal[2][k]];
-        let cos = -(wi[0] * n[0] + wi[1] * n[1] + wi[2] * n[2]);
-        let far = !(distance.is_nan() | (distance <= 0.0));
-        // Not `cos <= 0`: a NaN passes here, and its density fails below.
-        let sampled = if is_point {
-            far
-        } else {
-            far & ((cos > 0.0) | cos.is_nan())
-        };
-        let sampled = sampled & (kind != Kind::None);
-        let shape_pdf = distance2 / (cos * p.area[k]);
-        let light_pdf = if is_point {
-            p.pmf[k]
-        } else {
-            p.pmf[k] * shape_pdf
-        };
-        let radiance = |a: usize| {
-            let r = p.radiance[a][k];
-            if is_point {
-                r / distance2
-            } else {
-                r
-            }
-        };
-        // `eval`: f cos and the density of the Lambertian lobe toward wi.
-        let local_z = wi[0] * frames.n[0][k] + wi[1] * frames.n[1][k] + wi[2] * frames.n[2][k];
-        // Not `> 0`: as `LabBsdf::eval`, a NaN cosine is evaluated (and
-        // its NaN sample dropped by the film, as the one-path tracer's).
-        let above = (local_z > 0.0) | local_z.is_nan();
-        let f = |a: usize| {
-            let f = (0.0 + hits.albedo[a][k] * FRAC_1_PI) * local_z;
-            if above {
-                f
-            } else {
-                0.0
-            }
-        };
-        let f = [f(0), f(1), f(2)];
-        let lobe_pdf = 0.0 + hits.p_lambert[k] * (local_z.max(0.0) * FRAC_1_PI);
-        let bsdf_pdf = if above { lobe_pdf } else { 0.0 };
-        let black = (f[0] == 0.0) & (f[1] == 0.0) & (f[2] == 0.0);
-        let unlit = black | light_pdf.is_nan() | (light_pdf <= 0.0);
-        let weight = if is_point {
-            1.0
-        } else {
-            power_heuristic(light_pdf, bsdf_pdf)
-        };
-        let scale = weight / light_pdf;
-        for a in 0..3 {
-            out.added[a][k] = throughput[a][k] * (f[a] * radiance(a) * scale) * 1.0;
-            out.wi[a][k] = wi[a];
-        }
-        out.shadow[k] = sampled & !unlit;
-        out.reach[k] = distance * (1.0 - SHADOW_SHORTEN);
-    }
-    out
-}
-
-/// `power_heuristic`, branches made selects.
-#[inline(always)]
-fn power_heuristic(a: f32, b: f32) -> f32 {
-    let (a2, b2) = (a * a, b * b);
-    let sum = a2 + b2;
-    let w = a2 / sum;
-    let w = if sum == 0.0 { 0.0 } else { w };
-    if a2.is_infinite() {
-        1.0
-    } else {
-        w
+    let p = picked;
+    let kind = |want: Kind| M16::from_fn(|k| p.kind[k] == want);
+    let (is_point, is_triangle) = (kind(Kind::Point), kind(Kind::Triangle));
+    // A triangle's point by `square_to_triangle`, a parallelogram's by u.
+    let u = (F16(u.0), F16(u.1));
+    let (b1, b2) = square_to_triangle(u);
+    let b = (
+        F16::select(is_triangle, b1, u.0),
+        F16::select(is_triangle, b2, u.1),
+    );
+    let v0 = by_axis(&p.v0);
+    let on_shape = flat_shape_point(v0, (by_axis(&p.e1), by_axis(&p.e2)), b);
+    let way = toward(by_axis(&hits.from), V3::select(is_point, v0, on_shape));
+    let (shape_pdf, facing) = flat_pdf(&way, by_axis(&p.normal), F16(p.area));
+    let sampled = way.apart & (is_point | facing) & !kind(Kind::None);
+    let pmf = F16(p.pmf);
+    let light_pdf = F16::select(is_point, pmf, pmf * shape_pdf);
+    let radiance = by_axis(&p.radiance);
+    let radiance = V3::select(is_point, radiance / way.distance2, radiance);
+    // `LabBsdf::eval` of a Lambertian lobe alone, toward `wi`.
+    let cos = way.wi.dot(by_axis(&frames.n));
+    let above = !cos.le(F16::zero());
+    let f = V3::select(
+        above,
+        lambert_f(by_axis(&hits.albedo), cos) * cos,
+        V3::zero(),
+    );
+    let p_lambert = F16(hits.p_lambert);
+    let bsdf_pdf = F16::select(above, p_lambert * lambert_pdf(cos), F16::zero());
+    let unlit = f.is_zero() | light_pdf.is_nan() | light_pdf.le(F16::zero());
+    let weight = F16::select(is_point, F16::one(), power_heuristic(light_pdf, bsdf_pdf));
+    let added = by_axis(throughput) * (f * radiance * (weight / light_pdf));
+    let shadow = sampled & !unlit;
+    Pending {
+        added: axes(added),
+        shadow: std::array::from_fn(|k| shadow.lane(k)),
+        wi: axes(way.wi),
+        reach: (way.distance * (1.0 - SHADOW_SHORTEN)).0,
     }
 }
 
@@ -314,18 +250,7 @@ fn power_heuristic(a: f32, b: f32) -> f32 {
 /// Lambertian sample, then `PathTracer::radiance`'s loop): its next ray,
 /// or its end.
 pub(super) fn bounce(paths: &mut Paths, hits: &Hits, frames: &Frames, numbers: &Numbers) {
-    // The disk's points a lane at a time: their sines and cosines are libm's.
-    let (mut dx, mut dy) = ([0.0; LANES], [0.0; LANES]);
-    for k in 0..LANES {
-        if hits.shaded[k] {
-            let d = concentric_disk(glam::Vec2::new(
-                numbers.direction.0[k],
-                numbers.direction.1[k],
-            ));
-            (dx[k], dy[k]) = (d.x, d.y);
-        }
-    }
-    let next = bounce_from_disk(paths, hits, frames, numbers, (&dx, &dy));
+    let next = next_segments(paths, hits, frames, numbers);
     for k in 0..LANES {
         let goes_on = next.goes_on[k];
         for a in 0..3 {
@@ -354,54 +279,30 @@ struct Next {
     pdf: F,
 }
 
-/// `bounce` from each lane's point of the disk: the lanes' next segments.
+/// Each lane's next segment: `LabBsdf::sample` of a Lambertian lobe alone
+/// (a cosine-weighted direction, its weight and density), then the
+/// roulette.
 #[multiversion(targets("x86_64+avx512f+avx512bw+avx512dq+avx512vl", "x86_64+avx2"))]
-fn bounce_from_disk(
-    paths: &Paths,
-    hits: &Hits,
-    frames: &Frames,
-    numbers: &Numbers,
-    (dx, dy): (&F, &F),
-) -> Next {
-    let mut next = Next {
-        goes_on: [false; LANES],
-        throughput: [[0.0; LANES]; 3],
-        dir: [[0.0; LANES]; 3],
-        pdf: [0.0; LANES],
-    };
-    for k in 0..LANES {
-        let (x, y) = (dx[k], dy[k]);
-        let z = (1.0 - (x * x + y * y)).max(0.0).sqrt();
-        let p_lambert = hits.p_lambert[k];
-        let lobe = p_lambert > 0.0;
-        let pdf = 0.0 + p_lambert * (z.max(0.0) * FRAC_1_PI);
-        let pdf = if lobe { pdf } else { 0.0 };
-        let sampled = (numbers.lobe[k] < p_lambert) & !((pdf <= 0.0) | (z <= 0.0));
-        let mut throughput = [0.0f32; 3];
-        for a in 0..3 {
-            let f = 0.0 + hits.albedo[a][k] * FRAC_1_PI;
-            let weight = f * (z / pdf);
-            throughput[a] = paths.throughput[a][k] * weight;
-        }
-        let roulette = paths.depth[k] >= ROULETTE_DEPTH;
-        let max = |a: f32, b: f32| if a > b { a } else { b };
-        let q = max(throughput[0], max(throughput[1], throughput[2]));
-        let chance = roulette & (q < 1.0);
-        let ended = chance & (numbers.survive[k] >= q);
-        for a in 0..3 {
-            throughput[a] = if chance {
-                throughput[a] / q
-            } else {
-                throughput[a]
-            };
-            next.throughput[a][k] = throughput[a];
-            next.dir[a][k] = x * frames.s[a][k] + y * frames.t[a][k] + z * frames.n[a][k];
-        }
-        let black = (throughput[0] == 0.0) & (throughput[1] == 0.0) & (throughput[2] == 0.0);
-        next.goes_on[k] = hits.shaded[k] & sampled & !ended & !black;
-        next.pdf[k] = pdf;
+fn next_segments(paths: &Paths, hits: &Hits, frames: &Frames, numbers: &Numbers) -> Next {
+    let wi = cosine_hemisphere((F16(numbers.direction.0), F16(numbers.direction.1)));
+    let p_lambert = F16(hits.p_lambert);
+    let lobe = p_lambert.gt(F16::zero());
+    let pdf = F16::select(lobe, p_lambert * lambert_pdf(wi.z), F16::zero());
+    let picked = F16(numbers.lobe).lt(p_lambert);
+    let sampled = picked & !(pdf.le(F16::zero()) | wi.z.le(F16::zero()));
+    let weight = lambert_f(by_axis(&hits.albedo), wi.z) * (wi.z / pdf);
+    let throughput = by_axis(&paths.throughput) * weight;
+    let deep = M16::from_fn(|k| paths.depth[k] >= ROULETTE_DEPTH);
+    let r = roulette(throughput, F16::one(), deep, F16(numbers.survive));
+    let axes_in = (by_axis(&frames.s), by_axis(&frames.t), by_axis(&frames.n));
+    let shaded = M16::from_fn(|k| hits.shaded[k]);
+    let goes_on = shaded & sampled & !(r.played & !r.survived) & !r.throughput.is_zero();
+    Next {
+        goes_on: std::array::from_fn(|k| goes_on.lane(k)),
+        throughput: axes(r.throughput),
+        dir: axes(to_world(axes_in, wi)),
+        pdf: pdf.0,
     }
-    next
 }
 
 #[cfg(test)]

@@ -1,6 +1,11 @@
 //! Deterministic sample positions: strata over a unit square, jittered by a
 //! hash of where they are used, so an image is the same on every run and
-//! at every thread count.
+//! at every thread count; the warps of the unit square onto shapes
+//! (`warp.rs`) and the weights of multiple importance sampling (`mis.rs`),
+//! as pbrt-v4's `util/sampling.h`.
+
+pub mod mis;
+pub mod warp;
 
 use glam::Vec2;
 
@@ -139,20 +144,10 @@ impl Shuffle {
     }
 }
 
-/// The unit square mapped onto the unit disk, area for area (Shirley and
-/// Chiu's concentric map: strata of the square stay compact on the disk).
+/// `warp::concentric_disk` of one point.
 pub fn concentric_disk(p: Vec2) -> Vec2 {
-    let q = 2.0 * p - Vec2::ONE;
-    if q == Vec2::ZERO {
-        return Vec2::ZERO;
-    }
-    let quarter = std::f32::consts::FRAC_PI_4;
-    let (r, theta) = if q.x.abs() > q.y.abs() {
-        (q.x, quarter * (q.y / q.x))
-    } else {
-        (q.y, 2.0 * quarter - quarter * (q.x / q.y))
-    };
-    r * Vec2::new(theta.cos(), theta.sin())
+    let (x, y) = warp::concentric_disk((p.x, p.y));
+    Vec2::new(x, y)
 }
 
 #[cfg(test)]
