@@ -13,14 +13,12 @@
 //! sums in the same order. The intersection test is `tri4.rs`'s, lane by
 //! lane (`rays.rs`); a shadow ray skips the triangles that cannot stand
 //! between its light and the scene (`casters.rs`). The camera ray, the
-//! light table's pick, the density of an emitter a path meets, the disk's
-//! point of a cosine-weighted direction and the MIS weight there are the
-//! one-path tracer's own functions; the frame, the light sample
-//! (`Lights::sample` on points, triangles and parallelograms), `LabBsdf`'s
-//! Lambertian branch, the power heuristic and the roulette are written
-//! again in `shade.rs`, kept by field and branches made selects, step for
-//! step, and a test holds them to the one-path tracer's values on random
-//! scenes. The nearest hit is the one testing every triangle finds (of
+//! light table's pick, the density of an emitter a path meets and the MIS
+//! weight there are the one-path tracer's own functions; the frame, the light sample
+//! (`Lights::sample` on points, triangles and parallelograms), the
+//! Lambertian lobe, the power heuristic and the roulette are the one-path
+//! tracer's formulas on sixteen lanes (`shade.rs`), and a test holds the
+//! lanes to the one-path tracer's values on random scenes. The nearest hit is the one testing every triangle finds (of
 //! equal distances, the one listed first), which is the tree's but for a
 //! few rays from far away or at sliver triangles, grazing where surfaces
 //! nearly meet (`accel`). So an image, its ray counts and `tracer explain`

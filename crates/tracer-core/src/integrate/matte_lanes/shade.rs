@@ -1,13 +1,12 @@
 //! The lanes' shading, a step of every lane at once, kept by field (a
-//! structure of arrays) so that each step is a loop over the lanes the
-//! compiler turns into SIMD instructions: the frame, the light sample and
-//! what it adds, the BSDF sample, the throughput and the roulette. Each
-//! lane does the one-path tracer's arithmetic in its order (`Frame::new`,
-//! `Lights::sample`, `LabBsdf`'s Lambertian branch, `power_heuristic`, the
-//! roulette of `PathTracer::radiance`), branches made selects, so every
-//! value is its value bit for bit; what cannot be written so (the light
-//! table's pick, the disk's sine and cosine) is done a lane at a time
-//! with the one-path tracer's own functions.
+//! structure of arrays): the frame, the light sample and what it adds, the
+//! BSDF sample, the throughput and the roulette. Each is the one-path
+//! tracer's own formula on sixteen lanes (`simd::F16`): `bsdf::frame`'s
+//! tangents, `light::toward`, `bsdf::lambert`, `sampling::warp`,
+//! `sampling::mis` and `integrate::roulette`, combined as `LabBsdf` and
+//! `PathTracer` combine them for a Lambertian lobe alone, so every value is
+//! the one-path tracer's bit for bit. The light table's pick is done a
+//! lane at a time with the one-path tracer's own function.
 
 use super::{axes, by_axis, set, Numbers, Paths, F, LANES, V};
 use crate::bsdf::frame::{tangents, to_world};
