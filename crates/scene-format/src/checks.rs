@@ -126,13 +126,13 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
             "ignored in Whitted mode, whose images have no noise to take out; it is for integrator = \"path\"",
         ));
     }
-    if scene.render.path_reuse > 1 && !path_mode {
+    if scene.render.path_reuse.is_some_and(|n| n > 1) && !path_mode {
         warnings.push(Diagnostic::new(
             "render.path_reuse",
             "ignored in Whitted mode, whose rays have no bounces to share; it is for integrator = \"path\"",
         ));
     }
-    if scene.render.camera_rays > 1 && !path_mode {
+    if scene.render.camera_rays.is_some_and(|n| n > 1) && !path_mode {
         warnings.push(Diagnostic::new(
             "render.camera_rays",
             "ignored in Whitted mode, whose samples are each one camera ray; it is for integrator = \"path\"",

@@ -262,19 +262,33 @@ pub struct RenderSettings {
     /// pixel's first surface is Lambertian, it connects to the second
     /// vertex of each path of its group by a shadow ray: as many samples
     /// of its indirect light as the group has pixels, unbiased, for one
-    /// ray each. 8 gives the Cornell box the least noise for its time. 1
-    /// shares nothing. From 1 to 32. Default 1.
-    #[schemars(range(min = 1, max = 32), extend("x-integrator" = "path"), example = 8)]
-    pub path_reuse: u32,
+    /// ray each. 1 shares nothing. Left out, path mode decides: 8 in a
+    /// scene without an environment (a room lit by its lamps), where it
+    /// takes noise off for its time, and 1 under an environment, where it
+    /// costs time for little.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(
+        range(min = 1, max = crate::validate::MAX_PATH_REUSE),
+        extend("x-integrator" = "path", "x-default" = "8 without an environment, else 1"),
+        example = 8
+    )]
+    pub path_reuse: Option<u32>,
     /// Path mode: camera rays per path for the light a pixel sees
     /// directly (an emitter, the sky), in the pixels where that light
     /// changes across the pixel (the edge of a lamp): their corners and
     /// centre are looked at first. Each path's own camera ray is replaced
     /// by this many, stratified together over the pixel's samples, for
-    /// what it sees directly; unbiased. Other pixels cost nothing more. 1
-    /// is the path's own ray. From 1 to 64. Default 1.
-    #[schemars(range(min = 1, max = 64), extend("x-integrator" = "path"), example = 8)]
-    pub camera_rays: u32,
+    /// what it sees directly; unbiased. Other pixels cost nothing more
+    /// than that first look. 1 is the path's own ray. Left out, path mode
+    /// decides: 8 in a scene without an environment that has emitting
+    /// surfaces, else 1.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(
+        range(min = 1, max = crate::validate::MAX_CAMERA_RAYS),
+        extend("x-integrator" = "path", "x-default" = "8 with emitters and no environment, else 1"),
+        example = 8
+    )]
+    pub camera_rays: Option<u32>,
     /// Path mode: clean the final image with Intel Open Image Denoise
     /// (`tracer render --denoise`), guided by the albedo and normal of
     /// what each pixel sees; the library is installed by `cargo xtask
@@ -376,8 +390,8 @@ impl Default for RenderSettings {
             samples: 1,
             light_samples: 16,
             time_limit: None,
-            path_reuse: 1,
-            camera_rays: 1,
+            path_reuse: None,
+            camera_rays: None,
             denoise: false,
             denoise_quality: None,
         }

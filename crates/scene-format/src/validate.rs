@@ -350,22 +350,16 @@ impl Validator {
                 self.error(key, format!("expected seconds > 0, found {}", num(limit)));
             }
         }
-        if r.path_reuse == 0 || r.path_reuse > MAX_PATH_REUSE {
+        if let Some(n) = r.path_reuse.filter(|&n| n == 0 || n > MAX_PATH_REUSE) {
             self.error(
                 path.key("path_reuse"),
-                format!(
-                    "expected 1 to {MAX_PATH_REUSE} pixels, found {}",
-                    r.path_reuse
-                ),
+                format!("expected 1 to {MAX_PATH_REUSE} pixels, found {n}"),
             );
         }
-        if r.camera_rays == 0 || r.camera_rays > MAX_CAMERA_RAYS {
+        if let Some(n) = r.camera_rays.filter(|&n| n == 0 || n > MAX_CAMERA_RAYS) {
             self.error(
                 path.key("camera_rays"),
-                format!(
-                    "expected 1 to {MAX_CAMERA_RAYS} rays, found {}",
-                    r.camera_rays
-                ),
+                format!("expected 1 to {MAX_CAMERA_RAYS} rays, found {n}"),
             );
         }
         let n = r.light_samples;

@@ -7,6 +7,7 @@ use crate::geometry::{
     Instance, Object, Placement, Plane, Shape, SharedMesh, Sphere, Triangle, UvMap,
 };
 use crate::image::{Encoding, Saturation};
+use crate::integrate::path_defaults;
 use crate::light::environment::Environment;
 use crate::light::Light;
 use crate::material::{Glass, Material, NormalMap, Phong, PrincipledMaterial};
@@ -95,12 +96,13 @@ fn parts_named(file: &fmt::SceneFile) -> Result<(SceneParts, Names), PrepareErro
     for name in std::mem::take(&mut materials.names) {
         names.add_material(name);
     }
+    let trace = trace_settings(file, &materials.materials);
     let parts = SceneParts {
         camera: camera(&file.camera),
         objects,
         materials: materials.materials,
         lights,
-        trace: trace_settings(&file.render),
+        trace,
         encoding: encoding(&file.render),
         samples: file.render.samples,
         environment: environment(file)?,
@@ -271,7 +273,13 @@ fn light(l: &fmt::Light) -> Light {
     }
 }
 
-fn trace_settings(r: &fmt::RenderSettings) -> TraceSettings {
+/// The file's `[render]` in the core's terms; path mode's estimator where
+/// the file leaves it (`path_defaults`), from its environment and whether
+/// some material of `materials` (the scene's) emits.
+fn trace_settings(file: &fmt::SceneFile, materials: &[Material]) -> TraceSettings {
+    let r = &file.render;
+    let environment = file.environment.is_some();
+    let emitters = materials.iter().any(|m| m.emission() != Vec3::ZERO);
     TraceSettings {
         max_depth: r.max_depth(),
         min_energy: r.min_energy,
@@ -281,8 +289,9 @@ fn trace_settings(r: &fmt::RenderSettings) -> TraceSettings {
             fmt::Integrator::Whitted => Integrator::Whitted,
             fmt::Integrator::Path => Integrator::Path,
         },
-        path_reuse: r.path_reuse,
-        camera_rays: r.camera_rays,
+        path_reuse: (r.path_reuse).unwrap_or_else(|| path_defaults::path_reuse(environment)),
+        camera_rays: (r.camera_rays)
+            .unwrap_or_else(|| path_defaults::camera_rays(environment, emitters)),
     }
 }
 

@@ -251,8 +251,8 @@ fn with_path_reuse_a_region_and_any_threads_give_the_whole_image_s_pixels() {
                   sphere = { center = [0.3, 0.5, 0.2], radius = 0.25 }\nmaterial = \"m\"\n";
     let small = |text: &str| {
         let mut file = scene_format::load_str(text, Format::Toml, Path::new("box.toml")).unwrap();
-        file.render.path_reuse = 5;
-        file.render.camera_rays = 3;
+        file.render.path_reuse = Some(5);
+        file.render.camera_rays = Some(3);
         file.render.samples = 4;
         (file.camera.width, file.camera.height) = (64, 48);
         file
@@ -282,7 +282,7 @@ fn with_path_reuse_a_region_and_any_threads_give_the_whole_image_s_pixels() {
         // The pixels are not those of paths alone: sharing is on.
         let alone = prepare(&scene_format::SceneFile {
             render: scene_format::RenderSettings {
-                path_reuse: 1,
+                path_reuse: Some(1),
                 ..file.render.clone()
             },
             ..file.clone()

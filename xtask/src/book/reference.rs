@@ -389,6 +389,10 @@ fn text_of(value: &Value) -> String {
 }
 
 fn default_of(schema: &Value, required: bool) -> String {
+    // What the renderer decides where the file is silent, in words.
+    if let Some(Value::String(words)) = schema.get("x-default") {
+        return words.clone();
+    }
     match schema.get("default") {
         // A table's default is its keys' defaults, given with them.
         Some(Value::Object(map)) if !map.is_empty() => "each key's own".into(),

@@ -7,6 +7,7 @@ mod inside;
 pub(crate) mod lanes;
 pub(crate) mod matte_lanes;
 pub mod path;
+pub mod path_defaults;
 pub mod record;
 pub mod reuse;
 mod roulette;

@@ -26,7 +26,7 @@ use crate::geometry::SurfaceHit;
 use glam::Vec3;
 
 /// The most pixels a group may have: their connections grow as its square.
-pub const MAX_GROUP: u32 = 32;
+pub const MAX_GROUP: u32 = scene_format::validate::MAX_PATH_REUSE;
 
 /// The first vertex of a path whose surface is Lambertian: what its
 /// neighbours' connections start from.

@@ -19,7 +19,7 @@ use crate::scene::Scene;
 use glam::{Vec2, Vec3};
 
 /// The most camera rays a path may have: each is a nearest hit.
-pub const MAX_CAMERA_RAYS: u32 = 64;
+pub const MAX_CAMERA_RAYS: u32 = scene_format::validate::MAX_CAMERA_RAYS;
 
 /// The request number of the extra camera rays' points in the pixel (and
 /// on the lens): far beyond any path's own, so their numbers are

@@ -1,0 +1,47 @@
+//! Path mode's estimator where a scene file leaves it (`path_defaults`):
+//! path reuse and more camera rays in rooms lit by their lamps, neither
+//! under an environment, and a key the file sets kept as it is.
+
+use std::path::Path;
+use tracer_core::prepare;
+
+/// `render.path_reuse` and `render.camera_rays` as path mode takes them
+/// for `scenes/NAME`, with the file's keys `set` (path reuse, camera rays).
+fn estimator(name: &str, set: (Option<u32>, Option<u32>)) -> (u32, u32) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes")
+        .join(name);
+    let mut file = scene_format::load_path(&path).unwrap_or_else(|e| panic!("{e}"));
+    (file.render.path_reuse, file.render.camera_rays) = set;
+    let scene = prepare(&file).expect("prepare");
+    let trace = scene.trace_settings();
+    (trace.path_reuse, trace.camera_rays)
+}
+
+/// Neither key set.
+const SILENT: (Option<u32>, Option<u32>) = (None, None);
+
+#[test]
+fn rooms_lit_by_lamps_share_paths_and_look_again_at_lamp_edges() {
+    assert_eq!(estimator("cornell-box.toml", SILENT), (8, 8));
+    assert_eq!(estimator("global-illumination.toml", SILENT), (8, 8));
+}
+
+#[test]
+fn without_an_emitting_surface_only_paths_are_shared() {
+    // Its light is a point light: no lamp's edge to be seen.
+    assert_eq!(estimator("gltf-box.toml", SILENT), (8, 1));
+}
+
+#[test]
+fn under_an_environment_every_path_is_traced_alone() {
+    assert_eq!(estimator("materials.toml", SILENT), (1, 1));
+    assert_eq!(estimator("courtyard.toml", SILENT), (1, 1));
+}
+
+#[test]
+fn what_the_file_says_is_kept() {
+    assert_eq!(estimator("cornell-box.toml", (Some(1), Some(3))), (1, 3));
+    assert_eq!(estimator("materials.toml", (Some(4), Some(2))), (4, 2));
+    assert_eq!(estimator("materials.toml", (None, Some(2))), (1, 2));
+}
