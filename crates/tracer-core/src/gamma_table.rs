@@ -13,8 +13,6 @@
 //! `tests::every_input_gives_the_powf_byte` checks every float in [0, 1]
 //! at the lab's gamma.
 
-use crate::image::quantize;
-
 /// Inputs share a run of the coarse index when their bits agree above this
 /// shift: 8,128 runs in [0, 1), each under one code step at gamma 2.2.
 const SHIFT: u32 = 17;
@@ -118,6 +116,18 @@ fn first_at_least(k: u8, code: impl Fn(u32) -> u8) -> u32 {
         }
     }
     hi
+}
+
+/// The lab's truncation to 8 bits; `as` maps NaN to 0.
+pub fn quantize(c: f32) -> u8 {
+    (c.clamp(0.0, 1.0) * 255.0) as u8
+}
+
+/// The lab's rule at 16 bits: `(int)(c * 65535)`, truncated. As
+/// 65535 = 255 * 257, a 16-bit value divided by 257 (truncated) is the
+/// 8-bit value of the same colour, up to f32 rounding of the two products.
+pub fn quantize16(c: f32) -> u16 {
+    (c.clamp(0.0, 1.0) * 65535.0) as u16
 }
 
 #[cfg(test)]

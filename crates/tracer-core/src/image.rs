@@ -3,6 +3,7 @@
 //! rule at 16 bits.
 
 use crate::gamma_table::GammaTable;
+pub use crate::gamma_table::{quantize, quantize16};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
@@ -109,18 +110,6 @@ fn saturated(colour: Vec3, encoding: &Encoding) -> [f32; 3] {
         _ => colour,
     };
     saturated.clamp(Vec3::ZERO, Vec3::ONE).to_array()
-}
-
-/// The lab's truncation to 8 bits; `as` maps NaN to 0.
-pub fn quantize(c: f32) -> u8 {
-    (c.clamp(0.0, 1.0) * 255.0) as u8
-}
-
-/// The lab's rule at 16 bits: `(int)(c * 65535)`, truncated. As
-/// 65535 = 255 * 257, a 16-bit value divided by 257 (truncated) is the
-/// 8-bit value of the same colour, up to f32 rounding of the two products.
-pub fn quantize16(c: f32) -> u16 {
-    (c.clamp(0.0, 1.0) * 65535.0) as u16
 }
 
 #[cfg(test)]

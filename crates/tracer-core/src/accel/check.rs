@@ -6,7 +6,7 @@
 //! any ray walks it.
 
 use super::build::MAX_DEPTH;
-use super::leaves::SPHERE_LEAF;
+use super::wide::SPHERE_LEAF;
 use super::wide::{is_leaf, node_halves};
 use super::Bvh;
 

@@ -3,7 +3,7 @@
 //! from the record just tested.
 
 use super::tri4::{Tri4, TriRecord};
-use super::wide::{is_leaf, node_halves, Node, WIDTH};
+use super::wide::{is_leaf, node_halves, Node, SPHERE_LEAF, WIDTH};
 use crate::geometry::{Object, Shape, Sphere, SurfaceHit};
 use crate::ray::Ray;
 use serde::{Deserialize, Serialize};
@@ -16,10 +16,6 @@ pub(super) struct SpherePrim {
     pub(super) id: u32,
     material: u32,
 }
-
-/// Marks a leaf lane's `count` as a run of spheres; without it, the count
-/// is of triangle blocks.
-pub(super) const SPHERE_LEAF: u32 = 1 << 30;
 
 impl SpherePrim {
     pub(super) fn material(&self) -> u32 {

@@ -36,13 +36,13 @@ use crate::ray::Ray;
 use build::{BuildPrim, PrimStore};
 use glam::{Vec3, Vec4};
 use instances::InstanceTree;
-use leaves::{pack_leaves, SpherePrim, SPHERE_LEAF};
+use leaves::{pack_leaves, SpherePrim};
 pub use packet::PACKET;
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
 use traverse::{walk_any, walk_nearest, with_stack, Best, Entry, HitAt, RayData};
 use tri4::{Ray4, Tri4};
-use wide::Node;
+use wide::{Node, SPHERE_LEAF};
 
 /// The bounding volume hierarchy over a scene's objects. It copies what
 /// the search needs of each object into its leaves, so it answers for the

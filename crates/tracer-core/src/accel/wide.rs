@@ -5,9 +5,12 @@
 //! collapsed as it is built, never stored).
 
 use super::build::{leaf_cost, Aabb, BuildPrim, Part, BLOCK_COST, PARALLEL_BUILD, TRAVERSAL_COST};
-use super::leaves::SPHERE_LEAF;
 use glam::Vec4;
 use rayon::prelude::*;
+
+/// Marks a leaf lane's `count` as a run of spheres; without it, the count
+/// is of triangle blocks.
+pub(super) const SPHERE_LEAF: u32 = 1 << 30;
 
 /// Children per node.
 pub(super) const WIDTH: usize = 8;
