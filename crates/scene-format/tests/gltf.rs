@@ -170,6 +170,43 @@ fn a_missing_bin_file_is_named() {
 }
 
 #[test]
+fn a_texture_s_missing_texture_image_or_view_is_located() {
+    // The triangle with a base colour texture of `textures` and `images`.
+    let textured = |textures: serde_json::Value, images: serde_json::Value| {
+        let mut doc: serde_json::Value =
+            serde_json::from_str(&triangle(ACCESSOR, VIEW, &buffer())).unwrap();
+        doc["meshes"][0]["primitives"][0]["material"] = 0.into();
+        doc["materials"] =
+            serde_json::json!([{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]);
+        doc["textures"] = textures;
+        doc["images"] = images;
+        fails(&doc.to_string(), &[])
+    };
+    use serde_json::json;
+    let cases = [
+        (
+            textured(json!([]), json!([])),
+            "materials[0].pbrMetallicRoughness.baseColorTexture.index",
+            "expected an index of `textures`, but the file has none; found 0",
+        ),
+        (
+            textured(json!([{"source": 2}]), json!([{"uri": "a.png"}])),
+            "textures[0].source",
+            "expected an index of `images` (0 to 0), found 2",
+        ),
+        (
+            textured(json!([{"source": 0}]), json!([{"bufferView": 5}])),
+            "images[0].bufferView",
+            "expected an index of `bufferViews` (0 to 0), found 5",
+        ),
+    ];
+    for ((path, message), want_path, want_message) in cases {
+        assert_eq!(path, want_path, "{message}");
+        assert_eq!(message, want_message, "{path}");
+    }
+}
+
+#[test]
 fn a_data_uri_that_is_not_base64_is_refused() {
     let buffer = r#"{"byteLength": 36, "uri": "data:application/octet-stream;base64,AAAA*AAA"}"#;
     let (path, message) = fails(&triangle(ACCESSOR, VIEW, buffer), &[]);
