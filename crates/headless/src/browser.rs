@@ -174,36 +174,9 @@ fn devtools_url(stderr: std::process::ChildStderr) -> Result<String> {
     bail!("Chromium did not open its DevTools socket")
 }
 
+/// Standard, padded base64: what the DevTools protocol, `btoa` and
+/// `toDataURL` write.
 pub fn base64_decode(text: &str) -> Result<Vec<u8>> {
-    let value = |c: u8| -> Result<u32> {
-        Ok(match c {
-            b'A'..=b'Z' => c - b'A',
-            b'a'..=b'z' => c - b'a' + 26,
-            b'0'..=b'9' => c - b'0' + 52,
-            b'+' | b'-' => 62,
-            b'/' | b'_' => 63,
-            _ => bail!("not base64: {:?}", c as char),
-        } as u32)
-    };
-    let digits: Vec<u8> = text.bytes().filter(|&c| c != b'=').collect();
-    let mut out = Vec::with_capacity(digits.len() * 3 / 4);
-    for chunk in digits.chunks(4) {
-        let mut n = 0u32;
-        for (i, &c) in chunk.iter().enumerate() {
-            n |= value(c)? << (18 - 6 * i);
-        }
-        let bytes = n.to_be_bytes();
-        out.extend_from_slice(&bytes[1..chunk.len()]);
-    }
-    Ok(out)
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn base64_decodes_with_and_without_padding() {
-        assert_eq!(super::base64_decode("aGVsbG8=").unwrap(), b"hello");
-        assert_eq!(super::base64_decode("aGk").unwrap(), b"hi");
-        assert_eq!(super::base64_decode("-_8").unwrap(), [0xfb, 0xff]);
-    }
+    use base64::Engine;
+    Ok(base64::engine::general_purpose::STANDARD.decode(text)?)
 }

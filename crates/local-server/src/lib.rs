@@ -14,8 +14,10 @@
 //!   timeout (`write_timeout.rs`), so the connection is dropped.
 //!
 //! What is served is the caller's: a handler from a request to its reply.
+//! `test_client` is the raw client their tests share.
 
 mod host;
+pub mod test_client;
 mod write_timeout;
 
 use anyhow::{Context, Result};

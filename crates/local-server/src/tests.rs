@@ -1,5 +1,6 @@
+use super::test_client::status_of;
 use super::*;
-use std::io::{Read, Write};
+use std::io::Read;
 use std::net::TcpStream;
 
 /// A server of one page, "ok", within `limits`.
@@ -11,25 +12,9 @@ fn ok_server(limits: Limits) -> SocketAddr {
     server.addr
 }
 
-/// The status line of the answer to `request` sent raw ("" when the
-/// server closed without one).
-fn status_of(addr: SocketAddr, request: &[u8]) -> String {
-    let mut stream = TcpStream::connect(addr).unwrap();
-    stream
-        .set_read_timeout(Some(Duration::from_secs(10)))
-        .unwrap();
-    // The server may close as soon as it has refused the head.
-    let _ = stream.write_all(request);
-    let mut answer = Vec::new();
-    let _ = stream.read_to_end(&mut answer);
-    let answer = String::from_utf8_lossy(&answer);
-    answer.lines().next().unwrap_or("").to_string()
-}
-
+/// A GET of the page naming the server `host`, its `{port}` the server's.
 fn get(addr: SocketAddr, host: &str) -> Vec<u8> {
-    format!("GET / HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n")
-        .replace("{port}", &addr.port().to_string())
-        .into_bytes()
+    test_client::get(&host.replace("{port}", &addr.port().to_string()), "/")
 }
 
 #[test]

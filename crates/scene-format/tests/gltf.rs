@@ -3,6 +3,8 @@
 //! script: `xtask/peers/gltf_expected.py`), and how it refuses broken files:
 //! each at its JSON path, with what was expected, never a panic.
 
+use base64::engine::general_purpose::STANDARD as BASE64;
+use base64::Engine;
 use scene_format::gltf::{self, glb, GltfData, GltfError, Pick};
 use scene_format::images::ImageCache;
 use scene_format::source::Folder;
@@ -60,6 +62,12 @@ fn buffer() -> String {
     format!(r#"{{"byteLength": 36, "uri": "data:application/octet-stream;base64,{POSITIONS}"}}"#)
 }
 
+/// POSITIONS' bytes, decoded apart from the reader (by base64's strict
+/// standard engine, not the reader's lenient one).
+fn positions() -> Vec<u8> {
+    BASE64.decode(POSITIONS).unwrap()
+}
+
 #[test]
 fn a_well_formed_triangle_is_read() {
     let dir = tempfile::tempdir().unwrap();
@@ -73,7 +81,7 @@ fn a_well_formed_triangle_is_read() {
 #[test]
 fn the_same_triangle_reads_from_a_glb_and_a_bin_file() {
     let dir = tempfile::tempdir().unwrap();
-    let bytes = scene_format_base64(POSITIONS);
+    let bytes = positions();
     let glb_path = dir.path().join("t.glb");
     let json = triangle(ACCESSOR, VIEW, r#"{"byteLength": 36}"#);
     std::fs::write(&glb_path, glb::assemble(&json, Some(&bytes))).unwrap();
@@ -89,23 +97,6 @@ fn the_same_triangle_reads_from_a_glb_and_a_bin_file() {
     std::fs::write(dir.path().join("t data.bin"), &bytes).unwrap();
     let data = read_path(&gltf_path, &Pick::default()).unwrap();
     assert_eq!(data.triangles(), 1);
-}
-
-/// Base64 decoded here by the standard's table, apart from the reader's.
-fn scene_format_base64(text: &str) -> Vec<u8> {
-    let table = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let values: Vec<u32> = text
-        .bytes()
-        .filter(|&c| c != b'=')
-        .map(|c| table.iter().position(|&t| t == c).unwrap() as u32)
-        .collect();
-    let mut out = Vec::new();
-    for chunk in values.chunks(4) {
-        let n = chunk.iter().fold(0u32, |acc, v| acc << 6 | v) << (6 * (4 - chunk.len()));
-        let bytes = [(n >> 16) as u8, (n >> 8) as u8, n as u8];
-        out.extend_from_slice(&bytes[..chunk.len() - 1]);
-    }
-    out
 }
 
 #[test]
@@ -176,6 +167,43 @@ fn a_missing_bin_file_is_named() {
     );
     assert_eq!(path, "buffers[0].uri");
     assert!(message.starts_with("cannot read `gone.bin`"), "{message}");
+}
+
+#[test]
+fn a_texture_s_missing_texture_image_or_view_is_located() {
+    // The triangle with a base colour texture of `textures` and `images`.
+    let textured = |textures: serde_json::Value, images: serde_json::Value| {
+        let mut doc: serde_json::Value =
+            serde_json::from_str(&triangle(ACCESSOR, VIEW, &buffer())).unwrap();
+        doc["meshes"][0]["primitives"][0]["material"] = 0.into();
+        doc["materials"] =
+            serde_json::json!([{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]);
+        doc["textures"] = textures;
+        doc["images"] = images;
+        fails(&doc.to_string(), &[])
+    };
+    use serde_json::json;
+    let cases = [
+        (
+            textured(json!([]), json!([])),
+            "materials[0].pbrMetallicRoughness.baseColorTexture.index",
+            "expected an index of `textures`, but the file has none; found 0",
+        ),
+        (
+            textured(json!([{"source": 2}]), json!([{"uri": "a.png"}])),
+            "textures[0].source",
+            "expected an index of `images` (0 to 0), found 2",
+        ),
+        (
+            textured(json!([{"source": 0}]), json!([{"bufferView": 5}])),
+            "images[0].bufferView",
+            "expected an index of `bufferViews` (0 to 0), found 5",
+        ),
+    ];
+    for ((path, message), want_path, want_message) in cases {
+        assert_eq!(path, want_path, "{message}");
+        assert_eq!(message, want_message, "{path}");
+    }
 }
 
 #[test]
@@ -255,7 +283,7 @@ fn a_cycle_of_nodes_is_refused() {
 fn broken_glb_files_are_refused() {
     let dir = tempfile::tempdir().unwrap();
     let json = triangle(ACCESSOR, VIEW, r#"{"byteLength": 36}"#);
-    let whole = glb::assemble(&json, Some(&scene_format_base64(POSITIONS)));
+    let whole = glb::assemble(&json, Some(&positions()));
     let cases: Vec<(Vec<u8>, &str)> = vec![
         (whole[..whole.len() - 10].to_vec(), "truncated"),
         ([b"glTX".as_slice(), &whole[4..]].concat(), "magic `glTF`"),

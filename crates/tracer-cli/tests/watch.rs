@@ -3,6 +3,7 @@
 //! temporary file.
 
 use headless::Browser;
+use local_server::test_client;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -214,20 +215,10 @@ fn serving(dir: &Path) -> (Watching, u16) {
     (watching, port)
 }
 
-/// The status line of the answer to `request`, sent raw (as a client that
-/// does not clean its path up would).
+/// The status line of the answer to `request` from the server on `port`,
+/// sent raw (as a client that does not clean its path up would).
 fn status_of(port: u16, request: &[u8]) -> String {
-    use std::io::{Read, Write};
-    let mut stream = std::net::TcpStream::connect(("127.0.0.1", port)).expect("connect");
-    stream
-        .set_read_timeout(Some(Duration::from_secs(10)))
-        .unwrap();
-    // The server may close as soon as it has refused the head.
-    let _ = stream.write_all(request);
-    let mut answer = Vec::new();
-    let _ = stream.read_to_end(&mut answer);
-    let answer = String::from_utf8_lossy(&answer);
-    answer.lines().next().unwrap_or("").to_string()
+    test_client::status_of(([127, 0, 0, 1], port).into(), request)
 }
 
 /// A red triangle's scene in a new folder, watched with `--serve`, its
@@ -244,12 +235,7 @@ fn serving_a_scene() -> (tempfile::TempDir, PathBuf, Watching, u16) {
 
 /// A GET of `path` from the server on `port`, as a browser sends it.
 fn get(port: u16, path: &str) -> Vec<u8> {
-    get_as(&format!("127.0.0.1:{port}"), path)
-}
-
-/// A GET of `path` naming the server `host`.
-fn get_as(host: &str, path: &str) -> Vec<u8> {
-    format!("GET {path} HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n").into_bytes()
+    test_client::get(&format!("127.0.0.1:{port}"), path)
 }
 
 #[test]
@@ -308,7 +294,7 @@ fn the_live_page_answers_only_requests_to_its_own_address() {
             "attacker.example".to_string(),
         ] {
             assert_eq!(
-                status_of(port, &get_as(&host, path)),
+                status_of(port, &test_client::get(&host, path)),
                 "HTTP/1.1 421 Misdirected Request",
                 "{host} {path}"
             );
@@ -317,7 +303,7 @@ fn the_live_page_answers_only_requests_to_its_own_address() {
     for host in [format!("127.0.0.1:{port}"), format!("localhost:{port}")] {
         for path in ["/", "/image.png", "/explain?x=32&y=24"] {
             assert_eq!(
-                status_of(port, &get_as(&host, path)),
+                status_of(port, &test_client::get(&host, path)),
                 "HTTP/1.1 200 OK",
                 "{host} {path}"
             );

@@ -86,7 +86,7 @@ fn bundle(web: &Path, out: &Path) -> Result<()> {
 
 /// Whether `web/node_modules` holds the versions `web/package-lock.json`
 /// names: npm keeps what it installed in `node_modules/.package-lock.json`.
-pub fn packages_installed(web: &Path) -> bool {
+fn packages_installed(web: &Path) -> bool {
     let versions = |path: &Path| -> Option<Vec<(String, String)>> {
         let text = std::fs::read_to_string(path).ok()?;
         let json: serde_json::Value = serde_json::from_str(&text).ok()?;

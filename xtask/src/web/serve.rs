@@ -93,6 +93,7 @@ fn content_type(path: &Path) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use local_server::test_client::{self, status_of};
 
     #[test]
     fn only_files_inside_the_folder_are_served() {
@@ -110,29 +111,13 @@ mod tests {
         assert_eq!(file_of(d, "/missing.js"), None);
     }
 
-    /// The status line of the answer to `request`, sent raw.
-    fn status_of(addr: SocketAddr, request: &[u8]) -> String {
-        use std::io::{Read, Write};
-        let mut stream = std::net::TcpStream::connect(addr).unwrap();
-        stream
-            .set_read_timeout(Some(std::time::Duration::from_secs(10)))
-            .unwrap();
-        let _ = stream.write_all(request);
-        let mut answer = Vec::new();
-        let _ = stream.read_to_end(&mut answer);
-        let answer = String::from_utf8_lossy(&answer);
-        answer.lines().next().unwrap_or("").to_string()
-    }
-
     #[test]
     fn an_endless_request_line_and_another_site_s_host_are_refused() {
         let dir = tempfile::tempdir().unwrap();
         std::fs::write(dir.path().join("index.html"), "x").unwrap();
         let addr = start(dir.path(), "127.0.0.1:0").unwrap();
         let port = addr.port();
-        let get = |host: &str| {
-            format!("GET / HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n").into_bytes()
-        };
+        let get = |host: &str| test_client::get(host, "/");
         assert_eq!(
             status_of(addr, &get(&format!("127.0.0.1:{port}"))),
             "HTTP/1.1 200 OK"

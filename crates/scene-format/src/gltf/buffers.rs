@@ -122,36 +122,29 @@ pub(crate) fn percent_decoded(uri: &str) -> Result<String, String> {
 /// Standard base64 (RFC 4648, `+` and `/`, `=` padding optional), or
 /// where it is not.
 pub(crate) fn decode_base64(text: &str) -> Result<Vec<u8>, String> {
-    let text = text.trim_end_matches('=');
-    let mut out = Vec::with_capacity(text.len() / 4 * 3 + 3);
-    let mut acc = 0u32;
-    let mut bits = 0;
-    for (k, c) in text.bytes().enumerate() {
-        let v = match c {
-            b'A'..=b'Z' => c - b'A',
-            b'a'..=b'z' => c - b'a' + 26,
-            b'0'..=b'9' => c - b'0' + 52,
-            b'+' => 62,
-            b'/' => 63,
-            _ => {
-                return Err(format!(
-                    "the data URI is not base64: character {} of its data is {:?}; expected A-Z, a-z, 0-9, + or /",
-                    k + 1,
-                    char::from(c)
-                ))
+    use base64::engine::{DecodePaddingMode, GeneralPurpose, GeneralPurposeConfig};
+    use base64::{alphabet, DecodeError, Engine};
+    // Lenient as glTF writers need: padding left out or not (trimmed
+    // first, so none is left), the last character's unused bits not checked.
+    const LENIENT: GeneralPurpose = GeneralPurpose::new(
+        &alphabet::STANDARD,
+        GeneralPurposeConfig::new()
+            .with_decode_padding_mode(DecodePaddingMode::RequireNone)
+            .with_decode_allow_trailing_bits(true),
+    );
+    LENIENT
+        .decode(text.trim_end_matches('='))
+        .map_err(|e| match e {
+            DecodeError::InvalidByte(at, c) => format!(
+                "the data URI is not base64: character {} of its data is {:?}; expected A-Z, a-z, 0-9, + or /",
+                at + 1,
+                char::from(c)
+            ),
+            DecodeError::InvalidLength(_) => {
+                "the data URI is not base64: its length leaves a lone character".to_string()
             }
-        };
-        acc = acc << 6 | u32::from(v);
-        bits += 6;
-        if bits >= 8 {
-            bits -= 8;
-            out.push((acc >> bits) as u8);
-        }
-    }
-    if bits >= 6 {
-        return Err("the data URI is not base64: its length leaves a lone character".to_string());
-    }
-    Ok(out)
+            other => format!("the data URI is not base64: {other}"),
+        })
 }
 
 #[cfg(test)]
@@ -168,7 +161,8 @@ mod tests {
         assert_eq!(decode_base64("AACAPw").unwrap(), 1f32.to_le_bytes());
         let err = decode_base64("Zm9v!").unwrap_err();
         assert!(err.contains("character 5"), "{err}");
-        assert!(decode_base64("Zm9vY").is_err());
+        let err = decode_base64("Zm9vY").unwrap_err();
+        assert!(err.contains("lone character"), "{err}");
     }
 
     #[test]

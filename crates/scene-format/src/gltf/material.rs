@@ -203,13 +203,7 @@ impl<'a> Textures<'a> {
         at: &KeyPath,
         warnings: &mut Vec<(KeyPath, String)>,
     ) -> Result<Option<TextureRef>, Failure> {
-        let doc = self.doc;
-        let texture = doc.textures.get(index).ok_or_else(|| {
-            Failure::at(
-                at.key("index"),
-                super::nodes::not_an_index("textures", index, doc.textures.len()),
-            )
-        })?;
+        let texture = listed(&self.doc.textures, "textures", index, &at.key("index"))?;
         let coord = transform.and_then(|t| t.tex_coord).unwrap_or(tex_coord);
         if coord != 0 {
             warnings.push((
@@ -248,12 +242,7 @@ impl<'a> Textures<'a> {
         let Some(s) = sampler else {
             return Ok((Wrap::Repeat, Wrap::Repeat));
         };
-        let sampler = self.doc.samplers.get(s).ok_or_else(|| {
-            Failure::at(
-                at.clone(),
-                super::nodes::not_an_index("samplers", s, self.doc.samplers.len()),
-            )
-        })?;
+        let sampler = listed(&self.doc.samplers, "samplers", s, at)?;
         let at = KeyPath::root().key("samplers").index(s);
         let mode = |value: u32, key: &str| {
             match value {
@@ -277,13 +266,7 @@ impl<'a> Textures<'a> {
         if let Some(data) = self.read.get(&index) {
             return Ok(data.clone());
         }
-        let doc = self.doc;
-        let image = doc.images.get(index).ok_or_else(|| {
-            Failure::at(
-                at.clone(),
-                super::nodes::not_an_index("images", index, doc.images.len()),
-            )
-        })?;
+        let image = listed(&self.doc.images, "images", index, at)?;
         let at = KeyPath::root().key("images").index(index);
         let data = match (&image.uri, image.buffer_view) {
             (Some(uri), _) if !uri.starts_with("data:") => {
@@ -301,17 +284,11 @@ impl<'a> Textures<'a> {
             (Some(uri), _) => {
                 let (bytes, _) = buffers::read_uri(uri, self.base, self.source, 0)
                     .map_err(|m| Failure::at(at.key("uri"), m))?;
-                let key = self.file.join(format!("#images[{index}]"));
-                self.cache
-                    .decoded(&key, &bytes)
-                    .map_err(|m| Failure::at(at.key("uri"), m))?
+                self.decoded(index, &bytes, &at.key("uri"))?
             }
             (None, Some(view)) => {
                 let bytes = self.view_bytes(view, &at.key("bufferView"))?;
-                let key = self.file.join(format!("#images[{index}]"));
-                self.cache
-                    .decoded(&key, bytes)
-                    .map_err(|m| Failure::at(at.key("bufferView"), m))?
+                self.decoded(index, bytes, &at.key("bufferView"))?
             }
             (None, None) => {
                 return Err(Failure::at(
@@ -324,21 +301,26 @@ impl<'a> Textures<'a> {
         Ok(data)
     }
 
+    /// Image `index`'s bytes (held in the glTF file), decoded; a mistake
+    /// placed `at` the key that gave them.
+    fn decoded(
+        &mut self,
+        index: usize,
+        bytes: &[u8],
+        at: &KeyPath,
+    ) -> Result<Arc<ImageData>, Failure> {
+        let key = self.file.join(format!("#images[{index}]"));
+        self.cache
+            .decoded(&key, bytes)
+            .map_err(|m| Failure::at(at.clone(), m))
+    }
+
     /// The bytes of buffer view `v`, checked to lie in its buffer.
     fn view_bytes(&self, v: usize, at: &KeyPath) -> Result<&'a [u8], Failure> {
         let doc = self.doc;
-        let view = doc.buffer_views.get(v).ok_or_else(|| {
-            Failure::at(
-                at.clone(),
-                super::nodes::not_an_index("bufferViews", v, doc.buffer_views.len()),
-            )
-        })?;
-        let bytes = self.buffers.get(view.buffer).ok_or_else(|| {
-            Failure::at(
-                KeyPath::root().key("bufferViews").index(v).key("buffer"),
-                super::nodes::not_an_index("buffers", view.buffer, self.buffers.len()),
-            )
-        })?;
+        let view = listed(&doc.buffer_views, "bufferViews", v, at)?;
+        let buffer_at = KeyPath::root().key("bufferViews").index(v).key("buffer");
+        let bytes = listed(self.buffers, "buffers", view.buffer, &buffer_at)?;
         let end = view.byte_offset.checked_add(view.byte_length);
         match end {
             Some(end) if end <= doc.buffers[view.buffer].byte_length => {
@@ -353,6 +335,14 @@ impl<'a> Textures<'a> {
             )),
         }
     }
+}
+
+/// Element `i` of the file's `list`, or a mistake at `at` (the key that
+/// names it).
+fn listed<'d, T>(items: &'d [T], list: &str, i: usize, at: &KeyPath) -> Result<&'d T, Failure> {
+    items
+        .get(i)
+        .ok_or_else(|| Failure::at(at.clone(), super::nodes::not_an_index(list, i, items.len())))
 }
 
 /// `KHR_texture_transform` (offset, counter-clockwise rotation in
