@@ -380,6 +380,10 @@ pub enum AovArg {
     /// (n + 1) / 2 of that surface's shading normal, turned toward the ray;
     /// grey where nothing is hit: the denoiser's guide
     ShadingNormal,
+    /// Light given off by what each pixel sees (emitting surfaces, the
+    /// environment or background), through mirrors and smooth glass: the
+    /// part the denoiser leaves as it is
+    Emission,
 }
 
 impl From<AovArg> for Aov {
@@ -392,6 +396,7 @@ impl From<AovArg> for Aov {
             AovArg::Depth => Aov::Depth,
             AovArg::Albedo => Aov::Albedo,
             AovArg::ShadingNormal => Aov::ShadingNormal,
+            AovArg::Emission => Aov::Emission,
         }
     }
 }
