@@ -202,7 +202,7 @@ pub struct MergeArgs {
     #[arg(long, value_name = "BITS", default_value = "8")]
     pub bit_depth: BitDepthArg,
     /// Denoise the merged image with Intel Open Image Denoise, guided by
-    /// the albedo and normal the tiles carry (tiles rendered with
+    /// the albedo, normal and emission the tiles carry (tiles rendered with
     /// --denoise, which are denoised when merged even without this)
     #[arg(long)]
     pub denoise: bool,

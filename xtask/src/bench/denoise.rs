@@ -121,6 +121,7 @@ fn timing(quality: Quality) -> Result<Timing> {
     let guides = Guides {
         albedo: colour.clone(),
         normal,
+        emission: LinearImage::new(width, height),
     };
     let mut times = Vec::new();
     for _ in 0..3 {
