@@ -144,10 +144,10 @@ pub(crate) fn guides(prepared: &PreparedScene, region: Option<Region>) -> Guides
 }
 
 /// The emission AOV of `region` at [`GUIDE_SAMPLES`] a pixel, and at
-/// `EDGE_SAMPLES` at its edges (`denoise::emission`), found with one
-/// pixel more on each side so that a tile's are the whole image's.
+/// more at its edges (`denoise::emission`), found with one pixel more on
+/// each side so that a tile's are the whole image's.
 fn emission_guide(scene: &Scene, region: Region) -> tracer_core::LinearImage {
-    use crate::denoise::emission::{edge_rows, widened, EDGE_SAMPLES};
+    use crate::denoise::emission::{edge_rows, edge_samples, widened};
     use rayon::prelude::*;
     let camera = scene.camera();
     let region = region.within(camera.width, camera.height);
@@ -170,10 +170,8 @@ fn emission_guide(scene: &Scene, region: Region) -> tracer_core::LinearImage {
         }
     }
     let rows = edge_rows(&coarse, wide, region);
-    let fine: Vec<_> = rows
-        .par_iter()
-        .map(|&row| render(row, EDGE_SAMPLES))
-        .collect();
+    let samples = edge_samples(scene.samples());
+    let fine: Vec<_> = rows.par_iter().map(|&row| render(row, samples)).collect();
     for (row, pixels) in rows.iter().zip(fine) {
         let start = ((row.y0 - region.y0) * region.width() + row.x0 - region.x0) as usize;
         light.pixels[start..start + pixels.pixels.len()].copy_from_slice(&pixels.pixels);

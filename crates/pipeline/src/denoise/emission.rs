@@ -10,17 +10,29 @@
 //! brighter than the walls outweighed all the noise denoising removed.
 //! So OIDN is given the image less this light, and the light is added
 //! back after. At its edges (a pixel partly lamp, partly wall) the light
-//! is sampled finely ([`EDGE_SAMPLES`]): there the render's own share of
+//! is sampled finely ([`edge_samples`]): there the render's own share of
 //! lamp is noise, which OIDN then removes as any other.
 
 use glam::Vec3;
 use tracer_core::{LinearImage, Region};
 
 /// Samples per pixel of the emission guide where it has an edge (its
-/// other pixels have [`crate::GUIDE_SAMPLES`]): enough that the share of
-/// a pixel a lamp covers is within a few parts in a thousand (a lamp's
-/// edge over a few hundred pixels costs little beside the paths).
-pub const EDGE_SAMPLES: u32 = 256;
+/// other pixels have [`crate::GUIDE_SAMPLES`]): this many times the
+/// render's paths a pixel, so that the share of a pixel a lamp covers is
+/// closer there than the render has it, from 256 to 1024. At
+/// most, where every pixel is an edge (a sky seen through leaves), the
+/// guide then costs about what the paths cost; a lamp's outline is a few
+/// hundred pixels.
+const EDGE_FACTOR: u32 = 16;
+const EDGE_SAMPLES: (u32, u32) = (256, 1024);
+
+/// Samples per pixel of the emission guide's edges for a render of
+/// `paths` a pixel.
+pub(crate) fn edge_samples(paths: u32) -> u32 {
+    paths
+        .saturating_mul(EDGE_FACTOR)
+        .clamp(EDGE_SAMPLES.0, EDGE_SAMPLES.1)
+}
 
 /// A pixel is at an edge of the light when it or a neighbour differs
 /// from the other by more than this share of the larger (each channel):
@@ -158,6 +170,15 @@ mod tests {
         }
         assert_eq!(parts, all);
         assert!(all.contains(&(3, 3)), "the row below the lamp: {all:?}");
+    }
+
+    #[test]
+    fn edges_get_16_times_the_renders_paths_from_256_to_1024() {
+        assert_eq!(edge_samples(1), 256);
+        assert_eq!(edge_samples(16), 256);
+        assert_eq!(edge_samples(32), 512);
+        assert_eq!(edge_samples(64), 1024);
+        assert_eq!(edge_samples(65536), 1024);
     }
 
     #[test]
