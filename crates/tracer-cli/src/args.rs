@@ -38,6 +38,14 @@ pub struct RenderArgs {
     pub view: ViewArgs,
     #[command(flatten)]
     pub denoise: DenoiseArgs,
+    /// With --denoise, to an .exr output: keep what went into the denoiser
+    /// in the same file, as Blender's "Denoising Data" pass does. The
+    /// denoised image is the file's default layer (R, G, B: what viewers
+    /// show); the layers `noisy` (the render before denoising), `albedo`,
+    /// `normal` (-1 to 1) and `emission` (the guides, as --aov albedo,
+    /// shading-normal and emission give them) are beside it
+    #[arg(long, conflicts_with_all = ["aov", "region", "tile"])]
+    pub denoising_data: bool,
     /// Render only the pixels X0..X1 by Y0..Y1 (ends exclusive); to an .exr
     /// output a tile for `tracer merge`
     #[arg(long, value_name = "X0,Y0,X1,Y1", value_parser = parse_region, conflicts_with = "tile")]
@@ -553,6 +561,8 @@ pub struct Render {
     /// The one pool every path renders on, so `--threads` holds for all.
     pub pool: rayon::ThreadPool,
     pub skip_existing: bool,
+    /// `--denoising-data`: the denoiser's inputs kept as EXR layers.
+    pub denoising_data: bool,
     /// `--cache`: where prepared scenes are kept.
     pub cache: Option<PathBuf>,
     /// `--time-limit`, in seconds.
@@ -593,6 +603,7 @@ impl RenderArgs {
             bit_depth: self.bit_depth.into(),
             pool: pool(self.view.threads)?,
             skip_existing: self.skip_existing,
+            denoising_data: self.denoising_data,
             cache: self.cache,
             time_limit: self.time_limit,
             reference: self.reference,
