@@ -186,7 +186,7 @@ pub(super) fn dim(a: &LinearImage, reference: &LinearImage) -> f64 {
 }
 
 pub fn report((errors, timings): &(Vec<SceneErrors>, Vec<Timing>)) {
-    println!("\nDenoising (Open Image Denoise 2.5.1, RT filter, high quality, prefiltered albedo and normal)");
+    println!("\nDenoising (Open Image Denoise 2.5.1, RT filter, high quality, prefiltered albedo and normal, the light seen directly left out and added back)");
     println!(
         "RMSE against the Mitsuba reference (all pixels / pixels whose reference is below 1):"
     );
