@@ -10,6 +10,7 @@
 pub mod cache;
 mod clock;
 pub mod denoise;
+pub mod denoising_data;
 mod error;
 pub mod explain;
 pub mod explain_draw;

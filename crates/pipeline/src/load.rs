@@ -166,6 +166,19 @@ impl Loaded {
         }
     }
 
+    /// Whether a render with `options` is denoised (`--denoise` or the
+    /// scene's `[render] denoise`, in path mode; not an AOV).
+    pub fn is_denoised(&self, options: &crate::Options) -> bool {
+        match &self.kind {
+            SceneKind::Scene3d(file) => {
+                (options.denoise || file.render.denoise)
+                    && self.is_path_traced(options)
+                    && options.aov.is_none()
+            }
+            SceneKind::Canvas(_) => false,
+        }
+    }
+
     /// The scene file's `[render] time_limit`, in seconds.
     pub fn time_limit(&self) -> Option<f64> {
         match &self.kind {

@@ -53,6 +53,12 @@ pub enum OutputError {
     /// `--gamma` for a file of linear values, which takes no gamma.
     #[error("{}: --gamma encodes for a display; {} files hold the renderer's linear values, without gamma", path.display(), format.name())]
     GammaOfLinear { path: PathBuf, format: ImageFormat },
+    /// `--denoising-data` to another format than OpenEXR.
+    #[error("{}: --denoising-data keeps the noisy image and the denoiser's guides as layers of an OpenEXR file, beside the denoised image; {} files hold one image: write to .exr", path.display(), format.name())]
+    DenoisingDataFormat { path: PathBuf, format: ImageFormat },
+    /// `--denoising-data` for a render that is not denoised.
+    #[error("--denoising-data keeps what went into the denoiser, and this render is not denoised: add --denoise (or `denoise = true` in [render]; path mode)")]
+    NotDenoised,
     /// The output is one of the files read (same file, however named).
     #[error("{}: the output is the input {}; refusing to overwrite it", path.display(), input.display())]
     IsAnInput { path: PathBuf, input: PathBuf },
@@ -69,6 +75,8 @@ impl OutputError {
                 | OutputError::EightBitOnly { .. }
                 | OutputError::BitDepthOfFormat { .. }
                 | OutputError::GammaOfLinear { .. }
+                | OutputError::DenoisingDataFormat { .. }
+                | OutputError::NotDenoised
         )
     }
 }
@@ -414,6 +422,18 @@ impl PendingOutput {
         }
         if gamma_given && format.is_linear() {
             return Err(OutputError::GammaOfLinear { path, format });
+        }
+        Ok(())
+    }
+
+    /// Refuses, before a render, `--denoising-data` (`asked`) to another
+    /// format than OpenEXR.
+    pub fn check_denoising_data(&self, asked: bool) -> Result<(), OutputError> {
+        if asked && self.format != ImageFormat::Exr {
+            return Err(OutputError::DenoisingDataFormat {
+                path: self.file.path.clone(),
+                format: self.format,
+            });
         }
         Ok(())
     }

@@ -124,7 +124,8 @@ fn denoise_asked(file: &SceneFile) -> Result<Option<Quality>, Error> {
 pub const GUIDE_SAMPLES: u32 = 16;
 
 /// The guides of `region` (or the whole image) of a prepared scene: the
-/// albedo and shading-normal AOVs, the normal back in -1..1.
+/// albedo and shading-normal AOVs, the normal back in -1..1, and the
+/// emission AOV (`emission_guide`).
 pub(crate) fn guides(prepared: &PreparedScene, region: Option<Region>) -> Guides {
     let scene = &prepared.scene;
     let job = job(scene, region).with_samples(GUIDE_SAMPLES);
@@ -134,7 +135,48 @@ pub(crate) fn guides(prepared: &PreparedScene, region: Option<Region>) -> Guides
     for n in &mut normal.pixels {
         *n = *n * 2.0 - glam::Vec3::ONE;
     }
-    Guides { albedo, normal }
+    let emission = emission_guide(scene, job.region);
+    Guides {
+        albedo,
+        normal,
+        emission,
+    }
+}
+
+/// The emission AOV of `region` at [`GUIDE_SAMPLES`] a pixel, and at
+/// more at its edges (`denoise::emission`), found with one pixel more on
+/// each side so that a tile's are the whole image's.
+fn emission_guide(scene: &Scene, region: Region) -> tracer_core::LinearImage {
+    use crate::denoise::emission::{edge_rows, edge_samples, widened};
+    use rayon::prelude::*;
+    let camera = scene.camera();
+    let region = region.within(camera.width, camera.height);
+    let wide = widened(region, (camera.width, camera.height));
+    let output = Output::Aov(Aov::Emission);
+    let render = |region, samples| {
+        let job = RenderJob {
+            region,
+            samples,
+            output,
+        };
+        tracer_core::render(scene, &job, &|_| {}).image
+    };
+    let coarse = render(wide, GUIDE_SAMPLES);
+    let mut light = tracer_core::LinearImage::new(region.width(), region.height());
+    for y in region.y0..region.y1 {
+        for x in region.x0..region.x1 {
+            let i = ((y - region.y0) * region.width() + x - region.x0) as usize;
+            light.pixels[i] = coarse.get(x - wide.x0, y - wide.y0);
+        }
+    }
+    let rows = edge_rows(&coarse, wide, region);
+    let samples = edge_samples(scene.samples());
+    let fine: Vec<_> = rows.par_iter().map(|&row| render(row, samples)).collect();
+    for (row, pixels) in rows.iter().zip(fine) {
+        let start = ((row.y0 - region.y0) * region.width() + row.x0 - region.x0) as usize;
+        light.pixels[start..start + pixels.pixels.len()].copy_from_slice(&pixels.pixels);
+    }
+    light
 }
 
 /// `rendered`, a shaded render of `region` of `prepared`, denoised when

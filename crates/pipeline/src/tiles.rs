@@ -177,6 +177,7 @@ pub(crate) fn add_file(hash: &mut blake3::Hasher, path: &Path) -> std::io::Resul
 const COLOUR_LAYER: &str = "colour";
 const ALBEDO_LAYER: &str = "albedo";
 const NORMAL_LAYER: &str = "normal";
+const EMISSION_LAYER: &str = "emission";
 /// The denoiser's quality the tile was rendered for, with its guides.
 const DENOISE: &str = "tracer:denoise";
 
@@ -200,7 +201,7 @@ pub struct Tile {
 
 /// The bytes of the EXR file of `picture`, the `region` of an image of
 /// `size`: linear f32 values, lossless; with `guides`, the denoiser's
-/// albedo and normal as two more layers.
+/// albedo, normal and emission as three more layers.
 pub fn encode(
     picture: &Picture,
     region: Region,
@@ -235,7 +236,7 @@ pub fn encode(
     if let Some((_, quality)) = guides {
         put(DENOISE, AttributeValue::Text(Text::from(quality.name())));
     }
-    let guide_images = guides.map(|(g, _)| [&g.albedo, &g.normal]);
+    let guide_images = guides.map(|(g, _)| [&g.albedo, &g.normal, &g.emission]);
     let sum = checksum(
         digest,
         &picture.encoding,
@@ -246,9 +247,10 @@ pub fn encode(
     );
     put(CHECKSUM, AttributeValue::Text(Text::from(sum.as_str())));
     let mut layers = vec![rgb_layer(attributes, linear)];
-    if let Some([albedo, normal]) = guide_images {
+    if let Some([albedo, normal, emission]) = guide_images {
         layers.push(rgb_layer(named(Some(ALBEDO_LAYER)), albedo));
         layers.push(rgb_layer(named(Some(NORMAL_LAYER)), normal));
+        layers.push(rgb_layer(named(Some(EMISSION_LAYER)), emission));
     }
     let display = IntegerBounds::from_dimensions((size.0 as usize, size.1 as usize));
     let image = Image::from_layers(exr::prelude::ImageAttributes::new(display), layers);
@@ -294,7 +296,7 @@ fn checksum(
     tile: Option<(u32, u32)>,
     (region, size): (Region, (u32, u32)),
     linear: &LinearImage,
-    guides: Option<[&LinearImage; 2]>,
+    guides: Option<[&LinearImage; 3]>,
 ) -> String {
     let mut hash = blake3::Hasher::new();
     add(&mut hash, digest.as_bytes());
@@ -358,7 +360,7 @@ pub fn read(path: &Path) -> Result<Tile, TileError> {
         let at = named.iter().position(|(n, _)| n.as_deref() == Some(name))?;
         Some(named.swap_remove(at).1)
     };
-    let guide_images = take(ALBEDO_LAYER).zip(take(NORMAL_LAYER));
+    let guide_layers = [ALBEDO_LAYER, NORMAL_LAYER, EMISSION_LAYER].map(&mut take);
     let other = &main.attributes.other;
     let text = |key: &str| match other.get(&Text::from(key)) {
         Some(AttributeValue::Text(t)) => Some(t.to_string()),
@@ -418,12 +420,23 @@ pub fn read(path: &Path) -> Result<Tile, TileError> {
         path: path.to_path_buf(),
         reason: reason.to_string(),
     };
-    let guides = match (guide_images, quality) {
-        (Some((albedo, normal)), Some(quality)) => Some((Guides { albedo, normal }, quality)),
-        (None, None) => None,
-        _ => return Err(damaged("it has some of the denoiser's guides but not all")),
+    let guides = match (guide_layers, quality) {
+        ([Some(albedo), Some(normal), Some(emission)], Some(quality)) => {
+            let guides = Guides {
+                albedo,
+                normal,
+                emission,
+            };
+            Some((guides, quality))
+        }
+        ([None, None, None], None) => None,
+        _ => return Err(damaged(
+            "it has some of the denoiser's guides but not all (albedo, normal and emission; a tile of an older tracer has no emission: render it again)",
+        )),
     };
-    let guide_images = guides.as_ref().map(|(g, _)| [&g.albedo, &g.normal]);
+    let guide_images = guides
+        .as_ref()
+        .map(|(g, _)| [&g.albedo, &g.normal, &g.emission]);
     let sum_now = checksum(
         &digest,
         &encoding,
@@ -574,7 +587,17 @@ pub fn merged_guides(tiles: &[(PathBuf, Tile)]) -> Option<(Guides, Quality)> {
     let normal = paste(tiles, first.size, |t| {
         t.guides.as_ref().map(|g| &g.0.normal)
     })?;
-    Some((Guides { albedo, normal }, quality))
+    let emission = paste(tiles, first.size, |t| {
+        t.guides.as_ref().map(|g| &g.0.emission)
+    })?;
+    Some((
+        Guides {
+            albedo,
+            normal,
+            emission,
+        },
+        quality,
+    ))
 }
 
 /// The image of `size` that each tile's `image` (of its region) makes;

@@ -38,6 +38,14 @@ pub struct RenderArgs {
     pub view: ViewArgs,
     #[command(flatten)]
     pub denoise: DenoiseArgs,
+    /// With --denoise, to an .exr output: keep what went into the denoiser
+    /// in the same file, as Blender's "Denoising Data" pass does. The
+    /// denoised image is the file's default layer (R, G, B: what viewers
+    /// show); the layers `noisy` (the render before denoising), `albedo`,
+    /// `normal` (-1 to 1) and `emission` (the guides, as --aov albedo,
+    /// shading-normal and emission give them) are beside it
+    #[arg(long, conflicts_with_all = ["aov", "region", "tile"])]
+    pub denoising_data: bool,
     /// Render only the pixels X0..X1 by Y0..Y1 (ends exclusive); to an .exr
     /// output a tile for `tracer merge`
     #[arg(long, value_name = "X0,Y0,X1,Y1", value_parser = parse_region, conflicts_with = "tile")]
@@ -202,7 +210,7 @@ pub struct MergeArgs {
     #[arg(long, value_name = "BITS", default_value = "8")]
     pub bit_depth: BitDepthArg,
     /// Denoise the merged image with Intel Open Image Denoise, guided by
-    /// the albedo and normal the tiles carry (tiles rendered with
+    /// the albedo, normal and emission the tiles carry (tiles rendered with
     /// --denoise, which are denoised when merged even without this)
     #[arg(long)]
     pub denoise: bool,
@@ -380,6 +388,10 @@ pub enum AovArg {
     /// (n + 1) / 2 of that surface's shading normal, turned toward the ray;
     /// grey where nothing is hit: the denoiser's guide
     ShadingNormal,
+    /// Light given off by what each pixel sees (emitting surfaces, the
+    /// environment or background), through mirrors and smooth glass: the
+    /// part the denoiser leaves as it is
+    Emission,
 }
 
 impl From<AovArg> for Aov {
@@ -392,6 +404,7 @@ impl From<AovArg> for Aov {
             AovArg::Depth => Aov::Depth,
             AovArg::Albedo => Aov::Albedo,
             AovArg::ShadingNormal => Aov::ShadingNormal,
+            AovArg::Emission => Aov::Emission,
         }
     }
 }
@@ -548,6 +561,8 @@ pub struct Render {
     /// The one pool every path renders on, so `--threads` holds for all.
     pub pool: rayon::ThreadPool,
     pub skip_existing: bool,
+    /// `--denoising-data`: the denoiser's inputs kept as EXR layers.
+    pub denoising_data: bool,
     /// `--cache`: where prepared scenes are kept.
     pub cache: Option<PathBuf>,
     /// `--time-limit`, in seconds.
@@ -588,6 +603,7 @@ impl RenderArgs {
             bit_depth: self.bit_depth.into(),
             pool: pool(self.view.threads)?,
             skip_existing: self.skip_existing,
+            denoising_data: self.denoising_data,
             cache: self.cache,
             time_limit: self.time_limit,
             reference: self.reference,

@@ -2,7 +2,7 @@
 //! output variables"): the lab's ray-direction images (exercise 6, lab
 //! section 2), the surface normal and the depth, for debugging scenes; and
 //! the albedo and shading normal of what a pixel sees through mirrors and
-//! glass, the denoiser's guides (`guide.rs`). The pixel driver (`render`)
+//! glass, and the light it gives off, the denoiser's guides (`guide.rs`). The pixel driver (`render`)
 //! computes them, sample by sample.
 
 mod guide;
@@ -41,10 +41,17 @@ pub enum Aov {
     /// the ray (in world space); grey (the zero normal) where the ray
     /// leaves the scene. The denoiser's normal, `2 v - 1`.
     ShadingNormal,
+    /// The radiance given off toward the eye by what the pixel sees, as
+    /// path mode reads it: the front sides of emitting surfaces, and the
+    /// environment or background where the ray leaves the scene, through
+    /// perfect mirrors and smooth glass (times their colours); not
+    /// clamped. The part of a path-traced pixel that has no noise but its
+    /// edges': the denoiser leaves it out of what it filters.
+    Emission,
 }
 
 impl Aov {
-    pub const ALL: [Aov; 7] = [
+    pub const ALL: [Aov; 8] = [
         Aov::RayDirX,
         Aov::RayDirY,
         Aov::RayDirZ,
@@ -52,6 +59,7 @@ impl Aov {
         Aov::Depth,
         Aov::Albedo,
         Aov::ShadingNormal,
+        Aov::Emission,
     ];
 
     pub fn name(self) -> &'static str {
@@ -63,6 +71,7 @@ impl Aov {
             Aov::Depth => "depth",
             Aov::Albedo => "albedo",
             Aov::ShadingNormal => "shading-normal",
+            Aov::Emission => "emission",
         }
     }
 
@@ -118,6 +127,7 @@ impl AovContext {
             }),
             Aov::Albedo => guide::seen(scene, ray, hit, rng).albedo,
             Aov::ShadingNormal => (guide::seen(scene, ray, hit, rng).normal + Vec3::ONE) / 2.0,
+            Aov::Emission => guide::seen(scene, ray, hit, rng).light,
         }
     }
 
@@ -382,6 +392,62 @@ mod tests {
         // 640,000 samples of a 0/1 choice of p ~ 0.08: sigma ~ 3e-4.
         assert!((mean - expected).abs() < 0.003, "{mean} vs {expected}");
         assert!(image.pixels.iter().all(|c| c.x == 0.0 && c.z == 0.0));
+    }
+
+    #[test]
+    fn the_emission_is_the_light_given_off_by_what_a_pixel_sees() {
+        // An emitting sphere before a coloured background: its emission
+        // where it is seen, the background where the ray leaves.
+        let scene = scene_of(
+            "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
+             [render]\nbackground = [0.1, 0.2, 3]\n\
+             [[objects]]\nsphere = { center = [0, 0, 0], radius = 1.6 }\n\
+             material = { diffuse = [0.5, 0.5, 0.5], emission = [2, 1, 0.5] }\n",
+        );
+        let light = render_aov(&scene, Aov::Emission);
+        assert_eq!(light.get(249, 199), Vec3::new(2.0, 1.0, 0.5));
+        assert_eq!(light.get(0, 0), Vec3::new(0.1, 0.2, 3.0), "not clamped");
+        // A mirror shows the emitting wall behind the eye, which faces it
+        // (its edges' cross product); seen from behind, a wall gives off
+        // nothing.
+        let wall = |edges: &str| {
+            scene_of(&format!(
+                "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
+                 [[objects]]\nplane = {{ point = [0, 0, 0], normal = [0, 0, 1] }}\n\
+                 material = {{ reflectance = 0.5 }}\n\
+                 [[objects]]\nquad = {{ corner = [-50, -50, 20], {edges} }}\n\
+                 material = {{ diffuse = [0.5, 0.5, 0.5], emission = [4, 2, 1] }}\n"
+            ))
+        };
+        let facing = render_aov(
+            &wall("edge_u = [0, 100, 0], edge_v = [100, 0, 0]"),
+            Aov::Emission,
+        );
+        assert_near(facing.get(249, 199), [2.0, 1.0, 0.5], 1e-6);
+        let away = render_aov(
+            &wall("edge_u = [100, 0, 0], edge_v = [0, 100, 0]"),
+            Aov::Emission,
+        );
+        assert_eq!(away.get(249, 199), Vec3::ZERO);
+    }
+
+    #[test]
+    fn light_through_absorbing_glass_loses_what_path_mode_loses() {
+        // A slab of glass one unit thick that bends and reflects nothing
+        // (ior 1, transmittance 1), absorbing 0.5 a unit of red, before an
+        // emitting wall: Beer-Lambert's exp(-0.5) in red. The albedo
+        // seen through it keeps the wall's colours.
+        let scene = scene_of(
+            "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n\
+             [[objects]]\nbox = { min = [-50, -50, -0.5], max = [50, 50, 0.5] }\n\
+             material = { transmittance = 1, ior = 1, absorption = [0.5, 0, 0] }\n\
+             [[objects]]\nquad = { corner = [-50, -50, -5], edge_u = [100, 0, 0], edge_v = [0, 100, 0] }\n\
+             material = { diffuse = [0.25, 0.5, 0.75], emission = [2, 2, 2] }\n",
+        );
+        let light = render_aov(&scene, Aov::Emission);
+        assert_near(light.get(249, 199), [2.0 * (-0.5f32).exp(), 2.0, 2.0], 1e-4);
+        let albedo = render_aov(&scene, Aov::Albedo);
+        assert_near(albedo.get(249, 199), [0.25, 0.5, 0.75], 1e-6);
     }
 
     #[test]

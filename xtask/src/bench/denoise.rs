@@ -121,6 +121,7 @@ fn timing(quality: Quality) -> Result<Timing> {
     let guides = Guides {
         albedo: colour.clone(),
         normal,
+        emission: LinearImage::new(width, height),
     };
     let mut times = Vec::new();
     for _ in 0..3 {
@@ -185,7 +186,7 @@ pub(super) fn dim(a: &LinearImage, reference: &LinearImage) -> f64 {
 }
 
 pub fn report((errors, timings): &(Vec<SceneErrors>, Vec<Timing>)) {
-    println!("\nDenoising (Open Image Denoise 2.5.1, RT filter, high quality, prefiltered albedo and normal)");
+    println!("\nDenoising (Open Image Denoise 2.5.1, RT filter, high quality, prefiltered albedo and normal, the light seen directly left out and added back)");
     println!(
         "RMSE against the Mitsuba reference (all pixels / pixels whose reference is below 1):"
     );

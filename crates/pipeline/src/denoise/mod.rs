@@ -4,11 +4,14 @@
 //!
 //! - `library.rs`: finding and loading OIDN at run time (`cargo xtask oidn`).
 //! - `filter.rs`: its `RT` filter with prefiltered guides (`cleanAux`).
+//! - `emission.rs`: the light each pixel sees directly, left out of what
+//!   OIDN filters and added back (and where that guide is sampled finely).
 //!
 //! Nothing that is not a finite, non-negative number reaches OIDN (one NaN
 //! would spread over a whole neighbourhood of its output): such values are
 //! made 0 first (`finite`).
 
+pub(crate) mod emission;
 #[cfg(not(target_arch = "wasm32"))]
 mod filter;
 #[cfg(not(target_arch = "wasm32"))]
@@ -74,17 +77,20 @@ pub fn workspace() -> PathBuf {
 }
 
 /// What guides the filter: each pixel's albedo (0 to 1) and shading
-/// normal (-1 to 1; zero where the pixel sees nothing), the size of the
-/// image denoised.
+/// normal (-1 to 1; zero where the pixel sees nothing), and the light it
+/// sees directly (the `emission` AOV, which is not filtered), the size of
+/// the image denoised.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Guides {
     pub albedo: LinearImage,
     pub normal: LinearImage,
+    pub emission: LinearImage,
 }
 
 /// `colour` denoised with `guides` at `quality`, on `threads` threads (0:
-/// one per core). The guides are prefiltered (a copy: they are kept as
-/// rendered, for the tiles that carry them).
+/// one per core): OIDN filters the colour less the light seen directly,
+/// which is added back (`emission.rs`). The guides are prefiltered (a
+/// copy: they are kept as rendered, for the tiles that carry them).
 #[cfg(not(target_arch = "wasm32"))]
 pub fn denoise(
     colour: &LinearImage,
@@ -101,7 +107,8 @@ pub fn denoise(
         });
     }
     let size = (colour.width as usize, colour.height as usize);
-    let colour = finite(&colour.pixels);
+    let light = finite(&guides.emission.pixels);
+    let colour = emission::without(&finite(&colour.pixels), &light);
     let mut albedo = finite(&guides.albedo.pixels).into_owned();
     let mut normal = guides.normal.pixels.clone();
     zero_non_finite(&mut normal);
@@ -114,6 +121,9 @@ pub fn denoise(
         &mut output.pixels,
         quality,
     )?;
+    for (c, e) in output.pixels.iter_mut().zip(light.iter()) {
+        *c += *e;
+    }
     Ok(output)
 }
 

@@ -11,9 +11,10 @@ use anyhow::Result;
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
 use tracer_pipeline::cache::{CacheEntry, Cached, SceneCache};
-use tracer_pipeline::output::{check_not_an_input, ImageFormat, PendingOutput};
+use tracer_pipeline::output::{check_not_an_input, ImageFormat, OutputError, PendingOutput};
 use tracer_pipeline::{
-    default_output, tiles, Error, Part, PreparedScene, Rendered, ShadedStats, Summary,
+    default_output, denoising_data, tiles, Error, Part, PreparedScene, Rendered, ShadedStats,
+    Summary,
 };
 
 pub fn run(args: &Render) -> Result<()> {
@@ -31,6 +32,9 @@ pub fn run(args: &Render) -> Result<()> {
     pending
         .check_render_options(args.bit_depth, gamma_given)
         .map_err(Error::from)?;
+    pending
+        .check_denoising_data(args.denoising_data)
+        .map_err(Error::from)?;
     let linear = pending.format().is_linear();
     let options = tracer_pipeline::Options {
         raw_depth: linear,
@@ -41,6 +45,11 @@ pub fn run(args: &Render) -> Result<()> {
         .as_ref()
         .and_then(|dir| SceneCache::new(dir.clone()).entry(&args.input, &options));
     let scene = open(args, &options, entry.as_ref(), &output, pending.format())?;
+    // With --denoise, a render that is not denoised is refused by its own
+    // error (Whitted mode).
+    if args.denoising_data && !options.denoise && !scene.is_denoised(&options) {
+        return Err(Error::from(OutputError::NotDenoised).into());
+    }
     let (size, region, digest) = (scene.size, scene.region, scene.digest.clone());
     let tile = match (region, pending.format(), &digest) {
         (Some(region), ImageFormat::Exr, Some(digest)) => Some((region, digest.clone())),
@@ -98,6 +107,13 @@ pub fn run(args: &Render) -> Result<()> {
             };
             let guides = rendered.denoising.as_ref().map(|d| (&d.guides, d.quality));
             let bytes = tiles::encode(&rendered.image, *region, size, digest, index, guides)
+                .map_err(Error::from)?;
+            pending.write_bytes(&bytes).map_err(Error::from)?;
+        }
+        None if args.denoising_data => {
+            let denoising = rendered.denoising.as_ref().ok_or(OutputError::NotDenoised);
+            let bytes = denoising
+                .and_then(|d| denoising_data::encode(&rendered.image.linear, d))
                 .map_err(Error::from)?;
             pending.write_bytes(&bytes).map_err(Error::from)?;
         }
@@ -184,6 +200,16 @@ fn open(
         digest,
         warnings,
     })
+}
+
+impl Opened {
+    /// Whether its render with `options` is denoised.
+    fn is_denoised(&self, options: &tracer_pipeline::Options) -> bool {
+        match &self.source {
+            Source::Kept(cached) => cached.prepared.denoise().is_some(),
+            Source::Loaded(loaded) => loaded.is_denoised(options),
+        }
+    }
 }
 
 /// How the opened scene is rendered: with what options, quietly or not,

@@ -1,8 +1,10 @@
 //! What a pixel sees, for the denoiser: the albedo and shading normal of
 //! the first surface a primary ray meets that is not a perfect mirror or
 //! smooth glass, the ray followed through those (as Open Image Denoise's
-//! documentation asks, and Blender's denoising passes do), each sample of
-//! a pixel on its own, the pixel the mean of its samples.
+//! documentation asks, and Blender's denoising passes do), and the light
+//! given off on the way (emitting surfaces, the environment or
+//! background), each sample of a pixel on its own, the pixel the mean of
+//! its samples.
 //!
 //! Where glass both reflects and refracts, each sample follows one branch,
 //! picked by its own random numbers (the pixel's sample stream, after its
@@ -11,7 +13,7 @@
 //! weighted by Fresnel, and a sample costs one ray a surface.
 
 use crate::geometry::SurfaceHit;
-use crate::material::SpecularSplit;
+use crate::material::{Material, SpecularSplit};
 use crate::ray::Ray;
 use crate::sampling::{unit_float, Rng};
 use crate::scene::Scene;
@@ -28,23 +30,43 @@ pub(crate) struct Seen {
     pub albedo: Vec3,
     /// Unit, toward the ray; zero where the ray left the scene.
     pub normal: Vec3,
+    /// The radiance given off toward the eye by the surfaces met (their
+    /// front sides, as path mode reads `emission`) and, where the ray
+    /// leaves the scene, by the environment or background, times the
+    /// colours of the mirrors and glass on the way: the light a path
+    /// brings back with no bounce off a surface that is not a perfect
+    /// mirror or smooth glass.
+    pub light: Vec3,
 }
 
 /// The guides of a primary `ray` whose nearest hit is `hit`.
 pub(crate) fn seen(scene: &Scene, ray: &Ray, hit: Option<&SurfaceHit>, rng: &mut Rng) -> Seen {
     let mut weight = Vec3::ONE;
+    // What glass absorbed on the way: the light's alone, the albedo being
+    // the surfaces' colours.
+    let mut absorbed = Vec3::ONE;
+    let mut light = Vec3::ZERO;
     let mut ray = *ray;
     let mut hit = hit.copied();
     for _ in 0..=MAX_SPECULAR {
         let dir = ray.dir().normalize();
         let Some(h) = hit else {
-            let background = scene.background(dir).clamp(Vec3::ZERO, Vec3::ONE);
+            let background = scene.background(dir);
             return Seen {
-                albedo: weight * background,
+                albedo: weight * background.clamp(Vec3::ZERO, Vec3::ONE),
                 normal: Vec3::ZERO,
+                light: light + weight * absorbed * background,
             };
         };
         let material = scene.material(h.material);
+        // A back face of glass ends a stretch inside it, as path mode
+        // reads it for a path that did not enter it.
+        if let (Material::Glass(g), false) = (material, h.front_face) {
+            absorbed *= g.absorbed_over(h.t);
+        }
+        if h.front_face {
+            light += weight * absorbed * material.emission_at(&h);
+        }
         let Some(split) = material.specular_split(dir, &h) else {
             let normal = if dir.dot(h.shading_normal) > 0.0 {
                 -h.shading_normal
@@ -54,6 +76,7 @@ pub(crate) fn seen(scene: &Scene, ray: &Ray, hit: Option<&SurfaceHit>, rng: &mut
             return Seen {
                 albedo: weight * material.albedo(&h),
                 normal,
+                light,
             };
         };
         let (next, colour) = pick(&split, rng);
@@ -64,6 +87,7 @@ pub(crate) fn seen(scene: &Scene, ray: &Ray, hit: Option<&SurfaceHit>, rng: &mut
     Seen {
         albedo: Vec3::ZERO,
         normal: Vec3::ZERO,
+        light,
     }
 }
 
