@@ -76,23 +76,37 @@ fn grid(width: u32, height: u32) -> Vec<(u32, u32)> {
 
 #[test]
 fn in_path_mode_the_samples_colours_average_to_the_rendered_pixel() {
-    // The mean, in f64 as the render sums, of every sample's colour.
-    let loaded = load(&Input::File(scene("cornell-box.toml"))).unwrap();
+    // The mean, in f64 as the render sums, of every sample's colour, where
+    // each path is traced alone (path reuse and more camera rays make a
+    // pixel more than the mean of its own paths' colours).
+    let mut loaded = load(&Input::File(scene("cornell-box.toml"))).unwrap();
     let options = Options {
         width: Some(32),
         samples: Some(8),
         ..Options::default()
     };
-    let image = render(&loaded, &options, &|_| {}).unwrap().image;
-    for (x, y) in [(16, 4), (5, 20), (27, 27)] {
-        let sum = (0..8)
-            .map(|k| {
-                let pixel = explain(&loaded, &options, (x, y), k).unwrap();
+    let rendered = |loaded: &tracer_pipeline::Loaded| render(loaded, &options, &|_| {}).unwrap();
+    for alone in [false, true] {
+        if alone {
+            let scene_format::SceneKind::Scene3d(file) = &mut loaded.kind else {
+                panic!("a 3D scene");
+            };
+            (file.render.path_reuse, file.render.camera_rays) = (Some(1), Some(1));
+        }
+        let image = rendered(&loaded).image;
+        for (x, y) in [(16, 4), (5, 20), (27, 27)] {
+            let pixels = (0..8).map(|k| explain(&loaded, &options, (x, y), k).unwrap());
+            let mut sum = DVec3::ZERO;
+            for pixel in pixels {
                 assert!(matches!(pixel.explanation.trace, Trace::Path { .. }));
-                pixel.explanation.colour.as_dvec3()
-            })
-            .fold(DVec3::ZERO, |a, c| a + c);
-        assert_eq!((sum / 8.0).as_vec3(), image.linear.get(x, y), "({x}, {y})");
+                // The pixel explain reports is the render's, either way.
+                assert_eq!(pixel.linear, image.linear.get(x, y), "({x}, {y})");
+                sum += pixel.explanation.colour.as_dvec3();
+            }
+            if alone {
+                assert_eq!((sum / 8.0).as_vec3(), image.linear.get(x, y), "({x}, {y})");
+            }
+        }
     }
 }
 

@@ -17,7 +17,15 @@ use tracer_core::{prepare, Scene};
 fn scene_from(text: &str) -> Scene {
     let file = scene_format::load_str(text, Format::Toml, Path::new("lanes.toml"))
         .unwrap_or_else(|e| panic!("{e}\n{text}"));
-    prepare(&file).expect("prepare")
+    prepare(&plain(file)).expect("prepare")
+}
+
+/// `file` with each path traced alone: no path reuse, one camera ray (which
+/// path mode would take in these rooms lit by their lamps); a test that
+/// shares paths asks for it.
+fn plain(mut file: scene_format::SceneFile) -> scene_format::SceneFile {
+    (file.render.path_reuse, file.render.camera_rays) = (Some(1), Some(1));
+    file
 }
 
 /// How a test traces: which samples of each pixel, with which seed.
@@ -82,7 +90,7 @@ fn assert_same(scene: &Scene, pixels: &[(u32, u32)], run: &Run, what: &str) {
 
 #[test]
 fn the_cornell_box_in_lanes_is_the_one_path_tracers_bit_for_bit() {
-    let file = common::load(&common::scenes_dir().join("cornell-box.toml"));
+    let file = plain(common::load(&common::scenes_dir().join("cornell-box.toml")));
     let scene = prepare(&file).expect("prepare");
     // Every 37th pixel (each traced alone in lanes: 20 paths, the last 4
     // as lanes free up), then every 23rd row whole (traced together): the
@@ -377,7 +385,7 @@ fn with_path_reuse_lanes_and_single_paths_agree() {
     // inside the room can meet, in lanes; the tree, alone), which may
     // rarely differ where a connection grazes a surface. 24 rows of 48.
     let path = common::scenes_dir().join("cornell-box.toml");
-    let mut file = common::load(&path);
+    let mut file = plain(common::load(&path));
     (file.camera.width, file.camera.height) = (48, 24);
     let scene = prepare(&file).expect("prepare");
     let image = |tracer: PathTracer| {
