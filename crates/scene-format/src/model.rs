@@ -265,11 +265,11 @@ pub struct RenderSettings {
     /// ray each. 1 shares nothing. Left out, path mode decides: 8 in a
     /// scene without an environment (a room lit by its lamps), where it
     /// takes noise off for its time, and 1 under an environment, where it
-    /// costs time for little.
+    /// costs time for little, or where the image is denoised.
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schemars(
         range(min = 1, max = crate::validate::MAX_PATH_REUSE),
-        extend("x-integrator" = "path", "x-default" = "8 without an environment, else 1"),
+        extend("x-integrator" = "path", "x-default" = "8 without an environment unless denoised, else 1"),
         example = 8
     )]
     pub path_reuse: Option<u32>,
@@ -281,11 +281,11 @@ pub struct RenderSettings {
     /// what it sees directly; unbiased. Other pixels cost nothing more
     /// than that first look. 1 is the path's own ray. Left out, path mode
     /// decides: 8 in a scene without an environment that has emitting
-    /// surfaces, else 1.
+    /// surfaces, unless it is denoised; else 1.
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schemars(
         range(min = 1, max = crate::validate::MAX_CAMERA_RAYS),
-        extend("x-integrator" = "path", "x-default" = "8 with emitters and no environment, else 1"),
+        extend("x-integrator" = "path", "x-default" = "8 with emitters, no environment and no denoising, else 1"),
         example = 8
     )]
     pub camera_rays: Option<u32>,

@@ -274,8 +274,9 @@ fn light(l: &fmt::Light) -> Light {
 }
 
 /// The file's `[render]` in the core's terms; path mode's estimator where
-/// the file leaves it (`path_defaults`), from its environment and whether
-/// some material of `materials` (the scene's) emits.
+/// the file leaves it (`path_defaults`), from its environment, whether
+/// some material of `materials` (the scene's) emits and whether the image
+/// is denoised.
 fn trace_settings(file: &fmt::SceneFile, materials: &[Material]) -> TraceSettings {
     let r = &file.render;
     let environment = file.environment.is_some();
@@ -289,9 +290,10 @@ fn trace_settings(file: &fmt::SceneFile, materials: &[Material]) -> TraceSetting
             fmt::Integrator::Whitted => Integrator::Whitted,
             fmt::Integrator::Path => Integrator::Path,
         },
-        path_reuse: (r.path_reuse).unwrap_or_else(|| path_defaults::path_reuse(environment)),
+        path_reuse: (r.path_reuse)
+            .unwrap_or_else(|| path_defaults::path_reuse(environment, r.denoise)),
         camera_rays: (r.camera_rays)
-            .unwrap_or_else(|| path_defaults::camera_rays(environment, emitters)),
+            .unwrap_or_else(|| path_defaults::camera_rays(environment, emitters, r.denoise)),
     }
 }
 

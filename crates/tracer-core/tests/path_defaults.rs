@@ -8,11 +8,17 @@ use tracer_core::prepare;
 /// `render.path_reuse` and `render.camera_rays` as path mode takes them
 /// for `scenes/NAME`, with the file's keys `set` (path reuse, camera rays).
 fn estimator(name: &str, set: (Option<u32>, Option<u32>)) -> (u32, u32) {
+    estimator_of(name, set, false)
+}
+
+/// `estimator`, the image `denoised` or not.
+fn estimator_of(name: &str, set: (Option<u32>, Option<u32>), denoised: bool) -> (u32, u32) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../scenes")
         .join(name);
     let mut file = scene_format::load_path(&path).unwrap_or_else(|e| panic!("{e}"));
     (file.render.path_reuse, file.render.camera_rays) = set;
+    file.render.denoise = denoised;
     let scene = prepare(&file).expect("prepare");
     let trace = scene.trace_settings();
     (trace.path_reuse, trace.camera_rays)
@@ -37,6 +43,16 @@ fn without_an_emitting_surface_only_paths_are_shared() {
 fn under_an_environment_every_path_is_traced_alone() {
     assert_eq!(estimator("materials.toml", SILENT), (1, 1));
     assert_eq!(estimator("courtyard.toml", SILENT), (1, 1));
+}
+
+#[test]
+fn a_denoised_image_traces_every_path_alone() {
+    // The denoiser takes that noise off, and sees the lamp's edges itself.
+    assert_eq!(estimator_of("cornell-box.toml", SILENT, true), (1, 1));
+    assert_eq!(
+        estimator_of("cornell-box.toml", (Some(8), None), true),
+        (8, 1)
+    );
 }
 
 #[test]

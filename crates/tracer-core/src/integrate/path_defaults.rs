@@ -5,12 +5,18 @@
 //! error at equal time falls to about 0.4 of the plain estimator's, the
 //! bunny in it to 0.9) and cost time for nothing where an environment
 //! lights an open scene (its direct light dominates, and its sky seen
-//! directly changes gently): there they stay off.
+//! directly changes gently): there they stay off. They stay off too where
+//! the image is denoised: the denoiser takes that noise off anyway and
+//! adds back the light a pixel sees directly from its own finer guide, and
+//! path reuse's noise, alike along a row's groups, is harder for it (the
+//! Cornell box at 16 paths, denoised: RMSE 0.0065 in 2.2 s with both off,
+//! 0.0075 in 2.6 s with both on).
 
 /// The pixels of a row that share their indirect light
-/// (`render.path_reuse`) when the file does not say.
-pub fn path_reuse(environment: bool) -> u32 {
-    if environment {
+/// (`render.path_reuse`) when the file does not say, in a scene lit by an
+/// `environment` or not, `denoised` or not.
+pub fn path_reuse(environment: bool, denoised: bool) -> u32 {
+    if environment || denoised {
         1
     } else {
         8
@@ -19,9 +25,10 @@ pub fn path_reuse(environment: bool) -> u32 {
 
 /// The camera rays of a path for what a pixel sees directly
 /// (`render.camera_rays`) when the file does not say: only where lamps
-/// can be seen (emitting surfaces) and no environment lights the scene.
-pub fn camera_rays(environment: bool, emitters: bool) -> u32 {
-    if !environment && emitters {
+/// can be seen (emitting surfaces), no environment lights the scene and
+/// the image is not denoised.
+pub fn camera_rays(environment: bool, emitters: bool, denoised: bool) -> u32 {
+    if !environment && emitters && !denoised {
         8
     } else {
         1
