@@ -1211,6 +1211,7 @@ mod texture_tests {
             width: 2,
             height: 2,
             texels: fmt::Texels::Bytes(bytes.clone()),
+            alpha: None,
         }));
         let scene = prepare(&file).unwrap();
         // The test's, the model's, and the tracer's.
