@@ -2,6 +2,7 @@
 //! dispatches statically; the lab's Blinn-Phong is one variant, glass
 //! (Blinn-Phong with refraction) another.
 
+use crate::alpha_mask::AlphaMask;
 use crate::geometry::SurfaceHit;
 use crate::optics::{fresnel_reflectance, refract};
 use crate::texture::{ColorTexture, Texture};
@@ -33,6 +34,14 @@ impl Material {
         match self {
             Material::Principled(p) => &p.lab,
             lab => lab,
+        }
+    }
+
+    /// Where the surface is cut out, if anywhere.
+    pub fn alpha_mask(&self) -> Option<&Arc<AlphaMask>> {
+        match self {
+            Material::Principled(p) => p.alpha_mask.as_ref(),
+            _ => self.surface().alpha_mask.as_ref(),
         }
     }
 
@@ -236,6 +245,9 @@ pub struct PrincipledMaterial {
     pub emission_texture: Option<ColorTexture>,
     /// Bends the shading normal (`Scene::closest_hit`).
     pub normal_map: Option<NormalMap>,
+    /// Where the surface is cut out (glTF's MASK): read by the BVH's
+    /// search (`Material::alpha_mask`), not by shading.
+    pub alpha_mask: Option<Arc<AlphaMask>>,
     /// Whitted mode's reading (`PrincipledMaterial::new`): the lab's kind.
     pub lab: Material,
 }
@@ -262,6 +274,7 @@ impl PrincipledMaterial {
             texture: None,
             color_texture: None,
             emission,
+            alpha_mask: None,
         };
         let transmittance = (1.0 - p.metallic) * p.transmission;
         let lab = if transmittance > 0.0 {
@@ -286,6 +299,7 @@ impl PrincipledMaterial {
             metallic_roughness: None,
             emission_texture: None,
             normal_map: None,
+            alpha_mask: None,
             lab,
         }
     }
@@ -392,6 +406,9 @@ pub struct Phong {
     /// Radiance given off on the front side (where the geometric normal
     /// points): an area light in path mode, a colour seen in Whitted mode.
     pub emission: Vec3,
+    /// Where the surface is cut out (`alpha_cutoff`): read by the BVH's
+    /// search (`Material::alpha_mask`), not by shading.
+    pub alpha_mask: Option<Arc<AlphaMask>>,
 }
 
 impl Phong {
@@ -423,6 +440,7 @@ impl Phong {
             texture: None,
             color_texture: None,
             emission: Vec3::ZERO,
+            alpha_mask: None,
         }
     }
 }

@@ -173,7 +173,14 @@ impl Scene {
             parts.objects.iter().all(in_range),
             "an object's material index is out of range"
         );
-        let bvh = Bvh::build(&parts.objects);
+        let masks: Vec<_> = parts
+            .materials
+            .iter()
+            .map(|m| m.alpha_mask().cloned())
+            .collect();
+        // The lanes' own searches know no masks.
+        let masked = masks.iter().any(Option::is_some);
+        let bvh = Bvh::build(&parts.objects).with_masks(masks);
         let bounds = bvh.bounds();
         let accel = Accel::Bvh(bvh);
         let transparency = parts.materials.iter().any(Material::is_transparent);
@@ -182,7 +189,7 @@ impl Scene {
             .iter()
             .any(|m| matches!(m, Material::Principled(p) if p.normal_map.is_some()));
         // The lanes see the background colour only.
-        let lanes = if path_mode || parts.environment.is_some() {
+        let lanes = if path_mode || parts.environment.is_some() || masked {
             None
         } else {
             LaneScene::new(&parts.objects, &parts.materials, &parts.lights).map(Box::new)
@@ -192,7 +199,7 @@ impl Scene {
         } else {
             Lights::default()
         });
-        let matte_lanes = path_mode
+        let matte_lanes = (path_mode && !masked)
             .then(|| {
                 let (objects, materials) = (&parts.objects, &parts.materials);
                 MatteLanes::new(objects, materials, &parts.lights, &path_lights)
