@@ -398,3 +398,35 @@ fn a_gltf_mesh_placed_twice_is_cut_where_each_object_s_materials_say() {
         }
     }
 }
+
+#[test]
+fn explain_names_a_triangle_met_in_a_hole() {
+    use tracer_core::explain::{explain, Outcome, Trace};
+    let dir = tempfile::tempdir().unwrap();
+    checker_png(dir.path());
+    let scene = prepare(&load(dir.path(), &scene_text(false, TOML_QUAD))).unwrap();
+    let camera = scene.camera();
+    // A pixel that sees the wall through a hole of the quad, off the
+    // diagonal its two halves share (x = -y, on pixels i = j).
+    let ((i, j), _) = clear_pixels(camera, false)
+        .into_iter()
+        .find(|&((i, j), s)| {
+            let through = |p: Vec3| p.x.abs() < 1.0 && p.y.abs() < 1.0;
+            i != j && matches!(s, Seen::Wall(p, _) if through(p))
+        })
+        .expect("a hole in view");
+    let explained = explain(&scene, (i, j), 1, 0);
+    let Trace::Whitted { ray } = &explained.trace else {
+        panic!("Whitted")
+    };
+    let tested = ray.tested.as_ref().expect("a few objects");
+    // The plane is the nearest; one of the quad's halves is met in a hole.
+    assert!(
+        matches!(tested[0].outcome, Outcome::Nearest { .. }),
+        "{tested:?}"
+    );
+    let cut = tested
+        .iter()
+        .filter(|t| matches!(t.outcome, Outcome::Cutout { .. }));
+    assert_eq!(cut.count(), 1, "{tested:?}");
+}
