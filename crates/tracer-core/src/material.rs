@@ -65,6 +65,16 @@ impl Material {
         }
     }
 
+    /// The radiance given off on the front side, on average over the
+    /// surface (`emission` times its texture's mean): what the pick of a
+    /// light sample weighs it by, `light::Lights::pdf_hit`'s radiance.
+    pub fn emission_mean(&self) -> Vec3 {
+        match self {
+            Material::Principled(p) => p.emission_mean,
+            _ => self.surface().emission,
+        }
+    }
+
     /// The radiance given off on the front side at `hit`: `emission`, times
     /// the emission texture there, if any.
     #[inline(always)]
@@ -241,8 +251,12 @@ pub struct PrincipledMaterial {
     /// Its blue multiplies `metallic`, its green `roughness` (glTF's
     /// packing), at each hit.
     pub metallic_roughness: Option<ColorTexture>,
-    /// Multiplies `emission` at each hit.
+    /// Multiplies `emission` at each hit (`with_emission_texture`).
     pub emission_texture: Option<ColorTexture>,
+    /// `emission` times the emission texture's mean colour: the radiance
+    /// given off on average, which a light's pick weighs
+    /// (`Material::emission_mean`); `emission` without a texture.
+    pub emission_mean: Vec3,
     /// Bends the shading normal (`Scene::closest_hit`).
     pub normal_map: Option<NormalMap>,
     /// Where the surface is cut out (glTF's MASK): read by the BVH's
@@ -298,6 +312,7 @@ impl PrincipledMaterial {
             color_texture: None,
             metallic_roughness: None,
             emission_texture: None,
+            emission_mean: emission,
             normal_map: None,
             alpha_mask: None,
             lab,
@@ -374,6 +389,15 @@ impl PrincipledMaterial {
                 .filter(|_| glass * (1.0 - f) > 0.0)
                 .map(|d| (d, glass * (1.0 - f) * colour)),
         })
+    }
+
+    /// The same material with `texture` on its emission, whose texels'
+    /// mean colour is `mean` (`ColorTexture::mean`, worked out once per
+    /// image by the caller).
+    pub fn with_emission_texture(mut self, texture: ColorTexture, mean: Vec3) -> Self {
+        self.emission_texture = Some(texture);
+        self.emission_mean = self.emission * mean;
+        self
     }
 
     /// The same material with a colour texture on `base_color` (and on the

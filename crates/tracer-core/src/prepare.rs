@@ -746,6 +746,8 @@ struct MaterialTable<'a> {
     /// Decoded images by the address of the file's data and whether they
     /// are sRGB colours: each file is decoded to linear once each way.
     images: HashMap<(usize, bool), Arc<ImageTexels>>,
+    /// The mean colours of emission textures' images, by their address.
+    means: HashMap<usize, Vec3>,
 }
 
 /// What a texture does to a material.
@@ -765,6 +767,7 @@ impl<'a> MaterialTable<'a> {
             by_key: HashMap::new(),
             textures: HashMap::new(),
             images: HashMap::new(),
+            means: HashMap::new(),
         }
     }
 
@@ -873,6 +876,17 @@ impl<'a> MaterialTable<'a> {
         Ok(surface)
     }
 
+    /// The mean colour of `texture`, each image's worked out once.
+    fn mean(&mut self, texture: &ColorTexture) -> Vec3 {
+        match texture {
+            ColorTexture::Image { texels, .. } => *self
+                .means
+                .entry(Arc::as_ptr(texels) as usize)
+                .or_insert_with(|| texels.mean()),
+            checker => checker.mean(),
+        }
+    }
+
     /// The alpha masks of materials `indices`, in order.
     fn masks(&self, indices: &[usize]) -> Vec<Option<Arc<AlphaMask>>> {
         let mask = |&m: &usize| self.materials[m].alpha_mask().cloned();
@@ -946,7 +960,10 @@ impl<'a> MaterialTable<'a> {
         let mr = m.metallic_roughness_texture.as_ref();
         material.metallic_roughness = self.data_texture(path, mr, false)?;
         let emission = m.emission_texture.as_ref();
-        material.emission_texture = self.data_texture(path, emission, true)?;
+        if let Some(texture) = self.data_texture(path, emission, true)? {
+            let mean = self.mean(&texture);
+            material = material.with_emission_texture(texture, mean);
+        }
         material.alpha_mask = alpha_mask(m, material.color_texture.as_ref());
         let normals = self.data_texture(path, m.normal_texture.as_ref(), false)?;
         material.normal_map = normals.map(|texture| NormalMap {

@@ -322,6 +322,20 @@ impl ImageTexels {
         let bottom = lerp(texel(i, j1), texel(i1, j1), fx);
         lerp(top, bottom, fy)
     }
+
+    /// The mean colour of the texels: what a texture that covers a
+    /// surface evenly gives off on average (an emission texture's share
+    /// of its light's power).
+    pub fn mean(&self) -> Vec3 {
+        let (w, h) = (i64::from(self.width), i64::from(self.height));
+        let mut sum = glam::DVec3::ZERO;
+        for y in 0..h {
+            for x in 0..w {
+                sum += self.texel2(x, y, Wrap::Clamp, Wrap::Clamp).as_dvec3();
+            }
+        }
+        (sum / (w * h) as f64).as_vec3()
+    }
 }
 
 /// A colour over a surface's uv that multiplies the ambient and diffuse
@@ -382,6 +396,15 @@ impl ColorTexture {
     /// Whether some of the texture's alpha is below 1.
     pub fn has_alpha(&self) -> bool {
         matches!(self, ColorTexture::Image { texels, .. } if texels.has_alpha())
+    }
+
+    /// The mean of its colours: an image's texels' mean, a checker's two
+    /// colours' (each covers half of any whole number of squares).
+    pub fn mean(&self) -> Vec3 {
+        match self {
+            ColorTexture::Image { texels, .. } => texels.mean(),
+            ColorTexture::Checker { colors, .. } => (colors[0] + colors[1]) / 2.0,
+        }
     }
 
     /// The texture's colour at `uv`.

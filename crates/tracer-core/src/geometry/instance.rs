@@ -135,6 +135,12 @@ impl Instance {
         }
     }
 
+    /// Whether the placement mirrors, so that `world_triangle` gives a
+    /// triangle's corners in the order (v0, v2, v1).
+    pub fn mirrors(&self) -> bool {
+        self.to_world.mirrors()
+    }
+
     /// `ray` in the mesh's coordinates; its direction keeps the scale the
     /// placement gives it, so distances `t` along both are the same.
     #[inline(always)]

@@ -119,6 +119,10 @@ pub struct AreaPoint {
     pub distance: f32,
     /// The density of `wi` (solid angle) given this shape was picked.
     pub pdf: f32,
+    /// Where on the shape: a triangle's barycentric (b1, b2) (the weights
+    /// of `e1` and `e2`), a parallelogram's (s, t); zero on a sphere or
+    /// ellipsoid (`point` says). What an emission texture is read by.
+    pub at: Vec2,
 }
 
 impl AreaShape {
@@ -171,7 +175,11 @@ impl AreaShape {
                 area,
             } => {
                 let (b1, b2) = square_to_triangle(u);
-                flat_point(*v0 + b1 * *e1 + b2 * *e2, *normal, *area, from)
+                let p = flat_point(*v0 + b1 * *e1 + b2 * *e2, *normal, *area, from)?;
+                Some(AreaPoint {
+                    at: Vec2::new(b1, b2),
+                    ..p
+                })
             }
             AreaShape::Parallelogram {
                 corner,
@@ -179,7 +187,10 @@ impl AreaShape {
                 e2,
                 normal,
                 area,
-            } => flat_point(*corner + u.x * *e1 + u.y * *e2, *normal, *area, from),
+            } => {
+                let p = flat_point(*corner + u.x * *e1 + u.y * *e2, *normal, *area, from)?;
+                Some(AreaPoint { at: u, ..p })
+            }
             AreaShape::Sphere { center, radius } => sphere_sample(*center, *radius, from, u),
             AreaShape::Ellipsoid(e) => e.sample(from, u),
         }
@@ -230,6 +241,7 @@ fn flat_point(point: Vec3, normal: Vec3, area: f32, from: Vec3) -> Option<AreaPo
         wi,
         distance,
         pdf: distance2 / (cos * area),
+        at: Vec2::ZERO,
     })
 }
 
@@ -319,6 +331,7 @@ fn sphere_sample(center: Vec3, radius: f32, from: Vec3, u: Vec2) -> Option<AreaP
         wi: to / distance,
         distance,
         pdf: 1.0 / (2.0 * PI * cone.one_minus_cos_max),
+        at: Vec2::ZERO,
     })
 }
 

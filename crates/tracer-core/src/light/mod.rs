@@ -2,14 +2,16 @@
 //! point light is one variant, the sphere light (soft shadows) another,
 //! glTF's spot and directional lights two more.
 //! Path mode reads them, and every emissive surface, as one list chosen
-//! by power (`lights.rs`): area lights' shapes in `area.rs`, the table
-//! that picks one in `alias.rs`.
+//! by power (`lights.rs`): area lights' shapes in `area.rs`, what varies
+//! over a textured one in `textured.rs`, the table that picks one in
+//! `alias.rs`.
 
 pub mod alias;
 pub mod area;
 pub mod distribution;
 pub mod environment;
 pub mod lights;
+pub mod textured;
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
