@@ -280,3 +280,35 @@ fn a_light_is_picked_by_its_texture_s_mean() {
     let share = textured as f64 / f64::from(n);
     assert!((share - expected).abs() < 1e-3, "{share} vs {expected}");
 }
+
+#[test]
+fn a_kept_scene_whose_texture_lost_texels_is_refused() {
+    // As a prepared scene read back from a file (`--cache`) could be: an
+    // emission texture's image whose size claims more texels than it has.
+    // Whitted mode (no light holds the texture) and path mode alike.
+    use tracer_core::material::Material;
+    use tracer_core::texture::ColorTexture;
+    let dir = tempfile::tempdir().unwrap();
+    write_texture(dir.path());
+    for integrator in ["whitted", "path"] {
+        let text = format!(
+            "[camera]\neye = [0, 1, 0]\nlook_at = [0, 0, 0]\nup = [0, 0, -1]\n[render]\nintegrator = \"{integrator}\"\n\
+             [materials.glow]\nbase_color = [0, 0, 0]\nemission = [3, 3, 3]\nemission_texture = {{ image = \"glow.png\" }}\n{EMITTER}"
+        );
+        std::fs::write(dir.path().join("kept.toml"), text).unwrap();
+        let file = scene_format::load_path(&dir.path().join("kept.toml")).unwrap();
+        let mut parts = tracer_core::prepare::parts(&file).unwrap();
+        assert!(Scene::lean(parts.clone()).check_kept().is_ok());
+        let Material::Principled(p) = &mut parts.materials[0] else {
+            panic!("a physically based material")
+        };
+        let texture = p.emission_texture.as_ref().expect("a texture");
+        let mut stored = serde_json::to_value(texture).unwrap();
+        stored["Image"]["texels"]["width"] = serde_json::json!(65);
+        let broken: ColorTexture = serde_json::from_value(stored).unwrap();
+        let mean = Vec3::ONE;
+        **p = p.as_ref().clone().with_emission_texture(broken, mean);
+        let kept = Scene::lean(parts);
+        assert!(kept.check_kept().is_err(), "{integrator}");
+    }
+}
