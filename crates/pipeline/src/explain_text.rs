@@ -166,6 +166,9 @@ fn ray_text(out: &mut dyn Write, ray: &RayNode, indent: usize, names: &Names) ->
             let what = match t.outcome {
                 Outcome::Nearest { t } => format!("hit at t = {t:.4}, the nearest"),
                 Outcome::Farther { t } => format!("hit at t = {t:.4}, farther than the nearest"),
+                Outcome::Cutout { t } => {
+                    format!("met at t = {t:.4} in a hole: its material's alpha_cutoff cuts it out")
+                }
                 // A hit a hair behind the origin is the surface the ray
                 // left (acne's cause): its t in full, not -0.0000.
                 Outcome::Behind { t } if t.abs() <= tracer_core::EPSILON => {

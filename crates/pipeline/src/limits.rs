@@ -72,12 +72,19 @@ fn primitive_count(
 ) -> Option<Diagnostic> {
     let mut total = 0usize;
     let mut counted = HashSet::new();
-    let mut models = HashSet::new();
+    let mut models: HashMap<prepare::MeshSharing, HashSet<usize>> = HashMap::new();
     for (i, o) in file.objects.iter().enumerate() {
         let triangles = match o.shapes().as_slice() {
             [ShapeRef::Mesh(m)] => m.data.as_ref().map_or(0, |d| d.triangles.len()),
             [ShapeRef::Gltf(g)] => g.data.as_ref().map_or(0, |d| {
-                prepare::model_extent(d, o.transform.as_ref(), &mut models).0
+                // Objects share a file's meshes only with equal holes.
+                let sharing = prepare::mesh_sharing(file, o);
+                let mut own = HashSet::new();
+                let shared = match sharing {
+                    prepare::MeshSharing::Own => &mut own,
+                    _ => models.entry(sharing).or_default(),
+                };
+                prepare::model_extent(d, o.transform.as_ref(), shared).0
             }),
             _ => 1,
         };

@@ -101,6 +101,7 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
         }
     }
     open_glass(&mut warnings, scene);
+    alpha_cutoffs(&mut warnings, scene);
     if path_mode {
         emitters_facing_away(&mut warnings, scene);
     }
@@ -394,6 +395,53 @@ fn unseen_texture(warnings: &mut Vec<Diagnostic>, path: &KeyPath, m: &crate::Mat
     }
 }
 
+/// Objects whose material has an `alpha_cutoff` that cuts nothing: a
+/// sphere or plane (only triangles are cut), no image texture to read
+/// alpha from, or an image without alpha below 255.
+fn alpha_cutoffs(warnings: &mut Vec<Diagnostic>, scene: &SceneFile) {
+    for (i, o) in scene.objects.iter().enumerate() {
+        let material = match &o.material {
+            Some(crate::MaterialRef::Inline(m)) => Some(m),
+            Some(crate::MaterialRef::Named(name)) => scene.materials.get(name),
+            None => None,
+        };
+        let Some(m) = material.filter(|m| m.alpha_cutoff.is_some()) else {
+            continue;
+        };
+        let object = KeyPath::root().key("objects").index(i);
+        let round = match o.shapes().as_slice() {
+            [ShapeRef::Sphere(_)] => Some("sphere"),
+            [ShapeRef::Plane(_)] => Some("plane"),
+            _ => None,
+        };
+        if let Some(shape) = round {
+            warnings.push(Diagnostic::new(
+                object.key(shape),
+                format!("drawn whole: its material's `alpha_cutoff` cuts triangles only (quads, boxes, meshes, glTF models), not a {shape}"),
+            ));
+            continue;
+        }
+        let (key, texture) = match (&o.texture, &m.texture) {
+            (Some(t), _) => (object.key("texture"), Some(t)),
+            (None, t) => (object.key("material"), t.as_ref()),
+        };
+        let Some(crate::TextureRef::Image(image)) = texture else {
+            warnings.push(Diagnostic::new(
+                key,
+                "drawn whole: its material's `alpha_cutoff` reads the alpha of an image `texture`, and it has none",
+            ));
+            continue;
+        };
+        let opaque = image.data.as_ref().is_some_and(|d| d.alpha.is_none());
+        if opaque {
+            warnings.push(Diagnostic::new(
+                key,
+                format!("drawn whole: `{}` has no alpha below 255 (no alpha channel, or opaque everywhere), so its material's `alpha_cutoff` cuts nothing", image.image),
+            ));
+        }
+    }
+}
+
 /// Colour channels above 1: 0-255 habits (`diffuse = [200, 0, 0]`).
 fn over_one(warnings: &mut Vec<Diagnostic>, path: &KeyPath, m: &crate::Material) {
     let base_color = m.base_color.unwrap_or_default();
@@ -587,6 +635,47 @@ mod tests {
         assert!(!unseen(&format!("ambient = [0.1, 0, 0], {checker}")));
         // The lab's stripes multiply the specular too.
         assert!(!unseen("specular = [1, 1, 1], texture = \"lab-stripes\""));
+    }
+
+    #[test]
+    fn an_alpha_cutoff_that_cannot_cut_is_warned_about() {
+        let quad = "quad = { corner = [-1, -1, 0], edge_u = [2, 0, 0], edge_v = [0, 2, 0] }";
+        let sphere = "sphere = { center = [0, 0, 0], radius = 1 }";
+        let image = ", texture = { image = \"leaf.png\" }";
+        let whole = |shape: &str, rest: &str| -> Vec<String> {
+            let material = format!("{{ diffuse = [1, 1, 1], alpha_cutoff = 0.5{rest} }}");
+            let found = messages(&format!("[[objects]]\n{shape}\nmaterial = {material}\n"));
+            found
+                .into_iter()
+                .filter(|m| m.starts_with("drawn whole"))
+                .collect()
+        };
+        assert!(whole(sphere, image)[0].contains("cuts triangles only"));
+        assert!(whole(quad, "")[0].contains("and it has none"));
+        assert!(whole(quad, image).is_empty());
+        // An image read without alpha below 255.
+        let dir = tempfile::tempdir().unwrap();
+        image::RgbImage::new(2, 2)
+            .save(dir.path().join("leaf.png"))
+            .unwrap();
+        let text = format!(
+            "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\n[[lights]]\nposition = [0, 5, 5]\n\
+             [[objects]]\n{quad}\nmaterial = {{ diffuse = [1, 1, 1], alpha_cutoff = 0.5{image} }}\n"
+        );
+        std::fs::write(dir.path().join("s.toml"), text).unwrap();
+        let scene = crate::load_path(&dir.path().join("s.toml")).expect("loads");
+        let found: Vec<_> = warnings(&scene)
+            .into_iter()
+            .map(|d| (d.path.to_string(), d.message))
+            .collect();
+        let opaque = found
+            .iter()
+            .find(|(_, m)| m.contains("has no alpha below 255"));
+        assert_eq!(
+            opaque.map(|(k, _)| k.as_str()),
+            Some("objects[0].material"),
+            "{found:?}"
+        );
     }
 
     /// The warnings' (key, message) of a scene of `camera`, `render` and

@@ -115,6 +115,7 @@ fn read_environment(source: &dyn Source, path: &Path) -> Result<ImageData, Strin
         width,
         height,
         texels: Texels::Floats(texels),
+        alpha: None,
     })
 }
 
@@ -318,6 +319,7 @@ fn decode(bytes: &[u8], texels_left: u64) -> Result<ImageData, String> {
     reader.limits(limits);
     let image = reader.decode().map_err(unreadable)?;
     let (width, height) = (image.width(), image.height());
+    let alpha = alpha_of(&image).map(Arc::new);
     // 8-bit images keep their bytes; others become floats (the decoded
     // samples go before the floats are made).
     let eight_bit = matches!(
@@ -336,7 +338,31 @@ fn decode(bytes: &[u8], texels_left: u64) -> Result<ImageData, String> {
         width,
         height,
         texels,
+        alpha,
     })
+}
+
+/// The alpha channel of `image` as bytes (a 16-bit or float alpha rounded
+/// to 8 bits), row by row; None without one, or where every texel is
+/// opaque (nothing to cut: no memory spent on it).
+fn alpha_of(image: &image::DynamicImage) -> Option<Vec<u8>> {
+    use image::DynamicImage as D;
+    let to_byte = |a: f32| (a.clamp(0.0, 1.0) * 255.0).round() as u8;
+    let alpha: Vec<u8> = match image {
+        D::ImageLumaA8(i) => i.pixels().map(|p| p.0[1]).collect(),
+        D::ImageRgba8(i) => i.pixels().map(|p| p.0[3]).collect(),
+        D::ImageLumaA16(i) => i
+            .pixels()
+            .map(|p| to_byte(f32::from(p.0[1]) / 65535.0))
+            .collect(),
+        D::ImageRgba16(i) => i
+            .pixels()
+            .map(|p| to_byte(f32::from(p.0[3]) / 65535.0))
+            .collect(),
+        D::ImageRgba32F(i) => i.pixels().map(|p| to_byte(p.0[3])).collect(),
+        _ => return None,
+    };
+    alpha.iter().any(|&a| a < 255).then_some(alpha)
 }
 
 /// Interleaved RGB samples as texels, in the same memory (a copy only if
@@ -373,6 +399,31 @@ mod tests {
         assert_eq!(data.texels.at(3), [0.4, 0.8, 0.6]);
         // An 8-bit image keeps its bytes, a quarter of the floats' memory.
         assert!(matches!(data.texels, Texels::Bytes(_)));
+    }
+
+    fn png_rgba(width: u32, height: u32, pixels: &[u8]) -> Vec<u8> {
+        let img = image::RgbaImage::from_raw(width, height, pixels.to_vec()).unwrap();
+        let mut bytes = Vec::new();
+        img.write_to(&mut Cursor::new(&mut bytes), image::ImageFormat::Png)
+            .unwrap();
+        bytes
+    }
+
+    #[test]
+    fn alpha_is_kept_where_some_texel_is_not_opaque() {
+        let pixels = [10, 20, 30, 0, 40, 50, 60, 128, 1, 2, 3, 255, 4, 5, 6, 254];
+        let data = decode(&png_rgba(2, 2, &pixels), MAX_SCENE_TEXELS).unwrap();
+        assert_eq!(data.alpha.as_deref(), Some(&vec![0, 128, 255, 254]));
+        assert_eq!(
+            data.texels.at(1),
+            [40.0 / 255.0, 50.0 / 255.0, 60.0 / 255.0]
+        );
+        // Opaque everywhere, or without an alpha channel: nothing kept.
+        let opaque = pixels.map(|_| 255);
+        let data = decode(&png_rgba(2, 2, &opaque), MAX_SCENE_TEXELS).unwrap();
+        assert_eq!(data.alpha, None);
+        let data = decode(&png(1, 1, &[1, 2, 3]), MAX_SCENE_TEXELS).unwrap();
+        assert_eq!(data.alpha, None);
     }
 
     /// The start of a PNG (signature and header) of `width` x `height`

@@ -488,6 +488,16 @@ pub struct Material {
     /// `ambient` and `diffuse` only. Default: none.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub texture: Option<TextureRef>,
+    /// Cuts the surface out where the alpha of its image `texture` (the
+    /// material's, or the object's own) is below this, as glTF's
+    /// `alphaMode` MASK does: there every ray (from the camera, mirrored,
+    /// bounced, toward a light) passes as if nothing were there, so a leaf
+    /// drawn on a quad casts a leaf's shadow. From 0 to 1; 0.5 keeps the
+    /// texels at least half opaque. Cuts triangles only (quads, boxes,
+    /// meshes, glTF models). Default: none, the surface is whole.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(range(min = 0, max = 1))]
+    pub alpha_cutoff: Option<f32>,
     /// 0 = opaque, 1 = all the light passes (refracted by `ior`). Default 0.
     #[schemars(range(min = 0, max = 1))]
     pub transmittance: f32,
@@ -557,6 +567,7 @@ impl Default for Material {
             shininess: 0.0,
             reflectance: 0.0,
             texture: None,
+            alpha_cutoff: None,
             transmittance: 0.0,
             ior: DEFAULT_IOR,
             fresnel: false,
@@ -1193,12 +1204,17 @@ pub enum Wrap {
 }
 
 /// An image's texels as stored in its file: sRGB-encoded values from 0 to
-/// 1, row by row from the top row; alpha is dropped.
+/// 1, row by row from the top row; and its alpha, if it has some.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ImageData {
     pub width: u32,
     pub height: u32,
     pub texels: Texels,
+    /// Each texel's alpha (coverage, linear: 0 none, 255 whole), row by
+    /// row from the top; None for an image without an alpha channel or
+    /// whose alpha is 255 everywhere. A 16-bit alpha is kept to 8 bits:
+    /// `alpha_cutoff` compares it with a cutoff, which needs no finer step.
+    pub alpha: Option<Arc<Vec<u8>>>,
 }
 
 /// Texels as their file holds them: an 8-bit image's bytes (v / 255 each,

@@ -413,8 +413,33 @@ impl Validator {
                 self.error(key, "expected `normal_strength` only with `normal_texture`");
             }
         }
+        self.alpha_cutoff(path, m);
         self.transmission(path, m);
         self.physical(path, m);
+    }
+
+    /// `alpha_cutoff`: a fraction, and an image to read alpha from when
+    /// the material names a texture (an object may give it one instead).
+    fn alpha_cutoff(&mut self, path: &KeyPath, m: &Material) {
+        let Some(cutoff) = m.alpha_cutoff else {
+            return;
+        };
+        let key = path.key("alpha_cutoff");
+        if self.finite(&key, cutoff) && !(0.0..=1.0).contains(&cutoff) {
+            self.error(
+                &key,
+                format!("expected a number from 0 to 1, found {}", num(cutoff)),
+            );
+        }
+        let other = match &m.texture {
+            Some(TextureRef::Named(name)) => format!("the built-in `{name}`"),
+            Some(TextureRef::Checker(_)) => "a checker".to_string(),
+            _ => return,
+        };
+        self.error(
+            key,
+            format!("expected an image `texture` to read alpha from, found {other}, which has none; try texture = {{ image = \"leaf.png\" }}"),
+        );
     }
 
     /// The physically based keys: fractions within 0..1, a colour, and no

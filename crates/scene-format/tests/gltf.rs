@@ -265,6 +265,59 @@ fn a_required_extension_not_read_is_an_error() {
     );
 }
 
+/// The triangle's file with material `material` (JSON) on its primitive.
+fn with_material(material: &str) -> String {
+    triangle(ACCESSOR, VIEW, &buffer())
+        .replace(r#"{"POSITION": 0}}"#, r#"{"POSITION": 0}, "material": 0}"#)
+        .replacen('{', &format!(r#"{{"materials": [{material}], "#), 1)
+}
+
+#[test]
+fn alpha_modes_become_a_cutoff_on_the_texture_s_alpha() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("t.gltf");
+    // MASK compares factor x texel with the cutoff: the texel alone with
+    // cutoff / factor; BLEND is MASK at 0.5; OPAQUE and a cutoff of 0 cut
+    // nothing; a factor of 0 cuts everything.
+    for (material, cutoff) in [
+        (r#"{"alphaMode": "MASK"}"#, Some(0.5)),
+        (r#"{"alphaMode": "MASK", "alphaCutoff": 0.3}"#, Some(0.3)),
+        (
+            r#"{"alphaMode": "MASK", "alphaCutoff": 0.3, "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.5]}}"#,
+            Some(0.6),
+        ),
+        (r#"{"alphaMode": "BLEND", "alphaCutoff": 0.9}"#, Some(0.5)),
+        (r#"{"alphaMode": "OPAQUE", "alphaCutoff": 0.9}"#, None),
+        (r#"{"alphaMode": "MASK", "alphaCutoff": 0}"#, None),
+        (
+            r#"{"alphaMode": "MASK", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0]}}"#,
+            Some(f32::INFINITY),
+        ),
+    ] {
+        std::fs::write(&path, with_material(material)).unwrap();
+        let data = read_path(&path, &Pick::default()).unwrap();
+        assert_eq!(data.materials[0].alpha_cutoff, cutoff, "{material}");
+        let blend = data.warnings.iter().any(|(at, message)| {
+            *at == "materials[0].alphaMode" && message.contains("BLEND is read as MASK")
+        });
+        assert_eq!(blend, material.contains("BLEND"), "{material}");
+    }
+}
+
+#[test]
+fn a_wrong_alpha_mode_or_cutoff_is_refused_at_its_key() {
+    let (path, message) = fails(&with_material(r#"{"alphaMode": "CLIP"}"#), &[]);
+    assert_eq!(path, "materials[0].alphaMode");
+    assert!(message.contains(r#"found "CLIP""#), "{message}");
+    let mask = r#"{"alphaMode": "MASK", "alphaCutoff": -0.5}"#;
+    let (path, message) = fails(&with_material(mask), &[]);
+    assert_eq!(path, "materials[0].alphaCutoff");
+    assert!(
+        message.contains("expected a number >= 0, found -0.5"),
+        "{message}"
+    );
+}
+
 #[test]
 fn a_cycle_of_nodes_is_refused() {
     let json = triangle(ACCESSOR, VIEW, &buffer()).replace(

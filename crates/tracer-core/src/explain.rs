@@ -203,6 +203,8 @@ pub enum Outcome {
     Nearest { t: f32 },
     /// Met beyond the nearest hit.
     Farther { t: f32 },
+    /// Met where its material's alpha mask cuts it out: no hit.
+    Cutout { t: f32 },
     /// Met only behind the ray's origin (or within its epsilon of it).
     Behind { t: f32 },
     /// Not met.
@@ -451,8 +453,13 @@ fn tested(scene: &Scene, ray: &Ray, nearest: Option<(usize, f32)>) -> Option<Vec
         return None;
     }
     let tests = objects.iter().enumerate().map(|(k, o)| {
-        let forward = o.surface_hit(k, ray, EPSILON, f32::INFINITY).map(|h| h.t);
-        let outcome = match (forward, nearest) {
+        let forward = o.surface_hit(k, ray, EPSILON, f32::INFINITY);
+        let cut = forward.is_some_and(|h| {
+            let mask = scene.material(h.material).alpha_mask();
+            matches!(o.shape, Shape::Triangle(_)) && mask.is_some_and(|m| m.cuts(h.uv))
+        });
+        let outcome = match (forward.map(|h| h.t), nearest) {
+            (Some(t), _) if cut => Outcome::Cutout { t },
             (Some(t), Some((n, _))) if n == k => Outcome::Nearest { t },
             (Some(t), _) => Outcome::Farther { t },
             (None, _) => match behind(&o.shape, ray) {

@@ -9,6 +9,7 @@
 //! the ray counts), then `LinearImage::encode(scene.encoding())`.
 
 pub mod accel;
+pub mod alpha_mask;
 pub mod aov;
 pub mod bsdf;
 pub mod camera;

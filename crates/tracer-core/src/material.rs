@@ -2,6 +2,7 @@
 //! dispatches statically; the lab's Blinn-Phong is one variant, glass
 //! (Blinn-Phong with refraction) another.
 
+use crate::alpha_mask::AlphaMask;
 use crate::geometry::SurfaceHit;
 use crate::optics::{fresnel_reflectance, refract};
 use crate::texture::{ColorTexture, Texture};
@@ -36,6 +37,14 @@ impl Material {
         }
     }
 
+    /// Where the surface is cut out, if anywhere.
+    pub fn alpha_mask(&self) -> Option<&Arc<AlphaMask>> {
+        match self {
+            Material::Principled(p) => p.alpha_mask.as_ref(),
+            _ => self.surface().alpha_mask.as_ref(),
+        }
+    }
+
     /// The lab's surface colours (glass's seen from outside; a physically
     /// based material's Whitted-mode reading of them).
     pub fn surface(&self) -> &Phong {
@@ -52,6 +61,16 @@ impl Material {
     pub fn emission(&self) -> Vec3 {
         match self {
             Material::Principled(p) => p.emission,
+            _ => self.surface().emission,
+        }
+    }
+
+    /// The radiance given off on the front side, on average over the
+    /// surface (`emission` times its texture's mean): what the pick of a
+    /// light sample weighs it by, `light::Lights::pdf_hit`'s radiance.
+    pub fn emission_mean(&self) -> Vec3 {
+        match self {
+            Material::Principled(p) => p.emission_mean,
             _ => self.surface().emission,
         }
     }
@@ -232,10 +251,17 @@ pub struct PrincipledMaterial {
     /// Its blue multiplies `metallic`, its green `roughness` (glTF's
     /// packing), at each hit.
     pub metallic_roughness: Option<ColorTexture>,
-    /// Multiplies `emission` at each hit.
+    /// Multiplies `emission` at each hit (`with_emission_texture`).
     pub emission_texture: Option<ColorTexture>,
+    /// `emission` times the emission texture's mean colour: the radiance
+    /// given off on average, which a light's pick weighs
+    /// (`Material::emission_mean`); `emission` without a texture.
+    pub emission_mean: Vec3,
     /// Bends the shading normal (`Scene::closest_hit`).
     pub normal_map: Option<NormalMap>,
+    /// Where the surface is cut out (glTF's MASK): read by the BVH's
+    /// search (`Material::alpha_mask`), not by shading.
+    pub alpha_mask: Option<Arc<AlphaMask>>,
     /// Whitted mode's reading (`PrincipledMaterial::new`): the lab's kind.
     pub lab: Material,
 }
@@ -262,6 +288,7 @@ impl PrincipledMaterial {
             texture: None,
             color_texture: None,
             emission,
+            alpha_mask: None,
         };
         let transmittance = (1.0 - p.metallic) * p.transmission;
         let lab = if transmittance > 0.0 {
@@ -285,7 +312,9 @@ impl PrincipledMaterial {
             color_texture: None,
             metallic_roughness: None,
             emission_texture: None,
+            emission_mean: emission,
             normal_map: None,
+            alpha_mask: None,
             lab,
         }
     }
@@ -362,6 +391,15 @@ impl PrincipledMaterial {
         })
     }
 
+    /// The same material with `texture` on its emission, whose texels'
+    /// mean colour is `mean` (`ColorTexture::mean`, worked out once per
+    /// image by the caller).
+    pub fn with_emission_texture(mut self, texture: ColorTexture, mean: Vec3) -> Self {
+        self.emission_texture = Some(texture);
+        self.emission_mean = self.emission * mean;
+        self
+    }
+
     /// The same material with a colour texture on `base_color` (and on the
     /// diffuse colour of its Whitted-mode reading).
     pub fn with_color_texture(mut self, texture: ColorTexture) -> PrincipledMaterial {
@@ -392,6 +430,9 @@ pub struct Phong {
     /// Radiance given off on the front side (where the geometric normal
     /// points): an area light in path mode, a colour seen in Whitted mode.
     pub emission: Vec3,
+    /// Where the surface is cut out (`alpha_cutoff`): read by the BVH's
+    /// search (`Material::alpha_mask`), not by shading.
+    pub alpha_mask: Option<Arc<AlphaMask>>,
 }
 
 impl Phong {
@@ -423,6 +464,7 @@ impl Phong {
             texture: None,
             color_texture: None,
             emission: Vec3::ZERO,
+            alpha_mask: None,
         }
     }
 }

@@ -1,6 +1,7 @@
 //! From a validated scene file to the scene a render reads: the one place
 //! where the core reads the file format's types.
 
+use crate::alpha_mask::AlphaMask;
 use crate::bsdf::principled::Principled;
 use crate::camera::Camera;
 use crate::geometry::{
@@ -20,7 +21,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 mod gltf;
-pub use gltf::model_extent;
+pub use gltf::{mesh_sharing, model_extent, MeshSharing};
 
 /// Why a scene file could not be prepared. `scene_format`'s validation
 /// reports these first, with their place in the file; here they are the
@@ -80,7 +81,7 @@ fn parts_named(file: &fmt::SceneFile) -> Result<(SceneParts, Names), PrepareErro
         let made = match shared[i] {
             Some(group) => {
                 meshes.resize(meshes.len().max(group + 1), None);
-                instance(o, material, &mtl, &mut meshes[group])
+                instance(o, (material, &mtl), &materials, &mut meshes[group])
             }
             None => shapes(&path, o, material, &mtl)?,
         };
@@ -116,39 +117,61 @@ fn parts_named(file: &fmt::SceneFile) -> Result<(SceneParts, Names), PrepareErro
 /// them becomes an instance of it, with its own transform and materials
 /// (the triangles hold material slots, so materials need not match).
 /// Everything else about a mesh object's triangles but the transform is
-/// the file's and `smooth`'s, so nothing else needs to match. A mesh named
+/// the file's and `smooth`'s, so nothing else needs to match, but for
+/// their holes: objects whose material has an `alpha_cutoff` share the
+/// mesh only with objects of the same masks (`mask_key`). A mesh named
 /// once stays flattened into world-space triangles (the tracer's fastest
 /// case, and the images made before instancing stay bit for bit), and so
 /// does an object whose transform cannot be undone in f32. Groups are
 /// numbered in file order.
 pub fn shared_meshes(file: &fmt::SceneFile) -> Vec<Option<usize>> {
-    let keys: Vec<Option<(usize, Option<bool>)>> = file
+    type Key = (usize, Option<bool>, Option<String>);
+    let keys: Vec<Option<Key>> = file
         .objects
         .iter()
-        .map(|o| {
+        .enumerate()
+        .map(|(i, o)| {
             let shapes = o.shapes();
             let [fmt::ShapeRef::Mesh(m)] = shapes.as_slice() else {
                 return None;
             };
             let data = m.data.as_ref()?;
             placement(o.transform.as_ref()).inverse()?;
-            Some((Arc::as_ptr(data) as usize, m.smooth))
+            Some((Arc::as_ptr(data) as usize, m.smooth, mask_key(file, i, o)))
         })
         .collect();
-    let mut counts: HashMap<(usize, Option<bool>), usize> = HashMap::new();
+    let mut counts: HashMap<&Key, usize> = HashMap::new();
     for key in keys.iter().flatten() {
-        *counts.entry(*key).or_default() += 1;
+        *counts.entry(key).or_default() += 1;
     }
-    let mut groups: HashMap<(usize, Option<bool>), usize> = HashMap::new();
+    let mut groups: HashMap<&Key, usize> = HashMap::new();
     keys.iter()
         .map(|key| {
-            let key = (*key)?;
-            (counts[&key] >= 2).then(|| {
+            let key = key.as_ref()?;
+            (counts[key] >= 2).then(|| {
                 let next = groups.len();
                 *groups.entry(key).or_insert(next)
             })
         })
         .collect()
+}
+
+/// What makes the holes of object `o`'s (index `i`) mesh its own: None
+/// when its material has no `alpha_cutoff` (an OBJ's MTL materials have
+/// none); the material's name when it is named and the object adds no
+/// texture (each such object cuts the same holes); else the object (its
+/// material is made for it alone).
+fn mask_key(file: &fmt::SceneFile, i: usize, o: &fmt::Object) -> Option<String> {
+    let material = match &o.material {
+        Some(fmt::MaterialRef::Named(name)) => file.materials.get(name),
+        Some(fmt::MaterialRef::Inline(m)) => Some(m),
+        None => None,
+    };
+    material?.alpha_cutoff?;
+    Some(match (&o.material, &o.texture) {
+        (Some(fmt::MaterialRef::Named(name)), None) => format!("materials.{name}"),
+        _ => format!("objects[{i}]"),
+    })
 }
 
 /// How many of mesh or glTF object `o`'s triangles give off light (its
@@ -182,12 +205,13 @@ pub fn emitting_triangles(file: &fmt::SceneFile, o: &fmt::Object) -> usize {
 }
 
 /// Mesh object `o` as an instance of its group's shared mesh (prepared
-/// here when `mesh` holds none yet), with material `material` and its
-/// faces' MTL materials `mtl`; nothing when its mesh has no triangle.
+/// here when `mesh` holds none yet, cut where the masks of `materials`
+/// cut it), with material `material` and its faces' MTL materials `mtl`;
+/// nothing when its mesh has no triangle.
 fn instance(
     o: &fmt::Object,
-    material: usize,
-    mtl: &[usize],
+    (material, mtl): (usize, &[usize]),
+    materials: &MaterialTable,
     mesh: &mut Option<Arc<SharedMesh>>,
 ) -> Vec<Object> {
     let Some(m) = o.mesh.as_ref() else {
@@ -196,11 +220,14 @@ fn instance(
     let Some(data) = m.data.as_ref() else {
         return Vec::new();
     };
-    let mesh = mesh.get_or_insert_with(|| Arc::new(shared_mesh(data, m.smooth)));
     // Slot 0 is the object's material, slot 1 + k the MTL's material k:
     // what `FaceMaterials::of` picks for a flattened mesh.
     let slots = (0..data.materials.len()).map(|k| mtl.get(k).copied().unwrap_or(material));
-    let table = std::iter::once(material).chain(slots).collect();
+    let table: Vec<usize> = std::iter::once(material).chain(slots).collect();
+    // The group's objects have the same masks (`shared_meshes`).
+    let mesh = mesh.get_or_insert_with(|| {
+        Arc::new(shared_mesh(data, m.smooth).with_masks(materials.masks(&table)))
+    });
     let placement = placement(o.transform.as_ref());
     let instance = Instance::new(Arc::clone(mesh), placement, table);
     instance
@@ -730,6 +757,8 @@ struct MaterialTable<'a> {
     /// Decoded images by the address of the file's data and whether they
     /// are sRGB colours: each file is decoded to linear once each way.
     images: HashMap<(usize, bool), Arc<ImageTexels>>,
+    /// The mean colours of emission textures' images, by their address.
+    means: HashMap<usize, Vec3>,
 }
 
 /// What a texture does to a material.
@@ -749,6 +778,7 @@ impl<'a> MaterialTable<'a> {
             by_key: HashMap::new(),
             textures: HashMap::new(),
             images: HashMap::new(),
+            means: HashMap::new(),
         }
     }
 
@@ -783,11 +813,15 @@ impl<'a> MaterialTable<'a> {
             .entry((Arc::as_ptr(data) as usize, srgb))
             .or_insert_with(|| {
                 let (w, h) = (data.width, data.height);
-                Arc::new(match (&data.texels, srgb) {
+                let texels = match (&data.texels, srgb) {
                     (fmt::Texels::Bytes(t), true) => ImageTexels::from_srgb8(w, h, t.clone()),
                     (fmt::Texels::Floats(t), true) => ImageTexels::from_srgb(w, h, t),
                     (fmt::Texels::Bytes(t), false) => ImageTexels::from_raw8(w, h, t.clone()),
                     (fmt::Texels::Floats(t), false) => ImageTexels::from_raw(w, h, t),
+                };
+                Arc::new(match &data.alpha {
+                    Some(alpha) => texels.with_alpha(Arc::clone(alpha)),
+                    None => texels,
                 })
             })
             .clone();
@@ -853,6 +887,23 @@ impl<'a> MaterialTable<'a> {
         Ok(surface)
     }
 
+    /// The mean colour of `texture`, each image's worked out once.
+    fn mean(&mut self, texture: &ColorTexture) -> Vec3 {
+        match texture {
+            ColorTexture::Image { texels, .. } => *self
+                .means
+                .entry(Arc::as_ptr(texels) as usize)
+                .or_insert_with(|| texels.mean()),
+            checker => checker.mean(),
+        }
+    }
+
+    /// The alpha masks of materials `indices`, in order.
+    fn masks(&self, indices: &[usize]) -> Vec<Option<Arc<AlphaMask>>> {
+        let mask = |&m: &usize| self.materials[m].alpha_mask().cloned();
+        indices.iter().map(mask).collect()
+    }
+
     fn push(&mut self, material: Material, name: String) -> usize {
         self.materials.push(material);
         self.names.push(name);
@@ -880,8 +931,10 @@ impl<'a> MaterialTable<'a> {
             texture: None,
             color_texture: None,
             emission: m.emission.into(),
+            alpha_mask: None,
         };
-        let surface = self.textured(path, surface, texture.or(m.texture.as_ref()))?;
+        let mut surface = self.textured(path, surface, texture.or(m.texture.as_ref()))?;
+        surface.alpha_mask = alpha_mask(m, surface.color_texture.as_ref());
         if m.transmittance == 0.0 && !m.fresnel {
             return Ok(Material::Phong(surface));
         }
@@ -918,7 +971,11 @@ impl<'a> MaterialTable<'a> {
         let mr = m.metallic_roughness_texture.as_ref();
         material.metallic_roughness = self.data_texture(path, mr, false)?;
         let emission = m.emission_texture.as_ref();
-        material.emission_texture = self.data_texture(path, emission, true)?;
+        if let Some(texture) = self.data_texture(path, emission, true)? {
+            let mean = self.mean(&texture);
+            material = material.with_emission_texture(texture, mean);
+        }
+        material.alpha_mask = alpha_mask(m, material.color_texture.as_ref());
         let normals = self.data_texture(path, m.normal_texture.as_ref(), false)?;
         material.normal_map = normals.map(|texture| NormalMap {
             texture,
@@ -1000,6 +1057,13 @@ impl<'a> MaterialTable<'a> {
         }
         Ok(indices)
     }
+}
+
+/// Where material `m` with colour texture `texture` is cut out: by its
+/// `alpha_cutoff`, on the texture's alpha.
+fn alpha_mask(m: &fmt::Material, texture: Option<&ColorTexture>) -> Option<Arc<AlphaMask>> {
+    let cutoff = m.alpha_cutoff?;
+    AlphaMask::new(texture.cloned(), cutoff).map(Arc::new)
 }
 
 /// The file's wrap mode in the core's terms.
@@ -1222,6 +1286,7 @@ mod texture_tests {
             width: 2,
             height: 2,
             texels: fmt::Texels::Bytes(bytes.clone()),
+            alpha: None,
         }));
         let scene = prepare(&file).unwrap();
         // The test's, the model's, and the tracer's.

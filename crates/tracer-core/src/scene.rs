@@ -3,13 +3,14 @@
 
 use crate::accel::{brute_force, Bvh};
 use crate::camera::Camera;
-use crate::geometry::{Object, Shape, SharedMesh, Sphere, SurfaceHit};
+use crate::geometry::{Object, Shape, SharedMesh, Sphere, SurfaceHit, UvMap};
 use crate::image::Encoding;
 use crate::integrate::lanes::LaneScene;
 use crate::integrate::matte_lanes::MatteLanes;
 use crate::light::area::{AreaShape, EllipsoidLight};
 use crate::light::environment::Environment;
 use crate::light::lights::{AreaLight, Emits, Lights, PointSource};
+use crate::light::textured::{EmittingSurface, LightTexture, UvAt};
 use crate::light::Light;
 use crate::material::{Material, Phong};
 use crate::ray::Ray;
@@ -173,7 +174,14 @@ impl Scene {
             parts.objects.iter().all(in_range),
             "an object's material index is out of range"
         );
-        let bvh = Bvh::build(&parts.objects);
+        let masks: Vec<_> = parts
+            .materials
+            .iter()
+            .map(|m| m.alpha_mask().cloned())
+            .collect();
+        // The lanes' own searches know no masks.
+        let masked = masks.iter().any(Option::is_some);
+        let bvh = Bvh::build(&parts.objects).with_masks(masks);
         let bounds = bvh.bounds();
         let accel = Accel::Bvh(bvh);
         let transparency = parts.materials.iter().any(Material::is_transparent);
@@ -182,7 +190,7 @@ impl Scene {
             .iter()
             .any(|m| matches!(m, Material::Principled(p) if p.normal_map.is_some()));
         // The lanes see the background colour only.
-        let lanes = if path_mode || parts.environment.is_some() {
+        let lanes = if path_mode || parts.environment.is_some() || masked {
             None
         } else {
             LaneScene::new(&parts.objects, &parts.materials, &parts.lights).map(Box::new)
@@ -192,7 +200,7 @@ impl Scene {
         } else {
             Lights::default()
         });
-        let matte_lanes = path_mode
+        let matte_lanes = (path_mode && !masked)
             .then(|| {
                 let (objects, materials) = (&parts.objects, &parts.materials);
                 MatteLanes::new(objects, materials, &parts.lights, &path_lights)
@@ -500,13 +508,24 @@ fn path_lights(parts: &SceneParts, bounds: Option<(Vec3, Vec3)>) -> Lights {
         })
         .collect();
     let emission = |material: usize| parts.materials[material].emission();
+    // What varies over each material's emitting triangles, if anything.
+    let surfaces: Vec<Option<Arc<EmittingSurface>>> = (parts.materials.iter())
+        .map(|m| EmittingSurface::of(m, true).map(Arc::new))
+        .collect();
+    let emitter = |corners, material: usize, uv| Emitter {
+        corners,
+        radiance: emission(material),
+        uv,
+        surface: surfaces[material].clone(),
+    };
     let mut triangles = Vec::new();
     let mut areas = Vec::new();
     let mut sphere_objects = Vec::new();
     for (index, object) in parts.objects.iter().enumerate() {
         match &object.shape {
             Shape::Triangle(t) if emission(object.material) != Vec3::ZERO => {
-                triangles.push(([t.v0, t.v1, t.v2], emission(object.material)));
+                let corners = [t.v0, t.v1, t.v2];
+                triangles.push(emitter(corners, object.material, object.uv_map()));
             }
             Shape::Instance(instance) => {
                 for o in instance.mesh().objects() {
@@ -516,7 +535,17 @@ fn path_lights(parts: &SceneParts, bounds: Option<(Vec3, Vec3)>) -> Lights {
                     let slots = instance.materials();
                     let material = *slots.get(o.material).unwrap_or(&slots[0]);
                     if emission(material) != Vec3::ZERO {
-                        triangles.push((instance.world_triangle(t), emission(material)));
+                        // A mirroring placement swaps the last two corners.
+                        let uv = o.uv_map();
+                        let uv = match instance.mirrors() {
+                            true => UvMap {
+                                du: uv.dv,
+                                dv: uv.du,
+                                ..uv
+                            },
+                            false => uv,
+                        };
+                        triangles.push(emitter(instance.world_triangle(t), material, uv));
                     }
                 }
             }
@@ -525,7 +554,17 @@ fn path_lights(parts: &SceneParts, bounds: Option<(Vec3, Vec3)>) -> Lights {
         if let Shape::Sphere(s) = &object.shape {
             let radiance = emission(object.material);
             if let Some(shape) = round_light(s).filter(|_| radiance != Vec3::ZERO) {
-                areas.push(AreaLight { shape, radiance });
+                let mut light = AreaLight::new(shape, radiance);
+                // Masks cut no sphere: only the texture varies over one.
+                let surface = EmittingSurface::of(&parts.materials[object.material], false);
+                light.texture = surface.map(|surface| {
+                    let uv = UvAt::Sphere(Box::new(s.clone()));
+                    Box::new(LightTexture {
+                        surface: Arc::new(surface),
+                        uv,
+                    })
+                });
+                areas.push(light);
                 sphere_objects.push(index as u32);
             }
         }
@@ -550,28 +589,67 @@ fn round_light(s: &Sphere) -> Option<AreaShape> {
     }
 }
 
+/// An emitting triangle: its corners, radiance (the factor of a
+/// texture), the map of its barycentrics to uv, and what varies over it.
+struct Emitter {
+    corners: [Vec3; 3],
+    radiance: Vec3,
+    uv: UvMap,
+    surface: Option<Arc<EmittingSurface>>,
+}
+
 /// Emitting triangles as area lights, each pair that is a quad's two
 /// halves (as `prepare` cuts a quad or a box's face: (c, c + u, c + v)
-/// then (c + u + v, c + v, c + u), of one radiance) as one parallelogram.
-fn flat_lights(triangles: &[([Vec3; 3], Vec3)]) -> Vec<AreaLight> {
+/// then (c + u + v, c + v, c + u), of one radiance, and of one texture
+/// laid evenly over both) as one parallelogram.
+fn flat_lights(triangles: &[Emitter]) -> Vec<AreaLight> {
     let mut lights = Vec::with_capacity(triangles.len());
     let mut k = 0;
     while k < triangles.len() {
-        let ([a, b, c], radiance) = triangles[k];
-        let halves = triangles.get(k + 1).filter(|(second, r)| {
-            *r == radiance && second[1] == c && second[2] == b && {
-                let far = b + c - a;
-                (second[0] - far).length() <= 1e-5 * (b - a).length().max((c - a).length())
-            }
+        let first = &triangles[k];
+        let ([a, b, c], radiance) = (first.corners, first.radiance);
+        let halves = triangles.get(k + 1).filter(|second| {
+            let s = second.corners;
+            second.radiance == radiance
+                && s[1] == c
+                && s[2] == b
+                && {
+                    let far = b + c - a;
+                    (s[0] - far).length() <= 1e-5 * (b - a).length().max((c - a).length())
+                }
+                && one_texture(first, second)
         });
         let shape = match halves {
             Some(_) => AreaShape::parallelogram(a, b - a, c - a),
             None => AreaShape::triangle(a, b - a, c - a),
         };
-        lights.extend(shape.map(|shape| AreaLight { shape, radiance }));
+        lights.extend(shape.map(|shape| AreaLight {
+            shape,
+            radiance,
+            // A parallelogram's (s, t) are its first half's barycentrics.
+            texture: first.surface.clone().map(|surface| {
+                let uv = UvAt::Map(first.uv);
+                Box::new(LightTexture { surface, uv })
+            }),
+        }));
         k += if halves.is_some() { 2 } else { 1 };
     }
     lights
+}
+
+/// Whether a quad's two halves (`flat_lights`) have nothing varying over
+/// them, or one surface whose uv runs on across both: the second's map is
+/// the first's at (1 - b1, 1 - b2).
+fn one_texture(first: &Emitter, second: &Emitter) -> bool {
+    match (&first.surface, &second.surface) {
+        (None, None) => true,
+        (Some(s1), Some(s2)) if Arc::ptr_eq(s1, s2) => {
+            let (m1, m2) = (first.uv, second.uv);
+            let near = |a: Vec2, b: Vec2| (a - b).length() <= 1e-5 * (1.0 + a.length());
+            near(m2.origin, m1.origin + m1.du + m1.dv) && near(m2.du, -m1.du) && near(m2.dv, -m1.dv)
+        }
+        _ => false,
+    }
 }
 
 /// The objects, and each shared mesh's triangles once.

@@ -164,6 +164,9 @@ pub struct ImageTexels {
     width: u32,
     height: u32,
     texels: Linear,
+    /// Each texel's alpha byte (v / 255), if the image has some below 255:
+    /// what an `AlphaMask` reads.
+    alpha: Option<Arc<Vec<u8>>>,
 }
 
 /// An image's linear texels: an 8-bit image's sRGB bytes, decoded at each
@@ -236,7 +239,24 @@ impl ImageTexels {
             width,
             height,
             texels,
+            alpha: None,
         }
+    }
+
+    /// The same image with `alpha`, a byte per texel (v / 255, row by row
+    /// from the top), shared with the scene's model. Panics unless there
+    /// are `width * height`.
+    pub fn with_alpha(self, alpha: Arc<Vec<u8>>) -> Self {
+        assert_eq!(alpha.len(), self.texels.len(), "alpha count");
+        ImageTexels {
+            alpha: Some(alpha),
+            ..self
+        }
+    }
+
+    /// Whether the image has alpha (some texel below 255).
+    pub fn has_alpha(&self) -> bool {
+        self.alpha.is_some()
     }
 
     /// The texel at column `x`, row `y`, wrapped into the image.
@@ -279,6 +299,43 @@ impl ImageTexels {
         let bottom = texel(i, j1).lerp(texel(i1, j1), fx);
         top.lerp(bottom, fy)
     }
+
+    /// The alpha at `uv` (0 to 1), interpolated as `bilinear2` interpolates
+    /// colours; 1 for an image without alpha.
+    pub fn alpha2(&self, uv: Vec2, [wrap_u, wrap_v]: [Wrap; 2]) -> f32 {
+        let Some(alpha) = &self.alpha else {
+            return 1.0;
+        };
+        let x = uv.x * self.width as f32 - 0.5;
+        let y = (1.0 - uv.y) * self.height as f32 - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let (i, j) = (x0 as i64, y0 as i64);
+        let (w, h) = (i64::from(self.width), i64::from(self.height));
+        let texel = |x: i64, y: i64| {
+            let k = wrap_v.index(y, h) * w + wrap_u.index(x, w);
+            f32::from(alpha[k as usize]) / 255.0
+        };
+        let (i1, j1) = (i.saturating_add(1), j.saturating_add(1));
+        let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
+        let top = lerp(texel(i, j), texel(i1, j), fx);
+        let bottom = lerp(texel(i, j1), texel(i1, j1), fx);
+        lerp(top, bottom, fy)
+    }
+
+    /// The mean colour of the texels: what a texture that covers a
+    /// surface evenly gives off on average (an emission texture's share
+    /// of its light's power).
+    pub fn mean(&self) -> Vec3 {
+        let (w, h) = (i64::from(self.width), i64::from(self.height));
+        let mut sum = glam::DVec3::ZERO;
+        for y in 0..h {
+            for x in 0..w {
+                sum += self.texel2(x, y, Wrap::Clamp, Wrap::Clamp).as_dvec3();
+            }
+        }
+        (sum / (w * h) as f64).as_vec3()
+    }
 }
 
 /// A colour over a surface's uv that multiplies the ambient and diffuse
@@ -310,6 +367,46 @@ pub struct Place {
 }
 
 impl ColorTexture {
+    /// The texture's alpha at `uv` (0 to 1): an image's, read where
+    /// `color` reads its colour; 1 where there is none (a checker, an
+    /// image without alpha).
+    pub fn alpha(&self, uv: Vec2) -> f32 {
+        match self {
+            ColorTexture::Image {
+                texels,
+                scale,
+                wrap,
+                place: None,
+            } => texels.alpha2(uv * *scale, [*wrap, *wrap]),
+            ColorTexture::Image {
+                texels,
+                scale,
+                wrap,
+                place: Some(p),
+            } => {
+                let s = uv * *scale;
+                let (c, n) = (p.turn.x, p.turn.y);
+                let at = Vec2::new(c * s.x - n * s.y, n * s.x + c * s.y) + p.offset;
+                texels.alpha2(at, [*wrap, p.wrap_v])
+            }
+            ColorTexture::Checker { .. } => 1.0,
+        }
+    }
+
+    /// Whether some of the texture's alpha is below 1.
+    pub fn has_alpha(&self) -> bool {
+        matches!(self, ColorTexture::Image { texels, .. } if texels.has_alpha())
+    }
+
+    /// The mean of its colours: an image's texels' mean, a checker's two
+    /// colours' (each covers half of any whole number of squares).
+    pub fn mean(&self) -> Vec3 {
+        match self {
+            ColorTexture::Image { texels, .. } => texels.mean(),
+            ColorTexture::Checker { colors, .. } => (colors[0] + colors[1]) / 2.0,
+        }
+    }
+
     /// The texture's colour at `uv`.
     pub fn color(&self, uv: Vec2) -> Vec3 {
         match self {
@@ -343,9 +440,11 @@ impl ImageTexels {
     /// Whether an image read back from a file (`--cache`) has the texels
     /// its size says.
     pub(crate) fn is_whole(&self) -> bool {
+        let count = u64::from(self.width) * u64::from(self.height);
         self.width > 0
             && self.height > 0
-            && self.texels.len() as u64 == u64::from(self.width) * u64::from(self.height)
+            && self.texels.len() as u64 == count
+            && self.alpha.as_ref().is_none_or(|a| a.len() as u64 == count)
     }
 }
 
@@ -485,6 +584,44 @@ mod tests {
 
     fn grey_at(image: &ImageTexels, u: f32, wrap: Wrap) -> f32 {
         image.bilinear(Vec2::new(u, 0.5), wrap).x
+    }
+
+    #[test]
+    fn alpha_is_read_where_the_colour_is_whatever_the_placement() {
+        // Data texels whose red is the alpha byte: the two lookups, by
+        // one placement, must agree everywhere.
+        let bytes: Vec<u8> = (0..12u8).map(|k| k * 21).collect();
+        let texels = bytes.iter().map(|&a| [a, 0, 0]).collect();
+        let image = ImageTexels::from_raw8(4, 3, Arc::new(texels)).with_alpha(Arc::new(bytes));
+        let placed = |place| ColorTexture::Image {
+            texels: Arc::new(image.clone()),
+            scale: Vec2::new(1.5, 0.75),
+            wrap: Wrap::Mirror,
+            place,
+        };
+        let turned = Some(Box::new(Place {
+            turn: Vec2::new(0.6, 0.8),
+            offset: Vec2::new(0.3, -0.2),
+            wrap_v: Wrap::Clamp,
+        }));
+        for texture in [placed(None), placed(turned)] {
+            for k in 0..200 {
+                let uv = Vec2::new(k as f32 * 0.037 - 2.0, (k * 7 % 23) as f32 * 0.11 - 1.0);
+                let (alpha, red) = (texture.alpha(uv), texture.color(uv).x);
+                assert!((alpha - red).abs() < 1e-6, "{uv}: {alpha} against {red}");
+            }
+        }
+        // At a texel's centre, its own byte.
+        let plain = placed(None);
+        let centre = Vec2::new(2.5 / 4.0 / 1.5, (1.0 - 1.5 / 3.0) / 0.75);
+        assert!((plain.alpha(centre) - 6.0 * 21.0 / 255.0).abs() < 1e-6);
+        // A checker, or an image without alpha: 1.
+        let checker = ColorTexture::Checker {
+            colors: [Vec3::ZERO; 2],
+            scale: Vec2::ONE,
+        };
+        assert_eq!(checker.alpha(Vec2::splat(0.3)), 1.0);
+        assert!(!checker.has_alpha() && plain.has_alpha());
     }
 
     #[test]

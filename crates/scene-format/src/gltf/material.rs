@@ -127,24 +127,57 @@ pub(crate) fn read(
         }
         material.normal_strength = Some(t.scale);
     }
-    match m.alpha_mode.as_deref() {
-        None | Some("OPAQUE") => {}
-        Some("MASK") => warnings.push((
-            at.key("alphaMode"),
-            "MASK is not read yet: the surface is rendered opaque, cut-outs included".to_string(),
-        )),
-        Some("BLEND") => warnings.push((
-            at.key("alphaMode"),
-            "BLEND is rendered opaque (alpha blending has no meaning for a path tracer; use KHR_materials_transmission for glass)".to_string(),
-        )),
+    material.alpha_cutoff = alpha_cutoff(m, &at, warnings)?;
+    Ok(material)
+}
+
+/// The material's `alpha_cutoff`: MASK's `alphaCutoff` (0.5 when left
+/// out) over the base colour factor's alpha, so that the texture's alpha
+/// alone is compared with it (the spec's factor x texel < cutoff); BLEND
+/// read as MASK at 0.5, with a warning; none for OPAQUE, or where nothing
+/// can be below the cutoff.
+fn alpha_cutoff(
+    m: &doc::Material,
+    at: &KeyPath,
+    warnings: &mut Vec<(KeyPath, String)>,
+) -> Result<Option<f32>, Failure> {
+    let cutoff = match m.alpha_mode.as_deref() {
+        None | Some("OPAQUE") => return Ok(None),
+        Some("MASK") => {
+            let cutoff = m.alpha_cutoff.unwrap_or(0.5);
+            if !(cutoff >= 0.0 && cutoff.is_finite()) {
+                return Err(Failure::at(
+                    at.key("alphaCutoff"),
+                    format!("expected a number >= 0, found {cutoff}"),
+                ));
+            }
+            cutoff
+        }
+        Some("BLEND") => {
+            let named = match &m.name {
+                Some(name) => format!("material {name:?}: "),
+                None => String::new(),
+            };
+            warnings.push((
+                at.key("alphaMode"),
+                format!("{named}BLEND is read as MASK with alphaCutoff 0.5: the surface is there where its alpha is at least 0.5 and cut out elsewhere (a path tracer has nothing to blend; for glass use KHR_materials_transmission)"),
+            ));
+            0.5
+        }
         Some(other) => {
             return Err(Failure::at(
                 at.key("alphaMode"),
                 format!("expected \"OPAQUE\", \"MASK\" or \"BLEND\", found {other:?}"),
             ))
         }
-    }
-    Ok(material)
+    };
+    let factor = m.pbr_metallic_roughness.base_color_factor[3];
+    Ok(match (cutoff > 0.0, factor > 0.0) {
+        (false, _) => None,
+        (true, true) => Some(cutoff / factor),
+        // A factor of 0 leaves no alpha at the cutoff: all of it is cut.
+        (true, false) => Some(f32::INFINITY),
+    })
 }
 
 /// A textureInfo's index, texCoord and transform.

@@ -34,6 +34,10 @@ impl Bvh {
         for plane in &self.planes {
             material(plane.material, "a plane")?;
         }
+        let masks = self.masks.iter().flat_map(|m| m.iter().flatten());
+        if masks.into_iter().any(|m| !m.is_whole()) {
+            return Err("an alpha mask's image of the wrong size".into());
+        }
         Ok(())
     }
 

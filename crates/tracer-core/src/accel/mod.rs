@@ -26,11 +26,13 @@ mod check;
 mod flat;
 mod instances;
 mod leaves;
+mod masked;
 mod packet;
 mod traverse;
 mod tri4;
 mod wide;
 
+use crate::alpha_mask::AlphaMask;
 use crate::geometry::{Object, Plane, Shape, SurfaceHit, UvMap};
 use crate::ray::Ray;
 use build::{BuildPrim, PrimStore};
@@ -40,6 +42,7 @@ use leaves::{pack_leaves, SpherePrim};
 pub use packet::PACKET;
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
+use std::sync::Arc;
 use traverse::{walk_any, walk_nearest, with_stack, Best, Entry, HitAt, RayData};
 use tri4::{Ray4, Tri4};
 use wide::{Node, SPHERE_LEAF};
@@ -67,6 +70,9 @@ pub struct Bvh {
     tangents: Vec<(u32, [glam::Vec4; 3])>,
     /// The objects' exact bounds (the nodes' boxes are padded).
     bounds: Option<(Vec3, Vec3)>,
+    /// Where triangles are cut out, by the material index their blocks
+    /// hold (`with_masks`); None in most scenes, whose search never looks.
+    masks: Option<Box<[Option<Arc<AlphaMask>>]>>,
     /// The instances, in a tree of their own. Never serialized: a mesh
     /// shared by instances would be written once for each (the scene's
     /// serialization refuses a tree that has instances).
@@ -331,6 +337,9 @@ impl Bvh {
         best: &mut Best,
     ) {
         let (mut mask, t, [u, v]) = found;
+        if self.masks.is_some() {
+            mask = self.uncut(block, mask, [u, v]);
+        }
         while mask != 0 {
             let lane = mask.trailing_zeros() as usize;
             mask &= mask - 1;
@@ -402,6 +411,12 @@ impl Bvh {
     /// Whether one of triangle blocks `run` lies on the ray in (t_min, t_max).
     #[inline(always)]
     fn any_block(&self, run: Range<usize>, ray4: &Ray4, t_min: f32, t_max: f32) -> bool {
+        if self.masks.is_some() {
+            return run.into_iter().any(|block| {
+                let (hits, _, uv) = self.tris[block].intersect(ray4, t_min, t_max);
+                hits != 0 && self.uncut(block, hits, uv) != 0
+            });
+        }
         self.tris[run]
             .iter()
             .any(|tris| tris.intersect(ray4, t_min, t_max).0 != 0)

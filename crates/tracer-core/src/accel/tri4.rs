@@ -67,6 +67,12 @@ impl Tri4 {
         std::array::from_fn(|lane| (self.material[lane], self.edge_scale[lane].is_finite()))
     }
 
+    /// Lane `lane`'s material.
+    #[inline(always)]
+    pub(super) fn material(&self, lane: usize) -> u32 {
+        self.material[lane]
+    }
+
     pub(super) const EMPTY: Tri4 = Tri4 {
         v0: [Vec4::ZERO; 3],
         e1: [Vec4::ZERO; 3],

@@ -7,6 +7,7 @@
 
 use super::{Object, Placement, Shape, SurfaceHit};
 use crate::accel::{brute_force, Bvh};
+use crate::alpha_mask::AlphaMask;
 use crate::ray::Ray;
 use glam::{Mat3, Vec3};
 use std::sync::Arc;
@@ -29,6 +30,18 @@ impl SharedMesh {
         objects.retain(|o| matches!(o.shape, Shape::Triangle(_)));
         let bvh = Bvh::build(&objects);
         SharedMesh { objects, bvh }
+    }
+
+    /// The same mesh, its triangles cut out where `masks[slot]` cuts them
+    /// (`Bvh::with_masks`): the masks of the materials its instances give
+    /// the slots, the same for all of them (`prepare` makes a mesh apart
+    /// for instances whose masks differ). The brute-force reference
+    /// (`Instance::intersect`) knows no masks.
+    pub fn with_masks(self, masks: Vec<Option<Arc<AlphaMask>>>) -> SharedMesh {
+        SharedMesh {
+            bvh: self.bvh.with_masks(masks),
+            ..self
+        }
     }
 
     /// The primitives, in the mesh's coordinates.
@@ -120,6 +133,12 @@ impl Instance {
         } else {
             [a, b, c]
         }
+    }
+
+    /// Whether the placement mirrors, so that `world_triangle` gives a
+    /// triangle's corners in the order (v0, v2, v1).
+    pub fn mirrors(&self) -> bool {
+        self.to_world.mirrors()
     }
 
     /// `ray` in the mesh's coordinates; its direction keeps the scale the

@@ -663,7 +663,9 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         }
         let cos = -ray.dir().dot(hit.geometric_normal);
         let lights = self.scene.path_lights();
-        let light_pdf = lights.pdf_hit(bounce.from, p, cos, emission, hit.object);
+        // The pick weighs a light by its mean radiance, not this point's.
+        let mean = material.emission_mean();
+        let light_pdf = lights.pdf_hit(bounce.from, p, cos, mean, hit.object);
         (emission, power_heuristic(bounce.pdf, light_pdf))
     }
 

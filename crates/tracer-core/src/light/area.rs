@@ -122,6 +122,10 @@ pub struct AreaPoint {
     pub distance: f32,
     /// The density of `wi` (solid angle) given this shape was picked.
     pub pdf: f32,
+    /// Where on the shape: a triangle's barycentric (b1, b2) (the weights
+    /// of `e1` and `e2`), a parallelogram's (s, t); zero on a sphere or
+    /// ellipsoid (`point` says). What an emission texture is read by.
+    pub at: Vec2,
 }
 
 impl AreaShape {
@@ -175,7 +179,11 @@ impl AreaShape {
             } => {
                 let b = square_to_triangle((u.x, u.y));
                 let point = flat_shape_point(V3::from(*v0), (V3::from(*e1), V3::from(*e2)), b);
-                flat_point(point.into(), *normal, *area, from)
+                let p = flat_point(point.into(), *normal, *area, from)?;
+                Some(AreaPoint {
+                    at: Vec2::new(b.0, b.1),
+                    ..p
+                })
             }
             AreaShape::Parallelogram {
                 corner,
@@ -186,7 +194,8 @@ impl AreaShape {
             } => {
                 let (e1, e2) = (V3::from(*e1), V3::from(*e2));
                 let point = flat_shape_point(V3::from(*corner), (e1, e2), (u.x, u.y));
-                flat_point(point.into(), *normal, *area, from)
+                let p = flat_point(point.into(), *normal, *area, from)?;
+                Some(AreaPoint { at: u, ..p })
             }
             AreaShape::Sphere { center, radius } => sphere_sample(*center, *radius, from, u),
             AreaShape::Ellipsoid(e) => e.sample(from, u),
@@ -235,6 +244,7 @@ fn flat_point(point: Vec3, normal: Vec3, area: f32, from: Vec3) -> Option<AreaPo
         wi: way.wi.into(),
         distance: way.distance,
         pdf,
+        at: Vec2::ZERO,
     })
 }
 
@@ -310,6 +320,7 @@ fn sphere_sample(center: Vec3, radius: f32, from: Vec3, u: Vec2) -> Option<AreaP
         wi: to / distance,
         distance,
         pdf: 1.0 / (2.0 * PI * cone.one_minus_cos_max),
+        at: Vec2::ZERO,
     })
 }
 

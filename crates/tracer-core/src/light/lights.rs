@@ -5,8 +5,9 @@
 //! thousands.
 
 use super::alias::AliasTable;
-use super::area::AreaShape;
+use super::area::{AreaPoint, AreaShape};
 use super::environment::Environment;
+use super::textured::LightTexture;
 use super::toward::toward;
 use crate::simd::V3;
 use glam::{Vec2, Vec3};
@@ -14,11 +15,41 @@ use serde::{Deserialize, Serialize};
 use std::f32::consts::PI;
 use std::sync::Arc;
 
-/// An emitting surface: its shape and radiance.
+/// An emitting surface: its shape and radiance, and what varies over it
+/// (an emission texture, which `radiance` multiplies, or an alpha mask).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct AreaLight {
     pub shape: AreaShape,
     pub radiance: Vec3,
+    /// None for most lights, of one radiance all over.
+    pub texture: Option<Box<LightTexture>>,
+}
+
+impl AreaLight {
+    /// A light of one radiance all over.
+    pub fn new(shape: AreaShape, radiance: Vec3) -> AreaLight {
+        AreaLight {
+            shape,
+            radiance,
+            texture: None,
+        }
+    }
+
+    /// The radiance it gives off at `s`, a point drawn on it.
+    #[inline(always)]
+    fn radiance_at(&self, s: &AreaPoint) -> Vec3 {
+        match &self.texture {
+            None => self.radiance,
+            Some(t) => t.radiance(self.radiance, s),
+        }
+    }
+
+    /// The radiance it gives off on average: what its power is reckoned by.
+    fn mean_radiance(&self) -> Vec3 {
+        self.texture
+            .as_ref()
+            .map_or(self.radiance, |t| t.surface.mean)
+    }
 }
 
 /// A light of no size in path mode (a delta light: no path can meet it,
@@ -179,9 +210,10 @@ impl Lights {
         environment: Option<(Arc<Environment>, f32)>,
     ) -> Lights {
         let point_power = PointSource::power;
-        // One-sided: a surface of radiance L and area A gives off pi L A.
+        // One-sided: a surface of radiance L and area A gives off pi L A
+        // (L its mean over a texture).
         let area_power = |a: &AreaLight| {
-            PI as f64 * f64::from(luminance(a.radiance)) * f64::from(a.shape.area())
+            PI as f64 * f64::from(luminance(a.mean_radiance())) * f64::from(a.shape.area())
         };
         let environment_power = environment.as_ref().map(|(e, radius)| {
             PI as f64 * f64::from(*radius).powi(2) * f64::from(e.luminance_integral())
@@ -263,7 +295,7 @@ impl Lights {
         Some(LightSample {
             wi: s.wi,
             distance: s.distance,
-            radiance: light.radiance,
+            radiance: light.radiance_at(&s),
             pdf: pmf * s.pdf,
             point: false,
         })
@@ -281,11 +313,13 @@ impl Lights {
     }
 
     /// The density `sample` gives the direction from `from` that meets an
-    /// emitting surface of radiance `radiance` at `point`, on scene object
-    /// `object`, with cosine `cos` to its normal (positive on the emitting
-    /// side). A triangle is picked with probability in proportion to its
-    /// power, pi L A, and its points by area: whichever triangle it is,
-    /// its density by area is pi luminance(L) / total power.
+    /// emitting surface of mean radiance `radiance` (`Material::
+    /// emission_mean`: over its texture, if it has one) at `point`, on
+    /// scene object `object`, with cosine `cos` to its normal (positive on
+    /// the emitting side). A triangle is picked with probability in
+    /// proportion to its power, pi L A, and its points by area: whichever
+    /// triangle it is, its density by area is pi luminance(L) / total
+    /// power.
     #[inline(always)]
     pub fn pdf_hit(&self, from: Vec3, point: Vec3, cos: f32, radiance: Vec3, object: usize) -> f32 {
         let Some(table) = &self.table else {
@@ -320,6 +354,10 @@ impl Lights {
             .find(|s| s.1 as usize >= self.areas.len())
         {
             return Err(format!("sphere light {k} of {}", self.areas.len()));
+        }
+        let textures = self.areas.iter().filter_map(|a| a.texture.as_ref());
+        if textures.into_iter().any(|t| !t.is_whole()) {
+            return Err("a light's texture of the wrong size".into());
         }
         match &self.environment {
             Some(e) if !e.is_whole() => Err("an environment of the wrong size".into()),

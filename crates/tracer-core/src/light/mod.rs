@@ -2,15 +2,17 @@
 //! point light is one variant, the sphere light (soft shadows) another,
 //! glTF's spot and directional lights two more.
 //! Path mode reads them, and every emissive surface, as one list chosen
-//! by power (`lights.rs`): area lights' shapes in `area.rs`, the table
-//! that picks one in `alias.rs`, a light's point seen from a shaded point
-//! (for one path or for lanes) in `toward.rs`.
+//! by power (`lights.rs`): area lights' shapes in `area.rs`, what varies
+//! over a textured one in `textured.rs`, the table that picks one in
+//! `alias.rs`, a light's point seen from a shaded point (for one path or
+//! for lanes) in `toward.rs`.
 
 pub mod alias;
 pub mod area;
 pub mod distribution;
 pub mod environment;
 pub mod lights;
+pub mod textured;
 pub mod toward;
 
 use glam::Vec3;

@@ -14,13 +14,15 @@ use std::sync::Arc;
 
 /// What the glTF objects of one scene share: each file's materials made
 /// once (by the address of its data), each mesh several nodes place
-/// prepared once (by the address of its triangles).
+/// prepared once (by the address of its triangles, and the alpha masks
+/// its material slots take: an object whose `material` stands for the
+/// file's may cut other holes, or none).
 #[derive(Default)]
 pub(super) struct Models {
     /// Per file: its default material and the scene index of each of its
     /// materials.
     materials: HashMap<usize, (usize, Vec<usize>)>,
-    shared: HashMap<usize, Arc<SharedMesh>>,
+    shared: HashMap<(usize, Vec<usize>), Arc<SharedMesh>>,
 }
 
 impl Models {
@@ -49,6 +51,15 @@ impl Models {
         for p in &data.placed {
             *uses.entry(p.mesh).or_default() += 1;
         }
+        let slots: Vec<usize> = std::iter::once(default)
+            .chain(table.iter().copied())
+            .collect();
+        let masks = materials.masks(&slots);
+        // Each slot's mask, by address: meshes are shared by equal masks.
+        let masks_key: Vec<usize> = masks
+            .iter()
+            .map(|m| m.as_ref().map_or(0, |m| Arc::as_ptr(m) as usize))
+            .collect();
         let mut objects = Vec::new();
         for p in &data.placed {
             let Some(mesh) = data.mesh(p.mesh) else {
@@ -56,13 +67,12 @@ impl Models {
             };
             let placed = object.compose(&node_placement(&p.matrix));
             if uses[&p.mesh] >= 2 {
-                let shared = self
-                    .shared
-                    .entry(Arc::as_ptr(mesh) as usize)
-                    .or_insert_with(|| Arc::new(shared_mesh(mesh, data.materials.len())));
-                let slots = std::iter::once(default)
-                    .chain(table.iter().copied())
-                    .collect();
+                let key = (Arc::as_ptr(mesh) as usize, masks_key.clone());
+                let shared = self.shared.entry(key).or_insert_with(|| {
+                    let made = shared_mesh(mesh, data.materials.len());
+                    Arc::new(made.with_masks(masks.clone()))
+                });
+                let slots = slots.clone();
                 if let Some(instance) = Instance::new(Arc::clone(shared), placed, slots) {
                     objects.push(Object::new(Shape::Instance(Arc::new(instance)), default));
                     continue;
@@ -103,6 +113,32 @@ impl Models {
         }
         self.materials.insert(key, (default, table.clone()));
         Ok((default, table))
+    }
+}
+
+/// How glTF object `o` may share the meshes its file places several
+/// times with other objects placing the same file, as the limits count
+/// them (`Models` shares by the masks themselves, which can only share
+/// more): objects without a `material` share the file's; objects whose
+/// `material` cuts no holes share theirs; one whose `material` has an
+/// `alpha_cutoff` keeps its own.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum MeshSharing {
+    File,
+    Override,
+    Own,
+}
+
+/// `MeshSharing` of glTF object `o`.
+pub fn mesh_sharing(file: &fmt::SceneFile, o: &fmt::Object) -> MeshSharing {
+    let material = match &o.material {
+        Some(fmt::MaterialRef::Named(name)) => file.materials.get(name),
+        Some(fmt::MaterialRef::Inline(m)) => Some(m),
+        None => return MeshSharing::File,
+    };
+    match material.is_some_and(|m| m.alpha_cutoff.is_some()) {
+        true => MeshSharing::Own,
+        false => MeshSharing::Override,
     }
 }
 

@@ -35,15 +35,23 @@ impl Scene {
     }
 }
 
-/// Whether the images of a material's colour textures have their texels.
+/// Whether the images of a material's textures (and of its alpha mask)
+/// have their texels.
 fn textures_whole(m: &Material) -> bool {
-    let whole = |t: &Option<ColorTexture>| match t {
+    let whole = |t: Option<&ColorTexture>| match t {
         Some(ColorTexture::Image { texels, .. }) => texels.is_whole(),
         _ => true,
     };
     let own = match m {
-        Material::Principled(p) => whole(&p.color_texture),
+        Material::Principled(p) => {
+            let normals = p.normal_map.as_ref().map(|n| &n.texture);
+            [&p.color_texture, &p.metallic_roughness, &p.emission_texture]
+                .iter()
+                .all(|t| whole(t.as_ref()))
+                && whole(normals)
+        }
         _ => true,
     };
-    own && whole(&m.surface().color_texture)
+    let mask = m.alpha_mask().is_none_or(|mask| mask.is_whole());
+    own && mask && whole(m.surface().color_texture.as_ref())
 }
