@@ -12,7 +12,7 @@
 //! writes `(n + 1) / 2`). Layers in one part rather than one part each:
 //! every OpenEXR reader reads one part, older ones only that.
 
-use crate::output::{ImageFormat, OutputError};
+use crate::output::{exr_error, OutputError};
 use crate::rendered::Denoising;
 use exr::prelude::{
     AnyChannel, AnyChannels, Encoding, FlatSamples, Image, Layer, LayerAttributes, SmallVec,
@@ -62,12 +62,6 @@ pub fn encode(denoised: &LinearImage, denoising: &Denoising) -> Result<Vec<u8>, 
         .write()
         .non_parallel()
         .to_buffered(&mut bytes)
-        .map_err(|e| OutputError::Encode {
-            format: ImageFormat::Exr.name(),
-            source: image::ImageError::Encoding(image::error::EncodingError::new(
-                image::error::ImageFormatHint::Exact(image::ImageFormat::OpenExr),
-                e,
-            )),
-        })?;
+        .map_err(exr_error)?;
     Ok(bytes.into_inner())
 }

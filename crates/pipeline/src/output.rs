@@ -562,14 +562,19 @@ fn encode_exr(image: &image::Rgb32FImage) -> Result<Vec<u8>, OutputError> {
         .write()
         .non_parallel()
         .to_buffered(&mut bytes)
-        .map_err(|e| OutputError::Encode {
-            format: ImageFormat::Exr.name(),
-            source: image::ImageError::Encoding(image::error::EncodingError::new(
-                image::error::ImageFormatHint::Exact(image::ImageFormat::OpenExr),
-                e,
-            )),
-        })?;
+        .map_err(exr_error)?;
     Ok(bytes.into_inner())
+}
+
+/// The exr crate's failure to encode, as an output error.
+pub(crate) fn exr_error(e: exr::error::Error) -> OutputError {
+    OutputError::Encode {
+        format: ImageFormat::Exr.name(),
+        source: image::ImageError::Encoding(image::error::EncodingError::new(
+            image::error::ImageFormatHint::Exact(image::ImageFormat::OpenExr),
+            e,
+        )),
+    }
 }
 
 /// The bytes `write` encodes, its failure named as `format`'s.

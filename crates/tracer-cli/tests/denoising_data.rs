@@ -32,8 +32,12 @@ fn oidn() -> bool {
 /// `tracer render` of the Cornell box, small, with `extra`; on 2 threads,
 /// so that OIDN runs as in the other renders compared.
 fn render(dir: &Path, extra: &[&str]) -> Output {
-    let scene = cornell();
-    let mut args = vec!["render", &scene, "--width", "64", "--threads", "2", "-q"];
+    render_scene(dir, &cornell(), extra)
+}
+
+/// `tracer render SCENE` at 64 pixels wide on 2 threads, with `extra`.
+fn render_scene(dir: &Path, scene: &str, extra: &[&str]) -> Output {
+    let mut args = vec!["render", scene, "--width", "64", "--threads", "2", "-q"];
     args.extend(extra);
     tracer(dir, &args)
 }
@@ -102,6 +106,16 @@ fn the_layers_are_the_denoised_the_noisy_render_and_the_guides_each_as_made_alon
     }
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
+    // Each path traced alone, as path mode traces a denoised image, so the
+    // render without --denoise is the one the denoiser was given.
+    let text = std::fs::read_to_string(cornell()).unwrap();
+    let plain = text.replacen(
+        "[render]\n",
+        "[render]\npath_reuse = 1\ncamera_rays = 1\n",
+        1,
+    );
+    std::fs::write(d.join("cornell.toml"), plain).unwrap();
+    let render = |d: &Path, extra: &[&str]| render_scene(d, "cornell.toml", extra);
     let paths = ["--samples", "4"];
     ok(&render(
         d,

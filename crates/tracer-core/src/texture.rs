@@ -366,6 +366,14 @@ pub struct Place {
     pub wrap_v: Wrap,
 }
 
+impl Place {
+    /// Where the texture is read for scaled uv `s`: turned, then moved.
+    fn at(&self, s: Vec2) -> Vec2 {
+        let (c, n) = (self.turn.x, self.turn.y);
+        Vec2::new(c * s.x - n * s.y, n * s.x + c * s.y) + self.offset
+    }
+}
+
 impl ColorTexture {
     /// The texture's alpha at `uv` (0 to 1): an image's, read where
     /// `color` reads its colour; 1 where there is none (a checker, an
@@ -383,12 +391,7 @@ impl ColorTexture {
                 scale,
                 wrap,
                 place: Some(p),
-            } => {
-                let s = uv * *scale;
-                let (c, n) = (p.turn.x, p.turn.y);
-                let at = Vec2::new(c * s.x - n * s.y, n * s.x + c * s.y) + p.offset;
-                texels.alpha2(at, [*wrap, p.wrap_v])
-            }
+            } => texels.alpha2(p.at(uv * *scale), [*wrap, p.wrap_v]),
             ColorTexture::Checker { .. } => 1.0,
         }
     }
@@ -421,12 +424,7 @@ impl ColorTexture {
                 scale,
                 wrap,
                 place: Some(p),
-            } => {
-                let s = uv * *scale;
-                let (c, n) = (p.turn.x, p.turn.y);
-                let at = Vec2::new(c * s.x - n * s.y, n * s.x + c * s.y) + p.offset;
-                texels.bilinear2(at, [*wrap, p.wrap_v])
-            }
+            } => texels.bilinear2(p.at(uv * *scale), [*wrap, p.wrap_v]),
             ColorTexture::Checker { colors, scale } => {
                 let cell = (uv * *scale).floor();
                 let parity = (cell.x as i64).wrapping_add(cell.y as i64).rem_euclid(2);
