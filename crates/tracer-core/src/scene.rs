@@ -240,8 +240,9 @@ impl Scene {
         }
     }
 
-    /// The same scene searched without its BVH. Panics for a `lean` scene,
-    /// which has no objects left to search: a mistake of the caller.
+    /// The same scene searched without its BVH (the reference the BVH is
+    /// tested against: it reads no alpha masks). Panics for a `lean`
+    /// scene, which has no objects left to search: a mistake of the caller.
     pub fn brute_force(self) -> Scene {
         assert!(!self.lean, "a lean scene has let its objects go");
         Scene {
@@ -509,7 +510,9 @@ fn path_lights(parts: &SceneParts, bounds: Option<(Vec3, Vec3)>) -> Lights {
         .collect();
     let emission = |material: usize| parts.materials[material].emission();
     // What varies over each material's emitting triangles, if anything.
-    let surfaces: Vec<Option<Arc<EmittingSurface>>> = (parts.materials.iter())
+    let surfaces: Vec<Option<Arc<EmittingSurface>>> = parts
+        .materials
+        .iter()
         .map(|m| EmittingSurface::of(m, true).map(Arc::new))
         .collect();
     let emitter = |corners, material: usize, uv| Emitter {

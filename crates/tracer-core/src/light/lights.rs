@@ -313,13 +313,12 @@ impl Lights {
     }
 
     /// The density `sample` gives the direction from `from` that meets an
-    /// emitting surface of mean radiance `radiance` (`Material::
-    /// emission_mean`: over its texture, if it has one) at `point`, on
-    /// scene object `object`, with cosine `cos` to its normal (positive on
-    /// the emitting side). A triangle is picked with probability in
-    /// proportion to its power, pi L A, and its points by area: whichever
-    /// triangle it is, its density by area is pi luminance(L) / total
-    /// power.
+    /// emitting surface of mean radiance `radiance` (over its texture, if
+    /// it has one: `Material::emission_mean`) at `point`, on scene object
+    /// `object`, with cosine `cos` to its normal (positive on the emitting
+    /// side). A triangle is picked with probability in proportion to its
+    /// power, pi L A, and its points by area: whichever triangle it is,
+    /// its density by area is pi luminance(L) / total power.
     #[inline(always)]
     pub fn pdf_hit(&self, from: Vec3, point: Vec3, cos: f32, radiance: Vec3, object: usize) -> f32 {
         let Some(table) = &self.table else {
