@@ -6,11 +6,13 @@
 //! light samples, BSDF samples and MIS each converge to it. The light's
 //! pick is weighed by the texture's mean.
 
+mod common;
+
+use common::{path_image, srgb_decoded};
 use glam::{Vec2, Vec3};
-use rayon::prelude::*;
 use std::f64::consts::PI;
 use std::path::Path;
-use tracer_core::integrate::path::{PathTracer, Strategy};
+use tracer_core::integrate::path::Strategy;
 use tracer_core::{prepare, Scene};
 
 /// The emitter's height, factor, and the floor's albedo.
@@ -22,16 +24,6 @@ const RHO: f64 = 0.7;
 /// mostly dark, a few bright.
 fn block_byte(column: usize, row: usize) -> u8 {
     [0, 20, 255, 60, 0, 180, 5, 120][(column * 5 + row * 3) % 8]
-}
-
-/// The sRGB decoding of an 8-bit value, from IEC 61966-2-1.
-fn srgb_decoded(byte: u8) -> f64 {
-    let c = f64::from(byte) / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
 }
 
 /// The 64 x 64 image of 4 x 4 blocks, each 16 texels wide: bilinear
@@ -116,19 +108,7 @@ const EMITTER: &str = "[[objects]]\nquad = { corner = [-1, 2, -1], edge_u = [2, 
 /// The mean over the image's pixels of the red channel, rendered with
 /// `strategy` at `samples` paths a pixel and the scramblings of `seed`.
 fn image_mean(scene: &Scene, samples: u32, seed: u32, strategy: Strategy) -> f64 {
-    let camera = scene.camera();
-    let (width, height) = (camera.width, camera.height);
-    let pixels: Vec<Vec3> = (0..height)
-        .into_par_iter()
-        .flat_map_iter(|j| {
-            let mut tracer = PathTracer::new(scene)
-                .with_seed(seed)
-                .with_strategy(strategy);
-            (0..width)
-                .map(|i| tracer.pixel(i, j, samples, || false))
-                .collect::<Vec<_>>()
-        })
-        .collect();
+    let pixels = path_image(scene, samples, seed, strategy);
     pixels.iter().map(|c| f64::from(c.x)).sum::<f64>() / pixels.len() as f64
 }
 

@@ -4,6 +4,9 @@
 //! estimates use fixed seeds; each bound is a few standard errors, the
 //! errors estimated from independent renders (other seeds).
 
+mod common;
+
+use common::path_image;
 use glam::Vec3;
 use rayon::prelude::*;
 use scene_format::Format;
@@ -18,25 +21,7 @@ fn scene_from(text: &str) -> Scene {
     prepare(&file).expect("prepare")
 }
 
-/// The image of `scene` at `samples` paths per pixel, with the samples'
-/// scramblings of `seed` and light found by `strategy`: rows in parallel.
-fn render(scene: &Scene, samples: u32, seed: u32, strategy: Strategy) -> Vec<Vec3> {
-    let camera = scene.camera();
-    let (width, height) = (camera.width, camera.height);
-    (0..height)
-        .into_par_iter()
-        .flat_map_iter(|j| {
-            let mut tracer = PathTracer::new(scene)
-                .with_seed(seed)
-                .with_strategy(strategy);
-            (0..width)
-                .map(|i| tracer.pixel(i, j, samples, || false))
-                .collect::<Vec<_>>()
-        })
-        .collect()
-}
-
-/// `render` as renders trace rows (`PathTracer::add_row`), with groups of
+/// `path_image` as renders trace rows (`PathTracer::add_row`), with groups of
 /// `reuse` pixels sharing their paths' first bounces.
 fn render_rows(scene: &Scene, samples: u32, seed: u32, reuse: u32) -> Vec<Vec3> {
     let camera = scene.camera();
@@ -80,7 +65,7 @@ fn means_over_seeds(
 ) -> Vec<f64> {
     (0..seeds)
         .map(|seed| {
-            let image = render(scene, samples, seed, strategy);
+            let image = path_image(scene, samples, seed, strategy);
             let kept: Vec<f64> = image
                 .iter()
                 .enumerate()
@@ -112,7 +97,7 @@ fn in_a_white_sky_an_object_of_albedo_rho_shows_rho() {
             "{CAMERA}[render]\nintegrator = \"path\"\nmax_depth = 64\nbackground = [1, 1, 1]\n\
              [materials.m]\n{material}\n[[objects]]\nsphere = {{ center = [0, 0, 0], radius = 1.5 }}\nmaterial = \"m\"\n"
         ));
-        let image = render(&scene, 8, 0, Strategy::Mis);
+        let image = path_image(&scene, 8, 0, Strategy::Mis);
         // Pixels well inside the sphere's disk (radius about 12 pixels).
         for (k, c) in image.iter().enumerate() {
             let (x, y) = ((k % 32) as f32 - 15.5, (k / 32) as f32 - 15.5);
@@ -262,7 +247,7 @@ fn a_point_light_lights_a_lambertian_plane_by_the_inverse_square_law() {
     };
     let point = scene(0.0);
     let camera = point.camera();
-    let image = render(&point, 64, 0, Strategy::Mis);
+    let image = path_image(&point, 64, 0, Strategy::Mis);
     for (k, c) in image.iter().enumerate() {
         let (i, j) = ((k % 16) as f32 + 0.5, (k / 16) as f32 + 0.5);
         let ray = camera.ray(i, j);
@@ -429,7 +414,7 @@ fn inside_absorbing_glass_light_samples_lose_what_the_glass_absorbs() {
          material = {{ diffuse = [{rho}, {rho}, {rho}] }}\n",
         sigma[0], sigma[1], sigma[2]
     ));
-    let image = render(&scene, 4, 0, Strategy::Mis);
+    let image = path_image(&scene, 4, 0, Strategy::Mis);
     let centre = image[4 * 9 + 4];
     for (got, s) in centre.to_array().into_iter().zip(sigma) {
         let want = rho * intensity / (std::f32::consts::PI * 4.0) * (-s * 5.0).exp();
@@ -462,7 +447,7 @@ fn a_path_that_leaves_glass_inside_glass_is_still_in_the_outer_one() {
         glass(sigma),
         glass([0.0; 3])
     ));
-    let centre = render(&scene, 4, 0, Strategy::Mis)[4 * 9 + 4];
+    let centre = path_image(&scene, 4, 0, Strategy::Mis)[4 * 9 + 4];
     for (got, s) in centre.to_array().into_iter().zip(sigma) {
         let want = (-s * 2.0).exp();
         assert!(
@@ -484,6 +469,6 @@ fn out_through_open_absorbing_glass_the_sky_keeps_what_absorbs_nothing() {
          [[objects]]\nquad = { corner = [-1, -1, 0], edge_u = [2, 0, 0], edge_v = [0, 2, 0] }\n\
          material = { diffuse = [0, 0, 0], specular = [0, 0, 0], transmittance = 1, ior = 1, fresnel = true, absorption = [0, 0.5, 0.5] }\n",
     );
-    let centre = render(&scene, 4, 0, Strategy::Mis)[4 * 9 + 4];
+    let centre = path_image(&scene, 4, 0, Strategy::Mis)[4 * 9 + 4];
     assert_eq!(centre, Vec3::new(1.0, 0.0, 0.0));
 }

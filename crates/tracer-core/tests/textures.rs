@@ -4,6 +4,9 @@
 //! floor's geometry puts them, MTL values in the prepared materials and in
 //! the light of a face lit head-on.
 
+mod common;
+
+use common::srgb_decoded;
 use glam::Vec3;
 use std::path::Path;
 use tracer_core::material::{Material, Phong};
@@ -28,16 +31,6 @@ fn scene(dir: &Path, text: &str) -> Scene {
 
 fn render_linear(scene: &Scene) -> LinearImage {
     render(scene, &RenderJob::full(scene), &|_| {}).image
-}
-
-/// The sRGB decoding of an 8-bit value, from IEC 61966-2-1, in f64.
-fn srgb_decoded(byte: u8) -> f64 {
-    let c = f64::from(byte) / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
 }
 
 /// A `width` x `height` image of reproducible, uneven pixels.

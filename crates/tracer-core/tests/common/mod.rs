@@ -1,6 +1,13 @@
-//! What the scene-level tests share: where the scenes are and how to load one.
+//! What the scene-level tests share: where the scenes are and how to load one,
+//! a path-traced image, sRGB decoding.
+// Each test binary that includes this module uses a part of it.
+#![allow(dead_code)]
 
+use glam::Vec3;
+use rayon::prelude::*;
 use std::path::{Path, PathBuf};
+use tracer_core::integrate::path::{PathTracer, Strategy};
+use tracer_core::Scene;
 
 pub fn scenes_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
@@ -11,8 +18,6 @@ pub fn load(path: &Path) -> scene_format::SceneFile {
 }
 
 /// What `work` gives on a pool of `threads` threads.
-// Not every test binary that includes this module renders on threads.
-#[allow(dead_code)]
 pub fn on_threads<T: Send>(threads: usize, work: impl FnOnce() -> T + Send) -> T {
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -22,8 +27,6 @@ pub fn on_threads<T: Send>(threads: usize, work: impl FnOnce() -> T + Send) -> T
 }
 
 /// The lab's scene tables, one file each in `scenes/`.
-// Not every test binary that includes this module uses the list.
-#[allow(dead_code)]
 pub const LAB_SCENES: [&str; 12] = [
     "sphere-intersection",
     "triangle-intersection",
@@ -38,3 +41,31 @@ pub const LAB_SCENES: [&str; 12] = [
     "reflectance",
     "reflectance2",
 ];
+
+/// The image of `scene` at `samples` paths per pixel, with the samples'
+/// scramblings of `seed` and light found by `strategy`: rows in parallel.
+pub fn path_image(scene: &Scene, samples: u32, seed: u32, strategy: Strategy) -> Vec<Vec3> {
+    let camera = scene.camera();
+    let (width, height) = (camera.width, camera.height);
+    (0..height)
+        .into_par_iter()
+        .flat_map_iter(|j| {
+            let mut tracer = PathTracer::new(scene)
+                .with_seed(seed)
+                .with_strategy(strategy);
+            (0..width)
+                .map(|i| tracer.pixel(i, j, samples, || false))
+                .collect::<Vec<_>>()
+        })
+        .collect()
+}
+
+/// The sRGB decoding of an 8-bit value, from IEC 61966-2-1, in f64.
+pub fn srgb_decoded(byte: u8) -> f64 {
+    let c = f64::from(byte) / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
