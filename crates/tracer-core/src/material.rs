@@ -104,7 +104,7 @@ impl Material {
             }
             lab => {
                 let (diffuse, specular) = lab.surface().textured(hit);
-                (diffuse + specular) / crate::bsdf::albedo_sum(lab).max(1.0)
+                (diffuse + specular) / albedo_sum(lab).max(1.0)
             }
         };
         albedo.clamp(Vec3::ZERO, Vec3::ONE)
@@ -129,7 +129,7 @@ impl Material {
                 if surface.diffuse != Vec3::ZERO || surface.specular != Vec3::ZERO {
                     return None;
                 }
-                let scale = 1.0 / crate::bsdf::albedo_sum(lab).max(1.0);
+                let scale = 1.0 / albedo_sum(lab).max(1.0);
                 let split = match lab {
                     Material::Glass(g) => g.split(dir, hit),
                     _ => Split {
@@ -186,8 +186,8 @@ pub struct PrincipledAt {
 
 impl PrincipledAt {
     /// The BSDF's parameters.
-    pub fn params(&self) -> crate::bsdf::principled::Principled {
-        crate::bsdf::principled::Principled {
+    pub fn params(&self) -> Principled {
+        Principled {
             base_color: self.base_color,
             metallic: self.metallic,
             roughness: self.roughness,
@@ -275,7 +275,7 @@ impl PrincipledMaterial {
     /// Blinn-Phong equivalent of GGX's alpha, 2 / alpha^2 - 2; a metal is a
     /// mirror of `metallic (1 - roughness)^2`; with `transmission` it is
     /// Fresnel glass of that transmittance.
-    pub fn new(p: crate::bsdf::principled::Principled, emission: Vec3) -> PrincipledMaterial {
+    pub fn new(p: Principled, emission: Vec3) -> PrincipledMaterial {
         let opaque = (1.0 - p.metallic) * (1.0 - p.transmission);
         let f0 = ((p.ior - 1.0) / (p.ior + 1.0)).powi(2);
         let alpha = (p.roughness * p.roughness).max(1e-3);
@@ -486,6 +486,45 @@ pub struct Glass {
     pub absorption: Vec3,
 }
 
+/// The material's parameters, as the scene file gives them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Principled {
+    pub base_color: Vec3,
+    /// 0 (dielectric) to 1 (metal).
+    pub metallic: f32,
+    /// 0 (a mirror) to 1; GGX's alpha is its square.
+    pub roughness: f32,
+    /// The index of refraction of the dielectric, outside taken as 1.
+    pub ior: f32,
+    /// 0 (opaque) to 1 (all the dielectric's light refracted through).
+    pub transmission: f32,
+}
+
+impl Default for Principled {
+    fn default() -> Self {
+        Principled {
+            base_color: Vec3::splat(0.8),
+            metallic: 0.0,
+            roughness: 0.5,
+            ior: 1.5,
+            transmission: 0.0,
+        }
+    }
+}
+
+/// The largest channel of what material `m` sends back: its diffuse,
+/// specular and mirror albedos, and its glass's reflected and transmitted
+/// energies (at most 1 with `fresnel`). The same sum as the scene file's
+/// warning (`scene_format::checks::albedo_sum`).
+pub fn albedo_sum(m: &Material) -> f32 {
+    let (surface, interface) = match m {
+        Material::Glass(g) if g.fresnel => (&g.surface, 1.0),
+        Material::Glass(g) => (&g.surface, g.surface.reflectance + g.transmittance),
+        _ => (m.surface(), m.surface().reflectance),
+    };
+    (surface.diffuse + surface.specular).max_element() + interface
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -509,7 +548,7 @@ mod tests {
     fn the_albedo_guide_reads_metallic_and_roughness_as_their_texture_makes_them() {
         // A smooth metal by its factors, whose texture (blue 0) makes it a
         // dielectric: its diffuse base, all of base_color, is the albedo.
-        let principled = crate::bsdf::principled::Principled {
+        let principled = Principled {
             base_color: Vec3::splat(0.5),
             metallic: 1.0,
             roughness: 0.0,

@@ -9,7 +9,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The circles left, each the files it may hold at most.
-const KNOWN: [&[&str]; 2] = [
+const KNOWN: [&[&str]; 1] = [
     // The scene keeps the matte lanes it precomputes, which read the
     // scene; path mode's files call each other's helpers.
     &[
@@ -20,17 +20,6 @@ const KNOWN: [&[&str]; 2] = [
         "integrate/seen.rs",
         "integrate/whitted.rs",
         "scene.rs",
-    ],
-    // The physically based material's lobes read its parameters, which
-    // material.rs keeps.
-    &[
-        "bsdf/conductor.rs",
-        "bsdf/dielectric.rs",
-        "bsdf/mod.rs",
-        "bsdf/plastic.rs",
-        "bsdf/principled.rs",
-        "bsdf/specular_albedo.rs",
-        "material.rs",
     ],
 ];
 

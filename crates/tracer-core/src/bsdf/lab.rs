@@ -6,7 +6,7 @@
 
 use super::{BlinnPhong, BsdfSample, Interface, Lambert};
 use crate::geometry::SurfaceHit;
-use crate::material::{Glass, Material, Phong};
+use crate::material::{albedo_sum, Glass, Material, Phong};
 use glam::{Vec2, Vec3};
 
 /// A lab material at one hit, seen along `wo`: its lobes, in the hit's
@@ -201,17 +201,4 @@ fn textured(m: &Phong, hit: &SurfaceHit) -> (Vec3, Vec3) {
         specular *= texel;
     }
     (diffuse, specular)
-}
-
-/// The largest channel of what material `m` sends back: its diffuse,
-/// specular and mirror albedos, and its glass's reflected and transmitted
-/// energies (at most 1 with `fresnel`). The same sum as the scene file's
-/// warning (`scene_format::checks::albedo_sum`).
-pub fn albedo_sum(m: &Material) -> f32 {
-    let (surface, interface) = match m {
-        Material::Glass(g) if g.fresnel => (&g.surface, 1.0),
-        Material::Glass(g) => (&g.surface, g.surface.reflectance + g.transmittance),
-        _ => (m.surface(), m.surface().reflectance),
-    };
-    (surface.diffuse + surface.specular).max_element() + interface
 }

@@ -33,7 +33,7 @@ pub mod principled;
 pub mod specular_albedo;
 
 pub use frame::Frame;
-pub use lab::{albedo_sum, LabBsdf};
+pub use lab::LabBsdf;
 pub use lambert::Lambert;
 pub use phong::BlinnPhong;
 pub use specular::{reflect, refract, Interface};

@@ -20,33 +20,8 @@ use super::dielectric::Dielectric;
 use super::microfacet::Ggx;
 use super::plastic::Plastic;
 use super::BsdfSample;
+pub use crate::material::Principled;
 use glam::{Vec2, Vec3};
-
-/// The material's parameters, as the scene file gives them.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Principled {
-    pub base_color: Vec3,
-    /// 0 (dielectric) to 1 (metal).
-    pub metallic: f32,
-    /// 0 (a mirror) to 1; GGX's alpha is its square.
-    pub roughness: f32,
-    /// The index of refraction of the dielectric, outside taken as 1.
-    pub ior: f32,
-    /// 0 (opaque) to 1 (all the dielectric's light refracted through).
-    pub transmission: f32,
-}
-
-impl Default for Principled {
-    fn default() -> Self {
-        Principled {
-            base_color: Vec3::splat(0.8),
-            metallic: 0.0,
-            roughness: 0.5,
-            ior: 1.5,
-            transmission: 0.0,
-        }
-    }
-}
 
 /// The lobes in their order in `PrincipledBsdf`'s arrays.
 const CONDUCTOR: usize = 0;
