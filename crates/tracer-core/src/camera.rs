@@ -3,6 +3,8 @@
 //! image and a thin lens.
 
 use crate::ray::Ray;
+use crate::sampler::PixelSampler;
+use crate::sampling::concentric_disk;
 use glam::{DVec2, DVec3, Mat3, Vec2, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 
@@ -153,6 +155,18 @@ impl Camera {
     pub fn view_direction(&self) -> Vec3 {
         let centre = Vec2::new(self.width as f32, self.height as f32) / 2.0;
         (self.projection * centre.extend(1.0)).normalize()
+    }
+
+    /// The camera ray of the sample `sampler` has started, through pixel
+    /// (i, j): a point of the pixel, then (with a lens) a point of the lens.
+    #[inline(always)]
+    pub fn sampled_ray(&self, sampler: &mut PixelSampler, (i, j): (u32, u32)) -> Ray {
+        let at = Vec2::new(i as f32, j as f32) + sampler.get2();
+        let lens = match self.lens {
+            Some(_) => concentric_disk(sampler.get2()),
+            None => Vec2::ZERO,
+        };
+        self.lens_ray(at.x, at.y, lens)
     }
 
     /// The ray through image point (fx, fy) from `lens_point`, a point of

@@ -5,12 +5,13 @@
 //! as one render of all the samples, so the last pass's image is that
 //! render's, bit for bit.
 
+use crate::bands::in_bands;
 use crate::image::LinearImage;
 use crate::integrate::path::{PathTracer, PixelSum};
 use crate::integrate::RayStats;
-use crate::render::Region;
+use crate::region::Region;
 use crate::scene::Scene;
-use rayon::prelude::*;
+use glam::Vec3;
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -24,7 +25,7 @@ pub struct Film {
 }
 
 /// Rows in one band of a pass, the unit of parallel work.
-const BAND_ROWS: usize = 4;
+const BAND_ROWS: u32 = 4;
 
 impl Film {
     /// An empty film of `region` of `scene`'s image (clipped to it).
@@ -66,24 +67,23 @@ impl Film {
             return Some(RayStats::default());
         }
         let cancelled = || cancel.load(Ordering::Relaxed);
-        let stats = self
-            .sums
-            .par_chunks_mut(width * BAND_ROWS)
-            .enumerate()
-            .map(|(band, sums)| {
+        let stats = in_bands(
+            &mut self.sums,
+            region.width(),
+            BAND_ROWS,
+            rows_done,
+            |first, sums| {
                 let mut tracer = PathTracer::new(scene);
-                let top = region.y0 + (band * BAND_ROWS) as u32;
                 for (y, row) in sums.chunks_mut(width).enumerate() {
                     if cancelled() {
                         break;
                     }
-                    let pixels = (region.x0..region.x1, top + y as u32);
+                    let pixels = (region.x0..region.x1, region.y0 + first + y as u32);
                     tracer.add_row(pixels, samples.clone(), row, cancelled);
                 }
-                rows_done((sums.len() / width) as u32);
                 tracer.stats
-            })
-            .reduce(RayStats::default, |a, b| a + b);
+            },
+        );
         self.samples = samples.end;
         (!cancelled()).then_some(stats)
     }
@@ -91,10 +91,15 @@ impl Film {
     /// The image so far: each pixel the mean of its samples.
     pub fn image(&self) -> LinearImage {
         let mut image = LinearImage::new(self.region.width(), self.region.height());
-        for (pixel, sum) in image.pixels.iter_mut().zip(&self.sums) {
+        self.mean_into(&mut image.pixels);
+        image
+    }
+
+    /// Each pixel's mean so far into `pixels`, the region's row by row.
+    pub fn mean_into(&self, pixels: &mut [Vec3]) {
+        for (pixel, sum) in pixels.iter_mut().zip(&self.sums) {
             *pixel = sum.mean();
         }
-        image
     }
 }
 

@@ -11,6 +11,7 @@
 pub mod accel;
 pub mod alpha_mask;
 pub mod aov;
+mod bands;
 pub mod bsdf;
 pub mod camera;
 pub mod explain;
@@ -25,6 +26,7 @@ pub mod names;
 pub mod optics;
 pub mod prepare;
 pub mod ray;
+pub mod region;
 pub mod render;
 pub mod sampler;
 pub mod sampling;

@@ -1,62 +1,25 @@
 //! The one pixel driver: a region of the image, a number of samples per
 //! pixel, and what each sample computes (the shaded colour or an AOV).
-//! Bands of rows are rendered in parallel on the current rayon pool.
+//! Bands of rows are rendered in parallel on the current rayon pool
+//! (`bands.rs`); path mode's colour is a film of one pass (`film.rs`).
 
 use crate::accel::PACKET;
 use crate::aov::{Aov, AovContext};
+use crate::bands::in_bands;
+use crate::film::Film;
 use crate::geometry::SurfaceHit;
 use crate::image::LinearImage;
 use crate::integrate::lanes::LaneScene;
-use crate::integrate::path::{PathTracer, PixelSum};
 use crate::integrate::whitted::Whitted;
 use crate::integrate::RayStats;
 use crate::ray::{Ray, NO_RAY};
+pub use crate::region::Region;
 use crate::sampling::{concentric_disk, Rng, Shuffle, Strata};
 use crate::scene::{Integrator, Scene};
 use crate::EPSILON;
 use glam::{BVec4A, Vec2, Vec3, Vec4};
-use rayon::prelude::*;
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
-
-/// A rectangle of pixels: columns `x0..x1`, rows `y0..y1` (ends exclusive).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Region {
-    pub x0: u32,
-    pub y0: u32,
-    pub x1: u32,
-    pub y1: u32,
-}
-
-impl Region {
-    /// The whole image of `width` x `height` pixels.
-    pub fn full(width: u32, height: u32) -> Region {
-        Region {
-            x0: 0,
-            y0: 0,
-            x1: width,
-            y1: height,
-        }
-    }
-
-    pub fn width(&self) -> u32 {
-        self.x1.saturating_sub(self.x0)
-    }
-
-    pub fn height(&self) -> u32 {
-        self.y1.saturating_sub(self.y0)
-    }
-
-    /// The part of the region inside an image of `width` x `height`.
-    pub fn within(self, width: u32, height: u32) -> Region {
-        Region {
-            x0: self.x0.min(width),
-            y0: self.y0.min(height),
-            x1: self.x1.min(width),
-            y1: self.y1.min(height),
-        }
-    }
-}
 
 /// What each sample of a pixel computes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -167,21 +130,20 @@ pub fn render_into(
         return Some(RayStats::default());
     }
     let pixel = PixelRenderer::new(scene, job, cancel);
-    let rays = image
-        .pixels
-        .par_chunks_mut((width * BAND_ROWS) as usize)
-        .enumerate()
-        .map(|(band, pixels)| {
-            let top = region.y0 + band as u32 * BAND_ROWS;
-            let stats = if pixel.traces_paths() {
-                render_band_of_paths(&pixel, region, top, pixels)
-            } else {
-                render_band(&pixel, region, top, pixels)
-            };
-            rows_done(pixels.len() as u32 / width);
-            stats
-        })
-        .reduce(RayStats::default, |a, b| a + b);
+    if pixel.traces_paths() {
+        // Path mode's one driver: a film of one pass.
+        let mut film = Film::new(scene, region);
+        let rays = film.add_pass(scene, 0..pixel.samples, rows_done, cancel)?;
+        film.mean_into(&mut image.pixels);
+        return Some(rays);
+    }
+    let rays = in_bands(
+        &mut image.pixels,
+        width,
+        BAND_ROWS,
+        rows_done,
+        |first, pixels| render_band(&pixel, region, region.y0 + first, pixels),
+    );
     (!cancel.load(Ordering::Relaxed)).then_some(rays)
 }
 
@@ -274,32 +236,6 @@ fn render_band(pixel: &PixelRenderer, region: Region, top: u32, pixels: &mut [Ve
     tracer.stats
 }
 
-/// `render_band` in path mode: each pixel the mean of its paths
-/// (`PathTracer::pixel`), row by row.
-fn render_band_of_paths(
-    pixel: &PixelRenderer,
-    region: Region,
-    top: u32,
-    pixels: &mut [Vec3],
-) -> RayStats {
-    let width = region.width();
-    let mut tracer = PathTracer::new(pixel.scene);
-    let cancelled = || pixel.cancel.load(Ordering::Relaxed);
-    let mut sums = vec![PixelSum::default(); width as usize];
-    for (y, row) in pixels.chunks_mut(width as usize).enumerate() {
-        if cancelled() {
-            break;
-        }
-        sums.fill(PixelSum::default());
-        let row_pixels = (region.x0..region.x1, top + y as u32);
-        tracer.add_row(row_pixels, 0..pixel.samples, &mut sums, cancelled);
-        for (colour, sum) in row.iter_mut().zip(&sums) {
-            *colour = sum.mean();
-        }
-    }
-    tracer.stats
-}
-
 /// What every pixel of a job shares.
 struct PixelRenderer<'a> {
     scene: &'a Scene,
@@ -317,7 +253,7 @@ struct PixelRenderer<'a> {
     aov: AovContext,
     /// The scene shaded four rays at a time, if it is one of the simple
     /// scenes that path handles (`integrate::lanes`).
-    lanes: Option<&'a LaneScene>,
+    lanes: Option<LaneScene>,
     /// Read before each packet of a pixel's samples (`PACKET` of them): a
     /// pixel of thousands of samples stops too when the render is given up.
     cancel: &'a AtomicBool,
@@ -336,7 +272,9 @@ impl<'a> PixelRenderer<'a> {
             thin_lens: !scene.camera().is_pinhole(),
             output: job.output,
             aov: AovContext::new(scene),
-            lanes: scene.lanes().filter(|_| job.output == Output::Shading),
+            lanes: (job.output == Output::Shading)
+                .then(|| LaneScene::of(scene))
+                .flatten(),
             cancel,
         }
     }
@@ -366,7 +304,7 @@ impl<'a> PixelRenderer<'a> {
         tracer: &mut Whitted,
         mut put: impl FnMut(u32, u32, Vec3),
     ) {
-        if let Some(lanes) = self.lanes.filter(|_| !self.thin_lens) {
+        if let Some(lanes) = self.lanes.as_ref().filter(|_| !self.thin_lens) {
             self.render_block_in_lanes(lanes, block, (x0, y0), &mut tracer.stats, put);
             return;
         }
@@ -557,7 +495,7 @@ impl<'a> PixelRenderer<'a> {
             }
             return;
         }
-        if let Some(lanes) = self.lanes {
+        if let Some(lanes) = &self.lanes {
             lanes.trace(
                 self.scene.trace_settings(),
                 rays,

@@ -5,8 +5,6 @@ use crate::accel::{brute_force, Bvh};
 use crate::camera::Camera;
 use crate::geometry::{Object, Shape, SharedMesh, Sphere, SurfaceHit, UvMap};
 use crate::image::Encoding;
-use crate::integrate::lanes::LaneScene;
-use crate::integrate::matte_lanes::MatteLanes;
 use crate::light::area::{AreaShape, EllipsoidLight};
 use crate::light::environment::Environment;
 use crate::light::lights::{AreaLight, Emits, Lights, PointSource};
@@ -78,16 +76,10 @@ pub struct Scene {
     /// `unique_primitives`, counted before a lean scene let its objects go.
     primitives: usize,
     bounds: Option<(Vec3, Vec3)>,
-    /// The scene as the four-lane shading reads it, if it is one of the
-    /// small plain scenes that path shades (kept when the objects are let
-    /// go; not serialized: a scene read back shades one ray at a time).
-    #[serde(skip)]
-    lanes: Option<Box<LaneScene>>,
-    /// In path mode, the scene as sixteen paths at a time read it, if it
-    /// is a small matte one (not serialized: a scene read back traces each
-    /// path alone, to the same values).
-    #[serde(skip)]
-    matte_lanes: Option<Box<MatteLanes>>,
+    /// Whether `objects` were let go (a lean scene of more than
+    /// `KEPT_OBJECTS`, or one read back: they are not serialized).
+    #[serde(skip, default = "let_go")]
+    objects_let_go: bool,
     /// Path mode's lights: point lights, emitting surfaces and the
     /// environment, chosen by power (empty in Whitted mode). Boxed: most
     /// scenes leave it empty.
@@ -97,6 +89,17 @@ pub struct Scene {
     /// Whether the objects were let go (`Scene::lean`).
     #[serde(serialize_with = "only_lean")]
     lean: bool,
+}
+
+/// A lean scene keeps its objects when it has at most this many: the
+/// integrators' lanes, which only small scenes take, are made from them
+/// for each render (`integrate::lanes`, `integrate::matte_lanes`), and a
+/// few kilobytes are worth keeping for that.
+pub const KEPT_OBJECTS: usize = 64;
+
+/// What a scene read back knows of its objects: they were not written.
+fn let_go() -> bool {
+    true
 }
 
 /// Refuses to serialize a scene that holds its objects (they would be lost).
@@ -179,8 +182,6 @@ impl Scene {
             .iter()
             .map(|m| m.alpha_mask().cloned())
             .collect();
-        // The lanes' own searches know no masks.
-        let masked = masks.iter().any(Option::is_some);
         let bvh = Bvh::build(&parts.objects).with_masks(masks);
         let bounds = bvh.bounds();
         let accel = Accel::Bvh(bvh);
@@ -189,27 +190,13 @@ impl Scene {
             .materials
             .iter()
             .any(|m| matches!(m, Material::Principled(p) if p.normal_map.is_some()));
-        // The lanes see the background colour only.
-        let lanes = if path_mode || parts.environment.is_some() || masked {
-            None
-        } else {
-            LaneScene::new(&parts.objects, &parts.materials, &parts.lights).map(Box::new)
-        };
         let path_lights = Box::new(if path_mode {
             path_lights(&parts, bounds)
         } else {
             Lights::default()
         });
-        let matte_lanes = (path_mode && !masked)
-            .then(|| {
-                let (objects, materials) = (&parts.objects, &parts.materials);
-                MatteLanes::new(objects, materials, &parts.lights, &path_lights)
-            })
-            .flatten()
-            .map(Box::new);
         Scene {
-            lanes,
-            matte_lanes,
+            objects_let_go: false,
             path_lights,
             environment: parts.environment,
             primitives: unique_primitives(&parts.objects),
@@ -228,15 +215,19 @@ impl Scene {
         }
     }
 
-    /// `Scene::new`, keeping only what a render reads: the objects are let
-    /// go once the BVH holds what its search and shading need of them (a
-    /// million-triangle mesh's objects take 71 MB). `objects()` is then
-    /// empty, and the scene cannot become `brute_force`.
+    /// `Scene::new`, keeping only what a render reads: the objects of a
+    /// scene of more than `KEPT_OBJECTS` are let go once the BVH holds
+    /// what its search and shading need of them (a million-triangle mesh's
+    /// objects take 71 MB). `objects()` is then empty. A lean scene cannot
+    /// become `brute_force`.
     pub fn lean(parts: SceneParts) -> Scene {
+        let scene = Scene::new(parts);
+        let let_go = scene.objects.len() > KEPT_OBJECTS;
         Scene {
-            objects: Vec::new(),
+            objects: if let_go { Vec::new() } else { scene.objects },
+            objects_let_go: let_go,
             lean: true,
-            ..Scene::new(parts)
+            ..scene
         }
     }
 
@@ -272,24 +263,6 @@ impl Scene {
         self.accel.has_instances()
     }
 
-    /// The scene as the four-lane shading reads it (`integrate::lanes`),
-    /// if it is one that path shades.
-    pub(crate) fn lanes(&self) -> Option<&LaneScene> {
-        self.lanes.as_deref()
-    }
-
-    /// The scene as path mode traces it sixteen paths at a time
-    /// (`integrate::matte_lanes`), if it is a small matte one.
-    pub(crate) fn matte_lanes(&self) -> Option<&MatteLanes> {
-        self.matte_lanes.as_deref()
-    }
-
-    /// Whether path mode traces this scene sixteen paths at a time (a
-    /// small matte scene): the same values, sooner.
-    pub fn traces_paths_in_lanes(&self) -> bool {
-        self.matte_lanes.is_some()
-    }
-
     pub fn camera(&self) -> &Camera {
         &self.camera
     }
@@ -302,9 +275,25 @@ impl Scene {
 
     /// The primitives: a mesh contributes one object per triangle, or one
     /// instance when several objects share it (`prepare::shared_meshes`).
-    /// Empty for a `lean` scene.
+    /// Empty for a `lean` scene of more than `KEPT_OBJECTS`.
     pub fn objects(&self) -> &[Object] {
         &self.objects
+    }
+
+    /// Every object, if the scene still holds them all (`lean`).
+    pub fn every_object(&self) -> Option<&[Object]> {
+        (!self.objects_let_go).then_some(&self.objects)
+    }
+
+    /// Every material, as objects index them.
+    pub fn materials(&self) -> &[Material] {
+        &self.materials
+    }
+
+    /// Whether some material cuts holes by an alpha mask (which the lanes'
+    /// own searches do not read).
+    pub fn has_alpha_masks(&self) -> bool {
+        self.materials.iter().any(|m| m.alpha_mask().is_some())
     }
 
     /// The primitives held in memory: the objects, and each shared mesh's

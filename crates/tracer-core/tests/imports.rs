@@ -2,26 +2,10 @@
 //! each concept's file can be read (and changed) knowing only what it
 //! uses. The check reads `crate::` and `super::` paths in every source
 //! file (its tests left out), links each file to the module file a path
-//! names, and fails on any circle of files but the two the path tracer's
-//! rewrite (issue 53) is to undo, listed below; those may only shrink.
+//! names, and fails on any circle of files.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
-
-/// The circles left, each the files it may hold at most.
-const KNOWN: [&[&str]; 1] = [
-    // The scene keeps the matte lanes it precomputes, which read the
-    // scene; path mode's files call each other's helpers.
-    &[
-        "integrate/lanes.rs",
-        "integrate/matte_lanes/mod.rs",
-        "integrate/path.rs",
-        "integrate/reuse.rs",
-        "integrate/seen.rs",
-        "integrate/whitted.rs",
-        "scene.rs",
-    ],
-];
 
 #[test]
 fn no_file_of_the_core_imports_itself_through_others() {
@@ -29,23 +13,11 @@ fn no_file_of_the_core_imports_itself_through_others() {
     let files = sources(&src, &src);
     assert!(files.len() > 50, "read {} files", files.len());
     let graph = imports(&files);
-    let found = circles(&graph);
-    for known in KNOWN {
-        let left = found
-            .iter()
-            .any(|c| c.iter().any(|f| known.contains(&f.as_str())));
-        assert!(left, "the circle of {known:?} is gone: take it off KNOWN");
-    }
-    for circle in found {
-        let known = KNOWN
-            .iter()
-            .any(|k| circle.iter().all(|f| k.contains(&f.as_str())));
-        assert!(
-            known,
-            "these files import each other in a circle: {circle:?} \
-             (import what both need from a file of its own)"
-        );
-    }
+    assert_eq!(
+        circles(&graph),
+        Vec::<Vec<String>>::new(),
+        "these files import each other in a circle (import what both need from a file of its own)"
+    );
 }
 
 #[test]

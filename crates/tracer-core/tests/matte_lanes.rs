@@ -11,7 +11,7 @@ use glam::Vec3;
 use scene_format::Format;
 use std::ops::Range;
 use std::path::Path;
-use tracer_core::integrate::path::{PathTracer, PixelSum};
+use tracer_core::integrate::path::{traces_paths_in_lanes, PathTracer, PixelSum};
 use tracer_core::{prepare, Scene};
 
 fn scene_from(text: &str) -> Scene {
@@ -74,7 +74,7 @@ fn counts(tracer: &PathTracer) -> [u64; 3] {
 
 /// Asserts that lanes and single paths agree bit for bit on `pixels`.
 fn assert_same(scene: &Scene, pixels: &[(u32, u32)], run: &Run, what: &str) {
-    assert!(scene.traces_paths_in_lanes(), "{what}: not traced in lanes");
+    assert!(traces_paths_in_lanes(scene), "{what}: not traced in lanes");
     let (lanes, lane_rays) = trace(scene, pixels, run, false);
     let (alone, alone_rays) = trace(scene, pixels, run, true);
     for ((a, b), p) in lanes.iter().zip(&alone).zip(pixels) {
@@ -322,9 +322,11 @@ fn only_small_matte_scenes_go_in_lanes() {
                 [render]\nintegrator = \"path\"\n\
                 [materials.m]\ndiffuse = [0.5, 0.5, 0.5]\n";
     let quad = "[[objects]]\nquad = { corner = [-1, -1, -2], edge_u = [2, 0, 0], edge_v = [0, 2, 0] }\nmaterial = \"m\"\n";
-    assert!(scene_from(&format!("{room}{quad}")).traces_paths_in_lanes());
+    assert!(traces_paths_in_lanes(&scene_from(&format!("{room}{quad}"))));
     let whitted = room.replace("integrator = \"path\"", "integrator = \"whitted\"");
-    assert!(!scene_from(&format!("{whitted}{quad}")).traces_paths_in_lanes());
+    assert!(!traces_paths_in_lanes(&scene_from(&format!(
+        "{whitted}{quad}"
+    ))));
     for (what, extra) in [
         (
             "a highlight",
@@ -348,11 +350,11 @@ fn only_small_matte_scenes_go_in_lanes() {
         } else {
             text
         };
-        assert!(!scene_from(&text).traces_paths_in_lanes(), "{what}");
+        assert!(!traces_paths_in_lanes(&scene_from(&text)), "{what}");
     }
     let many: String = (0..70).map(|_| quad).collect();
     assert!(
-        !scene_from(&format!("{room}{many}")).traces_paths_in_lanes(),
+        !traces_paths_in_lanes(&scene_from(&format!("{room}{many}"))),
         "140 triangles"
     );
 }

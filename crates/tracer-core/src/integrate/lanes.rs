@@ -15,7 +15,7 @@ use crate::geometry::{
 use crate::light::Light;
 use crate::material::{Material, Phong};
 use crate::ray::Ray;
-use crate::scene::TraceSettings;
+use crate::scene::{Integrator, Scene, TraceSettings};
 use crate::simd::Real;
 use crate::EPSILON;
 use glam::{BVec4A, Vec3, Vec4};
@@ -68,6 +68,19 @@ struct Surface {
 }
 
 impl LaneScene {
+    /// `scene` as Whitted mode shades it in lanes, if it is one of the
+    /// small plain scenes they shade (`new`) and holds its objects: made
+    /// for each render, by the integrator that reads it. Not in path mode,
+    /// nor under an environment (the lanes see the background colour
+    /// only) or alpha masks (their search reads none).
+    pub fn of(scene: &Scene) -> Option<LaneScene> {
+        let path_mode = scene.trace_settings().integrator == Integrator::Path;
+        if path_mode || scene.environment().is_some() || scene.has_alpha_masks() {
+            return None;
+        }
+        LaneScene::new(scene.every_object()?, scene.materials(), scene.lights())
+    }
+
     /// The scene of `objects`, `materials` and `lights` in lanes, if it
     /// is one they shade: up to `MAX_OBJECTS` spheres, flat triangles and
     /// planes, every light a point, every material Blinn-Phong without a
@@ -579,7 +592,7 @@ mod tests {
         let (mut primary, mut totals, mut lit) = (0, RayStats::default(), 0);
         for case in 0..60 {
             let scene = Scene::new(random_parts(&mut numbers));
-            let lanes = scene.lanes().expect("a scene the lanes shade");
+            let lanes = LaneScene::of(&scene).expect("a scene the lanes shade");
             for packet in 0..40 {
                 let n = 1 + numbers.below(16);
                 let rays: Vec<Ray> = (0..n).map(|_| random_ray(&mut numbers)).collect();
@@ -671,7 +684,7 @@ mod tests {
         for case in 0..300 {
             let (parts, points) = grid_parts(&mut numbers);
             let scene = Scene::new(parts);
-            let lanes = scene.lanes().expect("a scene the lanes shade");
+            let lanes = LaneScene::of(&scene).expect("a scene the lanes shade");
             let mut rays = Vec::new();
             for &target in &points {
                 // Along the axes (exactly through edges and poles) and from afar.
@@ -705,7 +718,7 @@ mod tests {
         let instance = Instance::new(Arc::new(mesh), Placement::IDENTITY, vec![0]);
         let instance = Shape::Instance(Arc::new(instance.expect("an instance")));
         parts.objects = vec![Object::new(instance, 99)];
-        assert!(Scene::new(parts).lanes().is_none());
+        assert!(LaneScene::of(&Scene::new(parts)).is_none());
     }
 
     #[test]
@@ -717,7 +730,7 @@ mod tests {
             let mut parts = random_parts(&mut numbers);
             parts.camera = Camera::new(Vec3::Z * 6.0, Vec3::ZERO, Vec3::Y, 60.0, 37, 23);
             let scene = Scene::new(parts);
-            assert!(scene.lanes().is_some());
+            assert!(LaneScene::of(&scene).is_some());
             let rendered = crate::render(&scene, &crate::RenderJob::full(&scene), &|_| {});
             let mut whitted = Whitted::new(&scene);
             for j in 0..23 {
@@ -740,12 +753,12 @@ mod tests {
             parts.objects[0] = Object::new(Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0)), 0);
             parts
         };
-        assert!(Scene::new(plain()).lanes().is_some());
-        assert!(Scene::lean(plain()).lanes().is_some());
+        assert!(LaneScene::of(&Scene::new(plain())).is_some());
+        assert!(LaneScene::of(&Scene::lean(plain())).is_some());
         let refused = |change: &dyn Fn(&mut SceneParts)| {
             let mut parts = plain();
             change(&mut parts);
-            Scene::new(parts).lanes().is_none()
+            LaneScene::of(&Scene::new(parts)).is_none()
         };
         assert!(refused(&|p| p.objects.clear()));
         assert!(refused(

@@ -16,22 +16,19 @@ use super::roulette::{roulette, ROULETTE_DEPTH};
 use super::seen;
 use super::RayStats;
 use crate::bsdf::Bsdf;
-use crate::camera::Camera;
 use crate::geometry::SurfaceHit;
+use crate::light::toward::SHADOW_SHORTEN;
 use crate::material::{Glass, Material};
 use crate::ray::Ray;
 use crate::sampler::PixelSampler;
-use crate::sampling::concentric_disk;
 use crate::sampling::mis::power_heuristic;
 use crate::scene::Scene;
 use crate::simd::V3;
 use crate::EPSILON;
 use glam::{DVec3, Vec2, Vec3};
+use std::cell::OnceCell;
 use std::ops::Range;
-
-/// How much shorter than a light sample's distance its shadow ray stops,
-/// relative: the light's own surface must not count as in the way.
-pub(super) const SHADOW_SHORTEN: f32 = 1e-4;
+use std::sync::Arc;
 
 /// How many values of samples traced in lanes wait at most to be added in
 /// order (12 bytes each): a row's pixels are traced together up to this
@@ -68,6 +65,9 @@ pub struct PathTracer<'a, R: Recorder = Silent> {
     /// (`matte_lanes/`, the same values): where the processor has wide
     /// SIMD registers, unless a test says otherwise.
     in_lanes: bool,
+    /// The scene as the lanes read it, made on the first call that asks
+    /// (`matte_lanes`): None if it is not a small matte one.
+    matte: OnceCell<Option<Arc<MatteLanes>>>,
     /// The values of samples traced in lanes, waiting to be added to
     /// their pixels in order (kept from call to call).
     lane_values: Vec<Vec3>,
@@ -110,6 +110,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             seed: 0,
             strategy: Strategy::Mis,
             in_lanes: wide_simd(),
+            matte: OnceCell::new(),
             lane_values: Vec::new(),
             lane_shared: Vec::new(),
             reuse: scene.trace_settings().path_reuse.clamp(1, reuse::MAX_GROUP),
@@ -199,7 +200,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         // puts a row's together).
         if let Some(lanes) = self.lanes().filter(|_| samples.len() >= LANES) {
             let one = std::slice::from_mut(sum);
-            self.add_pixels_in_lanes(lanes, (i..i + 1, j), samples, one, cancelled);
+            self.add_pixels_in_lanes(&lanes, (i..i + 1, j), samples, one, cancelled);
             return;
         }
         let mut sampler = PixelSampler::new(i, j, self.seed);
@@ -224,7 +225,10 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
     /// where a recorder follows the paths).
     fn seen_varies(&mut self, pixel: (u32, u32)) -> bool {
         let asked = self.camera_rays > 1 && R::SILENT;
-        asked && seen::varies(self.scene, pixel, &mut self.stats)
+        asked
+            && seeing(self.scene, &mut self.stats, |see| {
+                seen::varies(self.scene, pixel, see)
+            })
     }
 
     /// Adds `value`, of sample `s` of pixel (i, j), to `sum`, with what
@@ -240,7 +244,12 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         let value = match varies {
             true => {
                 let rays = (self.seed, self.camera_rays);
-                value + seen::correction(self.scene, rays, (i, j, s), &mut self.stats)
+                let scene = self.scene;
+                let pixel = (i, j, s);
+                value
+                    + seeing(scene, &mut self.stats, |see| {
+                        seen::correction(scene, rays, pixel, see)
+                    })
             }
             false => value,
         };
@@ -253,12 +262,15 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
 
     /// The scene in lanes, if it is a small matte one and nothing asks
     /// for paths one at a time (a recorder, a strategy of tests).
-    fn lanes(&self) -> Option<&'a MatteLanes> {
+    fn lanes(&self) -> Option<Arc<MatteLanes>> {
         let alone = !R::SILENT || !self.in_lanes || self.strategy != Strategy::Mis;
         if alone {
             return None;
         }
-        self.scene.matte_lanes()
+        let made = self
+            .matte
+            .get_or_init(|| MatteLanes::of(self.scene).map(Arc::new));
+        made.clone()
     }
 
     /// The pixels of a group that share their paths' first bounces, if
@@ -296,12 +308,12 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         // In lanes, whole groups at a time, as many as `SHARED_PATHS`
         // allows; alone, a group at a time.
         let per_group = group as usize * samples.len().max(1);
-        let together = match lanes {
+        let together = match &lanes {
             Some(_) => (SHARED_PATHS / per_group).max(1) * group as usize,
             None => group as usize,
         };
         for (xs, sums) in row_chunks(whole.start, &mut whole_sums, together) {
-            match lanes {
+            match &lanes {
                 Some(lanes) => {
                     let work = ((xs, j), samples.clone(), group);
                     self.add_groups_in_lanes(lanes, work, sums, &cancelled);
@@ -428,7 +440,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         // done: a few pixels at a time when they have many samples.
         let together = (LANE_VALUES / samples.len().max(1)).max(1);
         for (xs, sums) in row_chunks(xs.start, sums, together) {
-            self.add_pixels_in_lanes(lanes, (xs, j), samples.clone(), sums, &cancelled);
+            self.add_pixels_in_lanes(&lanes, (xs, j), samples.clone(), sums, &cancelled);
         }
     }
 
@@ -475,7 +487,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             stats: &mut self.stats,
             share,
         };
-        let ray = |sampler: &mut PixelSampler, pixel| camera_ray(camera, sampler, pixel);
+        let ray = |sampler: &mut PixelSampler, pixel| camera.sampled_ray(sampler, pixel);
         let work = (row, samples, self.seed);
         let out = (&mut self.lane_values, &mut self.lane_shared);
         lanes.trace_pixels(&mut setup, work, ray, out, cancelled);
@@ -486,7 +498,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
     #[inline(always)]
     pub fn sample(&mut self, sampler: &mut PixelSampler, (i, j): (u32, u32), s: u32) -> Vec3 {
         sampler.start(s);
-        let ray = camera_ray(self.scene.camera(), sampler, (i, j));
+        let ray = self.scene.camera().sampled_ray(sampler, (i, j));
         self.radiance(ray, sampler)
     }
 
@@ -744,6 +756,23 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
     }
 }
 
+/// Runs `f` with what camera rays see directly (`seen::See`): the light
+/// of paths of depth 0, their rays counted into `stats`.
+fn seeing<T>(scene: &Scene, stats: &mut RayStats, f: impl FnOnce(seen::See) -> T) -> T {
+    let mut tracer = PathTracer::new(scene).with_max_depth(0);
+    // A path of depth 0 draws no number.
+    let mut unused = PixelSampler::new(0, 0, 0);
+    let found = f(&mut |ray| tracer.radiance(ray, &mut unused));
+    stats.nearest += tracer.stats.nearest;
+    found
+}
+
+/// Whether path mode traces `scene` sixteen paths at a time (a small matte
+/// scene, `matte_lanes/`): the same values, sooner.
+pub fn traces_paths_in_lanes(scene: &Scene) -> bool {
+    MatteLanes::of(scene).is_some()
+}
+
 /// The sums of a row's pixels from column `x0` on, `size` at a time, each
 /// run with its columns.
 fn row_chunks(
@@ -767,18 +796,6 @@ fn wide_simd() -> bool {
     return std::arch::is_x86_feature_detected!("avx2");
     #[cfg(not(target_arch = "x86_64"))]
     return false;
-}
-
-/// The camera ray of the sample `sampler` has started, through pixel
-/// (i, j).
-#[inline(always)]
-pub(super) fn camera_ray(camera: &Camera, sampler: &mut PixelSampler, (i, j): (u32, u32)) -> Ray {
-    let at = Vec2::new(i as f32, j as f32) + sampler.get2();
-    let lens = match camera.lens {
-        Some(_) => concentric_disk(sampler.get2()),
-        None => Vec2::ZERO,
-    };
-    camera.lens_ray(at.x, at.y, lens)
 }
 
 /// A pixel's finite samples so far: their sum, in f64 (finite samples

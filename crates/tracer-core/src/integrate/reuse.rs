@@ -23,6 +23,7 @@
 use super::record::{PathEvent, PathEventKind, Recorder};
 use crate::bsdf::Bsdf;
 use crate::geometry::SurfaceHit;
+use crate::light::toward::SHADOW_SHORTEN;
 use glam::Vec3;
 
 /// The most pixels a group may have: their connections grow as its square.
@@ -163,7 +164,7 @@ impl Combiner {
                 self.connections.push(Connection {
                     from: x.from,
                     dir: to / distance,
-                    reach: distance * (1.0 - super::path::SHADOW_SHORTEN),
+                    reach: distance * (1.0 - SHADOW_SHORTEN),
                 });
                 self.pending.push((k * n + j, d));
             }

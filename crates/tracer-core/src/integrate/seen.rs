@@ -11,8 +11,6 @@
 //! to the same one. Other pixels, seeing one light or none across them (or
 //! a sky that changes gently), are left as they are, at no cost.
 
-use super::path::{camera_ray, PathTracer};
-use super::RayStats;
 use crate::ray::Ray;
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
@@ -26,50 +24,23 @@ pub const MAX_CAMERA_RAYS: u32 = scene_format::validate::MAX_CAMERA_RAYS;
 /// independent of the paths'.
 const SEEN_REQUEST: u32 = 1 << 12;
 
-/// Traces what camera rays see directly: the light a path's first segment
-/// adds (an emitter's front, the sky or background), as the path tracer
-/// adds it. One per call of `varies` or `correction`, its rays counted
-/// into theirs.
-struct Seen<'a> {
-    tracer: PathTracer<'a>,
-    /// A path of depth 0 draws no number.
-    unused: PixelSampler,
-}
-
-impl<'a> Seen<'a> {
-    fn new(scene: &'a Scene) -> Self {
-        Seen {
-            tracer: PathTracer::new(scene).with_max_depth(0),
-            unused: PixelSampler::new(0, 0, 0),
-        }
-    }
-
-    /// What camera ray `ray` sees directly.
-    fn along(&mut self, ray: Ray) -> Vec3 {
-        self.tracer.radiance(ray, &mut self.unused)
-    }
-
-    /// Adds the rays traced to `stats`.
-    fn count_into(self, stats: &mut RayStats) {
-        stats.nearest += self.tracer.stats.nearest;
-    }
-}
+/// What a camera ray sees directly: the light a path's first segment adds
+/// (an emitter's front, the sky or background), as the path tracer adds
+/// it, which gives it (a path of depth 0).
+pub(super) type See<'s> = &'s mut dyn FnMut(Ray) -> Vec3;
 
 /// Whether what pixel (i, j) shows directly changes sharply across it:
 /// the camera rays through its corners and centre (and the lens's
 /// centre) see lights apart by more than `EDGE` of the brighter (the edge
 /// of a lamp, an object against the sky), not the gentle change of a sky
 /// across a pixel, which one ray a path finds well enough.
-pub(super) fn varies(scene: &Scene, (i, j): (u32, u32), stats: &mut RayStats) -> bool {
+pub(super) fn varies(scene: &Scene, (i, j): (u32, u32), see: See) -> bool {
     let camera = scene.camera();
     let (x, y) = (i as f32, j as f32);
-    let mut seen = Seen::new(scene);
-    let mut at = |(dx, dy): (f32, f32)| seen.along(camera.lens_ray(x + dx, y + dy, Vec2::ZERO));
+    let mut at = |(dx, dy): (f32, f32)| see(camera.lens_ray(x + dx, y + dy, Vec2::ZERO));
     let centre = at((0.5, 0.5));
     let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)];
-    let varies = corners.into_iter().any(|corner| apart(at(corner), centre));
-    seen.count_into(stats);
-    varies
+    corners.into_iter().any(|corner| apart(at(corner), centre))
 }
 
 /// How far apart, relative to the brighter, two lights seen in a pixel
@@ -94,20 +65,18 @@ pub(super) fn correction(
     scene: &Scene,
     (seed, rays): (u32, u32),
     (i, j, s): (u32, u32, u32),
-    stats: &mut RayStats,
+    see: See,
 ) -> Vec3 {
     let camera = scene.camera();
-    let mut seen = Seen::new(scene);
     let mut sampler = PixelSampler::new(i, j, seed);
     sampler.start(s);
-    let own = seen.along(camera_ray(camera, &mut sampler, (i, j)));
+    let own = see(camera.sampled_ray(&mut sampler, (i, j)));
     let mut sum = Vec3::ZERO;
     for m in 0..rays {
         sampler.start(s.wrapping_mul(rays).wrapping_add(m));
         sampler.skip(SEEN_REQUEST);
-        sum += seen.along(camera_ray(camera, &mut sampler, (i, j)));
+        sum += see(camera.sampled_ray(&mut sampler, (i, j)));
     }
-    seen.count_into(stats);
     sum / rays as f32 - own
 }
 

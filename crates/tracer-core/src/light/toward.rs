@@ -5,6 +5,11 @@
 
 use crate::simd::{Real, V3};
 
+/// How much shorter than a light's point's distance a shadow ray (or a
+/// connection of shared paths) stops, relative: the light's own surface
+/// must not count as in the way.
+pub const SHADOW_SHORTEN: f32 = 1e-4;
+
 /// The way from a shaded point to a light's point.
 #[derive(Debug, Clone, Copy)]
 pub struct Toward<N: Real> {

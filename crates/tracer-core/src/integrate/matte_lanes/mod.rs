@@ -42,6 +42,7 @@ use crate::material::Material;
 use crate::ray::Ray;
 use crate::sampler::{LaneSamplers, PixelSampler};
 use crate::sampling::mis::power_heuristic;
+use crate::scene::{Integrator, Scene};
 use crate::simd::{F16, V3};
 use glam::{Vec2, Vec3};
 use multiversion::multiversion;
@@ -99,6 +100,24 @@ pub struct MatteLanes {
 }
 
 impl MatteLanes {
+    /// `scene` as sixteen paths at a time read it, if it is a small matte
+    /// one (`new`) that holds its objects and cuts no holes (the lanes'
+    /// search reads no alpha masks): made for each render, by the path
+    /// tracer that reads it.
+    pub fn of(scene: &Scene) -> Option<MatteLanes> {
+        let path_mode = scene.trace_settings().integrator == Integrator::Path;
+        if !path_mode || scene.has_alpha_masks() {
+            return None;
+        }
+        let (materials, lights) = (scene.materials(), scene.lights());
+        MatteLanes::new(
+            scene.every_object()?,
+            materials,
+            lights,
+            scene.path_lights(),
+        )
+    }
+
     /// The scene of `objects`, `materials` and `lights` in lanes, if it
     /// qualifies: up to `MAX_TRIANGLES` flat triangles, every material
     /// Lambertian without a texture, every light a point, no environment;

@@ -11,11 +11,10 @@
 use super::{axes, by_axis, set, Numbers, Paths, F, LANES, V};
 use crate::bsdf::frame::{tangents, to_world};
 use crate::bsdf::lambert::{lambert_f, lambert_pdf};
-use crate::integrate::path::SHADOW_SHORTEN;
 use crate::integrate::roulette::{roulette, ROULETTE_DEPTH};
 use crate::light::area::AreaShape;
 use crate::light::lights::Lights;
-use crate::light::toward::{flat_pdf, flat_shape_point, toward};
+use crate::light::toward::{flat_pdf, flat_shape_point, toward, SHADOW_SHORTEN};
 use crate::sampling::mis::power_heuristic;
 use crate::sampling::warp::{cosine_hemisphere, square_to_triangle};
 use crate::simd::{Mask, Real, F16, M16, V3};
