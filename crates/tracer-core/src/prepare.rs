@@ -8,7 +8,7 @@ use crate::geometry::{
     Instance, Object, Placement, Plane, Shape, SharedMesh, Sphere, Triangle, UvMap,
 };
 use crate::image::{Encoding, Saturation};
-use crate::integrate::path_defaults;
+use crate::integrate::path::defaults as path_defaults;
 use crate::light::environment::Environment;
 use crate::light::Light;
 use crate::material::{Glass, Material, NormalMap, Phong, PrincipledMaterial};
@@ -301,7 +301,7 @@ fn light(l: &fmt::Light) -> Light {
 }
 
 /// The file's `[render]` in the core's terms; path mode's estimator where
-/// the file leaves it (`path_defaults`), from its environment, whether
+/// the file leaves it (`integrate::path::defaults`), from its environment, whether
 /// some material of `materials` (the scene's) emits and whether the image
 /// is denoised.
 fn trace_settings(file: &fmt::SceneFile, materials: &[Material]) -> TraceSettings {

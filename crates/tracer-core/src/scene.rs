@@ -33,10 +33,10 @@ pub struct TraceSettings {
     /// How light is computed.
     pub integrator: Integrator,
     /// Path mode: how many neighbouring pixels of a row share their
-    /// paths' first bounces (`integrate::reuse`); 1 shares nothing.
+    /// paths' first bounces (`integrate::path::reuse`); 1 shares nothing.
     pub path_reuse: u32,
     /// Path mode: camera rays per path for what a pixel sees directly,
-    /// where that changes across it (`integrate::seen`); 1 is the path's.
+    /// where that changes across it (`integrate::path::seen`); 1 is the path's.
     pub camera_rays: u32,
 }
 
@@ -93,7 +93,7 @@ pub struct Scene {
 
 /// A lean scene keeps its objects when it has at most this many: the
 /// integrators' lanes, which only small scenes take, are made from them
-/// for each render (`integrate::lanes`, `integrate::matte_lanes`), and a
+/// for each render (`integrate::lanes`, `integrate::path::matte_lanes`), and a
 /// few kilobytes are worth keeping for that.
 pub const KEPT_OBJECTS: usize = 64;
 

@@ -1,5 +1,5 @@
 //! Small matte scenes trace sixteen paths at a time
-//! (`integrate::matte_lanes`): every pixel's value, and every ray count,
+//! (`integrate::path::matte_lanes`): every pixel's value, and every ray count,
 //! must be the one-path tracer's, bit for bit, on the Cornell box and on
 //! random rooms of triangles with emitters facing either way, black
 //! materials, point lights and every `max_depth`, and on closed rooms

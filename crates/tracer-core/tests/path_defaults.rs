@@ -1,4 +1,4 @@
-//! Path mode's estimator where a scene file leaves it (`path_defaults`):
+//! Path mode's estimator where a scene file leaves it (`integrate::path::defaults`):
 //! path reuse and more camera rays in rooms lit by their lamps, neither
 //! under an environment, and a key the file sets kept as it is.
 

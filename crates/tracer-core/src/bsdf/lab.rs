@@ -72,7 +72,7 @@ impl LabBsdf {
 
     /// The Lambertian lobe's albedo and the probability of picking it, if
     /// it is the only lobe (no highlight, mirror or glass): the material
-    /// as `integrate::matte_lanes` traces it. The probability is then 1, or
+    /// as `integrate::path::matte_lanes` traces it. The probability is then 1, or
     /// 0 for a material that reflects nothing.
     pub(crate) fn lambert_only(&self) -> Option<(Vec3, f32)> {
         let alone = self.p_phong == 0.0 && self.interface.total() == 0.0;

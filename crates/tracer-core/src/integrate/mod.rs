@@ -1,17 +1,12 @@
 //! Integrators: what colour a ray brings back. The lab's Whitted-style
 //! `rayTrace` (`whitted.rs`, and its four-lane form for small plain scenes,
-//! `lanes.rs`), and path tracing beside it (`path.rs`, and sixteen paths
-//! at a time in small matte scenes, `matte_lanes/`).
+//! `lanes.rs`), and path tracing beside it (`path/`: the estimator and its
+//! helpers, and sixteen paths at a time in small matte scenes,
+//! `path/matte_lanes/`).
 
-mod inside;
 pub(crate) mod lanes;
-pub(crate) mod matte_lanes;
 pub mod path;
-pub mod path_defaults;
 pub mod record;
-pub mod reuse;
-mod roulette;
-mod seen;
 pub mod whitted;
 
 /// How many rays of each kind a render traced.

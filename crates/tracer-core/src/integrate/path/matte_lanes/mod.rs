@@ -33,9 +33,9 @@ mod rays;
 mod shade;
 
 use super::reuse::{self, Connection, FirstVertex, Shared};
-use super::RayStats;
 use crate::bsdf::LabBsdf;
 use crate::geometry::{Object, Shape, SurfaceHit};
+use crate::integrate::RayStats;
 use crate::light::lights::Lights;
 use crate::light::Light;
 use crate::material::Material;

@@ -20,9 +20,9 @@
 //! first vertices alone (a Lambertian surface), so the densities summed
 //! are those of the techniques that really drew.
 
-use super::record::{PathEvent, PathEventKind, Recorder};
 use crate::bsdf::Bsdf;
 use crate::geometry::SurfaceHit;
+use crate::integrate::record::{PathEvent, PathEventKind, Recorder};
 use crate::light::toward::SHADOW_SHORTEN;
 use glam::Vec3;
 

@@ -3,7 +3,7 @@
 //! BSDF sample, the throughput and the roulette. Each is the one-path
 //! tracer's own formula on sixteen lanes (`simd::F16`): `bsdf::frame`'s
 //! tangents, `light::toward`, `bsdf::lambert`, `sampling::warp`,
-//! `sampling::mis` and `integrate::roulette`, combined as `LabBsdf` and
+//! `sampling::mis` and `integrate::path::roulette`, combined as `LabBsdf` and
 //! `PathTracer` combine them for a Lambertian lobe alone, so every value is
 //! the one-path tracer's bit for bit. The light table's pick is done a
 //! lane at a time with the one-path tracer's own function.
@@ -11,7 +11,7 @@
 use super::{axes, by_axis, set, Numbers, Paths, F, LANES, V};
 use crate::bsdf::frame::{tangents, to_world};
 use crate::bsdf::lambert::{lambert_f, lambert_pdf};
-use crate::integrate::roulette::{roulette, ROULETTE_DEPTH};
+use crate::integrate::path::roulette::{roulette, ROULETTE_DEPTH};
 use crate::light::area::AreaShape;
 use crate::light::lights::Lights;
 use crate::light::toward::{flat_pdf, flat_shape_point, toward, SHADOW_SHORTEN};
