@@ -375,11 +375,13 @@ fn shapes(
             halves
                 .into_iter()
                 .filter_map(|(t, uv)| triangle(t, uv))
+                .map(sharing_its_diagonal)
                 .collect()
         }
         [fmt::ShapeRef::Box(b)] => box_triangles(b.min.into(), b.max.into())
             .into_iter()
             .filter_map(|(t, uv)| triangle(t, uv))
+            .map(sharing_its_diagonal)
             .collect(),
         [fmt::ShapeRef::Mesh(m)] => {
             let data = m.data.as_ref().ok_or_else(|| PrepareError::MeshNotLoaded {
@@ -482,6 +484,15 @@ fn quad_triangles(corner: Vec3, edge_u: Vec3, edge_v: Vec3) -> [([Vec3; 3], UvMa
         dv: -Vec2::Y,
     };
     [(first, UvMap::IDENTITY), (second, flipped)]
+}
+
+/// Half `o` of a quad (`quad_triangles`), its `v1` to `v2` edge the
+/// diagonal both halves share, which the triangle test then closes.
+fn sharing_its_diagonal(mut o: Object) -> Object {
+    if let Shape::Triangle(t) = &mut o.shape {
+        t.shared_diagonal = true;
+    }
+    o
 }
 
 /// The six faces of the box from `min` to `max` as quads facing outward
