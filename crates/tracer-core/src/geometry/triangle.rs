@@ -131,7 +131,11 @@ pub fn moller_trumbore<N: Real>(
     // more in both halves: a crack. Just past a shared diagonal, a ray gets
     // a second look, which forgives u + v its rounding error; every other
     // ray keeps the answer it had, bit for bit.
-    let past_diagonal = edges.scale.lt(N::zero())
+    let shared = edges.scale.lt(N::zero());
+    if shared.none() {
+        return (hit, t, [u, v]);
+    }
+    let past_diagonal = shared
         & !hit
         & !parallel
         & t_inside
