@@ -494,7 +494,8 @@ pub struct Material {
     /// bounced, toward a light) passes as if nothing were there, so a leaf
     /// drawn on a quad casts a leaf's shadow. From 0 to 1; 0.5 keeps the
     /// texels at least half opaque. Cuts triangles only (quads, boxes,
-    /// meshes, glTF models). Default: none, the surface is whole.
+    /// meshes, glTF models): on a sphere or a plane it is an error.
+    /// Default: none, the surface is whole.
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schemars(range(min = 0, max = 1))]
     pub alpha_cutoff: Option<f32>,

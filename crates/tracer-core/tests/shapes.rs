@@ -277,10 +277,26 @@ fn a_ray_on_a_quads_diagonal_hits_it() {
     // Points exact in f32 (steps of 1/1024 between corners of small
     // integers), then any quads.
     let quads = [
-        (Vec3::new(-1.0, -1.0, 0.0), Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0)),
-        (Vec3::new(1.0, 2.0, -3.0), Vec3::new(4.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 2.0)),
-        (Vec3::new(-0.3, 0.7, -1.1), Vec3::new(1.7, 0.3, 0.1), Vec3::new(-0.2, 1.3, 0.9)),
-        (Vec3::new(2.2, -1.9, 0.4), Vec3::new(-3.1, 0.7, 1.3), Vec3::new(0.9, 2.6, -0.8)),
+        (
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(0.0, 2.0, 0.0),
+        ),
+        (
+            Vec3::new(1.0, 2.0, -3.0),
+            Vec3::new(4.0, 0.0, 0.0),
+            Vec3::new(0.0, 2.0, 2.0),
+        ),
+        (
+            Vec3::new(-0.3, 0.7, -1.1),
+            Vec3::new(1.7, 0.3, 0.1),
+            Vec3::new(-0.2, 1.3, 0.9),
+        ),
+        (
+            Vec3::new(2.2, -1.9, 0.4),
+            Vec3::new(-3.1, 0.7, 1.3),
+            Vec3::new(0.9, 2.6, -0.8),
+        ),
     ];
     for (k, (corner, edge_u, edge_v)) in quads.into_iter().enumerate() {
         let n = if k < 2 { 1024 } else { 3001 };
@@ -288,4 +304,3 @@ fn a_ray_on_a_quads_diagonal_hits_it() {
         assert_eq!(misses, 0, "quad {k}: {misses} rays through the diagonal");
     }
 }
-
