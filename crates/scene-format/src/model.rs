@@ -446,11 +446,10 @@ fn white() -> Color {
 /// (black, no reflection, opaque). Or a physically based one (the names of
 /// glTF 2.0 and Blender's Principled BSDF): `base_color`, `metallic`,
 /// `roughness`, `transmission`, and the textures
-/// `metallic_roughness_texture`, `emission_texture` and `normal_texture`
-/// (Whitted mode reads `metallic`, `roughness` and `emission` without
-/// their textures). Both kinds take `ior` (1.5 when left out),
-/// `emission` and `texture`; keys of both kinds in one material are an
-/// error.
+/// `metallic_roughness_texture` and `normal_texture` (Whitted mode reads
+/// `metallic` and `roughness` without their texture). Both kinds take
+/// `ior` (1.5 when left out), `emission`, `emission_texture` and
+/// `texture`; keys of both kinds in one material are an error.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Material {
@@ -542,8 +541,11 @@ pub struct Material {
     /// Default: none.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub metallic_roughness_texture: Option<TextureRef>,
-    /// An image (sRGB colours) that multiplies `emission` at each point.
-    /// Default: none.
+    /// An image (sRGB colours) that multiplies `emission` at each point,
+    /// on either kind of material: what Whitted mode shows, and in path
+    /// mode the light given off there (a light sample's point reads it as
+    /// a path that meets the surface does). No `emission`, no light: it
+    /// multiplies nothing. `{ image = "glow.png" }`. Default: none.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub emission_texture: Option<TextureRef>,
     /// A tangent-space normal map (linear values; red along the texture's

@@ -11,7 +11,7 @@ use crate::image::{Encoding, Saturation};
 use crate::integrate::path_defaults;
 use crate::light::environment::Environment;
 use crate::light::Light;
-use crate::material::{Glass, Material, NormalMap, Phong, PrincipledMaterial};
+use crate::material::{EmissionTexture, Glass, Material, NormalMap, Phong, PrincipledMaterial};
 use crate::names::Names;
 use crate::scene::{Integrator, Scene, SceneParts, TraceSettings};
 use crate::texture::{Builtin, ColorTexture, ImageTexels, Place, Texture, Wrap};
@@ -942,10 +942,16 @@ impl<'a> MaterialTable<'a> {
             texture: None,
             color_texture: None,
             emission: m.emission.into(),
+            emission_texture: None,
             alpha_mask: None,
         };
         let mut surface = self.textured(path, surface, texture.or(m.texture.as_ref()))?;
         surface.alpha_mask = alpha_mask(m, surface.color_texture.as_ref());
+        let emission = m.emission_texture.as_ref();
+        if let Some(texture) = self.data_texture(path, emission, true)? {
+            let mean = self.mean(&texture);
+            surface.emission_texture = Some(EmissionTexture { texture, mean });
+        }
         if m.transmittance == 0.0 && !m.fresnel {
             return Ok(Material::Phong(surface));
         }
