@@ -395,9 +395,9 @@ fn unseen_texture(warnings: &mut Vec<Diagnostic>, path: &KeyPath, m: &crate::Mat
     }
 }
 
-/// Objects whose material has an `alpha_cutoff` that cuts nothing: a
-/// sphere or plane (only triangles are cut), no image texture to read
-/// alpha from, or an image without alpha below 255.
+/// Objects whose material has an `alpha_cutoff` that cuts nothing: no
+/// image texture to read alpha from, or an image without alpha below 255
+/// (on a sphere or a plane, which it cannot cut, it is an error).
 fn alpha_cutoffs(warnings: &mut Vec<Diagnostic>, scene: &SceneFile) {
     for (i, o) in scene.objects.iter().enumerate() {
         let material = match &o.material {
@@ -409,18 +409,6 @@ fn alpha_cutoffs(warnings: &mut Vec<Diagnostic>, scene: &SceneFile) {
             continue;
         };
         let object = KeyPath::root().key("objects").index(i);
-        let round = match o.shapes().as_slice() {
-            [ShapeRef::Sphere(_)] => Some("sphere"),
-            [ShapeRef::Plane(_)] => Some("plane"),
-            _ => None,
-        };
-        if let Some(shape) = round {
-            warnings.push(Diagnostic::new(
-                object.key(shape),
-                format!("drawn whole: its material's `alpha_cutoff` cuts triangles only (quads, boxes, meshes, glTF models), not a {shape}"),
-            ));
-            continue;
-        }
         let (key, texture) = match (&o.texture, &m.texture) {
             (Some(t), _) => (object.key("texture"), Some(t)),
             (None, t) => (object.key("material"), t.as_ref()),
@@ -640,7 +628,6 @@ mod tests {
     #[test]
     fn an_alpha_cutoff_that_cannot_cut_is_warned_about() {
         let quad = "quad = { corner = [-1, -1, 0], edge_u = [2, 0, 0], edge_v = [0, 2, 0] }";
-        let sphere = "sphere = { center = [0, 0, 0], radius = 1 }";
         let image = ", texture = { image = \"leaf.png\" }";
         let whole = |shape: &str, rest: &str| -> Vec<String> {
             let material = format!("{{ diffuse = [1, 1, 1], alpha_cutoff = 0.5{rest} }}");
@@ -650,7 +637,6 @@ mod tests {
                 .filter(|m| m.starts_with("drawn whole"))
                 .collect()
         };
-        assert!(whole(sphere, image)[0].contains("cuts triangles only"));
         assert!(whole(quad, "")[0].contains("and it has none"));
         assert!(whole(quad, image).is_empty());
         // An image read without alpha below 255.

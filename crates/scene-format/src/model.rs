@@ -446,11 +446,10 @@ fn white() -> Color {
 /// (black, no reflection, opaque). Or a physically based one (the names of
 /// glTF 2.0 and Blender's Principled BSDF): `base_color`, `metallic`,
 /// `roughness`, `transmission`, and the textures
-/// `metallic_roughness_texture`, `emission_texture` and `normal_texture`
-/// (Whitted mode reads `metallic`, `roughness` and `emission` without
-/// their textures). Both kinds take `ior` (1.5 when left out),
-/// `emission` and `texture`; keys of both kinds in one material are an
-/// error.
+/// `metallic_roughness_texture` and `normal_texture` (Whitted mode reads
+/// `metallic` and `roughness` without their texture). Both kinds take
+/// `ior` (1.5 when left out), `emission`, `emission_texture` and
+/// `texture`; keys of both kinds in one material are an error.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Material {
@@ -494,7 +493,8 @@ pub struct Material {
     /// bounced, toward a light) passes as if nothing were there, so a leaf
     /// drawn on a quad casts a leaf's shadow. From 0 to 1; 0.5 keeps the
     /// texels at least half opaque. Cuts triangles only (quads, boxes,
-    /// meshes, glTF models). Default: none, the surface is whole.
+    /// meshes, glTF models): on a sphere or a plane it is an error.
+    /// Default: none, the surface is whole.
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schemars(range(min = 0, max = 1))]
     pub alpha_cutoff: Option<f32>,
@@ -541,8 +541,11 @@ pub struct Material {
     /// Default: none.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub metallic_roughness_texture: Option<TextureRef>,
-    /// An image (sRGB colours) that multiplies `emission` at each point.
-    /// Default: none.
+    /// An image (sRGB colours) that multiplies `emission` at each point,
+    /// on either kind of material: what Whitted mode shows, and in path
+    /// mode the light given off there (a light sample's point reads it as
+    /// a path that meets the surface does). No `emission`, no light: it
+    /// multiplies nothing. `{ image = "glow.png" }`. Default: none.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub emission_texture: Option<TextureRef>,
     /// A tangent-space normal map (linear values; red along the texture's

@@ -650,21 +650,40 @@ impl Validator {
         if let Some(t) = &o.texture {
             self.texture(&path.key("texture"), t);
         }
-        self.emissive_plane(path, o, scene);
-    }
-
-    /// An emissive material on a plane: a light of infinite area, which no
-    /// light sampling can pick a point of.
-    fn emissive_plane(&mut self, path: &KeyPath, o: &Object, scene: &SceneFile) {
         let material = match &o.material {
             Some(MaterialRef::Inline(m)) => Some(m),
             Some(MaterialRef::Named(name)) => scene.materials.get(name),
             None => None,
         };
-        if o.plane.is_some() && material.is_some_and(Material::is_emissive) {
+        if let Some(m) = material {
+            self.emissive_plane(path, o, m);
+            self.cut_out_sphere_or_plane(path, o, m);
+        }
+    }
+
+    /// An emissive material on a plane: a light of infinite area, which no
+    /// light sampling can pick a point of.
+    fn emissive_plane(&mut self, path: &KeyPath, o: &Object, m: &Material) {
+        if o.plane.is_some() && m.is_emissive() {
             self.error(
                 path.key("material"),
                 "expected a material without `emission` on a plane: an infinite plane cannot be sampled as a light; use a `quad` (or a `box`) of the size you need",
+            );
+        }
+    }
+
+    /// `alpha_cutoff` on a sphere or a plane: the searches cut triangles
+    /// only, and it would be silently ignored.
+    fn cut_out_sphere_or_plane(&mut self, path: &KeyPath, o: &Object, m: &Material) {
+        let shape = match (&o.sphere, &o.plane) {
+            (Some(_), _) => "a sphere",
+            (_, Some(_)) => "a plane",
+            _ => return,
+        };
+        if m.alpha_cutoff.is_some() {
+            self.error(
+                path.key("material"),
+                format!("expected a material without `alpha_cutoff` on {shape}: alpha masks cut triangles only; cut out a `quad`, `box`, `triangle`, `mesh` or `gltf` model"),
             );
         }
     }

@@ -167,6 +167,8 @@ const CASES: &[Case] = &[
     case("sphere-as-long-array.json", "objects[0].sphere", 4, 26, "expected an object of named keys ({\"key\": value, ...}), found an array"),
     case("material-as-array.json", "materials.red", 4, 24, "expected an object of named keys ({\"key\": value, ...}), found an array"),
     case("alpha-cutoff-above-one.toml", "materials.leaf.alpha_cutoff", 7, 16, "expected a number from 0 to 1, found 128"),
+    case("alpha-cutoff-sphere.toml", "objects[1].material", 15, 12, "expected a material without `alpha_cutoff` on a sphere: alpha masks cut triangles only"),
+    case("alpha-cutoff-plane.toml", "objects[0].material", 7, 12, "expected a material without `alpha_cutoff` on a plane"),
     case("alpha-cutoff-checker.toml", "materials.leaf.alpha_cutoff", 8, 16, "expected an image `texture` to read alpha from, found a checker, which has none"),
     case("physical-lab-texture.toml", "materials.striped.texture", 7, 11, "expected an image or checker texture table on a physically based material"),
 ];

@@ -71,7 +71,7 @@ impl Material {
     pub fn emission_mean(&self) -> Vec3 {
         match self {
             Material::Principled(p) => p.emission_mean,
-            _ => self.surface().emission,
+            _ => self.surface().emission_mean(),
         }
     }
 
@@ -81,7 +81,7 @@ impl Material {
     pub fn emission_at(&self, hit: &SurfaceHit) -> Vec3 {
         match self {
             Material::Principled(p) => p.emission_at(hit.uv),
-            _ => self.surface().emission,
+            _ => self.surface().emission_at(hit.uv),
         }
     }
 
@@ -288,6 +288,7 @@ impl PrincipledMaterial {
             texture: None,
             color_texture: None,
             emission,
+            emission_texture: None,
             alpha_mask: None,
         };
         let transmittance = (1.0 - p.metallic) * p.transmission;
@@ -391,10 +392,21 @@ impl PrincipledMaterial {
         })
     }
 
-    /// The same material with `texture` on its emission, whose texels'
-    /// mean colour is `mean` (`ColorTexture::mean`, worked out once per
-    /// image by the caller).
+    /// The same material with `texture` on its emission (and on that of
+    /// its Whitted-mode reading), whose texels' mean colour is `mean`
+    /// (`ColorTexture::mean`, worked out once per image by the caller).
     pub fn with_emission_texture(mut self, texture: ColorTexture, mean: Vec3) -> Self {
+        let lab = match &mut self.lab {
+            Material::Phong(p) => Some(p),
+            Material::Glass(g) => Some(&mut g.surface),
+            Material::Principled(_) => None,
+        };
+        if let Some(surface) = lab {
+            surface.emission_texture = Some(EmissionTexture {
+                texture: texture.clone(),
+                mean,
+            });
+        }
         self.emission_texture = Some(texture);
         self.emission_mean = self.emission * mean;
         self
@@ -430,12 +442,40 @@ pub struct Phong {
     /// Radiance given off on the front side (where the geometric normal
     /// points): an area light in path mode, a colour seen in Whitted mode.
     pub emission: Vec3,
+    /// Multiplies `emission` at each hit.
+    pub emission_texture: Option<EmissionTexture>,
     /// Where the surface is cut out (`alpha_cutoff`): read by the BVH's
     /// search (`Material::alpha_mask`), not by shading.
     pub alpha_mask: Option<Arc<AlphaMask>>,
 }
 
+/// An image on a surface's emission, and the mean colour of its texels
+/// (`ColorTexture::mean`): a light's pick weighs the emission by it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EmissionTexture {
+    pub texture: ColorTexture,
+    pub mean: Vec3,
+}
+
 impl Phong {
+    /// `emission` times the emission texture at `uv`, if any.
+    #[inline(always)]
+    pub fn emission_at(&self, uv: glam::Vec2) -> Vec3 {
+        match &self.emission_texture {
+            Some(e) if self.emission != Vec3::ZERO => self.emission * e.texture.color(uv),
+            _ => self.emission,
+        }
+    }
+
+    /// `emission` times its texture's mean colour: the radiance given off
+    /// on average.
+    pub fn emission_mean(&self) -> Vec3 {
+        match &self.emission_texture {
+            Some(e) => self.emission * e.mean,
+            None => self.emission,
+        }
+    }
+
     /// The diffuse and highlight colours at `hit`: a colour texture
     /// multiplies the diffuse one, a lab texture both (it multiplies the
     /// lab's whole local colour), as path mode reads them.
@@ -464,6 +504,7 @@ impl Phong {
             texture: None,
             color_texture: None,
             emission: Vec3::ZERO,
+            emission_texture: None,
             alpha_mask: None,
         }
     }

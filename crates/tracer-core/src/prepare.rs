@@ -11,7 +11,7 @@ use crate::image::{Encoding, Saturation};
 use crate::integrate::path::defaults as path_defaults;
 use crate::light::environment::Environment;
 use crate::light::Light;
-use crate::material::{Glass, Material, NormalMap, Phong, PrincipledMaterial};
+use crate::material::{EmissionTexture, Glass, Material, NormalMap, Phong, PrincipledMaterial};
 use crate::names::Names;
 use crate::scene::{Integrator, Scene, SceneParts, TraceSettings};
 use crate::texture::{Builtin, ColorTexture, ImageTexels, Place, Texture, Wrap};
@@ -375,11 +375,13 @@ fn shapes(
             halves
                 .into_iter()
                 .filter_map(|(t, uv)| triangle(t, uv))
+                .map(sharing_its_diagonal)
                 .collect()
         }
         [fmt::ShapeRef::Box(b)] => box_triangles(b.min.into(), b.max.into())
             .into_iter()
             .filter_map(|(t, uv)| triangle(t, uv))
+            .map(sharing_its_diagonal)
             .collect(),
         [fmt::ShapeRef::Mesh(m)] => {
             let data = m.data.as_ref().ok_or_else(|| PrepareError::MeshNotLoaded {
@@ -482,6 +484,15 @@ fn quad_triangles(corner: Vec3, edge_u: Vec3, edge_v: Vec3) -> [([Vec3; 3], UvMa
         dv: -Vec2::Y,
     };
     [(first, UvMap::IDENTITY), (second, flipped)]
+}
+
+/// Half `o` of a quad (`quad_triangles`), its `v1` to `v2` edge the
+/// diagonal both halves share, which the triangle test then closes.
+fn sharing_its_diagonal(mut o: Object) -> Object {
+    if let Shape::Triangle(t) = &mut o.shape {
+        t.shared_diagonal = true;
+    }
+    o
 }
 
 /// The six faces of the box from `min` to `max` as quads facing outward
@@ -931,10 +942,16 @@ impl<'a> MaterialTable<'a> {
             texture: None,
             color_texture: None,
             emission: m.emission.into(),
+            emission_texture: None,
             alpha_mask: None,
         };
         let mut surface = self.textured(path, surface, texture.or(m.texture.as_ref()))?;
         surface.alpha_mask = alpha_mask(m, surface.color_texture.as_ref());
+        let emission = m.emission_texture.as_ref();
+        if let Some(texture) = self.data_texture(path, emission, true)? {
+            let mean = self.mean(&texture);
+            surface.emission_texture = Some(EmissionTexture { texture, mean });
+        }
         if m.transmittance == 0.0 && !m.fresnel {
             return Ok(Material::Phong(surface));
         }

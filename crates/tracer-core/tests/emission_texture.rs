@@ -292,3 +292,91 @@ fn a_kept_scene_whose_texture_lost_texels_is_refused() {
         assert!(kept.check_kept().is_err(), "{integrator}");
     }
 }
+
+#[test]
+fn a_lab_material_s_emission_texture_lights_the_floor_as_well() {
+    // `diffuse` and `emission`, the lab's kind: its emission texture is
+    // read by light samples and paths alike, as a physically based one's.
+    let dir = tempfile::tempdir().unwrap();
+    write_texture(dir.path());
+    let lab = EMITTER.replace(
+        "material = \"glow\"",
+        "material = { diffuse = [0, 0, 0], emission = [3, 3, 3], \
+         emission_texture = { image = \"glow.png\", wrap = \"clamp\" } }",
+    );
+    let scene = scene(dir.path(), &lab);
+    let expected = expected_mean(&scene, |_, _| true);
+    converges(&scene, expected);
+    // As `tracer render` traces it: a matte scene goes to the lanes,
+    // which read no texture; this one is traced a path at a time.
+    assert!(!scene.traces_paths_in_lanes());
+    let job = tracer_core::RenderJob {
+        samples: 256,
+        ..tracer_core::RenderJob::full(&scene)
+    };
+    let image = tracer_core::render(&scene, &job, &|_| {}).image;
+    let mean = image.pixels.iter().map(|c| f64::from(c.x)).sum::<f64>() / 256.0;
+    assert!(
+        (mean - expected).abs() < 0.05 * expected,
+        "{mean} vs {expected}"
+    );
+}
+
+#[test]
+fn whitted_mode_shows_an_emission_texture_on_either_kind_of_material() {
+    // An emitting quad filling the view, its texture black on the left
+    // and white on the right: the pixels run from none of the emission
+    // to all of it (white is 1 in sRGB and linear alike).
+    let dir = tempfile::tempdir().unwrap();
+    image::GrayImage::from_fn(2, 1, |x, _| image::Luma([if x == 0 { 0 } else { 255 }]))
+        .save(dir.path().join("halves.png"))
+        .unwrap();
+    let texture = "emission_texture = { image = \"halves.png\", wrap = \"clamp\" }";
+    for kind in ["diffuse = [0, 0, 0]", "base_color = [0, 0, 0]"] {
+        let text = format!(
+            "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 20\nwidth = 16\nheight = 16\n\
+             [[objects]]\nquad = {{ corner = [-1, -1, 0], edge_u = [2, 0, 0], edge_v = [0, 2, 0] }}\n\
+             material = {{ {kind}, emission = [0.5, 0.5, 0.5], {texture} }}\n"
+        );
+        std::fs::write(dir.path().join("whitted.toml"), text).unwrap();
+        let file = scene_format::load_path(&dir.path().join("whitted.toml")).unwrap();
+        let scene = prepare(&file).expect("prepare");
+        let job = tracer_core::RenderJob::full(&scene);
+        let pixels = tracer_core::render(&scene, &job, &|_| {}).image.pixels;
+        let red = |c: &Vec3| c.x;
+        let (darkest, brightest) = pixels
+            .iter()
+            .map(red)
+            .fold((1.0f32, 0.0f32), |(lo, hi), r| (lo.min(r), hi.max(r)));
+        assert!(darkest < 0.01, "{kind}: {darkest}");
+        assert!((brightest - 0.5).abs() < 1e-3, "{kind}: {brightest}");
+    }
+}
+
+#[test]
+fn a_kept_scene_whose_lab_emission_texture_lost_texels_is_refused() {
+    use tracer_core::material::{EmissionTexture, Material};
+    use tracer_core::texture::ColorTexture;
+    let dir = tempfile::tempdir().unwrap();
+    write_texture(dir.path());
+    let text = format!(
+        "[camera]\neye = [0, 1, 0]\nlook_at = [0, 0, 0]\nup = [0, 0, -1]\n\
+         [materials.glow]\ndiffuse = [0, 0, 0]\nemission = [3, 3, 3]\nemission_texture = {{ image = \"glow.png\" }}\n{EMITTER}"
+    );
+    std::fs::write(dir.path().join("kept.toml"), text).unwrap();
+    let file = scene_format::load_path(&dir.path().join("kept.toml")).unwrap();
+    let mut parts = tracer_core::prepare::parts(&file).unwrap();
+    assert!(Scene::lean(parts.clone()).check_kept().is_ok());
+    let Material::Phong(p) = &mut parts.materials[0] else {
+        panic!("a lab material")
+    };
+    let emission = p.emission_texture.as_ref().expect("a texture");
+    let mut stored = serde_json::to_value(&emission.texture).unwrap();
+    stored["Image"]["texels"]["width"] = serde_json::json!(65);
+    let texture: ColorTexture = serde_json::from_value(stored).unwrap();
+    p.emission_texture = Some(EmissionTexture {
+        texture,
+        mean: Vec3::ONE,
+    });
+    assert!(Scene::lean(parts).check_kept().is_err());
+}

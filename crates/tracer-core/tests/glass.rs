@@ -366,6 +366,7 @@ fn glass(ior: f32, reflectance: f32, transmittance: f32, fresnel: bool) -> Glass
             texture: None,
             color_texture: None,
             emission: Vec3::ZERO,
+            emission_texture: None,
             alpha_mask: None,
         },
         transmittance,

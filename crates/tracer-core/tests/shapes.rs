@@ -238,3 +238,69 @@ fn light_through_a_glass_box_is_shifted_by_the_textbook_amount() {
         );
     }
 }
+
+/// Rays from `origins` at `n - 1` points spread along the diagonal of the
+/// quad `corner`, `edge_u`, `edge_v` (from corner + edge_u to corner +
+/// edge_v, where its two triangles meet): how many find no hit, or are
+/// not blocked as shadow rays, in the BVH's search and the brute force.
+fn diagonal_misses(corner: Vec3, edge_u: Vec3, edge_v: Vec3, origins: &[Vec3], n: u32) -> usize {
+    let [c, u, v] = [corner, edge_u, edge_v].map(|p| p.to_array());
+    let scene = scene_from(&format!(
+        "{CAMERA}[[objects]]\nquad = {{ corner = {c:?}, edge_u = {u:?}, edge_v = {v:?} }}\n"
+    ));
+    let (a, b) = (corner + edge_u, corner + edge_v);
+    let mut misses = 0;
+    for scene in [&scene, &scene.clone().brute_force()] {
+        for &origin in origins {
+            for k in 1..n {
+                let p = a + (b - a) * (k as f32 / n as f32);
+                let ray = Ray::new(origin, p - origin);
+                let hit = scene.closest_hit(&ray, 1e-4, f32::INFINITY);
+                let blocked = scene.occluded(&ray, 1e-4, 2.0);
+                misses += usize::from(hit.is_none()) + usize::from(!blocked);
+            }
+        }
+    }
+    misses
+}
+
+#[test]
+fn a_ray_on_a_quads_diagonal_hits_it() {
+    // Rounding made u + v a little over 1 in both halves for about one
+    // such ray in seven: a crack along the diagonal.
+    let origins = [
+        Vec3::new(0.0, 0.0, 10.0),
+        Vec3::new(0.3, -0.7, 7.0),
+        Vec3::new(3.1, 2.9, 5.3),
+        Vec3::new(-2.0, 1.5, -6.0),
+    ];
+    // Points exact in f32 (steps of 1/1024 between corners of small
+    // integers), then any quads.
+    let quads = [
+        (
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(0.0, 2.0, 0.0),
+        ),
+        (
+            Vec3::new(1.0, 2.0, -3.0),
+            Vec3::new(4.0, 0.0, 0.0),
+            Vec3::new(0.0, 2.0, 2.0),
+        ),
+        (
+            Vec3::new(-0.3, 0.7, -1.1),
+            Vec3::new(1.7, 0.3, 0.1),
+            Vec3::new(-0.2, 1.3, 0.9),
+        ),
+        (
+            Vec3::new(2.2, -1.9, 0.4),
+            Vec3::new(-3.1, 0.7, 1.3),
+            Vec3::new(0.9, 2.6, -0.8),
+        ),
+    ];
+    for (k, (corner, edge_u, edge_v)) in quads.into_iter().enumerate() {
+        let n = if k < 2 { 1024 } else { 3001 };
+        let misses = diagonal_misses(corner, edge_u, edge_v, &origins, n);
+        assert_eq!(misses, 0, "quad {k}: {misses} rays through the diagonal");
+    }
+}

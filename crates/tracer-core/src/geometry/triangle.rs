@@ -2,7 +2,7 @@
 //! normal from the vertex order.
 
 use crate::ray::Ray;
-use crate::simd::{Real, V3};
+use crate::simd::{Mask, Real, V3};
 use glam::{Vec2, Vec3};
 
 /// Three vertices, in the lab's clockwise order.
@@ -11,11 +11,20 @@ pub struct Triangle {
     pub v0: Vec3,
     pub v1: Vec3,
     pub v2: Vec3,
+    /// Whether the edge from `v1` to `v2` is a quad's diagonal, which its
+    /// other half has as its own `v1` to `v2` edge (`prepare`'s quads and
+    /// boxes): a ray on it is found by at least one half (`moller_trumbore`).
+    pub shared_diagonal: bool,
 }
 
 impl Triangle {
     pub fn new(v0: Vec3, v1: Vec3, v2: Vec3) -> Self {
-        Triangle { v0, v1, v2 }
+        Triangle {
+            v0,
+            v1,
+            v2,
+            shared_diagonal: false,
+        }
     }
 
     /// Moller-Trumbore, two-sided: a triangle seen from behind is still
@@ -36,10 +45,13 @@ impl Triangle {
 
     /// The edges from `v0` and the scale of the parallel test,
     /// `EPSILON * |e1| * |e2|`: what `intersect` computes, and what the BVH
-    /// precomputes to find the same distances.
+    /// precomputes to find the same distances. The scale is negative for
+    /// a `shared_diagonal`: so every form of the test (the BVH's blocks, the
+    /// lanes), which keeps only the edges and the scale, knows it.
     pub(crate) fn edges(&self) -> (Vec3, Vec3, f32) {
         let (e1, e2) = (self.v1 - self.v0, self.v2 - self.v0);
-        (e1, e2, f32::EPSILON * e1.length() * e2.length())
+        let scale = f32::EPSILON * e1.length() * e2.length();
+        (e1, e2, if self.shared_diagonal { -scale } else { scale })
     }
 
     /// The lab's normal, from the vertex order: never flipped toward the viewer.
@@ -62,6 +74,8 @@ pub struct TriangleHit {
 pub struct Edges<N> {
     pub e1: V3<N>,
     pub e2: V3<N>,
+    /// Its size scales the parallel test; negative where the `v1` to `v2`
+    /// edge is a `Triangle::shared_diagonal`.
     pub scale: N,
 }
 
@@ -104,7 +118,7 @@ pub fn moller_trumbore<N: Real>(
     let p = dir.cross(edges.e2);
     let det = edges.e1.dot(p);
     // The ray runs parallel to the plane.
-    let parallel = det.abs().lt(edges.scale * dir_len);
+    let parallel = det.abs().lt(edges.scale.abs() * dir_len);
     let inv = N::one() / det;
     let u = terms.s.dot(p) * inv;
     let u_inside = u.ge(N::zero()) & u.le(N::one());
@@ -112,8 +126,57 @@ pub fn moller_trumbore<N: Real>(
     let v_outside = v.lt(N::zero()) | (u + v).gt(N::one());
     let t = terms.t_times_det * inv;
     let t_inside = t.gt(t_min) & t.lt(t_max);
-    (!parallel & u_inside & !v_outside & t_inside, t, [u, v])
+    let hit = !parallel & u_inside & !v_outside & t_inside;
+    // On a quad's diagonal u + v is 1, which rounding can make a little
+    // more in both halves: a crack. Just past a shared diagonal, a ray gets
+    // a second look, which forgives u + v its rounding error; every other
+    // ray keeps the answer it had, bit for bit.
+    let shared = edges.scale.lt(N::zero());
+    if shared.none() {
+        return (hit, t, [u, v]);
+    }
+    let past_diagonal = shared
+        & !hit
+        & !parallel
+        & t_inside
+        & u.ge(N::zero())
+        & v.ge(N::zero())
+        & (u + v).le(N::splat(1.0 + 2.0 * DIAGONAL_BAND));
+    if past_diagonal.none() {
+        return (hit, t, [u, v]);
+    }
+    let slack = rounding_bound(terms, dir_len, edges, det);
+    // A tie with the other half, which found the ray itself, goes to the
+    // other half: its distance is a few ulps from this one's.
+    let nudged = t * (1.0 + TIE_NUDGE);
+    let on_diagonal = past_diagonal & (u + v).le(N::one() + slack + slack) & nudged.lt(t_max);
+    (hit | on_diagonal, N::select(on_diagonal, nudged, t), [u, v])
 }
+
+/// How far past a shared diagonal (in barycentric units) a miss gets
+/// `rounding_bound`'s second look: far more than the bound, unless the
+/// triangle is tiny against its distance from the ray's origin.
+const DIAGONAL_BAND: f32 = 1.0 / 256.0;
+
+/// How far rounding can move Moller-Trumbore's barycentrics, in their
+/// units: the errors of `s`, of the cross and dot products and of the
+/// division by `det` are each a few epsilons of the terms' sizes, which
+/// `|dir| L (|s| + L) / |det|` bounds, L the longer edge. One epsilon of
+/// it: about three times what the worst of a million rays at the
+/// diagonals of random quads needed.
+#[inline(always)]
+fn rounding_bound<N: Real>(terms: &OriginTerms<N>, dir_len: N, edges: &Edges<N>, det: N) -> N {
+    let (e1, e2) = (edges.e1.length_squared(), edges.e2.length_squared());
+    let longest = e1.max(e2).sqrt();
+    let size = dir_len * longest * (terms.s.length() + longest);
+    size * f32::EPSILON / det.abs()
+}
+
+/// A second look's hit is reported this much (relatively) farther than
+/// it is: 64 ulps, more than the halves' distances differ by, and so
+/// little behind the surface that a shadow ray's start (`EPSILON`, 1e-4)
+/// covers it within 13 units.
+const TIE_NUDGE: f32 = 1.0 / 131_072.0;
 
 #[cfg(test)]
 mod tests {
@@ -159,6 +222,75 @@ mod tests {
         assert_eq!(t.normal(), Vec3::Z);
         let flipped = Triangle::new(Vec3::ZERO, Vec3::Y, Vec3::X);
         assert_eq!(flipped.normal(), -Vec3::Z);
+    }
+
+    /// The first half of the quad (-1, -1, 0) + s (2, 0, 0) + t (0, 2, 0),
+    /// its diagonal from (1, -1, 0) to (-1, 1, 0) shared or not.
+    fn half_quad(shared_diagonal: bool) -> Triangle {
+        let corner = Vec3::new(-1.0, -1.0, 0.0);
+        Triangle {
+            shared_diagonal,
+            ..Triangle::new(corner, corner + 2.0 * Vec3::X, corner + 2.0 * Vec3::Y)
+        }
+    }
+
+    /// A ray from (0.3, -0.7, 7) to the diagonal's point at `k / 1024`,
+    /// moved by `off` along (1, 1, 0), off the triangle for `off` > 0.
+    fn toward_diagonal(k: u32, off: f32) -> Ray {
+        let s = k as f32 / 1024.0;
+        let p = Vec3::new(1.0 - 2.0 * s + off, -1.0 + 2.0 * s + off, 0.0);
+        let origin = Vec3::new(0.3, -0.7, 7.0);
+        Ray::new(origin, p - origin)
+    }
+
+    #[test]
+    fn a_shared_diagonal_forgives_rounding_and_no_more() {
+        let (plain, shared) = (half_quad(false), half_quad(true));
+        let mut rounded_off = 0;
+        for k in 1..1024 {
+            let ray = toward_diagonal(k, 0.0);
+            let hit = shared.intersect(&ray, 0.0, f32::INFINITY);
+            assert!(hit.is_some(), "point {k} of the diagonal");
+            match plain.intersect(&ray, 0.0, f32::INFINITY) {
+                // Found by the first look: the same distance, bit for bit.
+                Some(first) => assert_eq!(hit, Some(first)),
+                // Found by the second: reported a hair farther.
+                None => {
+                    rounded_off += 1;
+                    let t = hit.unwrap().t;
+                    assert!(t > 1.0 && t < 1.0 + 1e-5, "{t}");
+                }
+            }
+            // A millionth of the quad past the diagonal is off the triangle.
+            let past = toward_diagonal(k, 2e-6);
+            assert_eq!(shared.intersect(&past, 0.0, f32::INFINITY), None, "{k}");
+        }
+        // Rounding put some points of the diagonal off the plain triangle.
+        assert!(rounded_off > 10, "{rounded_off}");
+    }
+
+    #[test]
+    fn a_shared_diagonal_leaves_the_other_edges_as_they_were() {
+        let (plain, shared) = (half_quad(false), half_quad(true));
+        let origin = Vec3::new(0.3, -0.7, 7.0);
+        // Along the edges u = 0 and v = 0 (short of the diagonal's ends),
+        // and past them by a hair.
+        for k in 0..1024 {
+            let s = k as f32 / 512.0 - 1.0;
+            for p in [
+                Vec3::new(-1.0, s, 0.0),
+                Vec3::new(s, -1.0, 0.0),
+                Vec3::new(-1.0 - 1e-7, s, 0.0),
+                Vec3::new(s, -1.0 - 1e-7, 0.0),
+            ] {
+                let ray = Ray::new(origin, p - origin);
+                assert_eq!(
+                    shared.intersect(&ray, 0.0, f32::INFINITY),
+                    plain.intersect(&ray, 0.0, f32::INFINITY),
+                    "{p}"
+                );
+            }
+        }
     }
 
     #[test]

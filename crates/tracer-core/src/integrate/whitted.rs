@@ -332,11 +332,12 @@ impl<'a, R: Recorder> Whitted<'a, R> {
         let p = ray.at(hit.t);
         let n = hit.shading_normal;
         let mut colour = energy * self.textured_local(m, ray, hit);
-        if m.emission != Vec3::ZERO && hit.front_face {
+        let emission = m.emission_at(hit.uv);
+        if emission != Vec3::ZERO && hit.front_face {
             // Seen (and mirrored), lighting nothing: Whitted mode has no
             // area lights. Skipped otherwise, so the lab's sums stay.
-            self.rec.emitted(m.emission);
-            colour += energy * m.emission;
+            self.rec.emitted(emission);
+            colour += energy * emission;
         }
         if m.reflectance > 0.0 && self.may_recurse(energy, depth) {
             let reflected = ray.reflected(p, n);
@@ -365,9 +366,10 @@ impl<'a, R: Recorder> Whitted<'a, R> {
         } else {
             Vec3::ZERO
         };
-        if g.surface.emission != Vec3::ZERO && hit.front_face {
-            self.rec.emitted(g.surface.emission);
-            colour += energy * g.surface.emission;
+        let emission = g.surface.emission_at(hit.uv);
+        if emission != Vec3::ZERO && hit.front_face {
+            self.rec.emitted(emission);
+            colour += energy * emission;
         }
         let split = g.split(ray.dir(), hit);
         if !self.may_recurse(energy, depth) {

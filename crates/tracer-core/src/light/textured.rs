@@ -33,7 +33,11 @@ impl EmittingSurface {
     pub fn of(material: &Material, triangles: bool) -> Option<EmittingSurface> {
         let texture = match material {
             Material::Principled(p) => p.emission_texture.clone(),
-            _ => None,
+            lab => lab
+                .surface()
+                .emission_texture
+                .as_ref()
+                .map(|e| e.texture.clone()),
         };
         let mask = material.alpha_mask().filter(|_| triangles).cloned();
         (texture.is_some() || mask.is_some()).then(|| EmittingSurface {

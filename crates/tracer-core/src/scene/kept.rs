@@ -53,5 +53,7 @@ fn textures_whole(m: &Material) -> bool {
         _ => true,
     };
     let mask = m.alpha_mask().is_none_or(|mask| mask.is_whole());
-    own && mask && whole(m.surface().color_texture.as_ref())
+    let surface = m.surface();
+    let emission = surface.emission_texture.as_ref().map(|e| &e.texture);
+    own && mask && whole(surface.color_texture.as_ref()) && whole(emission)
 }

@@ -188,7 +188,7 @@ fn matte(m: &Material) -> Option<Matte> {
     let Material::Phong(p) = m else {
         return None;
     };
-    if p.texture.is_some() || p.color_texture.is_some() {
+    if p.texture.is_some() || p.color_texture.is_some() || p.emission_texture.is_some() {
         return None;
     }
     let hit = SurfaceHit {
