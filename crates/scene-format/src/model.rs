@@ -550,9 +550,10 @@ pub struct Material {
     pub emission_texture: Option<TextureRef>,
     /// A tangent-space normal map (linear values; red along the texture's
     /// u, green along v, blue out of the surface, as glTF's and
-    /// Blender's): it bends the shading normal at each point. A mesh's
-    /// tangents come from its file, or are made by MikkTSpace. Default:
-    /// none.
+    /// Blender's): it bends the shading normal at each point, on a
+    /// physically based material only (the lab's keeps its normal: an
+    /// error). A mesh's tangents come from its file, or are made by
+    /// MikkTSpace. Default: none.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub normal_texture: Option<TextureRef>,
     /// How far `normal_texture` bends the normal: its x and y are scaled

@@ -413,6 +413,12 @@ impl Validator {
                 self.error(key, "expected `normal_strength` only with `normal_texture`");
             }
         }
+        if m.normal_texture.is_some() && !m.is_physical() {
+            self.error(
+                path.key("normal_texture"),
+                "expected `normal_texture` on a physically based material (one with `base_color`, `metallic`, `roughness` or `transmission`): the lab's Blinn-Phong material does not bend its normal; try base_color = [...] in place of `diffuse`",
+            );
+        }
         self.alpha_cutoff(path, m);
         self.transmission(path, m);
         self.physical(path, m);

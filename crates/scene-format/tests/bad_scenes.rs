@@ -168,6 +168,7 @@ const CASES: &[Case] = &[
     case("material-as-array.json", "materials.red", 4, 24, "expected an object of named keys ({\"key\": value, ...}), found an array"),
     case("alpha-cutoff-above-one.toml", "materials.leaf.alpha_cutoff", 7, 16, "expected a number from 0 to 1, found 128"),
     case("alpha-cutoff-sphere.toml", "objects[1].material", 15, 12, "expected a material without `alpha_cutoff` on a sphere: alpha masks cut triangles only"),
+    case("normal-texture-lab.toml", "materials.bumpy.normal_texture", 7, 18, "expected `normal_texture` on a physically based material"),
     case("alpha-cutoff-plane.toml", "objects[0].material", 7, 12, "expected a material without `alpha_cutoff` on a plane"),
     case("alpha-cutoff-checker.toml", "materials.leaf.alpha_cutoff", 8, 16, "expected an image `texture` to read alpha from, found a checker, which has none"),
     case("physical-lab-texture.toml", "materials.striped.texture", 7, 11, "expected an image or checker texture table on a physically based material"),
