@@ -2,7 +2,8 @@
 //! installs it): the Cornell box's error against Mitsuba's reference
 //! falls; a constant image stays constant; a NaN or an infinity does not
 //! spread; tiles merged then denoised are the whole render denoised; the
-//! message when the library is missing, and Whitted mode refused.
+//! guides' prefilters run at the quality asked; the message when the
+//! library is missing, and Whitted mode refused.
 //!
 //! Without the library these tests say so and pass, unless `CI` is set:
 //! there a missing library fails them.
@@ -118,6 +119,24 @@ fn a_constant_image_stays_constant() {
             let off = (c / value - Vec3::ONE).abs().max_element();
             assert!(off < 0.01, "pixel ({x}, {y}): {c}");
         }
+    }
+}
+
+#[test]
+fn the_guides_prefilters_and_the_filter_run_at_the_quality_asked() {
+    if !oidn() {
+        return;
+    }
+    let (w, h) = (64, 48);
+    let colour = constant(w, h, Vec3::splat(0.5));
+    for quality in [Quality::Fast, Quality::Balanced, Quality::High] {
+        let (image, stages) =
+            denoise::denoise_in_stages(&colour, &flat_guides(w, h), quality, 0).unwrap();
+        // As OIDN reports each filter's quality after its run.
+        let ran: Vec<_> = stages.filters().iter().map(|f| f.quality).collect();
+        assert_eq!(ran, [Some(quality); 3], "{}", quality.name());
+        assert_eq!(image.pixels.len(), (w * h) as usize);
+        assert!(stages.seconds() > 0.0, "{stages:?}");
     }
 }
 

@@ -3,18 +3,17 @@
 //! box and the materials scene: the RMSE of the image denoised at 16 and
 //! 64 paths a pixel beside the noisy image's at 16 to 1024 (the issue's
 //! goal: denoised at N below noisy at 16 N); and OIDN's time on a
-//! 1920x1080 image through the tracer against `oidnBenchmark`'s (shipped
-//! with the library) in the same run. Renders go through the pipeline, as
+//! 1920x1080 image through the tracer against `oidnBenchmark`'s in the
+//! same run (`denoise_time`). Renders go through the pipeline, as
 //! `tracer render --samples N --denoise` makes them; those at 16 paths
 //! also make the book's figures (`denoise_figure`).
 
 use super::denoise_figure;
+use super::denoise_time::{self, Timing};
 use super::path_peers::{self, BenchScene};
 use anyhow::{bail, Context, Result};
 use std::path::Path;
-use std::process::Command;
-use std::time::Instant;
-use tracer_pipeline::denoise::{self, Guides, Quality};
+use tracer_pipeline::denoise;
 use tracer_pipeline::{Input, LinearImage, Options};
 
 /// The `--only` name of this measurement.
@@ -37,18 +36,6 @@ pub struct SceneErrors {
     pub denoised: Vec<(u32, f64, f64, f64)>,
 }
 
-/// OIDN's time on 1920x1080 through the tracer and by its own benchmark.
-#[derive(Debug)]
-pub struct Timing {
-    pub quality: Quality,
-    /// Our whole denoise call: the guides' two prefilters and the filter.
-    pub ours_s: f64,
-    /// `oidnBenchmark`'s `RT.hdr_calb_cnrm` (the main filter with clean
-    /// guides, as ours) and `RT.hdr_alb_nrm` (no prefiltering).
-    pub benchmark_clean_s: Option<f64>,
-    pub benchmark_noisy_aux_s: Option<f64>,
-}
-
 pub fn measure(root: &Path) -> Result<(Vec<SceneErrors>, Vec<Timing>)> {
     if let Err(e) = denoise::available() {
         bail!("{e}");
@@ -57,11 +44,7 @@ pub fn measure(root: &Path) -> Result<(Vec<SceneErrors>, Vec<Timing>)> {
     for bench in SCENES {
         errors.push(scene_errors(root, bench)?);
     }
-    let timings = [Quality::High, Quality::Fast]
-        .into_iter()
-        .map(timing)
-        .collect::<Result<_>>()?;
-    Ok((errors, timings))
+    Ok((errors, denoise_time::measure()?))
 }
 
 fn scene_errors(root: &Path, bench: BenchScene) -> Result<SceneErrors> {
@@ -100,63 +83,6 @@ fn scene_errors(root: &Path, bench: BenchScene) -> Result<SceneErrors> {
         }
     }
     Ok(result)
-}
-
-/// OIDN on a 1920x1080 image (a smooth gradient: its time does not depend
-/// on the content) through `denoise::denoise`, median of 3, against
-/// `oidnBenchmark` on the same size and quality.
-fn timing(quality: Quality) -> Result<Timing> {
-    eprintln!(
-        "bench: Open Image Denoise on 1920x1080, {} ...",
-        quality.name()
-    );
-    let (width, height) = (1920, 1080);
-    let mut colour = LinearImage::new(width, height);
-    for (i, c) in colour.pixels.iter_mut().enumerate() {
-        let (x, y) = ((i as u32 % width) as f32, (i as u32 / width) as f32);
-        *c = glam::Vec3::new(x / width as f32, y / height as f32, 0.5);
-    }
-    let mut normal = LinearImage::new(width, height);
-    normal.pixels.fill(glam::Vec3::Z);
-    let guides = Guides {
-        albedo: colour.clone(),
-        normal,
-        emission: LinearImage::new(width, height),
-    };
-    let mut times = Vec::new();
-    for _ in 0..3 {
-        let start = Instant::now();
-        denoise::denoise(&colour, &guides, quality, 0)?;
-        times.push(start.elapsed().as_secs_f64());
-    }
-    times.sort_by(f64::total_cmp);
-    Ok(Timing {
-        quality,
-        ours_s: times[1],
-        benchmark_clean_s: benchmark("RT.hdr_calb_cnrm.1920x1080", quality),
-        benchmark_noisy_aux_s: benchmark("RT.hdr_alb_nrm.1920x1080", quality),
-    })
-}
-
-/// `oidnBenchmark`'s seconds a run of `name` (its "msec/image" line), or
-/// None when it cannot be run.
-fn benchmark(name: &str, quality: Quality) -> Option<f64> {
-    let exe = crate::oidn::benchmark();
-    let output = Command::new(&exe)
-        .args(["-r", name, "-n", "3", "-q", quality.name()])
-        .output()
-        .ok()?;
-    let text = String::from_utf8_lossy(&output.stdout);
-    // "RT.hdr_calb_cnrm.1920x1080 ... 1234.56 msec/image"
-    let msec = text.lines().filter(|l| l.contains(name)).find_map(|l| {
-        let words: Vec<&str> = l.split_whitespace().collect();
-        let at = words.iter().position(|w| w.starts_with("msec/image"))?;
-        words.get(at.checked_sub(1)?)?.parse::<f64>().ok()
-    });
-    if msec.is_none() {
-        eprintln!("bench: cannot read {}'s output:\n{text}", exe.display());
-    }
-    Some(msec? / 1e3)
 }
 
 pub(super) fn to_linear(image: &path_peers::FloatImage) -> LinearImage {
@@ -199,15 +125,5 @@ pub fn report((errors, timings): &(Vec<SceneErrors>, Vec<Timing>)) {
             println!("    denoised {spp:5} spp: {all:.5} / {below:.5}  (OIDN {seconds:.2} s)");
         }
     }
-    println!("OIDN on 1920x1080 (median of 3; oidnBenchmark's own figure in the same run):");
-    let show = |s: Option<f64>| s.map_or("-".to_string(), |s| format!("{s:.2} s"));
-    for t in timings {
-        println!(
-            "  {:8} ours (2 prefilters + filter) {:.2} s; oidnBenchmark RT.hdr_calb_cnrm (filter alone) {}, RT.hdr_alb_nrm (no prefilter) {}",
-            t.quality.name(),
-            t.ours_s,
-            show(t.benchmark_clean_s),
-            show(t.benchmark_noisy_aux_s)
-        );
-    }
+    denoise_time::report(timings);
 }

@@ -28,10 +28,12 @@
 //! - `print`: the report.
 //! - `rusage`: CPU time and peak memory of this process and its children.
 //! - `denoise`: Open Image Denoise on the path tracer's images against the
-//!   Mitsuba references, and its time against `oidnBenchmark`.
+//!   Mitsuba references, and (`denoise_time`) its time against
+//!   `oidnBenchmark`.
 
 mod denoise;
 pub mod denoise_figure;
+mod denoise_time;
 mod embree;
 mod measure;
 pub mod memory;
@@ -75,7 +77,7 @@ pub struct BenchArgs {
     /// scenes against Mitsuba 3 at equal time; web: the playground in
     /// headless Chromium against native, one thread, and its workers;
     /// denoise: Open Image Denoise's RMSE against the Mitsuba references and
-    /// its time against oidnBenchmark)
+    /// its time against oidnBenchmark; denoise-time: that time alone)
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
     /// With path: also Mitsuba 3's scalar_rgb, and Blender Cycles on the
@@ -114,16 +116,25 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let only = |name: &str| args.only.is_empty() || args.only.iter().any(|o| o == name);
     if !args.only.is_empty() {
         if let Some(unknown) = args.only.iter().find(|o| {
-            ![INSTANCING, PACKETS, path::PATH, web::WEB, denoise::DENOISE].contains(&o.as_str())
+            ![
+                INSTANCING,
+                PACKETS,
+                path::PATH,
+                web::WEB,
+                denoise::DENOISE,
+                denoise_time::DENOISE_TIME,
+            ]
+            .contains(&o.as_str())
                 && !scenes.iter().any(|s| s.name == *o)
         }) {
             let names: Vec<&str> = scenes.iter().map(|s| s.name).collect();
             bail!(
-                "--only: no scene `{unknown}` (the scenes: {}; or {INSTANCING}, {PACKETS}, {}, {}, {})",
+                "--only: no scene `{unknown}` (the scenes: {}; or {INSTANCING}, {PACKETS}, {}, {}, {}, {})",
                 names.join(", "),
                 path::PATH,
                 web::WEB,
-                denoise::DENOISE
+                denoise::DENOISE,
+                denoise_time::DENOISE_TIME
             );
         }
         scenes.retain(|s| only(s.name));
@@ -205,6 +216,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     if only(denoise::DENOISE) {
         denoise::report(&denoise::measure(&root)?);
+    } else if only(denoise_time::DENOISE_TIME) {
+        denoise_time::report(&denoise_time::measure()?);
     }
     Ok(())
 }

@@ -4,6 +4,7 @@
 //!
 //! - `library.rs`: finding and loading OIDN at run time (`cargo xtask oidn`).
 //! - `filter.rs`: its `RT` filter with prefiltered guides (`cleanAux`).
+//! - `stages.rs`: how long each stage of a denoise took (for the bench).
 //! - `emission.rs`: the light each pixel sees directly, left out of what
 //!   OIDN filters and added back (and where that guide is sampled finely).
 //!
@@ -16,6 +17,8 @@ pub(crate) mod emission;
 mod filter;
 #[cfg(not(target_arch = "wasm32"))]
 mod library;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod stages;
 
 #[cfg(not(target_arch = "wasm32"))]
 pub use library::{available, find_in, project_folder};
@@ -35,6 +38,14 @@ fn oidn_quality(quality: Quality) -> i32 {
         Quality::Balanced => 5,
         Quality::High => 6,
     }
+}
+
+/// The quality of OIDN's number for it (None for another number).
+#[cfg(not(target_arch = "wasm32"))]
+fn quality_of_oidn(value: i32) -> Option<Quality> {
+    [Quality::Fast, Quality::Balanced, Quality::High]
+        .into_iter()
+        .find(|&q| oidn_quality(q) == value)
 }
 
 /// Why an image could not be denoised.
@@ -98,6 +109,18 @@ pub fn denoise(
     quality: Quality,
     threads: usize,
 ) -> Result<LinearImage, DenoiseError> {
+    denoise_in_stages(colour, guides, quality, threads).map(|(image, _)| image)
+}
+
+/// [`denoise`], with how long each of its stages took.
+#[cfg(not(target_arch = "wasm32"))]
+pub fn denoise_in_stages(
+    colour: &LinearImage,
+    guides: &Guides,
+    quality: Quality,
+    threads: usize,
+) -> Result<(LinearImage, stages::Stages), DenoiseError> {
+    let start = std::time::Instant::now();
     let api = library::api()?;
     let device = filter::Device::new(api, threads)?;
     if device.version() / 10000 != 2 {
@@ -106,6 +129,7 @@ pub fn denoise(
             path: api.path.clone(),
         });
     }
+    let made = std::time::Instant::now();
     let size = (colour.width as usize, colour.height as usize);
     let light = finite(&guides.emission.pixels);
     let colour = emission::without(&finite(&colour.pixels), &light);
@@ -113,7 +137,8 @@ pub fn denoise(
     let mut normal = guides.normal.pixels.clone();
     zero_non_finite(&mut normal);
     let mut output = LinearImage::new(size.0 as u32, size.1 as u32);
-    device.denoise(
+    let prepared = std::time::Instant::now();
+    let [albedo_run, normal_run, colour_run] = device.denoise(
         size,
         &colour,
         &mut albedo,
@@ -121,10 +146,19 @@ pub fn denoise(
         &mut output.pixels,
         quality,
     )?;
+    let filtered = std::time::Instant::now();
     for (c, e) in output.pixels.iter_mut().zip(light.iter()) {
         *c += *e;
     }
-    Ok(output)
+    let stages = stages::Stages {
+        device_seconds: (made - start).as_secs_f64(),
+        prepare_seconds: (prepared - made).as_secs_f64(),
+        albedo: albedo_run,
+        normal: normal_run,
+        colour: colour_run,
+        finish_seconds: filtered.elapsed().as_secs_f64(),
+    };
+    Ok((output, stages))
 }
 
 /// The pixels with every channel that is not a finite number >= 0 made
