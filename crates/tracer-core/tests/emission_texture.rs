@@ -12,7 +12,7 @@ use common::{path_image, srgb_decoded};
 use glam::{Vec2, Vec3};
 use std::f64::consts::PI;
 use std::path::Path;
-use tracer_core::integrate::path::Strategy;
+use tracer_core::integrate::path::{traces_paths_in_lanes, Strategy};
 use tracer_core::{prepare, Scene};
 
 /// The emitter's height, factor, and the floor's albedo.
@@ -309,7 +309,7 @@ fn a_lab_material_s_emission_texture_lights_the_floor_as_well() {
     converges(&scene, expected);
     // As `tracer render` traces it: a matte scene goes to the lanes,
     // which read no texture; this one is traced a path at a time.
-    assert!(!scene.traces_paths_in_lanes());
+    assert!(!traces_paths_in_lanes(&scene));
     let job = tracer_core::RenderJob {
         samples: 256,
         ..tracer_core::RenderJob::full(&scene)
