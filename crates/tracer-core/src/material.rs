@@ -59,30 +59,21 @@ impl Material {
     /// the surface, its most: the factor an emission texture multiplies;
     /// `emission_at` is a hit's own).
     pub fn emission(&self) -> Vec3 {
-        match self {
-            Material::Principled(p) => p.emission,
-            _ => self.surface().emission,
-        }
+        self.surface().emission
     }
 
     /// The radiance given off on the front side, on average over the
     /// surface (`emission` times its texture's mean): what the pick of a
     /// light sample weighs it by, `light::Lights::pdf_hit`'s radiance.
     pub fn emission_mean(&self) -> Vec3 {
-        match self {
-            Material::Principled(p) => p.emission_mean,
-            _ => self.surface().emission_mean(),
-        }
+        self.surface().emission_mean()
     }
 
     /// The radiance given off on the front side at `hit`: `emission`, times
     /// the emission texture there, if any.
     #[inline(always)]
     pub fn emission_at(&self, hit: &SurfaceHit) -> Vec3 {
-        match self {
-            Material::Principled(p) => p.emission_at(hit.uv),
-            _ => self.surface().emission_at(hit.uv),
-        }
+        self.surface().emission_at(hit.uv)
     }
 
     /// What the surface sends back at `hit` other than along single
@@ -237,7 +228,8 @@ impl SpecularSplit {
 }
 
 /// A physically based material: its parameters (`bsdf::principled`), its
-/// emission and colour texture, and how Whitted mode shades it.
+/// textures, and how Whitted mode shades it (`lab`, which also holds its
+/// emission and the emission's texture, read by both modes).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PrincipledMaterial {
     pub base_color: Vec3,
@@ -245,18 +237,11 @@ pub struct PrincipledMaterial {
     pub roughness: f32,
     pub ior: f32,
     pub transmission: f32,
-    pub emission: Vec3,
     /// Multiplies `base_color` at each hit.
     pub color_texture: Option<ColorTexture>,
     /// Its blue multiplies `metallic`, its green `roughness` (glTF's
     /// packing), at each hit.
     pub metallic_roughness: Option<ColorTexture>,
-    /// Multiplies `emission` at each hit (`with_emission_texture`).
-    pub emission_texture: Option<ColorTexture>,
-    /// `emission` times the emission texture's mean colour: the radiance
-    /// given off on average, which a light's pick weighs
-    /// (`Material::emission_mean`); `emission` without a texture.
-    pub emission_mean: Vec3,
     /// Bends the shading normal (`Scene::closest_hit`).
     pub normal_map: Option<NormalMap>,
     /// Where the surface is cut out (glTF's MASK): read by the BVH's
@@ -309,11 +294,8 @@ impl PrincipledMaterial {
             roughness: p.roughness,
             ior: p.ior,
             transmission: p.transmission,
-            emission,
             color_texture: None,
             metallic_roughness: None,
-            emission_texture: None,
-            emission_mean: emission,
             normal_map: None,
             alpha_mask: None,
             lab,
@@ -341,17 +323,14 @@ impl PrincipledMaterial {
             roughness,
             ior: self.ior,
             transmission: self.transmission,
-            emission: self.emission_at(uv),
+            emission: self.lab.surface().emission_at(uv),
         }
     }
 
-    /// `emission` times the emission texture at `uv`, if any.
-    #[inline(always)]
-    pub fn emission_at(&self, uv: glam::Vec2) -> Vec3 {
-        match &self.emission_texture {
-            Some(texture) if self.emission != Vec3::ZERO => self.emission * texture.color(uv),
-            _ => self.emission,
-        }
+    /// Its emission's texture, if any: its Whitted-mode reading's, which
+    /// holds its emission.
+    pub fn emission_texture(&self) -> Option<&EmissionTexture> {
+        self.lab.surface().emission_texture.as_ref()
     }
 
     /// `Material::specular_split` of a smooth metal or glass (or a mix of
@@ -392,23 +371,17 @@ impl PrincipledMaterial {
         })
     }
 
-    /// The same material with `texture` on its emission (and on that of
-    /// its Whitted-mode reading), whose texels' mean colour is `mean`
-    /// (`ColorTexture::mean`, worked out once per image by the caller).
+    /// The same material with `texture` on its emission (kept with the
+    /// emission, by its Whitted-mode reading, which both modes read),
+    /// whose texels' mean colour is `mean` (`ColorTexture::mean`, worked
+    /// out once per image by the caller).
     pub fn with_emission_texture(mut self, texture: ColorTexture, mean: Vec3) -> Self {
-        let lab = match &mut self.lab {
-            Material::Phong(p) => Some(p),
-            Material::Glass(g) => Some(&mut g.surface),
-            Material::Principled(_) => None,
+        let surface = match &mut self.lab {
+            Material::Phong(p) => p,
+            Material::Glass(g) => &mut g.surface,
+            Material::Principled(_) => unreachable!("a lab reading is the lab's kind"),
         };
-        if let Some(surface) = lab {
-            surface.emission_texture = Some(EmissionTexture {
-                texture: texture.clone(),
-                mean,
-            });
-        }
-        self.emission_texture = Some(texture);
-        self.emission_mean = self.emission * mean;
+        surface.emission_texture = Some(EmissionTexture { texture, mean });
         self
     }
 

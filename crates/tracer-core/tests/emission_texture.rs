@@ -282,7 +282,7 @@ fn a_kept_scene_whose_texture_lost_texels_is_refused() {
         let Material::Principled(p) = &mut parts.materials[0] else {
             panic!("a physically based material")
         };
-        let texture = p.emission_texture.as_ref().expect("a texture");
+        let texture = &p.emission_texture().expect("a texture").texture;
         let mut stored = serde_json::to_value(texture).unwrap();
         stored["Image"]["texels"]["width"] = serde_json::json!(65);
         let broken: ColorTexture = serde_json::from_value(stored).unwrap();

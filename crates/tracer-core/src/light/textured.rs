@@ -31,14 +31,8 @@ impl EmittingSurface {
     /// and, on `triangles` (which masks cut), its holes; None when nothing
     /// does.
     pub fn of(material: &Material, triangles: bool) -> Option<EmittingSurface> {
-        let texture = match material {
-            Material::Principled(p) => p.emission_texture.clone(),
-            lab => lab
-                .surface()
-                .emission_texture
-                .as_ref()
-                .map(|e| e.texture.clone()),
-        };
+        let emission = material.surface().emission_texture.as_ref();
+        let texture = emission.map(|e| e.texture.clone());
         let mask = material.alpha_mask().filter(|_| triangles).cloned();
         (texture.is_some() || mask.is_some()).then(|| EmittingSurface {
             texture,

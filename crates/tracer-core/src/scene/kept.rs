@@ -45,7 +45,7 @@ fn textures_whole(m: &Material) -> bool {
     let own = match m {
         Material::Principled(p) => {
             let normals = p.normal_map.as_ref().map(|n| &n.texture);
-            [&p.color_texture, &p.metallic_roughness, &p.emission_texture]
+            [&p.color_texture, &p.metallic_roughness]
                 .iter()
                 .all(|t| whole(t.as_ref()))
                 && whole(normals)
