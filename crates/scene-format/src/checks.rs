@@ -139,6 +139,12 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
             "ignored in Whitted mode, whose samples are each one camera ray; it is for integrator = \"path\"",
         ));
     }
+    if scene.render.adaptive && !path_mode {
+        warnings.push(Diagnostic::new(
+            "render.adaptive",
+            "ignored in Whitted mode, whose pixels all take `samples` rays; it is for integrator = \"path\"",
+        ));
+    }
     if path_mode && scene.render.time_limit.is_some() && scene.render.samples == 1 {
         warnings.push(Diagnostic::new(
             "render.time_limit",

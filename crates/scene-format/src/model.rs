@@ -289,6 +289,14 @@ pub struct RenderSettings {
         example = 8
     )]
     pub camera_rays: Option<u32>,
+    /// Path mode: adaptive sampling. After a pilot of 8 paths in every
+    /// pixel, each block of 8 x 4 pixels takes paths in proportion to the
+    /// noise of the blocks around it (over the cost of their paths), so
+    /// `samples` becomes the image's mean paths per pixel: noisy glass and
+    /// shadows get more, a flat sky fewer. Unbiased: a block's share never
+    /// reads its own paths. Default false.
+    #[schemars(extend("x-integrator" = "path"), example = true)]
+    pub adaptive: bool,
     /// Path mode: clean the final image with Intel Open Image Denoise
     /// (`tracer render --denoise`), guided by the albedo and normal of
     /// what each pixel sees; the library is installed by `cargo xtask
@@ -392,6 +400,7 @@ impl Default for RenderSettings {
             time_limit: None,
             path_reuse: None,
             camera_rays: None,
+            adaptive: false,
             denoise: false,
             denoise_quality: None,
         }

@@ -9,6 +9,7 @@
 //! the ray counts), then `LinearImage::encode(scene.encoding())`.
 
 pub mod accel;
+pub mod adaptive;
 pub mod alpha_mask;
 pub mod aov;
 mod bands;

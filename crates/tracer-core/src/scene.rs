@@ -38,6 +38,8 @@ pub struct TraceSettings {
     /// Path mode: camera rays per path for what a pixel sees directly,
     /// where that changes across it (`integrate::path::seen`); 1 is the path's.
     pub camera_rays: u32,
+    /// Path mode: paths shared out by noise past a pilot (`adaptive.rs`).
+    pub adaptive: bool,
 }
 
 /// How a render computes light.

@@ -563,6 +563,7 @@ mod tests {
                 integrator: Default::default(),
                 path_reuse: 1,
                 camera_rays: 1,
+                adaptive: false,
             },
             encoding: Encoding::default(),
             samples: 1,

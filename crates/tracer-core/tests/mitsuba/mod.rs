@@ -113,17 +113,23 @@ pub fn assert_agrees(
     (samples, reuse, camera_rays): (u32, u32, u32),
 ) {
     let (width, height) = (reference.width, reference.height);
-    let renders: Vec<Vec<f64>> = (0..seeds)
-        .map(|seed| {
-            block_means(&render_rows(
-                scene,
-                (width, height),
-                samples,
-                seed,
-                (reuse, camera_rays),
-            ))
-        })
+    let renders: Vec<Image> = (0..seeds)
+        .map(|seed| render_rows(scene, (width, height), samples, seed, (reuse, camera_rays)))
         .collect();
+    assert_renders_agree(&renders, samples, reference, (reference_paths, floor));
+}
+
+/// `assert_agrees` for `renders` of `samples` paths a pixel (the mean,
+/// where sampling is adaptive), each scrambled by its own seed.
+pub fn assert_renders_agree(
+    renders: &[Image],
+    samples: u32,
+    reference: &Image,
+    (reference_paths, floor): (u32, f64),
+) {
+    let width = reference.width;
+    let seeds = renders.len() as u32;
+    let renders: Vec<Vec<f64>> = renders.iter().map(block_means).collect();
     let n = f64::from(seeds);
     let ours: Vec<f64> = (0..renders[0].len())
         .map(|b| renders.iter().map(|r| r[b]).sum::<f64>() / n)

@@ -544,14 +544,30 @@ fn wide_simd() -> bool {
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct PixelSum {
     pub sum: DVec3,
+    /// The sum of their squares, for the noise (`adaptive.rs`).
+    pub squares: DVec3,
     pub kept: u32,
 }
 
 impl PixelSum {
     #[inline(always)]
     pub fn add(&mut self, radiance: Vec3) {
-        self.sum += radiance.as_dvec3();
+        let value = radiance.as_dvec3();
+        self.sum += value;
+        self.squares += value * value;
         self.kept += 1;
+    }
+
+    /// The variance of one sample's value (the mean of the channels'),
+    /// unbiased; 0 for fewer than two samples.
+    pub fn variance(&self) -> f64 {
+        if self.kept < 2 {
+            return 0.0;
+        }
+        let n = f64::from(self.kept);
+        let mean = self.sum / n;
+        let v = (self.squares / n - mean * mean) * (n / (n - 1.0));
+        v.max(DVec3::ZERO).element_sum() / 3.0
     }
 
     /// The mean of the samples (black for none).

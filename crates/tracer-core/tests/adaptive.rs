@@ -1,0 +1,105 @@
+//! Adaptive sampling (`render.adaptive`, `adaptive.rs`): the image it
+//! converges to is Mitsuba 3's, and a region, a tile or a render in passes
+//! holds the whole one-shot render's pixels bit for bit.
+
+// One pass is written as a list of one range, as several are.
+#![allow(clippy::single_range_in_vec_init)]
+
+mod mitsuba;
+
+use mitsuba::{assert_renders_agree, reference, scene, Image};
+use std::sync::atomic::AtomicBool;
+use tracer_core::film::{passes, Film};
+use tracer_core::scene::TraceSettings;
+use tracer_core::{Region, Scene};
+
+fn adaptive(scene: Scene) -> Scene {
+    let settings = TraceSettings {
+        adaptive: true,
+        ..scene.trace_settings().clone()
+    };
+    scene.with_trace_settings(settings)
+}
+
+/// `scene`'s film of `region` after `passes`, scrambled by `seed`.
+fn film(scene: &Scene, region: Region, passes: &[std::ops::Range<u32>], seed: u32) -> Film {
+    let mut film = Film::new(scene, region).with_seed(seed);
+    let never = AtomicBool::new(false);
+    for pass in passes {
+        film.add_pass(scene, pass.clone(), &|_| {}, &never)
+            .expect("never cancelled");
+    }
+    film
+}
+
+#[test]
+fn an_adaptive_courtyard_agrees_with_mitsuba_3() {
+    // As tests/courtyard.rs, at a mean of 24 paths a pixel: 8 of pilot,
+    // the rest shared out by noise.
+    let scene = adaptive(scene("courtyard.toml"));
+    let reference = reference("courtyard-mitsuba.exr", 320, 240);
+    let full = Region::full(320, 240);
+    let renders: Vec<Image> = (0..8)
+        .map(|seed| Image {
+            width: 320,
+            height: 240,
+            pixels: film(&scene, full, &[0..24], seed).image().pixels,
+        })
+        .collect();
+    assert_renders_agree(&renders, 24, &reference, (9216, 0.00254));
+}
+
+#[test]
+fn a_region_and_passes_hold_the_one_shot_adaptive_render_s_pixels() {
+    let scene = adaptive(scene("materials.toml"));
+    let camera = scene.camera();
+    let (width, height) = (camera.width, camera.height);
+    let whole = film(&scene, Region::full(width, height), &[0..20], 0).image();
+    let in_passes: Vec<_> = passes(20).collect();
+    assert_eq!(
+        film(&scene, Region::full(width, height), &in_passes, 0).image(),
+        whole
+    );
+    let region = Region {
+        x0: 101,
+        x1: 163,
+        y0: 37,
+        y1: 70,
+    };
+    let part = film(&scene, region, &in_passes, 0).image();
+    for y in region.y0..region.y1 {
+        for x in region.x0..region.x1 {
+            let inside = part.pixels[((y - region.y0) * region.width() + x - region.x0) as usize];
+            assert_eq!(
+                inside,
+                whole.pixels[(y * width + x) as usize],
+                "pixel ({x}, {y})"
+            );
+        }
+    }
+}
+
+#[test]
+fn adaptive_sampling_spends_the_paths_where_the_noise_is() {
+    // The same mean paths a pixel, shared out by noise: less error against
+    // Mitsuba's reference than every pixel taking as many.
+    let reference = reference("courtyard-mitsuba.exr", 320, 240);
+    let plain = scene("courtyard.toml");
+    let full = Region::full(320, 240);
+    let error = |scene: &Scene| {
+        let pixels = film(scene, full, &[0..32], 3).image().pixels;
+        mitsuba::rmse(
+            &Image {
+                width: 320,
+                height: 240,
+                pixels,
+            },
+            &reference,
+        )
+    };
+    let (even, shared) = (error(&plain), error(&adaptive(plain.clone())));
+    assert!(
+        shared < 0.85 * even,
+        "adaptive {shared} against even {even}"
+    );
+}
