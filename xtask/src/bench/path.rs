@@ -113,6 +113,7 @@ fn measure_scene(root: &Path, dir: &Path, bench: BenchScene, peers: &[Peer]) -> 
     let reference = path_peers::read_image(&root.join(bench.reference))?;
     let scene = load(&root.join(bench.scene))?;
     let shared = with_path_reuse(scene.clone(), SHARED);
+    let adaptive = with_adaptive(scene.clone());
     let runner = Runner::new(root, bench.script);
     let pixels = f64::from(reference.width) * f64::from(reference.height);
     let mut curves = Vec::new();
@@ -121,7 +122,12 @@ fn measure_scene(root: &Path, dir: &Path, bench: BenchScene, peers: &[Peer]) -> 
             "bench: path tracing {} on {threads} thread(s) ...",
             bench.scene
         );
-        for (renderer, scene) in [(OURS, &scene), (OURS_SHARED, &shared)] {
+        let ours_curves = [
+            (OURS, &scene),
+            (OURS_SHARED, &shared),
+            (OURS_ADAPTIVE, &adaptive),
+        ];
+        for (renderer, scene) in ours_curves {
             let work = (bench.scene, renderer);
             curves.push(ours(work, scene, threads, BUDGET_S[slot], &reference)?);
         }
@@ -170,6 +176,18 @@ const OURS: &str = "tracer (ours)";
 
 /// The name of that curve.
 const OURS_SHARED: &str = "ours, path_reuse 8, camera_rays 8";
+
+/// The name of our curve with adaptive sampling (`render.adaptive`).
+const OURS_ADAPTIVE: &str = "ours, adaptive";
+
+/// `scene` sampled adaptively.
+fn with_adaptive(scene: Scene) -> Scene {
+    let settings = TraceSettings {
+        adaptive: true,
+        ..scene.trace_settings().clone()
+    };
+    scene.with_trace_settings(settings)
+}
 
 /// `scene` with `SHARED`'s settings.
 fn with_path_reuse(scene: Scene, (path_reuse, camera_rays): (u32, u32)) -> Scene {
@@ -347,10 +365,10 @@ fn summary(curves: &[Curve]) {
     );
     println!();
     println!(
-        "| scene | threads | Mitsuba's better sampler, RMSE x sqrt(s) | scene defaults | `path_reuse = {}`, `camera_rays = {}` |",
+        "| scene | threads | Mitsuba's better sampler, RMSE x sqrt(s) | scene defaults | `path_reuse = {}`, `camera_rays = {}` | `adaptive = true` |",
         SHARED.0, SHARED.1
     );
-    println!("| --- | ---: | --- | ---: | ---: |");
+    println!("| --- | ---: | --- | ---: | ---: | ---: |");
     for bench in SCENES {
         for &threads in &THREADS {
             let best = best_mitsuba(bench.scene, threads, &all).map_or("-".into(), |(c, rmse)| {
@@ -367,10 +385,11 @@ fn summary(curves: &[Curve]) {
                 show(ours.and_then(|c| equal_time_ratio(c, &all)).map(|r| r.0), 2)
             };
             println!(
-                "| `{}` | {threads} | {best} | {} | {} |",
+                "| `{}` | {threads} | {best} | {} | {} | {} |",
                 bench.scene,
                 ratio(OURS),
-                ratio(OURS_SHARED)
+                ratio(OURS_SHARED),
+                ratio(OURS_ADAPTIVE)
             );
         }
     }
