@@ -139,7 +139,7 @@ pub fn warnings(scene: &SceneFile) -> Vec<Diagnostic> {
             "ignored in Whitted mode, whose samples are each one camera ray; it is for integrator = \"path\"",
         ));
     }
-    if scene.render.adaptive && !path_mode {
+    if scene.render.adaptive == Some(true) && !path_mode {
         warnings.push(Diagnostic::new(
             "render.adaptive",
             "ignored in Whitted mode, whose pixels all take `samples` rays; it is for integrator = \"path\"",

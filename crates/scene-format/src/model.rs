@@ -294,9 +294,14 @@ pub struct RenderSettings {
     /// noise of the blocks around it (over the cost of their paths), so
     /// `samples` becomes the image's mean paths per pixel: noisy glass and
     /// shadows get more, a flat sky fewer. Unbiased: a block's share never
-    /// reads its own paths. Default false.
-    #[schemars(extend("x-integrator" = "path"), example = true)]
-    pub adaptive: bool,
+    /// reads its own paths. Left out, path mode decides: on in a scene lit
+    /// by an environment, unless it is denoised; else off.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(
+        extend("x-integrator" = "path", "x-default" = "true under an environment unless denoised, else false"),
+        example = true
+    )]
+    pub adaptive: Option<bool>,
     /// Path mode: clean the final image with Intel Open Image Denoise
     /// (`tracer render --denoise`), guided by the albedo and normal of
     /// what each pixel sees; the library is installed by `cargo xtask
@@ -400,7 +405,7 @@ impl Default for RenderSettings {
             time_limit: None,
             path_reuse: None,
             camera_rays: None,
-            adaptive: false,
+            adaptive: None,
             denoise: false,
             denoise_quality: None,
         }

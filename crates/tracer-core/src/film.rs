@@ -142,6 +142,7 @@ impl Film {
             return Some(RayStats::default());
         }
         let cancelled = || cancel.load(Ordering::Relaxed);
+        let seed = self.seed;
         let mut pixels: Vec<(&mut PixelSum, &mut u64)> = self
             .sums
             .iter_mut()
@@ -153,7 +154,7 @@ impl Film {
             BAND_ROWS,
             rows_done,
             |first, pixels| {
-                let mut tracer = PathTracer::new(scene);
+                let mut tracer = PathTracer::new(scene).with_seed(seed);
                 let mut sums = Vec::with_capacity(width);
                 for (y, row) in pixels.chunks_mut(width).enumerate() {
                     if cancelled() {
@@ -193,6 +194,12 @@ impl Film {
             },
         );
         (!cancelled()).then_some(stats)
+    }
+
+    /// Each pixel's paths so far (those whose value was finite): under
+    /// adaptive sampling, where the paths went.
+    pub fn paths(&self) -> Vec<u32> {
+        self.sums.iter().map(|s| s.kept).collect()
     }
 
     /// The image so far: each pixel the mean of its samples.

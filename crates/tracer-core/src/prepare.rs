@@ -321,7 +321,7 @@ fn trace_settings(file: &fmt::SceneFile, materials: &[Material]) -> TraceSetting
             .unwrap_or_else(|| path_defaults::path_reuse(environment, r.denoise)),
         camera_rays: (r.camera_rays)
             .unwrap_or_else(|| path_defaults::camera_rays(environment, emitters, r.denoise)),
-        adaptive: r.adaptive,
+        adaptive: (r.adaptive).unwrap_or_else(|| path_defaults::adaptive(environment, r.denoise)),
     }
 }
 

@@ -1,6 +1,10 @@
 //! Adaptive sampling (`render.adaptive`, `adaptive.rs`): the image it
 //! converges to is Mitsuba 3's, and a region, a tile or a render in passes
-//! holds the whole one-shot render's pixels bit for bit.
+//! holds the whole one-shot render's pixels bit for bit. (The materials
+//! scene is checked by the bench's error against its reference instead:
+//! at a mean of 12 paths its rough glass's rare bright paths leave a block
+//! 0.3 % low for even sampling as for adaptive, 1.0592 both over 64 seeds
+//! against Mitsuba's 1.0621, beyond what the seeds' spread tells.)
 
 // One pass is written as a list of one range, as several are.
 #![allow(clippy::single_range_in_vec_init)]
@@ -13,9 +17,10 @@ use tracer_core::film::{passes, Film};
 use tracer_core::scene::TraceSettings;
 use tracer_core::{Region, Scene};
 
-fn adaptive(scene: Scene) -> Scene {
+/// `scene` sampled adaptively or not, whatever its file says.
+fn sampled(scene: Scene, adaptive: bool) -> Scene {
     let settings = TraceSettings {
-        adaptive: true,
+        adaptive,
         ..scene.trace_settings().clone()
     };
     scene.with_trace_settings(settings)
@@ -36,7 +41,7 @@ fn film(scene: &Scene, region: Region, passes: &[std::ops::Range<u32>], seed: u3
 fn an_adaptive_courtyard_agrees_with_mitsuba_3() {
     // As tests/courtyard.rs, at a mean of 24 paths a pixel: 8 of pilot,
     // the rest shared out by noise.
-    let scene = adaptive(scene("courtyard.toml"));
+    let scene = sampled(scene("courtyard.toml"), true);
     let reference = reference("courtyard-mitsuba.exr", 320, 240);
     let full = Region::full(320, 240);
     let renders: Vec<Image> = (0..8)
@@ -51,7 +56,7 @@ fn an_adaptive_courtyard_agrees_with_mitsuba_3() {
 
 #[test]
 fn a_region_and_passes_hold_the_one_shot_adaptive_render_s_pixels() {
-    let scene = adaptive(scene("materials.toml"));
+    let scene = sampled(scene("materials.toml"), true);
     let camera = scene.camera();
     let (width, height) = (camera.width, camera.height);
     let whole = film(&scene, Region::full(width, height), &[0..20], 0).image();
@@ -84,7 +89,7 @@ fn adaptive_sampling_spends_the_paths_where_the_noise_is() {
     // The same mean paths a pixel, shared out by noise: less error against
     // Mitsuba's reference than every pixel taking as many.
     let reference = reference("courtyard-mitsuba.exr", 320, 240);
-    let plain = scene("courtyard.toml");
+    let plain = sampled(scene("courtyard.toml"), false);
     let full = Region::full(320, 240);
     let error = |scene: &Scene| {
         let pixels = film(scene, full, &[0..32], 3).image().pixels;
@@ -97,9 +102,20 @@ fn adaptive_sampling_spends_the_paths_where_the_noise_is() {
             &reference,
         )
     };
-    let (even, shared) = (error(&plain), error(&adaptive(plain.clone())));
+    let (even, shared) = (error(&plain), error(&sampled(plain.clone(), true)));
     assert!(
         shared < 0.85 * even,
         "adaptive {shared} against even {even}"
+    );
+    // The mean asked, more on the copper ball than in the clear sky.
+    let paths = film(&sampled(plain, true), full, &[0..32], 3).paths();
+    let mean = paths.iter().map(|&p| f64::from(p)).sum::<f64>() / paths.len() as f64;
+    assert!((mean / 32.0 - 1.0).abs() < 0.02, "mean paths {mean}");
+    let at = |x: usize, y: usize| paths[y * 320 + x];
+    assert!(
+        at(175, 100) > 2 * at(160, 10),
+        "copper {} sky {}",
+        at(175, 100),
+        at(160, 10)
     );
 }
