@@ -55,6 +55,9 @@ pub enum Error {
     /// A sample number beyond the pixel's samples.
     #[error("--sample {sample}: the scene renders {samples} sample(s) a pixel; expected 0 to {}", samples - 1)]
     Sample { sample: u32, samples: u32 },
+    /// A sample number beyond the paths adaptive sampling gave the pixel.
+    #[error("--sample {sample}: adaptive sampling gave this pixel {paths} path(s) of the image's mean {mean}; expected 0 to {}", paths.saturating_sub(1))]
+    SampleAdaptive { sample: u32, paths: u32, mean: u32 },
     /// A `--reference` image that cannot be read or is not the render's size.
     #[error("--light {light}: the scene has {lights} light(s) in [[lights]]; expected 0 to {}", lights.saturating_sub(1))]
     Light { light: usize, lights: usize },
@@ -103,6 +106,7 @@ impl Error {
             | Error::NeedsPathMode { .. }
             | Error::Pixel { .. }
             | Error::Sample { .. }
+            | Error::SampleAdaptive { .. }
             | Error::Light { .. }
             | Error::LightInPathMode
             | Error::Part(_)

@@ -30,6 +30,9 @@ pub struct ExplainedPixel {
     pub encoding: Encoding,
     /// Whether the scene is path traced.
     pub path_traced: bool,
+    /// The samples (in path mode, the paths) the pixel is the mean of:
+    /// the image's, or under adaptive sampling its share.
+    pub paths: u32,
     /// What the file calls the objects and materials the tree numbers.
     pub names: Names,
     /// Where the tree's rays are, in the scene and in the image.
@@ -96,9 +99,6 @@ pub fn explain_within(
             scene: loaded.name.clone(),
             message: e.to_string(),
         })?;
-    let explanation = tracer_core::explain::explain_within(&scene, (x, y), samples, sample, limits);
-    let drawing = crate::explain_draw::drawing(&scene, &explanation, (x, y), &names);
-    let scene_view = crate::explain_scene::scene_view(&scene, &names, (x, y));
     let job = RenderJob {
         region: Region {
             x0: x,
@@ -109,10 +109,31 @@ pub fn explain_within(
         ..RenderJob::full(&scene)
     };
     let never = AtomicBool::new(false);
-    let pixel = tracer_core::render_cancellable(&scene, &job, &|_| {}, &never)
-        .expect("never cancelled")
-        .image
-        .pixels[0];
+    let path_traced = scene.trace_settings().integrator == tracer_core::scene::Integrator::Path;
+    let (pixel, paths) = if path_traced {
+        // The render's own film, which knows the paths adaptive sampling
+        // gave the pixel.
+        let mut film = tracer_core::film::Film::new(&scene, job.region);
+        film.add_pass(&scene, 0..job.samples, &|_| {}, &never)
+            .expect("never cancelled");
+        (film.image().pixels[0], film.paths()[0])
+    } else {
+        let rendered = tracer_core::render_cancellable(&scene, &job, &|_| {}, &never);
+        (
+            rendered.expect("never cancelled").image.pixels[0],
+            job.samples,
+        )
+    };
+    if sample >= paths {
+        return Err(Error::SampleAdaptive {
+            sample,
+            paths,
+            mean: samples,
+        });
+    }
+    let explanation = tracer_core::explain::explain_within(&scene, (x, y), samples, sample, limits);
+    let drawing = crate::explain_draw::drawing(&scene, &explanation, (x, y), &names);
+    let scene_view = crate::explain_scene::scene_view(&scene, &names, (x, y));
     let mut encoding = *scene.encoding();
     if let Some(gamma) = options.gamma {
         encoding.gamma = gamma.get();
@@ -123,7 +144,8 @@ pub fn explain_within(
         linear: pixel,
         rgb8: encode_pixel(pixel, &encoding),
         encoding,
-        path_traced: scene.trace_settings().integrator == tracer_core::scene::Integrator::Path,
+        path_traced,
+        paths,
         names,
         drawing,
         scene_view,

@@ -448,10 +448,13 @@ fn encoding_text(out: &mut dyn Write, pixel: &ExplainedPixel) -> std::fmt::Resul
         out,
         "pixel colour (linear) = {} {}",
         v3(c),
-        if e.samples == 1 {
-            "(the one sample's)".to_string()
-        } else {
-            format!("(the mean of its {} samples)", e.samples)
+        match pixel.paths {
+            1 => "(the one sample's)".to_string(),
+            n if n == e.samples => format!("(the mean of its {n} samples)"),
+            n => format!(
+                "(the mean of its {n} paths: adaptive sampling's share for it of the image's mean of {})",
+                e.samples
+            ),
         }
     )?;
     let encoding = &pixel.encoding;

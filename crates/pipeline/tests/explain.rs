@@ -240,3 +240,36 @@ fn an_emitter_in_whitted_mode_says_its_emission_is_added() {
         "{text}"
     );
 }
+
+#[test]
+fn under_adaptive_sampling_a_pixel_is_the_mean_of_its_own_share_of_paths() {
+    // The courtyard samples adaptively (an environment lights it): its
+    // clear sky takes fewer paths than the image's mean, and each of them
+    // averages to the rendered pixel; a sample beyond them is refused.
+    let loaded = load(&Input::File(scene("courtyard.toml"))).unwrap();
+    let options = Options {
+        width: Some(80),
+        samples: Some(16),
+        ..Options::default()
+    };
+    let image = render(&loaded, &options, &|_| {}).unwrap().image;
+    let sky = (40, 2);
+    let first = explain(&loaded, &options, sky, 0).unwrap();
+    assert_eq!(first.linear, image.linear.get(sky.0, sky.1));
+    let paths = first.paths;
+    assert!((8..16).contains(&paths), "the sky's paths: {paths}");
+    let mut sum = DVec3::ZERO;
+    for k in 0..paths {
+        sum += explain(&loaded, &options, sky, k)
+            .unwrap()
+            .explanation
+            .colour
+            .as_dvec3();
+    }
+    assert_eq!((sum / f64::from(paths)).as_vec3(), first.linear);
+    let err = explain(&loaded, &options, sky, paths).unwrap_err();
+    assert!(
+        err.is_bad_input() && err.to_string().contains("adaptive"),
+        "{err}"
+    );
+}
