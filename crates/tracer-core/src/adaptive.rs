@@ -117,7 +117,7 @@ fn cell_noise(
     for (k, (sum, &rays)) in sums.iter().zip(rays).enumerate() {
         let (x, y) = (k as u32 % width, k as u32 / width);
         let cell = &mut cells[((y / CELL_H) * columns + x / CELL_W) as usize];
-        cell.0 += sum.variance();
+        cell.0 += settled(sum);
         // The rays of the pixel's row of its cell, over its pixels.
         let run = (width - x / CELL_W * CELL_W).min(CELL_W);
         cell.1 += rays as f64 / f64::from(run) / f64::from(sum.kept.max(1));
@@ -127,9 +127,32 @@ fn cell_noise(
         .iter()
         .map(|&(variance, cost, n)| {
             let n = f64::from(n.max(1));
-            variance / n / (cost / n).max(1.0)
+            coarse(variance / n / (cost / n).max(1.0))
         })
         .collect()
+}
+
+/// `x` (at least 0) with its mantissa cut to its first two bits, by exact
+/// operations on its bits: the allocation must not follow the last bits
+/// in which one platform's maths library rounds a path's value otherwise
+/// than another's (the playground's WebAssembly renders the image that
+/// `tracer render` does), and the shares lose nothing that counts by it.
+fn coarse(x: f64) -> f64 {
+    const KEPT: u64 = !((1u64 << 50) - 1);
+    f64::from_bits(x.to_bits() & KEPT)
+}
+
+/// A pixel's variance, 0 where it is below what rounding makes of a
+/// constant value (a clear sky seen directly): there it is the last bits
+/// of the values, which platforms round each their own way.
+fn settled(sum: &PixelSum) -> f64 {
+    let variance = sum.variance();
+    let scale = (sum.sum / f64::from(sum.kept.max(1))).length_squared();
+    if variance <= 1e-9 * scale {
+        0.0
+    } else {
+        variance
+    }
 }
 
 /// `share` scaled to a mean of 1, each within `FLOOR` and `CAP` (a few
