@@ -242,8 +242,9 @@ pub struct RenderSettings {
     pub gamma: f32,
     /// Samples per pixel: 1 is one ray through the pixel's centre (the
     /// lab); more are stratified and jittered over the pixel (anti-aliasing).
-    /// With "path", the paths per pixel. From 1 to 4096 with "whitted", to
-    /// 65536 with "path". Default 1.
+    /// With "path", the paths per pixel (their mean over the image where
+    /// sampling is `adaptive`). From 1 to 4096 with "whitted", to 65536
+    /// with "path". Default 1.
     #[schemars(range(min = 1, max = 65536))]
     pub samples: u32,
     /// Shadow rays per light of `radius` > 0 at each shaded point. Whitted

@@ -227,7 +227,8 @@ pub struct ViewArgs {
     /// Samples per pixel, overriding the scene's `[render] samples`: 1 is one
     /// ray through each pixel's centre (the lab); more smooth the edges
     /// (anti-aliasing) and the blur of depth of field. In path mode, the
-    /// paths per pixel. At most 4096, or 65536 in path mode
+    /// paths per pixel (their mean over the image where sampling is
+    /// adaptive: `[render] adaptive`). At most 4096, or 65536 in path mode
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=65536))]
     pub samples: Option<u32>,
     /// How light is computed, overriding the scene's `[render]
