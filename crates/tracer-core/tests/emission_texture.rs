@@ -267,7 +267,6 @@ fn a_kept_scene_whose_texture_lost_texels_is_refused() {
     // emission texture's image whose size claims more texels than it has.
     // Whitted mode (no light holds the texture) and path mode alike.
     use tracer_core::material::Material;
-    use tracer_core::texture::ColorTexture;
     let dir = tempfile::tempdir().unwrap();
     write_texture(dir.path());
     for integrator in ["whitted", "path"] {
@@ -275,17 +274,11 @@ fn a_kept_scene_whose_texture_lost_texels_is_refused() {
             "[camera]\neye = [0, 1, 0]\nlook_at = [0, 0, 0]\nup = [0, 0, -1]\n[render]\nintegrator = \"{integrator}\"\n\
              [materials.glow]\nbase_color = [0, 0, 0]\nemission = [3, 3, 3]\nemission_texture = {{ image = \"glow.png\" }}\n{EMITTER}"
         );
-        std::fs::write(dir.path().join("kept.toml"), text).unwrap();
-        let file = scene_format::load_path(&dir.path().join("kept.toml")).unwrap();
-        let mut parts = tracer_core::prepare::parts(&file).unwrap();
-        assert!(Scene::lean(parts.clone()).check_kept().is_ok());
+        let mut parts = kept_parts(dir.path(), &text);
         let Material::Principled(p) = &mut parts.materials[0] else {
             panic!("a physically based material")
         };
-        let texture = &p.emission_texture().expect("a texture").texture;
-        let mut stored = serde_json::to_value(texture).unwrap();
-        stored["Image"]["texels"]["width"] = serde_json::json!(65);
-        let broken: ColorTexture = serde_json::from_value(stored).unwrap();
+        let broken = without_texels(&p.emission_texture().expect("a texture").texture);
         let mean = Vec3::ONE;
         **p = p.as_ref().clone().with_emission_texture(broken, mean);
         let kept = Scene::lean(parts);
@@ -356,27 +349,41 @@ fn whitted_mode_shows_an_emission_texture_on_either_kind_of_material() {
 #[test]
 fn a_kept_scene_whose_lab_emission_texture_lost_texels_is_refused() {
     use tracer_core::material::{EmissionTexture, Material};
-    use tracer_core::texture::ColorTexture;
     let dir = tempfile::tempdir().unwrap();
     write_texture(dir.path());
     let text = format!(
         "[camera]\neye = [0, 1, 0]\nlook_at = [0, 0, 0]\nup = [0, 0, -1]\n\
          [materials.glow]\ndiffuse = [0, 0, 0]\nemission = [3, 3, 3]\nemission_texture = {{ image = \"glow.png\" }}\n{EMITTER}"
     );
-    std::fs::write(dir.path().join("kept.toml"), text).unwrap();
-    let file = scene_format::load_path(&dir.path().join("kept.toml")).unwrap();
-    let mut parts = tracer_core::prepare::parts(&file).unwrap();
-    assert!(Scene::lean(parts.clone()).check_kept().is_ok());
+    let mut parts = kept_parts(dir.path(), &text);
     let Material::Phong(p) = &mut parts.materials[0] else {
         panic!("a lab material")
     };
     let emission = p.emission_texture.as_ref().expect("a texture");
-    let mut stored = serde_json::to_value(&emission.texture).unwrap();
-    stored["Image"]["texels"]["width"] = serde_json::json!(65);
-    let texture: ColorTexture = serde_json::from_value(stored).unwrap();
+    let texture = without_texels(&emission.texture);
     p.emission_texture = Some(EmissionTexture {
         texture,
         mean: Vec3::ONE,
     });
     assert!(Scene::lean(parts).check_kept().is_err());
+}
+
+/// The parts of the scene `text` (written to `dir` as `kept.toml`), as a
+/// kept scene holds them, checked whole before a test breaks them.
+fn kept_parts(dir: &Path, text: &str) -> tracer_core::scene::SceneParts {
+    std::fs::write(dir.join("kept.toml"), text).unwrap();
+    let file = scene_format::load_path(&dir.join("kept.toml")).unwrap();
+    let parts = tracer_core::prepare::parts(&file).unwrap();
+    assert!(Scene::lean(parts.clone()).check_kept().is_ok());
+    parts
+}
+
+/// `texture` as a file read back could hold it: its size claiming more
+/// texels than it has.
+fn without_texels(
+    texture: &tracer_core::texture::ColorTexture,
+) -> tracer_core::texture::ColorTexture {
+    let mut stored = serde_json::to_value(texture).unwrap();
+    stored["Image"]["texels"]["width"] = serde_json::json!(65);
+    serde_json::from_value(stored).unwrap()
 }

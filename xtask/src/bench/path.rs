@@ -112,8 +112,8 @@ pub fn measure(root: &Path, dir: &Path, all_peers: bool) -> Result<Vec<Curve>> {
 fn measure_scene(root: &Path, dir: &Path, bench: BenchScene, peers: &[Peer]) -> Result<Vec<Curve>> {
     let reference = path_peers::read_image(&root.join(bench.reference))?;
     let scene = load(&root.join(bench.scene))?;
-    let shared = with_path_reuse(scene.clone(), SHARED);
-    let adaptive = with_adaptive(scene.clone());
+    let shared = with_settings(scene.clone(), |s| (s.path_reuse, s.camera_rays) = SHARED);
+    let adaptive = with_settings(scene.clone(), |s| s.adaptive = true);
     let runner = Runner::new(root, bench.script);
     let pixels = f64::from(reference.width) * f64::from(reference.height);
     let mut curves = Vec::new();
@@ -180,22 +180,10 @@ const OURS_SHARED: &str = "ours, path_reuse 8, camera_rays 8";
 /// The name of our curve with adaptive sampling (`render.adaptive`).
 const OURS_ADAPTIVE: &str = "ours, adaptive";
 
-/// `scene` sampled adaptively.
-fn with_adaptive(scene: Scene) -> Scene {
-    let settings = TraceSettings {
-        adaptive: true,
-        ..scene.trace_settings().clone()
-    };
-    scene.with_trace_settings(settings)
-}
-
-/// `scene` with `SHARED`'s settings.
-fn with_path_reuse(scene: Scene, (path_reuse, camera_rays): (u32, u32)) -> Scene {
-    let settings = TraceSettings {
-        path_reuse,
-        camera_rays,
-        ..scene.trace_settings().clone()
-    };
+/// `scene` with its trace settings as `change` leaves them.
+fn with_settings(scene: Scene, change: impl FnOnce(&mut TraceSettings)) -> Scene {
+    let mut settings = scene.trace_settings().clone();
+    change(&mut settings);
     scene.with_trace_settings(settings)
 }
 
