@@ -73,10 +73,18 @@ impl PrincipledBsdf {
             (1.0 - metallic) * transmission,
             (1.0 - metallic) * (1.0 - transmission),
         ];
+        // A lobe of no weight is never picked: its estimate is not needed.
+        let estimate = |lobe: usize, albedo: &dyn Fn() -> f32| {
+            if weight[lobe] > 0.0 {
+                albedo()
+            } else {
+                0.0
+            }
+        };
         let albedo = [
-            conductor.albedo_estimate(),
-            dielectric.albedo_estimate(wo),
-            plastic.albedo_estimate(wo),
+            estimate(CONDUCTOR, &|| conductor.albedo_estimate()),
+            estimate(DIELECTRIC, &|| dielectric.albedo_estimate(wo)),
+            estimate(PLASTIC, &|| plastic.albedo_estimate(wo)),
         ];
         let mut prob = [0.0; 3];
         let total: f32 = (0..3).map(|i| weight[i] * albedo[i]).sum();

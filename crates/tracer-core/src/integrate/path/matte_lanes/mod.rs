@@ -29,6 +29,7 @@
 #![allow(clippy::needless_range_loop)]
 
 mod casters;
+mod groups;
 mod rays;
 mod shade;
 
@@ -45,6 +46,7 @@ use crate::sampling::mis::power_heuristic;
 use crate::scene::{Integrator, Scene};
 use crate::simd::{F16, V3};
 use glam::{Vec2, Vec3};
+use groups::Groups;
 use multiversion::multiversion;
 use rays::Rays;
 use shade::{Hits, Pending, Picked};
@@ -92,11 +94,14 @@ pub struct MatteLanes {
     tris: Vec<Tri>,
     materials: Vec<Matte>,
     /// For each light of the table, the triangles its shadow rays are
-    /// tested against (`casters.rs`).
-    casters: Vec<Vec<Tri>>,
+    /// tested against (`casters.rs`), in groups (`groups.rs`).
+    casters: Vec<Groups>,
+    /// Every triangle in groups: what the paths' rays are tested against,
+    /// and the shadow rays of a step whose lanes picked different lights.
+    all: Groups,
     /// The triangles a segment between two points of the scene can meet
     /// (`casters.rs`): what path reuse's connections are tested against.
-    connection_casters: Vec<Tri>,
+    connection_casters: Groups,
 }
 
 impl MatteLanes {
@@ -156,10 +161,11 @@ impl MatteLanes {
         let casters = casters::shadow_casters(&tris, path_lights);
         let connection_casters = casters::connection_casters(&tris);
         Some(MatteLanes {
+            casters: casters.iter().map(|c| Groups::new(c)).collect(),
+            all: Groups::in_order(&tris),
+            connection_casters: Groups::new(&connection_casters),
             tris,
             materials,
-            casters,
-            connection_casters,
         })
     }
 }
@@ -176,7 +182,7 @@ impl MatteLanes {
                 rays.set(k, c.from, c.dir);
                 reach[k] = c.reach;
             }
-            let hit = rays::occluded(&self.connection_casters, &rays, &reach);
+            let hit = groups::occluded(&self.connection_casters, &rays, &reach);
             blocked.extend(hit[..group.len()].iter().map(|&b| b != 0));
         }
     }
@@ -342,7 +348,7 @@ impl MatteLanes {
     /// sees there, its light sample and its bounce (`PathTracer::radiance`'s
     /// loop, once).
     fn step(&self, setup: &mut Setup, paths: &mut Paths, samplers: &mut LaneSamplers<LANES>) {
-        let (t, tri) = rays::nearest(&self.tris, &paths.rays);
+        let (t, tri) = groups::nearest(&self.all, &paths.rays);
         let hits = self.meet(setup, paths, (&t, &tri));
         let numbers = bounce_numbers(samplers, &hits.shaded);
         let frames = shade::frames(&hits.normal);
@@ -429,10 +435,10 @@ impl MatteLanes {
             }
         }
         let tris = match picked.one_light(&pending.shadow) {
-            Some(i) => self.casters.get(i).unwrap_or(&self.tris),
-            None => &self.tris,
+            Some(i) => self.casters.get(i).unwrap_or(&self.all),
+            None => &self.all,
         };
-        let blocked = rays::occluded(tris, &shadow, &reach);
+        let blocked = groups::occluded(tris, &shadow, &reach);
         for k in 0..LANES {
             let clear = pending.shadow[k] & (blocked[k] == 0);
             for a in 0..3 {

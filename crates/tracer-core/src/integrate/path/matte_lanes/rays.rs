@@ -1,56 +1,12 @@
-//! The lanes' rays and their triangle tests: every ray of the group against
+//! The lanes' rays and their triangle test: every ray of the group against
 //! one triangle at a time, each triangle's numbers read once for sixteen
-//! rays, compiled for each processor's widest SIMD registers.
+//! rays.
 
-use super::{by_axis, lane, set, Tri, F, LANES, V};
+use super::{by_axis, lane, set, Tri, LANES, V};
 use crate::geometry::{moller_trumbore, Edges, OriginTerms};
-use crate::simd::{Mask, Real, F16, V3};
+use crate::simd::{Mask, Real, F16, M16, V3};
 use crate::EPSILON;
 use glam::Vec3;
-use multiversion::multiversion;
-
-/// Each lane's nearest hit among `tris`: its distance and triangle
-/// (`u32::MAX` for none), every triangle tested in list order, a hit
-/// taken only when strictly nearer: of equal distances the one listed
-/// first, as the tree's rule. Compiled for each processor's widest SIMD
-/// registers (the same arithmetic: nothing is fused).
-#[multiversion(targets("x86_64+avx512f+avx512bw+avx512dq+avx512vl", "x86_64+avx2"))]
-pub(super) fn nearest(tris: &[Tri], rays: &Rays) -> (F, [u32; LANES]) {
-    let mut best = F16::splat(f32::INFINITY);
-    let mut id = [u32::MAX; LANES];
-    let dir_len = rays.dir_len();
-    for (j, tri) in tris.iter().enumerate() {
-        let (hit, t) = rays.intersect(tri, best, dir_len);
-        best = F16::select(hit, t, best);
-        for k in 0..LANES {
-            id[k] = if hit.lane(k) { j as u32 } else { id[k] };
-        }
-    }
-    (best.0, id)
-}
-
-/// Whether something of `tris` lies on each lane's ray in (EPSILON,
-/// reach), 1 or 0 (as wide as a float: a SIMD mask); a lane of reach -inf
-/// has no ray and reads 1, so that the search ends once every ray is
-/// blocked.
-#[multiversion(targets("x86_64+avx512f+avx512bw+avx512dq+avx512vl", "x86_64+avx2"))]
-pub(super) fn occluded(tris: &[Tri], rays: &Rays, reach: &F) -> [u32; LANES] {
-    let reach = F16(*reach);
-    let mut blocked = reach.eq(F16::splat(f32::NEG_INFINITY));
-    let dir_len = rays.dir_len();
-    // Whether all are blocked is asked every few triangles only: it is
-    // rarely so, and asked after each triangle the question took 3.5 % of
-    // the Cornell box's time.
-    for group in tris.chunks(8) {
-        for tri in group {
-            blocked = blocked | rays.intersect(tri, reach, dir_len).0;
-        }
-        if blocked.all() {
-            break;
-        }
-    }
-    blocked.0.map(|b| b & 1)
-}
 
 /// The lanes' rays by axis, for the triangle test in lanes.
 #[derive(Clone, Copy)]
@@ -81,14 +37,24 @@ impl Rays {
 
     /// Each direction's length, as `Vec3::length` (the test's scale).
     #[inline(always)]
-    fn dir_len(&self) -> F16 {
+    pub(super) fn dir_len(&self) -> F16 {
         by_axis(&self.dir).length()
+    }
+
+    /// The lanes whose ray meets one of `tris` in (EPSILON, reach).
+    #[inline(always)]
+    pub(super) fn blocked_by(&self, tris: &[Tri], reach: F16, dir_len: F16) -> M16 {
+        let mut blocked = M16::splat(false);
+        for tri in tris {
+            blocked = blocked | self.intersect(tri, reach, dir_len).0;
+        }
+        blocked
     }
 
     /// `moller_trumbore` of every lane's ray against `tri` within
     /// (EPSILON, t_max): whether each hits, and where.
     #[inline(always)]
-    fn intersect(&self, tri: &Tri, t_max: F16, dir_len: F16) -> (crate::simd::M16, F16) {
+    pub(super) fn intersect(&self, tri: &Tri, t_max: F16, dir_len: F16) -> (M16, F16) {
         let (e1, e2) = (V3::splat(tri.e1), V3::splat(tri.e2));
         let terms = OriginTerms::new(by_axis(&self.origin), V3::splat(tri.v0), e1, e2);
         let edges = Edges {
