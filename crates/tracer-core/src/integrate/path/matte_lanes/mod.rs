@@ -96,8 +96,8 @@ pub struct MatteLanes {
     /// For each light of the table, the triangles its shadow rays are
     /// tested against (`casters.rs`), in groups (`groups.rs`).
     casters: Vec<Groups>,
-    /// Every triangle in groups: what the paths' rays are tested against,
-    /// and the shadow rays of a step whose lanes picked different lights.
+    /// Every triangle in groups: what the shadow rays of a step whose lanes
+    /// picked different lights are tested against.
     all: Groups,
     /// The triangles a segment between two points of the scene can meet
     /// (`casters.rs`): what path reuse's connections are tested against.
@@ -162,7 +162,7 @@ impl MatteLanes {
         let connection_casters = casters::connection_casters(&tris);
         Some(MatteLanes {
             casters: casters.iter().map(|c| Groups::new(c)).collect(),
-            all: Groups::in_order(&tris),
+            all: Groups::new(&tris),
             connection_casters: Groups::new(&connection_casters),
             tris,
             materials,
@@ -348,7 +348,7 @@ impl MatteLanes {
     /// sees there, its light sample and its bounce (`PathTracer::radiance`'s
     /// loop, once).
     fn step(&self, setup: &mut Setup, paths: &mut Paths, samplers: &mut LaneSamplers<LANES>) {
-        let (t, tri) = groups::nearest(&self.all, &paths.rays);
+        let (t, tri) = rays::nearest(&self.tris, &paths.rays);
         let hits = self.meet(setup, paths, (&t, &tri));
         let numbers = bounce_numbers(samplers, &hits.shaded);
         let frames = shade::frames(&hits.normal);
