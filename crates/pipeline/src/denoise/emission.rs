@@ -92,7 +92,9 @@ pub(crate) fn widened(region: Region, (width, height): (u32, u32)) -> Region {
 
 /// The image OIDN is given: `colour` less the light seen directly (each
 /// channel at least 0: where the render caught less of a lamp's edge
-/// than the guide, the rest is 0).
+/// than the guide, the rest is 0). The playground's WebAssembly does not
+/// denoise.
+#[cfg(not(target_arch = "wasm32"))]
 pub(crate) fn without(colour: &[Vec3], light: &[Vec3]) -> Vec<Vec3> {
     colour
         .iter()
