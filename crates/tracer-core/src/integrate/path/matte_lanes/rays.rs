@@ -78,7 +78,7 @@ impl Rays {
     /// `moller_trumbore` of every lane's ray against `tri` within
     /// (EPSILON, t_max): whether each hits, and where.
     #[inline(always)]
-    pub(super) fn intersect(&self, tri: &Tri, t_max: F16, dir_len: F16) -> (M16, F16) {
+    fn intersect(&self, tri: &Tri, t_max: F16, dir_len: F16) -> (M16, F16) {
         let (e1, e2) = (V3::splat(tri.e1), V3::splat(tri.e2));
         let terms = OriginTerms::new(by_axis(&self.origin), V3::splat(tri.v0), e1, e2);
         let edges = Edges {
