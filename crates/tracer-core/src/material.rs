@@ -570,17 +570,7 @@ mod tests {
             transmission: 0.0,
         };
         let mut metal = PrincipledMaterial::new(principled, Vec3::ZERO);
-        let hit = SurfaceHit {
-            t: 1.0,
-            object: 0,
-            material: 0,
-            geometric_normal: Vec3::Z,
-            shading_normal: Vec3::Z,
-            uv: glam::Vec2::splat(0.5),
-            front_face: true,
-            shadow_offset: Vec3::ZERO,
-            tangent: glam::Vec4::ZERO,
-        };
+        let hit = SurfaceHit::facing(Vec3::Z, glam::Vec2::splat(0.5));
         // Untextured, a smooth metal is followed, not a guide's colour.
         assert_eq!(
             Material::Principled(Box::new(metal.clone())).albedo(&hit),

@@ -183,17 +183,7 @@ fn blinn_phong_is_normalised_to_its_specular_colour_at_normal_incidence() {
 
 /// A hit facing +z at the origin, seen from outside.
 fn hit() -> SurfaceHit {
-    SurfaceHit {
-        t: 1.0,
-        object: 0,
-        material: 0,
-        geometric_normal: Vec3::Z,
-        shading_normal: Vec3::Z,
-        uv: Vec2::ZERO,
-        front_face: true,
-        shadow_offset: Vec3::ZERO,
-        tangent: glam::Vec4::ZERO,
-    }
+    SurfaceHit::facing(Vec3::Z, Vec2::ZERO)
 }
 
 fn lab(diffuse: f32, specular: f32, shininess: f32, reflectance: f32) -> Material {

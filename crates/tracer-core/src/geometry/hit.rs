@@ -45,6 +45,23 @@ pub struct SurfaceHit {
 }
 
 impl SurfaceHit {
+    /// A hit at distance 1 on the front of object 0 (material 0) whose
+    /// normals are `normal`, at `uv`: where a material is read apart from
+    /// any shape (a lobe's parameters, tests).
+    pub fn facing(normal: Vec3, uv: Vec2) -> SurfaceHit {
+        SurfaceHit {
+            t: 1.0,
+            object: 0,
+            material: 0,
+            geometric_normal: normal,
+            shading_normal: normal,
+            uv,
+            front_face: true,
+            shadow_offset: Vec3::ZERO,
+            tangent: Vec4::ZERO,
+        }
+    }
+
     /// The hit on a sphere at distance `t` along `ray`.
     pub fn on_sphere(
         sphere: &Sphere,

@@ -197,17 +197,7 @@ fn matte(m: &Material) -> Option<Matte> {
     if p.texture.is_some() || p.color_texture.is_some() || p.emission_texture.is_some() {
         return None;
     }
-    let hit = SurfaceHit {
-        t: 1.0,
-        object: 0,
-        material: 0,
-        geometric_normal: Vec3::Z,
-        shading_normal: Vec3::Z,
-        uv: Vec2::ZERO,
-        front_face: true,
-        shadow_offset: Vec3::ZERO,
-        tangent: glam::Vec4::ZERO,
-    };
+    let hit = SurfaceHit::facing(Vec3::Z, Vec2::ZERO);
     let (albedo, p_lambert) = LabBsdf::new(m, &hit, Vec3::Z).lambert_only()?;
     Some(Matte {
         albedo,

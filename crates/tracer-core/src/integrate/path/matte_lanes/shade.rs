@@ -342,17 +342,7 @@ mod tests {
             reflectance: 0.0,
             ..Phong::default_grey()
         });
-        let hit = SurfaceHit {
-            t: 1.0,
-            object: 0,
-            material: 0,
-            geometric_normal: n,
-            shading_normal: n,
-            uv: Vec2::ZERO,
-            front_face: true,
-            shadow_offset: Vec3::ZERO,
-            tangent: glam::Vec4::ZERO,
-        };
+        let hit = SurfaceHit::facing(n, Vec2::ZERO);
         let sample = lights.sample(Vec3::ZERO, 0.5, Vec2::splat(0.5)).unwrap();
         let (f, _) = Bsdf::new(&material, &hit, Vec3::Y).eval(sample.wi);
         let lit = !(f == Vec3::ZERO || sample.pdf.is_nan() || sample.pdf <= 0.0);
