@@ -33,9 +33,11 @@ pub(super) fn occluded(groups: &Groups, rays: &Rays, reach: &F) -> [u32; LANES] 
 const GROUP: usize = 2;
 
 /// How much wider than its triangles a box is, in proportion to the size
-/// of their coordinates: a hundred times what the tree's boxes take
-/// (`accel/build.rs`), which covers Moller-Trumbore's rounding of a ray
-/// just outside an edge into a hit, and the box test's own rounding.
+/// of the scene's coordinates (`scene_size`): Moller-Trumbore's rounding
+/// of a ray just outside an edge into a hit grows with the ray's distance
+/// from the triangle, which the scene bounds, and a hundred times what
+/// the tree's boxes take for a triangle's own size (`accel/build.rs`)
+/// covers it, and the box test's own rounding, by far.
 const BOX_PAD: f32 = 1e-4;
 
 /// Triangles in groups, each group's box and its run of `tris`.
@@ -57,16 +59,17 @@ struct Bounds {
 impl Groups {
     /// `tris` sorted into groups of neighbours: split in two at the
     /// median of their centres along the widest axis, until each part
-    /// holds at most `GROUP`.
-    pub(super) fn new(tris: &[Tri]) -> Groups {
+    /// holds at most `GROUP`; their boxes widened for a scene of size
+    /// `scene` (`scene_size` of all its triangles, where every ray starts).
+    pub(super) fn new(tris: &[Tri], scene: f32) -> Groups {
         let mut groups = Groups::default();
-        groups.split(&mut tris.to_vec());
+        groups.split(&mut tris.to_vec(), Vec3::splat(scene * BOX_PAD));
         groups
     }
 
-    fn split(&mut self, tris: &mut [Tri]) {
+    fn split(&mut self, tris: &mut [Tri], pad: Vec3) {
         if tris.len() <= GROUP {
-            self.push(tris);
+            self.push(tris, pad);
             return;
         }
         let (lo, hi) = centre_bounds(tris);
@@ -74,19 +77,15 @@ impl Groups {
         let mid = tris.len() / 2;
         tris.select_nth_unstable_by(mid, |a, b| centre(a)[axis].total_cmp(&centre(b)[axis]));
         let (left, right) = tris.split_at_mut(mid);
-        self.split(left);
-        self.split(right);
+        self.split(left, pad);
+        self.split(right, pad);
     }
 
-    fn push(&mut self, tris: &[Tri]) {
+    fn push(&mut self, tris: &[Tri], pad: Vec3) {
         if tris.is_empty() {
             return;
         }
-        let corners = || tris.iter().flat_map(corners);
-        let lo = corners().fold(Vec3::INFINITY, Vec3::min);
-        let hi = corners().fold(Vec3::NEG_INFINITY, Vec3::max);
-        let size = lo.abs().max(hi.abs()).max_element() + (hi - lo).max_element();
-        let pad = Vec3::splat(size * BOX_PAD);
+        let (lo, hi) = bounds(tris);
         let start = self.tris.len();
         self.tris.extend_from_slice(tris);
         self.boxes.push(Bounds {
@@ -98,8 +97,8 @@ impl Groups {
     }
 
     /// Whether something lies on each lane's ray in (EPSILON, reach), as
-    /// `rays::occluded` answers for all the triangles: the groups whose box
-    /// some ray enters are tested, until every ray is blocked.
+    /// testing every triangle answers: the groups whose box some ray
+    /// enters are tested, until every ray is blocked.
     #[inline(always)]
     pub(super) fn occluded(&self, rays: &Rays, reach: F16, blocked: &mut M16) {
         let (origin, inv) = (by_axis(&rays.origin), inverse(by_axis(&rays.dir)));
@@ -148,6 +147,21 @@ fn inverse(d: V3<F16>) -> V3<F16> {
     }
 }
 
+/// The size of the coordinates of `tris`: the largest of their absolute
+/// values and of their extents (the tree's measure, `accel/build.rs`).
+pub(super) fn scene_size(tris: &[Tri]) -> f32 {
+    let (lo, hi) = bounds(tris);
+    lo.abs().max(hi.abs()).max_element() + (hi - lo).max_element()
+}
+
+/// The box of the corners of `tris`.
+fn bounds(tris: &[Tri]) -> (Vec3, Vec3) {
+    let corners = || tris.iter().flat_map(corners);
+    let lo = corners().fold(Vec3::INFINITY, Vec3::min);
+    let hi = corners().fold(Vec3::NEG_INFINITY, Vec3::max);
+    (lo, hi)
+}
+
 fn corners(t: &Tri) -> [Vec3; 3] {
     [t.v0, t.v0 + t.e1, t.v0 + t.e2]
 }
@@ -178,11 +192,14 @@ mod tests {
         Vec3::new(unit(i, 3 * j), unit(i, 3 * j + 1), unit(i, 3 * j + 2)) * size
     }
 
-    /// Random triangles, some tiny (slivers far from their neighbours).
+    /// Random triangles, some tiny (slivers far from their neighbours, or
+    /// near the origin, where their own coordinates are small beside the
+    /// rays' distances).
     fn triangles(seed: u32) -> Vec<Tri> {
         (0..24)
             .map(|n| {
-                let v0 = point(seed, 10 * n, 4.0);
+                let near_origin = n % 10 == 0;
+                let v0 = point(seed, 10 * n, if near_origin { 0.02 } else { 4.0 });
                 let size = if n % 5 == 0 { 0.01 } else { 1.5 };
                 let (e1, e2) = (point(seed, 10 * n + 1, size), point(seed, 10 * n + 2, size));
                 Tri {
@@ -231,7 +248,7 @@ mod tests {
         let (mut passed_over, mut hits) = (0, 0);
         for seed in 0..8 {
             let tris = triangles(seed);
-            let spatial = Groups::new(&tris);
+            let spatial = Groups::new(&tris, scene_size(&tris));
             for (rays, reach) in rays(&tris, seed) {
                 let reach = F16(reach);
                 let every = rays.blocked_by(&tris, reach, rays.dir_len());

@@ -160,10 +160,11 @@ impl MatteLanes {
             .collect::<Option<Vec<_>>>()?;
         let casters = casters::shadow_casters(&tris, path_lights);
         let connection_casters = casters::connection_casters(&tris);
+        let size = groups::scene_size(&tris);
         Some(MatteLanes {
-            casters: casters.iter().map(|c| Groups::new(c)).collect(),
-            all: Groups::new(&tris),
-            connection_casters: Groups::new(&connection_casters),
+            casters: casters.iter().map(|c| Groups::new(c, size)).collect(),
+            all: Groups::new(&tris, size),
+            connection_casters: Groups::new(&connection_casters, size),
             tris,
             materials,
         })
