@@ -211,18 +211,12 @@ pub(super) fn slab_test(
     (mask, entries)
 }
 
-/// 1 / each component of `dir`, for slab tests: a zero component would
-/// give 0 * inf = NaN there, so it is taken as 1e-30 of its sign.
+/// 1 / each component of `dir`, for slab tests (`V3::safe_recip`: a
+/// zero component is taken as 1e-30 of its sign).
 #[inline(always)]
 pub(super) fn safe_inverse(dir: glam::Vec3) -> [f32; 3] {
-    let safe = |d: f32| {
-        if d.abs() < 1e-30 {
-            1e-30f32.copysign(d)
-        } else {
-            d
-        }
-    };
-    dir.to_array().map(|d| 1.0 / safe(d))
+    let inv = crate::simd::V3::<f32>::from(dir).safe_recip();
+    [inv.x, inv.y, inv.z]
 }
 
 /// A node or leaf waiting on the traversal stack, as its parent's lane

@@ -53,6 +53,18 @@ impl<N: Real> V3<N> {
         self.z.set_lane(k, v.z);
     }
 
+    /// 1 / each component, for slab tests: a zero component would give
+    /// 0 * inf = NaN there, so one below 1e-30 in size is taken as 1e-30
+    /// of its sign. The tree's one ray and the matte lanes' sixteen alike.
+    #[inline(always)]
+    pub fn safe_recip(self) -> Self {
+        let safe = |d: N| {
+            let tiny = d.abs().lt(N::splat(1e-30));
+            N::one() / N::select(tiny, N::splat(1e-30).copysign(d), d)
+        };
+        V3::new(safe(self.x), safe(self.y), safe(self.z))
+    }
+
     #[inline(always)]
     pub fn dot(self, o: Self) -> N {
         (self.x * o.x) + (self.y * o.y) + (self.z * o.z)

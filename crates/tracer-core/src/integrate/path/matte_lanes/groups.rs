@@ -101,7 +101,7 @@ impl Groups {
     /// enters are tested, until every ray is blocked.
     #[inline(always)]
     pub(super) fn occluded(&self, rays: &Rays, reach: F16, blocked: &mut M16) {
-        let (origin, inv) = (by_axis(&rays.origin), inverse(by_axis(&rays.dir)));
+        let (origin, inv) = (by_axis(&rays.origin), by_axis(&rays.dir).safe_recip());
         let dir_len = rays.dir_len();
         for b in &self.boxes {
             if !enters(b, origin, inv, reach).any() {
@@ -130,21 +130,6 @@ fn enters(b: &Bounds, origin: V3<F16>, inv: V3<F16>, reach: F16) -> M16 {
     let near = nx.max(ny).max(nz).max(F16::zero());
     let far = fx.min(fy).min(fz).min(reach);
     near.le(far)
-}
-
-/// 1 / each component, a zero taken as 1e-30 of its sign (as the tree's
-/// `safe_inverse`): no 0 * inf in the slab test.
-#[inline(always)]
-fn inverse(d: V3<F16>) -> V3<F16> {
-    let safe = |x: F16| {
-        let tiny = x.abs().lt(F16::splat(1e-30));
-        F16::one() / F16::select(tiny, F16::splat(1e-30).copysign(x), x)
-    };
-    V3 {
-        x: safe(d.x),
-        y: safe(d.y),
-        z: safe(d.z),
-    }
 }
 
 /// The size of the coordinates of `tris`: the largest of their absolute
@@ -256,7 +241,7 @@ mod tests {
                 spatial.occluded(&rays, reach, &mut blocked);
                 assert_eq!(blocked.0, every.0, "seed {seed}");
                 hits += (0..LANES).filter(|&k| every.lane(k)).count();
-                let (origin, inv) = (by_axis(&rays.origin), inverse(by_axis(&rays.dir)));
+                let (origin, inv) = (by_axis(&rays.origin), by_axis(&rays.dir).safe_recip());
                 passed_over += spatial
                     .boxes
                     .iter()
