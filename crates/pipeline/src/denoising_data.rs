@@ -7,9 +7,11 @@
 //! files reads), hold the denoised image; the layers `noisy`, `albedo`,
 //! `normal` and `emission` (channels `noisy.R`, ...) the render before
 //! denoising and the guides as rendered (not OIDN's prefiltered copies):
-//! the albedo and emission as `--aov albedo` and `--aov emission` give
-//! them, the normal as OIDN takes it, -1 to 1 (`--aov shading-normal`
-//! writes `(n + 1) / 2`). Layers in one part rather than one part each:
+//! the albedo as `--aov albedo` gives it, the normal as OIDN takes it, -1
+//! to 1 (`--aov shading-normal` writes `(n + 1) / 2`), and the light seen
+//! directly that the denoiser left out and added back (`--aov emission`
+//! gives it sampled apart; here it is what the render's own camera rays
+//! met, and what mirrors and glass show: `denoise/emission.rs`). Layers in one part rather than one part each:
 //! every OpenEXR reader reads one part, older ones only that.
 
 use crate::output::{exr_error, OutputError};

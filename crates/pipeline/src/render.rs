@@ -160,20 +160,28 @@ pub fn denoise_rendered(
     scene3d::denoised(prepared, region, rendered, options.part.is_some())
 }
 
-/// `picture`, a pass of the whole image of `prepared`, denoised at the
-/// scene's quality (`PreparedScene::denoise`; as it is without one), with
-/// the guides kept in `guides` (rendered at the first call): `tracer
-/// watch`'s passes.
+/// `picture`, a pass of the whole image of `prepared` at `samples` a
+/// pixel, denoised at the scene's quality (`PreparedScene::denoise`; as it
+/// is without one), with the guides kept in `guides` (rendered at the
+/// first call; the light seen directly, which follows the samples, at
+/// each): `tracer watch`'s passes.
 #[cfg(not(target_arch = "wasm32"))]
 pub fn denoise_picture(
     prepared: &PreparedScene,
     guides: &mut Option<crate::denoise::Guides>,
     picture: &Picture,
+    samples: u32,
 ) -> Result<Picture, Error> {
     let Some(quality) = prepared.denoise() else {
         return Ok(picture.clone());
     };
-    let guides = guides.get_or_insert_with(|| scene3d::guides(prepared, None));
+    let guides = match guides {
+        Some(guides) => {
+            guides.emission = scene3d::seen_light(&prepared.scene, None, samples);
+            guides
+        }
+        None => guides.insert(scene3d::guides(prepared, None, samples)),
+    };
     let threads = rayon::current_num_threads();
     Ok(Picture {
         linear: crate::denoise::denoise(&picture.linear, guides, quality, threads)?,

@@ -109,6 +109,9 @@ pub struct ShadedStats {
     pub forced_white: u64,
     /// Pixels in the image.
     pub pixels: u64,
+    /// Samples a pixel the image has (of the last pass, for a render in
+    /// passes).
+    pub samples: u32,
     /// Path samples left out of their pixel for a value that was not
     /// finite (NaN or infinite); 0 in Whitted mode.
     pub dropped: u64,

@@ -123,10 +123,11 @@ fn denoise_asked(file: &SceneFile) -> Result<Option<Quality>, Error> {
 /// pixel's edges and textures as its paths do.
 pub const GUIDE_SAMPLES: u32 = 16;
 
-/// The guides of `region` (or the whole image) of a prepared scene: the
-/// albedo and shading-normal AOVs, the normal back in -1..1, and the
-/// emission AOV (`emission_guide`).
-pub(crate) fn guides(prepared: &PreparedScene, region: Option<Region>) -> Guides {
+/// The guides of `region` (or the whole image) of a prepared scene
+/// rendered at `samples` a pixel: the albedo and shading-normal AOVs, the
+/// normal back in -1..1, and the light the render's camera rays saw
+/// directly (`seen_light`).
+pub(crate) fn guides(prepared: &PreparedScene, region: Option<Region>, samples: u32) -> Guides {
     let scene = &prepared.scene;
     let job = job(scene, region).with_samples(GUIDE_SAMPLES);
     let aov = |aov| tracer_core::render(scene, &job.with_output(Output::Aov(aov)), &|_| {}).image;
@@ -135,7 +136,13 @@ pub(crate) fn guides(prepared: &PreparedScene, region: Option<Region>) -> Guides
     for n in &mut normal.pixels {
         *n = *n * 2.0 - glam::Vec3::ONE;
     }
-    let emission = emission_guide(scene, job.region);
+    // The light seen through mirrors and glass, which a path's camera ray
+    // does not see alone, sampled as the albedo is.
+    let mut emission = reflected_light(scene, job.region, samples);
+    let seen = seen_light(scene, region, samples);
+    for (e, s) in emission.pixels.iter_mut().zip(&seen.pixels) {
+        *e += *s;
+    }
     Guides {
         albedo,
         normal,
@@ -143,16 +150,45 @@ pub(crate) fn guides(prepared: &PreparedScene, region: Option<Region>) -> Guides
     }
 }
 
-/// The emission AOV of `region` at [`GUIDE_SAMPLES`] a pixel, and at
-/// more at its edges (`denoise::emission`), found with one pixel more on
-/// each side so that a tile's are the whole image's.
-fn emission_guide(scene: &Scene, region: Region) -> tracer_core::LinearImage {
+/// The light the camera rays of a path-mode render of `region` (or the
+/// whole image) at `samples` a pixel saw directly, each pixel as the render counts it
+/// (`PathTracer::seen_light`): the render less this is exactly the light
+/// that bounced, which the denoiser filters (`denoise::emission`).
+pub(crate) fn seen_light(
+    scene: &Scene,
+    region: Option<Region>,
+    samples: u32,
+) -> tracer_core::LinearImage {
+    use rayon::prelude::*;
+    let camera = scene.camera();
+    let region = job(scene, region)
+        .region
+        .within(camera.width, camera.height);
+    let rows: Vec<Vec<glam::Vec3>> = (region.y0..region.y1)
+        .into_par_iter()
+        .map(|y| {
+            let mut tracer = tracer_core::integrate::path::PathTracer::new(scene);
+            (region.x0..region.x1)
+                .map(|x| tracer.seen_light(x, y, 0..samples))
+                .collect()
+        })
+        .collect();
+    let mut light = tracer_core::LinearImage::new(region.width(), region.height());
+    light.pixels = rows.concat();
+    light
+}
+
+/// The light seen through mirrors and glass (`Aov::ReflectedEmission`) of
+/// `region` at [`GUIDE_SAMPLES`] a pixel, and at more at its edges
+/// (`denoise::emission`; for a render of `samples` a pixel), found with
+/// one pixel more on each side so that a tile's are the whole image's.
+fn reflected_light(scene: &Scene, region: Region, samples: u32) -> tracer_core::LinearImage {
     use crate::denoise::emission::{edge_rows, edge_samples, widened};
     use rayon::prelude::*;
     let camera = scene.camera();
     let region = region.within(camera.width, camera.height);
     let wide = widened(region, (camera.width, camera.height));
-    let output = Output::Aov(Aov::Emission);
+    let output = Output::Aov(Aov::ReflectedEmission);
     let render = |region, samples| {
         let job = RenderJob {
             region,
@@ -170,7 +206,7 @@ fn emission_guide(scene: &Scene, region: Region) -> tracer_core::LinearImage {
         }
     }
     let rows = edge_rows(&coarse, wide, region);
-    let samples = edge_samples(scene.samples());
+    let samples = edge_samples(samples);
     let fine: Vec<_> = rows.par_iter().map(|&row| render(row, samples)).collect();
     for (row, pixels) in rows.iter().zip(fine) {
         let start = ((row.y0 - region.y0) * region.width() + row.x0 - region.x0) as usize;
@@ -193,7 +229,11 @@ pub(crate) fn denoised(
         return Ok(rendered);
     };
     let start = Instant::now();
-    let guides = guides(prepared, region);
+    let samples = match &rendered.summary {
+        crate::Summary::Shaded(stats) => stats.samples,
+        _ => prepared.scene.samples(),
+    };
+    let guides = guides(prepared, region, samples);
     let guide_seconds = start.elapsed().as_secs_f64();
     let denoising = crate::Denoising {
         guides,
@@ -246,13 +286,8 @@ pub(crate) fn shade_prepared(
     let job = job(scene, region);
     let rendered = tracer_core::render_cancellable(scene, &job, rows_done, cancel)?;
     let seconds = start.elapsed().as_secs_f64();
-    Some(shaded(
-        prepared,
-        gamma,
-        rendered.image,
-        rendered.rays,
-        seconds,
-    ))
+    let rays = (rendered.rays, job.samples);
+    Some(shaded(prepared, gamma, rendered.image, rays, seconds))
 }
 
 /// What a render in passes reports to: `rows_done(0)` as the passes begin
@@ -304,7 +339,8 @@ pub(crate) fn shade_progressive(
     for pass in tracer_core::film::passes(job.samples) {
         rays = rays + film.add_pass(scene, pass, rows_done, cancel)?;
         let seconds = start.elapsed().as_secs_f64();
-        let (picture, stats) = shaded(prepared, gamma, film.image(), rays, seconds);
+        let image = film.image();
+        let (picture, stats) = shaded(prepared, gamma, image, (rays, film.samples()), seconds);
         let go_on = on_pass(Pass {
             picture: &picture,
             stats: &stats,
@@ -320,13 +356,13 @@ pub(crate) fn shade_progressive(
 }
 
 /// The picture of a rendered `image` of `prepared` (`rays` traced in
-/// `render_seconds`), with the scene's gamma (or `gamma`) and saturation
+/// `render_seconds`, `samples` a pixel), with the scene's gamma (or `gamma`) and saturation
 /// rule, and its numbers.
 fn shaded(
     prepared: &PreparedScene,
     gamma: Option<Gamma>,
     image: tracer_core::LinearImage,
-    rays: tracer_core::RayStats,
+    (rays, samples): (tracer_core::RayStats, u32),
     render_seconds: f64,
 ) -> (Picture, ShadedStats) {
     let scene = &prepared.scene;
@@ -351,6 +387,7 @@ fn shaded(
         render_seconds,
         forced_white,
         pixels: image.pixels.len() as u64,
+        samples,
         dropped: rays.dropped,
         cut_trees: rays.cut_trees,
         point_lit_mean: point_lit_mean(scene, &image),

@@ -281,8 +281,9 @@ pub struct RenderSettings {
     /// by this many, stratified together over the pixel's samples, for
     /// what it sees directly; unbiased. Other pixels cost nothing more
     /// than that first look. 1 is the path's own ray. Left out, path mode
-    /// decides: 8 in a scene without an environment that has emitting
-    /// surfaces, unless it is denoised; else 1.
+    /// decides: 16 where the image is denoised (the denoiser is not given
+    /// what they see); else 8 in a scene without an environment that has
+    /// emitting surfaces, and 1 otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schemars(
         range(min = 1, max = crate::validate::MAX_CAMERA_RAYS),

@@ -41,9 +41,10 @@ pub struct RenderArgs {
     /// With --denoise, to an .exr output: keep what went into the denoiser
     /// in the same file, as Blender's "Denoising Data" pass does. The
     /// denoised image is the file's default layer (R, G, B: what viewers
-    /// show); the layers `noisy` (the render before denoising), `albedo`,
-    /// `normal` (-1 to 1) and `emission` (the guides, as --aov albedo,
-    /// shading-normal and emission give them) are beside it
+    /// show); the layers `noisy` (the render before denoising), `albedo`
+    /// and `normal` (-1 to 1; the guides, as --aov albedo and
+    /// shading-normal give them) and `emission` (the light seen directly,
+    /// left out of what was filtered and added back) are beside it
     #[arg(long, conflicts_with_all = ["aov", "region", "tile"])]
     pub denoising_data: bool,
     /// Render only the pixels X0..X1 by Y0..Y1 (ends exclusive); to an .exr

@@ -8,6 +8,7 @@
 mod mitsuba;
 
 use mitsuba::{assert_agrees, reference, render_rows, rmse, scene};
+use tracer_core::integrate::path::PathTracer;
 
 const SIZE: usize = 256;
 
@@ -95,4 +96,43 @@ fn more_camera_rays_take_the_noise_off_the_lamp_s_edges_and_leave_the_rest() {
         "{eight_error} against {one_error}"
     );
     assert!(one.pixels[60 * SIZE..] == eight.pixels[60 * SIZE..]);
+}
+
+#[test]
+fn the_render_less_what_its_camera_rays_saw_is_the_light_that_bounced() {
+    // The lamp's rows, 16 camera rays a path (as a denoised render takes
+    // them) and 1: the pixel less `seen_light` is what bounced, which no
+    // pixel has below 0 but by rounding. Had `seen_light` counted other
+    // rays than the render (its own sequence, another sample's), a pixel
+    // at the lamp's edge would be off by its share of lamp's noise, some
+    // of it below 0 by a tenth of the lamp or more. Row by row (the lanes)
+    // and pixel by pixel (one path at a time) alike.
+    let scene = scene("cornell-box.toml");
+    let samples = 16;
+    for camera_rays in [1, 16] {
+        let rows = render_rows(&scene, (SIZE, SIZE), samples, 0, (1, camera_rays));
+        let mut tracer = PathTracer::new(&scene)
+            .with_camera_rays(camera_rays)
+            .one_at_a_time();
+        let (mut edges, mut lamp) = (0, 0);
+        for j in 25..45 {
+            for i in 90..166 {
+                let seen = tracer.seen_light(i, j, 0..samples);
+                let by_row = rows.pixels[j as usize * SIZE + i as usize];
+                let alone = tracer.pixel(i, j, samples, || false);
+                for value in [by_row, alone] {
+                    let bounced = value - seen;
+                    assert!(
+                        bounced.min_element() > -1e-4 * seen.max_element().max(1.0),
+                        "pixel ({i}, {j}), {camera_rays} camera rays: {value} less {seen}"
+                    );
+                }
+                let share = seen.x / 18.387;
+                edges += usize::from(share > 0.02 && share < 0.98);
+                lamp += usize::from(share >= 0.98);
+            }
+        }
+        // Not a test of nothing: the lamp and its outline are among them.
+        assert!(edges > 50 && lamp > 200, "{edges} edge, {lamp} lamp pixels");
+    }
 }

@@ -46,12 +46,19 @@ fn under_an_environment_every_path_is_traced_alone() {
 }
 
 #[test]
-fn a_denoised_image_traces_every_path_alone() {
-    // The denoiser takes that noise off, and sees the lamp's edges itself.
-    assert_eq!(estimator_of("cornell-box.toml", SILENT, true), (1, 1));
+fn a_denoised_image_traces_every_path_alone_and_looks_again_at_edges() {
+    // The denoiser takes that noise off; what the camera rays see directly
+    // it is not given, so their edges want more of them.
+    let rays = tracer_core::integrate::path::defaults::DENOISED_CAMERA_RAYS;
+    assert_eq!(estimator_of("cornell-box.toml", SILENT, true), (1, rays));
+    assert_eq!(estimator_of("materials.toml", SILENT, true), (1, rays));
     assert_eq!(
         estimator_of("cornell-box.toml", (Some(8), None), true),
-        (8, 1)
+        (8, rays)
+    );
+    assert_eq!(
+        estimator_of("cornell-box.toml", (None, Some(2)), true),
+        (1, 2)
     );
 }
 

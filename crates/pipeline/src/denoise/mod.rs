@@ -89,8 +89,8 @@ pub fn workspace() -> PathBuf {
 
 /// What guides the filter: each pixel's albedo (0 to 1) and shading
 /// normal (-1 to 1; zero where the pixel sees nothing), and the light it
-/// sees directly (the `emission` AOV, which is not filtered), the size of
-/// the image denoised.
+/// sees directly, as the render counted it and through mirrors and glass
+/// (`emission.rs`: not filtered), the size of the image denoised.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Guides {
     pub albedo: LinearImage,

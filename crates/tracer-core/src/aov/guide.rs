@@ -37,6 +37,9 @@ pub(crate) struct Seen {
     /// brings back with no bounce off a surface that is not a perfect
     /// mirror or smooth glass.
     pub light: Vec3,
+    /// The part of `light` seen after a mirror or glass, not by the
+    /// primary ray itself.
+    pub reflected: Vec3,
 }
 
 /// The guides of a primary `ray` whose nearest hit is `hit`.
@@ -45,17 +48,19 @@ pub(crate) fn seen(scene: &Scene, ray: &Ray, hit: Option<&SurfaceHit>, rng: &mut
     // What glass absorbed on the way: the light's alone, the albedo being
     // the surfaces' colours.
     let mut absorbed = Vec3::ONE;
-    let mut light = Vec3::ZERO;
+    let mut light = Light::default();
     let mut ray = *ray;
     let mut hit = hit.copied();
     for _ in 0..=MAX_SPECULAR {
         let dir = ray.dir().normalize();
         let Some(h) = hit else {
             let background = scene.background(dir);
+            light.add(weight * absorbed * background);
             return Seen {
                 albedo: weight * background.clamp(Vec3::ZERO, Vec3::ONE),
                 normal: Vec3::ZERO,
-                light: light + weight * absorbed * background,
+                light: light.all,
+                reflected: light.reflected,
             };
         };
         let material = scene.material(h.material);
@@ -65,7 +70,7 @@ pub(crate) fn seen(scene: &Scene, ray: &Ray, hit: Option<&SurfaceHit>, rng: &mut
             absorbed *= g.absorbed_over(h.t);
         }
         if h.front_face {
-            light += weight * absorbed * material.emission_at(&h);
+            light.add(weight * absorbed * material.emission_at(&h));
         }
         let Some(split) = material.specular_split(dir, &h) else {
             let normal = if dir.dot(h.shading_normal) > 0.0 {
@@ -76,9 +81,11 @@ pub(crate) fn seen(scene: &Scene, ray: &Ray, hit: Option<&SurfaceHit>, rng: &mut
             return Seen {
                 albedo: weight * material.albedo(&h),
                 normal,
-                light,
+                light: light.all,
+                reflected: light.reflected,
             };
         };
+        light.bounced = true;
         let (next, colour) = pick(&split, rng);
         weight *= colour;
         ray = Ray::new(ray.at(h.t), next);
@@ -87,7 +94,28 @@ pub(crate) fn seen(scene: &Scene, ray: &Ray, hit: Option<&SurfaceHit>, rng: &mut
     Seen {
         albedo: Vec3::ZERO,
         normal: Vec3::ZERO,
-        light,
+        light: light.all,
+        reflected: light.reflected,
+    }
+}
+
+/// The light a primary ray meets on its way through mirrors and glass,
+/// all of it, and the part met after a mirror or glass
+/// (`Seen::reflected`).
+#[derive(Default)]
+struct Light {
+    all: Vec3,
+    reflected: Vec3,
+    /// Whether the ray has left its first segment.
+    bounced: bool,
+}
+
+impl Light {
+    fn add(&mut self, light: Vec3) {
+        self.all += light;
+        if self.bounced {
+            self.reflected += light;
+        }
     }
 }
 

@@ -146,7 +146,8 @@ fn render_in_passes(args: &Watch, loaded: &Loaded, changes: &Changes, server: Op
     // rendered once.
     let mut guides = None;
     let mut on_pass = |pass: tracer_pipeline::Pass| {
-        let picture = tracer_pipeline::denoise_picture(&prepared, &mut guides, pass.picture);
+        let picture =
+            tracer_pipeline::denoise_picture(&prepared, &mut guides, pass.picture, pass.samples);
         let picture = match picture {
             Ok(picture) => picture,
             Err(e) => {

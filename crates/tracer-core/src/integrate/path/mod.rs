@@ -220,6 +220,29 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
             })
     }
 
+    /// What samples `samples` of pixel (i, j) see directly, in the mean,
+    /// as `add_samples` counts it: the light their paths' first segments
+    /// add (an emitter's front, the sky or background), through more
+    /// camera rays where the pixel takes them (`seen.rs`). The pixel's
+    /// value less this is the light that bounced, which a denoiser is
+    /// given (the pipeline's `denoise`): exactly, but for rounding and a
+    /// sample dropped for a value that was not finite.
+    pub fn seen_light(&mut self, i: u32, j: u32, samples: Range<u32>) -> Vec3 {
+        let varies = self.seen_varies((i, j));
+        let (scene, seed, rays) = (self.scene, self.seed, self.camera_rays);
+        let count = samples.len().max(1) as f32;
+        seeing(scene, &mut self.stats, |see| {
+            let mut sum = Vec3::ZERO;
+            for s in samples {
+                sum += match varies {
+                    true => seen::extra(scene, (seed, rays), (i, j, s), &mut *see),
+                    false => seen::own(scene, seed, (i, j, s), &mut *see),
+                };
+            }
+            sum / count
+        })
+    }
+
     /// Adds `value`, of sample `s` of pixel (i, j), to `sum`, with what
     /// more camera rays see directly in place of its own where the pixel
     /// `varies`; a value that is not finite is dropped (and counted).

@@ -57,11 +57,29 @@ fn apart(a: Vec3, b: Vec3) -> bool {
 
 /// What `rays` camera rays of pixel (i, j)'s sample `s` see directly, in
 /// the mean, less what the sample's own camera ray saw: added to the
-/// sample's value, its directly seen light is theirs. The rays are
-/// samples `rays s` to `rays (s + 1) - 1` of their own sequence, so a
-/// pixel's samples put `rays` times as many points in it, stratified
-/// together.
+/// sample's value, its directly seen light is theirs (`extra`).
 pub(super) fn correction(
+    scene: &Scene,
+    (seed, rays): (u32, u32),
+    (i, j, s): (u32, u32, u32),
+    see: See,
+) -> Vec3 {
+    let own = own(scene, seed, (i, j, s), &mut *see);
+    extra(scene, (seed, rays), (i, j, s), see) - own
+}
+
+/// What the camera ray of pixel (i, j)'s sample `s` sees directly.
+pub(super) fn own(scene: &Scene, seed: u32, (i, j, s): (u32, u32, u32), see: See) -> Vec3 {
+    let mut sampler = PixelSampler::new(i, j, seed);
+    sampler.start(s);
+    see(scene.camera().sampled_ray(&mut sampler, (i, j)))
+}
+
+/// What `rays` camera rays of pixel (i, j)'s sample `s` see directly, in
+/// the mean: samples `rays s` to `rays (s + 1) - 1` of their own
+/// sequence, so that a pixel's samples put `rays` times as many points in
+/// it, stratified together.
+pub(super) fn extra(
     scene: &Scene,
     (seed, rays): (u32, u32),
     (i, j, s): (u32, u32, u32),
@@ -69,15 +87,13 @@ pub(super) fn correction(
 ) -> Vec3 {
     let camera = scene.camera();
     let mut sampler = PixelSampler::new(i, j, seed);
-    sampler.start(s);
-    let own = see(camera.sampled_ray(&mut sampler, (i, j)));
     let mut sum = Vec3::ZERO;
     for m in 0..rays {
         sampler.start(s.wrapping_mul(rays).wrapping_add(m));
         sampler.skip(SEEN_REQUEST);
         sum += see(camera.sampled_ray(&mut sampler, (i, j)));
     }
-    sum / rays as f32 - own
+    sum / rays as f32
 }
 
 #[cfg(test)]
