@@ -37,9 +37,6 @@ pub(crate) struct Seen {
     /// brings back with no bounce off a surface that is not a perfect
     /// mirror or smooth glass.
     pub light: Vec3,
-    /// The part of `light` seen after a mirror or glass, not by the
-    /// primary ray itself.
-    pub reflected: Vec3,
 }
 
 /// The guides of a primary `ray` whose nearest hit is `hit`.
@@ -48,19 +45,17 @@ pub(crate) fn seen(scene: &Scene, ray: &Ray, hit: Option<&SurfaceHit>, rng: &mut
     // What glass absorbed on the way: the light's alone, the albedo being
     // the surfaces' colours.
     let mut absorbed = Vec3::ONE;
-    let mut light = Light::default();
+    let mut light = Vec3::ZERO;
     let mut ray = *ray;
     let mut hit = hit.copied();
     for _ in 0..=MAX_SPECULAR {
         let dir = ray.dir().normalize();
         let Some(h) = hit else {
             let background = scene.background(dir);
-            light.add(weight * absorbed * background);
             return Seen {
                 albedo: weight * background.clamp(Vec3::ZERO, Vec3::ONE),
                 normal: Vec3::ZERO,
-                light: light.all,
-                reflected: light.reflected,
+                light: light + weight * absorbed * background,
             };
         };
         let material = scene.material(h.material);
@@ -70,7 +65,7 @@ pub(crate) fn seen(scene: &Scene, ray: &Ray, hit: Option<&SurfaceHit>, rng: &mut
             absorbed *= g.absorbed_over(h.t);
         }
         if h.front_face {
-            light.add(weight * absorbed * material.emission_at(&h));
+            light += weight * absorbed * material.emission_at(&h);
         }
         let Some(split) = material.specular_split(dir, &h) else {
             let normal = if dir.dot(h.shading_normal) > 0.0 {
@@ -81,11 +76,9 @@ pub(crate) fn seen(scene: &Scene, ray: &Ray, hit: Option<&SurfaceHit>, rng: &mut
             return Seen {
                 albedo: weight * material.albedo(&h),
                 normal,
-                light: light.all,
-                reflected: light.reflected,
+                light,
             };
         };
-        light.bounced = true;
         let (next, colour) = pick(&split, rng);
         weight *= colour;
         ray = Ray::new(ray.at(h.t), next);
@@ -94,28 +87,93 @@ pub(crate) fn seen(scene: &Scene, ray: &Ray, hit: Option<&SurfaceHit>, rng: &mut
     Seen {
         albedo: Vec3::ZERO,
         normal: Vec3::ZERO,
-        light: light.all,
-        reflected: light.reflected,
+        light,
     }
 }
 
-/// The light a primary ray meets on its way through mirrors and glass,
-/// all of it, and the part met after a mirror or glass
-/// (`Seen::reflected`).
-#[derive(Default)]
-struct Light {
-    all: Vec3,
-    reflected: Vec3,
-    /// Whether the ray has left its first segment.
-    bounced: bool,
+/// Glass surfaces at which `reflected` follows both branches, each
+/// weighted by its colour (at most 2^SPLITS rays on from the first
+/// surface), before it picks one at random as `seen` does: the light
+/// seen through glass is then free of the noise of that pick where it
+/// matters most, at the first surfaces (a glass ball's front and back).
+const SPLITS: u32 = 3;
+
+/// The light a primary `ray` whose nearest hit is `hit` meets after a
+/// mirror or glass (not on its own segment): `seen`'s `light` less what
+/// the ray itself met, with both branches of glass followed at its first
+/// `SPLITS` surfaces. The denoiser's (`Aov::ReflectedEmission`).
+pub(crate) fn reflected(scene: &Scene, ray: &Ray, hit: Option<&SurfaceHit>, rng: &mut Rng) -> Vec3 {
+    let Some(h) = hit else {
+        return Vec3::ZERO;
+    };
+    let dir = ray.dir().normalize();
+    let material = scene.material(h.material);
+    let weight = match (material, h.front_face) {
+        (Material::Glass(g), false) => g.absorbed_over(h.t),
+        _ => Vec3::ONE,
+    };
+    match material.specular_split(dir, h) {
+        Some(split) => beyond(scene, (ray.at(h.t), &split), weight, (1, SPLITS), rng),
+        None => Vec3::ZERO,
+    }
 }
 
-impl Light {
-    fn add(&mut self, light: Vec3) {
-        self.all += light;
-        if self.bounced {
-            self.reflected += light;
+/// The light met on from `origin` along the branches of `split`, each
+/// weighted by `weight` and its colour: both while `splits` are left, at
+/// `depth` mirrors and glass from the eye.
+fn beyond(
+    scene: &Scene,
+    (origin, split): (Vec3, &SpecularSplit),
+    weight: Vec3,
+    (depth, splits): (u32, u32),
+    rng: &mut Rng,
+) -> Vec3 {
+    let along = |(dir, colour): (Vec3, Vec3), splits, rng: &mut Rng| {
+        let ray = Ray::new(origin, dir);
+        met_along(scene, &ray, weight * colour, (depth, splits), rng)
+    };
+    match split.transmitted {
+        Some(through) if splits > 0 => {
+            along(split.reflected, splits - 1, rng) + along(through, splits - 1, rng)
         }
+        _ => along(pick(split, rng), splits, rng),
+    }
+}
+
+/// The light `ray` meets, times `weight`, through the mirrors and glass
+/// it comes to (`depth` of them on the way so far).
+fn met_along(
+    scene: &Scene,
+    ray: &Ray,
+    weight: Vec3,
+    (depth, splits): (u32, u32),
+    rng: &mut Rng,
+) -> Vec3 {
+    let dir = ray.dir().normalize();
+    let Some(h) = scene.closest_hit(ray, EPSILON, f32::INFINITY) else {
+        return weight * scene.background(dir);
+    };
+    let material = scene.material(h.material);
+    let weight = match (material, h.front_face) {
+        (Material::Glass(g), false) => weight * g.absorbed_over(h.t),
+        _ => weight,
+    };
+    let emitted = match h.front_face {
+        true => weight * material.emission_at(&h),
+        false => Vec3::ZERO,
+    };
+    match material.specular_split(dir, &h) {
+        Some(split) if depth < MAX_SPECULAR => {
+            let on = beyond(
+                scene,
+                (ray.at(h.t), &split),
+                weight,
+                (depth + 1, splits),
+                rng,
+            );
+            emitted + on
+        }
+        _ => emitted,
     }
 }
 

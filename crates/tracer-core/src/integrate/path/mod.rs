@@ -226,10 +226,16 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
     /// camera rays where the pixel takes them (`seen.rs`). The pixel's
     /// value less this is the light that bounced, which a denoiser is
     /// given (the pipeline's `denoise`): exactly, but for rounding and a
-    /// sample dropped for a value that was not finite.
+    /// sample dropped for a value that was not finite. 0 where the
+    /// pixel's centre and corners see no light (never more than the
+    /// render counted, so the difference is never below 0): a room's walls
+    /// cost five rays, not one a sample.
     pub fn seen_light(&mut self, i: u32, j: u32, samples: Range<u32>) -> Vec3 {
         let varies = self.seen_varies((i, j));
         let (scene, seed, rays) = (self.scene, self.seed, self.camera_rays);
+        if !varies && seeing(scene, &mut self.stats, |see| seen::dark(scene, (i, j), see)) {
+            return Vec3::ZERO;
+        }
         let count = samples.len().max(1) as f32;
         seeing(scene, &mut self.stats, |see| {
             let mut sum = Vec3::ZERO;

@@ -34,13 +34,35 @@ pub(super) type See<'s> = &'s mut dyn FnMut(Ray) -> Vec3;
 /// centre) see lights apart by more than `EDGE` of the brighter (the edge
 /// of a lamp, an object against the sky), not the gentle change of a sky
 /// across a pixel, which one ray a path finds well enough.
-pub(super) fn varies(scene: &Scene, (i, j): (u32, u32), see: See) -> bool {
+pub(super) fn varies(scene: &Scene, pixel: (u32, u32), see: See) -> bool {
+    let mut at = look(scene, pixel, see);
+    let centre = at(CENTRE);
+    CORNERS.into_iter().any(|corner| apart(at(corner), centre))
+}
+
+/// Whether the camera rays through pixel (i, j)'s centre and corners see
+/// no light directly (a wall of a room lit by its lamps).
+pub(super) fn dark(scene: &Scene, pixel: (u32, u32), see: See) -> bool {
+    let mut at = look(scene, pixel, see);
+    [CENTRE]
+        .into_iter()
+        .chain(CORNERS)
+        .all(|p| at(p) == Vec3::ZERO)
+}
+
+const CENTRE: (f32, f32) = (0.5, 0.5);
+const CORNERS: [(f32, f32); 4] = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)];
+
+/// What the camera ray through point (dx, dy) of pixel (i, j) (and the
+/// lens's centre) sees directly.
+fn look<'a>(
+    scene: &'a Scene,
+    (i, j): (u32, u32),
+    see: See<'a>,
+) -> impl FnMut((f32, f32)) -> Vec3 + 'a {
     let camera = scene.camera();
     let (x, y) = (i as f32, j as f32);
-    let mut at = |(dx, dy): (f32, f32)| see(camera.lens_ray(x + dx, y + dy, Vec2::ZERO));
-    let centre = at((0.5, 0.5));
-    let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)];
-    corners.into_iter().any(|corner| apart(at(corner), centre))
+    move |(dx, dy)| see(camera.lens_ray(x + dx, y + dy, Vec2::ZERO))
 }
 
 /// How far apart, relative to the brighter, two lights seen in a pixel
