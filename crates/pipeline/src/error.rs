@@ -55,8 +55,9 @@ pub enum Error {
     /// A sample number beyond the pixel's samples.
     #[error("--sample {sample}: the scene renders {samples} sample(s) a pixel; expected 0 to {}", samples - 1)]
     Sample { sample: u32, samples: u32 },
-    /// A sample number beyond the paths adaptive sampling gave the pixel.
-    #[error("--sample {sample}: adaptive sampling gave this pixel {paths} path(s) of the image's mean {mean}; expected 0 to {}", paths.saturating_sub(1))]
+    /// A sample number beyond the paths the pixel kept: those adaptive
+    /// sampling gave it, less any whose value was not finite.
+    #[error("--sample {sample}: this pixel kept {paths} path(s) (the scene's {mean} a pixel, or under adaptive sampling its share of that mean, less any whose value was not a finite number); {}", kept_range(*paths))]
     SampleAdaptive { sample: u32, paths: u32, mean: u32 },
     /// A `--reference` image that cannot be read or is not the render's size.
     #[error("--light {light}: the scene has {lights} light(s) in [[lights]]; expected 0 to {}", lights.saturating_sub(1))]
@@ -143,5 +144,37 @@ pub fn scene_error_is_bad_input(error: &SceneError) -> bool {
         SceneError::UnknownFormat { .. } | SceneError::Invalid { .. } | SceneError::Several(_) => {
             true
         }
+    }
+}
+
+/// The samples of a pixel that kept `paths` paths, in words.
+fn kept_range(paths: u32) -> String {
+    match paths {
+        0 => "none of its samples can be explained".into(),
+        n => format!("expected 0 to {}", n - 1),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_pixel_that_kept_no_path_says_so_rather_than_0_to_0() {
+        let none = Error::SampleAdaptive {
+            sample: 0,
+            paths: 0,
+            mean: 16,
+        };
+        assert!(none
+            .to_string()
+            .ends_with("none of its samples can be explained"));
+        let some = Error::SampleAdaptive {
+            sample: 5,
+            paths: 3,
+            mean: 16,
+        };
+        assert!(some.to_string().contains("kept 3 path(s)"));
+        assert!(some.to_string().ends_with("expected 0 to 2"));
     }
 }
