@@ -163,8 +163,8 @@ pub fn denoise_rendered(
 /// `picture`, a pass of the whole image of `prepared` at `samples` a
 /// pixel, denoised at the scene's quality (`PreparedScene::denoise`; as it
 /// is without one), with the guides kept in `guides` (rendered at the
-/// first call; the light seen directly, which follows the samples, at
-/// each): `tracer watch`'s passes.
+/// first call; the light seen directly, which follows the samples, again
+/// at each): `tracer watch`'s passes.
 #[cfg(not(target_arch = "wasm32"))]
 pub fn denoise_picture(
     prepared: &PreparedScene,
@@ -177,7 +177,7 @@ pub fn denoise_picture(
     };
     let guides = match guides {
         Some(guides) => {
-            guides.emission = scene3d::seen_light(&prepared.scene, None, samples);
+            guides.emission = scene3d::emission_guide(&prepared.scene, None, samples);
             guides
         }
         None => guides.insert(scene3d::guides(prepared, None, samples)),

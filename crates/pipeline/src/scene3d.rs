@@ -125,8 +125,7 @@ pub const GUIDE_SAMPLES: u32 = 16;
 
 /// The guides of `region` (or the whole image) of a prepared scene
 /// rendered at `samples` a pixel: the albedo and shading-normal AOVs, the
-/// normal back in -1..1, and the light the render's camera rays saw
-/// directly (`seen_light`).
+/// normal back in -1..1, and the light seen directly (`emission_guide`).
 pub(crate) fn guides(prepared: &PreparedScene, region: Option<Region>, samples: u32) -> Guides {
     let scene = &prepared.scene;
     let job = job(scene, region).with_samples(GUIDE_SAMPLES);
@@ -136,29 +135,35 @@ pub(crate) fn guides(prepared: &PreparedScene, region: Option<Region>, samples: 
     for n in &mut normal.pixels {
         *n = *n * 2.0 - glam::Vec3::ONE;
     }
-    // The light seen through mirrors and glass, which a path's camera ray
-    // does not see alone, sampled as the albedo is.
-    let mut emission = reflected_light(scene, job.region, samples);
+    Guides {
+        albedo,
+        normal,
+        emission: emission_guide(scene, region, samples),
+    }
+}
+
+/// The light the denoiser takes out of a render of `region` (or the whole
+/// image) at `samples` a pixel and adds back: what the render's camera
+/// rays saw directly (`seen_light`), and what mirrors and glass show,
+/// which a path's camera ray does not see alone (`reflected_light`).
+pub(crate) fn emission_guide(
+    scene: &Scene,
+    region: Option<Region>,
+    samples: u32,
+) -> tracer_core::LinearImage {
+    let mut emission = reflected_light(scene, job(scene, region).region, samples);
     let seen = seen_light(scene, region, samples);
     for (e, s) in emission.pixels.iter_mut().zip(&seen.pixels) {
         *e += *s;
     }
-    Guides {
-        albedo,
-        normal,
-        emission,
-    }
+    emission
 }
 
 /// The light the camera rays of a path-mode render of `region` (or the
 /// whole image) at `samples` a pixel saw directly, each pixel as the render counts it
 /// (`PathTracer::seen_light`): the render less this is exactly the light
 /// that bounced, which the denoiser filters (`denoise::emission`).
-pub(crate) fn seen_light(
-    scene: &Scene,
-    region: Option<Region>,
-    samples: u32,
-) -> tracer_core::LinearImage {
+fn seen_light(scene: &Scene, region: Option<Region>, samples: u32) -> tracer_core::LinearImage {
     use rayon::prelude::*;
     let camera = scene.camera();
     let region = job(scene, region)

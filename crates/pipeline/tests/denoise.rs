@@ -241,3 +241,42 @@ fn denoising_is_refused_in_whitted_mode_before_any_work() {
     assert!(error.is_bad_input());
     assert!(error.to_string().contains("needs path mode"), "{error}");
 }
+
+#[test]
+fn a_pass_of_watch_is_denoised_with_the_guides_a_render_of_its_samples_has() {
+    if !oidn() {
+        return;
+    }
+    // A mirror ball showing a lamp: the light taken out holds what the
+    // camera rays saw and what the mirror shows. Guides kept from a pass
+    // of 2 samples and brought to 8 must be those of a first pass at 8.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("mirror.toml");
+    std::fs::write(
+        &path,
+        "[camera]\neye = [0, 0, 6]\nlook_at = [0, 0, 0]\nwidth = 48\nheight = 32\n\
+         [render]\nintegrator = \"path\"\nsamples = 8\ndenoise = true\n\
+         [[objects]]\nsphere = { center = [0, 0, 0], radius = 1.2 }\n\
+         material = { base_color = [1, 1, 1], metallic = 1, roughness = 0 }\n\
+         [[objects]]\nquad = { corner = [-3, 2, 3], edge_u = [0, 0, -6], edge_v = [6, 0, 0] }\n\
+         material = { diffuse = [0.5, 0.5, 0.5], emission = [4, 4, 4] }\n",
+    )
+    .unwrap();
+    let loaded = load(&Input::File(path)).unwrap();
+    let options = Options::default();
+    let prepared = tracer_pipeline::prepare_taking(loaded, &options, "test").unwrap();
+    let rendered = tracer_pipeline::render_prepared(&prepared, &options, &|_| {}).unwrap();
+    let picture = &rendered.image;
+    let mut kept = None;
+    tracer_pipeline::denoise_picture(&prepared, &mut kept, picture, 2).unwrap();
+    tracer_pipeline::denoise_picture(&prepared, &mut kept, picture, 8).unwrap();
+    let mut fresh = None;
+    tracer_pipeline::denoise_picture(&prepared, &mut fresh, picture, 8).unwrap();
+    let (kept, fresh) = (kept.unwrap(), fresh.unwrap());
+    assert!(
+        fresh.emission.pixels.iter().any(|e| e.x > 0.5),
+        "the lamp is seen, or its reflection"
+    );
+    assert!(kept.emission == fresh.emission, "the light taken out");
+    assert!(kept == fresh, "the albedo and normal");
+}
