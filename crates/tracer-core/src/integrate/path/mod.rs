@@ -213,11 +213,19 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
     /// directly (`seen.rs`): never unless the scene asks for them (nor
     /// where a recorder follows the paths).
     fn seen_varies(&mut self, pixel: (u32, u32)) -> bool {
-        let asked = self.camera_rays > 1 && R::SILENT;
-        asked
-            && seeing(self.scene, &mut self.stats, |see| {
-                seen::varies(self.scene, pixel, see)
-            })
+        self.takes_camera_rays() && seen::varies(&self.looks(pixel))
+    }
+
+    /// Whether more camera rays are asked for (and no recorder follows
+    /// the paths).
+    fn takes_camera_rays(&self) -> bool {
+        self.camera_rays > 1 && R::SILENT
+    }
+
+    /// What pixel (i, j)'s centre and corners see directly (`seen::looks`).
+    fn looks(&mut self, pixel: (u32, u32)) -> [Vec3; 5] {
+        let scene = self.scene;
+        seeing(scene, &mut self.stats, |see| seen::looks(scene, pixel, see))
     }
 
     /// What samples `samples` of pixel (i, j) see directly, in the mean,
@@ -231,11 +239,12 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
     /// render counted, so the difference is never below 0): a room's walls
     /// cost five rays, not one a sample.
     pub fn seen_light(&mut self, i: u32, j: u32, samples: Range<u32>) -> Vec3 {
-        let varies = self.seen_varies((i, j));
-        let (scene, seed, rays) = (self.scene, self.seed, self.camera_rays);
-        if !varies && seeing(scene, &mut self.stats, |see| seen::dark(scene, (i, j), see)) {
+        let looks = self.looks((i, j));
+        let varies = self.takes_camera_rays() && seen::varies(&looks);
+        if !varies && seen::dark(&looks) {
             return Vec3::ZERO;
         }
+        let (scene, seed, rays) = (self.scene, self.seed, self.camera_rays);
         let count = samples.len().max(1) as f32;
         seeing(scene, &mut self.stats, |see| {
             let mut sum = Vec3::ZERO;

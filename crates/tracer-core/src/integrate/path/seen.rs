@@ -29,40 +29,28 @@ const SEEN_REQUEST: u32 = 1 << 12;
 /// it, which gives it (a path of depth 0).
 pub(super) type See<'s> = &'s mut dyn FnMut(Ray) -> Vec3;
 
-/// Whether what pixel (i, j) shows directly changes sharply across it:
-/// the camera rays through its corners and centre (and the lens's
-/// centre) see lights apart by more than `EDGE` of the brighter (the edge
-/// of a lamp, an object against the sky), not the gentle change of a sky
-/// across a pixel, which one ray a path finds well enough.
-pub(super) fn varies(scene: &Scene, pixel: (u32, u32), see: See) -> bool {
-    let mut at = look(scene, pixel, see);
-    let centre = at(CENTRE);
-    CORNERS.into_iter().any(|corner| apart(at(corner), centre))
-}
-
-/// Whether the camera rays through pixel (i, j)'s centre and corners see
-/// no light directly (a wall of a room lit by its lamps).
-pub(super) fn dark(scene: &Scene, pixel: (u32, u32), see: See) -> bool {
-    let mut at = look(scene, pixel, see);
-    [CENTRE]
-        .into_iter()
-        .chain(CORNERS)
-        .all(|p| at(p) == Vec3::ZERO)
-}
-
-const CENTRE: (f32, f32) = (0.5, 0.5);
-const CORNERS: [(f32, f32); 4] = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)];
-
-/// What the camera ray through point (dx, dy) of pixel (i, j) (and the
-/// lens's centre) sees directly.
-fn look<'a>(
-    scene: &'a Scene,
-    (i, j): (u32, u32),
-    see: See<'a>,
-) -> impl FnMut((f32, f32)) -> Vec3 + 'a {
+/// What the camera rays through pixel (i, j)'s centre and four corners
+/// (and the lens's centre) see directly, the centre first.
+pub(super) fn looks(scene: &Scene, (i, j): (u32, u32), see: See) -> [Vec3; 5] {
     let camera = scene.camera();
     let (x, y) = (i as f32, j as f32);
-    move |(dx, dy)| see(camera.lens_ray(x + dx, y + dy, Vec2::ZERO))
+    let points = [(0.5, 0.5), (0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)];
+    points.map(|(dx, dy)| see(camera.lens_ray(x + dx, y + dy, Vec2::ZERO)))
+}
+
+/// Whether what a pixel shows directly changes sharply across it, by its
+/// `looks`: its corners see lights apart from its centre's by more than
+/// `EDGE` of the brighter (the edge of a lamp, an object against the
+/// sky), not the gentle change of a sky across a pixel, which one ray a
+/// path finds well enough.
+pub(super) fn varies([centre, corners @ ..]: &[Vec3; 5]) -> bool {
+    corners.iter().any(|corner| apart(*corner, *centre))
+}
+
+/// Whether a pixel's `looks` see no light directly (a wall of a room lit
+/// by its lamps).
+pub(super) fn dark(looks: &[Vec3; 5]) -> bool {
+    looks.iter().all(|&light| light == Vec3::ZERO)
 }
 
 /// How far apart, relative to the brighter, two lights seen in a pixel
