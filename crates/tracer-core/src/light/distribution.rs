@@ -13,35 +13,62 @@ struct Distribution1D {
     cdf: Vec<f32>,
     /// The function's integral over [0, 1] (its mean).
     integral: f32,
+    /// `Sums::guide` of `cdf`.
+    guide: Vec<u32>,
+}
+
+/// A dimension's cumulative sums and their guide, wherever they are kept.
+#[derive(Debug, Clone, Copy)]
+struct Sums<'a> {
+    /// n + 1 of them, 0 first, 1 last.
+    cdf: &'a [f32],
     /// For each k of 0..=g (`guides(n)`), how many of `cdf` are at most
     /// k / g: a draw u's search starts between two of them, not over all
     /// of `cdf` (a search of all is a chain of cache misses per draw).
-    guide: Vec<u32>,
+    guide: &'a [u32],
 }
 
 impl Distribution1D {
     /// The distribution of `values` (each >= 0); all zeros are uniform.
     fn new(values: &[f32]) -> Distribution1D {
-        let n = values.len();
-        let mut sums = Vec::with_capacity(n + 1);
-        let mut acc = 0.0f64;
-        sums.push(0.0);
-        for &v in values {
-            acc += f64::from(v) / n as f64;
-            sums.push(acc);
-        }
-        let cdf: Vec<f32> = if acc > 0.0 {
-            sums.iter().map(|&s| (s / acc) as f32).collect()
-        } else {
-            (0..=n).map(|k| k as f32 / n as f32).collect()
-        };
+        let (cdf, integral) = cumulative(values);
         Distribution1D {
             guide: guide(&cdf),
             cdf,
-            integral: acc as f32,
+            integral,
         }
     }
 
+    #[inline(always)]
+    fn sums(&self) -> Sums<'_> {
+        Sums {
+            cdf: &self.cdf,
+            guide: &self.guide,
+        }
+    }
+}
+
+/// The normalised cumulative sums of `values` (n + 1 of them; even steps
+/// where all are zero) and their mean.
+fn cumulative(values: &[f32]) -> (Vec<f32>, f32) {
+    let n = values.len();
+    let mut sums = Vec::with_capacity(n + 1);
+    let mut acc = 0.0f64;
+    sums.push(0.0);
+    for &v in values {
+        acc += f64::from(v) / n as f64;
+        sums.push(acc);
+    }
+    let cdf: Vec<f32> = if acc > 0.0 {
+        sums.iter().map(|&s| (s / acc) as f32).collect()
+    } else {
+        (0..=n).map(|k| k as f32 / n as f32).collect()
+    };
+    (cdf, acc as f32)
+}
+
+impl Sums<'_> {
+    #[inline(always)]
     fn len(&self) -> usize {
         self.cdf.len() - 1
     }
@@ -60,7 +87,7 @@ impl Distribution1D {
         )
     }
 
-    /// How many of `cdf` are at most `u`: searched between the guide's
+    /// How many of `cdf` are at most `u`: counted between the guide's
     /// counts at the two k / g below u and the two above (u g rounds to
     /// within one of its floor), which hold it as `cdf` is sorted.
     #[inline(always)]
@@ -73,7 +100,9 @@ impl Distribution1D {
         // Clamped to the sums, so that no guide can index past them.
         let lo = (self.guide[k.saturating_sub(1)] as usize).min(self.cdf.len());
         let hi = (self.guide[(k + 2).min(g)] as usize).clamp(lo, self.cdf.len());
-        lo + self.cdf[lo..hi].partition_point(|&c| c <= u)
+        // A count rather than a binary search: its loads do not wait on
+        // one another (the sums are sorted, so the two agree).
+        lo + self.cdf[lo..hi].iter().filter(|&&c| c <= u).count()
     }
 
     /// The density of cell `cell` (of the point's x in [0, 1)).
@@ -87,18 +116,41 @@ impl Distribution1D {
 /// cells, row 0 at v = 0.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Distribution2D {
-    rows: Vec<Distribution1D>,
+    width: usize,
+    /// Each row's cumulative sums (`width` + 1 a row), row after row: one
+    /// list, so that a row is found by arithmetic, not by a pointer.
+    cdf: Vec<f32>,
+    /// Each row's guide (`guides(width)` + 1 a row), row after row.
+    guide: Vec<u32>,
+    /// The rows' totals.
     marginal: Distribution1D,
 }
 
 impl Distribution2D {
     /// The distribution of `values`, row by row, `width` a row.
     pub fn new(values: &[f32], width: usize) -> Distribution2D {
-        let rows: Vec<Distribution1D> = values.chunks(width).map(Distribution1D::new).collect();
-        let totals: Vec<f32> = rows.iter().map(|r| r.integral).collect();
+        let (mut cdf, mut guides, mut totals) = (Vec::new(), Vec::new(), Vec::new());
+        for row in values.chunks(width) {
+            let (sums, total) = cumulative(row);
+            guides.extend(guide(&sums));
+            cdf.extend(sums);
+            totals.push(total);
+        }
         Distribution2D {
+            width,
+            cdf,
+            guide: guides,
             marginal: Distribution1D::new(&totals),
-            rows,
+        }
+    }
+
+    /// Row `row`'s sums.
+    #[inline(always)]
+    fn row(&self, row: usize) -> Sums<'_> {
+        let (n, g) = (self.width + 1, guides(self.width) + 1);
+        Sums {
+            cdf: &self.cdf[row * n..(row + 1) * n],
+            guide: &self.guide[row * g..(row + 1) * g],
         }
     }
 
@@ -106,20 +158,22 @@ impl Distribution2D {
     /// (column, row) it is in.
     #[inline(always)]
     pub fn sample(&self, u: Vec2) -> (Vec2, f32, (usize, usize)) {
-        let (v, row) = self.marginal.sample(u.y);
-        let (x, column) = self.rows[row].sample(u.x);
-        let density = self.marginal.density(row) * self.rows[row].density(column);
+        let marginal = self.marginal.sums();
+        let (v, row) = marginal.sample(u.y);
+        let sums = self.row(row);
+        let (x, column) = sums.sample(u.x);
+        let density = marginal.density(row) * sums.density(column);
         (Vec2::new(x, v), density, (column, row))
     }
 
     /// The density at point `p` of the square.
     #[inline(always)]
     pub fn density(&self, p: Vec2) -> f32 {
-        let height = self.rows.len();
+        let marginal = self.marginal.sums();
+        let height = marginal.len();
         let row = ((p.y * height as f32) as usize).min(height - 1);
-        let width = self.rows[row].len();
-        let column = ((p.x * width as f32) as usize).min(width - 1);
-        self.marginal.density(row) * self.rows[row].density(column)
+        let column = ((p.x * self.width as f32) as usize).min(self.width - 1);
+        marginal.density(row) * self.row(row).density(column)
     }
 
     /// The function's mean over the square.
@@ -128,7 +182,7 @@ impl Distribution2D {
     }
 }
 
-/// `Distribution1D::guide` of `cdf`.
+/// `Sums::guide` of `cdf`.
 fn guide(cdf: &[f32]) -> Vec<u32> {
     let g = guides(cdf.len() - 1);
     (0..=g)
@@ -143,11 +197,11 @@ fn guides(n: usize) -> usize {
     n.div_ceil(8)
 }
 
-impl Distribution1D {
-    /// Whether a distribution read back from a file has `n` cells, and
-    /// its guide is the one of its sums.
+impl Sums<'_> {
+    /// Whether sums read back from a file have `n` cells, and their guide
+    /// is the one of the sums.
     fn is_whole(&self, n: usize) -> bool {
-        n > 0 && self.cdf.len() == n + 1 && self.guide == guide(&self.cdf)
+        n > 0 && self.cdf.len() == n + 1 && self.guide == guide(self.cdf)
     }
 }
 
@@ -155,9 +209,11 @@ impl Distribution2D {
     /// Whether a distribution read back from a file (`--cache`) has
     /// `width` x `height` cells, so every draw stays within its lists.
     pub(crate) fn is_whole(&self, width: usize, height: usize) -> bool {
-        self.marginal.is_whole(height)
-            && self.rows.len() == height
-            && self.rows.iter().all(|r| r.is_whole(width))
+        self.marginal.sums().is_whole(height)
+            && self.width == width
+            && self.cdf.len() == (width + 1) * height
+            && self.guide.len() == (guides(width) + 1) * height
+            && (0..height).all(|r| self.row(r).is_whole(width))
     }
 }
 
@@ -212,11 +268,12 @@ mod tests {
     fn the_guided_search_finds_what_a_search_of_every_sum_finds() {
         for values in shapes() {
             let d = Distribution1D::new(&values);
+            let d = d.sums();
             let n = d.len();
             let full = |u: f32| d.cdf.partition_point(|&c| c <= u);
             // Every sum, every k / n and k / g, and a float either side of
             // each; then a fine grid; then what lies outside [0, 1).
-            let mut us: Vec<f32> = d.cdf.clone();
+            let mut us: Vec<f32> = d.cdf.to_vec();
             us.extend((0..=n).map(|k| k as f32 / n as f32));
             let g = guides(n);
             us.extend((0..=g).map(|k| k as f32 / g as f32));
@@ -248,10 +305,14 @@ mod tests {
 
     #[test]
     fn a_distribution_with_another_guide_is_not_whole() {
-        let mut d = Distribution1D::new(&[1.0, 2.0, 3.0]);
-        assert!(d.is_whole(3));
+        let mut d = Distribution2D::new(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0], 3);
+        assert!(d.is_whole(3, 2));
+        assert!(!d.is_whole(2, 3));
         d.guide[1] += 1;
-        assert!(!d.is_whole(3));
+        assert!(!d.is_whole(3, 2));
+        let mut d = Distribution2D::new(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0], 3);
+        d.cdf.pop();
+        assert!(!d.is_whole(3, 2));
     }
 
     #[test]
