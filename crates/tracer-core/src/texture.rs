@@ -155,6 +155,27 @@ impl Wrap {
             }
         }
     }
+
+    /// `index` of `i` and of `i + 1` (saturating), with one division: a
+    /// bilinear look-up's two columns (or rows).
+    #[inline(always)]
+    fn pair(self, i: i64, n: i64) -> [i64; 2] {
+        let next = i.saturating_add(1);
+        match self {
+            Wrap::Clamp => [i, next].map(|k| k.clamp(0, n - 1)),
+            // At i64::MAX the next index is the same one.
+            _ if next == i => [self.index(i, n); 2],
+            Wrap::Repeat => {
+                let m = i.rem_euclid(n);
+                [m, if m + 1 == n { 0 } else { m + 1 }]
+            }
+            Wrap::Mirror => {
+                let m = i.rem_euclid(2 * n);
+                let m1 = if m + 1 == 2 * n { 0 } else { m + 1 };
+                [m, m1].map(|m| if m < n { m } else { 2 * n - 1 - m })
+            }
+        }
+    }
 }
 
 /// An image of linear colours, row 0 at the top, shared by every texture
@@ -270,7 +291,12 @@ impl ImageTexels {
     fn texel2(&self, x: i64, y: i64, wrap_u: Wrap, wrap_v: Wrap) -> Vec3 {
         let x = wrap_u.index(x, i64::from(self.width));
         let y = wrap_v.index(y, i64::from(self.height));
-        let i = (y * i64::from(self.width) + x) as usize;
+        self.texel_at((y * i64::from(self.width) + x) as usize)
+    }
+
+    /// Texel `i` of the rows, linear.
+    #[inline(always)]
+    fn texel_at(&self, i: usize) -> Vec3 {
         match &self.texels {
             Linear::Srgb8(t) => Vec3::from(t[i].map(|v| SRGB8_TO_LINEAR[usize::from(v)])),
             Linear::Raw8(t) => Vec3::from(t[i].map(|v| f32::from(v) / 255.0)),
@@ -286,37 +312,41 @@ impl ImageTexels {
     }
 
     /// `bilinear` with a wrap mode along u and another along v.
-    pub fn bilinear2(&self, uv: Vec2, [wrap_u, wrap_v]: [Wrap; 2]) -> Vec3 {
-        let x = uv.x * self.width as f32 - 0.5;
-        let y = (1.0 - uv.y) * self.height as f32 - 0.5;
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
-        // `as` saturates (NaN gives 0): no index overflows.
-        let (i, j) = (x0 as i64, y0 as i64);
-        let texel = |x: i64, y: i64| self.texel2(x, y, wrap_u, wrap_v);
-        let (i1, j1) = (i.saturating_add(1), j.saturating_add(1));
+    pub fn bilinear2(&self, uv: Vec2, wraps: [Wrap; 2]) -> Vec3 {
+        let ([i, i1], [j, j1], [fx, fy]) = self.corners(uv, wraps);
+        let texel = |x: i64, y: i64| self.texel_at((y * i64::from(self.width) + x) as usize);
         let top = texel(i, j).lerp(texel(i1, j), fx);
         let bottom = texel(i, j1).lerp(texel(i1, j1), fx);
         top.lerp(bottom, fy)
     }
 
-    /// The alpha at `uv` (0 to 1), interpolated as `bilinear2` interpolates
-    /// colours; 1 for an image without alpha.
-    pub fn alpha2(&self, uv: Vec2, [wrap_u, wrap_v]: [Wrap; 2]) -> f32 {
-        let Some(alpha) = &self.alpha else {
-            return 1.0;
-        };
+    /// The columns and rows (wrapped into the image) of the four texels
+    /// around `uv`, and the weights of the second column and row.
+    #[inline(always)]
+    fn corners(&self, uv: Vec2, [wrap_u, wrap_v]: [Wrap; 2]) -> ([i64; 2], [i64; 2], [f32; 2]) {
         let x = uv.x * self.width as f32 - 0.5;
         let y = (1.0 - uv.y) * self.height as f32 - 0.5;
         let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
+        // `as` saturates (NaN gives 0): no index overflows.
         let (i, j) = (x0 as i64, y0 as i64);
-        let (w, h) = (i64::from(self.width), i64::from(self.height));
+        (
+            wrap_u.pair(i, i64::from(self.width)),
+            wrap_v.pair(j, i64::from(self.height)),
+            [x - x0, y - y0],
+        )
+    }
+
+    /// The alpha at `uv` (0 to 1), interpolated as `bilinear2` interpolates
+    /// colours; 1 for an image without alpha.
+    pub fn alpha2(&self, uv: Vec2, wraps: [Wrap; 2]) -> f32 {
+        let Some(alpha) = &self.alpha else {
+            return 1.0;
+        };
+        let ([i, i1], [j, j1], [fx, fy]) = self.corners(uv, wraps);
         let texel = |x: i64, y: i64| {
-            let k = wrap_v.index(y, h) * w + wrap_u.index(x, w);
+            let k = y * i64::from(self.width) + x;
             f32::from(alpha[k as usize]) / 255.0
         };
-        let (i1, j1) = (i.saturating_add(1), j.saturating_add(1));
         let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
         let top = lerp(texel(i, j), texel(i1, j), fx);
         let bottom = lerp(texel(i, j1), texel(i1, j1), fx);
@@ -658,6 +688,20 @@ mod tests {
         // Across the seam: repeat blends the last texel with the first.
         assert!((at(1.0, Wrap::Repeat) - 0.25).abs() < 1e-5);
         assert!((at(1.0, Wrap::Mirror) - 0.4).abs() < 1e-5);
+    }
+
+    #[test]
+    fn a_pair_of_indices_is_each_wrapped_alone() {
+        let edges = [i64::MIN, i64::MIN + 1, -1, 0, 1, i64::MAX - 1, i64::MAX];
+        for wrap in [Wrap::Repeat, Wrap::Clamp, Wrap::Mirror] {
+            for n in [1, 2, 3, 7, 512] {
+                let near = (-3 * n - 2..=3 * n + 2).chain(edges);
+                for i in near {
+                    let expected = [i, i.saturating_add(1)].map(|k| wrap.index(k, n));
+                    assert_eq!(wrap.pair(i, n), expected, "{wrap:?}, i {i}, n {n}");
+                }
+            }
+        }
     }
 
     #[test]
