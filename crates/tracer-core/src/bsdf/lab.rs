@@ -6,7 +6,7 @@
 
 use super::{BlinnPhong, BsdfSample, Interface, Lambert};
 use crate::geometry::SurfaceHit;
-use crate::material::{albedo_sum, Glass, Material, Phong};
+use crate::material::{albedo_sum, Glass, Material};
 use glam::{Vec2, Vec3};
 
 /// A lab material at one hit, seen along `wo`: its lobes, in the hit's
@@ -35,7 +35,7 @@ impl LabBsdf {
                 (p, mirror(p.reflectance))
             }
         };
-        let (diffuse, specular) = textured(surface, hit);
+        let (diffuse, specular) = surface.textured(hit);
         let scale = 1.0 / albedo_sum(m).max(1.0);
         let interface = Interface {
             reflected: interface.reflected * scale,
@@ -186,19 +186,3 @@ fn glass_interface(g: &Glass, wo: Vec3, front_face: bool) -> Interface {
     Interface::new(wo, eta, g.fresnel, g.surface.reflectance, g.transmittance)
 }
 
-/// The diffuse and specular colours at `hit`: a colour texture multiplies
-/// the diffuse one, a lab texture both (it multiplies the lab's whole
-/// local colour).
-fn textured(m: &Phong, hit: &SurfaceHit) -> (Vec3, Vec3) {
-    let mut diffuse = m.diffuse;
-    let mut specular = m.specular;
-    if let Some(texture) = &m.color_texture {
-        diffuse *= texture.color(hit.uv);
-    }
-    if let Some(texture) = &m.texture {
-        let texel = texture.texel(hit.uv);
-        diffuse *= texel;
-        specular *= texel;
-    }
-    (diffuse, specular)
-}
