@@ -23,8 +23,8 @@ pub(super) const BLOCK_COST: f32 = 1.5;
 pub(super) const MAX_DEPTH: usize = 60;
 /// Nodes with more primitives than this build their children in parallel.
 pub(super) const PARALLEL_BUILD: usize = 4096;
-/// How much a triangle's box is widened, relative to its coordinates.
-const TRIANGLE_PAD: f32 = 64.0 * f32::EPSILON;
+/// How much a primitive's box is widened, relative to its coordinates.
+const BOX_PAD: f32 = 64.0 * f32::EPSILON;
 
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Aabb {
@@ -74,29 +74,31 @@ pub(super) struct BuildPrim {
 /// (the build was 5 % slower). With bit 30 flipped, no index below 2^30 is.
 const ID_BITS: u32 = 1 << 30;
 
+/// The box from `min` to `max`, widened in proportion to its coordinates'
+/// size: a test may round a ray that passes just outside its primitive into
+/// a hit (Moller-Trumbore at an edge; the sphere's quadratic for a ray that
+/// grazes it, as one along an axis at the height of its top does), and
+/// such a ray must still enter the box.
+fn widened(min: Vec3A, max: Vec3A) -> Aabb {
+    let size = min.abs().max(max.abs()).max_element() + (max - min).max_element();
+    let pad = Vec3A::splat(size * BOX_PAD);
+    Aabb {
+        min: min - pad,
+        max: max + pad,
+    }
+}
+
 impl BuildPrim {
     /// None for a plane: it has no finite box (the BVH tests planes apart).
     pub(super) fn new(shape: &Shape, id: u32) -> Option<BuildPrim> {
         let bounds = match shape {
             Shape::Triangle(t) => {
                 let (a, b, c) = (Vec3A::from(t.v0), Vec3A::from(t.v1), Vec3A::from(t.v2));
-                let (min, max) = (a.min(b).min(c), a.max(b).max(c));
-                // Moller-Trumbore may round a ray that passes just outside an
-                // edge into a hit; the box is widened so such a ray still
-                // enters it, in proportion to the coordinates' size.
-                let size = min.abs().max(max.abs()).max_element() + (max - min).max_element();
-                let pad = Vec3A::splat(size * TRIANGLE_PAD);
-                Aabb {
-                    min: min - pad,
-                    max: max + pad,
-                }
+                widened(a.min(b).min(c), a.max(b).max(c))
             }
             Shape::Sphere(s) => {
                 let (min, max) = s.bounds();
-                Aabb {
-                    min: min.into(),
-                    max: max.into(),
-                }
+                widened(min.into(), max.into())
             }
             // Instances are the primitives of a tree of their own (`instances.rs`).
             Shape::Plane(_) | Shape::Instance(_) => return None,

@@ -73,6 +73,9 @@ pub struct Bvh {
     /// Where triangles are cut out, by the material index their blocks
     /// hold (`with_masks`); None in most scenes, whose search never looks.
     masks: Option<Box<[Option<Arc<AlphaMask>>]>>,
+    /// Whether the spheres and triangles are at most `flat::FLAT_MAX`:
+    /// then a single node's are searched flat (`flat.rs`).
+    few: bool,
     /// The instances, in a tree of their own. Never serialized: a mesh
     /// shared by instances would be written once for each (the scene's
     /// serialization refuses a tree that has instances).
@@ -131,6 +134,7 @@ impl Bvh {
         if items.is_empty() {
             return bvh;
         }
+        bvh.few = count <= flat::FLAT_MAX;
         let mut nodes = wide::build(items);
         // The leaves need only the order of the objects: 4 bytes each, where
         // the build's primitives (written over by the blocks) took 32.
@@ -727,6 +731,34 @@ mod tests {
     }
 
     #[test]
+    fn a_ray_along_an_axis_grazing_a_sphere_finds_what_brute_force_finds() {
+        // Spheres enough for a tree (not the flat search), each grazed on
+        // its top, along x and along z: the quadratic's root is double,
+        // the ray runs in its box's top face, where 0 times the inverse of
+        // the direction's 0 must not shut it out.
+        let objects: Vec<Object> = (0..12)
+            .map(|k| {
+                let c = Vec3::new(3.0 * (k % 4) as f32, -1.0, 3.0 * (k / 4) as f32);
+                Object::new(Shape::Sphere(Sphere::new(c, 1.0)), 0)
+            })
+            .collect();
+        let bvh = Bvh::build(&objects);
+        assert!(!bvh.is_flat());
+        for k in 0..12 {
+            let (x, z) = (3.0 * (k % 4) as f32, 3.0 * (k / 4) as f32);
+            for ray in [
+                Ray::new(Vec3::new(-5.0, 0.0, z), Vec3::X),
+                Ray::new(Vec3::new(x, 0.0, -5.0), Vec3::Z),
+            ] {
+                let expected = brute_force::closest_hit(&objects, &ray, 1e-4, f32::INFINITY);
+                assert!(expected.is_some(), "{ray:?}");
+                assert_eq!(bvh.closest_hit(&ray, 1e-4, f32::INFINITY), expected, "{ray:?}");
+                assert!(bvh.occluded(&ray, 1e-4, f32::INFINITY), "{ray:?}");
+            }
+        }
+    }
+
+    #[test]
     fn a_single_object_is_found() {
         let objects = [Object::new(
             Shape::Sphere(Sphere::new(Vec3::new(0.0, 0.0, -5.0), 1.0)),
@@ -750,13 +782,15 @@ mod tests {
             Object::new(shape, 0)
         };
         // The root node, then the leaf, whose box is the root's: 2 + 1.5.
-        assert_eq!(Bvh::build(&[sphere(0.0)]).sah_cost(), 3.5);
+        let near = |a: f64, b: f64| (a - b).abs() < 1e-4 * b;
+        assert!(near(Bvh::build(&[sphere(0.0)]).sah_cost(), 3.5));
         // Two spheres 200 apart: a split into a node of its own would cost
         // 2 + (12 * 1.5 + 12 * 1.5) / 812 against one block's 1.5, but
         // split within the root, whose lanes are free, only the boxes'
         // share: a lane each.
         let apart = Bvh::build(&[sphere(-100.0), sphere(100.0)]).sah_cost();
-        assert_eq!(apart, 2.0 + (12.0 * 1.5 + 12.0 * 1.5) / 812.0);
+        // (The boxes are widened by a few ulps: `build.rs`'s `widened`.)
+        assert!(near(apart, 2.0 + (12.0 * 1.5 + 12.0 * 1.5) / 812.0));
         assert_eq!(Bvh::build(&[]).sah_cost(), 0.0);
     }
 
