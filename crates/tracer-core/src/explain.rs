@@ -382,7 +382,7 @@ impl Recorder for TreeRecorder<'_> {
             front_face: h.front_face,
             object: h.object,
             material: h.material,
-            uv: h.uv,
+            uv: uv_of(self.scene, h, ray.at(h.t)),
         });
     }
 
@@ -441,6 +441,15 @@ impl Recorder for TreeRecorder<'_> {
         if self.keep(std::mem::size_of::<PathEvent>()) {
             self.events.push(event);
         }
+    }
+}
+
+/// The texture coordinates of hit `h` at `point`: a sphere whose material
+/// reads none leaves them out of its hits, and they are found here.
+fn uv_of(scene: &Scene, h: &SurfaceHit, point: Vec3) -> Vec2 {
+    match scene.sphere_without_uv(h.object) {
+        Some(s) => s.uv(point, s.normal(point)),
+        None => h.uv,
     }
 }
 

@@ -45,6 +45,25 @@ impl Material {
         }
     }
 
+    /// Whether shading the material reads a hit's texture coordinates: a
+    /// texture of any kind, a normal map, an alpha mask.
+    pub fn reads_uv(&self) -> bool {
+        let own = match self {
+            Material::Principled(p) => {
+                p.color_texture.is_some()
+                    || p.metallic_roughness.is_some()
+                    || p.normal_map.is_some()
+            }
+            _ => false,
+        };
+        let s = self.surface();
+        own || self.alpha_mask().is_some()
+            || s.alpha_mask.is_some()
+            || s.texture.is_some()
+            || s.color_texture.is_some()
+            || s.emission_texture.is_some()
+    }
+
     /// The lab's surface colours (glass's seen from outside; a physically
     /// based material's Whitted-mode reading of them).
     pub fn surface(&self) -> &Phong {
@@ -555,6 +574,85 @@ mod tests {
                 place: None,
             },
             strength: 1.0,
+        }
+    }
+
+    #[test]
+    fn a_material_reads_uv_where_some_texture_or_mask_does() {
+        let checker = ColorTexture::Checker {
+            colors: [Vec3::ZERO, Vec3::ONE],
+            scale: glam::Vec2::ONE,
+        };
+        let plain = Phong::default_grey();
+        let phongs = [
+            Phong {
+                color_texture: Some(checker.clone()),
+                ..plain.clone()
+            },
+            Phong {
+                texture: Some(Arc::new(crate::texture::Texture::new(
+                    1,
+                    1,
+                    vec![Vec3::ONE],
+                ))),
+                ..plain.clone()
+            },
+            Phong {
+                emission_texture: Some(EmissionTexture {
+                    texture: checker.clone(),
+                    mean: Vec3::splat(0.5),
+                }),
+                ..plain.clone()
+            },
+            Phong {
+                alpha_mask: AlphaMask::new(None, 2.0).map(Arc::new),
+                ..plain.clone()
+            },
+        ];
+        assert!(!Material::Phong(plain.clone()).reads_uv());
+        for (k, p) in phongs.into_iter().enumerate() {
+            assert!(Material::Phong(p.clone()).reads_uv(), "phong {k}");
+            let glass = Glass {
+                surface: p,
+                transmittance: 1.0,
+                ior: 1.5,
+                fresnel: true,
+                absorption: Vec3::ZERO,
+            };
+            assert!(Material::Glass(glass).reads_uv(), "glass {k}");
+        }
+        let principled = Principled {
+            base_color: Vec3::splat(0.5),
+            metallic: 0.0,
+            roughness: 0.5,
+            ior: 1.5,
+            transmission: 0.0,
+        };
+        let bare = PrincipledMaterial::new(principled, Vec3::ZERO);
+        assert!(!Material::Principled(Box::new(bare.clone())).reads_uv());
+        let textured = [
+            PrincipledMaterial {
+                color_texture: Some(checker.clone()),
+                ..bare.clone()
+            },
+            PrincipledMaterial {
+                metallic_roughness: Some(checker),
+                ..bare.clone()
+            },
+            PrincipledMaterial {
+                normal_map: Some(one_texel([128, 128, 255])),
+                ..bare.clone()
+            },
+            PrincipledMaterial {
+                alpha_mask: AlphaMask::new(None, 2.0).map(Arc::new),
+                ..bare
+            },
+        ];
+        for (k, p) in textured.into_iter().enumerate() {
+            assert!(
+                Material::Principled(Box::new(p)).reads_uv(),
+                "principled {k}"
+            );
         }
     }
 

@@ -184,7 +184,10 @@ impl Scene {
             .iter()
             .map(|m| m.alpha_mask().cloned())
             .collect();
-        let bvh = Bvh::build(&parts.objects).with_masks(masks);
+        let reads_uv = |m: usize| parts.materials[m].reads_uv();
+        let bvh = Bvh::build(&parts.objects)
+            .with_masks(masks)
+            .with_uv_read_by(reads_uv);
         let bounds = bvh.bounds();
         let accel = Accel::Bvh(bvh);
         let transparency = parts.materials.iter().any(Material::is_transparent);
@@ -280,6 +283,15 @@ impl Scene {
     /// Empty for a `lean` scene of more than `KEPT_OBJECTS`.
     pub fn objects(&self) -> &[Object] {
         &self.objects
+    }
+
+    /// The sphere of object `k`, if it is one whose hits leave their uv
+    /// out (its material reads none).
+    pub fn sphere_without_uv(&self, k: usize) -> Option<&Sphere> {
+        match &self.accel {
+            Accel::Bvh(bvh) => bvh.sphere_without_uv(k),
+            Accel::BruteForce => None,
+        }
     }
 
     /// Every object, if the scene still holds them all (`lean`).

@@ -304,3 +304,49 @@ fn a_ray_on_a_quads_diagonal_hits_it() {
         assert_eq!(misses, 0, "quad {k}: {misses} rays through the diagonal");
     }
 }
+
+#[test]
+fn a_sphere_gives_its_hits_uv_only_where_its_material_reads_them() {
+    // Two spheres seen head on: a plain one at x = -3, a checkered one at
+    // x = 3. Only the second's hits carry uv; `explain` still tells the
+    // first one's, as the lab's mapping gives it.
+    let scene = scene_from(&format!(
+        "{CAMERA}[materials.plain]\ndiffuse = [0.5, 0.5, 0.5]\n\
+         [materials.checked]\ndiffuse = [0.5, 0.5, 0.5]\n\
+         texture = {{ checker = [[0, 0, 0], [1, 1, 1]] }}\n\
+         [[objects]]\nsphere = {{ center = [-3, 0, 0], radius = 1 }}\nmaterial = \"plain\"\n\
+         [[objects]]\nsphere = {{ center = [3, 0, 0], radius = 1 }}\nmaterial = \"checked\"\n"
+    ));
+    let without_uv = |k: usize| scene.sphere_without_uv(k).is_some();
+    assert!(without_uv(0) && !without_uv(1));
+    // Through a point off the front pole, where uv is not (0.5, 0.5).
+    let hit_at = |x: f32| {
+        let ray = Ray::new(Vec3::new(x + 0.3, 0.4, 10.0), -Vec3::Z);
+        scene.closest_hit(&ray, 1e-4, f32::INFINITY).expect("a hit")
+    };
+    let (plain, checked) = (hit_at(-3.0), hit_at(3.0));
+    assert_eq!(plain.uv, Vec2::ZERO);
+    let lab_uv = |h: &tracer_core::geometry::SurfaceHit| {
+        tracer_core::geometry::Sphere::texture_uv(h.geometric_normal)
+    };
+    assert_eq!(checked.uv, lab_uv(&checked));
+    // The first pixel of the middle row that sees the plain sphere: its
+    // uv in explain is the mapping's, not the hit's 0.
+    let camera = scene.camera();
+    let pixel = (0..camera.width)
+        .map(|i| (i, camera.height / 2))
+        .find(|&(i, j)| {
+            let ray = camera.primary_ray(i, j);
+            matches!(scene.closest_hit(&ray, 1e-4, f32::INFINITY), Some(h) if h.object == 0)
+        })
+        .expect("the plain sphere in view");
+    let explained = tracer_core::explain::explain(&scene, pixel, 1, 0);
+    let tracer_core::explain::Trace::Whitted { ray } = &explained.trace else {
+        panic!("Whitted")
+    };
+    let hit = ray.hit.as_ref().expect("a hit");
+    assert_eq!(hit.object, 0);
+    let expected = tracer_core::geometry::Sphere::texture_uv(hit.normal);
+    assert!((hit.uv - expected).length() < 1e-6, "{} {expected}", hit.uv);
+    assert_ne!(hit.uv, Vec2::ZERO);
+}

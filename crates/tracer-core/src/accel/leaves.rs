@@ -15,6 +15,8 @@ pub(super) struct SpherePrim {
     pub(super) sphere: Sphere,
     pub(super) id: u32,
     material: u32,
+    /// Whether its hits carry uv (`Bvh::with_uv_read_by`).
+    pub(super) with_uv: bool,
 }
 
 impl SpherePrim {
@@ -25,7 +27,7 @@ impl SpherePrim {
     /// The hit at distance `t`, as `Object::surface_hit` gives it.
     pub(super) fn hit(&self, ray: &Ray, t: f32) -> SurfaceHit {
         let (id, material) = (self.id as usize, self.material as usize);
-        SurfaceHit::on_sphere(&self.sphere, ray, t, id, material)
+        SurfaceHit::on_sphere(&self.sphere, ray, t, (id, material), self.with_uv)
     }
 }
 
@@ -114,5 +116,6 @@ fn sphere_prim(object: &Object, id: u32) -> Option<SpherePrim> {
         sphere: sphere.clone(),
         id,
         material: object.material as u32,
+        with_uv: true,
     })
 }

@@ -33,7 +33,7 @@ mod tri4;
 mod wide;
 
 use crate::alpha_mask::AlphaMask;
-use crate::geometry::{Object, Plane, Shape, SurfaceHit, UvMap};
+use crate::geometry::{Object, Plane, Shape, Sphere, SurfaceHit, UvMap};
 use crate::ray::Ray;
 use build::{BuildPrim, PrimStore};
 use glam::{Vec3, Vec4};
@@ -175,6 +175,22 @@ impl Bvh {
             .binary_search_by_key(&id, |&(i, _)| i)
             .ok()?;
         Some(&self.vertex_normals[k].1)
+    }
+
+    /// The tree whose spheres' hits carry uv only where `reads_uv` says
+    /// their material reads them (`Material::reads_uv`).
+    pub fn with_uv_read_by(mut self, reads_uv: impl Fn(usize) -> bool) -> Bvh {
+        for s in &mut self.spheres {
+            s.with_uv = reads_uv(s.material() as usize);
+        }
+        self
+    }
+
+    /// The sphere of object `id`, if it is one whose hits leave their uv
+    /// out (a search of the list: for `explain`, not for renders).
+    pub fn sphere_without_uv(&self, id: usize) -> Option<&Sphere> {
+        let prim = self.spheres.iter().find(|s| s.id as usize == id)?;
+        (!prim.with_uv).then_some(&prim.sphere)
     }
 
     /// Whether some objects are instances of a shared mesh.
@@ -752,7 +768,11 @@ mod tests {
             ] {
                 let expected = brute_force::closest_hit(&objects, &ray, 1e-4, f32::INFINITY);
                 assert!(expected.is_some(), "{ray:?}");
-                assert_eq!(bvh.closest_hit(&ray, 1e-4, f32::INFINITY), expected, "{ray:?}");
+                assert_eq!(
+                    bvh.closest_hit(&ray, 1e-4, f32::INFINITY),
+                    expected,
+                    "{ray:?}"
+                );
                 assert!(bvh.occluded(&ray, 1e-4, f32::INFINITY), "{ray:?}");
             }
         }

@@ -185,4 +185,3 @@ fn glass_interface(g: &Glass, wo: Vec3, front_face: bool) -> Interface {
     let eta = if front_face { 1.0 / g.ior } else { g.ior };
     Interface::new(wo, eta, g.fresnel, g.surface.reflectance, g.transmittance)
 }
-

@@ -62,13 +62,14 @@ impl SurfaceHit {
         }
     }
 
-    /// The hit on a sphere at distance `t` along `ray`.
+    /// The hit on a sphere at distance `t` along `ray`; its uv left at 0
+    /// unless `with_uv` (where its material reads none: two arc sines).
     pub fn on_sphere(
         sphere: &Sphere,
         ray: &Ray,
         t: f32,
-        object: usize,
-        material: usize,
+        (object, material): (usize, usize),
+        with_uv: bool,
     ) -> SurfaceHit {
         let point = ray.at(t);
         let normal = sphere.normal(point);
@@ -78,7 +79,11 @@ impl SurfaceHit {
             material,
             geometric_normal: normal,
             shading_normal: normal,
-            uv: sphere.uv(point, normal),
+            uv: if with_uv {
+                sphere.uv(point, normal)
+            } else {
+                Vec2::ZERO
+            },
             front_face: ray.dir().dot(normal) < 0.0,
             shadow_offset: Vec3::ZERO,
             tangent: Vec4::ZERO,

@@ -138,7 +138,13 @@ impl Object {
         match &self.shape {
             Shape::Sphere(s) => {
                 let t = s.intersect(ray, t_min, t_max)?;
-                Some(SurfaceHit::on_sphere(s, ray, t, index, self.material))
+                Some(SurfaceHit::on_sphere(
+                    s,
+                    ray,
+                    t,
+                    (index, self.material),
+                    true,
+                ))
             }
             Shape::Triangle(tri) => {
                 let mut hit = tri.intersect(ray, t_min, t_max)?;
