@@ -143,20 +143,28 @@ fn the_table_form_is_the_list_translate_rotate_scale() {
     assert_ne!(table.objects(), reversed.objects());
 }
 
+/// A material whose texture reads the hits' uv.
+const CHECKED: &str =
+    "[materials.checked]\ndiffuse = [0.5, 0.5, 0.5]\ntexture = { checker = [[0, 0, 0], [1, 1, 1]] }\n";
+
 #[test]
 fn a_turned_sphere_turns_its_texture() {
     // The lab's mapping puts u = 0.5 + asin(n.x)/pi: the front (+z) is
     // u = 0.5, the +x side u = 1. Turned 90 degrees about y (z -> x), the
     // texture's front faces +x, so a ray from +x meets u = 0.5.
-    let s = scene(
-        "[[objects]]\nsphere = { center = [0, 0, 0], radius = 1 }\n\
-         transform = [{ rotate = [0, 90, 0] }]\n",
-    );
+    // Checkered, so that its hits carry their uv (a plain sphere's leave
+    // them out).
+    let s = scene(&format!(
+        "{CHECKED}[[objects]]\nsphere = {{ center = [0, 0, 0], radius = 1 }}\n\
+         material = \"checked\"\ntransform = [{{ rotate = [0, 90, 0] }}]\n",
+    ));
     let ray = Ray::new(Vec3::new(5.0, 0.0, 0.0), -Vec3::X);
     let hit = s.closest_hit(&ray, 1e-4, f32::INFINITY).expect("a hit");
     assert!((hit.uv - Vec2::new(0.5, 0.5)).length() < 1e-5, "{}", hit.uv);
     // Unturned, the same ray meets the texture's u = 1 edge.
-    let plain = scene("[[objects]]\nsphere = { center = [0, 0, 0], radius = 1 }\n");
+    let plain = scene(&format!(
+        "{CHECKED}[[objects]]\nsphere = {{ center = [0, 0, 0], radius = 1 }}\nmaterial = \"checked\"\n"
+    ));
     let hit = plain.closest_hit(&ray, 1e-4, f32::INFINITY).expect("a hit");
     assert!((hit.uv.x - 1.0).abs() < 1e-5, "{}", hit.uv);
 }
