@@ -58,7 +58,6 @@ impl Material {
         };
         let s = self.surface();
         own || self.alpha_mask().is_some()
-            || s.alpha_mask.is_some()
             || s.texture.is_some()
             || s.color_texture.is_some()
             || s.emission_texture.is_some()

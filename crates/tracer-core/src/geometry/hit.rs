@@ -62,8 +62,8 @@ impl SurfaceHit {
         }
     }
 
-    /// The hit on a sphere at distance `t` along `ray`; its uv left at 0
-    /// unless `with_uv` (where its material reads none: two arc sines).
+    /// The hit on a sphere at distance `t` along `ray`; without `with_uv`
+    /// (its material reads none) its uv is left at 0, two arc sines saved.
     pub fn on_sphere(
         sphere: &Sphere,
         ray: &Ray,
