@@ -62,6 +62,8 @@ pub struct Options {
     pub denoise: bool,
     /// Overrides `[render] denoise_quality`.
     pub denoise_quality: Option<crate::denoise::Quality>,
+    /// Overrides `[render] denoise_prefilter`.
+    pub denoise_prefilter: Option<crate::denoise::Prefilter>,
 }
 
 /// A part of the image to render, checked against the image's size.
@@ -150,6 +152,7 @@ impl Options {
             ("--region/--tile", self.part.is_some()),
             ("--denoise", self.denoise),
             ("--denoise-quality", self.denoise_quality.is_some()),
+            ("--denoise-prefilter", self.denoise_prefilter.is_some()),
         ]
         .into_iter()
         .find_map(|(name, set)| set.then_some(name))
@@ -185,6 +188,7 @@ impl Options {
             self.integrator.is_some(),
             self.denoise,
             self.denoise_quality.is_some(),
+            self.denoise_prefilter.is_some(),
         ];
         if !overrides.contains(&true) {
             return Ok(Cow::Borrowed(file));
@@ -202,6 +206,9 @@ impl Options {
         file.render.denoise |= self.denoise;
         if self.denoise_quality.is_some() {
             file.render.denoise_quality = self.denoise_quality;
+        }
+        if self.denoise_prefilter.is_some() {
+            file.render.denoise_prefilter = self.denoise_prefilter;
         }
         let render = &file.render;
         if self.denoise && render.integrator == Integrator::Whitted {

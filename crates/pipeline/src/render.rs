@@ -161,7 +161,7 @@ pub fn denoise_rendered(
 }
 
 /// `picture`, a pass of the whole image of `prepared` at `samples` a
-/// pixel, denoised at the scene's quality (`PreparedScene::denoise`; as it
+/// pixel, denoised as the scene says (`PreparedScene::denoise`; as it
 /// is without one), with the guides kept in `guides` (rendered at the
 /// first call; the light seen directly, which follows the samples, again
 /// at each): `tracer watch`'s passes.
@@ -172,7 +172,7 @@ pub fn denoise_picture(
     picture: &Picture,
     samples: u32,
 ) -> Result<Picture, Error> {
-    let Some(quality) = prepared.denoise() else {
+    let Some(settings) = prepared.denoise() else {
         return Ok(picture.clone());
     };
     let guides = match guides {
@@ -184,7 +184,7 @@ pub fn denoise_picture(
     };
     let threads = rayon::current_num_threads();
     Ok(Picture {
-        linear: crate::denoise::denoise(&picture.linear, guides, quality, threads)?,
+        linear: crate::denoise::denoise(&picture.linear, guides, settings, threads)?,
         encoding: picture.encoding,
     })
 }

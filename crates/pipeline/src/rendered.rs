@@ -1,6 +1,6 @@
 //! What a render gives back: the image and the numbers for its summary.
 
-use crate::denoise::{Guides, Quality};
+use crate::denoise::{Guides, Settings};
 use crate::options::Aov;
 use image::{ImageBuffer, Rgb, Rgb32FImage, RgbImage};
 use tracer_core::image::{Encoding, LinearImage};
@@ -20,7 +20,7 @@ pub struct Rendered {
 #[derive(Debug, Clone)]
 pub struct Denoising {
     pub guides: Guides,
-    pub quality: Quality,
+    pub settings: Settings,
     /// The image as rendered, before denoising; None when not denoised.
     pub noisy: Option<LinearImage>,
     /// Seconds the guides took to render, and OIDN to run.

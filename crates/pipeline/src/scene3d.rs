@@ -4,7 +4,7 @@
 //! that API stays in this file.
 
 use crate::clock::Instant;
-use crate::denoise::{Guides, Quality};
+use crate::denoise::{Guides, Settings};
 use crate::options::{Aov, Gamma, Options};
 use crate::rendered::{Picture, ShadedStats};
 use crate::Error;
@@ -25,9 +25,9 @@ pub struct PreparedScene {
     pub(crate) objects: usize,
     /// The scene file's `[render] time_limit`, in seconds.
     pub(crate) time_limit: Option<f32>,
-    /// The denoiser's quality, when the render is to be denoised (`[render]
-    /// denoise` or `--denoise`, in path mode).
-    pub(crate) denoise: Option<Quality>,
+    /// How the render is denoised, when it is to be (`[render] denoise`
+    /// or `--denoise`, in path mode).
+    pub(crate) denoise: Option<Settings>,
     #[serde(skip)]
     pub(crate) prepare_seconds: f64,
 }
@@ -49,8 +49,8 @@ impl PreparedScene {
         self.time_limit.map(crate::load::as_written)
     }
 
-    /// The denoiser's quality, if the render is to be denoised.
-    pub fn denoise(&self) -> Option<Quality> {
+    /// How the render is denoised, if it is to be.
+    pub fn denoise(&self) -> Option<Settings> {
         self.denoise
     }
 }
@@ -100,12 +100,12 @@ pub(crate) fn prepare_shaded(file: Cow<SceneFile>, name: &Path) -> Result<Prepar
     })
 }
 
-/// The denoiser's quality if `file` (its options applied) asks for
+/// The denoiser's settings if `file` (its options applied) asks for
 /// denoising in path mode; checked before any work that the library is
 /// there. Whitted mode's images have no noise: its `denoise` key is
 /// ignored (with a warning, `scene_format::checks`), and the browser
 /// build has no denoiser.
-fn denoise_asked(file: &SceneFile) -> Result<Option<Quality>, Error> {
+fn denoise_asked(file: &SceneFile) -> Result<Option<Settings>, Error> {
     let render = &file.render;
     if !render.denoise
         || render.integrator != scene_format::Integrator::Path
@@ -115,7 +115,10 @@ fn denoise_asked(file: &SceneFile) -> Result<Option<Quality>, Error> {
     }
     #[cfg(not(target_arch = "wasm32"))]
     crate::denoise::available()?;
-    Ok(Some(render.denoise_quality.unwrap_or_default()))
+    Ok(Some(Settings {
+        quality: render.denoise_quality.unwrap_or_default(),
+        prefilter: render.denoise_prefilter.unwrap_or_default(),
+    }))
 }
 
 /// Samples per pixel of the denoiser's guides: first hits (and mirrors
@@ -230,7 +233,7 @@ pub(crate) fn denoised(
     mut rendered: crate::Rendered,
     guides_only: bool,
 ) -> Result<crate::Rendered, Error> {
-    let Some(quality) = prepared.denoise else {
+    let Some(settings) = prepared.denoise else {
         return Ok(rendered);
     };
     let start = Instant::now();
@@ -242,7 +245,7 @@ pub(crate) fn denoised(
     let guide_seconds = start.elapsed().as_secs_f64();
     let denoising = crate::Denoising {
         guides,
-        quality,
+        settings,
         noisy: None,
         guide_seconds,
         denoise_seconds: 0.0,
@@ -265,7 +268,7 @@ fn denoise_image(rendered: &mut crate::Rendered) -> Result<(), Error> {
     // As many threads as the render had (its pool, `--threads`).
     let threads = rayon::current_num_threads();
     let (image, guides) = (&rendered.image.linear, &denoising.guides);
-    let clean = crate::denoise::denoise(image, guides, denoising.quality, threads)?;
+    let clean = crate::denoise::denoise(image, guides, denoising.settings, threads)?;
     denoising.denoise_seconds = start.elapsed().as_secs_f64();
     denoising.noisy = Some(std::mem::replace(&mut rendered.image.linear, clean));
     Ok(())

@@ -7,7 +7,7 @@
 //! values, from which neither the float file nor (after a gamma) the exact
 //! PNG of the whole render could be remade.
 
-use crate::denoise::{Guides, Quality};
+use crate::denoise::{Guides, Prefilter, Quality, Settings};
 use crate::load::{Input, Loaded};
 use crate::options::{tile_region, Options, Region};
 use crate::rendered::Picture;
@@ -180,6 +180,8 @@ const NORMAL_LAYER: &str = "normal";
 const EMISSION_LAYER: &str = "emission";
 /// The denoiser's quality the tile was rendered for, with its guides.
 const DENOISE: &str = "tracer:denoise";
+/// Its prefilter (a tile without it, of an earlier tracer: "accurate").
+const PREFILTER: &str = "tracer:denoise-prefilter";
 
 /// A tile as read from its file.
 #[derive(Debug, Clone)]
@@ -194,9 +196,9 @@ pub struct Tile {
     pub encoding: Encoding,
     /// `(index, count)` of `--tile`.
     pub tile: Option<(u32, u32)>,
-    /// The denoiser's guides of the region and its quality, when the
+    /// The denoiser's guides of the region and its settings, when the
     /// render was to be denoised (`--denoise`).
-    pub guides: Option<(Guides, Quality)>,
+    pub guides: Option<(Guides, Settings)>,
 }
 
 /// The bytes of the EXR file of `picture`, the `region` of an image of
@@ -208,7 +210,7 @@ pub fn encode(
     size: (u32, u32),
     digest: &str,
     tile: Option<(u32, u32)>,
-    guides: Option<(&Guides, Quality)>,
+    guides: Option<(&Guides, Settings)>,
 ) -> Result<Vec<u8>, TileError> {
     let linear = &picture.linear;
     let position = Vec2(region.x0 as i32, region.y0 as i32);
@@ -233,8 +235,10 @@ pub fn encode(
             AttributeValue::Text(Text::from(format!("{index}/{count}").as_str())),
         );
     }
-    if let Some((_, quality)) = guides {
-        put(DENOISE, AttributeValue::Text(Text::from(quality.name())));
+    if let Some((_, settings)) = guides {
+        let name = |n: &str| AttributeValue::Text(Text::from(n));
+        put(DENOISE, name(settings.quality.name()));
+        put(PREFILTER, name(settings.prefilter.name()));
     }
     let guide_images = guides.map(|(g, _)| [&g.albedo, &g.normal, &g.emission]);
     let sum = checksum(
@@ -395,6 +399,14 @@ pub fn read(path: &Path) -> Result<Tile, TileError> {
                 .ok_or_else(|| not_a_tile(format!("its `{DENOISE}` is not a quality")))?,
         ),
     };
+    let prefilter = match text(PREFILTER).as_deref() {
+        None => Prefilter::default(),
+        Some(name) => Prefilter::ALL
+            .into_iter()
+            .find(|p| p.name() == name)
+            .ok_or_else(|| not_a_tile(format!("its `{PREFILTER}` is not a prefilter")))?,
+    };
+    let settings = quality.map(|quality| Settings { quality, prefilter });
     let display = image.attributes.display_window;
     let position = main.attributes.layer_position;
     let linear = main.channel_data.pixels;
@@ -420,14 +432,14 @@ pub fn read(path: &Path) -> Result<Tile, TileError> {
         path: path.to_path_buf(),
         reason: reason.to_string(),
     };
-    let guides = match (guide_layers, quality) {
-        ([Some(albedo), Some(normal), Some(emission)], Some(quality)) => {
+    let guides = match (guide_layers, settings) {
+        ([Some(albedo), Some(normal), Some(emission)], Some(settings)) => {
             let guides = Guides {
                 albedo,
                 normal,
                 emission,
             };
-            Some((guides, quality))
+            Some((guides, settings))
         }
         ([None, None, None], None) => None,
         _ => return Err(damaged(
@@ -576,11 +588,11 @@ pub fn merge(tiles: &[(PathBuf, Tile)]) -> Result<Picture, TileError> {
     })
 }
 
-/// The denoiser's guides of the whole image and their quality, when every
+/// The denoiser's guides of the whole image and their settings, when every
 /// tile carries them (tiles `merge` has checked).
-pub fn merged_guides(tiles: &[(PathBuf, Tile)]) -> Option<(Guides, Quality)> {
+pub fn merged_guides(tiles: &[(PathBuf, Tile)]) -> Option<(Guides, Settings)> {
     let (_, first) = tiles.first()?;
-    let quality = first.guides.as_ref()?.1;
+    let settings = first.guides.as_ref()?.1;
     let albedo = paste(tiles, first.size, |t| {
         t.guides.as_ref().map(|g| &g.0.albedo)
     })?;
@@ -596,7 +608,7 @@ pub fn merged_guides(tiles: &[(PathBuf, Tile)]) -> Option<(Guides, Quality)> {
             normal,
             emission,
         },
-        quality,
+        settings,
     ))
 }
 

@@ -2,7 +2,8 @@
 //! installs it): the Cornell box's error against Mitsuba's reference
 //! falls; a constant image stays constant; a NaN or an infinity does not
 //! spread; tiles merged then denoised are the whole render denoised; the
-//! guides' prefilters run at the quality asked; the message when the
+//! guides' prefilters run at the quality asked, and only where the
+//! prefilter asked is `accurate`; the message when the
 //! library is missing, and Whitted mode refused.
 //!
 //! Without the library these tests say so and pass, unless `CI` is set:
@@ -10,7 +11,7 @@
 
 use glam::Vec3;
 use std::path::{Path, PathBuf};
-use tracer_pipeline::denoise::{self, DenoiseError, Guides, Quality};
+use tracer_pipeline::denoise::{self, DenoiseError, Guides, Prefilter, Quality, Settings};
 use tracer_pipeline::{load, render, tiles, Error, Input, LinearImage, Options, Part};
 
 fn root() -> PathBuf {
@@ -113,7 +114,7 @@ fn a_constant_image_stays_constant() {
     let (w, h) = (64, 48);
     let value = Vec3::new(0.25, 0.5, 2.0);
     let colour = constant(w, h, value);
-    let out = denoise::denoise(&colour, &flat_guides(w, h), Quality::High, 0).unwrap();
+    let out = denoise::denoise(&colour, &flat_guides(w, h), Settings::default(), 0).unwrap();
     // OIDN 2.5.1 moves the pixels of the image's outer few rows and
     // columns (its corners by up to 50 % here): the inside is checked.
     let border = 8;
@@ -133,14 +134,23 @@ fn the_guides_prefilters_and_the_filter_run_at_the_quality_asked() {
     }
     let (w, h) = (64, 48);
     let colour = constant(w, h, Vec3::splat(0.5));
-    for quality in [Quality::Fast, Quality::Balanced, Quality::High] {
-        let (image, stages) =
-            denoise::denoise_in_stages(&colour, &flat_guides(w, h), quality, 0).unwrap();
-        // As OIDN reports each filter's quality after its run.
-        let ran: Vec<_> = stages.filters().iter().map(|f| f.quality).collect();
-        assert_eq!(ran, [Some(quality); 3], "{}", quality.name());
-        assert_eq!(image.pixels.len(), (w * h) as usize);
-        assert!(stages.seconds() > 0.0, "{stages:?}");
+    for quality in Quality::ALL {
+        for prefilter in Prefilter::ALL {
+            let settings = Settings { quality, prefilter };
+            let (image, stages) =
+                denoise::denoise_in_stages(&colour, &flat_guides(w, h), settings, 0).unwrap();
+            // As OIDN reports each filter's quality after its run: the
+            // albedo's and the normal's prefilters, then the colour's.
+            let ran: Vec<_> = stages.filters().iter().map(|f| f.quality).collect();
+            let filters = if prefilter == Prefilter::Accurate {
+                3
+            } else {
+                1
+            };
+            assert_eq!(ran, vec![Some(quality); filters], "{}", settings.name());
+            assert_eq!(image.pixels.len(), (w * h) as usize);
+            assert!(stages.seconds() > 0.0, "{stages:?}");
+        }
     }
 }
 
@@ -156,7 +166,11 @@ fn a_nan_or_an_infinity_never_reaches_the_denoiser() {
     let mut guides = flat_guides(w, h);
     guides.albedo.pixels[5] = Vec3::splat(f32::NAN);
     guides.normal.pixels[6] = Vec3::new(0.0, f32::NAN, 1.0);
-    let out = denoise::denoise(&colour, &guides, Quality::Fast, 0).unwrap();
+    let fast = Settings {
+        quality: Quality::Fast,
+        prefilter: Prefilter::Fast,
+    };
+    let out = denoise::denoise(&colour, &guides, fast, 0).unwrap();
     assert!(out.pixels.iter().all(|c| c.is_finite()));
     // Made 0, those pixels darken their neighbourhood a little at most:
     // OIDN given a NaN returns NaN over a whole block of pixels.
@@ -173,6 +187,8 @@ fn tiles_merged_then_denoised_are_the_whole_render_denoised() {
         width: Some(96),
         samples: Some(4),
         denoise: true,
+        // Carried by the tiles, as the quality is.
+        denoise_prefilter: Some(Prefilter::Fast),
         part,
         ..Options::default()
     };
@@ -190,20 +206,21 @@ fn tiles_merged_then_denoised_are_the_whole_render_denoised() {
         assert!(denoising.noisy.is_none(), "a tile is not denoised alone");
         let digest = tiles::digest(&input, &loaded, &options).unwrap();
         let region = part.region(size).unwrap();
-        let guides = Some((&denoising.guides, denoising.quality));
+        let guides = Some((&denoising.guides, denoising.settings));
         let bytes = tiles::encode(&tile.image, region, size, &digest, None, guides).unwrap();
         let path = dir.path().join(format!("t{index}.exr"));
         std::fs::write(&path, bytes).unwrap();
         read.push((path.clone(), tiles::read(&path).unwrap()));
     }
     let merged = tiles::merge(&read).unwrap();
-    let (guides, quality) = tiles::merged_guides(&read).expect("every tile has guides");
+    let (guides, settings) = tiles::merged_guides(&read).expect("every tile has guides");
+    assert_eq!(settings.prefilter, Prefilter::Fast);
     let whole_denoising = whole.denoising.as_ref().unwrap();
     // The parts are the whole's pixels, noisy and guides alike.
     assert_eq!(&merged.linear, whole_denoising.noisy.as_ref().unwrap());
     assert_eq!(guides, whole_denoising.guides);
     let threads = rayon::current_num_threads();
-    let denoised = denoise::denoise(&merged.linear, &guides, quality, threads).unwrap();
+    let denoised = denoise::denoise(&merged.linear, &guides, settings, threads).unwrap();
     // OIDN on one machine and thread count gives the same bits run to
     // run; its own tolerance is allowed all the same.
     let off = denoised

@@ -316,6 +316,14 @@ pub struct RenderSettings {
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schemars(extend("x-integrator" = "path", "default" = "high"), example = &"fast")]
     pub denoise_quality: Option<DenoiseQuality>,
+    /// What the denoiser does with its guides, as Blender names it:
+    /// "accurate" cleans the albedo and normal first, "fast" tells the
+    /// filter they are noisy and cleans them with the image, "none" takes
+    /// them as clean (`--denoise-prefilter` overrides it). Default
+    /// "accurate".
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("x-integrator" = "path", "default" = "accurate"), example = &"fast")]
+    pub denoise_prefilter: Option<DenoisePrefilter>,
 }
 
 /// Open Image Denoise's filter quality.
@@ -343,6 +351,36 @@ impl DenoiseQuality {
             DenoiseQuality::Fast => "fast",
             DenoiseQuality::Balanced => "balanced",
             DenoiseQuality::High => "high",
+        }
+    }
+}
+
+/// What the denoiser does with its guides (the albedo and the normal),
+/// as Blender's "Prefilter" names it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum DenoisePrefilter {
+    /// Taken as clean: one network, the fastest.
+    None,
+    /// Cleaned with the image, by its own network: blurrier.
+    Fast,
+    /// Cleaned first, each by a network of its own: the sharpest.
+    #[default]
+    Accurate,
+}
+
+impl DenoisePrefilter {
+    pub const ALL: [DenoisePrefilter; 3] = [
+        DenoisePrefilter::None,
+        DenoisePrefilter::Fast,
+        DenoisePrefilter::Accurate,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            DenoisePrefilter::None => "none",
+            DenoisePrefilter::Fast => "fast",
+            DenoisePrefilter::Accurate => "accurate",
         }
     }
 }
@@ -410,6 +448,7 @@ impl Default for RenderSettings {
             adaptive: None,
             denoise: false,
             denoise_quality: None,
+            denoise_prefilter: None,
         }
     }
 }

@@ -219,6 +219,10 @@ pub struct MergeArgs {
     /// for
     #[arg(long, value_name = "QUALITY")]
     pub denoise_quality: Option<QualityArg>,
+    /// What the denoiser does with its guides, overriding the prefilter
+    /// the tiles were rendered for
+    #[arg(long, value_name = "PREFILTER")]
+    pub denoise_prefilter: Option<PrefilterArg>,
 }
 
 /// What `render` and `watch` share: how many samples, how large, on how
@@ -267,6 +271,7 @@ impl ViewArgs {
             pixel_shift: None,
             denoise: false,
             denoise_quality: None,
+            denoise_prefilter: None,
         }
     }
 }
@@ -284,6 +289,10 @@ pub struct DenoiseArgs {
     /// The denoiser's quality, overriding `[render] denoise_quality`
     #[arg(long, value_name = "QUALITY", conflicts_with = "aov")]
     pub denoise_quality: Option<QualityArg>,
+    /// What the denoiser does with its guides (the albedo and normal), as
+    /// Blender names it, overriding `[render] denoise_prefilter`
+    #[arg(long, value_name = "PREFILTER", conflicts_with = "aov")]
+    pub denoise_prefilter: Option<PrefilterArg>,
 }
 
 impl DenoiseArgs {
@@ -292,6 +301,7 @@ impl DenoiseArgs {
         Options {
             denoise: self.denoise,
             denoise_quality: self.denoise_quality.map(Into::into),
+            denoise_prefilter: self.denoise_prefilter.map(Into::into),
             ..options
         }
     }
@@ -308,6 +318,10 @@ pub struct WatchDenoiseArgs {
     /// The denoiser's quality, overriding `[render] denoise_quality`
     #[arg(long, value_name = "QUALITY")]
     pub denoise_quality: Option<QualityArg>,
+    /// What the denoiser does with its guides, overriding `[render]
+    /// denoise_prefilter`
+    #[arg(long, value_name = "PREFILTER")]
+    pub denoise_prefilter: Option<PrefilterArg>,
 }
 
 /// `--denoise-quality`'s values, Open Image Denoise's names.
@@ -328,6 +342,30 @@ impl From<QualityArg> for tracer_pipeline::denoise::Quality {
             QualityArg::Fast => Quality::Fast,
             QualityArg::Balanced => Quality::Balanced,
             QualityArg::High => Quality::High,
+        }
+    }
+}
+
+/// `--denoise-prefilter`'s values, Blender's names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PrefilterArg {
+    /// The guides taken as clean: one network, the fastest (noise in them
+    /// stays in the image)
+    None,
+    /// The guides cleaned with the image by one network: blurrier
+    Fast,
+    /// The guides cleaned first, each by a network of its own: the
+    /// sharpest (the default)
+    Accurate,
+}
+
+impl From<PrefilterArg> for tracer_pipeline::denoise::Prefilter {
+    fn from(p: PrefilterArg) -> Self {
+        use tracer_pipeline::denoise::Prefilter;
+        match p {
+            PrefilterArg::None => Prefilter::None,
+            PrefilterArg::Fast => Prefilter::Fast,
+            PrefilterArg::Accurate => Prefilter::Accurate,
         }
     }
 }
@@ -519,6 +557,7 @@ impl WatchArgs {
             options: Options {
                 denoise: self.denoise.denoise,
                 denoise_quality: self.denoise.denoise_quality.map(Into::into),
+                denoise_prefilter: self.denoise.denoise_prefilter.map(Into::into),
                 ..self.view.options()
             },
             pool: pool(self.view.threads)?,

@@ -2,7 +2,8 @@
 //! the exr crate as any OpenEXR reader would: the denoised image in the
 //! default layer, the noisy render and the guides in named layers, each
 //! the image the tracer makes of it alone; and the refusals, before any
-//! work. Needs Open Image Denoise (`cargo xtask oidn`): without it these
+//! work; the prefilter (`--denoise-prefilter`) from the file or the
+//! option. Needs Open Image Denoise (`cargo xtask oidn`): without it these
 //! tests say so and pass, unless `CI` is set.
 
 mod common;
@@ -204,4 +205,50 @@ fn denoising_data_is_refused_before_any_work_but_to_a_denoised_exr() {
     }
     let left: Vec<_> = std::fs::read_dir(d).unwrap().collect();
     assert!(left.is_empty(), "no file written: {left:?}");
+}
+
+#[test]
+fn the_prefilter_is_set_in_the_file_or_by_the_option_and_each_denoises_its_own_way() {
+    if !oidn() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let text = std::fs::read_to_string(cornell()).unwrap();
+    let none = text.replacen("[render]\n", "[render]\ndenoise_prefilter = \"none\"\n", 1);
+    std::fs::write(d.join("none.toml"), none).unwrap();
+    let paths = ["--samples", "4", "--denoise"];
+    ok(&render_scene(
+        d,
+        "none.toml",
+        &[&paths[..], &["-o", "file.exr"]].concat(),
+    ));
+    for prefilter in ["none", "fast", "accurate"] {
+        let out = format!("{prefilter}.exr");
+        let option = ["--denoise-prefilter", prefilter, "-o", &out];
+        ok(&render(d, &[&paths[..], &option].concat()));
+    }
+    let image = |name: &str| rgb(&channels(&d.join(name)), "");
+    same_bits("the file's none", &image("file.exr"), &image("none.exr"));
+    let [none, fast, accurate] = ["none.exr", "fast.exr", "accurate.exr"].map(image);
+    assert!(none != fast && none != accurate && fast != accurate);
+    // The summary says which.
+    let args = [
+        &["render", "none.toml", "--width", "64"][..],
+        &paths,
+        &["-o", "a.png"],
+    ];
+    let out = tracer(d, &args.concat());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("denoised (high, no prefilter)"), "{stderr}");
+    let out = render(
+        d,
+        &["--denoise", "--denoise-prefilter", "sharp", "-o", "b.png"],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("[possible values: none, fast, accurate]"),
+        "{stderr}"
+    );
 }

@@ -2,7 +2,9 @@
 //! the path tracer, measured against the Mitsuba references of the Cornell
 //! box and the materials scene: the RMSE of the image denoised at 16 and
 //! 64 paths a pixel beside the noisy image's at 16 to 1024 (the issue's
-//! goal: denoised at N below noisy at 16 N); and OIDN's time on a
+//! goal: denoised at N below noisy at 16 N), with each of Blender's
+//! prefilters (the render's own, `accurate`, then `none` and `fast` on
+//! the same noisy image and guides); and OIDN's time on a
 //! 1920x1080 image through the tracer against `oidnBenchmark`'s in the
 //! same run (`denoise_time`). Renders go through the pipeline, as
 //! `tracer render --samples N --denoise` makes them; those at 16 paths
@@ -13,7 +15,7 @@ use super::denoise_time::{self, Timing};
 use super::path_peers::{self, BenchScene};
 use anyhow::{bail, Context, Result};
 use std::path::Path;
-use tracer_pipeline::denoise;
+use tracer_pipeline::denoise::{self, Prefilter, Settings};
 use tracer_pipeline::{Input, LinearImage, Options};
 
 /// The `--only` name of this measurement.
@@ -32,8 +34,9 @@ pub struct SceneErrors {
     pub scene: &'static str,
     /// (spp, RMSE, RMSE where the reference is below 1) of the noisy renders.
     pub noisy: Vec<(u32, f64, f64)>,
-    /// The same of the denoised ones, with the seconds OIDN took.
-    pub denoised: Vec<(u32, f64, f64, f64)>,
+    /// The same of the denoised ones, with their prefilter and the
+    /// seconds OIDN took.
+    pub denoised: Vec<(u32, Prefilter, f64, f64, f64)>,
 }
 
 pub fn measure(root: &Path) -> Result<(Vec<SceneErrors>, Vec<Timing>)> {
@@ -72,7 +75,21 @@ fn scene_errors(root: &Path, bench: BenchScene) -> Result<SceneErrors> {
                     .noisy
                     .push((spp, rmse(noisy, &reference), dim(noisy, &reference)));
                 let (all, below) = (rmse(image, &reference), dim(image, &reference));
-                result.denoised.push((spp, all, below, d.denoise_seconds));
+                let prefilter = d.settings.prefilter;
+                result
+                    .denoised
+                    .push((spp, prefilter, all, below, d.denoise_seconds));
+                for other in Prefilter::ALL.into_iter().filter(|&p| p != prefilter) {
+                    let settings = Settings {
+                        prefilter: other,
+                        ..d.settings
+                    };
+                    let start = std::time::Instant::now();
+                    let image = denoise::denoise(noisy, &d.guides, settings, 0)?;
+                    let seconds = start.elapsed().as_secs_f64();
+                    let (all, below) = (rmse(&image, &reference), dim(&image, &reference));
+                    result.denoised.push((spp, other, all, below, seconds));
+                }
                 if spp == denoise_figure::SPP {
                     denoise_figure::write(root, &bench, &rendered, &reference)?;
                 }
@@ -112,7 +129,7 @@ pub(super) fn dim(a: &LinearImage, reference: &LinearImage) -> f64 {
 }
 
 pub fn report((errors, timings): &(Vec<SceneErrors>, Vec<Timing>)) {
-    println!("\nDenoising (Open Image Denoise 2.5.1, RT filter, high quality, prefiltered albedo and normal, the light seen directly left out and added back)");
+    println!("\nDenoising (Open Image Denoise 2.5.1, RT filter, high quality, the light seen directly left out and added back; Blender's prefilters of the albedo and normal: accurate, the default, none, fast)");
     println!(
         "RMSE against the Mitsuba reference (all pixels / pixels whose reference is below 1):"
     );
@@ -121,8 +138,11 @@ pub fn report((errors, timings): &(Vec<SceneErrors>, Vec<Timing>)) {
         for (spp, all, below) in &scene.noisy {
             println!("    noisy    {spp:5} spp: {all:.5} / {below:.5}");
         }
-        for (spp, all, below, seconds) in &scene.denoised {
-            println!("    denoised {spp:5} spp: {all:.5} / {below:.5}  (OIDN {seconds:.2} s)");
+        for (spp, prefilter, all, below, seconds) in &scene.denoised {
+            let prefilter = prefilter.name();
+            println!(
+                "    denoised {spp:5} spp: {all:.5} / {below:.5}  ({prefilter} prefilter, OIDN {seconds:.2} s)"
+            );
         }
     }
     denoise_time::report(timings);

@@ -13,11 +13,15 @@
 //! has no fast network for the guides and runs its balanced one on them at
 //! fast). They differ in their input only: a guide's 3 channels against
 //! 9, and the colour's exposure measured first.
+//!
+//! Blender's other prefilters are timed beside, ours alone: `none` runs
+//! the colour's filter alone, `fast` the colour's filter for noisy guides
+//! (OIDN's base network at high quality, not its large one).
 
 use anyhow::{bail, Context, Result};
 use std::process::Command;
 use tracer_pipeline::denoise::stages::Stages;
-use tracer_pipeline::denoise::{self, Guides, Quality};
+use tracer_pipeline::denoise::{self, Guides, Prefilter, Quality};
 use tracer_pipeline::LinearImage;
 
 /// The `--only` name of this measurement alone (`denoise` runs it too).
@@ -47,6 +51,16 @@ pub struct Timing {
     pub filter: Vec<Option<f64>>,
     /// `oidnBenchmark`'s figure for the network a prefilter runs.
     pub prefilter: Vec<Option<f64>>,
+    /// Ours with the prefilters `none` and `fast`: the seconds of each round.
+    pub others: [(Prefilter, Vec<f64>); 2],
+}
+
+/// Blender's default prefilter (`accurate`), at `quality`.
+fn settings(quality: Quality) -> denoise::Settings {
+    denoise::Settings {
+        quality,
+        ..denoise::Settings::default()
+    }
 }
 
 /// The `oidnBenchmark` configuration and quality that run the network
@@ -72,6 +86,7 @@ pub fn measure() -> Result<Vec<Timing>> {
                 ours: Vec::new(),
                 filter: Vec::new(),
                 prefilter: Vec::new(),
+                others: [(Prefilter::None, Vec::new()), (Prefilter::Fast, Vec::new())],
             };
             for round in 1..=ROUNDS {
                 eprintln!(
@@ -80,7 +95,8 @@ pub fn measure() -> Result<Vec<Timing>> {
                     SIZE.1,
                     quality.name()
                 );
-                let (_, stages) = denoise::denoise_in_stages(&colour, &guides, quality, 0)?;
+                let (_, stages) =
+                    denoise::denoise_in_stages(&colour, &guides, settings(quality), 0)?;
                 timing.ours.push(stages);
                 let filter = benchmark("RT.hdr_calb_cnrm", quality);
                 let (like, like_quality) = prefilter_like(quality);
@@ -92,6 +108,14 @@ pub fn measure() -> Result<Vec<Timing>> {
                     benchmark(like, like_quality)
                 });
                 timing.filter.push(filter);
+                for (prefilter, seconds) in &mut timing.others {
+                    let settings = denoise::Settings {
+                        quality,
+                        prefilter: *prefilter,
+                    };
+                    let (_, stages) = denoise::denoise_in_stages(&colour, &guides, settings, 0)?;
+                    seconds.push(stages.seconds());
+                }
             }
             timing.load.1 = load_average();
             Ok(timing)
@@ -194,8 +218,8 @@ pub fn report(timings: &[Timing]) {
             s(ours),
             s(stage(|s| s.device_seconds)),
             s(stage(|s| s.prepare_seconds + s.finish_seconds)),
-            s(stage(|s| s.albedo.seconds())),
-            s(stage(|s| s.normal.seconds())),
+            s(stage(|s| s.albedo.map_or(0.0, |f| f.seconds()))),
+            s(stage(|s| s.normal.map_or(0.0, |f| f.seconds()))),
             s(colour),
             s(stage(|s| s.filters().iter().map(|f| f.commit_seconds).sum())),
         );
@@ -212,6 +236,16 @@ pub fn report(timings: &[Timing]) {
             ratio(colour, filter),
             ratio(ours, own)
         );
+        for (prefilter, seconds) in &t.others {
+            let whole = median(seconds.iter().copied());
+            let share = whole.zip(ours).map(|(w, o)| w / o);
+            println!(
+                "    ours with the {} prefilter: {} ({} of the accurate prefilter's)",
+                prefilter.name(),
+                s(whole),
+                share.map_or("-".to_string(), |r| format!("{r:.2}"))
+            );
+        }
     }
 }
 

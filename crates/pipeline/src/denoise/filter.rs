@@ -1,11 +1,14 @@
-//! OIDN's `RT` filter run on the images in place: a CPU device, the
-//! albedo and normal prefiltered first and then given with `cleanAux`, as
-//! OIDN's documentation advises for final frames and as Blender does. The
-//! images are OIDN's "shared" images, our own pixels, so nothing is copied.
+//! OIDN's `RT` filter run on the images in place: a CPU device, and the
+//! guides treated as Blender's "Prefilter" says. `accurate` (the default):
+//! the albedo and normal prefiltered first and then given with `cleanAux`,
+//! as OIDN's documentation advises for final frames; `fast`: given as they
+//! are, without `cleanAux` (the filter's network for noisy guides);
+//! `none`: given as they are, with `cleanAux` (taken as clean). The images
+//! are OIDN's "shared" images, our own pixels, so nothing is copied.
 
 use super::library::{c_name, Api, Handle};
 use super::stages::FilterRun;
-use super::{oidn_quality, quality_of_oidn, DenoiseError, Quality};
+use super::{oidn_quality, quality_of_oidn, DenoiseError, Prefilter, Quality, Settings};
 use glam::Vec3;
 use std::ffi::{c_void, CStr};
 use std::time::Instant;
@@ -70,11 +73,10 @@ impl Device {
     }
 
     /// The `RT` filter on `colour` (HDR, linear), guided by `albedo` and
-    /// `normal` (prefiltered here, in place), into `output`: all
-    /// `width` x `height`, rows top to bottom. The runs of the albedo's,
-    /// the normal's and the colour's filters, in that order. All three at
-    /// `quality`, as Blender's Cycles does (OIDN has no fast network for
-    /// the guides: at `fast` it runs its balanced one on them).
+    /// `normal` (prefiltered here, in place, if `settings` say so), into
+    /// `output`: all `width` x `height`, rows top to bottom. Every filter
+    /// at the quality asked, as Blender's Cycles does (OIDN has no fast
+    /// network for the guides: at `fast` it runs its balanced one on them).
     pub(super) fn denoise(
         &self,
         (width, height): (usize, usize),
@@ -82,19 +84,23 @@ impl Device {
         albedo: &mut [Vec3],
         normal: &mut [Vec3],
         output: &mut [Vec3],
-        quality: Quality,
-    ) -> Result<[FilterRun; 3], DenoiseError> {
+        settings: Settings,
+    ) -> Result<Runs, DenoiseError> {
         let size = width * height;
         assert!(
             [colour.len(), albedo.len(), normal.len(), output.len()] == [size; 4],
             "every image is width x height"
         );
         let image = Image { width, height };
+        let quality = settings.quality;
         let prefilter = |name: &'static CStr, pixels: &mut [Vec3]| {
+            if settings.prefilter != Prefilter::Accurate {
+                return Ok(None);
+            }
             let filter = Filter::new(self, quality)?;
             filter.set(name, image, pixels.as_mut_ptr());
             filter.set(c"output", image, pixels.as_mut_ptr());
-            Ok::<_, DenoiseError>(filter)
+            Ok::<_, DenoiseError>(Some(filter))
         };
         let albedo_filter = prefilter(c"albedo", albedo)?;
         let normal_filter = prefilter(c"normal", normal)?;
@@ -105,22 +111,33 @@ impl Device {
         filter.set(c"normal", image, normal.as_mut_ptr());
         filter.set(c"output", image, output.as_mut_ptr());
         filter.set_bool(c"hdr", true);
-        filter.set_bool(c"cleanAux", true);
+        filter.set_bool(c"cleanAux", settings.prefilter != Prefilter::Fast);
         // OIDN's working memory is one heap a device, freed when a filter
-        // is released and no other holds it. All three committed before
-        // any runs (as Blender does), they share it and only the first run
+        // is released and no other holds it. All committed before any
+        // runs (as Blender does), they share it and only the first run
         // pays for touching its pages; run and released one at a time,
         // each paid for its own (1.5 s of a fast denoise's 24 on
         // 1920x1080, 6 %).
-        let albedo_commit = albedo_filter.commit()?;
-        let normal_commit = normal_filter.commit()?;
-        let commit = filter.commit()?;
-        Ok([
-            albedo_filter.execute(albedo_commit)?,
-            normal_filter.execute(normal_commit)?,
-            filter.execute(commit)?,
-        ])
+        let albedo_commit = albedo_filter.as_ref().map(Filter::commit).transpose()?;
+        let normal_commit = normal_filter.as_ref().map(Filter::commit).transpose()?;
+        let colour_commit = filter.commit()?;
+        let execute = |f: Option<&Filter>, commit: Option<f64>| {
+            f.zip(commit).map(|(f, c)| f.execute(c)).transpose()
+        };
+        Ok(Runs {
+            albedo: execute(albedo_filter.as_ref(), albedo_commit)?,
+            normal: execute(normal_filter.as_ref(), normal_commit)?,
+            colour: filter.execute(colour_commit)?,
+        })
     }
+}
+
+/// The runs of one denoise's filters: the guides' prefilters where there
+/// are, and the colour's filter.
+pub(super) struct Runs {
+    pub albedo: Option<FilterRun>,
+    pub normal: Option<FilterRun>,
+    pub colour: FilterRun,
 }
 
 impl Drop for Device {

@@ -27,8 +27,30 @@ use glam::Vec3;
 use std::path::PathBuf;
 use tracer_core::LinearImage;
 
+/// What OIDN does with the guides, as Blender names it (the scene file's).
+pub use scene_format::DenoisePrefilter as Prefilter;
 /// OIDN's filter quality, as OIDN names them (the scene file's).
 pub use scene_format::DenoiseQuality as Quality;
+
+/// How an image is denoised: `[render] denoise_quality` and
+/// `denoise_prefilter`, or the options over them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub struct Settings {
+    pub quality: Quality,
+    pub prefilter: Prefilter,
+}
+
+impl Settings {
+    /// "high, accurate prefilter" or "fast, no prefilter": as the summary
+    /// line says it.
+    pub fn name(&self) -> String {
+        let quality = self.quality.name();
+        match self.prefilter {
+            Prefilter::None => format!("{quality}, no prefilter"),
+            other => format!("{quality}, {} prefilter", other.name()),
+        }
+    }
+}
 
 /// `OIDN_QUALITY_FAST`, `_BALANCED`, `_HIGH`.
 #[cfg(not(target_arch = "wasm32"))]
@@ -98,18 +120,19 @@ pub struct Guides {
     pub emission: LinearImage,
 }
 
-/// `colour` denoised with `guides` at `quality`, on `threads` threads (0:
-/// one per core): OIDN filters the colour less the light seen directly,
-/// which is added back (`emission.rs`). The guides are prefiltered (a
-/// copy: they are kept as rendered, for the tiles that carry them).
+/// `colour` denoised with `guides` as `settings` say, on `threads`
+/// threads (0: one per core): OIDN filters the colour less the light seen
+/// directly, which is added back (`emission.rs`). The guides are
+/// prefiltered on a copy: they are kept as rendered, for the tiles that
+/// carry them.
 #[cfg(not(target_arch = "wasm32"))]
 pub fn denoise(
     colour: &LinearImage,
     guides: &Guides,
-    quality: Quality,
+    settings: Settings,
     threads: usize,
 ) -> Result<LinearImage, DenoiseError> {
-    denoise_in_stages(colour, guides, quality, threads).map(|(image, _)| image)
+    denoise_in_stages(colour, guides, settings, threads).map(|(image, _)| image)
 }
 
 /// [`denoise`], with how long each of its stages took.
@@ -117,7 +140,7 @@ pub fn denoise(
 pub fn denoise_in_stages(
     colour: &LinearImage,
     guides: &Guides,
-    quality: Quality,
+    settings: Settings,
     threads: usize,
 ) -> Result<(LinearImage, stages::Stages), DenoiseError> {
     let start = std::time::Instant::now();
@@ -138,13 +161,13 @@ pub fn denoise_in_stages(
     zero_non_finite(&mut normal);
     let mut output = LinearImage::new(size.0 as u32, size.1 as u32);
     let prepared = std::time::Instant::now();
-    let [albedo_run, normal_run, colour_run] = device.denoise(
+    let runs = device.denoise(
         size,
         &colour,
         &mut albedo,
         &mut normal,
         &mut output.pixels,
-        quality,
+        settings,
     )?;
     let filtered = std::time::Instant::now();
     for (c, e) in output.pixels.iter_mut().zip(light.iter()) {
@@ -153,9 +176,9 @@ pub fn denoise_in_stages(
     let stages = stages::Stages {
         device_seconds: (made - start).as_secs_f64(),
         prepare_seconds: (prepared - made).as_secs_f64(),
-        albedo: albedo_run,
-        normal: normal_run,
-        colour: colour_run,
+        albedo: runs.albedo,
+        normal: runs.normal,
+        colour: runs.colour,
         finish_seconds: filtered.elapsed().as_secs_f64(),
     };
     Ok((output, stages))

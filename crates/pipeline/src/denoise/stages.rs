@@ -1,5 +1,5 @@
 //! How long each stage of a denoise took, and the quality OIDN says each
-//! of its three filters ran at: what `cargo xtask bench --only denoise`
+//! of its filters ran at: what `cargo xtask bench --only denoise`
 //! sets beside `oidnBenchmark`'s own figures (the issue asks for at most
 //! 1.1 times OIDN's time).
 
@@ -33,9 +33,10 @@ pub struct Stages {
     /// number made 0, the light seen directly taken out of the colour, the
     /// guides copied (they are prefiltered in place and kept as rendered).
     pub prepare_seconds: f64,
-    /// The prefilters of the albedo and the normal.
-    pub albedo: FilterRun,
-    pub normal: FilterRun,
+    /// The prefilters of the albedo and the normal (the `accurate`
+    /// prefilter's; the others run none).
+    pub albedo: Option<FilterRun>,
+    pub normal: Option<FilterRun>,
     /// The filter of the colour, guided by both.
     pub colour: FilterRun,
     /// The light seen directly added back.
@@ -50,8 +51,11 @@ impl Stages {
             + self.finish_seconds
     }
 
-    /// The three filters, in the order they run.
-    pub fn filters(&self) -> [FilterRun; 3] {
-        [self.albedo, self.normal, self.colour]
+    /// The filters that ran, in their order.
+    pub fn filters(&self) -> Vec<FilterRun> {
+        [self.albedo, self.normal, Some(self.colour)]
+            .into_iter()
+            .flatten()
+            .collect()
     }
 }

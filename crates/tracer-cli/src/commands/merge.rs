@@ -27,15 +27,22 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         return Err(Error::from(tiles::TileError::NoGuides).into());
     }
     let mut denoised = String::new();
-    if let Some((guides, quality)) = guides {
-        let quality = args.denoise_quality.map_or(quality, Into::into);
+    if let Some((guides, tiles_settings)) = guides {
+        let settings = denoise::Settings {
+            quality: args
+                .denoise_quality
+                .map_or(tiles_settings.quality, Into::into),
+            prefilter: args
+                .denoise_prefilter
+                .map_or(tiles_settings.prefilter, Into::into),
+        };
         let start = Instant::now();
         let threads = rayon::current_num_threads();
         picture.linear =
-            denoise::denoise(&picture.linear, &guides, quality, threads).map_err(Error::from)?;
+            denoise::denoise(&picture.linear, &guides, settings, threads).map_err(Error::from)?;
         denoised = format!(
             ", denoised ({}) in {:.3} s",
-            quality.name(),
+            settings.name(),
             start.elapsed().as_secs_f64()
         );
     }

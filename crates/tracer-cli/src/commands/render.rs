@@ -105,7 +105,7 @@ pub fn run(args: &Render) -> Result<()> {
                 Some(Part::Tile { index, count }) => Some((index, count)),
                 _ => None,
             };
-            let guides = rendered.denoising.as_ref().map(|d| (&d.guides, d.quality));
+            let guides = rendered.denoising.as_ref().map(|d| (&d.guides, d.settings));
             let bytes = tiles::encode(&rendered.image, *region, size, digest, index, guides)
                 .map_err(Error::from)?;
             pending.write_bytes(&bytes).map_err(Error::from)?;
@@ -385,13 +385,14 @@ pub(crate) fn summary(scene: &Path, rendered: &Rendered, threads: usize, output:
     }
 }
 
-/// ", denoised (high) in 1.234 s (guides 0.2 s)", or for a tile the
+/// ", denoised (high, accurate prefilter) in 1.234 s (its guides 0.2 s)",
+/// or for a tile the
 /// guides alone.
 fn denoise_summary(d: &tracer_pipeline::Denoising) -> String {
     match d.noisy {
         Some(_) => format!(
             ", denoised ({}) in {:.3} s (its guides {:.3} s)",
-            d.quality.name(),
+            d.settings.name(),
             d.denoise_seconds,
             d.guide_seconds
         ),
