@@ -393,17 +393,13 @@ pub fn read(path: &Path) -> Result<Tile, TileError> {
     let quality = match text(DENOISE).as_deref() {
         None => None,
         Some(name) => Some(
-            Quality::ALL
-                .into_iter()
-                .find(|q| q.name() == name)
+            by_name(Quality::ALL, Quality::name, name)
                 .ok_or_else(|| not_a_tile(format!("its `{DENOISE}` is not a quality")))?,
         ),
     };
     let prefilter = match text(PREFILTER).as_deref() {
         None => Prefilter::default(),
-        Some(name) => Prefilter::ALL
-            .into_iter()
-            .find(|p| p.name() == name)
+        Some(name) => by_name(Prefilter::ALL, Prefilter::name, name)
             .ok_or_else(|| not_a_tile(format!("its `{PREFILTER}` is not a prefilter")))?,
     };
     let settings = quality.map(|quality| Settings { quality, prefilter });
@@ -586,6 +582,16 @@ pub fn merge(tiles: &[(PathBuf, Tile)]) -> Result<Picture, TileError> {
         linear: paste(tiles, first.size, |t| Some(&t.linear)).expect("every tile has pixels"),
         encoding: first.encoding,
     })
+}
+
+/// The one of `all` that `name_of` calls `name`: a setting as a tile's
+/// attribute names it.
+fn by_name<T: Copy, const N: usize>(
+    all: [T; N],
+    name_of: fn(T) -> &'static str,
+    name: &str,
+) -> Option<T> {
+    all.into_iter().find(|&value| name_of(value) == name)
 }
 
 /// The denoiser's guides of the whole image and their settings, when every
