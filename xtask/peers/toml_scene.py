@@ -260,10 +260,14 @@ def mesh(mi, name, triangles, material, uvs=None):
     m = mi.Mesh(name, vertex_count=3 * n, face_count=n, props=props,
                 has_vertex_normals=False, has_vertex_texcoords=uvs is not None)
     params = mi.traverse(m)
-    params["vertex_positions"] = mi.Float(triangles.reshape(-1).astype(np.float32))
-    params["faces"] = mi.UInt(np.arange(3 * n, dtype=np.uint32))
+    # Each buffer as its own type: the JIT variants' mi.Float, the scalar
+    # variant's dynamic array (where mi.Float is one number).
+    def buffer(key, values):
+        params[key] = type(params[key])(values)
+    buffer("vertex_positions", triangles.reshape(-1).astype(np.float32))
+    buffer("faces", np.arange(3 * n, dtype=np.uint32))
     if uvs is not None:
-        params["vertex_texcoords"] = mi.Float(uvs.reshape(-1).astype(np.float32))
+        buffer("vertex_texcoords", uvs.reshape(-1).astype(np.float32))
     params.update()
     return m
 
