@@ -229,6 +229,48 @@ fn with_path_reuse_the_furnace_of_albedo_one_half_still_shows_one() {
 }
 
 #[test]
+fn path_reuse_through_rough_gold_keeps_every_block_s_mean() {
+    // A room lit by a lamp, a ball of rough gold in it: the pixels that
+    // share their paths' second vertices on the gold (what lights the
+    // caustics) must keep the means of paths traced alone, block by
+    // block, within a few standard errors of the two.
+    let scene = scene_from(&format!(
+        "[camera]\neye = [0, 0, 2.5]\nlook_at = [0, -1, 0]\nfov = 60\nwidth = 24\nheight = 24\n\
+         [render]\nintegrator = \"path\"\nmax_depth = 5\n\
+         [materials.w]\ndiffuse = [0.6, 0.6, 0.6]\n\
+         [materials.lamp]\ndiffuse = [0.5, 0.5, 0.5]\nemission = [8, 8, 8]\n\
+         [materials.gold]\nbase_color = [1, 0.78, 0.34]\nmetallic = 1\nroughness = 0.3\n\
+         [[objects]]\nquad = {{ corner = [-1, 2.9, -1], edge_u = [2, 0, 0], edge_v = [0, 0, 2] }}\nmaterial = \"lamp\"\n\
+         [[objects]]\nsphere = {{ center = [0.8, -1.8, 0], radius = 1.2 }}\nmaterial = \"gold\"\n{}",
+        inward_box("w")
+    ));
+    let blocks = |reuse: u32| -> Vec<Vec<f64>> {
+        (0..8)
+            .map(|seed| {
+                let image = render_rows(&scene, 16, seed, reuse);
+                let mut sums = vec![0.0; 16];
+                for (k, c) in image.iter().enumerate() {
+                    let block = (k / 24 / 6) * 4 + (k % 24) / 6;
+                    sums[block] += f64::from(c.element_sum()) / 3.0 / 36.0;
+                }
+                sums
+            })
+            .collect()
+    };
+    let (shared, alone) = (blocks(8), blocks(1));
+    for b in 0..16 {
+        let of = |renders: &[Vec<f64>]| renders.iter().map(|r| r[b]).collect::<Vec<_>>();
+        let (m8, e8) = mean_and_error(&of(&shared));
+        let (m1, e1) = mean_and_error(&of(&alone));
+        let bound = 4.0 * (e8 * e8 + e1 * e1).sqrt();
+        assert!(
+            (m8 - m1).abs() < bound,
+            "block {b}: shared {m8} +- {e8}, alone {m1} +- {e1}"
+        );
+    }
+}
+
+#[test]
 fn a_point_light_lights_a_lambertian_plane_by_the_inverse_square_law() {
     // Intensity I at height h over a plane of albedo rho: the point below
     // gets irradiance I / h^2 and shows rho I / (pi h^2); a point at r

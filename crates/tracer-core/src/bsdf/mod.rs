@@ -125,6 +125,17 @@ impl Bsdf {
         self.frame.n
     }
 
+    /// Whether the material only reflects, and in no single direction: an
+    /// opaque principled material that is not smooth (a rough metal or
+    /// plastic). What it sends toward any viewer is then `eval` of the
+    /// light arriving, which path reuse shares (`reuse.rs`).
+    pub fn reflects_smoothly_only(&self) -> bool {
+        match &self.kind {
+            Kind::Lab(_) => false,
+            Kind::Principled(b) => b.reflects_smoothly_only(),
+        }
+    }
+
     /// Whether some lobe is not specular: light sampling can find its
     /// directions.
     pub fn has_smooth_lobes(&self) -> bool {

@@ -109,6 +109,14 @@ impl PrincipledBsdf {
             || (self.prob[PLASTIC] > 0.0 && self.plastic.has_smooth_part())
     }
 
+    /// Whether no lobe transmits and none is a single direction (the
+    /// lobes share one roughness), and some reflects.
+    pub fn reflects_smoothly_only(&self) -> bool {
+        self.prob[DIELECTRIC] == 0.0
+            && !self.conductor.is_smooth()
+            && self.prob.iter().any(|&p| p > 0.0)
+    }
+
     /// f |cos theta_i| toward local `wi` (below the surface: transmitted)
     /// of the lobes that are not single directions, and the density
     /// `sample` gives it.

@@ -25,7 +25,7 @@ use crate::scene::Scene;
 use crate::EPSILON;
 use glam::{DVec3, Vec3};
 use matte_lanes::{MatteLanes, LANES};
-use reuse::{Combiner, Connection, FirstBounces};
+use reuse::{Combiner, Connection, FirstBounces, Glossy};
 use std::cell::OnceCell;
 use std::ops::Range;
 use std::sync::Arc;
@@ -388,7 +388,9 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
                     stats.shadow += connections.len() as u64;
                     lanes.occluded(connections, blocked);
                 };
-                combiner.combine(&paths, &mut occluded, &mut values);
+                // The lanes' scenes are Lambertian: no vertex is glossy.
+                let mut glossy = |_: usize, _: Vec3| Vec3::ZERO;
+                combiner.combine(&paths, &mut occluded, &mut glossy, &mut values);
                 for (p, value) in members.clone().zip(&values) {
                     let sample = (x0 + p as u32, j, s0 + s as u32);
                     self.add_value(&mut sums[p], *value, sample, varies[p]);
@@ -411,7 +413,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
         let mut tracer = PathTracer::with_recorder(scene, FirstBounces::default())
             .with_seed(self.seed)
             .with_max_depth(self.max_depth);
-        let (mut paths, mut values) = (Vec::new(), Vec::new());
+        let (mut paths, mut glossy, mut values) = (Vec::new(), Vec::new(), Vec::new());
         let mut combiner = Combiner::default();
         let varies = self.row_varies((xs.clone(), j));
         for s in samples {
@@ -419,11 +421,14 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
                 break;
             }
             paths.clear();
+            glossy.clear();
             for i in xs.clone() {
                 let mut sampler = PixelSampler::new(i, j, self.seed);
                 tracer.rec.clear();
                 let value = tracer.sample(&mut sampler, (i, j), s);
-                paths.push(tracer.rec.shared(value));
+                let (path, vertex) = tracer.rec.shared(value);
+                paths.push(path);
+                glossy.push(vertex);
             }
             let stats = &mut tracer.stats;
             let mut occluded = |connections: &[Connection], blocked: &mut Vec<bool>| {
@@ -432,7 +437,11 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
                 let hidden = |c: &Connection| scene.occluded(&ray(c), EPSILON, c.reach);
                 blocked.extend(connections.iter().map(hidden));
             };
-            combiner.combine(&paths, &mut occluded, &mut values);
+            let mut reflected = |k: usize, wo: Vec3| {
+                let g: &Glossy = glossy[k].as_ref().expect("a glossy vertex's samples");
+                g.reflected(scene.material(g.hit.material), wo)
+            };
+            combiner.combine(&paths, &mut occluded, &mut reflected, &mut values);
             for (k, (sum, value)) in sums.iter_mut().zip(&values).enumerate() {
                 let pixel = (xs.start + k as u32, j, s);
                 self.add_value(sum, *value, pixel, varies[k]);

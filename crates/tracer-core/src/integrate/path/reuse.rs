@@ -14,16 +14,23 @@
 //! first vertex and the light emitted by the second one stay each path's
 //! own.
 //!
-//! Only a Lambertian second vertex is shared: the light it reflects is the
-//! same toward every point on its side, so a neighbour's connection reads
-//! the path's own estimate. Which pixels take part is decided by their
-//! first vertices alone (a Lambertian surface), so the densities summed
-//! are those of the techniques that really drew.
+//! A Lambertian second vertex reflects the same light toward every point
+//! on its side, so a neighbour's connection reads the path's own estimate.
+//! A rough metal or plastic one (`Glossy`) keeps the light its path found
+//! arriving there, its light sample and its BSDF sample, and a neighbour
+//! weighs them by the BSDF as seen from its own first vertex: the same two
+//! samples, their weights summing to 1 whoever looks, so each pixel's
+//! estimate stays unbiased. Those vertices are what lights a room's
+//! caustics (a lamp seen in a gold ball, on the floor), rare paths that
+//! sharing spreads over the group. Which pixels take part is decided by
+//! their first vertices alone (a Lambertian surface), so the densities
+//! summed are those of the techniques that really drew.
 
 use crate::bsdf::Bsdf;
 use crate::geometry::SurfaceHit;
 use crate::integrate::record::{PathEvent, PathEventKind, Recorder};
 use crate::light::toward::SHADOW_SHORTEN;
+use crate::material::Material;
 use glam::Vec3;
 
 /// The most pixels a group may have: their connections grow as its square.
@@ -42,7 +49,8 @@ pub struct FirstVertex {
     pub albedo: Vec3,
 }
 
-/// The second vertex of such a path, if its surface is Lambertian too.
+/// The second vertex of such a path, if its surface is Lambertian too, or
+/// reflects smoothly only (`Glossy`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SecondVertex {
     pub point: Vec3,
@@ -53,6 +61,41 @@ pub struct SecondVertex {
     /// per unit of the path's throughput there: an estimate of the
     /// radiance it reflects, toward any point on its normal's side.
     pub reflected: Vec3,
+    /// Whether what it reflects depends on where it is seen from: the
+    /// group asks for it (`Glossy::reflected`) and `reflected` is unused.
+    pub glossy: bool,
+}
+
+/// A second vertex on a surface that reflects smoothly only (a rough metal
+/// or plastic): its hit, and the light its path found arriving there, by
+/// the light sample and by the BSDF sample, each over its density and
+/// times its MIS weight as the path weighed it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Glossy {
+    pub hit: SurfaceHit,
+    /// The light sample's direction and what it brings (zero if blocked).
+    pub light: (Vec3, Vec3),
+    /// The BSDF sample's direction and what the rest of the path found
+    /// along it (zero where the sample failed).
+    pub beyond: (Vec3, Vec3),
+    /// The BSDF sample's density, until the path ends.
+    pdf: f32,
+}
+
+impl Glossy {
+    /// The radiance the vertex reflects toward unit `wo`, its surface of
+    /// `material`: the two samples weighed by the BSDF seen from `wo`.
+    /// Toward the path's own first vertex, the path's own estimate.
+    pub fn reflected(&self, material: &Material, wo: Vec3) -> Vec3 {
+        let bsdf = Bsdf::new(material, &self.hit, wo);
+        let mut sum = Vec3::ZERO;
+        for (dir, light) in [self.light, self.beyond] {
+            if light != Vec3::ZERO {
+                sum += bsdf.eval(dir).0 * light;
+            }
+        }
+        sum
+    }
 }
 
 /// One path of a group, as the group combines it.
@@ -102,11 +145,13 @@ impl Combiner {
     /// the group's order, the density sums in a fixed order (the same
     /// image whatever threads and tiles rendered it). `occluded` answers
     /// for a list of shadow rays at once, into a list it is given (lanes
-    /// test them sixteen at a time).
+    /// test them sixteen at a time); `glossy(j, wo)` is the light path j's
+    /// glossy second vertex reflects toward unit `wo`.
     pub fn combine(
         &mut self,
         paths: &[Shared],
         occluded: &mut dyn FnMut(&[Connection], &mut Vec<bool>),
+        glossy: &mut dyn FnMut(usize, Vec3) -> Vec3,
         values: &mut Vec<Vec3>,
     ) {
         let n = paths.len();
@@ -133,9 +178,13 @@ impl Combiner {
             }
             for ((value, a), &d) in values.iter_mut().zip(paths).zip(column) {
                 if let (Some(x), true) = (a.first, d > 0.0) {
+                    let reflected = match y.glossy {
+                        true => glossy(j, (x.from - y.point).normalize()),
+                        false => y.reflected,
+                    };
                     // f cos / (summed density) = albedo/pi cos / sum; the
                     // density is cos/pi times the same geometry.
-                    *value += x.albedo * y.reflected * (d / total);
+                    *value += x.albedo * reflected * (d / total);
                 }
             }
         }
@@ -205,6 +254,11 @@ pub struct FirstBounces {
     /// it was when the second vertex was reached.
     total: Vec3,
     own: Vec3,
+    /// A glossy second vertex, its samples as they come.
+    glossy: Option<Glossy>,
+    /// The path's radiance when that vertex's BSDF sample was drawn, and
+    /// the throughput after it: what the path adds later came along it.
+    beyond_from: Option<(Vec3, Vec3)>,
 }
 
 impl FirstBounces {
@@ -213,10 +267,85 @@ impl FirstBounces {
         *self = FirstBounces::default();
     }
 
-    /// The path just traced, whose value was `value`.
-    pub fn shared(&self, value: Vec3) -> Shared {
-        let second = self.second.map(|(point, normal)| (point, normal, self.own));
-        shared(value, self.first, second, self.throughput)
+    /// The path just traced, whose value was `value`, and its second
+    /// vertex's samples if that is glossy.
+    pub fn shared(&self, value: Vec3) -> (Shared, Option<Glossy>) {
+        let glossy = self.glossy.map(|g| self.finished(g, value));
+        // A glossy vertex whose light beyond cannot be read is not shared.
+        let second = match glossy {
+            Some(None) => None,
+            _ => self.second,
+        };
+        let second = second.map(|(point, normal)| (point, normal, self.own));
+        let mut shared = shared(value, self.first, second, self.throughput);
+        let glossy = glossy.flatten().filter(|_| shared.second.is_some());
+        if let Some(y) = &mut shared.second {
+            y.glossy = glossy.is_some();
+        }
+        (shared, glossy)
+    }
+
+    /// `g` with the light its BSDF sample found, the path's value being
+    /// `value`; None where a channel of the throughput after that sample
+    /// is 0 (what came along it is then unknown in that channel).
+    fn finished(&self, g: Glossy, value: Vec3) -> Option<Glossy> {
+        let Some((before, throughput)) = self.beyond_from else {
+            // The BSDF sample failed: nothing came beyond.
+            return Some(g);
+        };
+        let arriving = (value - before) / throughput;
+        let beyond = arriving / g.pdf;
+        let usable = throughput.cmpgt(Vec3::ZERO).all() && beyond.is_finite();
+        usable.then_some(Glossy {
+            beyond: (g.beyond.0, beyond),
+            ..g
+        })
+    }
+
+    /// Leaves the second vertex out of sharing: the path keeps its value.
+    fn unshared(&mut self) {
+        (self.second, self.glossy) = (None, None);
+    }
+
+    /// What the second vertex's light sample and BSDF sample tell of a
+    /// glossy one.
+    #[inline(always)]
+    fn glossy_sample(&mut self, event: &PathEvent) {
+        let Some(g) = &mut self.glossy else { return };
+        match event.kind {
+            PathEventKind::LightSample {
+                wi,
+                radiance,
+                light_pdf,
+                f_cos,
+                weight,
+                blocked,
+                absorbed,
+                ..
+            } => {
+                // Not lit for this path's own view: its shadow ray was not
+                // traced, and another view might see the light.
+                if f_cos == Vec3::ZERO && light_pdf > 0.0 {
+                    return self.unshared();
+                }
+                if !blocked && light_pdf > 0.0 {
+                    g.light = (wi, radiance * (weight / light_pdf) * absorbed);
+                }
+            }
+            PathEventKind::BsdfSample {
+                wi,
+                weight,
+                pdf,
+                specular,
+            } => {
+                if specular || pdf <= 0.0 {
+                    return self.unshared();
+                }
+                (g.beyond.0, g.pdf) = (wi, pdf);
+                self.beyond_from = Some((self.total, event.throughput * weight));
+            }
+            _ => {}
+        }
     }
 }
 
@@ -242,6 +371,7 @@ pub(super) fn shared(
                 point,
                 normal,
                 reflected,
+                glossy: false,
             },
         ))
     });
@@ -260,6 +390,8 @@ impl Recorder for FirstBounces {
             if depth == 1 {
                 self.throughput = event.throughput;
             }
+        } else if self.depth == 1 {
+            self.glossy_sample(&event);
         }
         self.total += event.added;
     }
@@ -281,11 +413,21 @@ impl Recorder for FirstBounces {
                     albedo,
                 });
             }
-            1 if self.first.is_some() && lambert.is_some() => {
+            1 if self.first.is_some() => {
+                let glossy = lambert.is_none() && bsdf.reflects_smoothly_only();
+                if lambert.is_none() && !glossy {
+                    return;
+                }
                 let facing = if hit.front_face { 1.0 } else { -1.0 };
                 let normal = hit.geometric_normal * facing;
                 self.second = Some((self.point, normal));
                 self.own = self.total;
+                self.glossy = glossy.then_some(Glossy {
+                    hit: *hit,
+                    light: (Vec3::ZERO, Vec3::ZERO),
+                    beyond: (Vec3::ZERO, Vec3::ZERO),
+                    pdf: 0.0,
+                });
             }
             _ => {}
         }
@@ -312,6 +454,7 @@ mod tests {
                 point: y,
                 normal: -Vec3::Z,
                 reflected: Vec3::splat(reflected),
+                glossy: false,
             }),
         }
     }
@@ -320,7 +463,8 @@ mod tests {
     fn combined(paths: &[Shared], blocked: bool) -> Vec<f32> {
         let mut values = Vec::new();
         let mut occluded = |c: &[Connection], out: &mut Vec<bool>| out.resize(c.len(), blocked);
-        Combiner::default().combine(paths, &mut occluded, &mut values);
+        let mut glossy = |_: usize, _: Vec3| unreachable!("no glossy vertex");
+        Combiner::default().combine(paths, &mut occluded, &mut glossy, &mut values);
         values.iter().map(|v| v.x).collect()
     }
 
@@ -392,12 +536,61 @@ mod tests {
     }
 
     #[test]
+    fn a_glossy_vertex_seen_from_its_own_path_gives_back_the_path_s_light() {
+        // Paths from the floor of a lamp-lit room by a ball of rough gold:
+        // what a path shares of a glossy second vertex, weighed from its
+        // own first vertex, is the light the path found beyond that vertex.
+        use crate::integrate::path::PathTracer;
+        use crate::sampler::PixelSampler;
+        let text = "[camera]\neye = [0, 1, 4]\nlook_at = [0.6, -1, 1.2]\nfov = 12\nwidth = 8\nheight = 8\n\
+            [render]\nintegrator = \"path\"\nmax_depth = 5\n\
+            [materials.w]\ndiffuse = [0.6, 0.6, 0.6]\n\
+            [materials.lamp]\ndiffuse = [0.5, 0.5, 0.5]\nemission = [6, 6, 6]\n\
+            [materials.gold]\nbase_color = [1, 0.78, 0.34]\nmetallic = 1\nroughness = 0.3\n\
+            [[objects]]\nquad = { corner = [-3, -1, 3], edge_u = [6, 0, 0], edge_v = [0, 0, -6] }\nmaterial = \"w\"\n\
+            [[objects]]\nquad = { corner = [-2.5, -1, -1], edge_u = [0, 2, 0], edge_v = [0, 0, 2] }\nmaterial = \"lamp\"\n\
+            [[objects]]\nsphere = { center = [0.6, -0.2, 0], radius = 0.8 }\nmaterial = \"gold\"\n";
+        let file = scene_format::load_str(
+            text,
+            scene_format::Format::Toml,
+            std::path::Path::new("g.toml"),
+        )
+        .unwrap();
+        let scene = crate::prepare(&file).unwrap();
+        let mut tracer = PathTracer::with_recorder(&scene, FirstBounces::default());
+        let (mut glossy, mut lit) = (0, 0);
+        for s in 0..8192 {
+            let (i, j) = (s % 8, (s / 8) % 8);
+            let mut sampler = PixelSampler::new(i, j, 0);
+            tracer.rec.clear();
+            let value = tracer.sample(&mut sampler, (i, j), s);
+            let (shared, g) = tracer.rec.shared(value);
+            let (Some(x), Some(y), Some(g)) = (shared.first, shared.second, g) else {
+                continue;
+            };
+            assert!(y.glossy);
+            let wo = (x.from - y.point).normalize();
+            let rebuilt = shared.own + x.albedo * g.reflected(scene.material(g.hit.material), wo);
+            let tolerance = 1e-4 * value.max_element().max(1.0);
+            assert!(
+                (rebuilt - value).abs().max_element() < tolerance,
+                "path {s}: {rebuilt} shared, {value} traced"
+            );
+            glossy += 1;
+            lit += (g.light.1 != Vec3::ZERO) as u32;
+        }
+        // Enough glossy vertices, and some lit by their light sample.
+        assert!(glossy > 200 && lit > 50, "{glossy} glossy, {lit} lit");
+    }
+
+    #[test]
     fn a_vertex_below_a_pixel_s_surface_or_lit_on_the_other_side_has_no_density() {
         let x = path(Vec3::ZERO, Vec3::Z, 0.0).first.unwrap();
         let y = |z: f32, normal: Vec3| SecondVertex {
             point: Vec3::new(0.0, 0.0, z),
             normal,
             reflected: Vec3::ONE,
+            glossy: false,
         };
         let straight_above = area_density(&x, &y(1.0, -Vec3::Z)).unwrap();
         assert!((straight_above - std::f32::consts::FRAC_1_PI).abs() < 1e-7);
