@@ -263,14 +263,14 @@ pub struct RenderSettings {
     /// pixel's first surface is Lambertian, it connects to the second
     /// vertex of each path of its group by a shadow ray: as many samples
     /// of its indirect light as the group has pixels, unbiased, for one
-    /// ray each. 1 shares nothing. Left out, path mode decides: 8 in a
-    /// scene without an environment (a room lit by its lamps), where it
-    /// takes noise off for its time, and 1 under an environment, where it
-    /// costs time for little, or where the image is denoised.
+    /// ray each. 1 shares nothing. Left out, path mode decides: 8, where it
+    /// takes noise off for its time (a room lit by its lamps, the caustics
+    /// of rough metal), but 1 in a scene of glass under an environment,
+    /// where it costs time for little, or where the image is denoised.
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schemars(
         range(min = 1, max = crate::validate::MAX_PATH_REUSE),
-        extend("x-integrator" = "path", "x-default" = "8 without an environment unless denoised, else 1"),
+        extend("x-integrator" = "path", "x-default" = "8 unless denoised or glass under an environment, else 1"),
         example = 8
     )]
     pub path_reuse: Option<u32>,

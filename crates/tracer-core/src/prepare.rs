@@ -302,12 +302,13 @@ fn light(l: &fmt::Light) -> Light {
 
 /// The file's `[render]` in the core's terms; path mode's estimator where
 /// the file leaves it (`integrate::path::defaults`), from its environment, whether
-/// some material of `materials` (the scene's) emits and whether the image
-/// is denoised.
+/// some material of `materials` (the scene's) emits, whether some lets
+/// light through, and whether the image is denoised.
 fn trace_settings(file: &fmt::SceneFile, materials: &[Material]) -> TraceSettings {
     let r = &file.render;
     let environment = file.environment.is_some();
     let emitters = materials.iter().any(|m| m.emission() != Vec3::ZERO);
+    let glass = materials.iter().any(Material::is_transparent);
     TraceSettings {
         max_depth: r.max_depth(),
         min_energy: r.min_energy,
@@ -318,7 +319,7 @@ fn trace_settings(file: &fmt::SceneFile, materials: &[Material]) -> TraceSetting
             fmt::Integrator::Path => Integrator::Path,
         },
         path_reuse: (r.path_reuse)
-            .unwrap_or_else(|| path_defaults::path_reuse(environment, r.denoise)),
+            .unwrap_or_else(|| path_defaults::path_reuse(environment, glass, r.denoise)),
         camera_rays: (r.camera_rays)
             .unwrap_or_else(|| path_defaults::camera_rays(environment, emitters, r.denoise)),
         adaptive: (r.adaptive).unwrap_or_else(|| path_defaults::adaptive(environment, r.denoise)),

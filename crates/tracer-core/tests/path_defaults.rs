@@ -40,9 +40,11 @@ fn without_an_emitting_surface_only_paths_are_shared() {
 }
 
 #[test]
-fn under_an_environment_every_path_is_traced_alone() {
+fn under_an_environment_paths_are_shared_unless_glass_is_there() {
+    // The materials scene's spheres of glass hold its noise: sharing
+    // costs time for nothing. The courtyard's copper throws the sun.
     assert_eq!(estimator("materials.toml", SILENT), (1, 1));
-    assert_eq!(estimator("courtyard.toml", SILENT), (1, 1));
+    assert_eq!(estimator("courtyard.toml", SILENT), (8, 1));
 }
 
 #[test]

@@ -2,10 +2,13 @@
 //! one rule, decided by `cargo xtask bench --only path` on its four scenes
 //! (error at equal time, docs/src/performance.md). Path reuse and more
 //! camera rays take noise off a room lit by its lamps (the Cornell box's
-//! error at equal time falls to about 0.4 of the plain estimator's, the
-//! bunny in it to 0.9) and cost time for nothing where an environment
-//! lights an open scene (its direct light dominates, and its sky seen
-//! directly changes gently): there they stay off. They stay off too where
+//! error at equal time falls to about 0.4 of the plain estimator's).
+//! Path reuse takes off the caustics of rough metals too, under an
+//! environment as well (the courtyard's sun in its copper: 0.6), but not
+//! where glass is under an environment: the noise is in the glass then,
+//! which it cannot share, and it costs time for nothing (the materials
+//! scene). More camera rays cost time for nothing under an environment
+//! (its sky seen directly changes gently). Both stay off too where
 //! the image is denoised: the denoiser takes that noise off anyway and
 //! adds back the light a pixel sees directly from its own finer guide, and
 //! path reuse's noise, alike along a row's groups, is harder for it (the
@@ -14,9 +17,10 @@
 
 /// The pixels of a row that share their indirect light
 /// (`render.path_reuse`) when the file does not say, in a scene lit by an
-/// `environment` or not, `denoised` or not.
-pub fn path_reuse(environment: bool, denoised: bool) -> u32 {
-    if environment || denoised {
+/// `environment` or not, holding `glass` (some material lets light
+/// through) or not, `denoised` or not.
+pub fn path_reuse(environment: bool, glass: bool, denoised: bool) -> u32 {
+    if (environment && glass) || denoised {
         1
     } else {
         8
