@@ -389,7 +389,7 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
                     lanes.occluded(connections, blocked);
                 };
                 // The lanes' scenes are Lambertian: no vertex is glossy.
-                let mut glossy = |_: usize, _: Vec3| Vec3::ZERO;
+                let mut glossy = |_: usize, _: Vec3| None;
                 combiner.combine(&paths, &mut occluded, &mut glossy, &mut values);
                 for (p, value) in members.clone().zip(&values) {
                     let sample = (x0 + p as u32, j, s0 + s as u32);
@@ -437,9 +437,9 @@ impl<'a, R: Recorder> PathTracer<'a, R> {
                 let hidden = |c: &Connection| scene.occluded(&ray(c), EPSILON, c.reach);
                 blocked.extend(connections.iter().map(hidden));
             };
-            let mut reflected = |k: usize, wo: Vec3| {
-                let g: &Glossy = glossy[k].as_ref().expect("a glossy vertex's samples");
-                g.reflected(scene.material(g.hit.material), wo)
+            let mut reflected = |k: usize, to: Vec3| {
+                let g: &Glossy = glossy[k].as_ref()?;
+                Some(g.reflected(scene.material(g.hit.material), to.normalize()))
             };
             combiner.combine(&paths, &mut occluded, &mut reflected, &mut values);
             for (k, (sum, value)) in sums.iter_mut().zip(&values).enumerate() {

@@ -59,11 +59,9 @@ pub struct SecondVertex {
     pub normal: Vec3,
     /// The light the path found beyond it (its own emission left out),
     /// per unit of the path's throughput there: an estimate of the
-    /// radiance it reflects, toward any point on its normal's side.
+    /// radiance it reflects, toward any point on its normal's side (on a
+    /// glossy vertex that depends on the point: the group asks `Glossy`).
     pub reflected: Vec3,
-    /// Whether what it reflects depends on where it is seen from: the
-    /// group asks for it (`Glossy::reflected`) and `reflected` is unused.
-    pub glossy: bool,
 }
 
 /// A second vertex on a surface that reflects smoothly only (a rough metal
@@ -145,13 +143,14 @@ impl Combiner {
     /// the group's order, the density sums in a fixed order (the same
     /// image whatever threads and tiles rendered it). `occluded` answers
     /// for a list of shadow rays at once, into a list it is given (lanes
-    /// test them sixteen at a time); `glossy(j, wo)` is the light path j's
-    /// glossy second vertex reflects toward unit `wo`.
+    /// test them sixteen at a time); `glossy(j, to)` is the light path j's
+    /// second vertex reflects along `to` (not unit) if that is glossy
+    /// (`Glossy::reflected`), None where it is Lambertian.
     pub fn combine(
         &mut self,
         paths: &[Shared],
         occluded: &mut dyn FnMut(&[Connection], &mut Vec<bool>),
-        glossy: &mut dyn FnMut(usize, Vec3) -> Vec3,
+        glossy: &mut dyn FnMut(usize, Vec3) -> Option<Vec3>,
         values: &mut Vec<Vec3>,
     ) {
         let n = paths.len();
@@ -178,10 +177,7 @@ impl Combiner {
             }
             for ((value, a), &d) in values.iter_mut().zip(paths).zip(column) {
                 if let (Some(x), true) = (a.first, d > 0.0) {
-                    let reflected = match y.glossy {
-                        true => glossy(j, (x.from - y.point).normalize()),
-                        false => y.reflected,
-                    };
+                    let reflected = glossy(j, x.from - y.point).unwrap_or(y.reflected);
                     // f cos / (summed density) = albedo/pi cos / sum; the
                     // density is cos/pi times the same geometry.
                     *value += x.albedo * reflected * (d / total);
@@ -277,11 +273,8 @@ impl FirstBounces {
             _ => self.second,
         };
         let second = second.map(|(point, normal)| (point, normal, self.own));
-        let mut shared = shared(value, self.first, second, self.throughput);
+        let shared = shared(value, self.first, second, self.throughput);
         let glossy = glossy.flatten().filter(|_| shared.second.is_some());
-        if let Some(y) = &mut shared.second {
-            y.glossy = glossy.is_some();
-        }
         (shared, glossy)
     }
 
@@ -371,7 +364,6 @@ pub(super) fn shared(
                 point,
                 normal,
                 reflected,
-                glossy: false,
             },
         ))
     });
@@ -454,7 +446,6 @@ mod tests {
                 point: y,
                 normal: -Vec3::Z,
                 reflected: Vec3::splat(reflected),
-                glossy: false,
             }),
         }
     }
@@ -463,7 +454,7 @@ mod tests {
     fn combined(paths: &[Shared], blocked: bool) -> Vec<f32> {
         let mut values = Vec::new();
         let mut occluded = |c: &[Connection], out: &mut Vec<bool>| out.resize(c.len(), blocked);
-        let mut glossy = |_: usize, _: Vec3| unreachable!("no glossy vertex");
+        let mut glossy = |_: usize, _: Vec3| None;
         Combiner::default().combine(paths, &mut occluded, &mut glossy, &mut values);
         values.iter().map(|v| v.x).collect()
     }
@@ -568,7 +559,8 @@ mod tests {
             let (Some(x), Some(y), Some(g)) = (shared.first, shared.second, g) else {
                 continue;
             };
-            assert!(y.glossy);
+            // The vertex shared is the glossy one's hit.
+            assert_eq!(y.normal.abs(), g.hit.geometric_normal.abs());
             let wo = (x.from - y.point).normalize();
             let rebuilt = shared.own + x.albedo * g.reflected(scene.material(g.hit.material), wo);
             let tolerance = 1e-4 * value.max_element().max(1.0);
@@ -590,7 +582,6 @@ mod tests {
             point: Vec3::new(0.0, 0.0, z),
             normal,
             reflected: Vec3::ONE,
-            glossy: false,
         };
         let straight_above = area_density(&x, &y(1.0, -Vec3::Z)).unwrap();
         assert!((straight_above - std::f32::consts::FRAC_1_PI).abs() < 1e-7);
