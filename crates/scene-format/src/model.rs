@@ -297,10 +297,12 @@ pub struct RenderSettings {
     /// `samples` becomes the image's mean paths per pixel: noisy glass and
     /// shadows get more, a flat sky fewer. Unbiased: a block's share never
     /// reads its own paths. Left out, path mode decides: on in a scene lit
-    /// by an environment, unless it is denoised; else off.
+    /// by an environment, or by emitting surfaces that some material other
+    /// than a plain diffuse one (metal, plastic, glass, a highlight or a
+    /// mirror) throws about, unless it is denoised; else off.
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schemars(
-        extend("x-integrator" = "path", "x-default" = "true under an environment unless denoised, else false"),
+        extend("x-integrator" = "path", "x-default" = "true under an environment, or with emitters and a material that is not plain diffuse, unless denoised; else false"),
         example = true
     )]
     pub adaptive: Option<bool>,

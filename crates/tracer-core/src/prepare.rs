@@ -3,9 +3,10 @@
 
 use crate::alpha_mask::AlphaMask;
 use crate::bsdf::principled::Principled;
+use crate::bsdf::Bsdf;
 use crate::camera::Camera;
 use crate::geometry::{
-    Instance, Object, Placement, Plane, Shape, SharedMesh, Sphere, Triangle, UvMap,
+    Instance, Object, Placement, Plane, Shape, SharedMesh, Sphere, SurfaceHit, Triangle, UvMap,
 };
 use crate::image::{Encoding, Saturation};
 use crate::integrate::path::defaults as path_defaults;
@@ -303,12 +304,14 @@ fn light(l: &fmt::Light) -> Light {
 /// The file's `[render]` in the core's terms; path mode's estimator where
 /// the file leaves it (`integrate::path::defaults`), from its environment, whether
 /// some material of `materials` (the scene's) emits, whether some lets
-/// light through, and whether the image is denoised.
+/// light through, whether some is more than a Lambertian lobe, and whether
+/// the image is denoised.
 fn trace_settings(file: &fmt::SceneFile, materials: &[Material]) -> TraceSettings {
     let r = &file.render;
     let environment = file.environment.is_some();
     let emitters = materials.iter().any(|m| m.emission() != Vec3::ZERO);
     let glass = materials.iter().any(Material::is_transparent);
+    let glossy = materials.iter().any(|m| !is_lambertian(m));
     TraceSettings {
         max_depth: r.max_depth(),
         min_energy: r.min_energy,
@@ -322,8 +325,16 @@ fn trace_settings(file: &fmt::SceneFile, materials: &[Material]) -> TraceSetting
             .unwrap_or_else(|| path_defaults::path_reuse(environment, glass, r.denoise)),
         camera_rays: (r.camera_rays)
             .unwrap_or_else(|| path_defaults::camera_rays(environment, emitters, r.denoise)),
-        adaptive: (r.adaptive).unwrap_or_else(|| path_defaults::adaptive(environment, r.denoise)),
+        adaptive: (r.adaptive)
+            .unwrap_or_else(|| path_defaults::adaptive(environment, emitters, glossy, r.denoise)),
     }
+}
+
+/// Whether material `m` is a Lambertian lobe alone (no highlight, mirror,
+/// glass or microfacet layer), as it answers light from straight above.
+fn is_lambertian(m: &Material) -> bool {
+    let hit = SurfaceHit::facing(Vec3::Z, Vec2::ZERO);
+    Bsdf::new(m, &hit, Vec3::Z).lambert_only().is_some()
 }
 
 fn encoding(r: &fmt::RenderSettings) -> Encoding {

@@ -55,6 +55,26 @@ fn an_adaptive_courtyard_agrees_with_mitsuba_3() {
 }
 
 #[test]
+fn an_adaptive_bunny_room_agrees_with_mitsuba_3() {
+    // As tests/cornell_bunny.rs, with the room's own estimator (adaptive,
+    // path reuse and camera rays: its defaults), at a mean of 24 paths: the
+    // gold ball's caustics take the paths past the pilot.
+    let scene = scene("cornell-bunny.toml");
+    let trace = scene.trace_settings();
+    assert!(trace.adaptive, "the gold ball makes the room adaptive");
+    let reference = reference("cornell-bunny-mitsuba.exr", 256, 256);
+    let full = Region::full(256, 256);
+    let renders: Vec<Image> = (0..8)
+        .map(|seed| Image {
+            width: 256,
+            height: 256,
+            pixels: film(&scene, full, &[0..24], seed).image().pixels,
+        })
+        .collect();
+    assert_renders_agree(&renders, 24, &reference, (9216, 0.00118));
+}
+
+#[test]
 fn a_region_and_passes_hold_the_one_shot_adaptive_render_s_pixels() {
     let scene = sampled(scene("materials.toml"), true);
     let camera = scene.camera();

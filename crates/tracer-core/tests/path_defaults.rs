@@ -1,6 +1,7 @@
 //! Path mode's estimator where a scene file leaves it (`integrate::path::defaults`):
 //! path reuse and more camera rays in rooms lit by their lamps, neither
-//! under an environment, and a key the file sets kept as it is.
+//! under an environment; adaptive sampling where the noise gathers; and a
+//! key the file sets kept as it is.
 
 use std::path::Path;
 use tracer_core::prepare;
@@ -13,15 +14,20 @@ fn estimator(name: &str, set: (Option<u32>, Option<u32>)) -> (u32, u32) {
 
 /// `estimator`, the image `denoised` or not.
 fn estimator_of(name: &str, set: (Option<u32>, Option<u32>), denoised: bool) -> (u32, u32) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenes")
-        .join(name);
-    let mut file = scene_format::load_path(&path).unwrap_or_else(|e| panic!("{e}"));
+    let mut file = load(name);
     (file.render.path_reuse, file.render.camera_rays) = set;
     file.render.denoise = denoised;
     let scene = prepare(&file).expect("prepare");
     let trace = scene.trace_settings();
     (trace.path_reuse, trace.camera_rays)
+}
+
+/// `scenes/NAME`, as read.
+fn load(name: &str) -> scene_format::SceneFile {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes")
+        .join(name);
+    scene_format::load_path(&path).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Neither key set.
@@ -69,4 +75,28 @@ fn what_the_file_says_is_kept() {
     assert_eq!(estimator("cornell-box.toml", (Some(1), Some(3))), (1, 3));
     assert_eq!(estimator("materials.toml", (Some(4), Some(2))), (4, 2));
     assert_eq!(estimator("materials.toml", (None, Some(2))), (1, 2));
+}
+
+/// Whether path mode samples `scenes/NAME` adaptively where the file is
+/// silent, the image `denoised` or not.
+fn adaptive(name: &str, denoised: bool) -> bool {
+    let mut file = load(name);
+    file.render.adaptive = None;
+    file.render.denoise = denoised;
+    prepare(&file).expect("prepare").trace_settings().adaptive
+}
+
+#[test]
+fn paths_go_where_the_noise_gathers_under_a_sky_or_round_glossy_things_by_a_lamp() {
+    // Under an environment, and where a lamp is thrown about by gold or glass.
+    assert!(adaptive("materials.toml", false));
+    assert!(adaptive("courtyard.toml", false));
+    assert!(adaptive("cornell-bunny.toml", false));
+    assert!(adaptive("global-illumination.toml", false));
+    // A matte room's noise is even; a point light is never met by chance.
+    assert!(!adaptive("cornell-box.toml", false));
+    assert!(!adaptive("gltf-box.toml", false));
+    // The denoiser was measured on even noise.
+    assert!(!adaptive("cornell-bunny.toml", true));
+    assert!(!adaptive("materials.toml", true));
 }
