@@ -44,6 +44,8 @@ pub use render::{
     prepare_taking, render, render_cancellable, render_prepared, render_prepared_progressive,
     render_progressive, render_taking,
 };
-pub use rendered::{Denoising, Picture, Rendered, ShadedStats, Summary, FORCED_WHITE_WARNING};
+pub use rendered::{
+    Denoising, Estimator, Picture, Rendered, ShadedStats, Summary, FORCED_WHITE_WARNING,
+};
 pub use scene3d::{Pass, PassCallbacks, PreparedScene};
 pub use tracer_core::LinearImage;

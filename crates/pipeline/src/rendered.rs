@@ -121,6 +121,29 @@ pub struct ShadedStats {
     /// In path mode with point lights, the image's mean luminance (linear);
     /// None otherwise.
     pub point_lit_mean: Option<f32>,
+    /// In path mode, the estimator the render used: the file's keys or,
+    /// where it left them out, path mode's own choice; None in Whitted mode.
+    pub estimator: Option<Estimator>,
+}
+
+/// Path mode's estimator as `[render]`'s keys say it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Estimator {
+    pub path_reuse: u32,
+    pub camera_rays: u32,
+    pub adaptive: bool,
+}
+
+impl std::fmt::Display for Estimator {
+    /// The keys as a scene file writes them, so that a user who wants
+    /// another choice knows what to set.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "path_reuse = {}, camera_rays = {}, adaptive = {}",
+            self.path_reuse, self.camera_rays, self.adaptive
+        )
+    }
 }
 
 /// Above this share of pixels forced to white, a render warns: the lab's

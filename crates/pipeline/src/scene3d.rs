@@ -6,7 +6,7 @@
 use crate::clock::Instant;
 use crate::denoise::{Guides, Settings};
 use crate::options::{Aov, Gamma, Options};
-use crate::rendered::{Picture, ShadedStats};
+use crate::rendered::{Estimator, Picture, ShadedStats};
 use crate::Error;
 use scene_format::SceneFile;
 use std::borrow::Cow;
@@ -399,12 +399,23 @@ fn shaded(
         dropped: rays.dropped,
         cut_trees: rays.cut_trees,
         point_lit_mean: point_lit_mean(scene, &image),
+        estimator: estimator(scene),
     };
     let picture = Picture {
         linear: image,
         encoding,
     };
     (picture, stats)
+}
+
+/// The estimator a path-mode render of `scene` used.
+fn estimator(scene: &Scene) -> Option<Estimator> {
+    let trace = scene.trace_settings();
+    (trace.integrator == tracer_core::scene::Integrator::Path).then_some(Estimator {
+        path_reuse: trace.path_reuse,
+        camera_rays: trace.camera_rays,
+        adaptive: trace.adaptive,
+    })
 }
 
 /// The mean luminance of a path-mode image of a scene with point lights.

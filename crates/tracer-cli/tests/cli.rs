@@ -217,6 +217,24 @@ fn threads_change_nothing_in_the_image() {
 }
 
 #[test]
+fn a_path_mode_summary_says_the_estimator_it_used_as_keys() {
+    // Path mode chooses these where the file is silent (the bunny's room
+    // sets none of them); the summary tells a user what to set.
+    let dir = tempfile::tempdir().unwrap();
+    let s = scene("cornell-bunny.toml");
+    let run = tracer(dir.path(), &["render", &s, "--samples", "1", "-o", "b.png"]);
+    assert!(run.status.success());
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    let keys = "path_reuse = 8, camera_rays = 8, adaptive = true -> b.png";
+    assert!(stderr.contains(keys), "{stderr}");
+    // The lab's Whitted mode has none.
+    let s = scene("reflectance2.toml");
+    let run = tracer(dir.path(), &["render", &s, "-o", "r.png"]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(!stderr.contains("path_reuse"), "{stderr}");
+}
+
+#[test]
 fn quiet_prints_nothing_on_success() {
     let dir = tempfile::tempdir().unwrap();
     let s = scene("sphere-intersection.toml");

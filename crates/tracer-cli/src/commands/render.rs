@@ -364,12 +364,16 @@ pub(crate) fn summary(scene: &Path, rendered: &Rendered, threads: usize, output:
     match &rendered.summary {
         Summary::Shaded(stats) => format!(
             "rendered {scene} ({width}x{height}, {}) in {:.3} s ({:.3} s to prepare), \
-             {:.1} Mrays/s on {threads} thread{}{} -> {output}",
+             {:.1} Mrays/s on {threads} thread{}{}{} -> {output}",
             objects_summary(stats),
             stats.render_seconds,
             stats.prepare_seconds,
             stats.rays as f64 / stats.render_seconds.max(1e-9) / 1e6,
             plural(threads),
+            stats
+                .estimator
+                .map(|e| format!(", {e}"))
+                .unwrap_or_default(),
             rendered
                 .denoising
                 .as_deref()
