@@ -37,20 +37,26 @@ fn film(scene: &Scene, region: Region, passes: &[std::ops::Range<u32>], seed: u3
     film
 }
 
+/// Eight renders of `scene`'s whole image of `width` x `height`, each of
+/// one pass of `samples` paths a pixel, each scrambled by its own seed.
+fn whole_renders(scene: &Scene, (width, height): (usize, usize), samples: u32) -> Vec<Image> {
+    let full = Region::full(width as u32, height as u32);
+    (0..8)
+        .map(|seed| Image {
+            width,
+            height,
+            pixels: film(scene, full, &[0..samples], seed).image().pixels,
+        })
+        .collect()
+}
+
 #[test]
 fn an_adaptive_courtyard_agrees_with_mitsuba_3() {
     // As tests/courtyard.rs, at a mean of 24 paths a pixel: 8 of pilot,
     // the rest shared out by noise.
     let scene = sampled(scene("courtyard.toml"), true);
     let reference = reference("courtyard-mitsuba.exr", 320, 240);
-    let full = Region::full(320, 240);
-    let renders: Vec<Image> = (0..8)
-        .map(|seed| Image {
-            width: 320,
-            height: 240,
-            pixels: film(&scene, full, &[0..24], seed).image().pixels,
-        })
-        .collect();
+    let renders = whole_renders(&scene, (320, 240), 24);
     assert_renders_agree(&renders, 24, &reference, (9216, 0.00254));
 }
 
@@ -63,14 +69,7 @@ fn an_adaptive_bunny_room_agrees_with_mitsuba_3() {
     let trace = scene.trace_settings();
     assert!(trace.adaptive, "the gold ball makes the room adaptive");
     let reference = reference("cornell-bunny-mitsuba.exr", 256, 256);
-    let full = Region::full(256, 256);
-    let renders: Vec<Image> = (0..8)
-        .map(|seed| Image {
-            width: 256,
-            height: 256,
-            pixels: film(&scene, full, &[0..24], seed).image().pixels,
-        })
-        .collect();
+    let renders = whole_renders(&scene, (256, 256), 24);
     assert_renders_agree(&renders, 24, &reference, (9216, 0.00118));
 }
 
