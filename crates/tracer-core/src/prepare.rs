@@ -2,11 +2,11 @@
 //! where the core reads the file format's types.
 
 use crate::alpha_mask::AlphaMask;
+use crate::bsdf;
 use crate::bsdf::principled::Principled;
-use crate::bsdf::Bsdf;
 use crate::camera::Camera;
 use crate::geometry::{
-    Instance, Object, Placement, Plane, Shape, SharedMesh, Sphere, SurfaceHit, Triangle, UvMap,
+    Instance, Object, Placement, Plane, Shape, SharedMesh, Sphere, Triangle, UvMap,
 };
 use crate::image::{Encoding, Saturation};
 use crate::integrate::path::defaults as path_defaults;
@@ -311,7 +311,7 @@ fn trace_settings(file: &fmt::SceneFile, materials: &[Material]) -> TraceSetting
     let environment = file.environment.is_some();
     let emitters = materials.iter().any(|m| m.emission() != Vec3::ZERO);
     let glass = materials.iter().any(Material::is_transparent);
-    let glossy = materials.iter().any(|m| !is_lambertian(m));
+    let glossy = materials.iter().any(|m| bsdf::lambert_only(m).is_none());
     TraceSettings {
         max_depth: r.max_depth(),
         min_energy: r.min_energy,
@@ -328,13 +328,6 @@ fn trace_settings(file: &fmt::SceneFile, materials: &[Material]) -> TraceSetting
         adaptive: (r.adaptive)
             .unwrap_or_else(|| path_defaults::adaptive(environment, emitters, glossy, r.denoise)),
     }
-}
-
-/// Whether material `m` is a Lambertian lobe alone (no highlight, mirror,
-/// glass or microfacet layer), as it answers light from straight above.
-fn is_lambertian(m: &Material) -> bool {
-    let hit = SurfaceHit::facing(Vec3::Z, Vec2::ZERO);
-    Bsdf::new(m, &hit, Vec3::Z).lambert_only().is_some()
 }
 
 fn encoding(r: &fmt::RenderSettings) -> Encoding {

@@ -43,6 +43,18 @@ use crate::material::Material;
 use glam::{Vec2, Vec3};
 use principled::PrincipledBsdf;
 
+/// Material `m`'s Lambertian lobe, if that is its only lobe (no highlight,
+/// mirror, glass or microfacet layer): its albedo and the chance its
+/// sampling picks it (1, or 0 when it reflects nothing), as `LabBsdf`
+/// builds it at any hit.
+pub fn lambert_only(m: &Material) -> Option<(Vec3, f32)> {
+    if matches!(m, Material::Principled(_)) {
+        return None;
+    }
+    let hit = SurfaceHit::facing(Vec3::Z, Vec2::ZERO);
+    LabBsdf::new(m, &hit, Vec3::Z).lambert_only()
+}
+
 /// A direction drawn by `Bsdf::sample`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BsdfSample {

@@ -34,8 +34,8 @@ mod rays;
 mod shade;
 
 use super::reuse::{self, Connection, FirstVertex, Shared};
-use crate::bsdf::LabBsdf;
-use crate::geometry::{Object, Shape, SurfaceHit};
+use crate::bsdf;
+use crate::geometry::{Object, Shape};
 use crate::integrate::RayStats;
 use crate::light::lights::Lights;
 use crate::light::Light;
@@ -45,7 +45,7 @@ use crate::sampler::{LaneSamplers, PixelSampler};
 use crate::sampling::mis::power_heuristic;
 use crate::scene::{Integrator, Scene};
 use crate::simd::{F16, V3};
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use groups::Groups;
 use multiversion::multiversion;
 use rays::Rays;
@@ -198,8 +198,7 @@ fn matte(m: &Material) -> Option<Matte> {
     if p.texture.is_some() || p.color_texture.is_some() || p.emission_texture.is_some() {
         return None;
     }
-    let hit = SurfaceHit::facing(Vec3::Z, Vec2::ZERO);
-    let (albedo, p_lambert) = LabBsdf::new(m, &hit, Vec3::Z).lambert_only()?;
+    let (albedo, p_lambert) = bsdf::lambert_only(m)?;
     Some(Matte {
         albedo,
         p_lambert,
