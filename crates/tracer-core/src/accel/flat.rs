@@ -1,7 +1,7 @@
-//! Small scenes searched without the tree: when every primitive sits in
-//! the root's leaves and there are only a few, testing them all costs
-//! less than the traversal around them (the ray's inverse direction, the
-//! thread's stack, the root's boxes, the pushes and pops).
+//! Small scenes searched without the tree: when there are only a few
+//! primitives, testing them all costs less than the traversal around them
+//! (the ray's inverse direction, the thread's stack, the root's boxes, the
+//! pushes and pops).
 //!
 //! The hits are the tree's and the brute-force loop's: the same tests on
 //! the same records, offered to the same `Best`, whose rule (nearer, or as
@@ -13,24 +13,34 @@ use super::Bvh;
 use crate::ray::Ray;
 
 /// Scenes of up to this many primitives (spheres and triangles, each
-/// counted) are searched flat. A sphere's test costs about what the
-/// traversal's setup and the root's box test cost, so a few are cheaper
-/// flat (2 spheres: 12 % less time, path traced; 4: 7 %; 6: level; 8: 6 %
-/// more). Triangles come four to a test, and the root's boxes cull them
-/// often: with more than a few the tree was faster (the courtyard's 2
-/// spheres and 14 triangles: 6 % less time through the tree,
-/// `textures.toml`'s 1 and 14: 40 %, 16 triangles: 35 %). Every scene the
-/// lab's four-lane form takes (`integrate/lanes.rs`: at most 8 objects,
-/// each tested) is searched flat, so the two meet the same hits even where
-/// rounding decides (a ray grazing a sphere of radius 0).
+/// counted) are searched flat. Every scene the lab's four-lane form takes
+/// (`integrate/lanes.rs`: at most 8 objects, each tested) is, so the two
+/// meet the same hits even where rounding decides (a ray grazing a sphere
+/// of radius 0).
 pub(super) const FLAT_MAX: usize = 8;
 
+/// Larger scenes of spheres in up to this many blocks of four
+/// (`sphere4.rs`) and at most one block of triangles are searched flat too:
+/// four blocks' tests cost less than the walk (`scenes/materials.toml`, 10
+/// spheres and a quad: 9 to 12 % less time, path traced, 1 thread; 16
+/// spheres and a quad: 8 %). Triangles come four to a test too, but the
+/// root's boxes cull them often: with more than a few the tree was faster
+/// (the courtyard's 2 spheres and 14 triangles: 6 % less time through the
+/// tree, `textures.toml`'s 1 and 14: 40 %, 16 triangles: 35 %).
+const FLAT_SPHERE_BLOCKS: usize = 4;
+
+/// Whether a scene of `spheres` and `triangles` (its planes and instances
+/// left out) is searched flat.
+pub(super) fn few(spheres: usize, triangles: usize) -> bool {
+    spheres + triangles <= FLAT_MAX || (spheres.div_ceil(4) <= FLAT_SPHERE_BLOCKS && triangles <= 4)
+}
+
 impl Bvh {
-    /// Whether the scene is small enough to be searched flat: one node
-    /// (all its lanes leaves) and a few primitives (`few`, set by `build`).
+    /// Whether the scene is small enough to be searched flat (`few`, as
+    /// `build` found it).
     #[inline(always)]
     pub(super) fn is_flat(&self) -> bool {
-        self.few && self.nodes.len() == 1
+        self.few
     }
 
     /// Offers `best` every hit of the spheres and triangles.
@@ -63,12 +73,20 @@ mod tests {
 
     /// A few spheres and triangles (and sometimes a plane) close together,
     /// some of them copies of others: ties the object listed first wins.
+    /// Past 12 objects, all but two triangles are spheres.
     fn small_scene(rng: &mut Rng, n: usize) -> Vec<Object> {
         let mut objects: Vec<Object> = (0..n)
             .map(|i| {
                 let c = rng.vec(2.0);
-                let shape = if i % 2 == 0 {
-                    Shape::Sphere(Sphere::new(c, 0.2 + 0.8 * rng.next().abs()))
+                let radius = 0.2 + 0.8 * rng.next().abs();
+                let shape = if i % 6 == 4 {
+                    // An ellipsoid, stretched and turned: tested alone.
+                    let axes = Vec3::new(1.0, 0.3, 0.6);
+                    let turn = glam::Mat3::from_axis_angle(Vec3::X, rng.next() * 3.0);
+                    let linear = turn * glam::Mat3::from_diagonal(axes);
+                    Shape::Sphere(Sphere::ellipsoid(c, radius, linear))
+                } else if i % 2 == 0 || (n > 12 && i >= 4) {
+                    Shape::Sphere(Sphere::new(c, radius))
                 } else {
                     Shape::Triangle(Triangle::new(c, c + rng.vec(2.0), c + rng.vec(2.0)))
                 };
@@ -89,7 +107,7 @@ mod tests {
     fn small_scenes_searched_flat_find_exactly_the_brute_force_hits() {
         let mut rng = Rng(0xF1A7);
         let (mut flat_scenes, mut hits) = (0, 0);
-        for n in 1..=12 {
+        for n in 1..=20 {
             for _ in 0..6 {
                 let objects = small_scene(&mut rng, n);
                 let bvh = Bvh::build(&objects);
@@ -117,8 +135,8 @@ mod tests {
             }
         }
         // Most of these scenes are searched flat, and the rays meet things.
-        assert!(flat_scenes >= 40, "only {flat_scenes} flat scenes of 72");
-        assert!(hits > 15_000, "only {hits} hits");
+        assert!(flat_scenes >= 70, "only {flat_scenes} flat scenes of 120");
+        assert!(hits > 25_000, "only {hits} hits");
     }
 
     #[test]
@@ -129,7 +147,9 @@ mod tests {
             (0..n).map(|_| Object::new(sphere(rng), 0)).collect()
         };
         assert!(Bvh::build(&spheres(FLAT_MAX, &mut rng)).is_flat());
-        assert!(!Bvh::build(&spheres(FLAT_MAX + 1, &mut rng)).is_flat());
+        // Spheres are tested four at a time: up to four such blocks.
+        assert!(Bvh::build(&spheres(16, &mut rng)).is_flat());
+        assert!(!Bvh::build(&spheres(17, &mut rng)).is_flat());
         assert!(!Bvh::build(&spheres(200, &mut rng)).is_flat());
         assert!(!Bvh::build(&[]).is_flat());
         // The lab's final scene: three spheres and a mirror of two triangles.
@@ -155,5 +175,12 @@ mod tests {
         more.extend(lab[3..].iter().cloned().cycle().take(4));
         assert_eq!(more.len(), 9);
         assert!(!Bvh::build(&more).is_flat());
+        // The materials scene: ten spheres on a quad's two triangles.
+        let mut balls = spheres(10, &mut rng);
+        balls.extend(lab[3..].iter().cloned());
+        assert!(Bvh::build(&balls).is_flat());
+        // Beside more than one block of triangles, spheres go to the tree.
+        balls.extend(lab[3..].iter().cloned().cycle().take(3));
+        assert!(!Bvh::build(&balls).is_flat());
     }
 }

@@ -28,6 +28,7 @@ mod instances;
 mod leaves;
 mod masked;
 mod packet;
+mod sphere4;
 mod traverse;
 mod tri4;
 mod wide;
@@ -41,6 +42,7 @@ use instances::InstanceTree;
 use leaves::{pack_leaves, SpherePrim};
 pub use packet::PACKET;
 use serde::{Deserialize, Serialize};
+use sphere4::Sphere4;
 use std::ops::Range;
 use std::sync::Arc;
 use traverse::{walk_any, walk_nearest, with_stack, Best, Entry, HitAt, RayData};
@@ -57,6 +59,9 @@ pub struct Bvh {
     #[serde(with = "as_bytes")]
     tris: Vec<Tri4>,
     spheres: Vec<SpherePrim>,
+    /// The spheres four to a block, as their SIMD test reads them.
+    #[serde(with = "as_bytes")]
+    sphere4: Vec<Sphere4>,
     /// The unbounded objects, in list order.
     planes: Vec<PlanePrim>,
     /// The triangles whose barycentrics map to another uv (quads' and
@@ -73,8 +78,8 @@ pub struct Bvh {
     /// Where triangles are cut out, by the material index their blocks
     /// hold (`with_masks`); None in most scenes, whose search never looks.
     masks: Option<Box<[Option<Arc<AlphaMask>>]>>,
-    /// Whether the spheres and triangles are at most `flat::FLAT_MAX`:
-    /// then a single node's are searched flat (`flat.rs`).
+    /// Whether the spheres and triangles are few enough to be searched
+    /// flat (`flat::few`).
     few: bool,
     /// The instances, in a tree of their own. Never serialized: a mesh
     /// shared by instances would be written once for each (the scene's
@@ -134,13 +139,15 @@ impl Bvh {
         if items.is_empty() {
             return bvh;
         }
-        bvh.few = count <= flat::FLAT_MAX;
+        let spheres = items.iter().filter(|p| p.sphere()).count();
+        bvh.few = flat::few(spheres, count - spheres);
         let mut nodes = wide::build(items);
         // The leaves need only the order of the objects: 4 bytes each, where
         // the build's primitives (written over by the blocks) took 32.
         let order: Vec<u32> = items.iter().map(BuildPrim::id).collect();
         storage.clear();
         (bvh.tris, bvh.spheres) = pack_leaves(&mut nodes, &order, objects, storage);
+        bvh.sphere4 = Sphere4::blocks(&bvh.spheres);
         // The primitives' pages past the blocks (a scene of spheres has few
         // blocks) would stay resident for the tree's life. (A mesh's blocks
         // cover them: a block's 192 bytes hold four triangles, whose
@@ -321,10 +328,25 @@ impl Bvh {
     /// Offers `best` the hits on spheres `run`.
     #[inline(always)]
     fn offer_spheres(&self, run: Range<usize>, ray: &Ray, t_min: f32, t_max: f32, best: &mut Best) {
-        for k in run {
-            let s = &self.spheres[k];
-            if let Some(t) = s.sphere.intersect(ray, t_min, best.limit(t_max)) {
-                best.offer(t, s.id, t_max, HitAt::Sphere(k));
+        for block in sphere4::blocks_of(&run) {
+            let four = &self.sphere4[block];
+            let lanes = sphere4::lanes_in(block, &run);
+            let (hits, t) = four.intersect(ray, t_min, best.limit(t_max));
+            let mut found = hits & lanes;
+            while found != 0 {
+                let lane = found.trailing_zeros() as usize;
+                found &= found - 1;
+                let k = block * 4 + lane;
+                best.offer(t[lane], self.spheres[k].id, t_max, HitAt::Sphere(k));
+            }
+            let mut stretched = four.stretched() & lanes;
+            while stretched != 0 {
+                let k = block * 4 + stretched.trailing_zeros() as usize;
+                stretched &= stretched - 1;
+                let s = &self.spheres[k];
+                if let Some(t) = s.sphere.intersect(ray, t_min, best.limit(t_max)) {
+                    best.offer(t, s.id, t_max, HitAt::Sphere(k));
+                }
             }
         }
     }
@@ -423,9 +445,26 @@ impl Bvh {
     /// Whether one of spheres `run` lies on the ray in (t_min, t_max).
     #[inline(always)]
     fn any_sphere(&self, run: Range<usize>, ray: &Ray, t_min: f32, t_max: f32) -> bool {
-        self.spheres[run]
-            .iter()
-            .any(|s| s.sphere.intersect(ray, t_min, t_max).is_some())
+        sphere4::blocks_of(&run).any(|block| {
+            let four = &self.sphere4[block];
+            let lanes = sphere4::lanes_in(block, &run);
+            if four.intersect(ray, t_min, t_max).0 & lanes != 0 {
+                return true;
+            }
+            let mut stretched = four.stretched() & lanes;
+            while stretched != 0 {
+                let k = block * 4 + stretched.trailing_zeros() as usize;
+                stretched &= stretched - 1;
+                if self.spheres[k]
+                    .sphere
+                    .intersect(ray, t_min, t_max)
+                    .is_some()
+                {
+                    return true;
+                }
+            }
+            false
+        })
     }
 
     /// Whether one of triangle blocks `run` lies on the ray in (t_min, t_max).
@@ -748,32 +787,35 @@ mod tests {
 
     #[test]
     fn a_ray_along_an_axis_grazing_a_sphere_finds_what_brute_force_finds() {
-        // Spheres enough for a tree (not the flat search), each grazed on
-        // its top, along x and along z: the quadratic's root is double,
-        // the ray runs in its box's top face, where 0 times the inverse of
-        // the direction's 0 must not shut it out.
-        let objects: Vec<Object> = (0..12)
-            .map(|k| {
-                let c = Vec3::new(3.0 * (k % 4) as f32, -1.0, 3.0 * (k / 4) as f32);
-                Object::new(Shape::Sphere(Sphere::new(c, 1.0)), 0)
-            })
-            .collect();
-        let bvh = Bvh::build(&objects);
-        assert!(!bvh.is_flat());
-        for k in 0..12 {
-            let (x, z) = (3.0 * (k % 4) as f32, 3.0 * (k / 4) as f32);
-            for ray in [
-                Ray::new(Vec3::new(-5.0, 0.0, z), Vec3::X),
-                Ray::new(Vec3::new(x, 0.0, -5.0), Vec3::Z),
-            ] {
-                let expected = brute_force::closest_hit(&objects, &ray, 1e-4, f32::INFINITY);
-                assert!(expected.is_some(), "{ray:?}");
-                assert_eq!(
-                    bvh.closest_hit(&ray, 1e-4, f32::INFINITY),
-                    expected,
-                    "{ray:?}"
-                );
-                assert!(bvh.occluded(&ray, 1e-4, f32::INFINITY), "{ray:?}");
+        // Spheres each grazed on its top, along x and along z: the
+        // quadratic's root is double. In a tree (20 spheres), the ray runs
+        // in its box's top face, where 0 times the inverse of the
+        // direction's 0 must not shut it out; searched flat (12), four
+        // spheres at a time.
+        for (n, flat) in [(20, false), (12, true)] {
+            let objects: Vec<Object> = (0..n)
+                .map(|k| {
+                    let c = Vec3::new(3.0 * (k % 4) as f32, -1.0, 3.0 * (k / 4) as f32);
+                    Object::new(Shape::Sphere(Sphere::new(c, 1.0)), 0)
+                })
+                .collect();
+            let bvh = Bvh::build(&objects);
+            assert_eq!(bvh.is_flat(), flat);
+            for k in 0..n {
+                let (x, z) = (3.0 * (k % 4) as f32, 3.0 * (k / 4) as f32);
+                for ray in [
+                    Ray::new(Vec3::new(-5.0, 0.0, z), Vec3::X),
+                    Ray::new(Vec3::new(x, 0.0, -5.0), Vec3::Z),
+                ] {
+                    let expected = brute_force::closest_hit(&objects, &ray, 1e-4, f32::INFINITY);
+                    assert!(expected.is_some(), "{ray:?}");
+                    assert_eq!(
+                        bvh.closest_hit(&ray, 1e-4, f32::INFINITY),
+                        expected,
+                        "{ray:?}"
+                    );
+                    assert!(bvh.occluded(&ray, 1e-4, f32::INFINITY), "{ray:?}");
+                }
             }
         }
     }
