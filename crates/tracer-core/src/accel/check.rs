@@ -31,6 +31,13 @@ impl Bvh {
         for sphere in &self.spheres {
             material(sphere.material(), "a sphere")?;
         }
+        if self.sphere4.len() != self.spheres.len().div_ceil(4) {
+            return Err(format!(
+                "{} blocks of four spheres for {} spheres",
+                self.sphere4.len(),
+                self.spheres.len()
+            ));
+        }
         for plane in &self.planes {
             material(plane.material, "a plane")?;
         }
@@ -138,6 +145,14 @@ mod tests {
             past.check(1).unwrap_err().contains("of 10"),
             "{:?}",
             past.check(1)
+        );
+        // Fewer blocks of four than the spheres fill.
+        let mut short = bvh.clone();
+        short.sphere4.pop();
+        let error = short.check(1).unwrap_err();
+        assert!(
+            error.contains("49 blocks of four spheres for 200"),
+            "{error}"
         );
     }
 }
