@@ -39,7 +39,8 @@ pub struct PrincipledBsdf {
     wo: Vec3,
     conductor: Conductor,
     dielectric: Dielectric,
-    plastic: Plastic,
+    /// None where its weight is 0 (a metal, glass): never asked then.
+    plastic: Option<Plastic>,
     /// Each lobe's share of the mixture.
     weight: [f32; 3],
     /// The probability of sampling each: its share times an estimate of
@@ -66,13 +67,14 @@ impl PrincipledBsdf {
         };
         let conductor = Conductor { f0: color, ggx };
         let dielectric = Dielectric::new(ior, front_face, ggx, color);
-        let plastic = Plastic::new(color, ior, ggx);
         let (metallic, transmission) = (unit(params.metallic), unit(params.transmission));
         let weight = [
             metallic,
             (1.0 - metallic) * transmission,
             (1.0 - metallic) * (1.0 - transmission),
         ];
+        // Its table's look-ups cost a tenth of a metal's or glass's hit.
+        let plastic = (weight[PLASTIC] > 0.0).then(|| Plastic::new(color, ior, ggx));
         // A lobe of no weight is never picked: its estimate is not needed.
         let estimate = |lobe: usize, albedo: &dyn Fn() -> f32| {
             if weight[lobe] > 0.0 {
@@ -84,7 +86,7 @@ impl PrincipledBsdf {
         let albedo = [
             estimate(CONDUCTOR, &|| conductor.albedo_estimate()),
             estimate(DIELECTRIC, &|| dielectric.albedo_estimate(wo)),
-            estimate(PLASTIC, &|| plastic.albedo_estimate(wo)),
+            plastic.map_or(0.0, |p| p.albedo_estimate(wo)),
         ];
         let mut prob = [0.0; 3];
         let total: f32 = (0..3).map(|i| weight[i] * albedo[i]).sum();
@@ -106,7 +108,8 @@ impl PrincipledBsdf {
     pub fn has_smooth_lobes(&self) -> bool {
         (self.prob[CONDUCTOR] > 0.0 && !self.conductor.is_smooth())
             || (self.prob[DIELECTRIC] > 0.0 && !self.dielectric.is_smooth())
-            || (self.prob[PLASTIC] > 0.0 && self.plastic.has_smooth_part())
+            || (self.prob[PLASTIC] > 0.0
+                && self.plastic.as_ref().is_some_and(|p| p.has_smooth_part()))
     }
 
     /// Whether no lobe transmits and none is a single direction (the
@@ -138,7 +141,10 @@ impl PrincipledBsdf {
         match lobe {
             CONDUCTOR => self.conductor.eval(self.wo, wi),
             DIELECTRIC => self.dielectric.eval(self.wo, wi),
-            _ => self.plastic.eval(self.wo, wi),
+            _ => self
+                .plastic
+                .as_ref()
+                .map_or((Vec3::ZERO, 0.0), |p| p.eval(self.wo, wi)),
         }
     }
 
@@ -154,7 +160,10 @@ impl PrincipledBsdf {
         let s = match lobe {
             CONDUCTOR => self.conductor.sample(self.wo, u),
             DIELECTRIC => self.dielectric.sample(self.wo, pick, u),
-            _ => self.plastic.sample(self.wo, pick, u),
+            _ => self
+                .plastic
+                .as_ref()
+                .and_then(|p| p.sample(self.wo, pick, u)),
         }?;
         if s.specular {
             let p = self.prob[lobe];
