@@ -40,6 +40,7 @@ use build::{BuildPrim, PrimStore};
 use glam::{Vec3, Vec4};
 use instances::InstanceTree;
 use leaves::{pack_leaves, SpherePrim};
+use packet::ones;
 pub use packet::PACKET;
 use serde::{Deserialize, Serialize};
 use sphere4::Sphere4;
@@ -329,20 +330,13 @@ impl Bvh {
     #[inline(always)]
     fn offer_spheres(&self, run: Range<usize>, ray: &Ray, t_min: f32, t_max: f32, best: &mut Best) {
         for block in sphere4::blocks_of(&run) {
-            let four = &self.sphere4[block];
-            let lanes = sphere4::lanes_in(block, &run);
+            let (four, lanes) = (&self.sphere4[block], sphere4::lanes_in(block, &run));
             let (hits, t) = four.intersect(ray, t_min, best.limit(t_max));
-            let mut found = hits & lanes;
-            while found != 0 {
-                let lane = found.trailing_zeros() as usize;
-                found &= found - 1;
+            for lane in ones(hits & lanes) {
                 let k = block * 4 + lane;
                 best.offer(t[lane], self.spheres[k].id, t_max, HitAt::Sphere(k));
             }
-            let mut stretched = four.stretched() & lanes;
-            while stretched != 0 {
-                let k = block * 4 + stretched.trailing_zeros() as usize;
-                stretched &= stretched - 1;
+            for k in ones(four.stretched() & lanes).map(|lane| block * 4 + lane) {
                 let s = &self.spheres[k];
                 if let Some(t) = s.sphere.intersect(ray, t_min, best.limit(t_max)) {
                     best.offer(t, s.id, t_max, HitAt::Sphere(k));
@@ -446,24 +440,13 @@ impl Bvh {
     #[inline(always)]
     fn any_sphere(&self, run: Range<usize>, ray: &Ray, t_min: f32, t_max: f32) -> bool {
         sphere4::blocks_of(&run).any(|block| {
-            let four = &self.sphere4[block];
-            let lanes = sphere4::lanes_in(block, &run);
-            if four.intersect(ray, t_min, t_max).0 & lanes != 0 {
-                return true;
-            }
-            let mut stretched = four.stretched() & lanes;
-            while stretched != 0 {
-                let k = block * 4 + stretched.trailing_zeros() as usize;
-                stretched &= stretched - 1;
-                if self.spheres[k]
-                    .sphere
-                    .intersect(ray, t_min, t_max)
-                    .is_some()
-                {
-                    return true;
-                }
-            }
-            false
+            let (four, lanes) = (&self.sphere4[block], sphere4::lanes_in(block, &run));
+            let alone = |lane: usize| {
+                let sphere = &self.spheres[block * 4 + lane].sphere;
+                sphere.intersect(ray, t_min, t_max).is_some()
+            };
+            four.intersect(ray, t_min, t_max).0 & lanes != 0
+                || ones(four.stretched() & lanes).any(alone)
         })
     }
 

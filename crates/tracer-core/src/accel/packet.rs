@@ -502,7 +502,7 @@ fn all(n: usize) -> u32 {
 
 /// The bits set in `mask`, lowest first.
 #[inline(always)]
-fn ones(mut mask: u32) -> impl Iterator<Item = usize> {
+pub(super) fn ones(mut mask: u32) -> impl Iterator<Item = usize> {
     std::iter::from_fn(move || {
         (mask != 0).then(|| {
             let i = mask.trailing_zeros() as usize;
