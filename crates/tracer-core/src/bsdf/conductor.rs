@@ -3,21 +3,22 @@
 //! Fresnel term with its colour at normal incidence F0 (the principled
 //! material's `base_color`, as glTF 2.0 takes it).
 
-use super::microfacet::{reflect_about, Ggx};
+use super::microfacet::{self, Ggx};
 use super::specular::reflect;
 use super::BsdfSample;
+use crate::simd::{Real, V3};
 use glam::{Vec2, Vec3};
 
 /// Schlick's approximation: F0 + (1 - F0)(1 - cos)^5.
 #[inline(always)]
-pub fn schlick(f0: Vec3, cos: f32) -> Vec3 {
-    f0 + (Vec3::ONE - f0) * schlick_weight(cos)
+pub fn schlick<N: Real>(f0: V3<N>, cos: N) -> V3<N> {
+    f0 + (V3::splat(Vec3::ONE) - f0) * schlick_weight(cos)
 }
 
 /// (1 - cos)^5, Schlick's share of 1 - F0 at `cos`.
 #[inline(always)]
-pub fn schlick_weight(cos: f32) -> f32 {
-    let c = 1.0 - cos.clamp(0.0, 1.0);
+pub fn schlick_weight<N: Real>(cos: N) -> N {
+    let c = N::one() - cos.clamp(0.0, 1.0);
     let c2 = c * c;
     c2 * c2 * c
 }
@@ -43,28 +44,22 @@ impl Conductor {
         f0 + (1.0 - f0) / 21.0
     }
 
-    /// f |cos theta_i| toward local `wi` and the density `sample` gives it:
-    /// the microfacet BRDF D G2 F / (4 cos_o cos_i), F at the half vector.
-    /// Nothing for a mirror (its lobe is a single direction).
+    /// f |cos theta_i| toward local `wi` and the density `sample` gives it
+    /// (`eval_rough`); nothing for a mirror (its lobe is a single
+    /// direction).
     #[inline(always)]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+        // What the lanes' mask would give, without working it out.
         if self.is_smooth() || wo.z <= 0.0 || wi.z <= 0.0 {
             return (Vec3::ZERO, 0.0);
         }
-        let Some(m) = (wo + wi).try_normalize() else {
-            return (Vec3::ZERO, 0.0);
-        };
-        let cos = wo.dot(m);
-        let d = self.ggx.d(m);
-        let f = schlick(self.f0, cos) * (d * self.ggx.g2(wo, wi) / (4.0 * wo.z));
-        // The reflection's Jacobian from m to wi: 1 / (4 wo.m).
-        let pdf = self.ggx.visible_d(wo, m) / (4.0 * cos).max(f32::MIN_POSITIVE);
-        (f, pdf)
+        let (f, pdf) = eval_rough(V3::from(self.f0), self.ggx.alpha, wo.into(), wi.into());
+        (f.into(), pdf)
     }
 
     /// A direction toward local `wi` (in `BsdfSample::wi`): the mirror's,
-    /// or wo mirrored about a visible normal (weight F G2 / G1(wo)). None
-    /// when the reflection falls below the surface.
+    /// or wo mirrored about a visible normal (`sample_rough`). None when
+    /// the reflection falls below the surface.
     #[inline(always)]
     pub fn sample(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
         if wo.z <= 0.0 {
@@ -73,26 +68,123 @@ impl Conductor {
         if self.is_smooth() {
             return Some(BsdfSample {
                 wi: reflect(wo),
-                weight: schlick(self.f0, wo.z),
+                weight: schlick(V3::from(self.f0), wo.z).into(),
                 pdf: 1.0,
                 specular: true,
                 transmitted: false,
                 eta: 1.0,
             });
         }
-        let m = self.ggx.sample_visible(wo, u);
-        let cos = wo.dot(m);
-        let wi = reflect_about(wo, m);
-        if wi.z <= 0.0 || cos <= 0.0 {
-            return None;
-        }
-        Some(BsdfSample {
-            wi,
-            weight: schlick(self.f0, cos) * self.ggx.g2_over_g1(wo, wi),
-            pdf: self.ggx.visible_d(wo, m) / (4.0 * cos),
+        let f0 = V3::from(self.f0);
+        let s = sample_rough(f0, self.ggx.alpha, wo.into(), (u.x, u.y));
+        s.ok.then(|| BsdfSample {
+            wi: s.wi.into(),
+            weight: s.weight.into(),
+            pdf: s.pdf,
             specular: false,
             transmitted: false,
             eta: 1.0,
         })
+    }
+}
+
+// The rough lobe's formulas, for any lane width (`simd::Real`): the
+// one-path tracer's `Conductor` instantiates them on f32.
+
+/// The rough metal of reflectance `f0` and GGX width `alpha`: f |cos
+/// theta_i| toward local `wi`, the microfacet BRDF D G2 F / (4 cos_o
+/// cos_i) with F at the half vector, and the density `sample_rough` gives
+/// it; nothing where `wo` or `wi` is below the surface.
+#[inline(always)]
+pub fn eval_rough<N: Real>(f0: V3<N>, alpha: N, wo: V3<N>, wi: V3<N>) -> (V3<N>, N) {
+    let (m, half) = (wo + wi).try_normalize();
+    let cos = wo.dot(m);
+    let d = microfacet::d(alpha, m);
+    let g2 = microfacet::g1(alpha, wo) * microfacet::g1(alpha, wi);
+    let f = schlick(f0, cos) * (d * g2 / (N::splat(4.0) * wo.z));
+    // The reflection's Jacobian from m to wi: 1 / (4 wo.m).
+    let jacobian = (N::splat(4.0) * cos).max(N::splat(f32::MIN_POSITIVE));
+    let pdf = microfacet::visible_d(alpha, wo, m) / jacobian;
+    // Tested as `<=`, so that a NaN goes through as a NaN.
+    let above = !wo.z.le(N::zero()) & !wi.z.le(N::zero()) & half;
+    (
+        V3::select(above, f, V3::zero()),
+        N::select(above, pdf, N::zero()),
+    )
+}
+
+/// A sample of the rough lobe: the direction, its weight f |cos| / pdf,
+/// its density, and where there is one (`ok`).
+pub struct RoughSample<N: Real> {
+    pub wi: V3<N>,
+    pub weight: V3<N>,
+    pub pdf: N,
+    pub ok: N::Mask,
+}
+
+/// `wo` (above the surface) mirrored about a normal it sees, drawn by `u`:
+/// weight F G2 / G1(wo) = F G1(wi). None (`ok` unset) when the reflection
+/// falls below the surface.
+#[inline(always)]
+pub fn sample_rough<N: Real>(f0: V3<N>, alpha: N, wo: V3<N>, u: (N, N)) -> RoughSample<N> {
+    let m = microfacet::sample_visible(alpha, wo, u);
+    let cos = wo.dot(m);
+    let wi = microfacet::reflect_about(wo, m);
+    RoughSample {
+        wi,
+        weight: schlick(f0, cos) * microfacet::g1(alpha, wi),
+        pdf: microfacet::visible_d(alpha, wo, m) / (N::splat(4.0) * cos),
+        ok: !wi.z.le(N::zero()) & !cos.le(N::zero()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bsdf::microfacet::tests::direction;
+    use crate::sampling::Rng;
+    use crate::simd::{Mask, F16};
+
+    /// Sixteen lanes give each lane's one-lane value, bit for bit: the
+    /// rough lobe is written once, and `Conductor` is it on f32.
+    #[test]
+    fn a_rough_metal_in_lanes_is_the_one_lane_metal() {
+        let mut rng = Rng::new(5);
+        let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+        for round in 0..300 {
+            let alphas = [0.002, 0.0625, 0.3, 1.0];
+            let alpha: [f32; 16] = std::array::from_fn(|k| alphas[(k + round) % 4]);
+            let f0: [Vec3; 16] =
+                std::array::from_fn(|k| Vec3::new(1.0, 0.78, 0.34) * (k as f32 / 15.0));
+            let wo: [Vec3; 16] = std::array::from_fn(|k| direction(&mut rng, (k + round) % 20));
+            let wi: [Vec3; 16] = std::array::from_fn(|k| direction(&mut rng, (k + 3 * round) % 20));
+            let u: [Vec2; 16] = std::array::from_fn(|_| rng.square());
+            let lanes = |v: &[Vec3; 16]| V3::<F16>::from_fn(|k| v[k]);
+            let a = F16::from_fn(|k| alpha[k]);
+            let (f16, pdf16) = eval_rough(lanes(&f0), a, lanes(&wo), lanes(&wi));
+            let u16 = (F16::from_fn(|k| u[k].x), F16::from_fn(|k| u[k].y));
+            let drawn = sample_rough(lanes(&f0), a, lanes(&wo), u16);
+            for k in 0..16 {
+                let metal = Conductor {
+                    f0: f0[k],
+                    ggx: Ggx::new(alpha[k]),
+                };
+                let case = format!("round {round}, lane {k}");
+                let (f, pdf) = metal.eval(wo[k], wi[k]);
+                assert_eq!(bits(f16.lane(k)), bits(f), "{case}");
+                assert_eq!(pdf16.lane(k).to_bits(), pdf.to_bits(), "{case}");
+                let one = metal.sample(wo[k], u[k]);
+                // The one-lane sample refuses a wo below the surface first.
+                let lane = (drawn.ok.lane(k) && wo[k].z > 0.0).then(|| {
+                    (
+                        bits(drawn.wi.lane(k)),
+                        bits(drawn.weight.lane(k)),
+                        drawn.pdf.lane(k).to_bits(),
+                    )
+                });
+                let one = one.map(|s| (bits(s.wi), bits(s.weight), s.pdf.to_bits()));
+                assert_eq!(lane, one, "{case}");
+            }
+        }
     }
 }

@@ -148,7 +148,7 @@ impl Dielectric {
         let f = fresnel_reflectance(cos, self.eta);
         let p = self.p_reflect(f)?;
         if pick < p {
-            let wi = reflect_about(wo, m);
+            let wi: Vec3 = reflect_about(wo.into(), m.into()).into();
             if wi.z <= 0.0 {
                 return None;
             }

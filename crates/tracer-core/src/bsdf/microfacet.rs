@@ -160,8 +160,8 @@ pub fn sample_visible<N: Real>(alpha: N, wo: V3<N>, (u1, u2): (N, N)) -> V3<N> {
 
 /// `w` mirrored about unit microfacet normal `m`.
 #[inline(always)]
-pub fn reflect_about(w: Vec3, m: Vec3) -> Vec3 {
-    2.0 * w.dot(m) * m - w
+pub fn reflect_about<N: Real>(w: V3<N>, m: V3<N>) -> V3<N> {
+    m * (N::splat(2.0) * w.dot(m)) - w
 }
 
 /// `w` refracted through microfacet `m` (`w.m > 0`), with `eta` = n(w's
@@ -178,7 +178,7 @@ pub fn refract_about(w: Vec3, m: Vec3, eta: f32) -> Option<Vec3> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::sampling::Rng;
     use crate::simd::F16;
@@ -186,7 +186,7 @@ mod tests {
     /// A direction of either hemisphere drawn by `rng` (unit, or not quite:
     /// the formulas are fed what the tracer feeds them), now and then one
     /// in the surface, along the normal, or not a number.
-    fn direction(rng: &mut Rng, k: usize) -> Vec3 {
+    pub(crate) fn direction(rng: &mut Rng, k: usize) -> Vec3 {
         match k {
             0 => Vec3::Z,
             1 => Vec3::new(1.0, 0.0, 0.0),

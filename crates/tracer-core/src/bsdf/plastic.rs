@@ -149,7 +149,7 @@ impl Plastic {
             if self.ggx.is_smooth() {
                 return Some(self.mirror(wo, p));
             }
-            reflect_about(wo, self.ggx.sample_visible(wo, u))
+            reflect_about(wo.into(), self.ggx.sample_visible(wo, u).into()).into()
         } else {
             Lambert::sample(u)
         };

@@ -90,7 +90,7 @@ pub fn integrate(cos_o: f32, alpha: f32, steps: usize) -> [f32; 2] {
         for j in 0..steps {
             let m = polar(theta, (j as f64 + 0.5) * dphi);
             let cos = wo.dot(m);
-            let wi = reflect_about(wo, m);
+            let wi: Vec3 = reflect_about(wo.into(), m.into()).into();
             if cos > 0.0 && wi.z > 0.0 {
                 let e = ggx.d(m) * ggx.g2(wo, wi) * cos / cos_o;
                 let e = f64::from(e) * jacobian * dphi;
