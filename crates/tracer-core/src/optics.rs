@@ -1,5 +1,6 @@
 //! Snell's law and the Fresnel equations for a smooth dielectric surface.
 
+use crate::simd::Real;
 use glam::Vec3;
 
 /// The refracted direction of unit `dir` at a surface of unit `normal`
@@ -24,22 +25,18 @@ pub fn refract(dir: Vec3, normal: Vec3, eta: f32) -> Option<Vec3> {
 /// n_from / n_to: the mean of the s- and p-polarised Fresnel
 /// reflectances; 1 past the critical angle. What is not reflected is
 /// transmitted.
-pub fn fresnel_reflectance(cos_i: f32, eta: f32) -> f32 {
-    if eta == 1.0 {
-        // No interface: in f32, 1 - cos^2 rounds to 1 at grazing angles,
-        // which would read as total internal reflection.
-        return 0.0;
-    }
+pub fn fresnel_reflectance<N: Real>(cos_i: N, eta: N) -> N {
     let cos_i = cos_i.clamp(0.0, 1.0);
-    let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
-    if sin2_t >= 1.0 {
-        return 1.0;
-    }
-    let cos_t = (1.0 - sin2_t).sqrt();
+    let sin2_t = eta * eta * (N::one() - cos_i * cos_i);
+    let cos_t = (N::one() - sin2_t).sqrt();
     // With n_from = eta, n_to = 1 (only the ratio matters).
     let r_s = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
     let r_p = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    (r_s * r_s + r_p * r_p) / 2.0
+    let f = (r_s * r_s + r_p * r_p) / N::splat(2.0);
+    let f = N::select(sin2_t.ge(N::one()), N::one(), f);
+    // No interface: in f32, 1 - cos^2 rounds to 1 at grazing angles,
+    // which would read as total internal reflection.
+    N::select(eta.eq(N::one()), N::zero(), f)
 }
 
 #[cfg(test)]

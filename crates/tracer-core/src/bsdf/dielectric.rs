@@ -8,10 +8,11 @@
 //! into a narrower cone, so transmission is scaled by eta^2 = (n_o / n_i)^2
 //! as the smooth interface's (Veach's thesis, 5.2).
 
-use super::microfacet::{reflect_about, refract_about, Ggx};
+use super::microfacet::{self, Ggx};
 use super::specular::{reflect, refract};
 use super::BsdfSample;
 use crate::optics::fresnel_reflectance;
+use crate::simd::{Mask, Real, V3};
 use glam::{Vec2, Vec3};
 
 /// Closer than this to 1, `eta` makes the interface smooth whatever its
@@ -52,8 +53,8 @@ impl Dielectric {
     /// F and (1 - F) times the tint's mean. None if both are 0.
     #[inline(always)]
     fn p_reflect(&self, f: f32) -> Option<f32> {
-        let t = (1.0 - f) * self.tint.element_sum() / 3.0;
-        (f + t > 0.0).then(|| f / (f + t))
+        let (p, some) = p_reflect(f, V3::from(self.tint));
+        some.then_some(p)
     }
 
     /// An estimate of its albedo for picking lobes: the smooth interface's
@@ -64,74 +65,23 @@ impl Dielectric {
     }
 
     /// f |cos theta_i| toward local `wi` (above: reflected, below:
-    /// transmitted) and the density `sample` gives it; nothing when smooth.
+    /// transmitted) and the density `sample` gives it (`eval_rough`);
+    /// nothing when smooth.
     #[inline(always)]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+        // What the lanes' mask would give, without working it out.
         if self.is_smooth() || wo.z <= 0.0 || wi.z == 0.0 {
             return (Vec3::ZERO, 0.0);
         }
-        if wi.z > 0.0 {
-            self.eval_reflection(wo, wi)
-        } else {
-            self.eval_transmission(wo, wi)
-        }
-    }
-
-    /// D G2 F / (4 cos_o cos_i), times cos_i; its density the visible
-    /// normal's times the Jacobian 1 / (4 wo.m), times the chance of
-    /// reflecting.
-    #[inline(always)]
-    fn eval_reflection(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
-        let Some(m) = (wo + wi).try_normalize() else {
-            return (Vec3::ZERO, 0.0);
-        };
-        let cos = wo.dot(m);
-        let f = fresnel_reflectance(cos, self.eta);
-        let Some(p) = self.p_reflect(f) else {
-            return (Vec3::ZERO, 0.0);
-        };
-        let d = self.ggx.d(m);
-        let value = f * d * self.ggx.g2(wo, wi) / (4.0 * wo.z);
-        let pdf = p * self.ggx.visible_d(wo, m) / (4.0 * cos).max(f32::MIN_POSITIVE);
-        (Vec3::splat(value), pdf)
-    }
-
-    /// Walter et al.'s eq. 21 with the index on wo's side taken as 1 (so
-    /// n_i = 1 / eta): |wi.m| |wo.m| (1 - F) D G2 / (|cos_i| cos_o
-    /// (wo.m + n_i wi.m)^2), which carries eta^2 relative to the
-    /// symmetric part; times cos_i. Its density: the visible normal's times
-    /// the Jacobian n_i^2 |wi.m| / (wo.m + n_i wi.m)^2, times the chance of
-    /// refracting. Facets that face away from either direction give nothing.
-    #[inline(always)]
-    fn eval_transmission(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
-        let n_i = 1.0 / self.eta;
-        let Some(mut m) = (wo + n_i * wi).try_normalize() else {
-            return (Vec3::ZERO, 0.0);
-        };
-        if m.z < 0.0 {
-            m = -m;
-        }
-        let (cos_o, cos_i) = (wo.dot(m), wi.dot(m));
-        if cos_o <= 0.0 || cos_i >= 0.0 {
-            return (Vec3::ZERO, 0.0);
-        }
-        let f = fresnel_reflectance(cos_o, self.eta);
-        let Some(p) = self.p_reflect(f) else {
-            return (Vec3::ZERO, 0.0);
-        };
-        let denom = cos_o + n_i * cos_i;
-        let denom2 = (denom * denom).max(f32::MIN_POSITIVE);
-        let d = self.ggx.d(m);
-        let g = self.ggx.g2(wo, wi);
-        let value = (1.0 - f) * d * g * (-cos_i) * cos_o / (wo.z * denom2);
-        let pdf = (1.0 - p) * self.ggx.visible_d(wo, m) * n_i * n_i * (-cos_i) / denom2;
-        (self.tint * value, pdf)
+        let (f, pdf) = eval_rough(self.lanes(), wo.into(), wi.into());
+        (f.into(), pdf)
     }
 
     /// A direction toward local `wi` (in `BsdfSample::wi`), reflected or
     /// refracted as `pick` falls against the Fresnel-weighted chance of
     /// reflecting, through the smooth surface or a visible facet drawn by
-    /// `u`. None when the direction falls on the wrong side of the surface.
+    /// `u` (`sample_rough`). None when the direction falls on the wrong
+    /// side of the surface.
     #[inline(always)]
     pub fn sample(&self, wo: Vec3, pick: f32, u: Vec2) -> Option<BsdfSample> {
         if wo.z <= 0.0 {
@@ -140,44 +90,25 @@ impl Dielectric {
         if self.is_smooth() {
             return self.sample_smooth(wo, pick);
         }
-        let m = self.ggx.sample_visible(wo, u);
-        let cos = wo.dot(m);
-        if cos <= 0.0 {
-            return None;
-        }
-        let f = fresnel_reflectance(cos, self.eta);
-        let p = self.p_reflect(f)?;
-        if pick < p {
-            let wi: Vec3 = reflect_about(wo.into(), m.into()).into();
-            if wi.z <= 0.0 {
-                return None;
-            }
-            return Some(BsdfSample {
-                wi,
-                weight: Vec3::splat(f / p * self.ggx.g2_over_g1(wo, wi)),
-                pdf: p * self.ggx.visible_d(wo, m) / (4.0 * cos),
-                specular: false,
-                transmitted: false,
-                eta: 1.0,
-            });
-        }
-        let wi = refract_about(wo, m, self.eta)?;
-        if wi.z >= 0.0 || p >= 1.0 {
-            return None;
-        }
-        let n_i = 1.0 / self.eta;
-        let cos_i = wi.dot(m);
-        let denom = cos + n_i * cos_i;
-        let jacobian = n_i * n_i * (-cos_i) / (denom * denom).max(f32::MIN_POSITIVE);
-        let g = self.ggx.g2_over_g1(wo, wi);
-        Some(BsdfSample {
-            wi,
-            weight: self.tint * ((1.0 - f) / (1.0 - p) * self.eta * self.eta * g),
-            pdf: (1.0 - p) * self.ggx.visible_d(wo, m) * jacobian,
+        let s = sample_rough(self.lanes(), wo.into(), pick, (u.x, u.y));
+        s.ok.then(|| BsdfSample {
+            wi: s.wi.into(),
+            weight: s.weight.into(),
+            pdf: s.pdf,
             specular: false,
-            transmitted: true,
-            eta: self.eta,
+            transmitted: s.transmitted,
+            eta: if s.transmitted { self.eta } else { 1.0 },
         })
+    }
+
+    /// Its numbers as the formulas below read them, on one lane.
+    #[inline(always)]
+    fn lanes(&self) -> Rough<f32> {
+        Rough {
+            eta: self.eta,
+            alpha: self.ggx.alpha,
+            tint: V3::from(self.tint),
+        }
     }
 
     /// The smooth interface: the mirror direction with probability p (its
@@ -207,5 +138,199 @@ impl Dielectric {
             transmitted: false,
             eta: 1.0,
         })
+    }
+}
+
+// The rough interface's formulas, for any lane width (`simd::Real`): the
+// one-path tracer's `Dielectric` instantiates them on f32.
+
+/// A rough interface: n(wo's side) / n(the far side), GGX's width and the
+/// tint of transmitted light, by lane.
+#[derive(Debug, Clone, Copy)]
+pub struct Rough<N: Real> {
+    pub eta: N,
+    pub alpha: N,
+    pub tint: V3<N>,
+}
+
+/// The probability of reflecting rather than refracting at a facet whose
+/// Fresnel reflectance is `f`: in proportion to the energies, F and (1 -
+/// F) times the tint's mean; and where there is one (not both 0).
+#[inline(always)]
+pub fn p_reflect<N: Real>(f: N, tint: V3<N>) -> (N, N::Mask) {
+    let t = (N::one() - f) * tint.element_sum() / N::splat(3.0);
+    (f / (f + t), (f + t).gt(N::zero()))
+}
+
+/// f |cos theta_i| of `r` toward local `wi` (above: reflected, below:
+/// transmitted) and the density `sample_rough` gives it; nothing for a wo
+/// below the surface or a wi in it.
+#[inline(always)]
+pub fn eval_rough<N: Real>(r: Rough<N>, wo: V3<N>, wi: V3<N>) -> (V3<N>, N) {
+    let (f_r, pdf_r, ok_r) = eval_reflection(r, wo, wi);
+    let (f_t, pdf_t, ok_t) = eval_transmission(r, wo, wi);
+    let reflected = wi.z.gt(N::zero());
+    let (f, pdf) = (
+        V3::select(reflected, f_r, f_t),
+        N::select(reflected, pdf_r, pdf_t),
+    );
+    // Tested as `<=` and `==`, so that a NaN goes through as a NaN.
+    let ok = N::Mask::select(reflected, ok_r, ok_t) & !wo.z.le(N::zero()) & !wi.z.eq(N::zero());
+    (V3::select(ok, f, V3::zero()), N::select(ok, pdf, N::zero()))
+}
+
+/// D G2 F / (4 cos_o cos_i), times cos_i; its density the visible normal's
+/// times the Jacobian 1 / (4 wo.m), times the chance of reflecting; and
+/// where they hold.
+#[inline(always)]
+fn eval_reflection<N: Real>(r: Rough<N>, wo: V3<N>, wi: V3<N>) -> (V3<N>, N, N::Mask) {
+    let (m, half) = (wo + wi).try_normalize();
+    let cos = wo.dot(m);
+    let f = fresnel_reflectance(cos, r.eta);
+    let (p, some) = p_reflect(f, r.tint);
+    let d = microfacet::d(r.alpha, m);
+    let g2 = microfacet::g1(r.alpha, wo) * microfacet::g1(r.alpha, wi);
+    let value = f * d * g2 / (N::splat(4.0) * wo.z);
+    let jacobian = (N::splat(4.0) * cos).max(N::splat(f32::MIN_POSITIVE));
+    let pdf = p * microfacet::visible_d(r.alpha, wo, m) / jacobian;
+    (V3::new(value, value, value), pdf, half & some)
+}
+
+/// Walter et al.'s eq. 21 with the index on wo's side taken as 1 (so n_i
+/// = 1 / eta): |wi.m| |wo.m| (1 - F) D G2 / (|cos_i| cos_o (wo.m + n_i
+/// wi.m)^2), which carries eta^2 relative to the symmetric part; times
+/// cos_i. Its density: the visible normal's times the Jacobian n_i^2
+/// |wi.m| / (wo.m + n_i wi.m)^2, times the chance of refracting. Facets
+/// that face away from either direction give nothing.
+#[inline(always)]
+fn eval_transmission<N: Real>(r: Rough<N>, wo: V3<N>, wi: V3<N>) -> (V3<N>, N, N::Mask) {
+    let n_i = N::one() / r.eta;
+    let (m, half) = (wo + wi * n_i).try_normalize();
+    let m = V3::select(m.z.lt(N::zero()), -m, m);
+    let (cos_o, cos_i) = (wo.dot(m), wi.dot(m));
+    let f = fresnel_reflectance(cos_o, r.eta);
+    let (p, some) = p_reflect(f, r.tint);
+    let denom = cos_o + n_i * cos_i;
+    let denom2 = (denom * denom).max(N::splat(f32::MIN_POSITIVE));
+    let d = microfacet::d(r.alpha, m);
+    let g = microfacet::g1(r.alpha, wo) * microfacet::g1(r.alpha, wi);
+    let value = (N::one() - f) * d * g * (-cos_i) * cos_o / (wo.z * denom2);
+    let vis = microfacet::visible_d(r.alpha, wo, m);
+    let pdf = (N::one() - p) * vis * n_i * n_i * (-cos_i) / denom2;
+    let facing = !cos_o.le(N::zero()) & !cos_i.ge(N::zero());
+    (r.tint * value, pdf, half & facing & some)
+}
+
+/// A sample of the rough interface: the direction, its weight f |cos| /
+/// pdf, its density, whether it went through, and where there is one
+/// (`ok`).
+pub struct RoughSample<N: Real> {
+    pub wi: V3<N>,
+    pub weight: V3<N>,
+    pub pdf: N,
+    pub transmitted: N::Mask,
+    pub ok: N::Mask,
+}
+
+/// `wo` (above the surface) reflected about or refracted through a
+/// normal it sees, drawn by `u`, as `pick` falls against the chance of
+/// reflecting. None (`ok` unset) when the direction falls on the wrong
+/// side of the surface.
+#[inline(always)]
+pub fn sample_rough<N: Real>(r: Rough<N>, wo: V3<N>, pick: N, u: (N, N)) -> RoughSample<N> {
+    let m = microfacet::sample_visible(r.alpha, wo, u);
+    let cos = wo.dot(m);
+    let f = fresnel_reflectance(cos, r.eta);
+    let (p, some) = p_reflect(f, r.tint);
+    let vis = microfacet::visible_d(r.alpha, wo, m);
+    // Reflected: weight F / p G1(wi).
+    let wi_r = microfacet::reflect_about(wo, m);
+    let weight_r = f / p * microfacet::g1(r.alpha, wi_r);
+    let pdf_r = p * vis / (N::splat(4.0) * cos);
+    // Refracted: weight (1 - F) / (1 - p) eta^2 G1(wi) tint.
+    let (wi_t, through) = microfacet::refract_about(wo, m, r.eta);
+    let n_i = N::one() / r.eta;
+    let cos_i = wi_t.dot(m);
+    let denom = cos + n_i * cos_i;
+    let jacobian = n_i * n_i * (-cos_i) / (denom * denom).max(N::splat(f32::MIN_POSITIVE));
+    let g = microfacet::g1(r.alpha, wi_t);
+    let weight_t = r.tint * ((N::one() - f) / (N::one() - p) * r.eta * r.eta * g);
+    let pdf_t = (N::one() - p) * vis * jacobian;
+    let reflected = pick.lt(p);
+    let ok_r = !wi_r.z.le(N::zero());
+    let ok_t = through & !wi_t.z.ge(N::zero()) & !p.ge(N::one());
+    RoughSample {
+        wi: V3::select(reflected, wi_r, wi_t),
+        weight: V3::select(reflected, V3::new(weight_r, weight_r, weight_r), weight_t),
+        pdf: N::select(reflected, pdf_r, pdf_t),
+        transmitted: !reflected,
+        ok: !cos.le(N::zero()) & some & N::Mask::select(reflected, ok_r, ok_t),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bsdf::microfacet::tests::direction;
+    use crate::sampling::Rng;
+    use crate::simd::F16;
+
+    /// Sixteen lanes give each lane's one-lane value, bit for bit: the
+    /// rough interface is written once, and `Dielectric` is it on f32.
+    #[test]
+    fn rough_glass_in_lanes_is_the_one_lane_glass() {
+        let mut rng = Rng::new(7);
+        let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+        // Samples through and back, and values of both lobes, were met.
+        let (mut through, mut back, mut lit) = (0, 0, [0, 0]);
+        for round in 0..300 {
+            let glass: [Dielectric; 16] = std::array::from_fn(|k| {
+                let etas = [1.0 / 1.5, 1.5, 1.0 / 1.33, 2.4, 1.0 / 2.4];
+                let alphas = [0.002, 0.0625, 0.3, 1.0];
+                let tint = Vec3::new(1.0, 0.9, 0.5) * ((k % 3) as f32 / 2.0);
+                Dielectric::new(etas[(k + round) % 5], true, Ggx::new(alphas[k % 4]), tint)
+            });
+            let wo: [Vec3; 16] = std::array::from_fn(|k| direction(&mut rng, (k + round) % 20));
+            let wi: [Vec3; 16] = std::array::from_fn(|k| direction(&mut rng, (k + 3 * round) % 20));
+            let u: [Vec2; 16] = std::array::from_fn(|_| rng.square());
+            let pick: [f32; 16] = std::array::from_fn(|_| rng.square().x);
+            let lanes = |v: &[Vec3; 16]| V3::<F16>::from_fn(|k| v[k]);
+            let r = Rough {
+                eta: F16::from_fn(|k| glass[k].eta),
+                alpha: F16::from_fn(|k| glass[k].ggx.alpha),
+                tint: V3::<F16>::from_fn(|k| glass[k].tint),
+            };
+            let (f16, pdf16) = eval_rough(r, lanes(&wo), lanes(&wi));
+            let u16 = (F16::from_fn(|k| u[k].x), F16::from_fn(|k| u[k].y));
+            let drawn = sample_rough(r, lanes(&wo), F16::from_fn(|k| pick[k]), u16);
+            for k in 0..16 {
+                let case = format!("round {round}, lane {k}");
+                let (f, pdf) = glass[k].eval(wo[k], wi[k]);
+                assert_eq!(bits(f16.lane(k)), bits(f), "{case}");
+                assert_eq!(pdf16.lane(k).to_bits(), pdf.to_bits(), "{case}");
+                let one = glass[k].sample(wo[k], pick[k], u[k]);
+                // The one-lane sample refuses a wo below the surface first.
+                let lane = (drawn.ok.lane(k) && wo[k].z > 0.0).then(|| {
+                    let w = (bits(drawn.wi.lane(k)), bits(drawn.weight.lane(k)));
+                    (w, drawn.pdf.lane(k).to_bits(), drawn.transmitted.lane(k))
+                });
+                let one =
+                    one.map(|s| ((bits(s.wi), bits(s.weight)), s.pdf.to_bits(), s.transmitted));
+                assert_eq!(lane, one, "{case}");
+                match one {
+                    Some((.., true)) => through += 1,
+                    Some((.., false)) => back += 1,
+                    None => {}
+                }
+                if pdf > 0.0 {
+                    lit[usize::from(wi[k].z < 0.0)] += 1;
+                }
+            }
+        }
+        assert!(
+            through > 500 && back > 500,
+            "{through} through, {back} back"
+        );
+        assert!(lit[0] > 1000 && lit[1] > 50, "{lit:?}");
     }
 }

@@ -165,16 +165,15 @@ pub fn reflect_about<N: Real>(w: V3<N>, m: V3<N>) -> V3<N> {
 }
 
 /// `w` refracted through microfacet `m` (`w.m > 0`), with `eta` = n(w's
-/// side) / n(the other side); None past the critical angle.
+/// side) / n(the other side), and where there is one (not past the
+/// critical angle).
 #[inline(always)]
-pub fn refract_about(w: Vec3, m: Vec3, eta: f32) -> Option<Vec3> {
+pub fn refract_about<N: Real>(w: V3<N>, m: V3<N>, eta: N) -> (V3<N>, N::Mask) {
     let cos_i = w.dot(m);
-    let sin2_t = eta * eta * (1.0 - cos_i * cos_i).max(0.0);
-    if sin2_t >= 1.0 {
-        return None;
-    }
-    let cos_t = (1.0 - sin2_t).sqrt();
-    (-eta * w + (eta * cos_i - cos_t) * m).try_normalize()
+    let sin2_t = eta * eta * (N::one() - cos_i * cos_i).max(N::zero());
+    let cos_t = (N::one() - sin2_t).sqrt();
+    let (t, unit) = (w * -eta + m * (eta * cos_i - cos_t)).try_normalize();
+    (t, unit & !sin2_t.ge(N::one()))
 }
 
 #[cfg(test)]
@@ -249,7 +248,9 @@ pub(crate) mod tests {
     fn refraction_about_a_facet_follows_snell() {
         let m = Vec3::new(0.3, 0.1, 0.9).normalize();
         let w = Vec3::new(-0.5, 0.2, 0.8).normalize();
-        let t = refract_about(w, m, 1.0 / 1.5).unwrap();
+        let (t, ok) = refract_about(V3::from(w), V3::from(m), 1.0 / 1.5);
+        let t = Vec3::from(t);
+        assert!(ok);
         let (sin_i, sin_t) = (w.cross(m).length(), t.cross(m).length());
         assert!((sin_i - 1.5 * sin_t).abs() < 1e-5);
         assert!(t.dot(m) < 0.0);

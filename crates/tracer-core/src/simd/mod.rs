@@ -43,6 +43,11 @@ pub trait Mask:
     fn none(self) -> bool {
         !self.any()
     }
+    /// Lane by lane, `a`'s flag where `m` is set, else `b`'s.
+    #[inline(always)]
+    fn select(m: Self, a: Self, b: Self) -> Self {
+        (m & a) | (!m & b)
+    }
 }
 
 /// A number per lane: `LANES` of them, one operation for all.
