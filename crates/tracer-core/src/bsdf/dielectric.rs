@@ -73,8 +73,17 @@ impl Dielectric {
         if self.is_smooth() || wo.z <= 0.0 || wi.z == 0.0 {
             return (Vec3::ZERO, 0.0);
         }
-        let (f, pdf) = eval_rough(self.lanes(), wo.into(), wi.into());
-        (f.into(), pdf)
+        // One lobe, where the lanes work out both.
+        let (r, wo, wi) = (self.lanes(), V3::from(wo), V3::from(wi));
+        let (f, pdf, ok) = match wi.z > 0.0 {
+            true => eval_reflection(r, wo, wi),
+            false => eval_transmission(r, wo, wi),
+        };
+        if ok {
+            (f.into(), pdf)
+        } else {
+            (Vec3::ZERO, 0.0)
+        }
     }
 
     /// A direction toward local `wi` (in `BsdfSample::wi`), reflected or
@@ -90,14 +99,25 @@ impl Dielectric {
         if self.is_smooth() {
             return self.sample_smooth(wo, pick);
         }
-        let s = sample_rough(self.lanes(), wo.into(), pick, (u.x, u.y));
-        s.ok.then(|| BsdfSample {
-            wi: s.wi.into(),
-            weight: s.weight.into(),
-            pdf: s.pdf,
+        // One lobe, where the lanes work out both.
+        let (r, wo) = (self.lanes(), V3::from(wo));
+        let facet = facet(r, wo, (u.x, u.y));
+        if !facet.ok {
+            return None;
+        }
+        let back = pick < facet.p;
+        let transmitted = !back;
+        let (wi, weight, pdf, ok) = match back {
+            true => reflected(r, wo, &facet),
+            false => refracted(r, wo, &facet),
+        };
+        ok.then(|| BsdfSample {
+            wi: wi.into(),
+            weight: weight.into(),
+            pdf,
             specular: false,
-            transmitted: s.transmitted,
-            eta: if s.transmitted { self.eta } else { 1.0 },
+            transmitted,
+            eta: if transmitted { self.eta } else { 1.0 },
         })
     }
 
@@ -232,39 +252,82 @@ pub struct RoughSample<N: Real> {
     pub ok: N::Mask,
 }
 
+/// A normal `wo` sees, drawn by `u`, and what both lobes read of it:
+/// the cosine, the Fresnel reflectance, the chance of reflecting, the
+/// density of the normal; `ok` where wo sees its front.
+struct Facet<N: Real> {
+    m: V3<N>,
+    cos: N,
+    f: N,
+    p: N,
+    visible: N,
+    ok: N::Mask,
+}
+
+#[inline(always)]
+fn facet<N: Real>(r: Rough<N>, wo: V3<N>, u: (N, N)) -> Facet<N> {
+    let m = microfacet::sample_visible(r.alpha, wo, u);
+    let cos = wo.dot(m);
+    let f = fresnel_reflectance(cos, r.eta);
+    let (p, some) = p_reflect(f, r.tint);
+    Facet {
+        m,
+        cos,
+        f,
+        p,
+        visible: microfacet::visible_d(r.alpha, wo, m),
+        ok: !cos.le(N::zero()) & some,
+    }
+}
+
+/// `wo` reflected about the facet: the direction, its weight F / p
+/// G1(wi), its density, and where it is above the surface.
+#[inline(always)]
+fn reflected<N: Real>(r: Rough<N>, wo: V3<N>, x: &Facet<N>) -> (V3<N>, V3<N>, N, N::Mask) {
+    let wi = microfacet::reflect_about(wo, x.m);
+    let weight = x.f / x.p * microfacet::g1(r.alpha, wi);
+    let pdf = x.p * x.visible / (N::splat(4.0) * x.cos);
+    (
+        wi,
+        V3::new(weight, weight, weight),
+        pdf,
+        !wi.z.le(N::zero()),
+    )
+}
+
+/// `wo` refracted through the facet: the direction, its weight (1 - F) /
+/// (1 - p) eta^2 G1(wi) tint, its density, and where it goes through
+/// (below the surface, not past the critical angle, p below 1).
+#[inline(always)]
+fn refracted<N: Real>(r: Rough<N>, wo: V3<N>, x: &Facet<N>) -> (V3<N>, V3<N>, N, N::Mask) {
+    let (wi, through) = microfacet::refract_about(wo, x.m, r.eta);
+    let n_i = N::one() / r.eta;
+    let cos_i = wi.dot(x.m);
+    let denom = x.cos + n_i * cos_i;
+    let jacobian = n_i * n_i * (-cos_i) / (denom * denom).max(N::splat(f32::MIN_POSITIVE));
+    let g = microfacet::g1(r.alpha, wi);
+    let weight = r.tint * ((N::one() - x.f) / (N::one() - x.p) * r.eta * r.eta * g);
+    let pdf = (N::one() - x.p) * x.visible * jacobian;
+    let ok = through & !wi.z.ge(N::zero()) & !x.p.ge(N::one());
+    (wi, weight, pdf, ok)
+}
+
 /// `wo` (above the surface) reflected about or refracted through a
 /// normal it sees, drawn by `u`, as `pick` falls against the chance of
 /// reflecting. None (`ok` unset) when the direction falls on the wrong
 /// side of the surface.
 #[inline(always)]
 pub fn sample_rough<N: Real>(r: Rough<N>, wo: V3<N>, pick: N, u: (N, N)) -> RoughSample<N> {
-    let m = microfacet::sample_visible(r.alpha, wo, u);
-    let cos = wo.dot(m);
-    let f = fresnel_reflectance(cos, r.eta);
-    let (p, some) = p_reflect(f, r.tint);
-    let vis = microfacet::visible_d(r.alpha, wo, m);
-    // Reflected: weight F / p G1(wi).
-    let wi_r = microfacet::reflect_about(wo, m);
-    let weight_r = f / p * microfacet::g1(r.alpha, wi_r);
-    let pdf_r = p * vis / (N::splat(4.0) * cos);
-    // Refracted: weight (1 - F) / (1 - p) eta^2 G1(wi) tint.
-    let (wi_t, through) = microfacet::refract_about(wo, m, r.eta);
-    let n_i = N::one() / r.eta;
-    let cos_i = wi_t.dot(m);
-    let denom = cos + n_i * cos_i;
-    let jacobian = n_i * n_i * (-cos_i) / (denom * denom).max(N::splat(f32::MIN_POSITIVE));
-    let g = microfacet::g1(r.alpha, wi_t);
-    let weight_t = r.tint * ((N::one() - f) / (N::one() - p) * r.eta * r.eta * g);
-    let pdf_t = (N::one() - p) * vis * jacobian;
-    let reflected = pick.lt(p);
-    let ok_r = !wi_r.z.le(N::zero());
-    let ok_t = through & !wi_t.z.ge(N::zero()) & !p.ge(N::one());
+    let x = facet(r, wo, u);
+    let (wi_r, weight_r, pdf_r, ok_r) = reflected(r, wo, &x);
+    let (wi_t, weight_t, pdf_t, ok_t) = refracted(r, wo, &x);
+    let back = pick.lt(x.p);
     RoughSample {
-        wi: V3::select(reflected, wi_r, wi_t),
-        weight: V3::select(reflected, V3::new(weight_r, weight_r, weight_r), weight_t),
-        pdf: N::select(reflected, pdf_r, pdf_t),
-        transmitted: !reflected,
-        ok: !cos.le(N::zero()) & some & N::Mask::select(reflected, ok_r, ok_t),
+        wi: V3::select(back, wi_r, wi_t),
+        weight: V3::select(back, weight_r, weight_t),
+        pdf: N::select(back, pdf_r, pdf_t),
+        transmitted: !back,
+        ok: x.ok & N::Mask::select(back, ok_r, ok_t),
     }
 }
 
