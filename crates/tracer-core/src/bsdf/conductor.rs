@@ -100,7 +100,7 @@ pub fn eval_rough<N: Real>(f0: V3<N>, alpha: N, wo: V3<N>, wi: V3<N>) -> (V3<N>,
     let (m, half) = (wo + wi).try_normalize();
     let cos = wo.dot(m);
     let d = microfacet::d(alpha, m);
-    let g2 = microfacet::g1(alpha, wo) * microfacet::g1(alpha, wi);
+    let g2 = microfacet::g2(alpha, wo, wi);
     let f = schlick(f0, cos) * (d * g2 / (N::splat(4.0) * wo.z));
     // The reflection's Jacobian from m to wi: 1 / (4 wo.m).
     let jacobian = (N::splat(4.0) * cos).max(N::splat(f32::MIN_POSITIVE));

@@ -209,7 +209,7 @@ fn eval_reflection<N: Real>(r: Rough<N>, wo: V3<N>, wi: V3<N>) -> (V3<N>, N, N::
     let f = fresnel_reflectance(cos, r.eta);
     let (p, some) = p_reflect(f, r.tint);
     let d = microfacet::d(r.alpha, m);
-    let g2 = microfacet::g1(r.alpha, wo) * microfacet::g1(r.alpha, wi);
+    let g2 = microfacet::g2(r.alpha, wo, wi);
     let value = f * d * g2 / (N::splat(4.0) * wo.z);
     let jacobian = (N::splat(4.0) * cos).max(N::splat(f32::MIN_POSITIVE));
     let pdf = p * microfacet::visible_d(r.alpha, wo, m) / jacobian;
@@ -233,7 +233,7 @@ fn eval_transmission<N: Real>(r: Rough<N>, wo: V3<N>, wi: V3<N>) -> (V3<N>, N, N
     let denom = cos_o + n_i * cos_i;
     let denom2 = (denom * denom).max(N::splat(f32::MIN_POSITIVE));
     let d = microfacet::d(r.alpha, m);
-    let g = microfacet::g1(r.alpha, wo) * microfacet::g1(r.alpha, wi);
+    let g = microfacet::g2(r.alpha, wo, wi);
     let value = (N::one() - f) * d * g * (-cos_i) * cos_o / (wo.z * denom2);
     let vis = microfacet::visible_d(r.alpha, wo, m);
     let pdf = (N::one() - p) * vis * n_i * n_i * (-cos_i) / denom2;

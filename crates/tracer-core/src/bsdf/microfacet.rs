@@ -57,22 +57,10 @@ impl Ggx {
         g1(self.alpha, V3::from(w))
     }
 
-    /// The share of microfacets seen from both `wo` and `wi`: Smith's
-    /// separable form G1(wo) G1(wi), Walter et al.'s (2007) and Mitsuba 3's,
-    /// so that the materials scene matches Mitsuba's render of it (the
-    /// height-correlated form of Heitz 2014, pbrt-v4's, is up to a few per
-    /// cent above it on rough surfaces at grazing angles). Symmetric in its
-    /// arguments; used for transmission too.
+    /// The share of microfacets seen from both `wo` and `wi` (`g2`).
     #[inline(always)]
     pub fn g2(&self, wo: Vec3, wi: Vec3) -> f32 {
-        self.g1(wo) * self.g1(wi)
-    }
-
-    /// G2 / G1(wo), the weight of a visible-normal sample (its D and cosines
-    /// cancel): G1(wi), which a grazing wo (G1 near 0) does not divide.
-    #[inline(always)]
-    pub fn g2_over_g1(&self, _wo: Vec3, wi: Vec3) -> f32 {
-        self.g1(wi)
+        g2(self.alpha, V3::from(wo), V3::from(wi))
     }
 
     /// The density of the normals `wo` sees (`visible_d`).
@@ -120,6 +108,17 @@ pub fn lambda<N: Real>(alpha: N, w: V3<N>) -> N {
 #[inline(always)]
 pub fn g1<N: Real>(alpha: N, w: V3<N>) -> N {
     N::one() / (N::one() + lambda(alpha, w))
+}
+
+/// The share of microfacets seen from both `wo` and `wi`: Smith's
+/// separable form G1(wo) G1(wi), Walter et al.'s (2007) and Mitsuba 3's,
+/// so that the materials scene matches Mitsuba's render of it (the
+/// height-correlated form of Heitz 2014, pbrt-v4's, is up to a few per
+/// cent above it on rough surfaces at grazing angles). Symmetric in its
+/// arguments; used for transmission too.
+#[inline(always)]
+pub fn g2<N: Real>(alpha: N, wo: V3<N>, wi: V3<N>) -> N {
+    g1(alpha, wo) * g1(alpha, wi)
 }
 
 /// The density of the normals `wo` sees, per solid angle of `m`: D_wo(m) =
