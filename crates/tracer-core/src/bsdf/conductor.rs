@@ -97,16 +97,11 @@ impl Conductor {
 /// it; nothing where `wo` or `wi` is below the surface.
 #[inline(always)]
 pub fn eval_rough<N: Real>(f0: V3<N>, alpha: N, wo: V3<N>, wi: V3<N>) -> (V3<N>, N) {
-    let (m, half) = (wo + wi).try_normalize();
-    let cos = wo.dot(m);
-    let d = microfacet::d(alpha, m);
-    let g2 = microfacet::g2(alpha, wo, wi);
-    let f = schlick(f0, cos) * (d * g2 / (N::splat(4.0) * wo.z));
-    // The reflection's Jacobian from m to wi: 1 / (4 wo.m).
-    let jacobian = (N::splat(4.0) * cos).max(N::splat(f32::MIN_POSITIVE));
-    let pdf = microfacet::visible_d(alpha, wo, m) / jacobian;
+    let r = microfacet::reflection(alpha, wo, wi);
+    let f = schlick(f0, r.cos) * (r.d * r.g2 / (N::splat(4.0) * wo.z));
+    let pdf = r.visible / r.jacobian;
     // Tested as `<=`, so that a NaN goes through as a NaN.
-    let above = !wo.z.le(N::zero()) & !wi.z.le(N::zero()) & half;
+    let above = !wo.z.le(N::zero()) & !wi.z.le(N::zero()) & r.half;
     (
         V3::select(above, f, V3::zero()),
         N::select(above, pdf, N::zero()),

@@ -204,16 +204,12 @@ pub fn eval_rough<N: Real>(r: Rough<N>, wo: V3<N>, wi: V3<N>) -> (V3<N>, N) {
 /// where they hold.
 #[inline(always)]
 fn eval_reflection<N: Real>(r: Rough<N>, wo: V3<N>, wi: V3<N>) -> (V3<N>, N, N::Mask) {
-    let (m, half) = (wo + wi).try_normalize();
-    let cos = wo.dot(m);
-    let f = fresnel_reflectance(cos, r.eta);
+    let x = microfacet::reflection(r.alpha, wo, wi);
+    let f = fresnel_reflectance(x.cos, r.eta);
     let (p, some) = p_reflect(f, r.tint);
-    let d = microfacet::d(r.alpha, m);
-    let g2 = microfacet::g2(r.alpha, wo, wi);
-    let value = f * d * g2 / (N::splat(4.0) * wo.z);
-    let jacobian = (N::splat(4.0) * cos).max(N::splat(f32::MIN_POSITIVE));
-    let pdf = p * microfacet::visible_d(r.alpha, wo, m) / jacobian;
-    (V3::new(value, value, value), pdf, half & some)
+    let value = f * x.d * x.g2 / (N::splat(4.0) * wo.z);
+    let pdf = p * x.visible / x.jacobian;
+    (V3::new(value, value, value), pdf, x.half & some)
 }
 
 /// Walter et al.'s eq. 21 with the index on wo's side taken as 1 (so n_i

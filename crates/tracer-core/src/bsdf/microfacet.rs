@@ -157,6 +157,38 @@ pub fn sample_visible<N: Real>(alpha: N, wo: V3<N>, (u1, u2): (N, N)) -> V3<N> {
     V3::new(a * nh.x, a * nh.y, nh.z.max(N::zero())).normalize_or(z)
 }
 
+/// The facet that reflects `wo` into `wi` (their half vector) and what a
+/// reflection lobe of width `alpha` reads of it, whatever its Fresnel
+/// term: f |cos_i| = F D G2 / (4 wo.z), its density the visible normal's
+/// over the Jacobian 4 wo.m from m to wi.
+pub struct Reflection<N: Real> {
+    /// wo.m.
+    pub cos: N,
+    pub d: N,
+    pub g2: N,
+    /// The density of m among the normals wo sees (`visible_d`).
+    pub visible: N,
+    /// 4 wo.m, kept above 0.
+    pub jacobian: N,
+    /// Where the half vector exists (wo + wi is not zero).
+    pub half: N::Mask,
+}
+
+/// `Reflection` of local `wo` into `wi` through GGX of width `alpha`.
+#[inline(always)]
+pub fn reflection<N: Real>(alpha: N, wo: V3<N>, wi: V3<N>) -> Reflection<N> {
+    let (m, half) = (wo + wi).try_normalize();
+    let cos = wo.dot(m);
+    Reflection {
+        cos,
+        d: d(alpha, m),
+        g2: g2(alpha, wo, wi),
+        visible: visible_d(alpha, wo, m),
+        jacobian: (N::splat(4.0) * cos).max(N::splat(f32::MIN_POSITIVE)),
+        half,
+    }
+}
+
 /// `w` mirrored about unit microfacet normal `m`.
 #[inline(always)]
 pub fn reflect_about<N: Real>(w: V3<N>, m: V3<N>) -> V3<N> {

@@ -15,28 +15,44 @@
 //! and f stays reciprocal.
 
 use super::conductor::schlick_weight;
-use super::lambert::Lambert;
-use super::microfacet::{reflect_about, Ggx};
-use super::specular::reflect;
+use super::lambert::lambert_pdf;
+use super::microfacet::{self, reflect_about, Ggx};
 use super::specular_albedo::{table, Layer, SpecularAlbedo};
 use super::BsdfSample;
+use crate::sampling::warp::cosine_hemisphere;
+use crate::simd::{Mask, Real, V3};
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
 
-/// A layer of index `ior` (outside 1) over a base of albedo `base`.
-#[derive(Debug, Clone, Copy)]
-pub struct Plastic {
-    base: Vec3,
+/// A layer of index `ior` (outside 1) over a base of albedo `base`, by
+/// lane (`simd::Real`): the one-path tracer's is `Plastic<f32>`.
+#[derive(Clone, Copy)]
+pub struct Plastic<N: Real = f32> {
+    base: V3<N>,
     /// The layer's reflectance at normal incidence.
-    f0: f32,
-    ggx: Ggx,
+    f0: N,
+    alpha: N,
+    /// Where the layer is a mirror (a single direction).
+    smooth: N::Mask,
     table: &'static SpecularAlbedo,
-    layer: Layer,
+    /// Each lane's place in the table.
+    layer: N::Array<Layer>,
     /// 1 / (1 - E_avg), or 0 if the layer leaves nothing to the base.
-    base_norm: f32,
+    base_norm: N,
 }
 
-impl Plastic {
+impl<N: Real> std::fmt::Debug for Plastic<N> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Plastic")
+            .field("base", &self.base)
+            .field("f0", &self.f0)
+            .field("alpha", &self.alpha)
+            .field("base_norm", &self.base_norm)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Plastic<f32> {
     /// Base colour `base`, the layer's index `ior` (outside 1) and width.
     pub fn new(base: Vec3, ior: f32, ggx: Ggx) -> Plastic {
         let f0 = ((ior - 1.0) / (ior + 1.0)).powi(2);
@@ -45,49 +61,34 @@ impl Plastic {
         let table = table();
         let room = 1.0 - table.mean(&layer);
         Plastic {
-            base,
+            base: base.into(),
             f0,
-            ggx,
+            alpha: ggx.alpha,
+            smooth: ggx.is_smooth(),
             table,
-            layer,
+            layer: [layer],
             base_norm: if room > 1e-4 { 1.0 / room } else { 0.0 },
         }
     }
 
-    /// E(cos): the light the layer reflects (one scattering, from the
-    /// table, raised by its margin).
-    #[inline(always)]
-    fn layer_albedo(&self, cos: f32) -> f32 {
-        self.table.albedo(&self.layer, cos)
-    }
-
-    /// Schlick's F of a facet seen at `cos`.
-    #[inline(always)]
-    fn fresnel(&self, cos: f32) -> f32 {
-        self.f0 + (1.0 - self.f0) * schlick_weight(cos)
-    }
-
-    /// The probability of sampling the layer rather than the base, in
-    /// proportion to their albedos at wo.
-    #[inline(always)]
-    fn p_layer(&self, wo: Vec3) -> f32 {
-        let e = self.layer_albedo(wo.z);
-        let base = self.base.element_sum() / 3.0 * self.left(e);
-        if e + base > 0.0 {
-            e / (e + base)
-        } else {
-            1.0
+    /// Sixteen (or any number of) layers side by side, lane `k` being
+    /// `each(k)`.
+    pub fn lanes<N: Real>(mut each: impl FnMut(usize) -> Plastic) -> Plastic<N> {
+        let all: Vec<Plastic> = (0..N::LANES).map(&mut each).collect();
+        let mut layer = <N::Array<Layer>>::default();
+        let mut smooth = N::Mask::splat(false);
+        for (k, p) in all.iter().enumerate() {
+            layer[k] = p.layer[0];
+            smooth.set_lane(k, p.smooth);
         }
-    }
-
-    /// What the layer of albedo `e` leaves to the base (nothing if the
-    /// layer reflects all, on average).
-    #[inline(always)]
-    fn left(&self, e: f32) -> f32 {
-        if self.base_norm > 0.0 {
-            (1.0 - e).max(0.0)
-        } else {
-            0.0
+        Plastic {
+            base: V3::from_fn(|k| all[k].base.into()),
+            f0: N::from_fn(|k| all[k].f0),
+            alpha: N::from_fn(|k| all[k].alpha),
+            smooth,
+            table: all[0].table,
+            layer,
+            base_norm: N::from_fn(|k| all[k].base_norm),
         }
     }
 
@@ -100,39 +101,19 @@ impl Plastic {
     /// Whether some part is not a single direction (the base always, if it
     /// gets light).
     pub fn has_smooth_part(&self) -> bool {
-        !self.ggx.is_smooth() || (self.base_norm > 0.0 && self.base != Vec3::ZERO)
+        !self.smooth || (self.base_norm > 0.0 && Vec3::from(self.base) != Vec3::ZERO)
     }
 
     /// f |cos theta_i| toward local `wi` of the rough layer and the base,
-    /// and the density `sample` gives it.
+    /// and the density `sample` gives it (`eval_layered`).
     #[inline(always)]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+        // What the lanes' mask would give, without working it out.
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return (Vec3::ZERO, 0.0);
         }
-        let p = self.p_layer(wo);
-        let (layer, layer_pdf) = self.eval_layer(wo, wi);
-        let coupling = self.left(self.layer_albedo(wo.z)) * self.left(self.layer_albedo(wi.z));
-        let base = self.base * (FRAC_1_PI * coupling * self.base_norm * wi.z);
-        let pdf = p * layer_pdf + (1.0 - p) * Lambert::pdf(wi);
-        (Vec3::splat(layer) + base, pdf)
-    }
-
-    /// The rough layer's D G2 F / (4 cos_o cos_i) times cos_i, and the
-    /// density of its visible-normal sampling; nothing when smooth.
-    #[inline(always)]
-    fn eval_layer(&self, wo: Vec3, wi: Vec3) -> (f32, f32) {
-        if self.ggx.is_smooth() {
-            return (0.0, 0.0);
-        }
-        let Some(m) = (wo + wi).try_normalize() else {
-            return (0.0, 0.0);
-        };
-        let cos = wo.dot(m);
-        let f = self.fresnel(cos);
-        let value = f * self.ggx.d(m) * self.ggx.g2(wo, wi) / (4.0 * wo.z);
-        let pdf = self.ggx.visible_d(wo, m) / (4.0 * cos).max(f32::MIN_POSITIVE);
-        (value, pdf)
+        let (f, pdf) = eval_layered(self, wo.into(), wi.into());
+        (f.into(), pdf)
     }
 
     /// A direction toward local `wi` (in `BsdfSample::wi`): the layer's
@@ -144,38 +125,211 @@ impl Plastic {
         if wo.z <= 0.0 {
             return None;
         }
-        let p = self.p_layer(wo);
-        let wi = if pick < p {
-            if self.ggx.is_smooth() {
-                return Some(self.mirror(wo, p));
-            }
-            reflect_about(wo.into(), self.ggx.sample_visible(wo, u).into()).into()
-        } else {
-            Lambert::sample(u)
+        // One part, where the lanes work out all of them.
+        let (wo, u) = (V3::from(wo), (u.x, u.y));
+        let p = self.p_layer(self.layer_albedo(wo.z));
+        let s = match (pick < p, self.smooth) {
+            (true, true) => self.mirror(wo, p),
+            (true, false) => self.sampled(wo, self.layer_direction(wo, u)),
+            (false, _) => self.sampled(wo, cosine_hemisphere(u)),
         };
-        if wi.z <= 0.0 {
-            return None;
-        }
-        let (f, pdf) = self.eval(wo, wi);
-        (pdf > 0.0).then(|| BsdfSample {
-            wi,
-            weight: f / pdf,
-            pdf,
-            specular: false,
+        s.ok.then(|| BsdfSample {
+            wi: s.wi.into(),
+            weight: s.weight.into(),
+            pdf: s.pdf,
+            specular: s.specular,
             transmitted: false,
             eta: 1.0,
         })
     }
+}
+
+// The layered lobe's formulas, for any lane width: the one-path tracer's
+// `Plastic` is them on f32.
+
+impl<N: Real> Plastic<N> {
+    /// E(cos): the light the layer reflects (one scattering, from the
+    /// table, raised by its margin), read a lane at a time.
+    #[inline(always)]
+    fn layer_albedo(&self, cos: N) -> N {
+        N::from_fn(|k| self.table.albedo(&self.layer[k], cos.lane(k)))
+    }
+
+    /// Schlick's F of a facet seen at `cos`.
+    #[inline(always)]
+    fn fresnel(&self, cos: N) -> N {
+        self.f0 + (N::one() - self.f0) * schlick_weight(cos)
+    }
+
+    /// The probability of sampling the layer rather than the base, in
+    /// proportion to their albedos at wo (the layer's `e_o`).
+    #[inline(always)]
+    fn p_layer(&self, e_o: N) -> N {
+        let base = self.base.element_sum() / 3.0 * self.left(e_o);
+        let some = (e_o + base).gt(N::zero());
+        N::select(some, e_o / (e_o + base), N::one())
+    }
+
+    /// What the layer of albedo `e` leaves to the base (nothing if the
+    /// layer reflects all, on average).
+    #[inline(always)]
+    fn left(&self, e: N) -> N {
+        let room = self.base_norm.gt(N::zero());
+        N::select(room, (N::one() - e).max(N::zero()), N::zero())
+    }
+
+    /// The rough layer's D G2 F / (4 cos_o cos_i) times cos_i, and the
+    /// density of its visible-normal sampling; nothing when smooth.
+    #[inline(always)]
+    fn eval_layer(&self, wo: V3<N>, wi: V3<N>) -> (N, N) {
+        let x = microfacet::reflection(self.alpha, wo, wi);
+        let value = self.fresnel(x.cos) * x.d * x.g2 / (N::splat(4.0) * wo.z);
+        let pdf = x.visible / x.jacobian;
+        let rough = x.half & !self.smooth;
+        (
+            N::select(rough, value, N::zero()),
+            N::select(rough, pdf, N::zero()),
+        )
+    }
+
+    /// wo mirrored about a normal it sees, drawn by `u`.
+    #[inline(always)]
+    fn layer_direction(&self, wo: V3<N>, u: (N, N)) -> V3<N> {
+        reflect_about(wo, microfacet::sample_visible(self.alpha, wo, u))
+    }
+
+    /// `wi` drawn by a part that is not a single direction: its weight the
+    /// whole's f cos over the whole's density, where that is above 0.
+    #[inline(always)]
+    fn sampled(&self, wo: V3<N>, wi: V3<N>) -> LayeredSample<N> {
+        let (f, pdf) = eval_layered(self, wo, wi);
+        LayeredSample {
+            wi,
+            weight: f / pdf,
+            pdf,
+            specular: N::Mask::splat(false),
+            ok: !wi.z.le(N::zero()) & pdf.gt(N::zero()),
+        }
+    }
 
     /// The smooth layer's mirror direction, picked with probability `p`.
-    fn mirror(&self, wo: Vec3, p: f32) -> BsdfSample {
-        BsdfSample {
-            wi: reflect(wo),
-            weight: Vec3::splat(self.fresnel(wo.z) / p),
+    #[inline(always)]
+    fn mirror(&self, wo: V3<N>, p: N) -> LayeredSample<N> {
+        let weight = self.fresnel(wo.z) / p;
+        LayeredSample {
+            wi: V3::new(-wo.x, -wo.y, wo.z),
+            weight: V3::new(weight, weight, weight),
             pdf: p,
-            specular: true,
-            transmitted: false,
-            eta: 1.0,
+            specular: N::Mask::splat(true),
+            ok: N::Mask::splat(true),
         }
+    }
+}
+
+/// f |cos theta_i| of `p` toward local `wi`, the rough layer's and the
+/// base's, and the density `sample_layered` gives it; nothing where wo or
+/// wi is below the surface.
+#[inline(always)]
+pub fn eval_layered<N: Real>(p: &Plastic<N>, wo: V3<N>, wi: V3<N>) -> (V3<N>, N) {
+    let e_o = p.layer_albedo(wo.z);
+    let p_layer = p.p_layer(e_o);
+    let (layer, layer_pdf) = p.eval_layer(wo, wi);
+    let coupling = p.left(e_o) * p.left(p.layer_albedo(wi.z));
+    let base = p.base * (N::splat(FRAC_1_PI) * coupling * p.base_norm * wi.z);
+    let pdf = p_layer * layer_pdf + (N::one() - p_layer) * lambert_pdf(wi.z);
+    // Tested as `<=`, so that a NaN goes through as a NaN.
+    let above = !wo.z.le(N::zero()) & !wi.z.le(N::zero());
+    (
+        V3::select(above, V3::new(layer, layer, layer) + base, V3::zero()),
+        N::select(above, pdf, N::zero()),
+    )
+}
+
+/// A sample of the layered lobe: the direction, its weight f |cos| / pdf,
+/// its density (for the mirror, the chance it was picked), whether it is
+/// the smooth layer's mirror direction, and where there is one (`ok`).
+pub struct LayeredSample<N: Real> {
+    pub wi: V3<N>,
+    pub weight: V3<N>,
+    pub pdf: N,
+    pub specular: N::Mask,
+    pub ok: N::Mask,
+}
+
+/// A direction of `p` from local `wo` (above the surface): the layer's or
+/// the base's as `pick` falls against the chance of the layer, drawn by
+/// `u`. None (`ok` unset) below the surface.
+#[inline(always)]
+pub fn sample_layered<N: Real>(p: &Plastic<N>, wo: V3<N>, pick: N, u: (N, N)) -> LayeredSample<N> {
+    let p_layer = p.p_layer(p.layer_albedo(wo.z));
+    let on_layer = pick.lt(p_layer);
+    let mirror = p.mirror(wo, p_layer);
+    let wi = V3::select(on_layer, p.layer_direction(wo, u), cosine_hemisphere(u));
+    let smooth = p.sampled(wo, wi);
+    let specular = on_layer & p.smooth;
+    LayeredSample {
+        wi: V3::select(specular, mirror.wi, smooth.wi),
+        weight: V3::select(specular, mirror.weight, smooth.weight),
+        pdf: N::select(specular, mirror.pdf, smooth.pdf),
+        specular,
+        ok: (specular | smooth.ok) & !wo.z.le(N::zero()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bsdf::microfacet::tests::direction;
+    use crate::sampling::Rng;
+    use crate::simd::F16;
+
+    /// Sixteen lanes give each lane's one-lane value, bit for bit: the
+    /// layered lobe is written once, and `Plastic` is it on f32.
+    #[test]
+    fn plastic_in_lanes_is_the_one_lane_plastic() {
+        let mut rng = Rng::new(11);
+        let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+        // Mirror, layer and base samples were all met, and values.
+        let (mut mirror, mut drawn_ok, mut lit) = (0, 0, 0);
+        for round in 0..300 {
+            let one: [Plastic; 16] = std::array::from_fn(|k| {
+                let iors = [1.5, 1.0, 1.33, 2.4, 0.5];
+                let roughness = [0.0, 0.25, 0.6, 1.0, 0.01];
+                let base = Vec3::new(1.0, 0.7, 0.2) * ((k % 3) as f32 / 2.0);
+                let ggx = Ggx::from_roughness(roughness[(k + round) % 5]);
+                Plastic::new(base, iors[(k + 2 * round) % 5], ggx)
+            });
+            let wo: [Vec3; 16] = std::array::from_fn(|k| direction(&mut rng, (k + round) % 20));
+            let wi: [Vec3; 16] = std::array::from_fn(|k| direction(&mut rng, (k + 3 * round) % 20));
+            let u: [Vec2; 16] = std::array::from_fn(|_| rng.square());
+            let pick: [f32; 16] = std::array::from_fn(|_| rng.square().x);
+            let lanes = |v: &[Vec3; 16]| V3::<F16>::from_fn(|k| v[k]);
+            let p16 = Plastic::lanes::<F16>(|k| one[k]);
+            let (f16, pdf16) = eval_layered(&p16, lanes(&wo), lanes(&wi));
+            let u16 = (F16::from_fn(|k| u[k].x), F16::from_fn(|k| u[k].y));
+            let s16 = sample_layered(&p16, lanes(&wo), F16::from_fn(|k| pick[k]), u16);
+            for k in 0..16 {
+                let case = format!("round {round}, lane {k}");
+                let (f, pdf) = one[k].eval(wo[k], wi[k]);
+                assert_eq!(bits(f16.lane(k)), bits(f), "{case}");
+                assert_eq!(pdf16.lane(k).to_bits(), pdf.to_bits(), "{case}");
+                let drawn = one[k].sample(wo[k], pick[k], u[k]);
+                let lane = s16.ok.lane(k).then(|| {
+                    let w = (bits(s16.wi.lane(k)), bits(s16.weight.lane(k)));
+                    (w, s16.pdf.lane(k).to_bits(), s16.specular.lane(k))
+                });
+                let drawn =
+                    drawn.map(|s| ((bits(s.wi), bits(s.weight)), s.pdf.to_bits(), s.specular));
+                assert_eq!(lane, drawn, "{case}");
+                mirror += usize::from(matches!(drawn, Some((.., true))));
+                drawn_ok += usize::from(drawn.is_some());
+                lit += usize::from(pdf > 0.0);
+            }
+        }
+        assert!(
+            mirror > 100 && drawn_ok > 1500,
+            "{mirror} mirrored, {drawn_ok} drawn"
+        );
+        assert!(lit > 1000, "{lit}");
     }
 }

@@ -45,7 +45,7 @@ pub struct SpecularAlbedo {
 
 /// A layer's place in the table: its roughness as a node index and an
 /// interpolation weight, and its F0 (found once per hit).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Layer {
     r: usize,
     wr: f32,
