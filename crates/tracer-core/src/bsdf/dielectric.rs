@@ -9,7 +9,7 @@
 //! as the smooth interface's (Veach's thesis, 5.2).
 
 use super::microfacet::{self, Ggx};
-use super::specular::{reflect, refract};
+use super::specular::refract_local;
 use super::BsdfSample;
 use crate::optics::fresnel_reflectance;
 use crate::simd::{Mask, Real, V3};
@@ -46,15 +46,6 @@ impl Dielectric {
     /// Whether both its lobes are single directions.
     pub fn is_smooth(&self) -> bool {
         self.ggx.is_smooth() || (self.eta - 1.0).abs() < INDEX_MATCHED
-    }
-
-    /// The probability of reflecting rather than refracting at a facet
-    /// whose Fresnel reflectance is `f`: in proportion to the energies,
-    /// F and (1 - F) times the tint's mean. None if both are 0.
-    #[inline(always)]
-    fn p_reflect(&self, f: f32) -> Option<f32> {
-        let (p, some) = p_reflect(f, V3::from(self.tint));
-        some.then_some(p)
     }
 
     /// An estimate of its albedo for picking lobes: the smooth interface's
@@ -123,51 +114,36 @@ impl Dielectric {
 
     /// Its numbers as the formulas below read them, on one lane.
     #[inline(always)]
-    fn lanes(&self) -> Rough<f32> {
-        Rough {
+    fn lanes(&self) -> Glass<f32> {
+        Glass {
             eta: self.eta,
             alpha: self.ggx.alpha,
             tint: V3::from(self.tint),
         }
     }
 
-    /// The smooth interface: the mirror direction with probability p (its
-    /// weight F / p) or the refracted one (weight (1 - F) tint eta^2 /
-    /// (1 - p)); the density is the probability, as for every specular
-    /// lobe.
+    /// The smooth interface (`sample_smooth`).
     fn sample_smooth(&self, wo: Vec3, pick: f32) -> Option<BsdfSample> {
-        let f = fresnel_reflectance(wo.z, self.eta);
-        let p = self.p_reflect(f)?;
-        if pick >= p && p < 1.0 {
-            if let Some(wi) = refract(wo, self.eta) {
-                return Some(BsdfSample {
-                    wi,
-                    weight: self.tint * ((1.0 - f) / (1.0 - p) * self.eta * self.eta),
-                    pdf: 1.0 - p,
-                    specular: true,
-                    transmitted: true,
-                    eta: self.eta,
-                });
-            }
-        }
-        (p > 0.0).then(|| BsdfSample {
-            wi: reflect(wo),
-            weight: Vec3::splat(f / p),
-            pdf: p,
+        let s = sample_smooth(self.lanes(), V3::from(wo), pick);
+        s.ok.then(|| BsdfSample {
+            wi: s.wi.into(),
+            weight: s.weight.into(),
+            pdf: s.pdf,
             specular: true,
-            transmitted: false,
-            eta: 1.0,
+            transmitted: s.transmitted,
+            eta: if s.transmitted { self.eta } else { 1.0 },
         })
     }
 }
 
-// The rough interface's formulas, for any lane width (`simd::Real`): the
+// The interface's formulas, for any lane width (`simd::Real`): the
 // one-path tracer's `Dielectric` instantiates them on f32.
 
-/// A rough interface: n(wo's side) / n(the far side), GGX's width and the
-/// tint of transmitted light, by lane.
+/// An interface by lane: n(wo's side) / n(the far side), GGX's width (not
+/// read by the smooth interface's formula) and the tint of transmitted
+/// light.
 #[derive(Debug, Clone, Copy)]
-pub struct Rough<N: Real> {
+pub struct Glass<N: Real> {
     pub eta: N,
     pub alpha: N,
     pub tint: V3<N>,
@@ -186,7 +162,7 @@ pub fn p_reflect<N: Real>(f: N, tint: V3<N>) -> (N, N::Mask) {
 /// transmitted) and the density `sample_rough` gives it; nothing for a wo
 /// below the surface or a wi in it.
 #[inline(always)]
-pub fn eval_rough<N: Real>(r: Rough<N>, wo: V3<N>, wi: V3<N>) -> (V3<N>, N) {
+pub fn eval_rough<N: Real>(r: Glass<N>, wo: V3<N>, wi: V3<N>) -> (V3<N>, N) {
     let (f_r, pdf_r, ok_r) = eval_reflection(r, wo, wi);
     let (f_t, pdf_t, ok_t) = eval_transmission(r, wo, wi);
     let reflected = wi.z.gt(N::zero());
@@ -203,7 +179,7 @@ pub fn eval_rough<N: Real>(r: Rough<N>, wo: V3<N>, wi: V3<N>) -> (V3<N>, N) {
 /// times the Jacobian 1 / (4 wo.m), times the chance of reflecting; and
 /// where they hold.
 #[inline(always)]
-fn eval_reflection<N: Real>(r: Rough<N>, wo: V3<N>, wi: V3<N>) -> (V3<N>, N, N::Mask) {
+fn eval_reflection<N: Real>(r: Glass<N>, wo: V3<N>, wi: V3<N>) -> (V3<N>, N, N::Mask) {
     let x = microfacet::reflection(r.alpha, wo, wi);
     let f = fresnel_reflectance(x.cos, r.eta);
     let (p, some) = p_reflect(f, r.tint);
@@ -219,7 +195,7 @@ fn eval_reflection<N: Real>(r: Rough<N>, wo: V3<N>, wi: V3<N>) -> (V3<N>, N, N::
 /// |wi.m| / (wo.m + n_i wi.m)^2, times the chance of refracting. Facets
 /// that face away from either direction give nothing.
 #[inline(always)]
-fn eval_transmission<N: Real>(r: Rough<N>, wo: V3<N>, wi: V3<N>) -> (V3<N>, N, N::Mask) {
+fn eval_transmission<N: Real>(r: Glass<N>, wo: V3<N>, wi: V3<N>) -> (V3<N>, N, N::Mask) {
     let n_i = N::one() / r.eta;
     let (m, half) = (wo + wi * n_i).try_normalize();
     let m = V3::select(m.z.lt(N::zero()), -m, m);
@@ -261,7 +237,7 @@ struct Facet<N: Real> {
 }
 
 #[inline(always)]
-fn facet<N: Real>(r: Rough<N>, wo: V3<N>, u: (N, N)) -> Facet<N> {
+fn facet<N: Real>(r: Glass<N>, wo: V3<N>, u: (N, N)) -> Facet<N> {
     let m = microfacet::sample_visible(r.alpha, wo, u);
     let cos = wo.dot(m);
     let f = fresnel_reflectance(cos, r.eta);
@@ -279,7 +255,7 @@ fn facet<N: Real>(r: Rough<N>, wo: V3<N>, u: (N, N)) -> Facet<N> {
 /// `wo` reflected about the facet: the direction, its weight F / p
 /// G1(wi), its density, and where it is above the surface.
 #[inline(always)]
-fn reflected<N: Real>(r: Rough<N>, wo: V3<N>, x: &Facet<N>) -> (V3<N>, V3<N>, N, N::Mask) {
+fn reflected<N: Real>(r: Glass<N>, wo: V3<N>, x: &Facet<N>) -> (V3<N>, V3<N>, N, N::Mask) {
     let wi = microfacet::reflect_about(wo, x.m);
     let weight = x.f / x.p * microfacet::g1(r.alpha, wi);
     let pdf = x.p * x.visible / (N::splat(4.0) * x.cos);
@@ -295,7 +271,7 @@ fn reflected<N: Real>(r: Rough<N>, wo: V3<N>, x: &Facet<N>) -> (V3<N>, V3<N>, N,
 /// (1 - p) eta^2 G1(wi) tint, its density, and where it goes through
 /// (below the surface, not past the critical angle, p below 1).
 #[inline(always)]
-fn refracted<N: Real>(r: Rough<N>, wo: V3<N>, x: &Facet<N>) -> (V3<N>, V3<N>, N, N::Mask) {
+fn refracted<N: Real>(r: Glass<N>, wo: V3<N>, x: &Facet<N>) -> (V3<N>, V3<N>, N, N::Mask) {
     let (wi, through) = microfacet::refract_about(wo, x.m, r.eta);
     let n_i = N::one() / r.eta;
     let cos_i = wi.dot(x.m);
@@ -313,7 +289,7 @@ fn refracted<N: Real>(r: Rough<N>, wo: V3<N>, x: &Facet<N>) -> (V3<N>, V3<N>, N,
 /// reflecting. None (`ok` unset) when the direction falls on the wrong
 /// side of the surface.
 #[inline(always)]
-pub fn sample_rough<N: Real>(r: Rough<N>, wo: V3<N>, pick: N, u: (N, N)) -> RoughSample<N> {
+pub fn sample_rough<N: Real>(r: Glass<N>, wo: V3<N>, pick: N, u: (N, N)) -> RoughSample<N> {
     let x = facet(r, wo, u);
     let (wi_r, weight_r, pdf_r, ok_r) = reflected(r, wo, &x);
     let (wi_t, weight_t, pdf_t, ok_t) = refracted(r, wo, &x);
@@ -324,6 +300,28 @@ pub fn sample_rough<N: Real>(r: Rough<N>, wo: V3<N>, pick: N, u: (N, N)) -> Roug
         pdf: N::select(back, pdf_r, pdf_t),
         transmitted: !back,
         ok: x.ok & N::Mask::select(back, ok_r, ok_t),
+    }
+}
+
+/// The smooth interface seen from local `wo` (above the surface): the
+/// mirror direction with probability p (its weight F / p) or the
+/// refracted one (weight (1 - F) tint eta^2 / (1 - p)) as `pick` falls,
+/// the mirror's past the critical angle; the density is the probability,
+/// as for every specular lobe. None (`ok` unset) where nothing comes back.
+#[inline(always)]
+pub fn sample_smooth<N: Real>(r: Glass<N>, wo: V3<N>, pick: N) -> RoughSample<N> {
+    let f = fresnel_reflectance(wo.z, r.eta);
+    let (p, some) = p_reflect(f, r.tint);
+    let (through, refracts) = refract_local(wo, r.eta);
+    let crosses = !pick.lt(p) & p.lt(N::one()) & refracts;
+    let mirror = f / p;
+    let weight = r.tint * ((N::one() - f) / (N::one() - p) * r.eta * r.eta);
+    RoughSample {
+        wi: V3::select(crosses, through, V3::new(-wo.x, -wo.y, wo.z)),
+        weight: V3::select(crosses, weight, V3::new(mirror, mirror, mirror)),
+        pdf: N::select(crosses, N::one() - p, p),
+        transmitted: crosses,
+        ok: some & (crosses | p.gt(N::zero())),
     }
 }
 
@@ -354,7 +352,7 @@ mod tests {
             let u: [Vec2; 16] = std::array::from_fn(|_| rng.square());
             let pick: [f32; 16] = std::array::from_fn(|_| rng.square().x);
             let lanes = |v: &[Vec3; 16]| V3::<F16>::from_fn(|k| v[k]);
-            let r = Rough {
+            let r = Glass {
                 eta: F16::from_fn(|k| glass[k].eta),
                 alpha: F16::from_fn(|k| glass[k].ggx.alpha),
                 tint: V3::<F16>::from_fn(|k| glass[k].tint),
@@ -391,5 +389,49 @@ mod tests {
             "{through} through, {back} back"
         );
         assert!(lit[0] > 1000 && lit[1] > 50, "{lit:?}");
+    }
+
+    /// The smooth interface too: sixteen lanes, each lane's one-lane
+    /// sample bit for bit, through it, back, and past the critical angle.
+    #[test]
+    fn smooth_glass_in_lanes_is_the_one_lane_glass() {
+        let mut rng = Rng::new(8);
+        let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+        let (mut through, mut back) = (0, 0);
+        for round in 0..200 {
+            let glass: [Dielectric; 16] = std::array::from_fn(|k| {
+                let etas = [1.0 / 1.5, 1.5, 1.0 / 1.33, 2.4, 1.0005];
+                let tint = Vec3::new(1.0, 0.9, 0.5) * ((k % 3) as f32 / 2.0);
+                Dielectric::new(etas[(k + round) % 5], true, Ggx::new(0.0), tint)
+            });
+            let wo: [Vec3; 16] = std::array::from_fn(|k| direction(&mut rng, (k + round) % 20));
+            let pick: [f32; 16] = std::array::from_fn(|_| rng.square().x);
+            let r = Glass {
+                eta: F16::from_fn(|k| glass[k].eta),
+                alpha: F16::zero(),
+                tint: V3::<F16>::from_fn(|k| glass[k].tint),
+            };
+            let wo16 = V3::<F16>::from_fn(|k| wo[k]);
+            let drawn = sample_smooth(r, wo16, F16::from_fn(|k| pick[k]));
+            for k in 0..16 {
+                let one = glass[k].sample(wo[k], pick[k], Vec2::ZERO);
+                let lane = (drawn.ok.lane(k) && wo[k].z > 0.0).then(|| {
+                    let w = (bits(drawn.wi.lane(k)), bits(drawn.weight.lane(k)));
+                    (w, drawn.pdf.lane(k).to_bits(), drawn.transmitted.lane(k))
+                });
+                let one =
+                    one.map(|s| ((bits(s.wi), bits(s.weight)), s.pdf.to_bits(), s.transmitted));
+                assert_eq!(lane, one, "round {round}, lane {k}");
+                match one {
+                    Some((.., true)) => through += 1,
+                    Some((.., false)) => back += 1,
+                    None => {}
+                }
+            }
+        }
+        assert!(
+            through > 300 && back > 300,
+            "{through} through, {back} back"
+        );
     }
 }

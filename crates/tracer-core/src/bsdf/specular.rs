@@ -3,6 +3,7 @@
 //! single direction each.
 
 use crate::optics::fresnel_reflectance;
+use crate::simd::{Real, V3};
 use glam::Vec3;
 
 /// wo mirrored about the local normal.
@@ -12,17 +13,23 @@ pub fn reflect(wo: Vec3) -> Vec3 {
 }
 
 /// The direction refracted from local `wo` (`wo.z > 0`) with `eta` =
-/// n(wo's side) / n(the other side), and its cosine; None past the
-/// critical angle.
+/// n(wo's side) / n(the other side); None past the critical angle
+/// (`refract_local`).
 #[inline(always)]
 pub fn refract(wo: Vec3, eta: f32) -> Option<Vec3> {
+    let (wi, through) = refract_local(V3::from(wo), eta);
+    through.then(|| wi.into())
+}
+
+/// `refract` for any lane width: the direction, and where there is one.
+#[inline(always)]
+pub fn refract_local<N: Real>(wo: V3<N>, eta: N) -> (V3<N>, N::Mask) {
     let cos_i = wo.z;
-    let sin2_t = eta * eta * (1.0 - cos_i * cos_i).max(0.0);
-    if sin2_t >= 1.0 {
-        return None;
-    }
-    let cos_t = (1.0 - sin2_t).sqrt();
-    Some((-eta * wo + Vec3::new(0.0, 0.0, eta * cos_i - cos_t)).normalize())
+    let sin2_t = eta * eta * (N::one() - cos_i * cos_i).max(N::zero());
+    let cos_t = (N::one() - sin2_t).sqrt();
+    let along = V3::new(N::zero(), N::zero(), eta * cos_i - cos_t);
+    let (wi, _) = (wo * -eta + along).try_normalize();
+    (wi, !sin2_t.ge(N::one()))
 }
 
 /// A smooth interface: the lab's glass read physically. A ray reflects
