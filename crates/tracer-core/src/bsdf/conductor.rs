@@ -4,9 +4,9 @@
 //! material's `base_color`, as glTF 2.0 takes it).
 
 use super::microfacet::{self, Ggx};
-use super::specular::reflect;
-use super::BsdfSample;
-use crate::simd::{Real, V3};
+use super::specular::mirror;
+use super::{BsdfSample, Sampled};
+use crate::simd::{Mask, Real, V3};
 use glam::{Vec2, Vec3};
 
 /// Schlick's approximation: F0 + (1 - F0)(1 - cos)^5.
@@ -65,30 +65,16 @@ impl Conductor {
         if wo.z <= 0.0 {
             return None;
         }
-        if self.is_smooth() {
-            return Some(BsdfSample {
-                wi: reflect(wo),
-                weight: schlick(V3::from(self.f0), wo.z).into(),
-                pdf: 1.0,
-                specular: true,
-                transmitted: false,
-                eta: 1.0,
-            });
-        }
         let f0 = V3::from(self.f0);
-        let s = sample_rough(f0, self.ggx.alpha, wo.into(), (u.x, u.y));
-        s.ok.then(|| BsdfSample {
-            wi: s.wi.into(),
-            weight: s.weight.into(),
-            pdf: s.pdf,
-            specular: false,
-            transmitted: false,
-            eta: 1.0,
-        })
+        match self.is_smooth() {
+            true => sample_mirror(f0, wo.into()),
+            false => sample_rough(f0, self.ggx.alpha, wo.into(), (u.x, u.y)),
+        }
+        .one()
     }
 }
 
-// The rough lobe's formulas, for any lane width (`simd::Real`): the
+// The lobe's formulas, for any lane width (`simd::Real`): the
 // one-path tracer's `Conductor` instantiates them on f32.
 
 /// The rough metal of reflectance `f0` and GGX width `alpha`: f |cos
@@ -108,28 +94,34 @@ pub fn eval_rough<N: Real>(f0: V3<N>, alpha: N, wo: V3<N>, wi: V3<N>) -> (V3<N>,
     )
 }
 
-/// A sample of the rough lobe: the direction, its weight f |cos| / pdf,
-/// its density, and where there is one (`ok`).
-pub struct RoughSample<N: Real> {
-    pub wi: V3<N>,
-    pub weight: V3<N>,
-    pub pdf: N,
-    pub ok: N::Mask,
+/// The mirror of reflectance `f0` seen from local `wo`: its one
+/// direction, weighted by Schlick's F at wo.
+#[inline(always)]
+pub fn sample_mirror<N: Real>(f0: V3<N>, wo: V3<N>) -> Sampled<N> {
+    Sampled {
+        wi: mirror(wo),
+        weight: schlick(f0, wo.z),
+        pdf: N::one(),
+        specular: N::Mask::splat(true),
+        ok: N::Mask::splat(true),
+        ..Sampled::none()
+    }
 }
 
 /// `wo` (above the surface) mirrored about a normal it sees, drawn by `u`:
 /// weight F G2 / G1(wo) = F G1(wi). None (`ok` unset) when the reflection
 /// falls below the surface.
 #[inline(always)]
-pub fn sample_rough<N: Real>(f0: V3<N>, alpha: N, wo: V3<N>, u: (N, N)) -> RoughSample<N> {
+pub fn sample_rough<N: Real>(f0: V3<N>, alpha: N, wo: V3<N>, u: (N, N)) -> Sampled<N> {
     let m = microfacet::sample_visible(alpha, wo, u);
     let cos = wo.dot(m);
     let wi = microfacet::reflect_about(wo, m);
-    RoughSample {
+    Sampled {
         wi,
         weight: schlick(f0, cos) * microfacet::g1(alpha, wi),
         pdf: microfacet::visible_d(alpha, wo, m) / (N::splat(4.0) * cos),
         ok: !wi.z.le(N::zero()) & !cos.le(N::zero()),
+        ..Sampled::none()
     }
 }
 

@@ -9,8 +9,8 @@
 //! as the smooth interface's (Veach's thesis, 5.2).
 
 use super::microfacet::{self, Ggx};
-use super::specular::refract_local;
-use super::BsdfSample;
+use super::specular::{mirror, refract_local};
+use super::{BsdfSample, Sampled};
 use crate::optics::fresnel_reflectance;
 use crate::simd::{Mask, Real, V3};
 use glam::{Vec2, Vec3};
@@ -60,56 +60,29 @@ impl Dielectric {
     /// nothing when smooth.
     #[inline(always)]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
-        // What the lanes' mask would give, without working it out.
-        if self.is_smooth() || wo.z <= 0.0 || wi.z == 0.0 {
+        if self.is_smooth() {
             return (Vec3::ZERO, 0.0);
         }
-        // One lobe, where the lanes work out both.
-        let (r, wo, wi) = (self.lanes(), V3::from(wo), V3::from(wi));
-        let (f, pdf, ok) = match wi.z > 0.0 {
-            true => eval_reflection(r, wo, wi),
-            false => eval_transmission(r, wo, wi),
-        };
-        if ok {
-            (f.into(), pdf)
-        } else {
-            (Vec3::ZERO, 0.0)
-        }
+        let (f, pdf) = eval_rough(self.lanes(), wo.into(), wi.into());
+        (f.into(), pdf)
     }
 
     /// A direction toward local `wi` (in `BsdfSample::wi`), reflected or
     /// refracted as `pick` falls against the Fresnel-weighted chance of
     /// reflecting, through the smooth surface or a visible facet drawn by
-    /// `u` (`sample_rough`). None when the direction falls on the wrong
-    /// side of the surface.
+    /// `u` (`sample_smooth`, `sample_rough`). None when the direction
+    /// falls on the wrong side of the surface.
     #[inline(always)]
     pub fn sample(&self, wo: Vec3, pick: f32, u: Vec2) -> Option<BsdfSample> {
         if wo.z <= 0.0 {
             return None;
         }
-        if self.is_smooth() {
-            return self.sample_smooth(wo, pick);
-        }
-        // One lobe, where the lanes work out both.
         let (r, wo) = (self.lanes(), V3::from(wo));
-        let facet = facet(r, wo, (u.x, u.y));
-        if !facet.ok {
-            return None;
+        match self.is_smooth() {
+            true => sample_smooth(r, wo, pick),
+            false => sample_rough(r, wo, pick, (u.x, u.y)),
         }
-        let back = pick < facet.p;
-        let transmitted = !back;
-        let (wi, weight, pdf, ok) = match back {
-            true => reflected(r, wo, &facet),
-            false => refracted(r, wo, &facet),
-        };
-        ok.then(|| BsdfSample {
-            wi: wi.into(),
-            weight: weight.into(),
-            pdf,
-            specular: false,
-            transmitted,
-            eta: if transmitted { self.eta } else { 1.0 },
-        })
+        .one()
     }
 
     /// Its numbers as the formulas below read them, on one lane.
@@ -120,19 +93,6 @@ impl Dielectric {
             alpha: self.ggx.alpha,
             tint: V3::from(self.tint),
         }
-    }
-
-    /// The smooth interface (`sample_smooth`).
-    fn sample_smooth(&self, wo: Vec3, pick: f32) -> Option<BsdfSample> {
-        let s = sample_smooth(self.lanes(), V3::from(wo), pick);
-        s.ok.then(|| BsdfSample {
-            wi: s.wi.into(),
-            weight: s.weight.into(),
-            pdf: s.pdf,
-            specular: true,
-            transmitted: s.transmitted,
-            eta: if s.transmitted { self.eta } else { 1.0 },
-        })
     }
 }
 
@@ -163,15 +123,23 @@ pub fn p_reflect<N: Real>(f: N, tint: V3<N>) -> (N, N::Mask) {
 /// below the surface or a wi in it.
 #[inline(always)]
 pub fn eval_rough<N: Real>(r: Glass<N>, wo: V3<N>, wi: V3<N>) -> (V3<N>, N) {
-    let (f_r, pdf_r, ok_r) = eval_reflection(r, wo, wi);
-    let (f_t, pdf_t, ok_t) = eval_transmission(r, wo, wi);
-    let reflected = wi.z.gt(N::zero());
-    let (f, pdf) = (
-        V3::select(reflected, f_r, f_t),
-        N::select(reflected, pdf_r, pdf_t),
-    );
     // Tested as `<=` and `==`, so that a NaN goes through as a NaN.
-    let ok = N::Mask::select(reflected, ok_r, ok_t) & !wo.z.le(N::zero()) & !wi.z.eq(N::zero());
+    let seen = !wo.z.le(N::zero()) & !wi.z.eq(N::zero());
+    let reflected = wi.z.gt(N::zero());
+    let (mut f, mut pdf, mut ok) = (V3::zero(), N::zero(), N::Mask::splat(false));
+    // Each lobe worked out only where some lane needs it (one lane: the
+    // lobe wi is in).
+    if (seen & reflected).any() {
+        let (f_r, pdf_r, ok_r) = eval_reflection(r, wo, wi);
+        (f, pdf, ok) = (f_r, pdf_r, ok_r);
+    }
+    if (seen & !reflected).any() {
+        let (f_t, pdf_t, ok_t) = eval_transmission(r, wo, wi);
+        f = V3::select(reflected, f, f_t);
+        pdf = N::select(reflected, pdf, pdf_t);
+        ok = N::Mask::select(reflected, ok, ok_t);
+    }
+    let ok = ok & seen;
     (V3::select(ok, f, V3::zero()), N::select(ok, pdf, N::zero()))
 }
 
@@ -211,17 +179,6 @@ fn eval_transmission<N: Real>(r: Glass<N>, wo: V3<N>, wi: V3<N>) -> (V3<N>, N, N
     let pdf = (N::one() - p) * vis * n_i * n_i * (-cos_i) / denom2;
     let facing = !cos_o.le(N::zero()) & !cos_i.ge(N::zero());
     (r.tint * value, pdf, half & facing & some)
-}
-
-/// A sample of the rough interface: the direction, its weight f |cos| /
-/// pdf, its density, whether it went through, and where there is one
-/// (`ok`).
-pub struct RoughSample<N: Real> {
-    pub wi: V3<N>,
-    pub weight: V3<N>,
-    pub pdf: N,
-    pub transmitted: N::Mask,
-    pub ok: N::Mask,
 }
 
 /// A normal `wo` sees, drawn by `u`, and what both lobes read of it:
@@ -289,17 +246,37 @@ fn refracted<N: Real>(r: Glass<N>, wo: V3<N>, x: &Facet<N>) -> (V3<N>, V3<N>, N,
 /// reflecting. None (`ok` unset) when the direction falls on the wrong
 /// side of the surface.
 #[inline(always)]
-pub fn sample_rough<N: Real>(r: Glass<N>, wo: V3<N>, pick: N, u: (N, N)) -> RoughSample<N> {
+pub fn sample_rough<N: Real>(r: Glass<N>, wo: V3<N>, pick: N, u: (N, N)) -> Sampled<N> {
     let x = facet(r, wo, u);
-    let (wi_r, weight_r, pdf_r, ok_r) = reflected(r, wo, &x);
-    let (wi_t, weight_t, pdf_t, ok_t) = refracted(r, wo, &x);
     let back = pick.lt(x.p);
-    RoughSample {
-        wi: V3::select(back, wi_r, wi_t),
-        weight: V3::select(back, weight_r, weight_t),
-        pdf: N::select(back, pdf_r, pdf_t),
-        transmitted: !back,
-        ok: x.ok & N::Mask::select(back, ok_r, ok_t),
+    let mut s = Sampled::none();
+    // Each lobe worked out only where some lane takes it.
+    if (x.ok & back).any() {
+        let (wi, weight, pdf, ok) = reflected(r, wo, &x);
+        s = Sampled {
+            wi,
+            weight,
+            pdf,
+            ok,
+            ..s
+        };
+    }
+    if (x.ok & !back).any() {
+        let (wi, weight, pdf, ok) = refracted(r, wo, &x);
+        let through = Sampled {
+            wi,
+            weight,
+            pdf,
+            transmitted: N::Mask::splat(true),
+            eta: r.eta,
+            ok,
+            ..s
+        };
+        s = Sampled::select(back, s, through);
+    }
+    Sampled {
+        ok: x.ok & s.ok,
+        ..s
     }
 }
 
@@ -309,18 +286,20 @@ pub fn sample_rough<N: Real>(r: Glass<N>, wo: V3<N>, pick: N, u: (N, N)) -> Roug
 /// the mirror's past the critical angle; the density is the probability,
 /// as for every specular lobe. None (`ok` unset) where nothing comes back.
 #[inline(always)]
-pub fn sample_smooth<N: Real>(r: Glass<N>, wo: V3<N>, pick: N) -> RoughSample<N> {
+pub fn sample_smooth<N: Real>(r: Glass<N>, wo: V3<N>, pick: N) -> Sampled<N> {
     let f = fresnel_reflectance(wo.z, r.eta);
     let (p, some) = p_reflect(f, r.tint);
     let (through, refracts) = refract_local(wo, r.eta);
     let crosses = !pick.lt(p) & p.lt(N::one()) & refracts;
-    let mirror = f / p;
+    let back = f / p;
     let weight = r.tint * ((N::one() - f) / (N::one() - p) * r.eta * r.eta);
-    RoughSample {
-        wi: V3::select(crosses, through, V3::new(-wo.x, -wo.y, wo.z)),
-        weight: V3::select(crosses, weight, V3::new(mirror, mirror, mirror)),
+    Sampled {
+        wi: V3::select(crosses, through, mirror(wo)),
+        weight: V3::select(crosses, weight, V3::new(back, back, back)),
         pdf: N::select(crosses, N::one() - p, p),
+        specular: N::Mask::splat(true),
         transmitted: crosses,
+        eta: N::select(crosses, r.eta, N::one()),
         ok: some & (crosses | p.gt(N::zero())),
     }
 }

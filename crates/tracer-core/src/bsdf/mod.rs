@@ -40,6 +40,7 @@ pub use specular::{reflect, refract, Interface};
 
 use crate::geometry::SurfaceHit;
 use crate::material::Material;
+use crate::simd::{Mask, Real, V3};
 use glam::{Vec2, Vec3};
 use principled::PrincipledBsdf;
 
@@ -75,6 +76,67 @@ pub struct BsdfSample {
     /// n(wo's side) / n(wi's side): 1 but for refraction, whose weight
     /// holds its square.
     pub eta: f32,
+}
+
+/// Directions drawn by a lobe's formula on any lane width (`simd::Real`):
+/// `BsdfSample`'s fields by lane, local, and where there is one (`ok`).
+#[derive(Debug, Clone, Copy)]
+pub struct Sampled<N: Real> {
+    pub wi: V3<N>,
+    pub weight: V3<N>,
+    pub pdf: N,
+    pub specular: N::Mask,
+    pub transmitted: N::Mask,
+    /// n(wo's side) / n(wi's side).
+    pub eta: N,
+    pub ok: N::Mask,
+}
+
+impl<N: Real> Sampled<N> {
+    /// Lane by lane, `a` where `m` is set, else `b`.
+    #[inline(always)]
+    pub fn select(m: N::Mask, a: Sampled<N>, b: Sampled<N>) -> Sampled<N> {
+        let mask = |x: N::Mask, y: N::Mask| N::Mask::select(m, x, y);
+        Sampled {
+            wi: V3::select(m, a.wi, b.wi),
+            weight: V3::select(m, a.weight, b.weight),
+            pdf: N::select(m, a.pdf, b.pdf),
+            specular: mask(a.specular, b.specular),
+            transmitted: mask(a.transmitted, b.transmitted),
+            eta: N::select(m, a.eta, b.eta),
+            ok: mask(a.ok, b.ok),
+        }
+    }
+
+    /// None of them: every lane `ok` unset.
+    #[inline(always)]
+    pub fn none() -> Sampled<N> {
+        let no = N::Mask::splat(false);
+        Sampled {
+            wi: V3::zero(),
+            weight: V3::zero(),
+            pdf: N::zero(),
+            specular: no,
+            transmitted: no,
+            eta: N::one(),
+            ok: no,
+        }
+    }
+}
+
+impl Sampled<f32> {
+    /// The one lane's sample, if there is one.
+    #[inline(always)]
+    pub fn one(self) -> Option<BsdfSample> {
+        self.ok.then(|| BsdfSample {
+            wi: self.wi.into(),
+            weight: self.weight.into(),
+            pdf: self.pdf,
+            specular: self.specular,
+            transmitted: self.transmitted,
+            eta: self.eta,
+        })
+    }
 }
 
 /// A material at one hit, seen along `wo`: its local frame and its lobes.

@@ -17,8 +17,9 @@
 use super::conductor::schlick_weight;
 use super::lambert::lambert_pdf;
 use super::microfacet::{self, reflect_about, Ggx};
+use super::specular::mirror;
 use super::specular_albedo::{table, Layer, SpecularAlbedo};
-use super::BsdfSample;
+use super::{BsdfSample, Sampled};
 use crate::sampling::warp::cosine_hemisphere;
 use crate::simd::{Mask, Real, V3};
 use glam::{Vec2, Vec3};
@@ -125,22 +126,7 @@ impl Plastic<f32> {
         if wo.z <= 0.0 {
             return None;
         }
-        // One part, where the lanes work out all of them.
-        let (wo, u) = (V3::from(wo), (u.x, u.y));
-        let p = self.p_layer(self.layer_albedo(wo.z));
-        let s = match (pick < p, self.smooth) {
-            (true, true) => self.mirror(wo, p),
-            (true, false) => self.sampled(wo, self.layer_direction(wo, u)),
-            (false, _) => self.sampled(wo, cosine_hemisphere(u)),
-        };
-        s.ok.then(|| BsdfSample {
-            wi: s.wi.into(),
-            weight: s.weight.into(),
-            pdf: s.pdf,
-            specular: s.specular,
-            transmitted: false,
-            eta: 1.0,
-        })
+        sample_layered(self, wo.into(), pick, (u.x, u.y)).one()
     }
 }
 
@@ -201,27 +187,28 @@ impl<N: Real> Plastic<N> {
     /// `wi` drawn by a part that is not a single direction: its weight the
     /// whole's f cos over the whole's density, where that is above 0.
     #[inline(always)]
-    fn sampled(&self, wo: V3<N>, wi: V3<N>) -> LayeredSample<N> {
+    fn sampled(&self, wo: V3<N>, wi: V3<N>) -> Sampled<N> {
         let (f, pdf) = eval_layered(self, wo, wi);
-        LayeredSample {
+        Sampled {
             wi,
             weight: f / pdf,
             pdf,
-            specular: N::Mask::splat(false),
             ok: !wi.z.le(N::zero()) & pdf.gt(N::zero()),
+            ..Sampled::none()
         }
     }
 
     /// The smooth layer's mirror direction, picked with probability `p`.
     #[inline(always)]
-    fn mirror(&self, wo: V3<N>, p: N) -> LayeredSample<N> {
+    fn mirror(&self, wo: V3<N>, p: N) -> Sampled<N> {
         let weight = self.fresnel(wo.z) / p;
-        LayeredSample {
-            wi: V3::new(-wo.x, -wo.y, wo.z),
+        Sampled {
+            wi: mirror(wo),
             weight: V3::new(weight, weight, weight),
             pdf: p,
             specular: N::Mask::splat(true),
             ok: N::Mask::splat(true),
+            ..Sampled::none()
         }
     }
 }
@@ -245,34 +232,34 @@ pub fn eval_layered<N: Real>(p: &Plastic<N>, wo: V3<N>, wi: V3<N>) -> (V3<N>, N)
     )
 }
 
-/// A sample of the layered lobe: the direction, its weight f |cos| / pdf,
-/// its density (for the mirror, the chance it was picked), whether it is
-/// the smooth layer's mirror direction, and where there is one (`ok`).
-pub struct LayeredSample<N: Real> {
-    pub wi: V3<N>,
-    pub weight: V3<N>,
-    pub pdf: N,
-    pub specular: N::Mask,
-    pub ok: N::Mask,
-}
-
 /// A direction of `p` from local `wo` (above the surface): the layer's or
 /// the base's as `pick` falls against the chance of the layer, drawn by
-/// `u`. None (`ok` unset) below the surface.
+/// `u` (the smooth layer's mirror direction is specular). None (`ok`
+/// unset) below the surface. Each part is worked out only where some lane
+/// takes it.
 #[inline(always)]
-pub fn sample_layered<N: Real>(p: &Plastic<N>, wo: V3<N>, pick: N, u: (N, N)) -> LayeredSample<N> {
+pub fn sample_layered<N: Real>(p: &Plastic<N>, wo: V3<N>, pick: N, u: (N, N)) -> Sampled<N> {
     let p_layer = p.p_layer(p.layer_albedo(wo.z));
     let on_layer = pick.lt(p_layer);
-    let mirror = p.mirror(wo, p_layer);
-    let wi = V3::select(on_layer, p.layer_direction(wo, u), cosine_hemisphere(u));
-    let smooth = p.sampled(wo, wi);
     let specular = on_layer & p.smooth;
-    LayeredSample {
-        wi: V3::select(specular, mirror.wi, smooth.wi),
-        weight: V3::select(specular, mirror.weight, smooth.weight),
-        pdf: N::select(specular, mirror.pdf, smooth.pdf),
-        specular,
-        ok: (specular | smooth.ok) & !wo.z.le(N::zero()),
+    let (on_facet, on_base) = (on_layer & !p.smooth, !on_layer);
+    let mut wi = V3::zero();
+    if on_facet.any() {
+        wi = p.layer_direction(wo, u);
+    }
+    if on_base.any() {
+        wi = V3::select(on_base, cosine_hemisphere(u), wi);
+    }
+    let mut s = Sampled::none();
+    if (on_facet | on_base).any() {
+        s = p.sampled(wo, wi);
+    }
+    if specular.any() {
+        s = Sampled::select(specular, p.mirror(wo, p_layer), s);
+    }
+    Sampled {
+        ok: s.ok & !wo.z.le(N::zero()),
+        ..s
     }
 }
 

@@ -6,10 +6,16 @@ use crate::optics::fresnel_reflectance;
 use crate::simd::{Real, V3};
 use glam::Vec3;
 
-/// wo mirrored about the local normal.
+/// wo mirrored about the local normal (`mirror`).
 #[inline(always)]
 pub fn reflect(wo: Vec3) -> Vec3 {
-    Vec3::new(-wo.x, -wo.y, wo.z)
+    mirror(V3::from(wo)).into()
+}
+
+/// `reflect` for any lane width.
+#[inline(always)]
+pub fn mirror<N: Real>(wo: V3<N>) -> V3<N> {
+    V3::new(-wo.x, -wo.y, wo.z)
 }
 
 /// The direction refracted from local `wo` (`wo.z > 0`) with `eta` =
