@@ -15,12 +15,13 @@
 //! convex mixture does too. Directions are local (z = the shading normal
 //! turned toward the viewer).
 
-use super::conductor::Conductor;
-use super::dielectric::Dielectric;
+use super::conductor::{self, Conductor};
+use super::dielectric::{self, Dielectric, Glass};
 use super::microfacet::Ggx;
-use super::plastic::Plastic;
-use super::BsdfSample;
+use super::plastic::{eval_layered, sample_layered, Plastic};
+use super::{BsdfSample, Sampled};
 pub use crate::material::Principled;
+use crate::simd::{Mask, Real, V3};
 use glam::{Vec2, Vec3};
 
 /// The lobes in their order in `PrincipledBsdf`'s arrays.
@@ -32,23 +33,30 @@ const PLASTIC: usize = 2;
 /// mixture's, must stay in [0, 1).
 const BELOW_ONE: f32 = 1.0 - f32::EPSILON / 2.0;
 
-/// The principled material at one hit, seen along `wo`.
+/// The principled material at one hit, seen along `wo`, by lane
+/// (`simd::Real`): the one-path tracer's is `PrincipledBsdf<f32>`.
 #[derive(Debug, Clone, Copy)]
-pub struct PrincipledBsdf {
+pub struct PrincipledBsdf<N: Real = f32> {
     /// Toward the viewer, local (z > 0).
-    wo: Vec3,
-    conductor: Conductor,
-    dielectric: Dielectric,
-    /// None where its weight is 0 (a metal, glass): never asked then.
-    plastic: Option<Plastic>,
+    wo: V3<N>,
+    /// The metal's colour at normal incidence.
+    f0: V3<N>,
+    /// The dielectric; its GGX width is every lobe's.
+    glass: Glass<N>,
+    /// Where the metal is a mirror.
+    smooth: N::Mask,
+    /// Where the dielectric's lobes are single directions.
+    glass_smooth: N::Mask,
+    /// None where no lane weighs it (a metal, glass): never asked then.
+    plastic: Option<Plastic<N>>,
     /// Each lobe's share of the mixture.
-    weight: [f32; 3],
+    weight: [N; 3],
     /// The probability of sampling each: its share times an estimate of
     /// its albedo at wo, normalised (all 0 if nothing comes back).
-    prob: [f32; 3],
+    prob: [N; 3],
 }
 
-impl PrincipledBsdf {
+impl PrincipledBsdf<f32> {
     /// Material `params` with the colour `base_color` at the hit (textured
     /// or `params.base_color`), seen from local `wo` (z = the shading
     /// normal turned toward wo; a z at or below 0 is lifted just above it),
@@ -94,20 +102,50 @@ impl PrincipledBsdf {
             prob = [0, 1, 2].map(|i| weight[i] * albedo[i] / total);
         }
         PrincipledBsdf {
-            wo,
-            conductor,
-            dielectric,
+            wo: wo.into(),
+            f0: color.into(),
+            glass: Glass {
+                eta: dielectric.eta,
+                alpha: ggx.alpha,
+                tint: color.into(),
+            },
+            smooth: conductor.is_smooth(),
+            glass_smooth: dielectric.is_smooth(),
             plastic,
             weight,
             prob,
         }
     }
 
+    /// Several materials side by side, lane `k` being `each(k)`.
+    pub fn lanes<N: Real>(mut each: impl FnMut(usize) -> PrincipledBsdf) -> PrincipledBsdf<N> {
+        let all: Vec<PrincipledBsdf> = (0..N::LANES).map(&mut each).collect();
+        let mask = |f: &dyn Fn(&PrincipledBsdf) -> bool| N::Mask::from_fn(|k| f(&all[k]));
+        let number = |f: &dyn Fn(&PrincipledBsdf) -> f32| N::from_fn(|k| f(&all[k]));
+        let vector = |f: &dyn Fn(&PrincipledBsdf) -> V3<f32>| V3::from_fn(|k| f(&all[k]).into());
+        // A lane without the layer has it of no weight: any layer will do.
+        let some_plastic = all.iter().find_map(|b| b.plastic);
+        PrincipledBsdf {
+            wo: vector(&|b| b.wo),
+            f0: vector(&|b| b.f0),
+            glass: Glass {
+                eta: number(&|b| b.glass.eta),
+                alpha: number(&|b| b.glass.alpha),
+                tint: vector(&|b| b.glass.tint),
+            },
+            smooth: mask(&|b| b.smooth),
+            glass_smooth: mask(&|b| b.glass_smooth),
+            plastic: some_plastic.map(|any| Plastic::lanes(|k| all[k].plastic.unwrap_or(any))),
+            weight: [0, 1, 2].map(|i| number(&|b| b.weight[i])),
+            prob: [0, 1, 2].map(|i| number(&|b| b.prob[i])),
+        }
+    }
+
     /// Whether some lobe that can be sampled is not a single direction:
     /// light sampling can find its directions.
     pub fn has_smooth_lobes(&self) -> bool {
-        (self.prob[CONDUCTOR] > 0.0 && !self.conductor.is_smooth())
-            || (self.prob[DIELECTRIC] > 0.0 && !self.dielectric.is_smooth())
+        (self.prob[CONDUCTOR] > 0.0 && !self.smooth)
+            || (self.prob[DIELECTRIC] > 0.0 && !self.glass_smooth)
             || (self.prob[PLASTIC] > 0.0
                 && self.plastic.as_ref().is_some_and(|p| p.has_smooth_part()))
     }
@@ -115,85 +153,154 @@ impl PrincipledBsdf {
     /// Whether no lobe transmits and none is a single direction (the
     /// lobes share one roughness), and some reflects.
     pub fn reflects_smoothly_only(&self) -> bool {
-        self.prob[DIELECTRIC] == 0.0
-            && !self.conductor.is_smooth()
-            && self.prob.iter().any(|&p| p > 0.0)
+        self.prob[DIELECTRIC] == 0.0 && !self.smooth && self.prob.iter().any(|&p| p > 0.0)
     }
 
     /// f |cos theta_i| toward local `wi` (below the surface: transmitted)
     /// of the lobes that are not single directions, and the density
-    /// `sample` gives it.
+    /// `sample` gives it (`eval_principled`).
     #[inline(always)]
     pub fn eval(&self, wi: Vec3) -> (Vec3, f32) {
-        let (mut f, mut pdf) = (Vec3::ZERO, 0.0);
-        for lobe in 0..3 {
-            if self.prob[lobe] > 0.0 {
-                let (lf, lpdf) = self.eval_lobe(lobe, wi);
-                f += self.weight[lobe] * lf;
-                pdf += self.prob[lobe] * lpdf;
-            }
-        }
-        (f, pdf)
+        let (f, pdf) = eval_principled(self, wi.into());
+        (f.into(), pdf)
     }
 
-    #[inline(always)]
-    fn eval_lobe(&self, lobe: usize, wi: Vec3) -> (Vec3, f32) {
-        match lobe {
-            CONDUCTOR => self.conductor.eval(self.wo, wi),
-            DIELECTRIC => self.dielectric.eval(self.wo, wi),
-            _ => self
-                .plastic
-                .as_ref()
-                .map_or((Vec3::ZERO, 0.0), |p| p.eval(self.wo, wi)),
-        }
-    }
-
-    /// A local direction (in `BsdfSample::wi`): a lobe picked by `pick`
-    /// with its probability, the rest of `pick` and `u` its direction. A
-    /// single direction's weight is its lobe's over the probability of the
-    /// lobe (its pdf that probability times its own); any other's is the
-    /// mixture's f |cos| over the mixture's density. None when the
-    /// material sends nothing back or the direction fell on the wrong side.
+    /// A local direction (in `BsdfSample::wi`), a lobe picked by `pick`
+    /// (`sample_principled`).
     #[inline(always)]
     pub fn sample(&self, pick: f32, u: Vec2) -> Option<BsdfSample> {
-        let (lobe, pick) = self.pick_lobe(pick)?;
-        let s = match lobe {
-            CONDUCTOR => self.conductor.sample(self.wo, u),
-            DIELECTRIC => self.dielectric.sample(self.wo, pick, u),
-            _ => self
-                .plastic
-                .as_ref()
-                .and_then(|p| p.sample(self.wo, pick, u)),
-        }?;
-        if s.specular {
-            let p = self.prob[lobe];
-            return Some(BsdfSample {
-                weight: s.weight * (self.weight[lobe] / p),
-                pdf: s.pdf * p,
-                ..s
-            });
+        sample_principled(self, pick, (u.x, u.y)).one()
+    }
+}
+
+// The mixture's formulas, for any lane width: each lobe is worked out only
+// where some lane needs it (one lane: only its own).
+
+impl<N: Real> PrincipledBsdf<N> {
+    /// Lobe `lobe`'s f |cos theta_i| toward `wi` and its density, where
+    /// `need`; nothing elsewhere, nor where it is a single direction.
+    #[inline(always)]
+    fn eval_lobe(&self, lobe: usize, wi: V3<N>, need: N::Mask) -> (V3<N>, N) {
+        let none = (V3::zero(), N::zero());
+        let masked = |ok: N::Mask, (f, pdf): (V3<N>, N)| {
+            (V3::select(ok, f, V3::zero()), N::select(ok, pdf, N::zero()))
+        };
+        match lobe {
+            CONDUCTOR if (need & !self.smooth & !wi.z.le(N::zero())).any() => {
+                let f = conductor::eval_rough(self.f0, self.glass.alpha, self.wo, wi);
+                masked(!self.smooth, f)
+            }
+            DIELECTRIC if (need & !self.glass_smooth).any() => masked(
+                !self.glass_smooth,
+                dielectric::eval_rough(self.glass, self.wo, wi),
+            ),
+            PLASTIC => match &self.plastic {
+                Some(p) if need.any() => eval_layered(p, self.wo, wi),
+                _ => none,
+            },
+            _ => none,
         }
-        let (f, pdf) = self.eval(s.wi);
-        (pdf > 0.0).then_some(BsdfSample {
-            weight: f / pdf,
-            pdf,
-            ..s
-        })
     }
 
-    /// The lobe `pick` falls in, and where in it (rescaled to [0, 1)).
+    /// The lobe `pick` falls in (a mask a lobe), where in it (rescaled to
+    /// [0, 1)), and where some lobe can be picked.
     #[inline(always)]
-    fn pick_lobe(&self, pick: f32) -> Option<(usize, f32)> {
-        let mut low = 0.0;
-        let last = (0..3).rev().find(|&i| self.prob[i] > 0.0)?;
+    fn pick_lobe(&self, pick: N) -> ([N::Mask; 3], N, N::Mask) {
+        let positive = self.prob.map(|p| p.gt(N::zero()));
+        let last = [
+            positive[0] & !positive[1] & !positive[2],
+            positive[1] & !positive[2],
+            positive[2],
+        ];
+        let no = N::Mask::splat(false);
+        let (mut low, mut chosen, mut rest, mut picked) = (N::zero(), no, N::zero(), [no; 3]);
         for lobe in 0..3 {
             let p = self.prob[lobe];
-            if p > 0.0 && (pick < low + p || lobe == last) {
-                return Some((lobe, ((pick - low) / p).clamp(0.0, BELOW_ONE)));
-            }
-            low += p;
+            let here = !chosen & positive[lobe] & (pick.lt(low + p) | last[lobe]);
+            rest = N::select(here, ((pick - low) / p).clamp(0.0, BELOW_ONE), rest);
+            picked[lobe] = here;
+            chosen = chosen | here;
+            low = low + p;
         }
-        None
+        (picked, rest, chosen)
+    }
+
+    /// The picked lobe's own draw: `wo` toward a direction of it.
+    #[inline(always)]
+    fn sample_lobe(&self, picked: [N::Mask; 3], pick: N, u: (N, N)) -> Sampled<N> {
+        let (wo, [metal, glass, plastic]) = (self.wo, picked);
+        let mut s = Sampled::none();
+        if (metal & self.smooth).any() {
+            s = conductor::sample_mirror(self.f0, wo);
+        }
+        if (metal & !self.smooth).any() {
+            let rough = conductor::sample_rough(self.f0, self.glass.alpha, wo, u);
+            s = Sampled::select(self.smooth, s, rough);
+        }
+        if (glass & self.glass_smooth).any() {
+            let smooth = dielectric::sample_smooth(self.glass, wo, pick);
+            s = Sampled::select(glass, smooth, s);
+        }
+        if (glass & !self.glass_smooth).any() {
+            let rough = dielectric::sample_rough(self.glass, wo, pick, u);
+            s = Sampled::select(glass & !self.glass_smooth, rough, s);
+        }
+        if let Some(p) = self.plastic.as_ref().filter(|_| plastic.any()) {
+            s = Sampled::select(plastic, sample_layered(p, wo, pick, u), s);
+        }
+        s
+    }
+}
+
+/// f |cos theta_i| of `b` toward local `wi` (below the surface:
+/// transmitted) of the lobes that are not single directions, and the
+/// density `sample_principled` gives it.
+#[inline(always)]
+pub fn eval_principled<N: Real>(b: &PrincipledBsdf<N>, wi: V3<N>) -> (V3<N>, N) {
+    let (mut f, mut pdf) = (V3::zero(), N::zero());
+    for lobe in 0..3 {
+        let need = b.prob[lobe].gt(N::zero());
+        if need.any() {
+            let (lf, lpdf) = b.eval_lobe(lobe, wi, need);
+            f = V3::select(need, f + lf * b.weight[lobe], f);
+            pdf = N::select(need, pdf + b.prob[lobe] * lpdf, pdf);
+        }
+    }
+    (f, pdf)
+}
+
+/// A local direction of `b`: a lobe picked by `pick` with its
+/// probability, the rest of `pick` and `u` its direction. A single
+/// direction's weight is its lobe's over the probability of the lobe (its
+/// pdf that probability times its own); any other's is the mixture's f
+/// |cos| over the mixture's density. None (`ok` unset) where the material
+/// sends nothing back or the direction fell on the wrong side.
+#[inline(always)]
+pub fn sample_principled<N: Real>(b: &PrincipledBsdf<N>, pick: N, u: (N, N)) -> Sampled<N> {
+    let (picked, pick, some) = b.pick_lobe(pick);
+    let s = b.sample_lobe(picked, pick, u);
+    let [metal, glass, _] = picked;
+    let of_lobe = |v: [N; 3]| N::select(metal, v[0], N::select(glass, v[1], v[2]));
+    let p = of_lobe(b.prob);
+    let mut out = Sampled {
+        weight: s.weight * (of_lobe(b.weight) / p),
+        pdf: s.pdf * p,
+        ..s
+    };
+    let smooth = some & s.ok & !s.specular;
+    if smooth.any() {
+        let (f, pdf) = eval_principled(b, s.wi);
+        let mixed = Sampled {
+            weight: f / pdf,
+            pdf,
+            ok: s.ok & pdf.gt(N::zero()),
+            ..s
+        };
+        out = Sampled::select(s.specular, out, mixed);
+    }
+    Sampled {
+        ok: out.ok & some,
+        ..out
     }
 }
 
@@ -203,5 +310,90 @@ fn unit(x: f32) -> f32 {
         0.0
     } else {
         x.clamp(0.0, 1.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bsdf::microfacet::tests::direction;
+    use crate::sampling::Rng;
+    use crate::simd::F16;
+
+    /// A material of the mixture drawn by `rng`: pure lobes, mixtures of
+    /// two or three, smooth and rough, now and then out of range.
+    fn material(rng: &mut Rng, k: usize) -> Principled {
+        let shares = [0.0, 1.0, 0.5, rng.square().x, 1.5];
+        let roughness = [0.0, 0.2, 0.6, 1.0, rng.square().y];
+        let (a, b) = (rng.square(), rng.square());
+        Principled {
+            base_color: Vec3::new(a.x, a.y, b.x) * ((k % 3) as f32 / 2.0),
+            metallic: shares[k % 5],
+            roughness: roughness[(k / 5) % 5],
+            ior: [1.5, 1.0, 2.4, 1.33][k % 4],
+            transmission: shares[(k / 2) % 5],
+        }
+    }
+
+    /// Sixteen lanes of different materials give each lane's one-lane
+    /// value, bit for bit: the mixture is written once, and
+    /// `PrincipledBsdf` is it on f32.
+    #[test]
+    fn principled_in_lanes_is_the_one_lane_principled() {
+        let mut rng = Rng::new(12);
+        let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+        let (mut specular, mut through, mut drawn_ok, mut lit) = (0, 0, 0, 0);
+        for round in 0..400 {
+            let one: [PrincipledBsdf; 16] = std::array::from_fn(|k| {
+                let params = material(&mut rng, k + 7 * round);
+                let wo = direction(&mut rng, (k + round) % 20);
+                PrincipledBsdf::new(&params, params.base_color, wo, (k + round) % 3 > 0)
+            });
+            let wi: [Vec3; 16] = std::array::from_fn(|k| direction(&mut rng, (k + 3 * round) % 20));
+            let u: [Vec2; 16] = std::array::from_fn(|_| rng.square());
+            let pick: [f32; 16] = std::array::from_fn(|_| rng.square().x);
+            let b16 = PrincipledBsdf::lanes::<F16>(|k| one[k]);
+            let (f16, pdf16) = eval_principled(&b16, V3::<F16>::from_fn(|k| wi[k]));
+            let u16 = (F16::from_fn(|k| u[k].x), F16::from_fn(|k| u[k].y));
+            let s16 = sample_principled(&b16, F16::from_fn(|k| pick[k]), u16);
+            for k in 0..16 {
+                let case = format!("round {round}, lane {k}: {:?}", one[k]);
+                let (f, pdf) = one[k].eval(wi[k]);
+                assert_eq!(bits(f16.lane(k)), bits(f), "{case}");
+                assert_eq!(pdf16.lane(k).to_bits(), pdf.to_bits(), "{case}");
+                let drawn = one[k].sample(pick[k], u[k]);
+                let lane = s16.ok.lane(k).then(|| {
+                    let w = (bits(s16.wi.lane(k)), bits(s16.weight.lane(k)));
+                    let flags = (s16.specular.lane(k), s16.transmitted.lane(k));
+                    (
+                        w,
+                        s16.pdf.lane(k).to_bits(),
+                        flags,
+                        s16.eta.lane(k).to_bits(),
+                    )
+                });
+                let drawn = drawn.map(|s| {
+                    let w = (bits(s.wi), bits(s.weight));
+                    (
+                        w,
+                        s.pdf.to_bits(),
+                        (s.specular, s.transmitted),
+                        s.eta.to_bits(),
+                    )
+                });
+                assert_eq!(lane, drawn, "{case}");
+                if let Some((_, _, (spec, trans), _)) = drawn {
+                    drawn_ok += 1;
+                    specular += usize::from(spec);
+                    through += usize::from(trans);
+                }
+                lit += usize::from(pdf > 0.0);
+            }
+        }
+        let met = (specular, through, drawn_ok, lit);
+        assert!(
+            specular > 300 && through > 300 && drawn_ok > 3000 && lit > 2000,
+            "{met:?}"
+        );
     }
 }
