@@ -4,6 +4,7 @@
 //! over the image, weighted by the solid angle of each row).
 
 use super::distribution::Distribution2D;
+use crate::simd::{Mask, Real, V3};
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 use std::f32::consts::PI;
@@ -43,6 +44,18 @@ pub struct EnvironmentSample {
     pub radiance: Vec3,
     /// Its density, by solid angle.
     pub pdf: f32,
+}
+
+/// Directions drawn toward the environment, by lane, and where there is
+/// one (`ok`).
+#[derive(Debug, Clone, Copy)]
+pub struct EnvironmentSamples<N: Real> {
+    /// Unit, world.
+    pub wi: V3<N>,
+    pub radiance: V3<N>,
+    /// Its density, by solid angle.
+    pub pdf: N,
+    pub ok: N::Mask,
 }
 
 /// Rec. 709 luminance.
@@ -107,72 +120,35 @@ impl Environment {
 
     /// Direction `d` in the environment's own frame (before its turn).
     #[inline(always)]
-    fn to_own(&self, d: Vec3) -> Vec3 {
+    fn to_own<N: Real>(&self, d: V3<N>) -> V3<N> {
         let (c, s) = self.turn;
         // The inverse of a counter-clockwise turn about +y.
-        Vec3::new(c * d.x - s * d.z, d.y, s * d.x + c * d.z)
+        V3::new(d.x * c - d.z * s, d.y, d.x * s + d.z * c)
     }
 
     /// Direction `d` of the environment's own frame in the world.
     #[inline(always)]
-    fn to_world(&self, d: Vec3) -> Vec3 {
+    fn to_world<N: Real>(&self, d: V3<N>) -> V3<N> {
         let (c, s) = self.turn;
-        Vec3::new(c * d.x + s * d.z, d.y, -s * d.x + c * d.z)
+        V3::new(d.x * c + d.z * s, d.y, d.x * -s + d.z * c)
     }
 
     /// The radiance arriving from world direction `dir` (unit, pointing
-    /// away from the scene).
+    /// away from the scene): `radiance_of` on one lane.
     #[inline(always)]
     pub fn radiance(&self, dir: Vec3) -> Vec3 {
-        match &self.kind {
-            Kind::Uniform(radiance) => *radiance,
-            Kind::Image {
-                width,
-                height,
-                texels,
-                ..
-            } => texel((*width, *height, texels), direction_to_uv(self.to_own(dir))),
-        }
+        self.radiance_of(V3::from(dir)).into()
     }
 
-    /// A direction drawn by `u`: uniformly over the sphere for one colour,
-    /// in proportion to luminance times solid angle for an image.
+    /// A direction drawn by `u` (`sample_of` on one lane).
     #[inline(always)]
     pub fn sample(&self, u: Vec2) -> Option<EnvironmentSample> {
-        match &self.kind {
-            Kind::Image {
-                distribution,
-                texels,
-                width,
-                ..
-            } if !self.uniform => {
-                let (uv, density, (column, row)) = distribution.sample(u);
-                let (dir, sin) = uv_to_direction(uv);
-                if density <= 0.0 || sin <= 0.0 {
-                    return None;
-                }
-                let wi = self.to_world(dir);
-                Some(EnvironmentSample {
-                    wi,
-                    // The drawn cell's texel: the direction is not mapped
-                    // back to the square (an arc cosine and an arc tangent).
-                    radiance: texels[row * *width as usize + column],
-                    pdf: density / (2.0 * PI * PI * sin),
-                })
-            }
-            // One colour (or an image sampled uniformly, for comparison).
-            _ => {
-                let z = 1.0 - 2.0 * u.x;
-                let r = (1.0 - z * z).max(0.0).sqrt();
-                let phi = 2.0 * PI * u.y;
-                let wi = Vec3::new(r * phi.cos(), r * phi.sin(), z);
-                Some(EnvironmentSample {
-                    wi,
-                    radiance: self.radiance(wi),
-                    pdf: 1.0 / (4.0 * PI),
-                })
-            }
-        }
+        let s = self.sample_of((u.x, u.y));
+        s.ok.then(|| EnvironmentSample {
+            wi: s.wi.into(),
+            radiance: s.radiance.into(),
+            pdf: s.pdf,
+        })
     }
 
     /// The density `sample` gives world direction `dir`, by solid angle.
@@ -181,10 +157,83 @@ impl Environment {
         self.radiance_and_pdf(dir).1
     }
 
-    /// `radiance` and `pdf` of `dir` together: the point of the image is
-    /// worked out once (an arc cosine and an arc tangent).
+    /// `radiance` and `pdf` of `dir` together (`radiance_and_pdf_of` on
+    /// one lane).
     #[inline(always)]
     pub fn radiance_and_pdf(&self, dir: Vec3) -> (Vec3, f32) {
+        let (radiance, pdf) = self.radiance_and_pdf_of(V3::from(dir));
+        (radiance.into(), pdf)
+    }
+
+    // Its formulas, for any lane width (`simd::Real`); the image and its
+    // distribution are read a lane at a time.
+
+    /// The radiance arriving from each world direction of `dir`.
+    #[inline(always)]
+    pub fn radiance_of<N: Real>(&self, dir: V3<N>) -> V3<N> {
+        match &self.kind {
+            Kind::Uniform(radiance) => V3::splat(*radiance),
+            Kind::Image {
+                width,
+                height,
+                texels,
+                ..
+            } => texels_at((*width, *height, texels), lat_long(self.to_own(dir))),
+        }
+    }
+
+    /// Directions drawn by `u`: uniformly over the sphere for one colour,
+    /// in proportion to luminance times solid angle for an image.
+    #[inline(always)]
+    pub fn sample_of<N: Real>(&self, (u1, u2): (N, N)) -> EnvironmentSamples<N> {
+        match &self.kind {
+            Kind::Image {
+                distribution,
+                texels,
+                width,
+                ..
+            } if !self.uniform => {
+                let (mut uv, mut density) = ((N::zero(), N::zero()), N::zero());
+                let mut radiance = V3::zero();
+                for k in 0..N::LANES {
+                    let u = Vec2::new(u1.lane(k), u2.lane(k));
+                    let (point, d, (column, row)) = distribution.sample(u);
+                    uv.0.set_lane(k, point.x);
+                    uv.1.set_lane(k, point.y);
+                    density.set_lane(k, d);
+                    // The drawn cell's texel: the direction is not mapped
+                    // back to the square (an arc cosine and an arc tangent).
+                    radiance.set_lane(k, texels[row * *width as usize + column]);
+                }
+                let (dir, sin) = lat_long_direction(uv);
+                EnvironmentSamples {
+                    wi: self.to_world(dir),
+                    radiance,
+                    pdf: density / (sin * (2.0 * PI * PI)),
+                    ok: !density.le(N::zero()) & !sin.le(N::zero()),
+                }
+            }
+            // One colour (or an image sampled uniformly, for comparison).
+            _ => {
+                let z = N::one() - u1 * 2.0;
+                let r = (N::one() - z * z).max(N::zero()).sqrt();
+                let (sin, cos) = (u2 * (2.0 * PI)).sin_cos();
+                let wi = V3::new(r * cos, r * sin, z);
+                EnvironmentSamples {
+                    wi,
+                    radiance: self.radiance_of(wi),
+                    pdf: N::splat(1.0 / (4.0 * PI)),
+                    ok: N::Mask::splat(true),
+                }
+            }
+        }
+    }
+
+    /// `radiance_of` and the density `sample_of` gives each direction of
+    /// `dir`, by solid angle: the point of the image is worked out once
+    /// (an arc cosine and an arc tangent).
+    #[inline(always)]
+    pub fn radiance_and_pdf_of<N: Real>(&self, dir: V3<N>) -> (V3<N>, N) {
         let Kind::Image {
             width,
             height,
@@ -192,19 +241,18 @@ impl Environment {
             distribution,
         } = &self.kind
         else {
-            return (self.radiance(dir), 1.0 / (4.0 * PI));
+            return (self.radiance_of(dir), N::splat(1.0 / (4.0 * PI)));
         };
         let own = self.to_own(dir);
-        let uv = direction_to_uv(own);
-        let radiance = texel((*width, *height, texels), uv);
+        let uv = lat_long(own);
+        let radiance = texels_at((*width, *height, texels), uv);
         if self.uniform {
-            return (radiance, 1.0 / (4.0 * PI));
+            return (radiance, N::splat(1.0 / (4.0 * PI)));
         }
-        let sin = (1.0 - own.y * own.y).max(0.0).sqrt();
-        if sin <= 0.0 {
-            return (radiance, 0.0);
-        }
-        (radiance, distribution.density(uv) / (2.0 * PI * PI * sin))
+        let sin = (N::one() - own.y * own.y).max(N::zero()).sqrt();
+        let density = N::from_fn(|k| distribution.density(Vec2::new(uv.0.lane(k), uv.1.lane(k))));
+        let pdf = density / (sin * (2.0 * PI * PI));
+        (radiance, N::select(sin.le(N::zero()), N::zero(), pdf))
     }
 
     /// The integral of the radiance's luminance over the sphere: with the
@@ -219,12 +267,15 @@ impl Environment {
     }
 }
 
-/// The texel at point `uv` of an image of `width` x `height` `texels`.
+/// The texel at each point `uv` of an image of `width` x `height`
+/// `texels`.
 #[inline(always)]
-fn texel((width, height, texels): (u32, u32, &[Vec3]), uv: Vec2) -> Vec3 {
-    let x = ((uv.x * width as f32) as u32).min(width - 1);
-    let y = ((uv.y * height as f32) as u32).min(height - 1);
-    texels[(y * width + x) as usize]
+fn texels_at<N: Real>((width, height, texels): (u32, u32, &[Vec3]), uv: (N, N)) -> V3<N> {
+    V3::from_fn(|k| {
+        let x = ((uv.0.lane(k) * width as f32) as u32).min(width - 1);
+        let y = ((uv.1.lane(k) * height as f32) as u32).min(height - 1);
+        texels[(y * width + x) as usize]
+    })
 }
 
 /// The point of the latitude-longitude square a unit direction of the
@@ -232,9 +283,16 @@ fn texel((width, height, texels): (u32, u32, &[Vec3]), uv: Vec2) -> Vec3 {
 /// from +z (0) through -x, -z (1/2: the centre column), +x.
 #[inline(always)]
 pub fn direction_to_uv(d: Vec3) -> Vec2 {
+    let (u, v) = lat_long(V3::from(d));
+    Vec2::new(u, v)
+}
+
+/// `direction_to_uv` for any lane width.
+#[inline(always)]
+fn lat_long<N: Real>(d: V3<N>) -> (N, N) {
     let v = d.y.clamp(-1.0, 1.0).acos() / PI;
     let u = d.x.atan2(-d.z) / (2.0 * PI) + 0.5;
-    Vec2::new(
+    (
         u.clamp(0.0, 1.0 - f32::EPSILON),
         v.clamp(0.0, 1.0 - f32::EPSILON),
     )
@@ -244,10 +302,18 @@ pub fn direction_to_uv(d: Vec3) -> Vec2 {
 /// from +y.
 #[inline(always)]
 pub fn uv_to_direction(uv: Vec2) -> (Vec3, f32) {
-    let theta = PI * uv.y;
-    let phi = 2.0 * PI * (uv.x - 0.5);
+    let (d, sin) = lat_long_direction((uv.x, uv.y));
+    (d.into(), sin)
+}
+
+/// `uv_to_direction` for any lane width.
+#[inline(always)]
+fn lat_long_direction<N: Real>((u, v): (N, N)) -> (V3<N>, N) {
+    let theta = v * PI;
+    let phi = (u - 0.5) * (2.0 * PI);
     let (sin, cos) = theta.sin_cos();
-    (Vec3::new(sin * phi.sin(), cos, -sin * phi.cos()), sin)
+    let (sin_phi, cos_phi) = phi.sin_cos();
+    (V3::new(sin * sin_phi, cos, -sin * cos_phi), sin)
 }
 
 impl Environment {
@@ -331,7 +397,7 @@ mod tests {
             for j in 0..n {
                 let uv = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
                 let (d, sin) = uv_to_direction(uv);
-                let world = env.to_world(d);
+                let world: Vec3 = env.to_world(V3::from(d)).into();
                 let area = 2.0 * PI * PI * sin / (n * n) as f32;
                 total += f64::from(env.pdf(world) * area);
             }
@@ -358,5 +424,53 @@ mod tests {
             }
         }
         assert!(differ * 1000 <= n * n, "{differ} of {} samples", n * n);
+    }
+
+    /// Sixteen lanes give each lane's one-lane draw, radiance and density,
+    /// bit for bit: an image turned, the same sampled uniformly, a colour.
+    #[test]
+    fn the_environment_in_lanes_is_the_one_lane_environment() {
+        use crate::simd::F16;
+        let sky = varied_sky((64, 32), 3.0, 30.0);
+        let envs = [
+            sky.clone(),
+            sky.sampled_uniformly(),
+            Environment::uniform(Vec3::new(0.2, 0.5, 1.0)),
+        ];
+        let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+        let mut rng = crate::sampling::Rng::new(5);
+        for env in &envs {
+            for round in 0..50 {
+                let u: [Vec2; 16] = std::array::from_fn(|_| rng.square());
+                let dirs: [Vec3; 16] = std::array::from_fn(|k| match (k + round) % 9 {
+                    0 => Vec3::Y,
+                    1 => -Vec3::Y,
+                    _ => (rng.square().extend(rng.square().x) - 0.5).normalize(),
+                });
+                let u16 = (F16::from_fn(|k| u[k].x), F16::from_fn(|k| u[k].y));
+                let drawn = env.sample_of(u16);
+                let (radiance, pdf) = env.radiance_and_pdf_of(V3::<F16>::from_fn(|k| dirs[k]));
+                for k in 0..16 {
+                    let one = env
+                        .sample(u[k])
+                        .map(|s| (bits(s.wi), bits(s.radiance), s.pdf));
+                    let lane = drawn.ok.lane(k).then(|| {
+                        let (wi, r) = (drawn.wi.lane(k), drawn.radiance.lane(k));
+                        (bits(wi), bits(r), drawn.pdf.lane(k))
+                    });
+                    assert_eq!(
+                        lane.map(|l| (l.0, l.1, l.2.to_bits())),
+                        one.map(|o| (o.0, o.1, o.2.to_bits()))
+                    );
+                    let (r, p) = env.radiance_and_pdf(dirs[k]);
+                    assert_eq!(bits(radiance.lane(k)), bits(r), "{:?}", dirs[k]);
+                    assert_eq!(pdf.lane(k).to_bits(), p.to_bits(), "{:?}", dirs[k]);
+                    assert_eq!(
+                        bits(env.radiance_of(V3::<F16>::from_fn(|_| dirs[k])).lane(k)),
+                        bits(env.radiance(dirs[k]))
+                    );
+                }
+            }
+        }
     }
 }
