@@ -3,7 +3,7 @@
 //! single direction each.
 
 use crate::optics::fresnel_reflectance;
-use crate::simd::{Real, V3};
+use crate::simd::{Mask, Real, V3};
 use glam::Vec3;
 
 /// wo mirrored about the local normal (`mirror`).
@@ -44,15 +44,16 @@ pub fn refract_local<N: Real>(wo: V3<N>, eta: N) -> (V3<N>, N::Mask) {
 /// into a narrower cone, so a refracted path's throughput is scaled by
 /// eta^2 (Veach's thesis, 5.2), which leaves a closed crossing (in and
 /// out) unchanged.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Interface {
+#[derive(Debug, Clone, Copy)]
+pub struct Interface<N: Real = f32> {
     /// n(wo's side) / n(the far side).
-    pub eta: f32,
+    pub eta: N,
     /// Reflected and transmitted energies of a ray along `wo`.
-    pub reflected: f32,
-    pub transmitted: f32,
-    /// The refracted direction, if any.
-    pub refracted: Option<Vec3>,
+    pub reflected: N,
+    pub transmitted: N,
+    /// The refracted direction, where `refracts`.
+    pub refracted: V3<N>,
+    pub refracts: N::Mask,
 }
 
 impl Interface {
@@ -61,49 +62,80 @@ impl Interface {
     /// without, `reflectance` and `transmittance` as given (both reflected
     /// under total internal reflection). `eta` as in `Interface`.
     pub fn new(wo: Vec3, eta: f32, fresnel: bool, reflectance: f32, transmittance: f32) -> Self {
-        let refracted = refract(wo, eta);
-        let (reflected, transmitted) = match (fresnel, refracted) {
+        let (refracted, refracts) = refract_local(V3::from(wo), eta);
+        let (reflected, transmitted) = match (fresnel, refracts) {
             (true, _) => {
                 let f = fresnel_reflectance(wo.z, eta);
                 (f, (1.0 - f) * transmittance)
             }
-            (false, None) => (reflectance + transmittance, 0.0),
-            (false, Some(_)) => (reflectance, transmittance),
+            (false, false) => (reflectance + transmittance, 0.0),
+            (false, true) => (reflectance, transmittance),
         };
         Interface {
             eta,
             reflected,
-            transmitted: if refracted.is_some() {
-                transmitted
-            } else {
-                0.0
-            },
+            transmitted: if refracts { transmitted } else { 0.0 },
             refracted,
+            refracts,
         }
     }
 
-    /// The energy leaving along either direction.
-    pub fn total(&self) -> f32 {
-        self.reflected + self.transmitted
+    /// A mirror of energy `reflectance` (nothing transmitted).
+    pub fn mirror(reflectance: f32) -> Interface {
+        Interface {
+            eta: 1.0,
+            reflected: reflectance,
+            transmitted: 0.0,
+            refracted: V3::zero(),
+            refracts: false,
+        }
+    }
+
+    /// Several side by side, lane `k` being `each(k)`.
+    pub fn lanes<N: Real>(each: impl Fn(usize) -> Interface) -> Interface<N> {
+        Interface {
+            eta: N::from_fn(|k| each(k).eta),
+            reflected: N::from_fn(|k| each(k).reflected),
+            transmitted: N::from_fn(|k| each(k).transmitted),
+            refracted: V3::from_fn(|k| each(k).refracted.into()),
+            refracts: N::Mask::from_fn(|k| each(k).refracts),
+        }
     }
 
     /// One of the two directions, picked with probability in proportion to
-    /// its energy by `u`, and its weight (energy over probability, the
-    /// transmitted one scaled by eta^2): (direction, weight, whether
-    /// transmitted).
+    /// its energy by `u`, and its weight (`sample_interface`): (direction,
+    /// weight, whether transmitted).
     #[inline(always)]
     pub fn sample(&self, wo: Vec3, u: f32) -> Option<(Vec3, f32, bool)> {
-        let total = self.total();
-        if total <= 0.0 {
-            return None;
-        }
-        match self.refracted {
-            Some(wt) if u * total >= self.reflected => {
-                Some((wt, total * self.eta * self.eta, true))
-            }
-            _ => Some((reflect(wo), total, false)),
-        }
+        let (wi, weight, crosses, ok) = sample_interface(self, V3::from(wo), u);
+        ok.then(|| (wi.into(), weight, crosses))
     }
+}
+
+impl<N: Real> Interface<N> {
+    /// The energy leaving along either direction.
+    #[inline(always)]
+    pub fn total(&self) -> N {
+        self.reflected + self.transmitted
+    }
+}
+
+/// One of the interface's two directions from local `wo`, picked with
+/// probability in proportion to its energy by `u`, and its weight (energy
+/// over probability, the transmitted one scaled by eta^2): the direction,
+/// the weight, where it went through, and where there is one (energy
+/// leaves).
+#[inline(always)]
+pub fn sample_interface<N: Real>(
+    i: &Interface<N>,
+    wo: V3<N>,
+    u: N,
+) -> (V3<N>, N, N::Mask, N::Mask) {
+    let total = i.total();
+    let crosses = i.refracts & (u * total).ge(i.reflected);
+    let wi = V3::select(crosses, i.refracted, mirror(wo));
+    let weight = N::select(crosses, total * i.eta * i.eta, total);
+    (wi, weight, crosses, !total.le(N::zero()))
 }
 
 #[cfg(test)]
