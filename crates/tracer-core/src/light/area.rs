@@ -5,9 +5,9 @@
 //! the area of the round sphere it stretches.
 
 use super::toward::{flat_pdf, flat_shape_point, toward};
-use crate::bsdf::Frame;
+use crate::bsdf::frame::{tangents, to_world};
 use crate::sampling::warp::square_to_triangle;
-use crate::simd::V3;
+use crate::simd::{Real, V3};
 use glam::{Mat3, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 use std::f32::consts::PI;
@@ -197,7 +197,7 @@ impl AreaShape {
                 let p = flat_point(point.into(), *normal, *area, from)?;
                 Some(AreaPoint { at: u, ..p })
             }
-            AreaShape::Sphere { center, radius } => sphere_sample(*center, *radius, from, u),
+            AreaShape::Sphere { center, radius } => one_sphere_sample(*center, *radius, from, u),
             AreaShape::Ellipsoid(e) => e.sample(from, u),
         }
     }
@@ -215,8 +215,7 @@ impl AreaShape {
                 (point - from).length_squared() / (cos * area)
             }
             AreaShape::Sphere { center, radius } => {
-                let cone = Cone::of(*center, *radius, from);
-                cone.map_or(0.0, |c| 1.0 / (2.0 * PI * c.one_minus_cos_max))
+                sphere_pdf(V3::from(*center), *radius, V3::from(from))
             }
             AreaShape::Ellipsoid(e) => {
                 if cos <= 0.0 {
@@ -248,78 +247,111 @@ fn flat_point(point: Vec3, normal: Vec3, area: f32, from: Vec3) -> Option<AreaPo
     })
 }
 
-/// The cone of directions a sphere fills, seen from a point outside it.
-struct Cone {
+/// The cone of directions a sphere fills, seen from a point outside it,
+/// by lane (`simd::Real`).
+struct Cone<N: Real> {
     /// Unit, from the point toward the centre.
-    axis: Vec3,
-    sin2_max: f32,
-    cos_max: f32,
-    one_minus_cos_max: f32,
+    axis: V3<N>,
+    sin2_max: N,
+    cos_max: N,
+    one_minus_cos_max: N,
+    /// Where the point is outside the sphere (and not NaN).
+    outside: N::Mask,
 }
 
 /// Below this sin^2 of the cone's half-angle (about 1.5 degrees), 1 - cos
 /// is computed from its series: in f32 it would cancel to nothing.
 const SMALL_CONE_SIN2: f32 = 0.000_685_2;
 
-impl Cone {
-    fn of(center: Vec3, radius: f32, from: Vec3) -> Option<Cone> {
+impl<N: Real> Cone<N> {
+    #[inline(always)]
+    fn of(center: V3<N>, radius: N, from: V3<N>) -> Cone<N> {
         let to = center - from;
         let distance = to.length();
-        if distance.is_nan() || distance <= radius {
-            return None;
-        }
-        let sin2_max = (radius / distance).powi(2);
-        let cos_max = (1.0 - sin2_max).max(0.0).sqrt();
-        let one_minus_cos_max = if sin2_max < SMALL_CONE_SIN2 {
-            sin2_max / 2.0
-        } else {
-            1.0 - cos_max
-        };
-        Some(Cone {
+        let ratio = radius / distance;
+        let sin2_max = ratio * ratio;
+        let cos_max = (N::one() - sin2_max).max(N::zero()).sqrt();
+        let small = sin2_max.lt(N::splat(SMALL_CONE_SIN2));
+        Cone {
             axis: to / distance,
             sin2_max,
             cos_max,
-            one_minus_cos_max,
-        })
+            one_minus_cos_max: N::select(small, sin2_max / 2.0, N::one() - cos_max),
+            outside: !(distance.is_nan() | distance.le(radius)),
+        }
+    }
+
+    /// The density of each of its directions: uniform in solid angle.
+    #[inline(always)]
+    fn pdf(&self) -> N {
+        N::one() / (self.one_minus_cos_max * (2.0 * PI))
     }
 }
 
+/// The density `sphere_sample` gives a direction from `from` toward the
+/// sphere, by lane: nothing from inside it.
+#[inline(always)]
+pub fn sphere_pdf<N: Real>(center: V3<N>, radius: N, from: V3<N>) -> N {
+    let cone = Cone::of(center, radius, from);
+    N::select(cone.outside, cone.pdf(), N::zero())
+}
+
+/// Points drawn on spheres, by lane: `AreaPoint`'s fields but `at`, and
+/// where there is one.
+pub struct SpherePoints<N: Real> {
+    pub point: V3<N>,
+    pub wi: V3<N>,
+    pub distance: N,
+    pub pdf: N,
+    pub ok: N::Mask,
+}
+
 /// A direction of the cone a sphere fills from `from`, uniform in solid
-/// angle, and the point of the sphere it meets first. The point is found
-/// by its angle at the centre rather than by intersecting the ray: tiny
-/// or far spheres would lose it to cancellation.
-fn sphere_sample(center: Vec3, radius: f32, from: Vec3, u: Vec2) -> Option<AreaPoint> {
-    let cone = Cone::of(center, radius, from)?;
-    let (sin2, cos) = if cone.sin2_max < SMALL_CONE_SIN2 {
-        let sin2 = cone.sin2_max * u.x;
-        (sin2, (1.0 - sin2).sqrt())
-    } else {
-        let cos = (cone.cos_max - 1.0) * u.x + 1.0;
-        (1.0 - cos * cos, cos)
-    };
+/// angle, and the point of the sphere it meets first, by lane. The point
+/// is found by its angle at the centre rather than by intersecting the
+/// ray: tiny or far spheres would lose it to cancellation.
+#[inline(always)]
+pub fn sphere_sample<N: Real>(
+    center: V3<N>,
+    radius: N,
+    from: V3<N>,
+    (u1, u2): (N, N),
+) -> SpherePoints<N> {
+    let cone = Cone::of(center, radius, from);
+    let small = cone.sin2_max.lt(N::splat(SMALL_CONE_SIN2));
+    let sin2_small = cone.sin2_max * u1;
+    let cos_large = (cone.cos_max - 1.0) * u1 + 1.0;
+    let sin2 = N::select(small, sin2_small, N::one() - cos_large * cos_large);
+    let cos = N::select(small, (N::one() - sin2_small).sqrt(), cos_large);
     // The angle at the centre between the axis back to `from` and the
     // point: law of sines in the triangle (from, centre, point).
     let sin_max = cone.sin2_max.sqrt();
-    let cos_alpha = sin2 / sin_max + cos * (1.0 - sin2 / cone.sin2_max).max(0.0).sqrt();
-    let sin_alpha = (1.0 - cos_alpha * cos_alpha).max(0.0).sqrt();
-    let phi = 2.0 * PI * u.y;
-    let frame = Frame::new(-cone.axis);
-    let outward = frame.to_world(Vec3::new(
-        sin_alpha * phi.cos(),
-        sin_alpha * phi.sin(),
-        cos_alpha,
-    ));
-    let point = center + radius * outward;
+    let cos_alpha = sin2 / sin_max + cos * (N::one() - sin2 / cone.sin2_max).max(N::zero()).sqrt();
+    let sin_alpha = (N::one() - cos_alpha * cos_alpha).max(N::zero()).sqrt();
+    let (sin_phi, cos_phi) = (u2 * (2.0 * PI)).sin_cos();
+    let back = -cone.axis;
+    let (s, t) = tangents(back);
+    let local = V3::new(sin_alpha * cos_phi, sin_alpha * sin_phi, cos_alpha);
+    let point = center + to_world((s, t, back), local) * radius;
     let to = point - from;
     let distance = to.length();
-    if distance.is_nan() || distance <= 0.0 {
-        return None;
-    }
-    Some(AreaPoint {
+    SpherePoints {
         point,
         wi: to / distance,
         distance,
-        pdf: 1.0 / (2.0 * PI * cone.one_minus_cos_max),
+        pdf: cone.pdf(),
+        ok: cone.outside & !(distance.is_nan() | distance.le(N::zero())),
+    }
+}
+
+/// `sphere_sample` on one lane.
+fn one_sphere_sample(center: Vec3, radius: f32, from: Vec3, u: Vec2) -> Option<AreaPoint> {
+    let s = sphere_sample(center.into(), radius, from.into(), (u.x, u.y));
+    s.ok.then(|| AreaPoint {
+        point: s.point.into(),
+        wi: s.wi.into(),
+        distance: s.distance,
+        pdf: s.pdf,
         at: Vec2::ZERO,
     })
 }
@@ -384,5 +416,58 @@ mod tests {
             (solid_angle / expected - 1.0).abs() < 0.03,
             "{solid_angle} vs {expected}"
         );
+    }
+
+    /// Sixteen lanes give each lane's one-lane sphere point and density,
+    /// bit for bit: near, far and tiny spheres, points inside them.
+    #[test]
+    fn sphere_points_in_lanes_are_the_one_lane_points() {
+        use crate::simd::{Mask, F16};
+        let mut rng = crate::sampling::Rng::new(21);
+        let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+        let (mut drawn, mut inside) = (0, 0);
+        for round in 0..100 {
+            let spheres: [(Vec3, f32); 16] = std::array::from_fn(|k| {
+                let c = rng.square().extend(rng.square().x) * 4.0 - 2.0;
+                (c, [1.0, 0.01, 0.5, 3.0][(k + round) % 4])
+            });
+            let from: [Vec3; 16] = std::array::from_fn(|k| {
+                let far = [1.0, 100.0, 3.0][k % 3];
+                (rng.square().extend(rng.square().y) - 0.5) * far
+            });
+            let u: [Vec2; 16] = std::array::from_fn(|_| rng.square());
+            let lanes = |v: &dyn Fn(usize) -> Vec3| V3::<F16>::from_fn(v);
+            let center = lanes(&|k| spheres[k].0);
+            let radius = F16::from_fn(|k| spheres[k].1);
+            let u16 = (F16::from_fn(|k| u[k].x), F16::from_fn(|k| u[k].y));
+            let s = sphere_sample(center, radius, lanes(&|k| from[k]), u16);
+            let pdf = sphere_pdf(center, radius, lanes(&|k| from[k]));
+            for k in 0..16 {
+                let (c, r) = spheres[k];
+                let shape = AreaShape::Sphere {
+                    center: c,
+                    radius: r,
+                };
+                let one = shape.sample(from[k], u[k]);
+                let lane = s.ok.lane(k).then(|| {
+                    let (p, wi) = (bits(s.point.lane(k)), bits(s.wi.lane(k)));
+                    (p, wi, s.distance.lane(k).to_bits(), s.pdf.lane(k).to_bits())
+                });
+                let one = one.map(|o| {
+                    (
+                        bits(o.point),
+                        bits(o.wi),
+                        o.distance.to_bits(),
+                        o.pdf.to_bits(),
+                    )
+                });
+                assert_eq!(lane, one, "round {round}, lane {k}");
+                let one_pdf = shape.pdf(from[k], Vec3::ZERO, 1.0);
+                assert_eq!(pdf.lane(k).to_bits(), one_pdf.to_bits());
+                drawn += usize::from(one.is_some());
+                inside += usize::from(one.is_none());
+            }
+        }
+        assert!(drawn > 800 && inside > 50, "{drawn} drawn, {inside} inside");
     }
 }
