@@ -246,6 +246,7 @@ fn glass_interface(g: &Glass, wo: Vec3, front_face: bool) -> Interface {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bsdf::lane_check::{same_lane, Met};
     use crate::bsdf::microfacet::tests::direction;
     use crate::material::Phong;
     use crate::sampling::Rng;
@@ -280,8 +281,7 @@ mod tests {
     #[test]
     fn a_lab_material_in_lanes_is_the_one_lane_material() {
         let mut rng = Rng::new(13);
-        let bits = |v: Vec3| v.to_array().map(f32::to_bits);
-        let (mut specular, mut through, mut drawn_ok, mut lit) = (0, 0, 0, 0);
+        let mut met = Met::default();
         for round in 0..400 {
             let one: [LabBsdf; 16] = std::array::from_fn(|k| {
                 let m = material(&mut rng, k + 7 * round);
@@ -300,42 +300,12 @@ mod tests {
             let s16 = sample_lab(&b16, F16::from_fn(|k| pick[k]), u16);
             for k in 0..16 {
                 let case = format!("round {round}, lane {k}: {:?}", one[k]);
-                let (f, pdf) = one[k].eval(wi[k]);
-                assert_eq!(bits(f16.lane(k)), bits(f), "{case}");
-                assert_eq!(pdf16.lane(k).to_bits(), pdf.to_bits(), "{case}");
+                let value = one[k].eval(wi[k]);
                 let drawn = one[k].sample(pick[k], u[k]);
-                let lane = s16.ok.lane(k).then(|| {
-                    let w = (bits(s16.wi.lane(k)), bits(s16.weight.lane(k)));
-                    let flags = (s16.specular.lane(k), s16.transmitted.lane(k));
-                    (
-                        w,
-                        s16.pdf.lane(k).to_bits(),
-                        flags,
-                        s16.eta.lane(k).to_bits(),
-                    )
-                });
-                let drawn = drawn.map(|s| {
-                    let w = (bits(s.wi), bits(s.weight));
-                    (
-                        w,
-                        s.pdf.to_bits(),
-                        (s.specular, s.transmitted),
-                        s.eta.to_bits(),
-                    )
-                });
-                assert_eq!(lane, drawn, "{case}");
-                if let Some((_, _, (spec, trans), _)) = drawn {
-                    drawn_ok += 1;
-                    specular += usize::from(spec);
-                    through += usize::from(trans);
-                }
-                lit += usize::from(pdf > 0.0);
+                same_lane(k, (f16, pdf16), &s16, (value, drawn), &case, &mut met);
             }
         }
-        let met = (specular, through, drawn_ok, lit);
-        assert!(
-            specular > 300 && through > 300 && drawn_ok > 3000 && lit > 2000,
-            "{met:?}"
-        );
+        let enough = met.specular > 300 && met.through > 300 && met.lit > 2000;
+        assert!(enough && met.drawn > 3000, "{met:?}");
     }
 }

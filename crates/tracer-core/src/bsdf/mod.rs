@@ -246,3 +246,63 @@ impl Bsdf {
         })
     }
 }
+
+/// What the lane tests of the mixtures share: one lane of sixteen held to
+/// the one-lane material's values.
+#[cfg(test)]
+pub(crate) mod lane_check {
+    use super::{BsdfSample, Sampled};
+    use crate::simd::{Mask, Real, F16, V3};
+    use glam::Vec3;
+
+    /// What a lane test met: draws in all, specular ones, ones that went
+    /// through, and values above 0.
+    #[derive(Debug, Default)]
+    pub(crate) struct Met {
+        pub drawn: usize,
+        pub specular: usize,
+        pub through: usize,
+        pub lit: usize,
+    }
+
+    /// Lane `k` of the lanes' value `(f16, pdf16)` and draw `s16` against
+    /// the one-lane `value` and `drawn`, bit for bit (`case` names it).
+    pub(crate) fn same_lane(
+        k: usize,
+        (f16, pdf16): (V3<F16>, F16),
+        s16: &Sampled<F16>,
+        (value, drawn): ((Vec3, f32), Option<BsdfSample>),
+        case: &str,
+        met: &mut Met,
+    ) {
+        let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+        assert_eq!(bits(f16.lane(k)), bits(value.0), "{case}");
+        assert_eq!(pdf16.lane(k).to_bits(), value.1.to_bits(), "{case}");
+        let lane = s16.ok.lane(k).then(|| {
+            let w = (bits(s16.wi.lane(k)), bits(s16.weight.lane(k)));
+            let flags = (s16.specular.lane(k), s16.transmitted.lane(k));
+            (
+                w,
+                s16.pdf.lane(k).to_bits(),
+                flags,
+                s16.eta.lane(k).to_bits(),
+            )
+        });
+        let one = drawn.map(|s| {
+            let w = (bits(s.wi), bits(s.weight));
+            (
+                w,
+                s.pdf.to_bits(),
+                (s.specular, s.transmitted),
+                s.eta.to_bits(),
+            )
+        });
+        assert_eq!(lane, one, "{case}");
+        if let Some(s) = drawn {
+            met.drawn += 1;
+            met.specular += usize::from(s.specular);
+            met.through += usize::from(s.transmitted);
+        }
+        met.lit += usize::from(value.1 > 0.0);
+    }
+}
