@@ -24,36 +24,52 @@ pub fn to_world<N: Real>((s, t, n): (V3<N>, V3<N>, V3<N>), v: V3<N>) -> V3<N> {
     s * v.x + t * v.y + n * v.z
 }
 
-/// An orthonormal frame around a unit normal `n`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Frame {
-    pub s: Vec3,
-    pub t: Vec3,
-    pub n: Vec3,
+/// An orthonormal frame around a unit normal `n`, by lane (`simd::Real`):
+/// the one-path tracer's is `Frame<f32>`.
+#[derive(Debug, Clone, Copy)]
+pub struct Frame<N: Real = f32> {
+    pub s: V3<N>,
+    pub t: V3<N>,
+    pub n: V3<N>,
 }
 
-impl Frame {
+impl Frame<f32> {
     /// A frame around unit `n` (`tangents`).
     pub fn new(n: Vec3) -> Frame {
-        let (s, t) = tangents(V3::from(n));
-        Frame {
-            s: s.into(),
-            t: t.into(),
-            n,
-        }
+        Frame::around(V3::from(n))
     }
 
     /// World direction `v` in this frame.
     #[inline(always)]
     pub fn to_local(&self, v: Vec3) -> Vec3 {
-        Vec3::new(v.dot(self.s), v.dot(self.t), v.dot(self.n))
+        self.local(V3::from(v)).into()
     }
 
     /// Local direction `v` in the world.
     #[inline(always)]
     pub fn to_world(&self, v: Vec3) -> Vec3 {
-        let axes = (V3::from(self.s), V3::from(self.t), V3::from(self.n));
-        to_world(axes, V3::from(v)).into()
+        self.world(V3::from(v)).into()
+    }
+}
+
+impl<N: Real> Frame<N> {
+    /// A frame around each unit normal of `n` (`tangents`).
+    #[inline(always)]
+    pub fn around(n: V3<N>) -> Frame<N> {
+        let (s, t) = tangents(n);
+        Frame { s, t, n }
+    }
+
+    /// World direction `v` in this frame.
+    #[inline(always)]
+    pub fn local(&self, v: V3<N>) -> V3<N> {
+        V3::new(v.dot(self.s), v.dot(self.t), v.dot(self.n))
+    }
+
+    /// Local direction `v` in the world.
+    #[inline(always)]
+    pub fn world(&self, v: V3<N>) -> V3<N> {
+        to_world((self.s, self.t, self.n), v)
     }
 }
 
@@ -72,13 +88,14 @@ mod tests {
         ];
         for n in normals {
             let f = Frame::new(n);
-            for (a, b) in [(f.s, f.t), (f.s, f.n), (f.t, f.n)] {
+            let [s, t, n] = [f.s, f.t, f.n].map(Vec3::from);
+            for (a, b) in [(s, t), (s, n), (t, n)] {
                 assert!(a.dot(b).abs() < 1e-6, "{n}");
             }
-            for v in [f.s, f.t, f.n] {
+            for v in [s, t, n] {
                 assert!((v.length() - 1.0).abs() < 1e-6, "{n}");
             }
-            assert!((f.s.cross(f.t) - f.n).length() < 1e-5, "right-handed: {n}");
+            assert!((s.cross(t) - n).length() < 1e-5, "right-handed: {n}");
             let v = Vec3::new(0.2, -0.7, 0.5);
             assert!((f.to_world(f.to_local(v)) - v).length() < 1e-6);
             assert!((f.to_local(n) - Vec3::Z).length() < 1e-6);

@@ -244,7 +244,7 @@ fn glass_interface(g: &Glass, wo: Vec3, front_face: bool) -> Interface {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::bsdf::lane_check::{same_lane, Met};
     use crate::bsdf::microfacet::tests::direction;
@@ -254,7 +254,7 @@ mod tests {
 
     /// A lab material drawn by `rng`: matte, highlights of several
     /// exponents, mirrors, glass with and without Fresnel, too bright ones.
-    fn material(rng: &mut Rng, k: usize) -> Material {
+    pub(crate) fn material(rng: &mut Rng, k: usize) -> Material {
         let (a, b) = (rng.square(), rng.square());
         let surface = Phong {
             diffuse: Vec3::new(a.x, a.y, b.x) * [0.0, 0.5, 1.0, 1.5][k % 4],

@@ -139,21 +139,21 @@ impl Sampled<f32> {
     }
 }
 
-/// A material at one hit, seen along `wo`: its local frame and its lobes.
+/// A material at one hit, seen along `wo`: its local frame and its lobes,
+/// by lane (`simd::Real`): the one-path tracer's is `Bsdf<f32>`, which
+/// holds one kind.
 #[derive(Debug, Clone, Copy)]
-pub struct Bsdf {
-    frame: Frame,
-    kind: Kind,
+pub struct Bsdf<N: Real = f32> {
+    frame: Frame<N>,
+    /// The lab materials' lobes, where some lane has one.
+    lab: Option<LabBsdf<N>>,
+    /// The physically based materials' lobes, where some lane has one.
+    principled: Option<PrincipledBsdf<N>>,
+    /// The lanes of a physically based material.
+    is_principled: N::Mask,
 }
 
-#[derive(Debug, Clone, Copy)]
-#[allow(clippy::large_enum_variant)]
-enum Kind {
-    Lab(LabBsdf),
-    Principled(PrincipledBsdf),
-}
-
-impl Bsdf {
+impl Bsdf<f32> {
     /// Material `m` at `hit`, seen from direction `wo` (unit, away from
     /// the surface). The frame faces `wo` (opaque lobes are two-sided);
     /// glass enters at the front face.
@@ -168,35 +168,55 @@ impl Bsdf {
             wo_local = frame.to_local(wo);
         }
         let wo_local = Vec3::new(wo_local.x, wo_local.y, wo_local.z.max(1e-7));
-        let kind = match m {
+        let (lab, principled) = match m {
             Material::Principled(p) => {
                 let at = p.at(hit);
-                Kind::Principled(PrincipledBsdf::new(
-                    &at.params(),
-                    at.base_color,
-                    wo_local,
-                    hit.front_face,
-                ))
+                let params = at.params();
+                let b = PrincipledBsdf::new(&params, at.base_color, wo_local, hit.front_face);
+                (None, Some(b))
             }
-            lab => Kind::Lab(LabBsdf::new(lab, hit, wo_local)),
+            lab => (Some(LabBsdf::new(lab, hit, wo_local)), None),
         };
-        Bsdf { frame, kind }
+        Bsdf {
+            frame,
+            lab,
+            principled,
+            is_principled: principled.is_some(),
+        }
+    }
+
+    /// Several side by side, lane `k` being `each(k)`.
+    pub fn lanes<N: Real>(each: impl Fn(usize) -> Bsdf) -> Bsdf<N> {
+        let all: Vec<Bsdf> = (0..N::LANES).map(&each).collect();
+        let axis = |f: &dyn Fn(&Frame) -> V3<f32>| V3::from_fn(|k| f(&all[k].frame).into());
+        // A lane of the other kind has any material of this one: its values
+        // are not kept.
+        let some_lab = all.iter().find_map(|b| b.lab);
+        let some_principled = all.iter().find_map(|b| b.principled);
+        Bsdf {
+            frame: Frame {
+                s: axis(&|f| f.s),
+                t: axis(&|f| f.t),
+                n: axis(&|f| f.n),
+            },
+            lab: some_lab.map(|any| LabBsdf::lanes(|k| all[k].lab.unwrap_or(any))),
+            principled: some_principled
+                .map(|any| PrincipledBsdf::lanes(|k| all[k].principled.unwrap_or(any))),
+            is_principled: N::Mask::from_fn(|k| all[k].is_principled),
+        }
     }
 
     /// The albedo of a material that is a Lambertian lobe alone, and the
     /// chance its sampling picks the lobe (1, or 0 when it reflects
     /// nothing).
     pub fn lambert_only(&self) -> Option<(Vec3, f32)> {
-        match &self.kind {
-            Kind::Lab(b) => b.lambert_only(),
-            Kind::Principled(_) => None,
-        }
+        self.lab.as_ref().and_then(|b| b.lambert_only())
     }
 
     /// The shading normal on the side the surface is seen from: the axis
     /// of its directions.
     pub fn normal(&self) -> Vec3 {
-        self.frame.n
+        self.frame.n.into()
     }
 
     /// Whether the material only reflects, and in no single direction: an
@@ -204,46 +224,74 @@ impl Bsdf {
     /// plastic). What it sends toward any viewer is then `eval` of the
     /// light arriving, which path reuse shares (`reuse.rs`).
     pub fn reflects_smoothly_only(&self) -> bool {
-        match &self.kind {
-            Kind::Lab(_) => false,
-            Kind::Principled(b) => b.reflects_smoothly_only(),
-        }
+        self.principled
+            .as_ref()
+            .is_some_and(|b| b.reflects_smoothly_only())
     }
 
     /// Whether some lobe is not specular: light sampling can find its
     /// directions.
     pub fn has_smooth_lobes(&self) -> bool {
-        match &self.kind {
-            Kind::Lab(b) => b.has_smooth_lobes(),
-            Kind::Principled(b) => b.has_smooth_lobes(),
+        match (&self.lab, &self.principled) {
+            (Some(b), _) => b.has_smooth_lobes(),
+            (_, Some(b)) => b.has_smooth_lobes(),
+            _ => false,
         }
     }
 
     /// f |cos theta_i| toward world direction `wi`, of the smooth lobes
     /// (the specular ones are nothing in any given direction), and the
-    /// density `sample` gives it.
+    /// density `sample` gives it (`eval_bsdf`).
     #[inline(always)]
     pub fn eval(&self, wi: Vec3) -> (Vec3, f32) {
-        let wi = self.frame.to_local(wi);
-        match &self.kind {
-            Kind::Lab(b) => b.eval(wi),
-            Kind::Principled(b) => b.eval(wi),
-        }
+        let (f, pdf) = eval_bsdf(self, wi.into());
+        (f.into(), pdf)
     }
 
     /// A direction: a lobe picked by `pick`, a direction of it drawn by
-    /// `u`. None when the material sends nothing back or the direction
-    /// fell below the surface.
+    /// `u` (`sample_bsdf`). None when the material sends nothing back or
+    /// the direction fell below the surface.
     #[inline(always)]
     pub fn sample(&self, pick: f32, u: Vec2) -> Option<BsdfSample> {
-        let sample = match &self.kind {
-            Kind::Lab(b) => b.sample(pick, u),
-            Kind::Principled(b) => b.sample(pick, u),
-        }?;
-        Some(BsdfSample {
-            wi: self.frame.to_world(sample.wi),
-            ..sample
-        })
+        sample_bsdf(self, pick, (u.x, u.y)).one()
+    }
+}
+
+/// f |cos theta_i| of `b` toward world direction `wi`, of the smooth
+/// lobes, and the density `sample_bsdf` gives it: each lane's material's
+/// (`eval_lab`, `eval_principled`).
+#[inline(always)]
+pub fn eval_bsdf<N: Real>(b: &Bsdf<N>, wi: V3<N>) -> (V3<N>, N) {
+    let wi = b.frame.local(wi);
+    let (mut f, mut pdf) = (V3::zero(), N::zero());
+    if let Some(lab) = &b.lab {
+        (f, pdf) = lab::eval_lab(lab, wi);
+    }
+    if let Some(principled) = &b.principled {
+        let (f_p, pdf_p) = principled::eval_principled(principled, wi);
+        f = V3::select(b.is_principled, f_p, f);
+        pdf = N::select(b.is_principled, pdf_p, pdf);
+    }
+    (f, pdf)
+}
+
+/// A world direction of `b`: a lobe of each lane's material picked by
+/// `pick`, its direction drawn by `u` (`sample_lab`,
+/// `sample_principled`). None (`ok` unset) where the material sends
+/// nothing back or the direction fell below the surface.
+#[inline(always)]
+pub fn sample_bsdf<N: Real>(b: &Bsdf<N>, pick: N, u: (N, N)) -> Sampled<N> {
+    let mut s = Sampled::none();
+    if let Some(lab) = &b.lab {
+        s = lab::sample_lab(lab, pick, u);
+    }
+    if let Some(principled) = &b.principled {
+        let p = principled::sample_principled(principled, pick, u);
+        s = Sampled::select(b.is_principled, p, s);
+    }
+    Sampled {
+        wi: b.frame.world(s.wi),
+        ..s
     }
 }
 
@@ -304,5 +352,56 @@ pub(crate) mod lane_check {
             met.through += usize::from(s.transmitted);
         }
         met.lit += usize::from(value.1 > 0.0);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::lane_check::{same_lane, Met};
+    use super::*;
+    use crate::bsdf::microfacet::tests::direction;
+    use crate::material::PrincipledMaterial;
+    use crate::sampling::Rng;
+    use crate::simd::F16;
+
+    /// Sixteen lanes of lab and physically based materials at hits of
+    /// every orientation (shading normals turned from the geometric ones,
+    /// back faces) give each lane's one-lane `Bsdf`, bit for bit, in world
+    /// directions.
+    #[test]
+    fn materials_of_both_kinds_in_lanes_are_the_one_lane_bsdf() {
+        let mut rng = Rng::new(14);
+        let mut met = Met::default();
+        for round in 0..300 {
+            let one: [Bsdf; 16] = std::array::from_fn(|k| {
+                let m = if (k + round) % 2 == 0 {
+                    lab::tests::material(&mut rng, k + 5 * round)
+                } else {
+                    let p = principled::tests::material(&mut rng, k + 5 * round);
+                    Material::Principled(Box::new(PrincipledMaterial::new(p, Vec3::ZERO)))
+                };
+                let n = direction(&mut rng, 5 + k).normalize_or(Vec3::Y);
+                let mut hit = SurfaceHit::facing(n, Vec2::ZERO);
+                let tilt = direction(&mut rng, 6 + k) * 0.3;
+                hit.shading_normal = (n + tilt).normalize_or(n);
+                hit.front_face = (k + round) % 3 > 0;
+                Bsdf::new(&m, &hit, direction(&mut rng, 7 + k).normalize_or(Vec3::Z))
+            });
+            let wi: [Vec3; 16] = std::array::from_fn(|k| direction(&mut rng, (k + 3 * round) % 20));
+            let u: [Vec2; 16] = std::array::from_fn(|_| rng.square());
+            let pick: [f32; 16] = std::array::from_fn(|_| rng.square().x);
+            let b16 = Bsdf::lanes::<F16>(|k| one[k]);
+            let (f16, pdf16) = eval_bsdf(&b16, V3::<F16>::from_fn(|k| wi[k]));
+            let u16 = (F16::from_fn(|k| u[k].x), F16::from_fn(|k| u[k].y));
+            let s16 = sample_bsdf(&b16, F16::from_fn(|k| pick[k]), u16);
+            for k in 0..16 {
+                let case = format!("round {round}, lane {k}: {:?}", one[k]);
+                let value = one[k].eval(wi[k]);
+                let drawn = one[k].sample(pick[k], u[k]);
+                same_lane(k, (f16, pdf16), &s16, (value, drawn), &case, &mut met);
+            }
+        }
+        let enough = met.specular > 200 && met.through > 200 && met.lit > 1000;
+        assert!(enough && met.drawn > 2000, "{met:?}");
     }
 }

@@ -314,7 +314,7 @@ fn unit(x: f32) -> f32 {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::bsdf::lane_check::{same_lane, Met};
     use crate::bsdf::microfacet::tests::direction;
@@ -323,7 +323,7 @@ mod tests {
 
     /// A material of the mixture drawn by `rng`: pure lobes, mixtures of
     /// two or three, smooth and rough, now and then out of range.
-    fn material(rng: &mut Rng, k: usize) -> Principled {
+    pub(crate) fn material(rng: &mut Rng, k: usize) -> Principled {
         let shares = [0.0, 1.0, 0.5, rng.square().x, 1.5];
         let roughness = [0.0, 0.2, 0.6, 1.0, rng.square().y];
         let (a, b) = (rng.square(), rng.square());
