@@ -9,7 +9,7 @@
 //! as the smooth interface's (Veach's thesis, 5.2).
 
 use super::microfacet::{self, Ggx};
-use super::specular::{mirror, refract_local};
+use super::specular::{mirror, refract};
 use super::{BsdfSample, Sampled};
 use crate::optics::fresnel_reflectance;
 use crate::simd::{Mask, Real, V3};
@@ -289,7 +289,7 @@ pub fn sample_rough<N: Real>(r: Glass<N>, wo: V3<N>, pick: N, u: (N, N)) -> Samp
 pub fn sample_smooth<N: Real>(r: Glass<N>, wo: V3<N>, pick: N) -> Sampled<N> {
     let f = fresnel_reflectance(wo.z, r.eta);
     let (p, some) = p_reflect(f, r.tint);
-    let (through, refracts) = refract_local(wo, r.eta);
+    let (through, refracts) = refract(wo, r.eta);
     let crosses = !pick.lt(p) & p.lt(N::one()) & refracts;
     let back = f / p;
     let weight = r.tint * ((N::one() - f) / (N::one() - p) * r.eta * r.eta);

@@ -76,14 +76,15 @@ impl LabBsdf<f32> {
 
     /// Several side by side, lane `k` being `each(k)`.
     pub fn lanes<N: Real>(each: impl Fn(usize) -> LabBsdf) -> LabBsdf<N> {
-        let vector = |f: &dyn Fn(&LabBsdf) -> V3<f32>| V3::from_fn(|k| f(&each(k)).into());
-        let number = |f: &dyn Fn(&LabBsdf) -> f32| N::from_fn(|k| f(&each(k)));
+        let all: Vec<LabBsdf> = (0..N::LANES).map(each).collect();
+        let vector = |f: &dyn Fn(&LabBsdf) -> V3<f32>| V3::from_fn(|k| f(&all[k]).into());
+        let number = |f: &dyn Fn(&LabBsdf) -> f32| N::from_fn(|k| f(&all[k]));
         LabBsdf {
             wo: vector(&|b| b.wo),
             albedo: vector(&|b| b.albedo),
             specular: vector(&|b| b.specular),
             shininess: number(&|b| b.shininess),
-            interface: Interface::lanes(|k| each(k).interface),
+            interface: Interface::lanes(|k| all[k].interface),
             p_lambert: number(&|b| b.p_lambert),
             p_phong: number(&|b| b.p_phong),
         }

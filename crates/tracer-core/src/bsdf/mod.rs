@@ -36,7 +36,7 @@ pub use frame::Frame;
 pub use lab::LabBsdf;
 pub use lambert::Lambert;
 pub use phong::BlinnPhong;
-pub use specular::{reflect, refract, Interface};
+pub use specular::{mirror, refract, Interface};
 
 use crate::geometry::SurfaceHit;
 use crate::material::Material;

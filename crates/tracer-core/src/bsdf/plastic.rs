@@ -184,11 +184,27 @@ impl<N: Real> Plastic<N> {
         reflect_about(wo, microfacet::sample_visible(self.alpha, wo, u))
     }
 
+    /// `eval_layered` with the layer's albedo at wo, `e_o`, already read.
+    #[inline(always)]
+    fn eval_seen(&self, e_o: N, wo: V3<N>, wi: V3<N>) -> (V3<N>, N) {
+        let p_layer = self.p_layer(e_o);
+        let (layer, layer_pdf) = self.eval_layer(wo, wi);
+        let coupling = self.left(e_o) * self.left(self.layer_albedo(wi.z));
+        let base = self.base * (N::splat(FRAC_1_PI) * coupling * self.base_norm * wi.z);
+        let pdf = p_layer * layer_pdf + (N::one() - p_layer) * lambert_pdf(wi.z);
+        // Tested as `<=`, so that a NaN goes through as a NaN.
+        let above = !wo.z.le(N::zero()) & !wi.z.le(N::zero());
+        (
+            V3::select(above, V3::new(layer, layer, layer) + base, V3::zero()),
+            N::select(above, pdf, N::zero()),
+        )
+    }
+
     /// `wi` drawn by a part that is not a single direction: its weight the
     /// whole's f cos over the whole's density, where that is above 0.
     #[inline(always)]
-    fn sampled(&self, wo: V3<N>, wi: V3<N>) -> Sampled<N> {
-        let (f, pdf) = eval_layered(self, wo, wi);
+    fn sampled(&self, e_o: N, wo: V3<N>, wi: V3<N>) -> Sampled<N> {
+        let (f, pdf) = self.eval_seen(e_o, wo, wi);
         Sampled {
             wi,
             weight: f / pdf,
@@ -218,18 +234,7 @@ impl<N: Real> Plastic<N> {
 /// wi is below the surface.
 #[inline(always)]
 pub fn eval_layered<N: Real>(p: &Plastic<N>, wo: V3<N>, wi: V3<N>) -> (V3<N>, N) {
-    let e_o = p.layer_albedo(wo.z);
-    let p_layer = p.p_layer(e_o);
-    let (layer, layer_pdf) = p.eval_layer(wo, wi);
-    let coupling = p.left(e_o) * p.left(p.layer_albedo(wi.z));
-    let base = p.base * (N::splat(FRAC_1_PI) * coupling * p.base_norm * wi.z);
-    let pdf = p_layer * layer_pdf + (N::one() - p_layer) * lambert_pdf(wi.z);
-    // Tested as `<=`, so that a NaN goes through as a NaN.
-    let above = !wo.z.le(N::zero()) & !wi.z.le(N::zero());
-    (
-        V3::select(above, V3::new(layer, layer, layer) + base, V3::zero()),
-        N::select(above, pdf, N::zero()),
-    )
+    p.eval_seen(p.layer_albedo(wo.z), wo, wi)
 }
 
 /// A direction of `p` from local `wo` (above the surface): the layer's or
@@ -239,7 +244,8 @@ pub fn eval_layered<N: Real>(p: &Plastic<N>, wo: V3<N>, wi: V3<N>) -> (V3<N>, N)
 /// takes it.
 #[inline(always)]
 pub fn sample_layered<N: Real>(p: &Plastic<N>, wo: V3<N>, pick: N, u: (N, N)) -> Sampled<N> {
-    let p_layer = p.p_layer(p.layer_albedo(wo.z));
+    let e_o = p.layer_albedo(wo.z);
+    let p_layer = p.p_layer(e_o);
     let on_layer = pick.lt(p_layer);
     let specular = on_layer & p.smooth;
     let (on_facet, on_base) = (on_layer & !p.smooth, !on_layer);
@@ -252,7 +258,7 @@ pub fn sample_layered<N: Real>(p: &Plastic<N>, wo: V3<N>, pick: N, u: (N, N)) ->
     }
     let mut s = Sampled::none();
     if (on_facet | on_base).any() {
-        s = p.sampled(wo, wi);
+        s = p.sampled(e_o, wo, wi);
     }
     if specular.any() {
         s = Sampled::select(specular, p.mirror(wo, p_layer), s);

@@ -6,30 +6,17 @@ use crate::optics::fresnel_reflectance;
 use crate::simd::{Mask, Real, V3};
 use glam::Vec3;
 
-/// wo mirrored about the local normal (`mirror`).
-#[inline(always)]
-pub fn reflect(wo: Vec3) -> Vec3 {
-    mirror(V3::from(wo)).into()
-}
-
-/// `reflect` for any lane width.
+/// wo mirrored about the local normal, for any lane width.
 #[inline(always)]
 pub fn mirror<N: Real>(wo: V3<N>) -> V3<N> {
     V3::new(-wo.x, -wo.y, wo.z)
 }
 
 /// The direction refracted from local `wo` (`wo.z > 0`) with `eta` =
-/// n(wo's side) / n(the other side); None past the critical angle
-/// (`refract_local`).
+/// n(wo's side) / n(the other side), for any lane width; and where there
+/// is one (not past the critical angle).
 #[inline(always)]
-pub fn refract(wo: Vec3, eta: f32) -> Option<Vec3> {
-    let (wi, through) = refract_local(V3::from(wo), eta);
-    through.then(|| wi.into())
-}
-
-/// `refract` for any lane width: the direction, and where there is one.
-#[inline(always)]
-pub fn refract_local<N: Real>(wo: V3<N>, eta: N) -> (V3<N>, N::Mask) {
+pub fn refract<N: Real>(wo: V3<N>, eta: N) -> (V3<N>, N::Mask) {
     let cos_i = wo.z;
     let sin2_t = eta * eta * (N::one() - cos_i * cos_i).max(N::zero());
     let cos_t = (N::one() - sin2_t).sqrt();
@@ -62,7 +49,7 @@ impl Interface {
     /// without, `reflectance` and `transmittance` as given (both reflected
     /// under total internal reflection). `eta` as in `Interface`.
     pub fn new(wo: Vec3, eta: f32, fresnel: bool, reflectance: f32, transmittance: f32) -> Self {
-        let (refracted, refracts) = refract_local(V3::from(wo), eta);
+        let (refracted, refracts) = refract(V3::from(wo), eta);
         let (reflected, transmitted) = match (fresnel, refracts) {
             (true, _) => {
                 let f = fresnel_reflectance(wo.z, eta);
@@ -101,15 +88,6 @@ impl Interface {
             refracts: N::Mask::from_fn(|k| each(k).refracts),
         }
     }
-
-    /// One of the two directions, picked with probability in proportion to
-    /// its energy by `u`, and its weight (`sample_interface`): (direction,
-    /// weight, whether transmitted).
-    #[inline(always)]
-    pub fn sample(&self, wo: Vec3, u: f32) -> Option<(Vec3, f32, bool)> {
-        let (wi, weight, crosses, ok) = sample_interface(self, V3::from(wo), u);
-        ok.then(|| (wi.into(), weight, crosses))
-    }
 }
 
 impl<N: Real> Interface<N> {
@@ -145,13 +123,15 @@ mod tests {
     #[test]
     fn refraction_follows_snell() {
         let wo = Vec3::new(0.6, 0.0, 0.8);
-        let wt = refract(wo, 1.0 / 1.5).expect("into glass");
+        let (wt, through) = refract(V3::from(wo), 1.0 / 1.5);
+        assert!(through, "into glass");
+        let wt = Vec3::from(wt);
         assert!(wt.z < 0.0, "through the surface");
         let (sin_i, sin_t) = (wo.x, -wt.x);
         assert!((sin_i - 1.5 * sin_t).abs() < 1e-6);
         assert!((wt.length() - 1.0).abs() < 1e-6);
         // Out of glass past the critical angle (41.8 degrees): none.
-        assert!(refract(Vec3::new(0.8, 0.0, 0.6), 1.5).is_none());
+        assert!(!refract(V3::from(Vec3::new(0.8, 0.0, 0.6)), 1.5).1);
     }
 
     #[test]

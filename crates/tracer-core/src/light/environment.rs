@@ -279,15 +279,9 @@ fn texels_at<N: Real>((width, height, texels): (u32, u32, &[Vec3]), uv: (N, N)) 
 }
 
 /// The point of the latitude-longitude square a unit direction of the
-/// environment's frame falls on: v from +y (0) down to -y (1), u around
-/// from +z (0) through -x, -z (1/2: the centre column), +x.
-#[inline(always)]
-pub fn direction_to_uv(d: Vec3) -> Vec2 {
-    let (u, v) = lat_long(V3::from(d));
-    Vec2::new(u, v)
-}
-
-/// `direction_to_uv` for any lane width.
+/// environment's frame falls on, for any lane width: v from +y (0) down
+/// to -y (1), u around from +z (0) through -x, -z (1/2: the centre
+/// column), +x.
 #[inline(always)]
 fn lat_long<N: Real>(d: V3<N>) -> (N, N) {
     let v = d.y.clamp(-1.0, 1.0).acos() / PI;
@@ -298,15 +292,8 @@ fn lat_long<N: Real>(d: V3<N>) -> (N, N) {
     )
 }
 
-/// The direction of point `uv` of the square, and the sine of its angle
-/// from +y.
-#[inline(always)]
-pub fn uv_to_direction(uv: Vec2) -> (Vec3, f32) {
-    let (d, sin) = lat_long_direction((uv.x, uv.y));
-    (d.into(), sin)
-}
-
-/// `uv_to_direction` for any lane width.
+/// The direction of point `(u, v)` of the square, and the sine of its
+/// angle from +y, for any lane width.
 #[inline(always)]
 fn lat_long_direction<N: Real>((u, v): (N, N)) -> (V3<N>, N) {
     let theta = v * PI;
@@ -341,6 +328,18 @@ impl Environment {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `lat_long` of one direction.
+    fn direction_to_uv(d: Vec3) -> Vec2 {
+        let (u, v) = lat_long(V3::from(d));
+        Vec2::new(u, v)
+    }
+
+    /// `lat_long_direction` of one point.
+    fn uv_to_direction(uv: Vec2) -> (Vec3, f32) {
+        let (d, sin) = lat_long_direction((uv.x, uv.y));
+        (d.into(), sin)
+    }
 
     /// A sky of `width` x `height` varied texels, times `strength`,
     /// turned by `degrees`.
