@@ -333,14 +333,13 @@ pub fn sphere_sample<N: Real>(
     let (s, t) = tangents(back);
     let local = V3::new(sin_alpha * cos_phi, sin_alpha * sin_phi, cos_alpha);
     let point = center + to_world((s, t, back), local) * radius;
-    let to = point - from;
-    let distance = to.length();
+    let way = toward(from, point);
     SpherePoints {
         point,
-        wi: to / distance,
-        distance,
+        wi: way.wi,
+        distance: way.distance,
         pdf: cone.pdf(),
-        ok: cone.outside & !(distance.is_nan() | distance.le(N::zero())),
+        ok: cone.outside & way.apart,
     }
 }
 
