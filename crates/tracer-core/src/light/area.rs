@@ -7,7 +7,7 @@
 use super::toward::{flat_pdf, flat_shape_point, toward};
 use crate::bsdf::frame::{tangents, to_world};
 use crate::sampling::warp::square_to_triangle;
-use crate::simd::{Real, V3};
+use crate::simd::{Mask, Real, V3};
 use glam::{Mat3, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 use std::f32::consts::PI;
@@ -109,7 +109,7 @@ impl EllipsoidLight {
         let point = self.center + self.radius * (self.linear * q);
         let normal = (self.inverse.transpose() * q).normalize();
         let area = 4.0 * PI * self.radius * self.radius * self.stretch(q);
-        flat_point(point, normal, area, from)
+        seen_from(point.into(), normal.into(), area, from.into()).one()
     }
 }
 
@@ -166,39 +166,20 @@ impl AreaShape {
 
     /// A point of the shape facing `from`, drawn by `u`; None when the
     /// point drawn faces away (a triangle seen from behind) or `from` is
-    /// inside a sphere (which emits outward only).
+    /// inside a sphere (which emits outward only). The lanes' formulas on
+    /// one lane (`Flat::sample`, `sphere_sample`).
     #[inline(always)]
     pub fn sample(&self, from: Vec3, u: Vec2) -> Option<AreaPoint> {
+        let (from, u) = (V3::from(from), (u.x, u.y));
         match self {
-            AreaShape::Triangle {
-                v0,
-                e1,
-                e2,
-                normal,
-                area,
-            } => {
-                let b = square_to_triangle((u.x, u.y));
-                let point = flat_shape_point(V3::from(*v0), (V3::from(*e1), V3::from(*e2)), b);
-                let p = flat_point(point.into(), *normal, *area, from)?;
-                Some(AreaPoint {
-                    at: Vec2::new(b.0, b.1),
-                    ..p
-                })
+            AreaShape::Triangle { .. } | AreaShape::Parallelogram { .. } => {
+                let flat = Flat::lanes(|_| Some(self));
+                flat.sample(from, u).one()
             }
-            AreaShape::Parallelogram {
-                corner,
-                e1,
-                e2,
-                normal,
-                area,
-            } => {
-                let (e1, e2) = (V3::from(*e1), V3::from(*e2));
-                let point = flat_shape_point(V3::from(*corner), (e1, e2), (u.x, u.y));
-                let p = flat_point(point.into(), *normal, *area, from)?;
-                Some(AreaPoint { at: u, ..p })
+            AreaShape::Sphere { center, radius } => {
+                sphere_sample(V3::from(*center), *radius, from, u).one()
             }
-            AreaShape::Sphere { center, radius } => one_sphere_sample(*center, *radius, from, u),
-            AreaShape::Ellipsoid(e) => e.sample(from, u),
+            AreaShape::Ellipsoid(e) => e.sample(from.into(), Vec2::new(u.0, u.1)),
         }
     }
 
@@ -228,23 +209,93 @@ impl AreaShape {
 }
 
 /// `point` of a light of unit `normal` there, drawn with density 1 / `area`
-/// by area (uniformly on a flat light), seen from `from`: its density by
-/// solid angle is d^2 / (cos A).
-/// None when it faces away.
+/// by area (uniformly on a flat light), seen from `from`, by lane: its
+/// density by solid angle is d^2 / (cos A). Not `ok` where it faces away.
 #[inline(always)]
-fn flat_point(point: Vec3, normal: Vec3, area: f32, from: Vec3) -> Option<AreaPoint> {
-    let way = toward(V3::from(from), V3::from(point));
-    let (pdf, facing) = flat_pdf(&way, V3::from(normal), area);
-    if !(facing && way.apart) {
-        return None;
-    }
-    Some(AreaPoint {
+fn seen_from<N: Real>(point: V3<N>, normal: V3<N>, area: N, from: V3<N>) -> AreaPoints<N> {
+    let way = toward(from, point);
+    let (pdf, facing) = flat_pdf(&way, normal, area);
+    AreaPoints {
         point,
-        wi: way.wi.into(),
+        wi: way.wi,
         distance: way.distance,
         pdf,
-        at: Vec2::ZERO,
-    })
+        at: (N::zero(), N::zero()),
+        ok: facing & way.apart,
+    }
+}
+
+/// Flat lights by lane: triangles and parallelograms, each drawn by area.
+pub struct Flat<N: Real> {
+    v0: V3<N>,
+    e1: V3<N>,
+    e2: V3<N>,
+    normal: V3<N>,
+    area: N,
+    /// A triangle's lane (else a parallelogram's).
+    triangle: N::Mask,
+}
+
+impl<N: Real> Flat<N> {
+    /// Each lane's flat shape `shape(k)`; a lane of None (or of another
+    /// shape) is left zero.
+    #[inline(always)]
+    pub fn lanes<'a>(shape: impl Fn(usize) -> Option<&'a AreaShape>) -> Flat<N> {
+        let (zero, mut triangle) = (V3::zero(), N::Mask::splat(false));
+        let mut f = Flat {
+            v0: zero,
+            e1: zero,
+            e2: zero,
+            normal: zero,
+            area: N::zero(),
+            triangle,
+        };
+        for k in 0..N::LANES {
+            let (v0, e1, e2, normal, area) = match shape(k) {
+                Some(AreaShape::Triangle {
+                    v0,
+                    e1,
+                    e2,
+                    normal,
+                    area,
+                }) => {
+                    triangle.set_lane(k, true);
+                    (v0, e1, e2, normal, area)
+                }
+                Some(AreaShape::Parallelogram {
+                    corner,
+                    e1,
+                    e2,
+                    normal,
+                    area,
+                }) => (corner, e1, e2, normal, area),
+                _ => continue,
+            };
+            f.v0.set_lane(k, *v0);
+            f.e1.set_lane(k, *e1);
+            f.e2.set_lane(k, *e2);
+            f.normal.set_lane(k, *normal);
+            f.area.set_lane(k, *area);
+        }
+        Flat { triangle, ..f }
+    }
+
+    /// A point of each lane's shape drawn by `u`, uniformly by area (a
+    /// triangle's by `square_to_triangle`, a parallelogram's (s, t) = u),
+    /// seen from `from`.
+    #[inline(always)]
+    pub fn sample(&self, from: V3<N>, u: (N, N)) -> AreaPoints<N> {
+        let (b1, b2) = square_to_triangle(u);
+        let b = (
+            N::select(self.triangle, b1, u.0),
+            N::select(self.triangle, b2, u.1),
+        );
+        let point = flat_shape_point(self.v0, (self.e1, self.e2), b);
+        AreaPoints {
+            at: b,
+            ..seen_from(point, self.normal, self.area, from)
+        }
+    }
 }
 
 /// The cone of directions a sphere fills, seen from a point outside it,
@@ -296,14 +347,29 @@ pub fn sphere_pdf<N: Real>(center: V3<N>, radius: N, from: V3<N>) -> N {
     N::select(cone.outside, cone.pdf(), N::zero())
 }
 
-/// Points drawn on spheres, by lane: `AreaPoint`'s fields but `at`, and
-/// where there is one.
-pub struct SpherePoints<N: Real> {
+/// Points drawn on area lights, by lane: `AreaPoint`'s fields, and where
+/// there is one.
+pub struct AreaPoints<N: Real> {
     pub point: V3<N>,
     pub wi: V3<N>,
     pub distance: N,
     pub pdf: N,
+    pub at: (N, N),
     pub ok: N::Mask,
+}
+
+impl AreaPoints<f32> {
+    /// The one lane's point, if there is one.
+    #[inline(always)]
+    pub fn one(self) -> Option<AreaPoint> {
+        self.ok.then(|| AreaPoint {
+            point: self.point.into(),
+            wi: self.wi.into(),
+            distance: self.distance,
+            pdf: self.pdf,
+            at: Vec2::new(self.at.0, self.at.1),
+        })
+    }
 }
 
 /// A direction of the cone a sphere fills from `from`, uniform in solid
@@ -316,7 +382,7 @@ pub fn sphere_sample<N: Real>(
     radius: N,
     from: V3<N>,
     (u1, u2): (N, N),
-) -> SpherePoints<N> {
+) -> AreaPoints<N> {
     let cone = Cone::of(center, radius, from);
     let small = cone.sin2_max.lt(N::splat(SMALL_CONE_SIN2));
     let sin2_small = cone.sin2_max * u1;
@@ -334,25 +400,14 @@ pub fn sphere_sample<N: Real>(
     let local = V3::new(sin_alpha * cos_phi, sin_alpha * sin_phi, cos_alpha);
     let point = center + to_world((s, t, back), local) * radius;
     let way = toward(from, point);
-    SpherePoints {
+    AreaPoints {
         point,
         wi: way.wi,
         distance: way.distance,
         pdf: cone.pdf(),
+        at: (N::zero(), N::zero()),
         ok: cone.outside & way.apart,
     }
-}
-
-/// `sphere_sample` on one lane.
-fn one_sphere_sample(center: Vec3, radius: f32, from: Vec3, u: Vec2) -> Option<AreaPoint> {
-    let s = sphere_sample(center.into(), radius, from.into(), (u.x, u.y));
-    s.ok.then(|| AreaPoint {
-        point: s.point.into(),
-        wi: s.wi.into(),
-        distance: s.distance,
-        pdf: s.pdf,
-        at: Vec2::ZERO,
-    })
 }
 
 #[cfg(test)]

@@ -5,12 +5,10 @@
 //! thousands.
 
 use super::alias::AliasTable;
-use super::area::{AreaPoint, AreaShape};
+use super::area::AreaShape;
 use super::environment::Environment;
 use super::textured::LightTexture;
-use super::toward::toward;
-use crate::simd::V3;
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use serde::{Deserialize, Serialize};
 use std::f32::consts::PI;
 use std::sync::Arc;
@@ -32,15 +30,6 @@ impl AreaLight {
             shape,
             radiance,
             texture: None,
-        }
-    }
-
-    /// The radiance it gives off at `s`, a point drawn on it.
-    #[inline(always)]
-    fn radiance_at(&self, s: &AreaPoint) -> Vec3 {
-        match &self.texture {
-            None => self.radiance,
-            Some(t) => t.radiance(self.radiance, s),
         }
     }
 
@@ -81,16 +70,6 @@ pub enum Emits {
     Parallel { direction: Vec3, radius: f32 },
 }
 
-/// What a light of no size brings to a point: the unit direction toward
-/// it, the distance (infinite for a directional light) and the radiance
-/// arriving (the whole irradiance along that one direction).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DeltaSample {
-    pub wi: Vec3,
-    pub distance: f32,
-    pub radiance: Vec3,
-}
-
 impl PointSource {
     /// A point light at `position` of `intensity`.
     pub fn point(position: Vec3, intensity: Vec3) -> PointSource {
@@ -99,46 +78,6 @@ impl PointSource {
             intensity,
             emits: Emits::Everywhere,
         }
-    }
-
-    /// Its light at `from`: the one function every kind of light of no
-    /// size is sampled through. None where it sends nothing (outside a
-    /// spot's cone, at the light itself).
-    #[inline(always)]
-    pub fn arriving(&self, from: Vec3) -> Option<DeltaSample> {
-        if let Emits::Parallel { direction, .. } = self.emits {
-            return Some(DeltaSample {
-                wi: -direction,
-                distance: f32::INFINITY,
-                radiance: self.intensity,
-            });
-        }
-        let way = toward(V3::from(from), V3::from(self.position));
-        if !way.apart {
-            return None;
-        }
-        let (wi, distance, distance2) = (Vec3::from(way.wi), way.distance, way.distance2);
-        // A point light's radiance as intensity / d^2 exactly: the lanes'
-        // paths (`matte_lanes`) compute the same bits.
-        let radiance = match self.emits {
-            Emits::Cone {
-                axis,
-                cos_inner,
-                cos_outer,
-            } => {
-                let fraction = super::cone_falloff(axis, cos_inner, cos_outer, -wi);
-                if fraction <= 0.0 {
-                    return None;
-                }
-                self.intensity * (fraction / distance2)
-            }
-            _ => self.intensity / distance2,
-        };
-        Some(DeltaSample {
-            wi,
-            distance,
-            radiance,
-        })
     }
 
     /// The power it gives off, by luminance, for the pick among lights:
@@ -158,22 +97,6 @@ impl PointSource {
             Emits::Parallel { radius, .. } => pi * f64::from(radius).powi(2) * i,
         }
     }
-}
-
-/// What a light sample brings to a shaded point.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LightSample {
-    /// Unit, toward the light.
-    pub wi: Vec3,
-    pub distance: f32,
-    /// The radiance arriving along `wi` (a point light's intensity over
-    /// the distance squared).
-    pub radiance: Vec3,
-    /// The density of `wi` (solid angle), the pick included; for a point
-    /// light, the probability of the pick.
-    pub pdf: f32,
-    /// A point light: no other sampling can find it.
-    pub point: bool,
 }
 
 /// The point lights, the area lights and the environment, and the table
@@ -259,46 +182,16 @@ impl Lights {
         self.environment.is_some()
     }
 
+    pub(crate) fn environment(&self) -> Option<&Environment> {
+        self.environment.as_deref()
+    }
+
     pub fn areas(&self) -> &[AreaLight] {
         &self.areas
     }
 
     pub fn points(&self) -> &[PointSource] {
         &self.points
-    }
-
-    /// One light picked by `pick`, a point of it by `u`, seen from `from`.
-    #[inline(always)]
-    pub fn sample(&self, from: Vec3, pick: f32, u: Vec2) -> Option<LightSample> {
-        let (i, pmf) = self.table.as_ref()?.sample(pick);
-        if let Some(p) = self.points.get(i) {
-            let s = p.arriving(from)?;
-            return Some(LightSample {
-                wi: s.wi,
-                distance: s.distance,
-                radiance: s.radiance,
-                pdf: pmf,
-                point: true,
-            });
-        }
-        let Some(light) = self.areas.get(i - self.points.len()) else {
-            let s = self.environment.as_ref()?.sample(u)?;
-            return Some(LightSample {
-                wi: s.wi,
-                distance: f32::INFINITY,
-                radiance: s.radiance,
-                pdf: pmf * s.pdf,
-                point: false,
-            });
-        };
-        let s = light.shape.sample(from, u)?;
-        Some(LightSample {
-            wi: s.wi,
-            distance: s.distance,
-            radiance: light.radiance_at(&s),
-            pdf: pmf * s.pdf,
-            point: false,
-        })
     }
 
     /// The density `sample` gives a direction toward the environment that

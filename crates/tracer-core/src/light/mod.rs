@@ -4,14 +4,16 @@
 //! Path mode reads them, and every emissive surface, as one list chosen
 //! by power (`lights.rs`): area lights' shapes in `area.rs`, what varies
 //! over a textured one in `textured.rs`, the table that picks one in
-//! `alias.rs`, a light's point seen from a shaded point (for one path or
-//! for lanes) in `toward.rs`.
+//! `alias.rs`, a light sample drawn from the list in `sample.rs` and a
+//! light's point seen from a shaded point in `toward.rs` (both for one
+//! path or for lanes).
 
 pub mod alias;
 pub mod area;
 pub mod distribution;
 pub mod environment;
 pub mod lights;
+pub mod sample;
 pub mod textured;
 pub mod toward;
 
