@@ -134,10 +134,10 @@ impl Lights {
         let (ellipsoids, environment) = (of(Part::Ellipsoid), of(Part::Environment));
         let mut s = Drawn::none();
         if points.any() {
-            s = s.or(points, self.point_sources(from, &light, points));
+            s = s.or(points, self.point_sources(from, &light));
         }
         if flat.any() {
-            let shapes = Flat::lanes(|k| self.shape::<N>(&light, flat, k));
+            let shapes = Flat::lanes(|k| self.area(light[k]).map(|a| &a.shape));
             s = s.or(flat, self.on_areas(shapes.sample(from, u), &light, flat));
         }
         if spheres.any() {
@@ -183,35 +183,22 @@ impl Lights {
         }
     }
 
-    /// Lane `k`'s area light (light `light[k]` of the table), if it is in
-    /// `lanes`.
+    /// Light `i` of the table, if it is an area light. Parts gather their
+    /// lights' numbers from every lane, picked or not, without a branch
+    /// on the lane: a lane of another part (or of none, which reads light
+    /// 0) gathers what it finds, and its draws are dropped.
     #[inline(always)]
-    fn area<N: Real>(&self, light: &N::Array<u32>, lanes: N::Mask, k: usize) -> Option<&AreaLight> {
-        let i = (light[k] as usize).checked_sub(self.points().len())?;
-        lanes.lane(k).then(|| self.areas().get(i)).flatten()
+    fn area(&self, i: u32) -> Option<&AreaLight> {
+        let k = (i as usize).wrapping_sub(self.points().len());
+        self.areas().get(k)
     }
 
-    #[inline(always)]
-    fn shape<N: Real>(
-        &self,
-        light: &N::Array<u32>,
-        lanes: N::Mask,
-        k: usize,
-    ) -> Option<&AreaShape> {
-        self.area::<N>(light, lanes, k).map(|a| &a.shape)
-    }
-
-    /// The point lights of `lanes` seen from `from`: a point light's
+    /// The point lights of the lanes seen from `from`: a point light's
     /// radiance is its intensity over the distance squared; a spot's cone
     /// and a directional light's parallel rays are read a lane at a time.
     #[inline(always)]
-    fn point_sources<N: Real>(
-        &self,
-        from: V3<N>,
-        light: &N::Array<u32>,
-        lanes: N::Mask,
-    ) -> Drawn<N> {
-        let source = |k: usize| lanes.lane(k).then(|| &self.points()[light[k] as usize]);
+    fn point_sources<N: Real>(&self, from: V3<N>, light: &N::Array<u32>) -> Drawn<N> {
+        let source = |k: usize| self.points().get(light[k] as usize);
         let position = V3::from_fn(|k| source(k).map_or(Vec3::ZERO, |p| p.position));
         let intensity = V3::from_fn(|k| source(k).map_or(Vec3::ZERO, |p| p.intensity));
         let way = toward(from, position);
@@ -260,7 +247,7 @@ impl Lights {
             if let Some(AreaShape::Sphere {
                 center: c,
                 radius: r,
-            }) = self.shape::<N>(light, lanes, k)
+            }) = self.area(light[k]).map(|a| &a.shape)
             {
                 center.set_lane(k, *c);
                 radius.set_lane(k, *r);
@@ -288,10 +275,11 @@ impl Lights {
             ok: N::Mask::splat(false),
         };
         for k in 0..N::LANES {
-            let Some(shape) = self.shape::<N>(light, lanes, k) else {
+            let Some(light) = self.area(light[k]).filter(|_| lanes.lane(k)) else {
                 continue;
             };
-            let Some(p) = shape.sample(from.lane(k), Vec2::new(u.0.lane(k), u.1.lane(k))) else {
+            let u = Vec2::new(u.0.lane(k), u.1.lane(k));
+            let Some(p) = light.shape.sample(from.lane(k), u) else {
                 continue;
             };
             drawn.point.set_lane(k, p.point);
@@ -313,14 +301,18 @@ impl Lights {
         light: &N::Array<u32>,
         lanes: N::Mask,
     ) -> Drawn<N> {
-        let radiance = V3::from_fn(|k| match self.area::<N>(light, lanes, k) {
+        let radiance = V3::from_fn(|k| match self.area(light[k]) {
+            Some(AreaLight {
+                texture: None,
+                radiance,
+                ..
+            }) => *radiance,
             Some(AreaLight {
                 texture: Some(t),
                 radiance,
                 ..
-            }) => t.radiance(*radiance, &lane_point(&drawn, k)),
-            Some(a) => a.radiance,
-            None => Vec3::ZERO,
+            }) if lanes.lane(k) => t.radiance(*radiance, &lane_point(&drawn, k)),
+            _ => Vec3::ZERO,
         });
         Drawn {
             wi: drawn.wi,

@@ -13,12 +13,12 @@
 //! sums in the same order. The intersection test is `tri4.rs`'s, lane by
 //! lane (`rays.rs`); a shadow ray skips the triangles that cannot stand
 //! between its light and the scene (`casters.rs`). The camera ray, the
-//! light table's pick, the density of an emitter a path meets and the MIS
-//! weight there are the one-path tracer's own functions; the frame, the light sample
-//! (`Lights::sample` on points, triangles and parallelograms), the
-//! Lambertian lobe, the power heuristic and the roulette are the one-path
-//! tracer's formulas on sixteen lanes (`shade.rs`), and a test holds the
-//! lanes to the one-path tracer's values on random scenes. The nearest hit is the one testing every triangle finds (of
+//! density of an emitter a path meets and the MIS weight there are the
+//! one-path tracer's own functions; the frame, the light sample
+//! (`Lights::sample_of`), the Lambertian lobe, the power heuristic and the
+//! roulette are the one-path tracer's formulas on sixteen lanes
+//! (`shade.rs`), and a test holds the lanes to the one-path tracer's values
+//! on random scenes. The nearest hit is the one testing every triangle finds (of
 //! equal distances, the one listed first), which is the tree's but for a
 //! few rays from far away or at sliver triangles, grazing where surfaces
 //! nearly meet (`accel`). So an image, its ray counts and `tracer explain`
@@ -49,7 +49,7 @@ use glam::Vec3;
 use groups::Groups;
 use multiversion::multiversion;
 use rays::Rays;
-use shade::{Hits, Pending, Picked};
+use shade::{Hits, Pending};
 use std::ops::Range;
 
 /// Paths traced together: sixteen of a row's samples at a time.
@@ -342,10 +342,14 @@ impl MatteLanes {
         let hits = self.meet(setup, paths, (&t, &tri));
         let numbers = bounce_numbers(samplers, &hits.shaded);
         let frames = shade::frames(&hits.normal);
-        let picked = shade::pick_lights(setup.lights, &hits, &numbers.pick);
-        let pending =
-            shade::light_terms(&hits, &frames, &picked, &numbers.light, &paths.throughput);
-        self.add_light(setup, paths, &hits, (&picked, &pending));
+        let light_numbers = (&numbers.pick, &numbers.light);
+        let pending = shade::light_terms(
+            setup.lights,
+            (&hits, &frames),
+            light_numbers,
+            &paths.throughput,
+        );
+        self.add_light(setup, paths, &hits, &pending);
         shade::bounce(paths, &hits, &frames, &numbers);
     }
 
@@ -408,13 +412,7 @@ impl MatteLanes {
     /// Adds each lane's light sample whose shadow ray is clear, all the
     /// shadow rays tested together: against the triangles that can shade
     /// the light they go to, when they all go to one.
-    fn add_light(
-        &self,
-        setup: &mut Setup,
-        paths: &mut Paths,
-        hits: &Hits,
-        (picked, pending): (&Picked, &Pending),
-    ) {
+    fn add_light(&self, setup: &mut Setup, paths: &mut Paths, hits: &Hits, pending: &Pending) {
         let mut shadow = Rays::NONE;
         let mut reach = [f32::NEG_INFINITY; LANES];
         for k in 0..LANES {
@@ -424,7 +422,7 @@ impl MatteLanes {
                 reach[k] = pending.reach[k];
             }
         }
-        let tris = match picked.one_light(&pending.shadow) {
+        let tris = match pending.one_light(&pending.shadow) {
             Some(i) => self.casters.get(i).unwrap_or(&self.all),
             None => &self.all,
         };

@@ -2,21 +2,20 @@
 //! structure of arrays): the frame, the light sample and what it adds, the
 //! BSDF sample, the throughput and the roulette. Each is the one-path
 //! tracer's own formula on sixteen lanes (`simd::F16`): `bsdf::frame`'s
-//! tangents, `light::toward`, `bsdf::lambert`, `sampling::warp`,
-//! `sampling::mis` and `integrate::path::roulette`, combined as `LabBsdf` and
-//! `PathTracer` combine them for a Lambertian lobe alone, so every value is
-//! the one-path tracer's bit for bit. The light table's pick is done a
-//! lane at a time with the one-path tracer's own function.
+//! tangents, `Lights::sample_of` (`light::sample`), `bsdf::lambert`,
+//! `sampling::warp`, `sampling::mis` and `integrate::path::roulette`,
+//! combined as `LabBsdf` and `PathTracer` combine them for a Lambertian
+//! lobe alone, so every value is the one-path tracer's bit for bit.
 
-use super::{axes, by_axis, set, Numbers, Paths, F, LANES, V};
+use super::{axes, by_axis, Numbers, Paths, F, LANES, V};
 use crate::bsdf::frame::{tangents, to_world};
 use crate::bsdf::lambert::{lambert_f, lambert_pdf};
 use crate::integrate::path::roulette::{roulette, ROULETTE_DEPTH};
 use crate::light::area::AreaShape;
 use crate::light::lights::Lights;
-use crate::light::toward::{flat_pdf, flat_shape_point, toward, SHADOW_SHORTEN};
+use crate::light::toward::SHADOW_SHORTEN;
 use crate::sampling::mis::power_heuristic;
-use crate::sampling::warp::{cosine_hemisphere, square_to_triangle};
+use crate::sampling::warp::cosine_hemisphere;
 use crate::simd::{Mask, Real, F16, M16, V3};
 use multiversion::multiversion;
 
@@ -66,45 +65,10 @@ pub(super) fn frames(n: &V) -> Frames {
     }
 }
 
-/// The kind of light each lane picked.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Kind {
-    /// No light sample: none wanted, or no light.
-    None,
-    Point,
-    Triangle,
-    Parallelogram,
-}
-
-/// The light each lane's sample picked (`Lights::sample`'s pick, a lane at
-/// a time): its kind, the pick's probability, its shape (a point light's
-/// position in `v0`) and its radiance (a point light's intensity).
-pub(super) struct Picked {
-    kind: [Kind; LANES],
-    /// Its index in the light table.
-    light: [u32; LANES],
-    pmf: F,
-    v0: V,
-    e1: V,
-    e2: V,
-    normal: V,
-    area: F,
-    radiance: V,
-}
-
-impl Picked {
-    /// The light every lane of `lanes` picked, if they picked one (or
-    /// none of them is in `lanes`).
-    pub(super) fn one_light(&self, lanes: &M) -> Option<usize> {
-        let mut picked = (0..LANES).filter(|&k| lanes[k]).map(|k| self.light[k]);
-        let first = picked.next().unwrap_or(0);
-        picked.all(|i| i == first).then_some(first as usize)
-    }
-}
-
-/// Whether the scene's lights can be sampled in lanes: points (no spot
-/// or directional light) and flat emitters (triangles, parallelograms), no
-/// environment.
+/// Whether the scene's lights suit the lanes: points (no spot or
+/// directional light) and flat emitters (triangles, parallelograms), whose
+/// shadow rays `casters.rs` knows how to spare, and no environment (the
+/// lanes' escaping paths see the background).
 pub(super) fn lanes_can_sample(lights: &Lights) -> bool {
     !lights.has_environment()
         && lights
@@ -119,111 +83,44 @@ pub(super) fn lanes_can_sample(lights: &Lights) -> bool {
         })
 }
 
-/// The light each lane of `hits` picks with its number `pick`: only where
-/// the lobe reflects (a black material takes no light sample).
-pub(super) fn pick_lights(lights: &Lights, hits: &Hits, pick: &F) -> Picked {
-    let zero = [[0.0; LANES]; 3];
-    let mut p = Picked {
-        kind: [Kind::None; LANES],
-        light: [0; LANES],
-        pmf: [0.0; LANES],
-        v0: zero,
-        e1: zero,
-        e2: zero,
-        normal: zero,
-        area: [0.0; LANES],
-        radiance: zero,
-    };
-    let Some(table) = lights.table() else {
-        return p;
-    };
-    let (points, areas) = (lights.points(), lights.areas());
-    for k in 0..LANES {
-        if !hits.shaded[k] || hits.p_lambert[k] <= 0.0 {
-            continue;
-        }
-        let (i, pmf) = table.sample(pick[k]);
-        (p.light[k], p.pmf[k]) = (i as u32, pmf);
-        if let Some(point) = points.get(i) {
-            p.kind[k] = Kind::Point;
-            set(&mut p.v0, k, point.position);
-            set(&mut p.radiance, k, point.intensity);
-            continue;
-        }
-        let Some(light) = areas.get(i - points.len()) else {
-            continue;
-        };
-        let (kind, v0, e1, e2, normal, area) = match light.shape {
-            AreaShape::Triangle {
-                v0,
-                e1,
-                e2,
-                normal,
-                area,
-            } => (Kind::Triangle, v0, e1, e2, normal, area),
-            AreaShape::Parallelogram {
-                corner,
-                e1,
-                e2,
-                normal,
-                area,
-            } => (Kind::Parallelogram, corner, e1, e2, normal, area),
-            // `lanes_can_sample` keeps the scenes of other lights out.
-            _ => continue,
-        };
-        p.kind[k] = kind;
-        set(&mut p.v0, k, v0);
-        set(&mut p.e1, k, e1);
-        set(&mut p.e2, k, e2);
-        set(&mut p.normal, k, normal);
-        p.area[k] = area;
-        set(&mut p.radiance, k, light.radiance);
-    }
-    p
-}
-
 /// Each lane's light sample waiting for its shadow ray: what it adds if
-/// the ray is clear, whether a ray is needed, its direction and reach.
+/// the ray is clear, whether a ray is needed, its direction and reach, and
+/// the light it goes to.
 pub(super) struct Pending {
     pub added: V,
     pub shadow: M,
     pub wi: V,
     pub reach: F,
+    light: [u32; LANES],
 }
 
-/// Each lane's light sample at `hits` (`Lights::sample` from the picked
-/// light with the point numbers `u`, then `PathTracer::light_sample` for
-/// a Lambertian lobe): the point, the direction and its density, f cos
-/// and the BSDF's density toward it, the MIS weight and what it adds.
+impl Pending {
+    /// The light every lane of `lanes` goes to, if they go to one (or
+    /// none of them is in `lanes`).
+    pub(super) fn one_light(&self, lanes: &M) -> Option<usize> {
+        let mut picked = (0..LANES).filter(|&k| lanes[k]).map(|k| self.light[k]);
+        let first = picked.next().unwrap_or(0);
+        picked.all(|i| i == first).then_some(first as usize)
+    }
+}
+
+/// Each lane's light sample at `hits`, where the lobe reflects (a black
+/// material takes none): `Lights::sample_of` with the pick `pick` and the
+/// point numbers `u`, then `PathTracer::light_sample` for a Lambertian
+/// lobe: f cos and the BSDF's density toward it, the MIS weight and what
+/// it adds.
 #[multiversion(targets("x86_64+avx512f+avx512bw+avx512dq+avx512vl", "x86_64+avx2"))]
 pub(super) fn light_terms(
-    hits: &Hits,
-    frames: &Frames,
-    picked: &Picked,
-    u: &(F, F),
+    lights: &Lights,
+    (hits, frames): (&Hits, &Frames),
+    (pick, u): (&F, &(F, F)),
     throughput: &V,
 ) -> Pending {
-    let p = picked;
-    let kind = |want: Kind| M16::from_fn(|k| p.kind[k] == want);
-    let (is_point, is_triangle) = (kind(Kind::Point), kind(Kind::Triangle));
-    // A triangle's point by `square_to_triangle`, a parallelogram's by u.
-    let u = (F16(u.0), F16(u.1));
-    let (b1, b2) = square_to_triangle(u);
-    let b = (
-        F16::select(is_triangle, b1, u.0),
-        F16::select(is_triangle, b2, u.1),
-    );
-    let v0 = by_axis(&p.v0);
-    let on_shape = flat_shape_point(v0, (by_axis(&p.e1), by_axis(&p.e2)), b);
-    let way = toward(by_axis(&hits.from), V3::select(is_point, v0, on_shape));
-    let (shape_pdf, facing) = flat_pdf(&way, by_axis(&p.normal), F16(p.area));
-    let sampled = way.apart & (is_point | facing) & !kind(Kind::None);
-    let pmf = F16(p.pmf);
-    let light_pdf = F16::select(is_point, pmf, pmf * shape_pdf);
-    let radiance = by_axis(&p.radiance);
-    let radiance = V3::select(is_point, radiance / way.distance2, radiance);
+    let wanted = M16::from_fn(|k| hits.shaded[k] && hits.p_lambert[k] > 0.0);
+    let from = by_axis(&hits.from);
+    let s = lights.sample_of(from, F16(*pick), (F16(u.0), F16(u.1)), wanted);
     // `LabBsdf::eval` of a Lambertian lobe alone, toward `wi`.
-    let cos = way.wi.dot(by_axis(&frames.n));
+    let cos = s.wi.dot(by_axis(&frames.n));
     let above = !cos.le(F16::zero());
     let f = V3::select(
         above,
@@ -232,15 +129,16 @@ pub(super) fn light_terms(
     );
     let p_lambert = F16(hits.p_lambert);
     let bsdf_pdf = F16::select(above, p_lambert * lambert_pdf(cos), F16::zero());
-    let unlit = f.is_zero() | light_pdf.is_nan() | light_pdf.le(F16::zero());
-    let weight = F16::select(is_point, F16::one(), power_heuristic(light_pdf, bsdf_pdf));
-    let added = by_axis(throughput) * (f * radiance * (weight / light_pdf));
-    let shadow = sampled & !unlit;
+    let unlit = f.is_zero() | s.pdf.is_nan() | s.pdf.le(F16::zero());
+    let weight = F16::select(s.point, F16::one(), power_heuristic(s.pdf, bsdf_pdf));
+    let added = by_axis(throughput) * (f * s.radiance * (weight / s.pdf));
+    let shadow = s.ok & !unlit;
     Pending {
         added: axes(added),
         shadow: std::array::from_fn(|k| shadow.lane(k)),
-        wi: axes(way.wi),
-        reach: (way.distance * (1.0 - SHADOW_SHORTEN)).0,
+        wi: axes(s.wi),
+        reach: (s.distance * (1.0 - SHADOW_SHORTEN)).0,
+        light: s.light,
     }
 }
 
@@ -327,15 +225,10 @@ mod tests {
             hits.normal[a][0] = n[a];
             hits.albedo[a][0] = 0.5;
         }
-        let picked = pick_lights(&lights, &hits, &[0.5; LANES]);
         let u = ([0.5; LANES], [0.5; LANES]);
-        let pending = light_terms(
-            &hits,
-            &frames(&hits.normal),
-            &picked,
-            &u,
-            &[[1.0; LANES]; 3],
-        );
+        let frames = frames(&hits.normal);
+        let numbers = (&[0.5; LANES], &u);
+        let pending = light_terms(&lights, (&hits, &frames), numbers, &[[1.0; LANES]; 3]);
         let material = Material::Phong(Phong {
             diffuse: Vec3::splat(0.5),
             specular: Vec3::ZERO,
