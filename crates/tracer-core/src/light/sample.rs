@@ -141,10 +141,12 @@ impl Lights {
             s = s.or(flat, self.on_areas(shapes.sample(from, u), &light, flat));
         }
         if spheres.any() {
-            s = s.or(spheres, self.spheres(from, u, &light, spheres));
+            let drawn = self.sphere_points(from, u, &light);
+            s = s.or(spheres, self.on_areas(drawn, &light, spheres));
         }
         if ellipsoids.any() {
-            s = s.or(ellipsoids, self.ellipsoids(from, u, &light, ellipsoids));
+            let drawn = self.ellipsoid_points(from, u, &light, ellipsoids);
+            s = s.or(ellipsoids, self.on_areas(drawn, &light, ellipsoids));
         }
         if let Some(e) = self.environment().filter(|_| environment.any()) {
             let e = e.sample_of(u);
@@ -233,15 +235,15 @@ impl Lights {
         s
     }
 
-    /// The sphere lights of `lanes`, each drawn by its cone from `from`.
+    /// Points of the lanes' sphere lights, each drawn by its cone from
+    /// `from`.
     #[inline(always)]
-    fn spheres<N: Real>(
+    fn sphere_points<N: Real>(
         &self,
         from: V3<N>,
         u: (N, N),
         light: &N::Array<u32>,
-        lanes: N::Mask,
-    ) -> Drawn<N> {
+    ) -> AreaPoints<N> {
         let (mut center, mut radius) = (V3::zero(), N::zero());
         for k in 0..N::LANES {
             if let Some(AreaShape::Sphere {
@@ -253,18 +255,18 @@ impl Lights {
                 radius.set_lane(k, *r);
             }
         }
-        self.on_areas(sphere_sample(center, radius, from, u), light, lanes)
+        sphere_sample(center, radius, from, u)
     }
 
-    /// The ellipsoid lights of `lanes`, a lane at a time.
+    /// Points of the ellipsoid lights of `lanes`, a lane at a time.
     #[inline(always)]
-    fn ellipsoids<N: Real>(
+    fn ellipsoid_points<N: Real>(
         &self,
         from: V3<N>,
         u: (N, N),
         light: &N::Array<u32>,
         lanes: N::Mask,
-    ) -> Drawn<N> {
+    ) -> AreaPoints<N> {
         let zero = (N::zero(), N::zero());
         let mut drawn = AreaPoints {
             point: V3::zero(),
@@ -288,7 +290,7 @@ impl Lights {
             drawn.pdf.set_lane(k, p.pdf);
             drawn.ok.set_lane(k, true);
         }
-        self.on_areas(drawn, light, lanes)
+        drawn
     }
 
     /// Points `drawn` on the area lights of `lanes`, with the radiance each
