@@ -422,7 +422,7 @@ impl MatteLanes {
                 reach[k] = pending.reach[k];
             }
         }
-        let tris = match pending.one_light(&pending.shadow) {
+        let tris = match pending.one_light() {
             Some(i) => self.casters.get(i).unwrap_or(&self.all),
             None => &self.all,
         };

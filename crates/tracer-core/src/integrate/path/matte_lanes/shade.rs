@@ -95,10 +95,12 @@ pub(super) struct Pending {
 }
 
 impl Pending {
-    /// The light every lane of `lanes` goes to, if they go to one (or
-    /// none of them is in `lanes`).
-    pub(super) fn one_light(&self, lanes: &M) -> Option<usize> {
-        let mut picked = (0..LANES).filter(|&k| lanes[k]).map(|k| self.light[k]);
+    /// The light every shadow ray goes to, if they go to one (or there is
+    /// none).
+    pub(super) fn one_light(&self) -> Option<usize> {
+        let mut picked = (0..LANES)
+            .filter(|&k| self.shadow[k])
+            .map(|k| self.light[k]);
         let first = picked.next().unwrap_or(0);
         picked.all(|i| i == first).then_some(first as usize)
     }
