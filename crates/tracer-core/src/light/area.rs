@@ -241,14 +241,14 @@ impl<N: Real> Flat<N> {
     /// shape) is left zero.
     #[inline(always)]
     pub fn lanes<'a>(shape: impl Fn(usize) -> Option<&'a AreaShape>) -> Flat<N> {
-        let (zero, mut triangle) = (V3::zero(), N::Mask::splat(false));
+        let zero = V3::zero();
         let mut f = Flat {
             v0: zero,
             e1: zero,
             e2: zero,
             normal: zero,
             area: N::zero(),
-            triangle,
+            triangle: N::Mask::splat(false),
         };
         for k in 0..N::LANES {
             let (v0, e1, e2, normal, area) = match shape(k) {
@@ -259,7 +259,7 @@ impl<N: Real> Flat<N> {
                     normal,
                     area,
                 }) => {
-                    triangle.set_lane(k, true);
+                    f.triangle.set_lane(k, true);
                     (v0, e1, e2, normal, area)
                 }
                 Some(AreaShape::Parallelogram {
@@ -277,7 +277,7 @@ impl<N: Real> Flat<N> {
             f.normal.set_lane(k, *normal);
             f.area.set_lane(k, *area);
         }
-        Flat { triangle, ..f }
+        f
     }
 
     /// A point of each lane's shape drawn by `u`, uniformly by area (a

@@ -173,10 +173,10 @@ impl Lights {
     /// Which part draws light `i` of the table.
     #[inline(always)]
     fn part(&self, i: usize) -> Part {
-        let Some(k) = i.checked_sub(self.points().len()) else {
+        if i < self.points().len() {
             return Part::Point;
-        };
-        match self.areas().get(k).map(|a| &a.shape) {
+        }
+        match self.area(i as u32).map(|a| &a.shape) {
             Some(AreaShape::Triangle { .. } | AreaShape::Parallelogram { .. }) => Part::Flat,
             Some(AreaShape::Sphere { .. }) => Part::Sphere,
             Some(AreaShape::Ellipsoid(_)) => Part::Ellipsoid,
