@@ -272,8 +272,9 @@ pub fn eval_principled<N: Real>(b: &PrincipledBsdf<N>, wi: V3<N>) -> (V3<N>, N) 
 /// A local direction of `b`: a lobe picked by `pick` with its
 /// probability, the rest of `pick` and `u` its direction. A single
 /// direction's weight is its lobe's over the probability of the lobe (its
-/// pdf that probability times its own); any other's is the mixture's f
-/// |cos| over the mixture's density. None (`ok` unset) where the material
+/// pdf that probability times its own), as is that of a lobe that is the
+/// whole mixture; any other's is the mixture's f |cos| over the mixture's
+/// density. None (`ok` unset) where the material
 /// sends nothing back or the direction fell on the wrong side.
 #[inline(always)]
 pub fn sample_principled<N: Real>(b: &PrincipledBsdf<N>, pick: N, u: (N, N)) -> Sampled<N> {
@@ -287,7 +288,12 @@ pub fn sample_principled<N: Real>(b: &PrincipledBsdf<N>, pick: N, u: (N, N)) -> 
         pdf: s.pdf * p,
         ..s
     };
-    let smooth = some & s.ok & !s.specular;
+    // Where one lobe is the whole mixture, its draw's weight and density
+    // are already the mixture's (its f |cos| over its density, equal but
+    // for rounding): not worked out again (4 % of the materials scene).
+    let alone = p.eq(N::one());
+    let smooth = some & s.ok & !s.specular & !alone;
+    out.ok = out.ok & (s.specular | !alone | out.pdf.gt(N::zero()));
     if smooth.any() {
         let (f, pdf) = eval_principled(b, s.wi);
         let mixed = Sampled {
@@ -296,7 +302,7 @@ pub fn sample_principled<N: Real>(b: &PrincipledBsdf<N>, pick: N, u: (N, N)) -> 
             ok: s.ok & pdf.gt(N::zero()),
             ..s
         };
-        out = Sampled::select(s.specular, out, mixed);
+        out = Sampled::select(s.specular | alone, out, mixed);
     }
     Sampled {
         ok: out.ok & some,
