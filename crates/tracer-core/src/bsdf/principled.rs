@@ -292,9 +292,11 @@ pub fn sample_principled<N: Real>(b: &PrincipledBsdf<N>, pick: N, u: (N, N)) -> 
     // are already the mixture's (its f |cos| over its density, equal but
     // for rounding): not worked out again (4 % of the materials scene).
     let alone = p.eq(N::one());
-    let smooth = some & s.ok & !s.specular & !alone;
+    // The lanes whose draw's own weight and density stand.
+    let own = s.specular | alone;
     out.ok = out.ok & (s.specular | !alone | out.pdf.gt(N::zero()));
-    if smooth.any() {
+    let remix = some & s.ok & !own;
+    if remix.any() {
         let (f, pdf) = eval_principled(b, s.wi);
         let mixed = Sampled {
             weight: f / pdf,
@@ -302,7 +304,7 @@ pub fn sample_principled<N: Real>(b: &PrincipledBsdf<N>, pick: N, u: (N, N)) -> 
             ok: s.ok & pdf.gt(N::zero()),
             ..s
         };
-        out = Sampled::select(s.specular | alone, out, mixed);
+        out = Sampled::select(own, out, mixed);
     }
     Sampled {
         ok: out.ok & some,
